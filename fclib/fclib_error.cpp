@@ -1,0 +1,29 @@
+#include "fclib_error.hpp"
+
+#include <cstdarg>
+#include <cstdio>
+
+#include "error_state.hpp"
+
+namespace frix::fclib {
+
+void raise(frix_error code, const char *fmt, ...) {
+    char buffer[1024];
+    va_list args;
+    va_start(args, fmt);
+    std::vsnprintf(buffer, sizeof buffer, fmt, args);
+    va_end(args);
+    throw Failure{fail(code, "%s", buffer)};
+}
+
+void reraise(frix_error code, const std::string &context) {
+    // Copied first: the core's message lives in the buffer that raise() overwrites.
+    const std::string detail = frix_last_error_message();
+    raise(code, "%s: %s", context.c_str(), detail.c_str());
+}
+
+void raise_from_core(frix_error code, const std::string &context) {
+    reraise(code == FRIX_ERR_OUT_OF_MEMORY ? code : FRIX_ERR_FORMAT, context);
+}
+
+}  // namespace frix::fclib

@@ -1,0 +1,178 @@
+// frix_fclib_write: a problem, and optionally a solution and guesses, as a new FCLIB file
+// in the layout libfclib writes (matrices as CSC, nz = -1).
+#include <frix/frix.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "error_state.hpp"
+#include "fclib_error.hpp"
+#include "fclib_matrix.hpp"
+#include "hdf5_writer.hpp"
+#include "problem.hpp"
+#include "temp_file.hpp"
+
+namespace frix::fclib {
+
+namespace {
+
+constexpr int64_t kInt32Max = std::numeric_limits<int32_t>::max();
+
+struct Vectors {
+    const double *r;
+    const double *u;
+    const double *v;  // NULL for local problems
+};
+
+// NaN or Inf in a solution or guess is refused: frix's own reader would refuse the file.
+void check_vectors(const char *what, const Vectors &s, int64_t m, int64_t n) {
+    auto check = [&](const char *name, const double *x, int64_t count) {
+        for (int64_t k = 0; k < count; ++k)
+            if (!std::isfinite(x[k]))
+                raise(FRIX_ERR_NOT_FINITE, "frix_fclib_write: %s %s: entry %lld is %g", what, name,
+                      static_cast<long long>(k), x[k]);
+    };
+    check("r", s.r, m);
+    check("u", s.u, m);
+    if (s.v != nullptr) check("v", s.v, n);
+}
+
+// A problem without contacts may have no W at all; FCLIB still wants a (0 x 0) matrix.
+Csc32 export_matrix(const frix_matrix *A, const char *name) {
+    if (A != nullptr) return to_csc32(*A, name);
+    Csc32 empty;
+    empty.p.assign(1, 0);
+    return empty;
+}
+
+void write_vectors(FileWriter &file, const std::string &group, const Vectors &s, int64_t m,
+                   int64_t n) {
+    file.create_group(group);
+    file.write_doubles(group + "/r", s.r, m);
+    file.write_doubles(group + "/u", s.u, m);
+    if (s.v != nullptr) file.write_doubles(group + "/v", s.v, n);
+}
+
+void write_info(FileWriter &file, const std::string &root, const frix_problem &problem) {
+    file.create_group(root + "/info");
+    file.write_text(root + "/info/title", problem.title);
+    file.write_text(root + "/info/description",
+                    std::string("written by frix ") + frix_version_string());
+    file.write_text(root + "/info/math_info", "");
+}
+
+// What goes into the file besides the problem.
+struct Extras {
+    bool with_solution = false;
+    Vectors solution{nullptr, nullptr, nullptr};
+    int64_t n_guesses = 0;
+    Vectors guesses{nullptr, nullptr, nullptr};  // the first guess; the others follow
+};
+
+Vectors guess(const Extras &e, int64_t k, int64_t m, int64_t n) {
+    return Vectors{e.guesses.r + k * m, e.guesses.u + k * m,
+                   e.guesses.v != nullptr ? e.guesses.v + k * n : nullptr};
+}
+
+// The argument checks of frix_fclib_write: everything that can refuse the call is checked
+// here, before any file exists.
+Extras check_arguments(const char *where, const frix_problem &problem, const double *sol_r,
+                       const double *sol_u, const double *sol_v, int64_t n_guesses,
+                       const double *guess_r, const double *guess_u, const double *guess_v) {
+    if (frix_error err = check_problem_vectors(problem)) throw Failure{err};
+    const bool global = problem.kind == FRIX_PROBLEM_GLOBAL;
+    const int64_t m = 3 * problem.nc, n = global ? problem.n : 0;
+    Extras e;
+    e.with_solution = sol_r != nullptr || sol_u != nullptr || (global && sol_v != nullptr);
+    // libfclib's readers take v from every solution and guess of a global problem, so a
+    // global file without v would not load there.
+    if (e.with_solution && (sol_r == nullptr || sol_u == nullptr || (global && sol_v == nullptr)))
+        raise(FRIX_ERR_INVALID_ARGUMENT, "%s: a solution needs r and u%s (or all NULL for none)",
+              where, global ? " and v" : "");
+    if (n_guesses < 0 || n_guesses > kInt32Max)
+        raise(FRIX_ERR_INVALID_ARGUMENT, "%s: n_guesses is %lld", where,
+              static_cast<long long>(n_guesses));
+    if (n_guesses > 0 &&
+        (guess_r == nullptr || guess_u == nullptr || (global && guess_v == nullptr)))
+        raise(FRIX_ERR_INVALID_ARGUMENT, "%s: %lld guesses need guess_r and guess_u%s", where,
+              static_cast<long long>(n_guesses), global ? " and guess_v" : "");
+    e.solution = Vectors{sol_r, sol_u, global ? sol_v : nullptr};
+    e.n_guesses = n_guesses;
+    e.guesses = Vectors{guess_r, guess_u, global ? guess_v : nullptr};
+    if (e.with_solution) check_vectors("solution", e.solution, m, n);
+    for (int64_t k = 0; k < n_guesses; ++k)
+        check_vectors(("guess " + std::to_string(k)).c_str(), guess(e, k, m, n), m, n);
+    return e;
+}
+
+// The whole file, built in memory.
+std::vector<unsigned char> build_file(const char *path, const frix_problem &problem,
+                                      const Extras &e) {
+    const bool global = problem.kind == FRIX_PROBLEM_GLOBAL;
+    const int64_t m = 3 * problem.nc, n = global ? problem.n : 0;
+    // The 32-bit conversion can still refuse the problem, so it also comes first.
+    Csc32 W, M, H;
+    if (global) {
+        M = export_matrix(problem.M, "M");
+        H = export_matrix(problem.H, "H");
+    } else {
+        W = export_matrix(problem.W, "W");
+    }
+
+    Session session;
+    FileWriter file(path);
+    const std::string root = global ? "/fclib_global" : "/fclib_local";
+    file.create_group(root);
+    file.write_int32_scalar(root + "/spacedim", 3);
+    file.create_group(root + "/vectors");
+    if (global) {
+        write_matrix(file, root + "/M", M);
+        write_matrix(file, root + "/H", H);
+        file.write_doubles(root + "/vectors/f", problem.f, n);
+        file.write_doubles(root + "/vectors/w", problem.w, m);
+    } else {
+        write_matrix(file, root + "/W", W);
+        file.write_doubles(root + "/vectors/q", problem.q, m);
+    }
+    file.write_doubles(root + "/vectors/mu", problem.mu, problem.nc);
+    write_info(file, root, problem);
+
+    if (e.with_solution) write_vectors(file, "/solution", e.solution, m, n);
+    if (e.n_guesses > 0) {
+        file.create_group("/guesses");
+        file.write_int32_scalar("/guesses/number_of_guesses", static_cast<int32_t>(e.n_guesses));
+        for (int64_t k = 0; k < e.n_guesses; ++k)
+            write_vectors(file, "/guesses/" + std::to_string(k + 1), guess(e, k, m, n), m, n);
+    }
+    return file.image();
+}
+
+}  // namespace
+
+}  // namespace frix::fclib
+
+extern "C" FRIX_API frix_error frix_fclib_write(const char *path, const frix_problem *problem,
+                                                const double *sol_r, const double *sol_u,
+                                                const double *sol_v, int64_t n_guesses,
+                                                const double *guess_r, const double *guess_u,
+                                                const double *guess_v) {
+    using namespace frix::fclib;
+    const char *where = "frix_fclib_write";
+    return frix::guard(where, [&]() -> frix_error {
+        if (path == nullptr || path[0] == '\0')
+            return frix::fail(FRIX_ERR_INVALID_ARGUMENT, "%s: path is NULL or empty", where);
+        if (problem == nullptr)
+            return frix::fail(FRIX_ERR_INVALID_ARGUMENT, "%s: problem is NULL", where);
+        const Extras extras = check_arguments(where, *problem, sol_r, sol_u, sol_v, n_guesses,
+                                              guess_r, guess_u, guess_v);
+        const std::vector<unsigned char> image = build_file(path, *problem, extras);
+        // Only now does the disk come in: the old file is replaced by a complete new one.
+        TempFile temp(path);
+        temp.write(image.data(), image.size());
+        temp.commit();
+        return FRIX_OK;
+    });
+}

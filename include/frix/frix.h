@@ -1,0 +1,35 @@
+/* frix — discrete 3D frictional contact with Coulomb friction. The umbrella header.
+ *
+ *   #include <frix/frix.h>
+ *
+ * Conventions: every symbol is frix_ / FRIX_; handles are opaque, created by *_create or
+ * *_from_* and released by *_free (which accept NULL); functions return a frix_error
+ * (FRIX_OK = 0) and a failing call leaves a message in frix_last_error_message().
+ * Per-contact vectors are stored normal component first. Nothing prints unless the
+ * verbosity option asks for it, and nothing ever exits the process.
+ */
+#ifndef FRIX_H
+#define FRIX_H
+
+#include "frix_export.h"
+#include <frix/frix_version.h> /* generated at configure time */
+#include "frix_errors.h"
+#include "frix_matrix.h"
+#include "frix_problem.h"
+#include "frix_options.h"
+#include "frix_solve.h"
+#include "frix_fclib.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The version of the library actually loaded (compare with FRIX_VERSION_*). */
+FRIX_API const char *frix_version_string(void);
+FRIX_API int frix_version_number(void);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* FRIX_H */

@@ -1,0 +1,65 @@
+/* frix — frictional contact problems.
+ *
+ * Local (reduced) problem:  u = W r + q, per contact a the 3-vectors r_a, u_a (normal
+ * first), u^_a = u_a + mu_a |u_T,a| e_N,  K*_mu ∋ u^_a ⟂ r_a ∈ K_mu = {|r_T| <= mu r_N}.
+ * Global problem:           M v = H r + f,  u = H^T v + w,  same cone law.
+ *
+ * A problem built from caller data BORROWS it: the matrices and the q/f/w/mu arrays must
+ * outlive the problem and are read, never written (a time-stepping code may update q in
+ * place between solves; it is re-checked at every solve). frix_problem_free never frees
+ * them. Problems read from files own their data.
+ * Zero contacts is a valid problem: the solution is empty (and v = M^-1 f for a global one).
+ */
+#ifndef FRIX_PROBLEM_H
+#define FRIX_PROBLEM_H
+
+#include <stdint.h>
+#include "frix_export.h"
+#include "frix_errors.h"
+#include "frix_matrix.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct frix_problem frix_problem;
+
+typedef enum frix_problem_kind {
+    FRIX_PROBLEM_LOCAL = 1,
+    FRIX_PROBLEM_GLOBAL = 2
+} frix_problem_kind;
+
+/* W: 3nc x 3nc; q: 3nc; mu: nc, each mu >= 0. W may be NULL only when nc == 0. */
+FRIX_API frix_error frix_problem_local(const frix_matrix *W, const double *q, const double *mu,
+                                       int64_t nc, frix_problem **out);
+/* M: n x n; H: n x 3nc; f: n; w: 3nc; mu: nc. */
+FRIX_API frix_error frix_problem_global(const frix_matrix *M, const frix_matrix *H,
+                                        const double *f, const double *w, const double *mu,
+                                        int64_t nc, frix_problem **out);
+FRIX_API void frix_problem_free(frix_problem *p);
+
+FRIX_API frix_problem_kind frix_problem_get_kind(const frix_problem *p);
+FRIX_API int64_t frix_problem_contacts(const frix_problem *p);
+/* Size of r and u: 3 * contacts. */
+FRIX_API int64_t frix_problem_contact_dofs(const frix_problem *p);
+/* Size of v: n for a global problem, 0 for a local one. */
+FRIX_API int64_t frix_problem_dofs(const frix_problem *p);
+
+/* Views of the data (NULL where the kind has no such member). */
+FRIX_API const frix_matrix *frix_problem_W(const frix_problem *p);
+FRIX_API const frix_matrix *frix_problem_M(const frix_problem *p);
+FRIX_API const frix_matrix *frix_problem_H(const frix_problem *p);
+FRIX_API const double *frix_problem_q(const frix_problem *p);
+FRIX_API const double *frix_problem_f(const frix_problem *p);
+FRIX_API const double *frix_problem_w(const frix_problem *p);
+FRIX_API const double *frix_problem_mu(const frix_problem *p);
+
+/* A free-text title (empty by default; FCLIB files carry one). The string is copied. */
+FRIX_API frix_error frix_problem_set_title(frix_problem *p, const char *title);
+FRIX_API const char *frix_problem_title(const frix_problem *p);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* FRIX_PROBLEM_H */

@@ -1,0 +1,65 @@
+// One-contact kernels: projections on the Coulomb cone and on the Tresca disk, and the
+// one-contact solvers NSGS calls for each contact (ids 552 and 553 of frix_options.h).
+// Vectors are per contact, normal first; 3x3 matrices are column-major.
+#pragma once
+
+#include <cstdint>
+
+namespace frix::local {
+
+// r <- P_K(r), K = {|r_T| <= mu r_N}; mu = 0 is the half-line r_T = 0, r_N >= 0.
+void project_on_cone(double *r, double mu);
+
+// r <- the projection on {r_N >= 0, |r_T| <= R} (Tresca); R < 0 is taken as 0.
+void project_on_disk(double *r, double R);
+
+// Per-contact data computed once per solve from the diagonal block W_aa.
+struct Contact {
+    double W[9];     // W_aa
+    double Winv[9];  // W_aa^-1, valid only if has_inverse
+    double mu;
+    double rho;       // step of the projected iterations; 553 adapts it across sweeps
+    double rho0;      // 1 / |W_aa|_2: the fixed step of 552 and the reset value of rho
+    double dir[2];    // unit sliding direction of the last Slide outcome, if has_dir
+    bool has_dir;
+    bool has_inverse;
+    bool degenerate;  // W_aa is (numerically) zero: no local solution exists when q_N < 0
+};
+
+void contact_setup(const double *Waa, double mu, Contact &c);
+
+enum class Outcome : int {
+    TakeOff = 1,       // q_N >= 0: r = 0
+    Stick = 2,         // r = -W^-1 q inside the cone: u = 0
+    Slide = 3,         // exact sliding solution on the cone boundary (root of the angle equation)
+    Iterated = 4,      // projected iterations reached the local tolerance
+    NotConverged = 5,  // projected iterations stopped at the local iteration limit
+    NoSolution = 6,    // degenerate W_aa with q_N < 0: r left unchanged
+    Step = 7           // one projected step (552)
+};
+
+constexpr int kProjection = 552;          // FRIX_LOCAL_PROJECTION
+constexpr int kProjectionIterated = 553;  // FRIX_LOCAL_PROJECTION_ITERATED
+
+struct Params {
+    int solver = kProjectionIterated;
+    double tol = 1e-12;  // on the one-contact residual, relative to max(|q|, |r|, |u|)
+    int max_iter = 20;
+    bool exact_slide = true;  // 553: try the closed-form sliding root before iterating
+};
+
+// Solves the one-contact problem u = W_aa r + q, K ∋ r ⟂ u + mu|u_T| e_N ∈ K*.
+// r holds the current reaction on entry (warm start) and the new one on return; it is
+// unchanged when the outcome is NoSolution.
+Outcome solve_contact(Contact &c, const double *q, double *r, const Params &p);
+
+// The one-contact natural-map residual of r, |r - P_K(r - u^)| with u = W r + q, and the
+// same divided by max(|q|, |r|, |u|) (the measure of the local tolerance).
+double contact_residual(const double *W, const double *q, double mu, const double *r,
+                        double *relative = nullptr);
+
+// The sliding root alone (exposed for tests): true and r set if a valid sliding solution
+// was found. `hint` (3, may be null) selects among several roots.
+bool solve_slide(const Contact &c, const double *q, const double *hint, double *r);
+
+}  // namespace frix::local

@@ -1,0 +1,57 @@
+// The result record: creation and reads by key.
+#include "info.hpp"
+
+#include "error_state.hpp"
+
+using frix::fail;
+
+extern "C" {
+
+FRIX_API frix_error frix_info_create(frix_info **out) {
+    return frix::guard("frix_info_create", [&]() -> frix_error {
+        if (!out) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_info_create: out is NULL");
+        *out = new frix_info();
+        return FRIX_OK;
+    });
+}
+
+FRIX_API void frix_info_free(frix_info *info) { delete info; }
+
+FRIX_API frix_error frix_info_get_int(const frix_info *info, frix_info_key key, int64_t *value) {
+    if (!info || !value) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_info_get_int: NULL argument");
+    switch (key) {
+        case FRIX_INFO_STATUS: *value = info->status; return FRIX_OK;
+        case FRIX_INFO_ITERATIONS: *value = info->iterations; return FRIX_OK;
+        case FRIX_INFO_SOLVER_ID: *value = info->solver_id; return FRIX_OK;
+        case FRIX_INFO_CONTACTS: *value = info->contacts; return FRIX_OK;
+        default: break;
+    }
+    return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_info_get_int: key %d is not an int key", (int)key);
+}
+
+FRIX_API frix_error frix_info_get_double(const frix_info *info, frix_info_key key, double *value) {
+    if (!info || !value) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_info_get_double: NULL argument");
+    switch (key) {
+        case FRIX_INFO_ERROR: *value = info->error; return FRIX_OK;
+        case FRIX_INFO_ERROR_RELATIVE: *value = info->error_relative; return FRIX_OK;
+        case FRIX_INFO_ERROR_Q_RELATIVE: *value = info->error_q_relative; return FRIX_OK;
+        case FRIX_INFO_RESIDUAL_ABSOLUTE: *value = info->residual_absolute; return FRIX_OK;
+        case FRIX_INFO_CONE_VIOLATION: *value = info->cone_violation; return FRIX_OK;
+        case FRIX_INFO_PENETRATION: *value = info->penetration; return FRIX_OK;
+        case FRIX_INFO_COMPLEMENTARITY: *value = info->complementarity; return FRIX_OK;
+        case FRIX_INFO_EQUILIBRIUM: *value = info->equilibrium; return FRIX_OK;
+        case FRIX_INFO_SOLVE_TIME: *value = info->solve_time; return FRIX_OK;
+        case FRIX_INFO_TOLERANCE: *value = info->tolerance; return FRIX_OK;
+        default: break;
+    }
+    return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_info_get_double: key %d is not a double key", (int)key);
+}
+
+FRIX_API frix_status frix_info_status(const frix_info *info) {
+    return info ? info->status : FRIX_STATUS_NOT_RUN;
+}
+FRIX_API int64_t frix_info_iterations(const frix_info *info) { return info ? info->iterations : 0; }
+FRIX_API double frix_info_error(const frix_info *info) { return info ? info->error : NAN; }
+FRIX_API double frix_info_solve_time(const frix_info *info) { return info ? info->solve_time : 0.0; }
+
+}  // extern "C"

@@ -1,0 +1,162 @@
+// The error measures (../DESIGN.md "Error measures"), and the public entry points that
+// evaluate them for a given r.
+#include "measures.hpp"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <vector>
+
+#include "error_state.hpp"
+#include "local3x3.hpp"
+
+namespace {
+
+double norm2(const double *x, int64_t n) {
+    // Scaled accumulation would be safer against overflow, but inputs are checked finite and
+    // physical magnitudes stay far from 1e154; a plain sum keeps the same numbers as Siconos.
+    double s = 0.0;
+    for (int64_t i = 0; i < n; ++i) s += x[i] * x[i];
+    return std::sqrt(s);
+}
+
+}  // namespace
+
+namespace frix {
+
+double contact_residual_sq(const double *r, const double *u, double mu) {
+    const double ut = std::hypot(u[1], u[2]);
+    double z[3] = {r[0] - (u[0] + mu * ut), r[1] - u[1], r[2] - u[2]};
+    local::project_on_cone(z, mu);
+    const double d0 = r[0] - z[0], d1 = r[1] - z[1], d2 = r[2] - z[2];
+    return d0 * d0 + d1 * d1 + d2 * d2;
+}
+
+Measures measures_from_ru(const double *r, const double *u, const double *mu, int64_t nc,
+                          double norm_q) {
+    Measures m;
+    double sum = 0.0;
+    for (int64_t a = 0; a < nc; ++a) {
+        const double *ra = r + 3 * a, *ua = u + 3 * a;
+        sum += contact_residual_sq(ra, ua, mu[a]);
+        double p[3] = {ra[0], ra[1], ra[2]};
+        local::project_on_cone(p, mu[a]);
+        m.cone_violation = std::max(m.cone_violation,
+                                    std::sqrt((ra[0] - p[0]) * (ra[0] - p[0]) + (ra[1] - p[1]) * (ra[1] - p[1]) +
+                                              (ra[2] - p[2]) * (ra[2] - p[2])));
+        m.penetration = std::max(m.penetration, -ua[0]);
+        const double uhat_n = ua[0] + mu[a] * std::hypot(ua[1], ua[2]);
+        m.complementarity = std::max(m.complementarity,
+                                     std::fabs(ra[0] * uhat_n + ra[1] * ua[1] + ra[2] * ua[2]));
+    }
+    m.residual_absolute = std::sqrt(sum);
+    m.norm_q = norm_q;
+    m.norm_r = norm2(r, 3 * nc);
+    m.norm_u = norm2(u, 3 * nc);
+    // Siconos 4.4 divides only when the scale is meaningful (fc3d_compute_error).
+    const double scale = std::max({m.norm_q, m.norm_r, m.norm_u});
+    m.relative = scale > DBL_EPSILON ? m.residual_absolute / scale : m.residual_absolute;
+    m.q_relative = norm_q > DBL_EPSILON ? m.residual_absolute / norm_q : m.residual_absolute;
+    return m;
+}
+
+Measures local_measures(const frix_problem &p, const double *r, double *u) {
+    const int64_t m = 3 * p.nc;
+    if (m == 0) return Measures{};
+    matrix_gemv(*p.W, 1.0, r, 0.0, u);
+    for (int64_t i = 0; i < m; ++i) u[i] += p.q[i];
+    return measures_from_ru(r, u, p.mu, p.nc, norm2(p.q, m));
+}
+
+double selected_error(const Measures &m, int64_t measure_kind) {
+    return measure_kind == FRIX_MEASURE_Q_RELATIVE ? m.q_relative : m.relative;
+}
+
+void record_measures(frix_info &info, const Measures &m, int64_t measure_kind) {
+    info.error_relative = m.relative;
+    info.error_q_relative = m.q_relative;
+    info.residual_absolute = m.residual_absolute;
+    info.cone_violation = m.cone_violation;
+    info.penetration = m.penetration;
+    info.complementarity = m.complementarity;
+    info.error = selected_error(m, measure_kind);
+}
+
+}  // namespace frix
+
+namespace {
+
+// |M v - H r - f| / max(|f|, |M v|, |H r|): how well (v, r) satisfies the dynamics.
+double equilibrium_residual(const frix_problem &p, const double *r, const double *v) {
+    const int64_t n = p.n;
+    std::vector<double> mv(n), hr(n, 0.0);
+    frix::matrix_gemv(*p.M, 1.0, v, 0.0, mv.data());
+    if (p.nc > 0) frix::matrix_gemv(*p.H, 1.0, r, 0.0, hr.data());
+    double res = 0.0;
+    for (int64_t i = 0; i < n; ++i) {
+        const double d = mv[i] - hr[i] - p.f[i];
+        res += d * d;
+    }
+    const double scale = std::max({norm2(p.f, n), norm2(mv.data(), n), norm2(hr.data(), n)});
+    res = std::sqrt(res);
+    return scale > DBL_EPSILON ? res / scale : res;
+}
+
+frix_error measure(const char *where, const frix_problem *p, const double *r, const double *v,
+                   double *u_out, frix_info &info) {
+    using frix::fail;
+    if (!p) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: problem is NULL", where);
+    const int64_t m = 3 * p->nc;
+    if (m > 0 && !r) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: r is NULL", where);
+    if (p->kind == FRIX_PROBLEM_GLOBAL && p->n > 0 && !v)
+        return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: v is required for a global problem", where);
+    if (frix_error e = frix::check_problem_vectors(*p)) return e;
+    for (int64_t i = 0; i < m; ++i)
+        if (!std::isfinite(r[i]))
+            return fail(FRIX_ERR_NOT_FINITE, "%s: r[%lld] is not finite", where, (long long)i);
+    std::vector<double> u_work;
+    double *u = u_out;
+    if (!u) {
+        u_work.resize(m);
+        u = u_work.data();
+    }
+    info.contacts = p->nc;
+    if (p->kind == FRIX_PROBLEM_LOCAL) {
+        frix::record_measures(info, frix::local_measures(*p, r, u), FRIX_MEASURE_RELATIVE);
+        return FRIX_OK;
+    }
+    for (int64_t i = 0; i < p->n; ++i)
+        if (!std::isfinite(v[i]))
+            return fail(FRIX_ERR_NOT_FINITE, "%s: v[%lld] is not finite", where, (long long)i);
+    if (m > 0) frix::matrix_gemv_transposed(*p->H, 1.0, v, 0.0, u);
+    for (int64_t i = 0; i < m; ++i) u[i] += p->w[i];
+    frix::record_measures(info, frix::measures_from_ru(r, u, p->mu, p->nc, norm2(p->w, m)),
+                          FRIX_MEASURE_RELATIVE);
+    info.equilibrium = equilibrium_residual(*p, r, v);
+    return FRIX_OK;
+}
+
+}  // namespace
+
+extern "C" {
+
+FRIX_API frix_error frix_problem_measure(const frix_problem *problem, const double *r,
+                                         const double *v, double *u, frix_info *info) {
+    return frix::guard("frix_problem_measure", [&]() -> frix_error {
+        if (!info) return frix::fail(FRIX_ERR_INVALID_ARGUMENT, "frix_problem_measure: info is NULL");
+        return measure("frix_problem_measure", problem, r, v, u, *info);
+    });
+}
+
+FRIX_API frix_error frix_problem_error(const frix_problem *problem, const double *r,
+                                       const double *v, double *error) {
+    return frix::guard("frix_problem_error", [&]() -> frix_error {
+        if (!error) return frix::fail(FRIX_ERR_INVALID_ARGUMENT, "frix_problem_error: error is NULL");
+        frix_info info;
+        if (frix_error e = measure("frix_problem_error", problem, r, v, nullptr, info)) return e;
+        *error = info.error_relative;
+        return FRIX_OK;
+    });
+}
+
+}  // extern "C"

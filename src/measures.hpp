@@ -1,0 +1,39 @@
+// The error measures of ../DESIGN.md, in one place: every solver, the CLI (through the public
+// API) and the tests use these functions and nothing else.
+#pragma once
+
+#include <cstdint>
+
+#include "info.hpp"
+#include "problem.hpp"
+
+namespace frix {
+
+struct Measures {
+    double residual_absolute = 0;  // sqrt(sum_a |r_a - P_K(r_a - u^_a)|^2)
+    double relative = 0;           // residual / max(|q|, |r|, |u|), if that max > DBL_EPSILON
+    double q_relative = 0;         // residual / |q|, if |q| > DBL_EPSILON (else the residual)
+    double cone_violation = 0;     // max_a dist(r_a, K_a)
+    double penetration = 0;        // max_a max(0, -u_N,a)
+    double complementarity = 0;    // max_a |r_a . u^_a|
+    double norm_q = 0, norm_r = 0, norm_u = 0;
+};
+
+// Squared natural-map residual of one contact: |r - P_K(r - (u + mu|u_T| e_N))|^2.
+double contact_residual_sq(const double *r, const double *u, double mu);
+
+// All measures of (r, u), with u = W r + q (or H^T v + w) already computed by the caller and
+// norm_q = |q|_2 (|w|_2 for a global problem).
+Measures measures_from_ru(const double *r, const double *u, const double *mu, int64_t nc,
+                          double norm_q);
+
+// Computes u = W r + q (into u) and the measures of a local problem.
+Measures local_measures(const frix_problem &p, const double *r, double *u);
+
+// The value compared with the tolerance for a given frix_error_measure.
+double selected_error(const Measures &m, int64_t measure_kind);
+
+// Copies the measures into info, and info.error = selected_error(m, measure_kind).
+void record_measures(frix_info &info, const Measures &m, int64_t measure_kind);
+
+}  // namespace frix

@@ -1,0 +1,23 @@
+// Internal layout of frix_options: one slot per key, typed by the key table in options.cpp.
+#pragma once
+
+#include <frix/frix_options.h>
+
+#include <cstdint>
+
+namespace frix {
+constexpr int kMaxOptionKey = 11;  // highest frix_option_key value
+}
+
+struct frix_options {
+    int solver_id = 0;
+    // Slot k holds key k (slot 0 unused); ints are stored in ivalue, doubles in dvalue.
+    int64_t ivalue[frix::kMaxOptionKey + 1] = {};
+    double dvalue[frix::kMaxOptionKey + 1] = {};
+    frix_progress_fn callback = nullptr;
+    void *callback_data = nullptr;
+
+    // Typed reads for solvers (the key must be one the solver declared; no checks here).
+    int64_t i(frix_option_key k) const { return ivalue[k]; }
+    double d(frix_option_key k) const { return dvalue[k]; }
+};

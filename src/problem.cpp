@@ -1,0 +1,211 @@
+// Problems: validation at the boundary, borrowed and owned data, accessors.
+#include "problem.hpp"
+
+#include <cmath>
+#include <memory>
+
+#include "error_state.hpp"
+
+namespace {
+
+using frix::fail;
+
+frix_error check_vector(const char *where, const char *name, const double *x, int64_t n) {
+    if (n > 0 && !x) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: %s is NULL", where, name);
+    for (int64_t i = 0; i < n; ++i)
+        if (!std::isfinite(x[i]))
+            return fail(FRIX_ERR_NOT_FINITE, "%s: %s[%lld] is not finite", where, name, (long long)i);
+    return FRIX_OK;
+}
+
+frix_error check_mu(const char *where, const double *mu, int64_t nc) {
+    if (frix_error e = check_vector(where, "mu", mu, nc)) return e;
+    for (int64_t a = 0; a < nc; ++a)
+        if (mu[a] < 0.0)
+            return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: mu[%lld] = %g is negative", where,
+                        (long long)a, mu[a]);
+    return FRIX_OK;
+}
+
+frix_error check_nc(const char *where, int64_t nc) {
+    if (nc < 0 || nc > (int64_t(1) << 40))
+        return fail(FRIX_ERR_DIMENSION, "%s: invalid number of contacts %lld", where, (long long)nc);
+    return FRIX_OK;
+}
+
+frix_error check_local(const char *where, const frix_matrix *W, const double *q, const double *mu,
+                       int64_t nc) {
+    if (frix_error e = check_nc(where, nc)) return e;
+    if (!W) {
+        if (nc == 0) return FRIX_OK;
+        return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: W is NULL", where);
+    }
+    if (W->rows != W->cols)
+        return fail(FRIX_ERR_DIMENSION, "%s: W is %lld x %lld, not square", where,
+                    (long long)W->rows, (long long)W->cols);
+    if (W->rows % 3 != 0)
+        return fail(FRIX_ERR_DIMENSION, "%s: W has %lld rows, not a multiple of 3", where,
+                    (long long)W->rows);
+    if (W->rows != 3 * nc)
+        return fail(FRIX_ERR_DIMENSION, "%s: W is %lld x %lld but %lld contacts need %lld x %lld",
+                    where, (long long)W->rows, (long long)W->cols, (long long)nc,
+                    (long long)(3 * nc), (long long)(3 * nc));
+    if (frix_error e = check_vector(where, "q", q, 3 * nc)) return e;
+    return check_mu(where, mu, nc);
+}
+
+frix_error check_global(const char *where, const frix_matrix *M, const frix_matrix *H,
+                        const double *f, const double *w, const double *mu, int64_t nc) {
+    if (frix_error e = check_nc(where, nc)) return e;
+    if (!M) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: M is NULL", where);
+    if (M->rows != M->cols)
+        return fail(FRIX_ERR_DIMENSION, "%s: M is %lld x %lld, not square", where,
+                    (long long)M->rows, (long long)M->cols);
+    int64_t n = M->rows;
+    if (!H && nc > 0) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: H is NULL", where);
+    if (H && (H->rows != n || H->cols != 3 * nc))
+        return fail(FRIX_ERR_DIMENSION, "%s: H is %lld x %lld but must be %lld x %lld (dofs x 3*contacts)",
+                    where, (long long)H->rows, (long long)H->cols, (long long)n, (long long)(3 * nc));
+    if (frix_error e = check_vector(where, "f", f, n)) return e;
+    if (frix_error e = check_vector(where, "w", w, 3 * nc)) return e;
+    return check_mu(where, mu, nc);
+}
+
+}  // namespace
+
+namespace frix {
+
+frix_error make_local_problem(const frix_matrix *W, const double *q, const double *mu, int64_t nc,
+                              frix_problem **out) {
+    const char *where = "frix_problem_local";
+    if (!out) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: out is NULL", where);
+    *out = nullptr;
+    if (frix_error e = check_local(where, W, q, mu, nc)) return e;
+    auto p = std::make_unique<frix_problem>();
+    p->kind = FRIX_PROBLEM_LOCAL;
+    p->nc = nc;
+    p->W = W;
+    p->q = q;
+    p->mu = mu;
+    *out = p.release();
+    return FRIX_OK;
+}
+
+frix_error make_global_problem(const frix_matrix *M, const frix_matrix *H, const double *f,
+                               const double *w, const double *mu, int64_t nc,
+                               frix_problem **out) {
+    const char *where = "frix_problem_global";
+    if (!out) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: out is NULL", where);
+    *out = nullptr;
+    if (frix_error e = check_global(where, M, H, f, w, mu, nc)) return e;
+    auto p = std::make_unique<frix_problem>();
+    p->kind = FRIX_PROBLEM_GLOBAL;
+    p->nc = nc;
+    p->n = M->rows;
+    p->M = M;
+    p->H = H;
+    p->f = f;
+    p->w = w;
+    p->mu = mu;
+    *out = p.release();
+    return FRIX_OK;
+}
+
+frix_error make_owned_local_problem(std::unique_ptr<frix_matrix> W, std::vector<double> q,
+                                    std::vector<double> mu, frix_problem **out) {
+    int64_t nc = (int64_t)mu.size();
+    if (W && (int64_t)q.size() != W->rows)
+        return fail(FRIX_ERR_DIMENSION, "frix_problem_local: q has %lld entries but W has %lld rows",
+                    (long long)q.size(), (long long)W->rows);
+    if (frix_error e = make_local_problem(W.get(), q.data(), mu.data(), nc, out)) return e;
+    (*out)->owned_W = std::move(W);
+    (*out)->owned_q = std::move(q);
+    (*out)->owned_mu = std::move(mu);
+    // Moving a vector keeps its buffer, but re-point anyway so the invariant is explicit.
+    (*out)->W = (*out)->owned_W.get();
+    (*out)->q = (*out)->owned_q.data();
+    (*out)->mu = (*out)->owned_mu.data();
+    return FRIX_OK;
+}
+
+frix_error make_owned_global_problem(std::unique_ptr<frix_matrix> M, std::unique_ptr<frix_matrix> H,
+                                     std::vector<double> f, std::vector<double> w,
+                                     std::vector<double> mu, frix_problem **out) {
+    int64_t nc = (int64_t)mu.size();
+    if (M && (int64_t)f.size() != M->rows)
+        return fail(FRIX_ERR_DIMENSION, "frix_problem_global: f has %lld entries but M has %lld rows",
+                    (long long)f.size(), (long long)M->rows);
+    if ((int64_t)w.size() != 3 * nc)
+        return fail(FRIX_ERR_DIMENSION, "frix_problem_global: w has %lld entries but %lld contacts need %lld",
+                    (long long)w.size(), (long long)nc, (long long)(3 * nc));
+    if (frix_error e = make_global_problem(M.get(), H.get(), f.data(), w.data(), mu.data(), nc, out))
+        return e;
+    frix_problem &p = **out;
+    p.owned_M = std::move(M);
+    p.owned_H = std::move(H);
+    p.owned_f = std::move(f);
+    p.owned_w = std::move(w);
+    p.owned_mu = std::move(mu);
+    p.M = p.owned_M.get();
+    p.H = p.owned_H.get();
+    p.f = p.owned_f.data();
+    p.w = p.owned_w.data();
+    p.mu = p.owned_mu.data();
+    return FRIX_OK;
+}
+
+frix_error check_problem_vectors(const frix_problem &p) {
+    const char *where = "frix_solve";
+    if (p.kind == FRIX_PROBLEM_LOCAL) {
+        if (frix_error e = check_vector(where, "q", p.q, 3 * p.nc)) return e;
+    } else {
+        if (frix_error e = check_vector(where, "f", p.f, p.n)) return e;
+        if (frix_error e = check_vector(where, "w", p.w, 3 * p.nc)) return e;
+    }
+    return check_mu(where, p.mu, p.nc);
+}
+
+}  // namespace frix
+
+extern "C" {
+
+FRIX_API frix_error frix_problem_local(const frix_matrix *W, const double *q, const double *mu,
+                                       int64_t nc, frix_problem **out) {
+    return frix::guard("frix_problem_local",
+                       [&] { return frix::make_local_problem(W, q, mu, nc, out); });
+}
+
+FRIX_API frix_error frix_problem_global(const frix_matrix *M, const frix_matrix *H,
+                                        const double *f, const double *w, const double *mu,
+                                        int64_t nc, frix_problem **out) {
+    return frix::guard("frix_problem_global",
+                       [&] { return frix::make_global_problem(M, H, f, w, mu, nc, out); });
+}
+
+FRIX_API void frix_problem_free(frix_problem *p) { delete p; }
+
+FRIX_API frix_problem_kind frix_problem_get_kind(const frix_problem *p) {
+    return p ? p->kind : FRIX_PROBLEM_LOCAL;
+}
+FRIX_API int64_t frix_problem_contacts(const frix_problem *p) { return p ? p->nc : 0; }
+FRIX_API int64_t frix_problem_contact_dofs(const frix_problem *p) { return p ? 3 * p->nc : 0; }
+FRIX_API int64_t frix_problem_dofs(const frix_problem *p) { return p ? p->n : 0; }
+FRIX_API const frix_matrix *frix_problem_W(const frix_problem *p) { return p ? p->W : nullptr; }
+FRIX_API const frix_matrix *frix_problem_M(const frix_problem *p) { return p ? p->M : nullptr; }
+FRIX_API const frix_matrix *frix_problem_H(const frix_problem *p) { return p ? p->H : nullptr; }
+FRIX_API const double *frix_problem_q(const frix_problem *p) { return p ? p->q : nullptr; }
+FRIX_API const double *frix_problem_f(const frix_problem *p) { return p ? p->f : nullptr; }
+FRIX_API const double *frix_problem_w(const frix_problem *p) { return p ? p->w : nullptr; }
+FRIX_API const double *frix_problem_mu(const frix_problem *p) { return p ? p->mu : nullptr; }
+
+FRIX_API frix_error frix_problem_set_title(frix_problem *p, const char *title) {
+    return frix::guard("frix_problem_set_title", [&]() -> frix_error {
+        if (!p) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_problem_set_title: problem is NULL");
+        p->title = title ? title : "";
+        return FRIX_OK;
+    });
+}
+
+FRIX_API const char *frix_problem_title(const frix_problem *p) { return p ? p->title.c_str() : ""; }
+
+}  // extern "C"

@@ -1,0 +1,56 @@
+// Internal layout of frix_problem. Members point either at the caller's data (borrowed) or
+// at the owned_* storage (problems read from files).
+#pragma once
+
+#include <frix/frix_problem.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "matrix.hpp"
+
+struct frix_problem {
+    frix_problem_kind kind = FRIX_PROBLEM_LOCAL;
+    int64_t nc = 0;  // contacts; r and u have 3*nc entries
+    int64_t n = 0;   // global: dofs (size of v); local: 0
+
+    const frix_matrix *W = nullptr;  // local
+    const double *q = nullptr;       // local
+    const frix_matrix *M = nullptr;  // global
+    const frix_matrix *H = nullptr;  // global
+    const double *f = nullptr;       // global
+    const double *w = nullptr;       // global
+    const double *mu = nullptr;
+
+    std::string title;
+
+    // Owned storage, used only by problems that own their data (see make_owned_* below).
+    std::unique_ptr<frix_matrix> owned_W, owned_M, owned_H;
+    std::vector<double> owned_q, owned_f, owned_w, owned_mu;
+};
+
+namespace frix {
+
+// Validates and builds a problem from (borrowed) data; the checks of the public
+// frix_problem_local / frix_problem_global (sizes, NaN/Inf, mu >= 0, W square 3nc x 3nc).
+frix_error make_local_problem(const frix_matrix *W, const double *q, const double *mu,
+                              int64_t nc, frix_problem **out);
+frix_error make_global_problem(const frix_matrix *M, const frix_matrix *H, const double *f,
+                               const double *w, const double *mu, int64_t nc,
+                               frix_problem **out);
+
+// Builds a problem that owns its data (used by readers): takes the matrices and vectors,
+// validates exactly like the borrowing constructors, and points the views at the owned copies.
+frix_error make_owned_local_problem(std::unique_ptr<frix_matrix> W, std::vector<double> q,
+                                    std::vector<double> mu, frix_problem **out);
+frix_error make_owned_global_problem(std::unique_ptr<frix_matrix> M,
+                                     std::unique_ptr<frix_matrix> H, std::vector<double> f,
+                                     std::vector<double> w, std::vector<double> mu,
+                                     frix_problem **out);
+
+// Re-checks the vectors a caller may have changed in place since creation (q/f/w, mu).
+frix_error check_problem_vectors(const frix_problem &p);
+
+}  // namespace frix

@@ -1,0 +1,92 @@
+// frix_solve: the driver around every solver. It owns what must be the same for all of them:
+// argument checks, the empty and all-separating cases, a finite warm start, timing, and the
+// final measures computed by the one error module from the r actually returned.
+#include <cmath>
+#include <memory>
+
+#include "error_state.hpp"
+#include "measures.hpp"
+#include "solver_api.hpp"
+
+namespace {
+
+using frix::fail;
+
+frix_error solve_local(const frix_problem &p, const frix_options &opts,
+                       const frix::SolverEntry &entry, double *r, double *u, frix_info &info,
+                       const frix::Stopwatch &clock) {
+    const int64_t m = 3 * p.nc;
+    bool separating = true;
+    for (int64_t a = 0; a < p.nc && separating; ++a) separating = p.q[3 * a] >= 0.0;
+    if (p.nc == 0 || separating) {
+        // r = 0 is then the exact solution: u = q has u_N >= 0, so u^ lies in K*.
+        for (int64_t i = 0; i < m; ++i) r[i] = 0.0;
+        info.status = FRIX_STATUS_CONVERGED;
+        info.iterations = 0;
+    } else {
+        // A non-finite warm start would poison every iterate; start such entries from 0.
+        for (int64_t i = 0; i < m; ++i)
+            if (!std::isfinite(r[i])) r[i] = 0.0;
+        if (!entry.solves_local)
+            return fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s does not solve local problems", entry.name);
+        frix::SolveContext ctx{p, opts, r, u, nullptr, info, clock};
+        if (frix_error e = entry.solve(ctx)) return e;
+        for (int64_t i = 0; i < m; ++i)
+            if (!std::isfinite(r[i]))
+                return fail(FRIX_ERR_INTERNAL, "frix_solve: solver %s returned a non-finite r[%lld]",
+                            entry.name, (long long)i);
+    }
+    frix::Measures meas = frix::local_measures(p, r, u);
+    frix::record_measures(info, meas, opts.i(FRIX_OPT_ERROR_MEASURE));
+    // The status must agree with the final, independent measure.
+    if (info.status == FRIX_STATUS_CONVERGED && !(info.error <= info.tolerance))
+        info.status = FRIX_STATUS_STAGNATED;
+    return FRIX_OK;
+}
+
+}  // namespace
+
+extern "C" {
+
+FRIX_API frix_error frix_solve(const frix_problem *problem, const frix_options *options, double *r,
+                               double *u, double *v, frix_info *info) {
+    return frix::guard("frix_solve", [&]() -> frix_error {
+        frix::Stopwatch clock;
+        if (!problem) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_solve: problem is NULL");
+        const int64_t m = 3 * problem->nc;
+        if (m > 0 && (!r || !u))
+            return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_solve: r and u are required (%lld entries each)",
+                        (long long)m);
+        std::unique_ptr<frix_options> default_options;
+        if (!options) {
+            frix_options *o = nullptr;
+            if (frix_error e = frix_options_create(frix::kDefaultSolver, &o)) return e;
+            default_options.reset(o);
+            options = o;
+        }
+        const frix::SolverEntry *entry = frix::find_solver(options->solver_id);
+        if (!entry) return fail(FRIX_ERR_UNKNOWN_SOLVER, "frix_solve: no solver has id %d", options->solver_id);
+        if (frix_error e = frix::check_problem_vectors(*problem)) return e;
+
+        frix_info local_info;
+        frix_info &out = info ? *info : local_info;
+        out = frix_info();
+        out.solver_id = entry->id;
+        out.contacts = problem->nc;
+        out.tolerance = options->d(FRIX_OPT_TOLERANCE);
+
+        frix_error err;
+        if (problem->kind == FRIX_PROBLEM_GLOBAL) {
+            (void)v;
+            err = fail(FRIX_ERR_UNSUPPORTED,
+                       "frix_solve: global (M, H) problems are not solved yet by %s; this build "
+                       "solves local (W, q) problems", entry->name);
+        } else {
+            err = solve_local(*problem, *options, *entry, r, u, out, clock);
+        }
+        out.solve_time = clock.seconds();
+        return err;
+    });
+}
+
+}  // extern "C"

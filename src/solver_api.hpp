@@ -1,0 +1,75 @@
+// The internal interface between the solve driver (src/solve.cpp), the registry
+// (src/registry.cpp) and the solver families (solvers/*.cpp).
+#pragma once
+
+#include <frix/frix_solve.h>
+
+#include <chrono>
+#include <cstdint>
+
+#include "info.hpp"
+#include "options.hpp"
+#include "problem.hpp"
+
+namespace frix {
+
+class Stopwatch {
+   public:
+    Stopwatch() : start_(std::chrono::steady_clock::now()) {}
+    double seconds() const {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    }
+
+   private:
+    std::chrono::steady_clock::time_point start_;
+};
+
+// What a solver receives. The driver has already validated the problem and options, handled
+// the empty and all-separating cases, and made r finite (a non-finite warm start is replaced
+// by 0). The solver must:
+//   - leave r finite (reject a non-finite local update rather than store it),
+//   - set info->status and info->iterations (the driver computes the final measures from r
+//     with the measures module and sets info->error; a solver must not claim CONVERGED
+//     unless its own full-error check passed),
+//   - honour tolerance, max_iter, time_limit (against `clock`) and the callback.
+struct SolveContext {
+    const frix_problem &problem;
+    const frix_options &options;
+    double *r;   // 3nc, warm start in, result out
+    double *u;   // 3nc, output (the driver recomputes it at the end)
+    double *v;   // n, global problems only
+    frix_info &info;
+    const Stopwatch &clock;
+};
+
+using SolverFn = frix_error (*)(SolveContext &ctx);
+
+struct OptionDefault {
+    frix_option_key key;
+    double value;  // int keys hold integral values
+};
+
+struct SolverEntry {
+    int id;
+    const char *name;           // "nsgs"
+    const char *siconos_name;   // "FRICTION_3D_NSGS" (without prefix variants), or nullptr
+    const char *description;
+    SolverFn solve;
+    bool solves_local;
+    bool solves_global;
+    // Keys this solver reads beyond the common ones (tolerance, max_iter, time_limit,
+    // verbosity, error_measure), terminated by a 0 key.
+    const frix_option_key *extra_keys;
+    // Defaults that differ from the key table's, terminated by a 0 key.
+    const OptionDefault *defaults;
+};
+
+// nullptr if unknown.
+const SolverEntry *find_solver(int id);
+int64_t solver_count();
+const SolverEntry &solver_at(int64_t index);
+
+// The default solver of frix_solve(problem, NULL, ...).
+constexpr int kDefaultSolver = FRIX_SOLVER_NSGS;
+
+}  // namespace frix

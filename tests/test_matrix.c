@@ -1,0 +1,210 @@
+/* The sparse(-block) matrix: every constructor gives the same matrix, products match a dense
+ * reference, export to CSC round-trips, and bad input is refused with the right code. */
+#include <frix/frix.h>
+#include <math.h>
+#include <string.h>
+
+#include "check_main.h"
+
+/* A 6x6 test matrix (two block rows/cols) with an empty off-diagonal block, column-major. */
+static const double A6[36] = {
+    4, 1, 0, 0, 0, 0,   /* col 0 */
+    1, 5, 2, 0, 0, 0,   /* col 1 */
+    0, 2, 6, 0, 0, 0,   /* col 2 */
+    0.5, 0, 0, 7, 1, 0, /* col 3 */
+    0, 0, 0, 1, 8, 3,   /* col 4 */
+    0, 0, -1, 0, 3, 9   /* col 5 */
+};
+
+static void dense_gemv(const double *A, int m, int n, const double *x, double *y) {
+    for (int i = 0; i < m; ++i) {
+        y[i] = 0;
+        for (int j = 0; j < n; ++j) y[i] += A[i + j * m] * x[j];
+    }
+}
+
+/* Dense column-major copy of any matrix through the CSC export. */
+static void to_dense(const frix_matrix *M, double *out) {
+    int64_t m = frix_matrix_rows(M), n = frix_matrix_cols(M), nnz = 0;
+    ck_assert_int_eq(frix_matrix_to_csc(M, &nnz, NULL, NULL, NULL), FRIX_OK);
+    int64_t *cp = malloc(sizeof(int64_t) * (size_t)(n + 1));
+    int64_t *ri = malloc(sizeof(int64_t) * (size_t)(nnz > 0 ? nnz : 1));
+    double *v = malloc(sizeof(double) * (size_t)(nnz > 0 ? nnz : 1));
+    ck_assert_int_eq(frix_matrix_to_csc(M, &nnz, cp, ri, v), FRIX_OK);
+    memset(out, 0, sizeof(double) * (size_t)(m * n));
+    for (int64_t j = 0; j < n; ++j)
+        for (int64_t e = cp[j]; e < cp[j + 1]; ++e) {
+            if (e > cp[j]) ck_assert_int_lt(ri[e - 1], ri[e]); /* sorted, no duplicates */
+            out[ri[e] + j * m] = v[e];
+        }
+    free(cp);
+    free(ri);
+    free(v);
+}
+
+static void dense_to_csc(const double *A, int m, int n, int64_t *cp, int64_t *ri, double *v) {
+    int64_t k = 0;
+    cp[0] = 0;
+    for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < m; ++i)
+            if (A[i + j * m] != 0.0) {
+                ri[k] = i;
+                v[k++] = A[i + j * m];
+            }
+        cp[j + 1] = k;
+    }
+}
+
+START_TEST(test_all_constructors_agree) {
+    int64_t cp[7], ri[36];
+    double v[36];
+    dense_to_csc(A6, 6, 6, cp, ri, v);
+    int64_t nnz = cp[6];
+
+    /* CSR of A is the CSC of A^T. */
+    double At[36];
+    for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j) At[j + i * 6] = A6[i + j * 6];
+    int64_t rp[7], ci[36];
+    double rv[36];
+    dense_to_csc(At, 6, 6, rp, ci, rv);
+
+    /* Triplets in reverse order, with one entry split in two duplicates (4 = 3 + 1). */
+    int64_t tr[37], tc[37];
+    double tv[37];
+    int64_t t = 0;
+    for (int64_t j = 5; j >= 0; --j)
+        for (int64_t e = cp[j + 1] - 1; e >= cp[j]; --e) {
+            tr[t] = ri[e];
+            tc[t] = j;
+            tv[t++] = v[e];
+        }
+    for (int64_t k = 0; k < t; ++k)
+        if (tr[k] == 0 && tc[k] == 0) tv[k] = 3;
+    tr[t] = 0;
+    tc[t] = 0;
+    tv[t++] = 1;
+
+    /* Blocks: (0,0), (0,1), (1,1), with (1,0) empty and left out. */
+    int64_t br[3] = {0, 0, 1}, bc[3] = {0, 1, 1};
+    double bv[27];
+    for (int b = 0; b < 3; ++b)
+        for (int j = 0; j < 3; ++j)
+            for (int i = 0; i < 3; ++i) bv[9 * b + 3 * j + i] = A6[(3 * br[b] + i) + (3 * bc[b] + j) * 6];
+
+    frix_matrix *M[5] = {0};
+    ck_assert_int_eq(frix_matrix_from_dense(6, 6, A6, 6, &M[0]), FRIX_OK);
+    ck_assert_int_eq(frix_matrix_from_csc(6, 6, cp, ri, v, &M[1]), FRIX_OK);
+    ck_assert_int_eq(frix_matrix_from_csr(6, 6, rp, ci, rv, &M[2]), FRIX_OK);
+    ck_assert_int_eq(frix_matrix_from_triplets(6, 6, t, tr, tc, tv, &M[3]), FRIX_OK);
+    ck_assert_int_eq(frix_matrix_from_blocks(2, 2, 3, br, bc, bv, &M[4]), FRIX_OK);
+    for (int k = 0; k < 5; ++k) {
+        double D[36];
+        ck_assert(frix_matrix_is_block(M[k]));
+        ck_assert_int_eq(frix_matrix_block_count(M[k]), 3);
+        ck_assert_int_eq(frix_matrix_nnz(M[k]), 27);
+        to_dense(M[k], D);
+        for (int i = 0; i < 36; ++i) ck_assert_double_eq(D[i], A6[i]);
+        int64_t enz;
+        ck_assert_int_eq(frix_matrix_to_csc(M[k], &enz, NULL, NULL, NULL), FRIX_OK);
+        ck_assert_int_eq(enz, nnz);
+        frix_matrix_free(M[k]);
+    }
+}
+END_TEST
+
+START_TEST(test_products_and_diagonal) {
+    frix_matrix *M = NULL;
+    ck_assert_int_eq(frix_matrix_from_dense(6, 6, A6, 6, &M), FRIX_OK);
+    double x[6] = {1, -2, 3, 0.5, -1, 2}, y[6], yref[6], At[36];
+    dense_gemv(A6, 6, 6, x, yref);
+    for (int i = 0; i < 6; ++i) y[i] = 1.0;
+    ck_assert_int_eq(frix_matrix_gemv(M, 2.0, x, 3.0, y), FRIX_OK);
+    for (int i = 0; i < 6; ++i) ck_assert_double_eq_tol(y[i], 2 * yref[i] + 3, 1e-14);
+    for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j) At[j + i * 6] = A6[i + j * 6];
+    dense_gemv(At, 6, 6, x, yref);
+    for (int i = 0; i < 6; ++i) y[i] = NAN; /* beta = 0 must ignore y */
+    ck_assert_int_eq(frix_matrix_gemv_transposed(M, 1.0, x, 0.0, y), FRIX_OK);
+    for (int i = 0; i < 6; ++i) ck_assert_double_eq_tol(y[i], yref[i], 1e-14);
+    double D[9];
+    ck_assert_int_eq(frix_matrix_diagonal_block(M, 1, D), FRIX_OK);
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) ck_assert_double_eq(D[3 * j + i], A6[(3 + i) + (3 + j) * 6]);
+    ck_assert_int_eq(frix_matrix_diagonal_block(M, 2, D), FRIX_ERR_DIMENSION);
+    frix_matrix_free(M);
+}
+END_TEST
+
+/* A 4x5 matrix (not block-shaped) is stored as general CSC and still works. */
+START_TEST(test_general_sparse) {
+    const double B[20] = {1, 0, 0, 2, 0, 3, 0, 0, 0, 0, 0, 0, 4, 0, 5, 0, 0, 0, 0, 6};
+    frix_matrix *M = NULL;
+    ck_assert_int_eq(frix_matrix_from_dense(4, 5, B, 4, &M), FRIX_OK);
+    ck_assert(!frix_matrix_is_block(M));
+    ck_assert_int_eq(frix_matrix_nnz(M), 6);
+    ck_assert_int_eq(frix_matrix_block_count(M), 0);
+    double x[5] = {1, 2, 3, 4, 5}, y[4], yref[4];
+    dense_gemv(B, 4, 5, x, yref);
+    ck_assert_int_eq(frix_matrix_gemv(M, 1.0, x, 0.0, y), FRIX_OK);
+    for (int i = 0; i < 4; ++i) ck_assert_double_eq(y[i], yref[i]);
+    double D[20];
+    to_dense(M, D);
+    for (int i = 0; i < 20; ++i) ck_assert_double_eq(D[i], B[i]);
+    double Dblk[9];
+    ck_assert_int_eq(frix_matrix_diagonal_block(M, 0, Dblk), FRIX_ERR_UNSUPPORTED);
+    frix_matrix_free(M);
+}
+END_TEST
+
+START_TEST(test_bad_input) {
+    frix_matrix *M = (frix_matrix *)0x1;
+    int64_t cp[4] = {0, 1, 1, 2}, ri[2] = {0, 5};
+    double v[2] = {1, 2};
+    ck_assert_int_eq(frix_matrix_from_csc(3, 3, cp, ri, v, &M), FRIX_ERR_DIMENSION); /* row 5 */
+    ck_assert_ptr_null(M);
+    ck_assert(strstr(frix_last_error_message(), "outside") != NULL);
+    int64_t bad_cp[4] = {0, 2, 1, 2}, ri2[2] = {0, 1};
+    ck_assert_int_eq(frix_matrix_from_csc(3, 3, bad_cp, ri2, v, &M), FRIX_ERR_DIMENSION);
+    double nanv[2] = {1, NAN};
+    int64_t cp2[4] = {0, 1, 1, 2};
+    ck_assert_int_eq(frix_matrix_from_csc(3, 3, cp2, ri2, nanv, &M), FRIX_ERR_NOT_FINITE);
+    ck_assert_int_eq(frix_matrix_from_csc(-1, 3, cp2, ri2, v, &M), FRIX_ERR_DIMENSION);
+    ck_assert_int_eq(frix_matrix_from_csc(3, 3, NULL, ri2, v, &M), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(frix_matrix_from_csc(3, 3, cp2, ri2, v, NULL), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(frix_matrix_from_triplets(3, 3, -1, ri2, ri2, v, &M), FRIX_ERR_DIMENSION);
+    ck_assert_int_eq(frix_matrix_from_dense(3, 3, v, 2, &M), FRIX_ERR_DIMENSION); /* ld < rows */
+    int64_t br = 1, bc = 0;
+    double bv[9] = {0};
+    ck_assert_int_eq(frix_matrix_from_blocks(1, 1, 1, &br, &bc, bv, &M), FRIX_ERR_DIMENSION);
+    /* A declared size far beyond any real problem is refused, not attempted. */
+    ck_assert_int_eq(frix_matrix_from_triplets((int64_t)1 << 50, 3, 0, NULL, NULL, NULL, &M),
+                     FRIX_ERR_DIMENSION);
+    frix_matrix_free(NULL); /* NULL-safe */
+}
+END_TEST
+
+START_TEST(test_empty_matrix) {
+    frix_matrix *M = NULL;
+    ck_assert_int_eq(frix_matrix_from_triplets(0, 0, 0, NULL, NULL, NULL, &M), FRIX_OK);
+    ck_assert_int_eq(frix_matrix_rows(M), 0);
+    ck_assert_int_eq(frix_matrix_nnz(M), 0);
+    int64_t nnz = -1, cp[1];
+    ck_assert_int_eq(frix_matrix_to_csc(M, &nnz, cp, NULL, NULL), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(frix_matrix_to_csc(M, &nnz, NULL, NULL, NULL), FRIX_OK);
+    ck_assert_int_eq(nnz, 0);
+    frix_matrix_free(M);
+}
+END_TEST
+
+int main(void) {
+    Suite *s = suite_create("matrix");
+    TCase *tc = tcase_create("core");
+    tcase_add_test(tc, test_all_constructors_agree);
+    tcase_add_test(tc, test_products_and_diagonal);
+    tcase_add_test(tc, test_general_sparse);
+    tcase_add_test(tc, test_bad_input);
+    tcase_add_test(tc, test_empty_matrix);
+    suite_add_tcase(s, tc);
+    return frix_run_suite(s);
+}

@@ -1,0 +1,315 @@
+/* NSGS (id 500) through the public API: the FCLIB problems it must solve to 1e-8, checked
+ * with an independent recomputation of the error; determinism, warm start, the stopping
+ * statuses and the callback. The slow problems belong to tools/bench, not here. */
+#include <frix/frix.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "check_main.h"
+
+#ifndef FRIX_SHARED_DIR
+#define FRIX_SHARED_DIR ""
+#endif
+
+/* The shared data directory may be absent (e.g. a bare checkout): such tests then pass
+ * with a note instead of failing. */
+static frix_problem *load(const char *relative) {
+    char path[4096];
+    snprintf(path, sizeof path, "%s/fclib/%s", FRIX_SHARED_DIR, relative);
+    if (access(path, R_OK) != 0) {
+        fprintf(stderr, "note: %s not found, test skipped\n", path);
+        return NULL;
+    }
+    frix_problem *p = NULL;
+    ck_assert_msg(frix_fclib_read(path, &p) == FRIX_OK, "%s: %s", path, frix_last_error_message());
+    return p;
+}
+
+static frix_options *nsgs_options(double tol) {
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(500, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, tol), FRIX_OK);
+    return o;
+}
+
+static void assert_finite(const double *x, int64_t n) {
+    for (int64_t i = 0; i < n; ++i) ck_assert_msg(isfinite(x[i]), "entry %lld is not finite", (long long)i);
+}
+
+typedef struct {
+    frix_status status;
+    int64_t iterations;
+    double error; /* recomputed from r */
+} outcome;
+
+static outcome solve(const frix_problem *p, const frix_options *o, double *r) {
+    const int64_t m = frix_problem_contact_dofs(p);
+    double *u = malloc((size_t)(m > 0 ? m : 1) * sizeof *u);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
+    outcome out = {frix_info_status(info), frix_info_iterations(info), NAN};
+    assert_finite(r, m);
+    ck_assert_int_eq(frix_problem_error(p, r, NULL, &out.error), FRIX_OK);
+    /* The measure is also what the info reports. */
+    ck_assert_double_eq_tol(out.error, frix_info_error(info), 1e-12 + 1e-6 * out.error);
+    frix_info_free(info);
+    free(u);
+    return out;
+}
+
+static double *zeros(const frix_problem *p) {
+    return calloc((size_t)frix_problem_contact_dofs(p) + 1, sizeof(double));
+}
+
+/* Every problem Siconos 4.4's NSGS solves to 1e-8 (siconos-4.4-baseline.csv); each takes well
+ * under a second here. */
+static const char *const kMustSolve[] = {
+    "local/Capsules-i125-1213.hdf5",
+    "local/LMGC_100_PR_PerioBox-i00361-60-03000.hdf5",
+    "converted/Capsules-i100-1090.from_dat.hdf5",
+    "converted/Capsules-i101-404.from_dat.hdf5",
+    "converted/Confeti-ex03-Fc3D-SBM.from_dat.hdf5",
+    "converted/Confeti-ex13-4contact-Fc3D-SBM.from_dat.hdf5",
+    "converted/OneObject-i1028-138.from_dat.hdf5",
+    "converted/NESpheres_10_1.from_dat.hdf5",
+    "converted/LMGC_GFC3D-i00501-4-00000.reduced.hdf5",
+    "converted/Box_Stacks-i0035-31-0.reduced.hdf5",
+    "converted/FC3D_Example1.from_dat.hdf5",
+    "converted/FrictionContact3D_1c.from_dat.hdf5",
+    "converted/GFC3D_Example1_v2.from_dat.hdf5",
+    "converted/GFC3D_TwoRods1.from_dat.hdf5",
+    "converted/Rover1039.from_dat.hdf5",
+    "converted/Rover1040.from_dat.hdf5",
+    "converted/Rover11035.from_dat.hdf5",
+    "converted/Rover3865.from_dat.hdf5",
+    "converted/Rover4396.from_dat.hdf5",
+    "converted/Rover4516.from_dat.hdf5",
+    "converted/Rover4613.from_dat.hdf5",
+};
+#define N_MUST_SOLVE ((int)(sizeof kMustSolve / sizeof kMustSolve[0]))
+
+START_TEST(solves_to_1e8) {
+    const char *file = kMustSolve[_i];
+    frix_problem *p = load(file);
+    if (!p) return;
+    frix_options *o = nsgs_options(1e-8);
+    double *r = zeros(p);
+    outcome out = solve(p, o, r);
+    ck_assert_msg(out.status == FRIX_STATUS_CONVERGED, "%s: status %s after %lld sweeps, error %g",
+                  file, frix_status_string(out.status), (long long)out.iterations, out.error);
+    ck_assert_msg(out.error <= 1e-8, "%s: recomputed error %g", file, out.error);
+    free(r);
+    frix_options_free(o);
+    frix_problem_free(p);
+}
+END_TEST
+
+START_TEST(relaxation_breaks_limit_cycle) {
+    /* Plain NSGS (Siconos' too) cycles at an error of 1.7e-3 on this one; omega = 0.9 solves it. */
+    frix_problem *p = load("converted/OneObject-i100000-316.from_dat.hdf5");
+    if (!p) return;
+    frix_options *o = nsgs_options(1e-8);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_RELAXATION, 0.9), FRIX_OK);
+    double *r = zeros(p);
+    outcome out = solve(p, o, r);
+    ck_assert_int_eq(out.status, FRIX_STATUS_CONVERGED);
+    ck_assert(out.error <= 1e-8);
+    free(r);
+    frix_options_free(o);
+    frix_problem_free(p);
+}
+END_TEST
+
+START_TEST(same_seed_same_bits) {
+    frix_problem *p = load("local/Capsules-i125-1213.hdf5");
+    if (!p) return;
+    const int64_t m = frix_problem_contact_dofs(p);
+    frix_options *o = nsgs_options(1e-8);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_SHUFFLE, FRIX_SHUFFLE_EACH_SWEEP), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_SEED, 42), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 300), FRIX_OK);
+    double *r1 = zeros(p), *r2 = zeros(p), *r3 = zeros(p);
+    solve(p, o, r1);
+    solve(p, o, r2);
+    ck_assert(memcmp(r1, r2, (size_t)m * sizeof(double)) == 0);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_SEED, 43), FRIX_OK);
+    solve(p, o, r3);
+    ck_assert(memcmp(r1, r3, (size_t)m * sizeof(double)) != 0); /* the seed is really used */
+    free(r1);
+    free(r2);
+    free(r3);
+    frix_options_free(o);
+    frix_problem_free(p);
+}
+END_TEST
+
+START_TEST(warm_start_from_solution) {
+    frix_problem *p = load("converted/Capsules-i100-1090.from_dat.hdf5");
+    if (!p) return;
+    frix_options *o = nsgs_options(1e-8);
+    double *r = zeros(p);
+    ck_assert_int_eq(solve(p, o, r).status, FRIX_STATUS_CONVERGED);
+    outcome again = solve(p, o, r);
+    ck_assert_int_eq(again.status, FRIX_STATUS_CONVERGED);
+    ck_assert_int_le(again.iterations, 2);
+    ck_assert(again.error <= 1e-8);
+    free(r);
+    frix_options_free(o);
+    frix_problem_free(p);
+}
+END_TEST
+
+START_TEST(max_iter_status) {
+    frix_problem *p = load("local/Capsules-i125-1213.hdf5");
+    if (!p) return;
+    frix_options *o = nsgs_options(1e-8);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 5), FRIX_OK);
+    double *r = zeros(p);
+    outcome out = solve(p, o, r);
+    ck_assert_int_eq(out.status, FRIX_STATUS_MAX_ITER);
+    ck_assert_int_eq(out.iterations, 5);
+    ck_assert(out.error > 1e-8);
+    free(r);
+    frix_options_free(o);
+    frix_problem_free(p);
+}
+END_TEST
+
+START_TEST(time_limit_status) {
+    /* NSGS does not reach 1e-8 on this one (nor does Siconos'): only the clock stops it. */
+    frix_problem *p = load("local/local_problem_test.hdf5");
+    if (!p) return;
+    frix_options *o = nsgs_options(1e-8);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TIME_LIMIT, 0.05), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 1000000000), FRIX_OK);
+    double *r = zeros(p);
+    frix_info *info = NULL;
+    double *u = zeros(p);
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_TIME_LIMIT);
+    ck_assert(frix_info_solve_time(info) < 2.0);
+    assert_finite(r, frix_problem_contact_dofs(p));
+    frix_info_free(info);
+    free(u);
+    free(r);
+    frix_options_free(o);
+    frix_problem_free(p);
+}
+END_TEST
+
+typedef struct {
+    int64_t calls, last_iteration, stop_at;
+    int monotone;
+} callback_log;
+
+static int on_progress(void *data, int64_t iteration, double error, double elapsed) {
+    callback_log *log = data;
+    if (iteration != log->last_iteration + 1 || !(error >= 0) || !(elapsed >= 0)) log->monotone = 0;
+    log->last_iteration = iteration;
+    ++log->calls;
+    return iteration >= log->stop_at;
+}
+
+START_TEST(callback_stops) {
+    frix_problem *p = load("local/Capsules-i125-1213.hdf5");
+    if (!p) return;
+    frix_options *o = nsgs_options(1e-8);
+    callback_log log = {0, 0, 3, 1};
+    ck_assert_int_eq(frix_options_set_callback(o, on_progress, &log), FRIX_OK);
+    double *r = zeros(p);
+    outcome out = solve(p, o, r);
+    ck_assert_int_eq(out.status, FRIX_STATUS_STOPPED_BY_CALLBACK);
+    ck_assert_int_eq(out.iterations, 3);
+    ck_assert_int_eq(log.calls, 3);
+    ck_assert(log.monotone);
+    free(r);
+    frix_options_free(o);
+    frix_problem_free(p);
+}
+END_TEST
+
+START_TEST(variants_stay_finite_and_in_cone) {
+    /* Single-step local solver, over-relaxation and shuffles: r finite, inside the cones. */
+    frix_problem *p = load("converted/OneObject-i1028-138.from_dat.hdf5");
+    if (!p) return;
+    const int64_t m = frix_problem_contact_dofs(p);
+    struct {
+        int local, shuffle;
+        double omega;
+    } cases[] = {{552, 0, 1.0}, {553, 1, 1.5}, {553, 2, 0.7}, {552, 2, 1.3}};
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        frix_options *o = nsgs_options(1e-8);
+        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_LOCAL_SOLVER, cases[k].local), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_SHUFFLE, cases[k].shuffle), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_RELAXATION, cases[k].omega), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 200), FRIX_OK);
+        double *r = zeros(p), *u = zeros(p);
+        frix_info *info = NULL;
+        ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+        ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
+        assert_finite(r, m);
+        double cone;
+        ck_assert_int_eq(frix_info_get_double(info, FRIX_INFO_CONE_VIOLATION, &cone), FRIX_OK);
+        ck_assert_msg(cone <= 1e-12, "case %zu: cone violation %g", k, cone);
+        frix_info_free(info);
+        free(u);
+        free(r);
+        frix_options_free(o);
+    }
+    frix_problem_free(p);
+}
+END_TEST
+
+START_TEST(contact_without_diagonal_block) {
+    /* Contact 1 has no diagonal block (W_11 = 0) and q_N < 0: no local solution exists.
+     * The solve must end cleanly, r finite, without claiming convergence. */
+    const int64_t rows[3] = {0, 0, 1}, cols[3] = {0, 1, 0};
+    double blocks[27] = {2, 0, 0, 0, 1, 0, 0, 0, 1, /* W_00 */
+                         0.1, 0, 0, 0, 0, 0, 0, 0, 0, /* W_01 */
+                         0.1, 0, 0, 0, 0, 0, 0, 0, 0 /* W_10 */};
+    frix_matrix *W = NULL;
+    ck_assert_int_eq(frix_matrix_from_blocks(2, 2, 3, rows, cols, blocks, &W), FRIX_OK);
+    const double q[6] = {-1, 0.1, 0, -1, 0.2, 0}, mu[2] = {0.5, 0.5};
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_problem_local(W, q, mu, 2, &p), FRIX_OK);
+    frix_options *o = nsgs_options(1e-8);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 50), FRIX_OK);
+    double r[6] = {0}, u[6];
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
+    assert_finite(r, 6);
+    ck_assert_int_ne(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    frix_info_free(info);
+    frix_options_free(o);
+    frix_problem_free(p);
+    frix_matrix_free(W);
+}
+END_TEST
+
+static Suite *nsgs_suite(void) {
+    Suite *s = suite_create("nsgs");
+    TCase *files = tcase_create("fclib");
+    tcase_add_loop_test(files, solves_to_1e8, 0, N_MUST_SOLVE);
+    tcase_add_test(files, relaxation_breaks_limit_cycle);
+    tcase_add_test(files, same_seed_same_bits);
+    tcase_add_test(files, warm_start_from_solution);
+    suite_add_tcase(s, files);
+    TCase *stops = tcase_create("stopping");
+    tcase_add_test(stops, max_iter_status);
+    tcase_add_test(stops, time_limit_status);
+    tcase_add_test(stops, callback_stops);
+    suite_add_tcase(s, stops);
+    TCase *robust = tcase_create("robustness");
+    tcase_add_test(robust, variants_stay_finite_and_in_cone);
+    tcase_add_test(robust, contact_without_diagonal_block);
+    suite_add_tcase(s, robust);
+    return s;
+}
+
+int main(void) { return frix_run_suite(nsgs_suite()); }

@@ -1,0 +1,45 @@
+// Command-line parsing for one subcommand: options as "--name VALUE" or "--name=VALUE",
+// flags, "--" to end the options, and strict number parsing.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace frix_cli {
+
+class ArgCursor {
+public:
+    // argv[0] is the subcommand's name; parsing starts at argv[1].
+    ArgCursor(const char *command, int argc, char **argv);
+
+    bool done() const { return index_ >= argc_; }
+    // True when the current argument looks like an option (and "--" has not been seen).
+    bool at_option() const;
+    // Consumes the current argument if it is the flag `name`.
+    bool flag(const char *name);
+    // Consumes "--name VALUE" or "--name=VALUE" into `value`. A value may start with '-'
+    // (so "--tol -1" reaches the range check). A missing value is a usage error.
+    bool option(const char *name, std::string &value);
+    // Consumes the current argument as a positional one.
+    std::string positional();
+    [[noreturn]] void unknown_option() const;
+
+    const char *command() const { return command_; }
+
+private:
+    const char *command_;
+    int argc_;
+    char **argv_;
+    int index_ = 1;
+    bool options_ended_ = false;
+};
+
+// Whole-string conversions; anything else (empty, trailing text, NaN/Inf, overflow) is a
+// usage error naming the command and option.
+double parse_double(const char *command, const std::string &option, const std::string &text);
+std::int64_t parse_int(const char *command, const std::string &option, const std::string &text);
+
+// "frix SUB: <what> (see 'frix SUB --help')" as a usage Failure.
+[[noreturn]] void usage_error(const char *command, const std::string &what);
+
+}  // namespace frix_cli

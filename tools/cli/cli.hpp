@@ -1,0 +1,61 @@
+// The `frix` command line: declarations shared by the subcommands.
+// The CLI is a client of the public C API only (no header from src/).
+#pragma once
+
+#include <frix/frix.h>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+namespace frix_cli {
+
+// Exit codes, documented in `frix --help`.
+enum ExitCode {
+    kExitConverged = 0,     // the command succeeded (for solve: status CONVERGED)
+    kExitNotConverged = 1,  // the solve ran but stopped without converging
+    kExitUsage = 2          // usage error, unreadable/invalid input, or the library refused
+};
+
+// Ends the current command: main() prints "frix: <message>" as one line on stderr and
+// returns `code`. Thrown rather than exit()ed so that every handle is released.
+struct Failure {
+    int code;
+    std::string message;
+};
+[[noreturn]] void fail(const std::string &message, int code = kExitUsage);
+
+// The library's message for a failed call (falls back to the code's description).
+std::string library_message(frix_error err);
+
+struct ProblemDeleter {
+    void operator()(frix_problem *p) const { frix_problem_free(p); }
+};
+struct OptionsDeleter {
+    void operator()(frix_options *o) const { frix_options_free(o); }
+};
+struct InfoDeleter {
+    void operator()(frix_info *i) const { frix_info_free(i); }
+};
+using ProblemPtr = std::unique_ptr<frix_problem, ProblemDeleter>;
+using OptionsPtr = std::unique_ptr<frix_options, OptionsDeleter>;
+using InfoPtr = std::unique_ptr<frix_info, InfoDeleter>;
+
+// frix_fclib_read, or fail with "cannot read PATH: <reason>".
+ProblemPtr read_problem(const std::string &path);
+
+const char *kind_name(frix_problem_kind kind);
+// A stable lower-case token for JSON and scripts ("converged", "max_iter", ...).
+const char *status_token(frix_status status);
+
+// Subcommands: argv[0] is the subcommand name, as main() received it.
+int cmd_solve(int argc, char **argv);
+int cmd_info(int argc, char **argv);
+int cmd_solvers(int argc, char **argv);
+
+void print_main_help(std::FILE *out);
+void print_solve_help(std::FILE *out);
+void print_info_help(std::FILE *out);
+void print_solvers_help(std::FILE *out);
+
+}  // namespace frix_cli

@@ -1,0 +1,262 @@
+// `frix solve FILE.hdf5 [options]`: read, solve from r = 0, report, optionally write.
+#include "args.hpp"
+#include "cli.hpp"
+#include "json.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace frix_cli {
+namespace {
+
+// One option value as typed; converted once the solver (hence the option's type) is known.
+struct Setting {
+    frix_option_key key;
+    std::string label;  // the option, for messages: "--tol", "--set relaxation"
+    std::string text;
+    std::string shown;  // how the user wrote it: "--tol -1", "--set relaxation=3"
+};
+
+struct SolveArgs {
+    std::string file, output;
+    std::string solver = "nsgs";
+    std::vector<Setting> settings;
+    bool json = false;
+};
+
+struct Report {
+    std::string file, output;
+    frix_problem_kind kind = FRIX_PROBLEM_LOCAL;
+    int64_t contacts = 0, contact_dofs = 0, dofs = 0;
+    int solver_id = 0;
+    std::string solver_name;
+    frix_status status = FRIX_STATUS_NOT_RUN;
+    int64_t iterations = 0;
+    int64_t measure = FRIX_MEASURE_RELATIVE;
+    double error = NAN, tolerance = NAN, time = NAN;
+    double error_relative = NAN, error_q_relative = NAN, residual = NAN;
+    double cone_violation = NAN, penetration = NAN, complementarity = NAN, equilibrium = NAN;
+};
+
+SolveArgs parse(int argc, char **argv, bool &help) {
+    ArgCursor args("solve", argc, argv);
+    SolveArgs a;
+    std::vector<std::string> files;
+    int verbosity = 0;
+    std::string v;
+    help = false;
+    while (!args.done()) {
+        if (args.flag("--help") || args.flag("-h")) {
+            help = true;
+            return a;
+        } else if (args.option("--solver", v)) {
+            a.solver = v;
+        } else if (args.option("--tol", v)) {
+            a.settings.push_back({FRIX_OPT_TOLERANCE, "--tol", v, "--tol " + v});
+        } else if (args.option("--max-iter", v)) {
+            a.settings.push_back({FRIX_OPT_MAX_ITER, "--max-iter", v, "--max-iter " + v});
+        } else if (args.option("--time-limit", v)) {
+            a.settings.push_back({FRIX_OPT_TIME_LIMIT, "--time-limit", v, "--time-limit " + v});
+        } else if (args.option("--set", v)) {
+            std::size_t eq = v.find('=');
+            if (eq == std::string::npos || eq == 0)
+                usage_error("solve", "--set expects NAME=VALUE, got '" + v + "'");
+            std::string name = v.substr(0, eq);
+            frix_option_key key{};
+            if (frix_option_by_name(name.c_str(), &key) != FRIX_OK)
+                usage_error("solve", "unknown option name '" + name + "' in --set");
+            a.settings.push_back({key, "--set " + name, v.substr(eq + 1), "--set " + v});
+        } else if (args.option("--output", v) || args.option("-o", v)) {
+            if (v.empty()) usage_error("solve", "--output needs a file name");
+            a.output = v;
+        } else if (args.flag("--json")) {
+            a.json = true;
+        } else if (args.flag("--verbose") || args.flag("-v")) {
+            ++verbosity;
+        } else if (args.flag("-vv")) {
+            verbosity += 2;
+        } else if (args.flag("-vvv")) {
+            verbosity += 3;
+        } else if (args.at_option()) {
+            args.unknown_option();
+        } else if (!args.done()) {
+            files.push_back(args.positional());
+        }
+    }
+    if (files.size() != 1) usage_error("solve", "expected one FILE.hdf5");
+    a.file = files[0];
+    if (verbosity > 0)
+        a.settings.push_back({FRIX_OPT_VERBOSITY, "--verbose", std::to_string(verbosity),
+                              "verbosity " + std::to_string(verbosity)});
+    return a;
+}
+
+// The library decides what is in range; the CLI only reports what it says.
+void apply(frix_options *opts, const Setting &s) {
+    double lower = 0, upper = 0;
+    int is_int = 0;
+    frix_error err = frix_options_bounds(opts, s.key, &lower, &upper, &is_int);
+    if (err != FRIX_OK) fail("solve: " + s.label + ": " + library_message(err));
+    if (is_int)
+        err = frix_options_set_int(opts, s.key, parse_int("solve", s.label, s.text));
+    else
+        err = frix_options_set_double(opts, s.key, parse_double("solve", s.label, s.text));
+    if (err != FRIX_OK) fail("solve: " + s.shown + ": " + library_message(err));
+}
+
+OptionsPtr make_options(const SolveArgs &a) {
+    int id = 0;
+    if (frix_solver_by_name(a.solver.c_str(), &id) != FRIX_OK)
+        fail("solve: unknown solver '" + a.solver + "' (see 'frix solvers')");
+    frix_options *raw = nullptr;
+    frix_error err = frix_options_create(id, &raw);
+    OptionsPtr opts(raw);
+    if (err != FRIX_OK) fail("solve: solver '" + a.solver + "': " + library_message(err));
+    for (const Setting &s : a.settings) apply(opts.get(), s);
+    return opts;
+}
+
+double info_double(const frix_info *info, frix_info_key key) {
+    double v = NAN;
+    if (frix_info_get_double(info, key, &v) != FRIX_OK) return NAN;
+    return v;
+}
+
+void fill_from_info(Report &r, const frix_info *info) {
+    int64_t id = 0;
+    if (frix_info_get_int(info, FRIX_INFO_SOLVER_ID, &id) == FRIX_OK)
+        r.solver_id = static_cast<int>(id);
+    const char *name = frix_solver_name(r.solver_id);
+    r.solver_name = name ? name : "?";
+    r.status = frix_info_status(info);
+    r.iterations = frix_info_iterations(info);
+    r.error = frix_info_error(info);
+    r.time = frix_info_solve_time(info);
+    r.tolerance = info_double(info, FRIX_INFO_TOLERANCE);
+    r.error_relative = info_double(info, FRIX_INFO_ERROR_RELATIVE);
+    r.error_q_relative = info_double(info, FRIX_INFO_ERROR_Q_RELATIVE);
+    r.residual = info_double(info, FRIX_INFO_RESIDUAL_ABSOLUTE);
+    r.cone_violation = info_double(info, FRIX_INFO_CONE_VIOLATION);
+    r.penetration = info_double(info, FRIX_INFO_PENETRATION);
+    r.complementarity = info_double(info, FRIX_INFO_COMPLEMENTARITY);
+    r.equilibrium = info_double(info, FRIX_INFO_EQUILIBRIUM);
+}
+
+const char *measure_name(int64_t measure) {
+    return measure == FRIX_MEASURE_Q_RELATIVE ? "q_relative" : "relative";
+}
+
+void print_json(const Report &r) {
+    JsonWriter w;
+    w.begin_object();
+    w.string("file", r.file);
+    w.string("kind", kind_name(r.kind));
+    w.integer("contacts", r.contacts);
+    w.integer("contact_dofs", r.contact_dofs);
+    w.integer("dofs", r.dofs);
+    w.string("solver", r.solver_name);
+    w.integer("solver_id", r.solver_id);
+    w.string("status", status_token(r.status));
+    w.string("status_text", frix_status_string(r.status));
+    w.boolean("converged", r.status == FRIX_STATUS_CONVERGED);
+    w.integer("iterations", r.iterations);
+    w.number("error", r.error);
+    w.string("error_measure", measure_name(r.measure));
+    w.number("tolerance", r.tolerance);
+    w.number("time", r.time);
+    w.begin_object("measures");
+    w.number("error_relative", r.error_relative);
+    w.number("error_q_relative", r.error_q_relative);
+    w.number("residual_absolute", r.residual);
+    w.number("cone_violation", r.cone_violation);
+    w.number("penetration", r.penetration);
+    w.number("complementarity", r.complementarity);
+    w.number("equilibrium", r.equilibrium);
+    w.end_object();
+    if (r.output.empty())
+        w.null("output");
+    else
+        w.string("output", r.output);
+    w.end_object();
+    std::printf("%s\n", w.text().c_str());
+}
+
+void print_text(const Report &r) {
+    std::printf("%-16s %s\n", "file", r.file.c_str());
+    if (r.kind == FRIX_PROBLEM_LOCAL)
+        std::printf("%-16s local, %lld contacts\n", "problem", static_cast<long long>(r.contacts));
+    else
+        std::printf("%-16s global, %lld contacts, %lld dofs\n", "problem",
+                    static_cast<long long>(r.contacts), static_cast<long long>(r.dofs));
+    std::printf("%-16s %s (id %d)\n", "solver", r.solver_name.c_str(), r.solver_id);
+    std::printf("%-16s %s\n", "status", frix_status_string(r.status));
+    std::printf("%-16s %lld\n", "iterations", static_cast<long long>(r.iterations));
+    std::printf("%-16s %.3e (%s, tolerance %.1e)\n", "error", r.error, measure_name(r.measure),
+                r.tolerance);
+    std::printf("%-16s %.3g s\n", "time", r.time);
+    std::printf("%-16s %.3e\n", "error / |q|", r.error_q_relative);
+    std::printf("%-16s %.3e\n", "residual", r.residual);
+    std::printf("%-16s %.3e\n", "cone violation", r.cone_violation);
+    std::printf("%-16s %.3e\n", "penetration", r.penetration);
+    std::printf("%-16s %.3e\n", "complementarity", r.complementarity);
+    if (r.kind == FRIX_PROBLEM_GLOBAL) std::printf("%-16s %.3e\n", "equilibrium", r.equilibrium);
+    if (!r.output.empty()) std::printf("%-16s %s\n", "written to", r.output.c_str());
+}
+
+}  // namespace
+
+int cmd_solve(int argc, char **argv) {
+    bool help = false;
+    SolveArgs a = parse(argc, argv, help);
+    if (help) {
+        print_solve_help(stdout);
+        return kExitConverged;
+    }
+    // Options first: a usage mistake is reported before any file is touched.
+    OptionsPtr opts = make_options(a);
+    ProblemPtr problem = read_problem(a.file);
+
+    Report rep;
+    rep.file = a.file;
+    rep.kind = frix_problem_get_kind(problem.get());
+    rep.contacts = frix_problem_contacts(problem.get());
+    rep.contact_dofs = frix_problem_contact_dofs(problem.get());
+    rep.dofs = frix_problem_dofs(problem.get());
+    if (frix_options_get_int(opts.get(), FRIX_OPT_ERROR_MEASURE, &rep.measure) != FRIX_OK)
+        rep.measure = FRIX_MEASURE_RELATIVE;
+
+    // Sized at least 1 so that an empty problem still passes valid pointers.
+    std::vector<double> r(static_cast<std::size_t>(std::max<int64_t>(rep.contact_dofs, 1)), 0.0);
+    std::vector<double> u(r.size(), 0.0);
+    std::vector<double> v(static_cast<std::size_t>(std::max<int64_t>(rep.dofs, 1)), 0.0);
+    double *vp = rep.kind == FRIX_PROBLEM_GLOBAL ? v.data() : nullptr;
+
+    frix_info *raw_info = nullptr;
+    frix_error err = frix_info_create(&raw_info);
+    InfoPtr info(raw_info);
+    if (err != FRIX_OK) fail("solve: " + library_message(err));
+    err = frix_solve(problem.get(), opts.get(), r.data(), u.data(), vp, info.get());
+    if (err != FRIX_OK) fail("cannot solve " + a.file + ": " + library_message(err));
+    fill_from_info(rep, info.get());
+
+    // Written whatever the status: a non-converged iterate is still worth inspecting.
+    std::string write_error;
+    if (!a.output.empty()) {
+        err = frix_fclib_write(a.output.c_str(), problem.get(), r.data(), u.data(), vp, 0,
+                               nullptr, nullptr, nullptr);
+        if (err == FRIX_OK)
+            rep.output = a.output;
+        else
+            write_error = "cannot write " + a.output + ": " + library_message(err);
+    }
+
+    if (a.json)
+        print_json(rep);
+    else
+        print_text(rep);
+    if (!write_error.empty()) fail(write_error);
+    return rep.status == FRIX_STATUS_CONVERGED ? kExitConverged : kExitNotConverged;
+}
+
+}  // namespace frix_cli

@@ -1,0 +1,109 @@
+// Help texts. Defaults are read from the library so the help never goes stale.
+#include "cli.hpp"
+
+namespace frix_cli {
+namespace {
+
+const char kExitText[] =
+    "Exit status: 0 success (for solve: converged), 1 the solve ran but did not\n"
+    "converge, 2 usage error, unreadable or invalid input, or refused by the library.\n";
+
+// "tolerance 1e-08, max_iter 1000" for the default solver, as far as the library tells.
+std::string default_settings() {
+    frix_options *o = nullptr;
+    if (frix_options_create(FRIX_SOLVER_NSGS, &o) != FRIX_OK) return "";
+    std::string s;
+    double tol = 0;
+    int64_t iters = 0;
+    char buf[96];
+    if (frix_options_get_double(o, FRIX_OPT_TOLERANCE, &tol) == FRIX_OK &&
+        frix_options_get_int(o, FRIX_OPT_MAX_ITER, &iters) == FRIX_OK) {
+        std::snprintf(buf, sizeof buf, "tolerance %g, max_iter %lld", tol,
+                      static_cast<long long>(iters));
+        s = buf;
+    }
+    frix_options_free(o);
+    return s;
+}
+
+}  // namespace
+
+void print_main_help(std::FILE *out) {
+    std::fputs(
+        "frix - discrete 3D frictional contact problems with Coulomb friction\n"
+        "\n"
+        "Usage:\n"
+        "  frix solve FILE.hdf5 [--solver NAME|ID] [--tol T] [--max-iter N]\n"
+        "             [--time-limit S] [--output SOL.hdf5] [--json] [--verbose]\n"
+        "  frix info FILE.hdf5 [--json]\n"
+        "  frix solvers [NAME|ID] [--json]\n"
+        "  frix help [COMMAND]     frix COMMAND --help     frix --version\n"
+        "\n"
+        "Commands:\n"
+        "  solve     solve an FCLIB problem from r = 0; report status, iterations, error\n"
+        "  info      describe an FCLIB problem: kind, sizes, nnz, friction, title\n"
+        "  solvers   list the registered solvers, or describe one\n"
+        "\n",
+        out);
+    std::fputs(kExitText, out);
+}
+
+void print_solve_help(std::FILE *out) {
+    std::string defaults = default_settings();
+    std::fputs(
+        "Usage: frix solve FILE.hdf5 [options]\n"
+        "\n"
+        "Solves the FCLIB problem (local or global) in FILE starting from r = 0, and\n"
+        "prints the solver, status, iterations, error (the measure compared with the\n"
+        "tolerance), time, and the other error measures.\n"
+        "\n"
+        "Options:\n"
+        "  --solver NAME|ID    a name or id from 'frix solvers', or the Siconos spelling\n"
+        "                      (FRICTION_3D_NSGS); default nsgs\n"
+        "  --tol T             stop when the error <= T\n"
+        "  --max-iter N        iteration limit\n"
+        "  --time-limit S      limit on the solve time in seconds (0 = none)\n"
+        "  --set NAME=VALUE    any other solver option by name (see 'frix solvers NAME')\n"
+        "  --output SOL.hdf5   write the problem and the solution (r, u, and v for a\n"
+        "                      global problem) to a new FCLIB file\n"
+        "  --json              print one JSON object instead of text\n"
+        "  -v, --verbose       the solver prints its progress on stderr (repeat: more)\n"
+        "  -h, --help          show this help\n",
+        out);
+    if (!defaults.empty()) std::fprintf(out, "\nDefaults of nsgs: %s.\n", defaults.c_str());
+    std::fputs("\n", out);
+    std::fputs(kExitText, out);
+}
+
+void print_info_help(std::FILE *out) {
+    std::fputs(
+        "Usage: frix info FILE.hdf5 [--json]\n"
+        "\n"
+        "Describes the FCLIB problem in FILE: kind (local or global), contacts, sizes,\n"
+        "stored entries (W, or M and H), friction coefficients, title, and whether the\n"
+        "file holds a solution and guesses.\n"
+        "\n"
+        "Options:\n"
+        "  --json              print one JSON object instead of text\n"
+        "  -h, --help          show this help\n"
+        "\n",
+        out);
+    std::fputs(kExitText, out);
+}
+
+void print_solvers_help(std::FILE *out) {
+    std::fputs(
+        "Usage: frix solvers [NAME|ID] [--json]\n"
+        "\n"
+        "Without an argument, lists the registered solvers (id, name, summary).\n"
+        "With one, prints that solver's description and the options it accepts.\n"
+        "\n"
+        "Options:\n"
+        "  --json              print JSON instead of text\n"
+        "  -h, --help          show this help\n"
+        "\n",
+        out);
+    std::fputs(kExitText, out);
+}
+
+}  // namespace frix_cli
