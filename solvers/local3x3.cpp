@@ -398,7 +398,7 @@ Outcome solve_contact(Contact &c, const double *q, double *r, const Params &p) {
         c.has_dir = false;
         return out;
     }
-    if (p.exact_slide) {
+    if (p.solver == kClosedForm) {
         // The last sliding direction (kept unit, saving a normalisation), else the current
         // r_T's, else the stick candidate's, else opposite to q_T, starts the root search and
         // selects among roots.

@@ -1,5 +1,5 @@
 // One-contact kernels: projections on the Coulomb cone and on the Tresca disk, and the
-// one-contact solvers NSGS calls for each contact (ids 552 and 553 of frix_options.h).
+// one-contact solvers NSGS calls for each contact (ids 552, 553 and 562 of frix_options.h).
 // Vectors are per contact, normal first; 3x3 matrices are column-major.
 #pragma once
 
@@ -40,12 +40,12 @@ enum class Outcome : int {
 
 constexpr int kProjection = 552;          // FRIX_LOCAL_PROJECTION
 constexpr int kProjectionIterated = 553;  // FRIX_LOCAL_PROJECTION_ITERATED
+constexpr int kClosedForm = 562;          // FRIX_LOCAL_CLOSED_FORM
 
 struct Params {
-    int solver = kProjectionIterated;
+    int solver = kClosedForm;
     double tol = 1e-12;  // on the one-contact residual, relative to max(|q|, |r|, |u|)
-    int max_iter = 20;
-    bool exact_slide = true;  // 553: try the closed-form sliding root before iterating
+    int max_iter = 20;   // of the projected iterations (553, and 562's fallback)
 };
 
 // Solves the one-contact problem u = W_aa r + q, K ∋ r ⟂ u + mu|u_T| e_N ∈ K*.

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "error_state.hpp"
 #include "matrix.hpp"
@@ -203,7 +204,7 @@ const frix_option_key kExtraKeys[] = {FRIX_OPT_LOCAL_SOLVER, FRIX_OPT_LOCAL_TOLE
 // ~8000 sweeps).
 const OptionDefault kDefaults[] = {
     {FRIX_OPT_MAX_ITER, 20000},
-    {FRIX_OPT_LOCAL_SOLVER, local::kProjectionIterated},
+    {FRIX_OPT_LOCAL_SOLVER, local::kClosedForm},
     {FRIX_OPT_LOCAL_TOLERANCE, 1e-12},
     {FRIX_OPT_LOCAL_MAX_ITER, 20},
     {(frix_option_key)0, 0}};
@@ -217,9 +218,10 @@ const SolverEntry kNsgsEntry = {
     "FRICTION_3D_NSGS",
     "Nonsmooth Gauss-Seidel: sweeps over the contacts, each solved with the others held "
     "fixed (local q = q_a + sum_{b!=a} W_ab r_b, one pass over W's blocks per sweep). The "
-    "default one-contact solver (553) is exact for take-off, stick and, through the root "
+    "default one-contact solver (562) is exact for take-off, stick and, through the root "
     "of the sliding-angle equation, slide; projected steps with a self-adaptive step finish "
-    "the rare contacts where that fails (552: one projected step only). Cheap per sweep and "
+    "the rare contacts where that fails (553: those projected steps alone, after the exact "
+    "take-off and stick cases; 552: one projected step only). Cheap per sweep and "
     "robust, it is the method of choice for rigid multibody scenes; convergence is linear and "
     "slows on rank-deficient W at tight tolerances. Stops on the light error |dr|/|r| "
     "confirmed by the full error (Siconos LIGHT_WITH_FULL_FINAL). Options: local_solver, "

@@ -19,7 +19,12 @@ struct KeySpec {
     bool is_int;
     double lower, upper;  // inclusive
     double default_value;
+    const int64_t *allowed = nullptr;  // for keys naming a choice: the values, 0-terminated
 };
+
+// The one-contact solvers (frix_local_solver).
+const int64_t kLocalSolvers[] = {FRIX_LOCAL_PROJECTION, FRIX_LOCAL_PROJECTION_ITERATED,
+                                 FRIX_LOCAL_CLOSED_FORM, 0};
 
 // Common defaults: the tolerance our users ask for (FCLIB comparisons use 1e-8), and
 // limits that a solver's entry may override.
@@ -29,7 +34,7 @@ const KeySpec kKeys[] = {
     {FRIX_OPT_TIME_LIMIT, "time_limit", false, 0.0, 1e9, 0.0},
     {FRIX_OPT_VERBOSITY, "verbosity", true, 0.0, 3.0, 0.0},
     {FRIX_OPT_ERROR_MEASURE, "error_measure", true, 0.0, 1.0, 0.0},
-    {FRIX_OPT_LOCAL_SOLVER, "local_solver", true, 552.0, 553.0, 553.0},
+    {FRIX_OPT_LOCAL_SOLVER, "local_solver", true, 552.0, 562.0, 562.0, kLocalSolvers},
     {FRIX_OPT_LOCAL_TOLERANCE, "local_tolerance", false, 0.0, 1.0, 1e-12},
     {FRIX_OPT_LOCAL_MAX_ITER, "local_max_iter", true, 1.0, 1e6, 20.0},
     {FRIX_OPT_RELAXATION, "relaxation", false, 1e-3, 1.999, 1.0},
@@ -74,6 +79,13 @@ frix_error store(const char *where, frix_options *opts, const KeySpec &s, double
     if (s.is_int) {
         if (value != std::floor(value))
             return fail(FRIX_ERR_OPTION_RANGE, "%s: %s must be an integer (got %g)", where, s.name, value);
+        if (s.allowed) {
+            const int64_t *a = s.allowed;
+            while (*a && *a != (int64_t)value) ++a;
+            if (!*a)
+                return fail(FRIX_ERR_OPTION_RANGE, "%s: %s = %g is not one of the defined values",
+                            where, s.name, value);
+        }
         opts->ivalue[s.key] = (int64_t)value;
     } else {
         opts->dvalue[s.key] = value;

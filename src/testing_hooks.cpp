@@ -22,14 +22,13 @@ FRIX_TESTING_HOOK void frix_testing_project_on_disk(double r[3], double radius) 
 
 FRIX_TESTING_HOOK int frix_testing_solve_contact(const double W[9], const double q[3], double mu,
                                                  double r[3], int local_solver, double tol,
-                                                 int max_iter, int exact_slide) {
+                                                 int max_iter) {
     frix::local::Contact c;
     frix::local::contact_setup(W, mu, c);
     frix::local::Params p;
     p.solver = local_solver;
     p.tol = tol;
     p.max_iter = max_iter;
-    p.exact_slide = exact_slide != 0;
     return (int)frix::local::solve_contact(c, q, r, p);
 }
 

@@ -27,7 +27,7 @@ void frix_testing_project_on_disk(double r[3], double radius);
 /* One contact: r is the warm start in, the result out. local_solver 552 or 553;
  * exact_slide = 0 makes 553 use projected iterations only (no sliding-angle root). */
 int frix_testing_solve_contact(const double W[9], const double q[3], double mu, double r[3],
-                               int local_solver, double tol, int max_iter, int exact_slide);
+                               int local_solver, double tol, int max_iter);
 
 /* The sliding root alone: 1 and r set if a valid sliding solution was found. */
 int frix_testing_solve_slide(const double W[9], const double q[3], double mu,

@@ -241,7 +241,7 @@ START_TEST(variants_stay_finite_and_in_cone) {
     struct {
         int local, shuffle;
         double omega;
-    } cases[] = {{552, 0, 1.0}, {553, 1, 1.5}, {553, 2, 0.7}, {552, 2, 1.3}};
+    } cases[] = {{552, 0, 1.0}, {553, 1, 1.5}, {562, 2, 0.7}, {552, 2, 1.3}, {553, 0, 1.0}};
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
         frix_options *o = nsgs_options(1e-8);
         ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_LOCAL_SOLVER, cases[k].local), FRIX_OK);

@@ -19,10 +19,12 @@ START_TEST(test_defaults_and_bounds) {
     ck_assert_int_eq(frix_options_get_double(o, FRIX_OPT_TOLERANCE, &tol), FRIX_OK);
     ck_assert_double_eq(tol, 1e-10); /* a refused value leaves the previous one */
 
+    int64_t it;
+    ck_assert_int_eq(frix_options_get_int(o, FRIX_OPT_LOCAL_SOLVER, &it), FRIX_OK);
+    ck_assert_int_eq(it, FRIX_LOCAL_CLOSED_FORM); /* NSGS's own default */
     ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 0), FRIX_ERR_OPTION_RANGE);
     ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 50), FRIX_OK);
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_MAX_ITER, 2.5), FRIX_ERR_OPTION_RANGE);
-    int64_t it;
     ck_assert_int_eq(frix_options_get_int(o, FRIX_OPT_MAX_ITER, &it), FRIX_OK);
     ck_assert_int_eq(it, 50);
     double itd;
@@ -31,6 +33,11 @@ START_TEST(test_defaults_and_bounds) {
     ck_assert_int_eq(frix_options_get_int(o, FRIX_OPT_TOLERANCE, &it), FRIX_ERR_INVALID_ARGUMENT);
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_RELAXATION, 2.5), FRIX_ERR_OPTION_RANGE);
     ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 4), FRIX_ERR_OPTION_RANGE);
+    /* A choice key takes only its defined values, not everything between its bounds. */
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_LOCAL_SOLVER, 555), FRIX_ERR_OPTION_RANGE);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_LOCAL_SOLVER, FRIX_LOCAL_PROJECTION), FRIX_OK);
+    ck_assert_int_eq(frix_options_get_int(o, FRIX_OPT_LOCAL_SOLVER, &it), FRIX_OK);
+    ck_assert_int_eq(it, 552);
     ck_assert_int_eq(frix_options_set_int(o, (frix_option_key)999, 1), FRIX_ERR_UNKNOWN_OPTION);
 
     double lo, hi;

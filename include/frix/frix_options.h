@@ -52,7 +52,11 @@ typedef enum frix_local_solver {
     FRIX_LOCAL_PROJECTION = 552,
     /* Exact stick and take-off cases, otherwise projected steps iterated with a
      * self-adaptive rho until the one-contact residual is below the local tolerance. */
-    FRIX_LOCAL_PROJECTION_ITERATED = 553
+    FRIX_LOCAL_PROJECTION_ITERATED = 553,
+    /* The closed-form one-contact solution: exact take-off and stick, and sliding through
+     * the root of the sliding-angle equation (Newton from the last sliding direction, roots
+     * bracketed otherwise); the 553 iterations only where no valid root exists. */
+    FRIX_LOCAL_CLOSED_FORM = 562
 } frix_local_solver;
 
 /* Called after each iteration; a non-zero return stops the solve with
