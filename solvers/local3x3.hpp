@@ -35,7 +35,8 @@ enum class Outcome : int {
     Iterated = 4,      // projected iterations reached the local tolerance
     NotConverged = 5,  // projected iterations stopped at the local iteration limit
     NoSolution = 6,    // degenerate W_aa with q_N < 0: r left unchanged
-    Step = 7           // one projected step (552)
+    Step = 7,          // one projected step (552)
+    Newton = 8         // a one-contact Newton (550, 551, 561, 565) reached the local tolerance
 };
 
 constexpr int kProjection = 552;          // FRIX_LOCAL_PROJECTION

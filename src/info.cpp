@@ -24,6 +24,11 @@ FRIX_API frix_error frix_info_get_int(const frix_info *info, frix_info_key key, 
         case FRIX_INFO_ITERATIONS: *value = info->iterations; return FRIX_OK;
         case FRIX_INFO_SOLVER_ID: *value = info->solver_id; return FRIX_OK;
         case FRIX_INFO_CONTACTS: *value = info->contacts; return FRIX_OK;
+        case FRIX_INFO_NEWTON_ITERATIONS: *value = info->newton_iterations; return FRIX_OK;
+        case FRIX_INFO_LINE_SEARCH_STEPS: *value = info->line_search_steps; return FRIX_OK;
+        case FRIX_INFO_FACTORIZATIONS: *value = info->factorizations; return FRIX_OK;
+        case FRIX_INFO_SYMBOLIC_ANALYSES: *value = info->symbolic_analyses; return FRIX_OK;
+        case FRIX_INFO_HYBRID_SWEEPS: *value = info->hybrid_sweeps; return FRIX_OK;
         default: break;
     }
     return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_info_get_int: key %d is not an int key", (int)key);
@@ -42,6 +47,8 @@ FRIX_API frix_error frix_info_get_double(const frix_info *info, frix_info_key ke
         case FRIX_INFO_EQUILIBRIUM: *value = info->equilibrium; return FRIX_OK;
         case FRIX_INFO_SOLVE_TIME: *value = info->solve_time; return FRIX_OK;
         case FRIX_INFO_TOLERANCE: *value = info->tolerance; return FRIX_OK;
+        case FRIX_INFO_FACTORIZATION_TIME: *value = info->factorization_time; return FRIX_OK;
+        case FRIX_INFO_SETUP_TIME: *value = info->setup_time; return FRIX_OK;
         default: break;
     }
     return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_info_get_double: key %d is not a double key", (int)key);

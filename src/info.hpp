@@ -22,4 +22,12 @@ struct frix_info {
     double equilibrium = NAN;
     double solve_time = 0.0;
     double tolerance = NAN;
+
+    int64_t newton_iterations = 0;
+    int64_t line_search_steps = 0;
+    int64_t factorizations = 0;
+    int64_t symbolic_analyses = 0;
+    int64_t hybrid_sweeps = 0;
+    double factorization_time = 0.0;
+    double setup_time = 0.0;
 };

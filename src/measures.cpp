@@ -102,6 +102,23 @@ double equilibrium_residual(const frix_problem &p, const double *r, const double
     return scale > DBL_EPSILON ? res / scale : res;
 }
 
+}  // namespace
+
+namespace frix {
+
+Measures global_measures(const frix_problem &p, const double *r, const double *v, double *u,
+                         double *equilibrium) {
+    const int64_t m = 3 * p.nc;
+    if (m > 0) matrix_gemv_transposed(*p.H, 1.0, v, 0.0, u);
+    for (int64_t i = 0; i < m; ++i) u[i] += p.w[i];
+    if (equilibrium) *equilibrium = equilibrium_residual(p, r, v);
+    return measures_from_ru(r, u, p.mu, p.nc, norm2(p.w, m));
+}
+
+}  // namespace frix
+
+namespace {
+
 frix_error measure(const char *where, const frix_problem *p, const double *r, const double *v,
                    double *u_out, frix_info &info) {
     using frix::fail;
@@ -128,11 +145,8 @@ frix_error measure(const char *where, const frix_problem *p, const double *r, co
     for (int64_t i = 0; i < p->n; ++i)
         if (!std::isfinite(v[i]))
             return fail(FRIX_ERR_NOT_FINITE, "%s: v[%lld] is not finite", where, (long long)i);
-    if (m > 0) frix::matrix_gemv_transposed(*p->H, 1.0, v, 0.0, u);
-    for (int64_t i = 0; i < m; ++i) u[i] += p->w[i];
-    frix::record_measures(info, frix::measures_from_ru(r, u, p->mu, p->nc, norm2(p->w, m)),
+    frix::record_measures(info, frix::global_measures(*p, r, v, u, &info.equilibrium),
                           FRIX_MEASURE_RELATIVE);
-    info.equilibrium = equilibrium_residual(*p, r, v);
     return FRIX_OK;
 }
 

@@ -30,6 +30,11 @@ Measures measures_from_ru(const double *r, const double *u, const double *mu, in
 // Computes u = W r + q (into u) and the measures of a local problem.
 Measures local_measures(const frix_problem &p, const double *r, double *u);
 
+// Computes u = H^T v + w (into u) and the measures of a global problem; *equilibrium (may be
+// null) receives |M v - H r - f| / max(|f|, |M v|, |H r|).
+Measures global_measures(const frix_problem &p, const double *r, const double *v, double *u,
+                         double *equilibrium);
+
 // The value compared with the tolerance for a given frix_error_measure.
 double selected_error(const Measures &m, int64_t measure_kind);
 

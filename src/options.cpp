@@ -24,7 +24,12 @@ struct KeySpec {
 
 // The one-contact solvers (frix_local_solver).
 const int64_t kLocalSolvers[] = {FRIX_LOCAL_PROJECTION, FRIX_LOCAL_PROJECTION_ITERATED,
-                                 FRIX_LOCAL_CLOSED_FORM, 0};
+                                 FRIX_LOCAL_CLOSED_FORM, FRIX_LOCAL_NEWTON_AC,
+                                 FRIX_LOCAL_NEWTON_AC_GP, FRIX_LOCAL_NEWTON_FB,
+                                 FRIX_LOCAL_HYBRID, 0};
+
+// The Newton solvers PROX may run inside.
+const int64_t kInnerSolvers[] = {504, 513, 520, 0};
 
 // Common defaults: the tolerance our users ask for (FCLIB comparisons use 1e-8), and
 // limits that a solver's entry may override.
@@ -34,12 +39,22 @@ const KeySpec kKeys[] = {
     {FRIX_OPT_TIME_LIMIT, "time_limit", false, 0.0, 1e9, 0.0},
     {FRIX_OPT_VERBOSITY, "verbosity", true, 0.0, 3.0, 0.0},
     {FRIX_OPT_ERROR_MEASURE, "error_measure", true, 0.0, 1.0, 0.0},
-    {FRIX_OPT_LOCAL_SOLVER, "local_solver", true, 552.0, 562.0, 562.0, kLocalSolvers},
+    {FRIX_OPT_LOCAL_SOLVER, "local_solver", true, 550.0, 565.0, 562.0, kLocalSolvers},
     {FRIX_OPT_LOCAL_TOLERANCE, "local_tolerance", false, 0.0, 1.0, 1e-12},
     {FRIX_OPT_LOCAL_MAX_ITER, "local_max_iter", true, 1.0, 1e6, 20.0},
     {FRIX_OPT_RELAXATION, "relaxation", false, 1e-3, 1.999, 1.0},
     {FRIX_OPT_SHUFFLE, "shuffle", true, 0.0, 2.0, 0.0},
     {FRIX_OPT_SEED, "seed", true, 0.0, 9007199254740992.0 /* 2^53 */, 0.0},
+    {FRIX_OPT_RHO_STRATEGY, "rho_strategy", true, 0.0, 2.0, 1.0},
+    {FRIX_OPT_RHO, "rho", false, 1e-300, 1e300, 1.0},
+    {FRIX_OPT_LINE_SEARCH, "line_search", true, 0.0, 3.0, 1.0},
+    {FRIX_OPT_LINE_SEARCH_MAX_ITER, "line_search_max_iter", true, 1.0, 1000.0, 20.0},
+    {FRIX_OPT_HYBRID, "hybrid", true, 0.0, 1.0, 1.0},
+    {FRIX_OPT_HYBRID_SWEEPS, "hybrid_sweeps", true, 1.0, 1e6, 50.0},
+    {FRIX_OPT_PROX_ALPHA, "prox_alpha", false, 0.0, 1e300, 0.0},
+    {FRIX_OPT_PROX_SIGMA, "prox_sigma", false, 1e-300, 1e300, 5.0},
+    {FRIX_OPT_PROX_NU, "prox_nu", false, 1e-3, 10.0, 1.0},
+    {FRIX_OPT_INNER_SOLVER, "inner_solver", true, 504.0, 520.0, 504.0, kInnerSolvers},
 };
 
 const frix_option_key kCommonKeys[] = {FRIX_OPT_TOLERANCE, FRIX_OPT_MAX_ITER, FRIX_OPT_TIME_LIMIT,

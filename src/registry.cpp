@@ -5,6 +5,8 @@
 #include <string>
 
 #include "error_state.hpp"
+#include "global.hpp"
+#include "newton.hpp"
 #include "nsgs.hpp"
 #include "solver_api.hpp"
 
@@ -13,6 +15,11 @@ namespace {
 // In id order. A solver appears here only once it really solves.
 const frix::SolverEntry *const kSolvers[] = {
     &frix::kNsgsEntry,
+    &frix::kProxEntry,
+    &frix::kNsnAcEntry,
+    &frix::kNsnFbEntry,
+    &frix::kNsnNmEntry,
+    &frix::kGlobalNsnAcEntry,
 };
 constexpr int64_t kSolverCount = sizeof kSolvers / sizeof kSolvers[0];
 
@@ -27,7 +34,8 @@ bool matches_siconos(const frix::SolverEntry &e, const std::string &name) {
     if (!e.siconos_name) return false;
     std::string s = e.siconos_name;
     if (name == s || name == "SICONOS_" + s) return true;
-    const std::string prefix = "FRICTION_3D_";
+    const std::string prefix = "FRICTION_3D_", global = "GLOBAL_FRICTION_3D_";
+    if (s.compare(0, global.size(), global) == 0) return name == "GFC3D_" + s.substr(global.size());
     return s.compare(0, prefix.size(), prefix) == 0 && name == "FC3D_" + s.substr(prefix.size());
 }
 

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "error_state.hpp"
+#include "global.hpp"
 #include "measures.hpp"
 #include "solver_api.hpp"
 
@@ -77,10 +78,12 @@ FRIX_API frix_error frix_solve(const frix_problem *problem, const frix_options *
 
         frix_error err;
         if (problem->kind == FRIX_PROBLEM_GLOBAL) {
-            (void)v;
-            err = fail(FRIX_ERR_UNSUPPORTED,
-                       "frix_solve: global (M, H) problems are not solved yet by %s; this build "
-                       "solves local (W, q) problems", entry->name);
+            if (problem->n > 0 && !v)
+                return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_solve: v is required for a global problem (%lld entries)",
+                            (long long)problem->n);
+            err = frix::solve_global_problem(*problem, *options, *entry, r, u, v, out, clock, solve_local);
+        } else if (!entry->solves_local) {
+            err = fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s solves global problems only", entry->name);
         } else {
             err = solve_local(*problem, *options, *entry, r, u, out, clock);
         }

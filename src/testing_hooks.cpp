@@ -1,5 +1,8 @@
 // The frix_testing_* hooks of tests/frix_testing.h: thin wrappers over internal kernels,
 // hidden so that libfrix.so never exports them.
+#include <cstdint>
+#include <vector>
+
 #include "local3x3.hpp"
 
 #define FRIX_TESTING_HOOK extern "C" __attribute__((visibility("hidden")))
@@ -8,7 +11,8 @@ namespace {
 using frix::local::Outcome;
 static_assert((int)Outcome::TakeOff == 1 && (int)Outcome::Stick == 2 && (int)Outcome::Slide == 3 &&
                   (int)Outcome::Iterated == 4 && (int)Outcome::NotConverged == 5 &&
-                  (int)Outcome::NoSolution == 6 && (int)Outcome::Step == 7,
+                  (int)Outcome::NoSolution == 6 && (int)Outcome::Step == 7 &&
+                  (int)Outcome::Newton == 8,
               "tests/frix_testing.h mirrors these values");
 }  // namespace
 
@@ -43,4 +47,71 @@ FRIX_TESTING_HOOK double frix_testing_contact_residual(const double W[9], const 
                                                        double mu, const double r[3],
                                                        double *relative) {
     return frix::local::contact_residual(W, q, mu, r, relative);
+}
+
+// ---- Semismooth functions (solvers/nsn_functions.hpp) and the linear algebra back-end.
+#include "linalg/linalg.hpp"
+#include "local_newton.hpp"
+#include "nsn_functions.hpp"
+
+FRIX_TESTING_HOOK void frix_testing_contact_function(int formulation, const double r[3],
+                                                     const double u[3], double mu, double rho_n,
+                                                     double rho_t, double phi[3], double A[9],
+                                                     double B[9]) {
+    frix::nsn::contact_function(formulation, r, u, mu, rho_n, rho_t, phi, A, B);
+}
+
+// Factorises the n x n CSC matrix twice with one symbolic analysis (the second time with
+// the values scaled by 2) and solves A x = b with the second factorisation (so x = A^-1 b / 2).
+// Returns the frix_error; *symbolic and *numeric receive the counters.
+FRIX_TESTING_HOOK int frix_testing_sparse_lu(int64_t n, const int64_t *colptr,
+                                             const int64_t *rowind, const double *values,
+                                             const double *b, double *x, int64_t *symbolic,
+                                             int64_t *numeric) {
+    frix::linalg::SparseLU lu;
+    frix::linalg::CscView A{n, n, colptr, rowind, values};
+    int e = lu.analyze(A);
+    if (e == FRIX_OK) e = lu.factor(A);
+    std::vector<double> twice(values, values + colptr[n]);
+    for (double &v : twice) v *= 2.0;
+    frix::linalg::CscView A2{n, n, colptr, rowind, twice.data()};
+    if (e == FRIX_OK) e = lu.factor(A2);
+    if (e == FRIX_OK) e = lu.solve(b, x);
+    *symbolic = lu.stats().symbolic;
+    *numeric = lu.stats().numeric;
+    return e;
+}
+
+// Sparse Cholesky of A (upper triangle read): x = A^-1 b, and C = B^T A^-1 B (k x k dense,
+// column-major) for the n x k CSC matrix B.
+FRIX_TESTING_HOOK int frix_testing_sparse_cholesky(int64_t n, const int64_t *colptr,
+                                                   const int64_t *rowind, const double *values,
+                                                   const double *b, double *x, int64_t k,
+                                                   const int64_t *bp, const int64_t *bi,
+                                                   const double *bx, double *C) {
+    frix::linalg::SparseCholesky ch;
+    int e = ch.factor({n, n, colptr, rowind, values});
+    if (e == FRIX_OK) e = ch.solve(b, x);
+    if (e != FRIX_OK || k == 0) return e;
+    std::vector<int64_t> cp, ci;
+    std::vector<double> cx;
+    e = ch.inverse_congruence({n, k, bp, bi, bx}, cp, ci, cx);
+    if (e != FRIX_OK) return e;
+    for (int64_t i = 0; i < k * k; ++i) C[i] = 0.0;
+    for (int64_t j = 0; j < k; ++j)
+        for (int64_t p = cp[j]; p < cp[j + 1]; ++p) C[ci[p] + k * j] = cx[p];
+    return FRIX_OK;
+}
+
+// Dense LU (cholesky = 0) or Cholesky (1) of the column-major n x n A: x = A^-1 b.
+FRIX_TESTING_HOOK int frix_testing_dense_solve(int cholesky, int64_t n, const double *A,
+                                               const double *b, double *x) {
+    if (cholesky) {
+        frix::linalg::DenseCholesky ch;
+        int e = ch.factor(n, A, n);
+        return e == FRIX_OK ? ch.solve(b, x) : e;
+    }
+    frix::linalg::DenseLU lu;
+    int e = lu.factor(n, A, n);
+    return e == FRIX_OK ? lu.solve(b, x) : e;
 }

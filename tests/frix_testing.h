@@ -4,6 +4,8 @@
 #ifndef FRIX_TESTING_H
 #define FRIX_TESTING_H
 
+#include <stdint.h>
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -18,7 +20,8 @@ enum {
     FRIX_TESTING_ITERATED = 4,
     FRIX_TESTING_NOT_CONVERGED = 5,
     FRIX_TESTING_NO_SOLUTION = 6,
-    FRIX_TESTING_STEP = 7
+    FRIX_TESTING_STEP = 7,
+    FRIX_TESTING_NEWTON = 8
 };
 
 void frix_testing_project_on_cone(double r[3], double mu);
@@ -36,6 +39,27 @@ int frix_testing_solve_slide(const double W[9], const double q[3], double mu,
 /* |r - P_K(r - u^)| with u = W r + q; *relative (may be NULL) gets it / max(|q|,|r|,|u|). */
 double frix_testing_contact_residual(const double W[9], const double q[3], double mu,
                                      const double r[3], double *relative);
+
+/* ---- Semismooth reformulations of one contact (solvers/nsn_functions.hpp): Phi(r, u) and
+ * the blocks A = dPhi/dr, B = dPhi/du (column-major; may be NULL). formulation: 0
+ * Alart-Curnier, 1 Fischer-Burmeister, 2 natural map. */
+void frix_testing_contact_function(int formulation, const double r[3], const double u[3],
+                                   double mu, double rho_n, double rho_t, double phi[3],
+                                   double A[9], double B[9]);
+
+/* ---- Linear algebra back-end (src/linalg). Return a frix_error value. */
+/* Analyses once, factorises A then 2A, solves (2A) x = b; counters out. */
+int frix_testing_sparse_lu(int64_t n, const int64_t *colptr, const int64_t *rowind,
+                           const double *values, const double *b, double *x, int64_t *symbolic,
+                           int64_t *numeric);
+/* Cholesky of A (upper triangle read): x = A^-1 b and, if k > 0, C = B^T A^-1 B (k x k dense,
+ * column-major) for the n x k CSC matrix B. */
+int frix_testing_sparse_cholesky(int64_t n, const int64_t *colptr, const int64_t *rowind,
+                                 const double *values, const double *b, double *x, int64_t k,
+                                 const int64_t *bp, const int64_t *bi, const double *bx,
+                                 double *C);
+/* Dense LU (cholesky = 0) or Cholesky (1): x = A^-1 b. */
+int frix_testing_dense_solve(int cholesky, int64_t n, const double *A, const double *b, double *x);
 
 #ifdef __cplusplus
 }

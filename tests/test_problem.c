@@ -138,8 +138,11 @@ START_TEST(test_global_validation) {
     ck_assert_double_eq(u[2], -1.0);
     ck_assert_int_eq(frix_problem_measure(p, r, NULL, u, info), FRIX_ERR_INVALID_ARGUMENT);
     frix_info_free(info);
-    /* Solving global problems is not in this build: a clear error, not a crash. */
-    ck_assert_int_eq(frix_solve(p, NULL, r, u, v, NULL), FRIX_ERR_UNSUPPORTED);
+    /* Solved through the reduction W = H^T M^-1 H (here q_N = 0: r = 0, v = M^-1 f). */
+    v[2] = 5.0;
+    ck_assert_int_eq(frix_solve(p, NULL, r, u, v, NULL), FRIX_OK);
+    ck_assert_double_eq_tol(v[2], -1.0, 1e-14);
+    ck_assert_int_eq(frix_solve(p, NULL, r, u, NULL, NULL), FRIX_ERR_INVALID_ARGUMENT);
     frix_problem_free(p);
 
     frix_problem *bad = NULL;

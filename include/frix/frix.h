@@ -19,6 +19,8 @@
 #include "frix_options.h"
 #include "frix_solve.h"
 #include "frix_fclib.h"
+#include "frix_read.h"
+#include "frix_plugin.h"
 
 #ifdef __cplusplus
 extern "C" {

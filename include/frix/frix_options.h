@@ -30,8 +30,39 @@ typedef enum frix_option_key {
     FRIX_OPT_LOCAL_MAX_ITER = 8,  /* int: one-contact solver iteration limit */
     FRIX_OPT_RELAXATION = 9,      /* double in (0, 2): r <- w r_new + (1-w) r_old */
     FRIX_OPT_SHUFFLE = 10,        /* int, frix_shuffle: order of the contacts in a sweep */
-    FRIX_OPT_SEED = 11            /* int >= 0: seed of the shuffle (deterministic) */
+    FRIX_OPT_SEED = 11,           /* int >= 0: seed of the shuffle (deterministic) */
+    /* Newton-type solvers (504, 513, 520, 502, 607) */
+    FRIX_OPT_RHO_STRATEGY = 12,   /* int, frix_rho_strategy: the per-contact rho of Phi */
+    FRIX_OPT_RHO = 13,            /* double > 0: rho of FRIX_RHO_CONSTANT */
+    FRIX_OPT_LINE_SEARCH = 14,    /* int, frix_line_search: on the merit 1/2 |Phi|^2 */
+    FRIX_OPT_LINE_SEARCH_MAX_ITER = 15, /* int: trial steps per line search */
+    FRIX_OPT_HYBRID = 16,         /* int, frix_hybrid: what to do when Newton stalls */
+    FRIX_OPT_HYBRID_SWEEPS = 17,  /* int: NSGS sweeps per fallback of FRIX_HYBRID_NSGS */
+    /* PROX (502) */
+    FRIX_OPT_PROX_ALPHA = 18,     /* double >= 0: fixed proximal alpha, 0 = adapted to the error */
+    FRIX_OPT_PROX_SIGMA = 19,     /* double > 0: adapted alpha = sigma * error^nu * scale(W) */
+    FRIX_OPT_PROX_NU = 20,        /* double > 0: see FRIX_OPT_PROX_SIGMA */
+    FRIX_OPT_INNER_SOLVER = 21    /* int: PROX's inner Newton solver id (504, 513 or 520) */
 } frix_option_key;
+
+typedef enum frix_rho_strategy {
+    FRIX_RHO_CONSTANT = 0,   /* rho_N = rho_T = FRIX_OPT_RHO */
+    FRIX_RHO_SPECTRAL = 1,   /* rho = 1 / |W_aa|_2 per contact */
+    FRIX_RHO_SPLIT = 2       /* rho_N = 1 / W_aa,NN, rho_T = 1 / |W_aa,TT|_2 (AC); FB and the
+                                natural map, which take one rho, use rho_N */
+} frix_rho_strategy;
+
+typedef enum frix_line_search {
+    FRIX_LINE_SEARCH_NONE = 0,            /* full Newton steps */
+    FRIX_LINE_SEARCH_GOLDSTEIN_PRICE = 1, /* Goldstein-Price, m1 = 0.01, m2 = 0.99 (Siconos) */
+    FRIX_LINE_SEARCH_ARMIJO = 2,          /* Armijo backtracking, sigma = 1e-4 */
+    FRIX_LINE_SEARCH_NONMONOTONE = 3      /* Armijo against the max of the last 8 merits */
+} frix_line_search;
+
+typedef enum frix_hybrid {
+    FRIX_HYBRID_NONE = 0,  /* Newton only */
+    FRIX_HYBRID_NSGS = 1   /* when Newton stalls, NSGS sweeps, then Newton again */
+} frix_hybrid;
 
 typedef enum frix_error_measure {
     /* The Siconos 4.4 measure: natural-map residual / max(|q|, |r|, |u|). */
@@ -56,7 +87,18 @@ typedef enum frix_local_solver {
     /* The closed-form one-contact solution: exact take-off and stick, and sliding through
      * the root of the sliding-angle equation (Newton from the last sliding direction, roots
      * bracketed otherwise); the 553 iterations only where no valid root exists. */
-    FRIX_LOCAL_CLOSED_FORM = 562
+    FRIX_LOCAL_CLOSED_FORM = 562,
+    /* Alart-Curnier semismooth Newton on the 3 unknowns, full steps. */
+    FRIX_LOCAL_NEWTON_AC = 550,
+    /* Alart-Curnier semismooth Newton with the Goldstein-Price line search. */
+    FRIX_LOCAL_NEWTON_AC_GP = 551,
+    /* Fischer-Burmeister semismooth Newton (De Saxce form) with the Goldstein-Price line
+     * search. Siconos' 561 is an FB Newton too, on Glocker's NCP reformulation. */
+    FRIX_LOCAL_NEWTON_FB = 561,
+    /* Hybrid of projection and Newton: exactly 553 (exact take-off and stick, projected
+     * iterations); where those stop short of the local tolerance, Alart-Curnier Newton with
+     * Goldstein-Price from their iterate, kept only if it lowers the residual. */
+    FRIX_LOCAL_HYBRID = 565
 } frix_local_solver;
 
 /* Called after each iteration; a non-zero return stops the solve with

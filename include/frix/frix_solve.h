@@ -16,7 +16,12 @@ extern "C" {
  * Siconos 4.4 FC3D solver it has that solver's number. Only solvers that really solve are
  * listed. */
 enum {
-    FRIX_SOLVER_NSGS = 500
+    FRIX_SOLVER_NSGS = 500,
+    FRIX_SOLVER_PROX = 502,        /* proximal point, a Newton solver inside */
+    FRIX_SOLVER_NSN_AC = 504,      /* semismooth Newton, Alart-Curnier */
+    FRIX_SOLVER_NSN_FB = 513,      /* semismooth Newton, Fischer-Burmeister */
+    FRIX_SOLVER_NSN_NM = 520,      /* semismooth Newton, natural map */
+    FRIX_SOLVER_GLOBAL_NSN_AC = 607 /* global (M, H) problems: Newton on (v, r), W never formed */
 };
 
 FRIX_API int64_t frix_solver_count(void);
@@ -39,6 +44,12 @@ typedef enum frix_info_key {
     FRIX_INFO_ITERATIONS = 2,
     FRIX_INFO_SOLVER_ID = 3,
     FRIX_INFO_CONTACTS = 4,
+    FRIX_INFO_NEWTON_ITERATIONS = 5, /* Newton steps (PROX: summed over its inner solves) */
+    FRIX_INFO_LINE_SEARCH_STEPS = 6, /* merit evaluations of the line searches */
+    FRIX_INFO_FACTORIZATIONS = 7,    /* numeric factorisations (LU, Cholesky) */
+    FRIX_INFO_SYMBOLIC_ANALYSES = 8, /* symbolic analyses (orderings); reused while the
+                                        sparsity pattern is unchanged */
+    FRIX_INFO_HYBRID_SWEEPS = 9,     /* NSGS sweeps run by a hybrid Newton's fallback */
     /* double keys */
     FRIX_INFO_ERROR = 100,          /* the measure compared with the tolerance (FRIX_OPT_ERROR_MEASURE) */
     FRIX_INFO_ERROR_RELATIVE = 101, /* natural-map residual / max(|q|,|r|,|u|) (Siconos 4.4) */
@@ -49,7 +60,10 @@ typedef enum frix_info_key {
     FRIX_INFO_COMPLEMENTARITY = 106, /* max over contacts of |r_a . u^_a| */
     FRIX_INFO_EQUILIBRIUM = 107,    /* global: |Mv - Hr - f| / max(|f|, |Mv|, |Hr|); NaN for local */
     FRIX_INFO_SOLVE_TIME = 120,     /* seconds, wall clock, whole frix_solve call */
-    FRIX_INFO_TOLERANCE = 121       /* the tolerance the solve was asked for */
+    FRIX_INFO_TOLERANCE = 121,      /* the tolerance the solve was asked for */
+    FRIX_INFO_FACTORIZATION_TIME = 122, /* seconds in symbolic analyses and factorisations */
+    FRIX_INFO_SETUP_TIME = 123      /* global problems: seconds forming W = H^T M^-1 H and q
+                                       (reduction route), 0 otherwise */
 } frix_info_key;
 
 FRIX_API frix_error frix_info_create(frix_info **out);

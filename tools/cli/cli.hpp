@@ -41,7 +41,7 @@ using ProblemPtr = std::unique_ptr<frix_problem, ProblemDeleter>;
 using OptionsPtr = std::unique_ptr<frix_options, OptionsDeleter>;
 using InfoPtr = std::unique_ptr<frix_info, InfoDeleter>;
 
-// frix_fclib_read, or fail with "cannot read PATH: <reason>".
+// frix_read_problem (FCLIB or Siconos .dat), or fail with "cannot read PATH: <reason>".
 ProblemPtr read_problem(const std::string &path);
 
 const char *kind_name(frix_problem_kind kind);
@@ -52,10 +52,15 @@ const char *status_token(frix_status status);
 int cmd_solve(int argc, char **argv);
 int cmd_info(int argc, char **argv);
 int cmd_solvers(int argc, char **argv);
+int cmd_convert(int argc, char **argv);
+int cmd_bench(int argc, char **argv);
+int cmd_bench_run(int argc, char **argv);  // hidden: one child run of `frix bench`
 
 void print_main_help(std::FILE *out);
 void print_solve_help(std::FILE *out);
 void print_info_help(std::FILE *out);
 void print_solvers_help(std::FILE *out);
+void print_convert_help(std::FILE *out);
+void print_bench_help(std::FILE *out);
 
 }  // namespace frix_cli

@@ -37,6 +37,10 @@ struct Report {
     double error = NAN, tolerance = NAN, time = NAN;
     double error_relative = NAN, error_q_relative = NAN, residual = NAN;
     double cone_violation = NAN, penetration = NAN, complementarity = NAN, equilibrium = NAN;
+    // Newton-type solvers and global problems (0 where not applicable).
+    int64_t newton_iterations = 0, line_search_steps = 0, factorizations = 0, symbolic_analyses = 0,
+            hybrid_sweeps = 0;
+    double factorization_time = 0.0, setup_time = 0.0;
 };
 
 SolveArgs parse(int argc, char **argv, bool &help) {
@@ -141,6 +145,13 @@ void fill_from_info(Report &r, const frix_info *info) {
     r.penetration = info_double(info, FRIX_INFO_PENETRATION);
     r.complementarity = info_double(info, FRIX_INFO_COMPLEMENTARITY);
     r.equilibrium = info_double(info, FRIX_INFO_EQUILIBRIUM);
+    frix_info_get_int(info, FRIX_INFO_NEWTON_ITERATIONS, &r.newton_iterations);
+    frix_info_get_int(info, FRIX_INFO_LINE_SEARCH_STEPS, &r.line_search_steps);
+    frix_info_get_int(info, FRIX_INFO_FACTORIZATIONS, &r.factorizations);
+    frix_info_get_int(info, FRIX_INFO_SYMBOLIC_ANALYSES, &r.symbolic_analyses);
+    frix_info_get_int(info, FRIX_INFO_HYBRID_SWEEPS, &r.hybrid_sweeps);
+    r.factorization_time = info_double(info, FRIX_INFO_FACTORIZATION_TIME);
+    r.setup_time = info_double(info, FRIX_INFO_SETUP_TIME);
 }
 
 const char *measure_name(int64_t measure) {
@@ -174,6 +185,15 @@ void print_json(const Report &r) {
     w.number("complementarity", r.complementarity);
     w.number("equilibrium", r.equilibrium);
     w.end_object();
+    w.begin_object("linear_algebra");
+    w.integer("newton_iterations", r.newton_iterations);
+    w.integer("line_search_steps", r.line_search_steps);
+    w.integer("hybrid_sweeps", r.hybrid_sweeps);
+    w.integer("factorizations", r.factorizations);
+    w.integer("symbolic_analyses", r.symbolic_analyses);
+    w.number("factorization_time", r.factorization_time);
+    w.number("setup_time", r.setup_time);
+    w.end_object();
     if (r.output.empty())
         w.null("output");
     else
@@ -201,6 +221,15 @@ void print_text(const Report &r) {
     std::printf("%-16s %.3e\n", "penetration", r.penetration);
     std::printf("%-16s %.3e\n", "complementarity", r.complementarity);
     if (r.kind == FRIX_PROBLEM_GLOBAL) std::printf("%-16s %.3e\n", "equilibrium", r.equilibrium);
+    if (r.newton_iterations > 0)
+        std::printf("%-16s %lld (%lld line-search steps, %lld fallback sweeps)\n", "newton steps",
+                    static_cast<long long>(r.newton_iterations),
+                    static_cast<long long>(r.line_search_steps), static_cast<long long>(r.hybrid_sweeps));
+    if (r.factorizations > 0)
+        std::printf("%-16s %lld (%lld symbolic), %.3g s\n", "factorizations",
+                    static_cast<long long>(r.factorizations),
+                    static_cast<long long>(r.symbolic_analyses), r.factorization_time);
+    if (r.setup_time > 0.0) std::printf("%-16s %.3g s (W = H^T M^-1 H)\n", "reduction", r.setup_time);
     if (!r.output.empty()) std::printf("%-16s %s\n", "written to", r.output.c_str());
 }
 

@@ -19,7 +19,7 @@ std::string library_message(frix_error err) {
 
 ProblemPtr read_problem(const std::string &path) {
     frix_problem *p = nullptr;
-    frix_error err = frix_fclib_read(path.c_str(), &p);
+    frix_error err = frix_read_problem(path.c_str(), &p);
     if (err != FRIX_OK) {
         frix_problem_free(p);
         fail("cannot read " + path + ": " + library_message(err));

@@ -37,12 +37,18 @@ void print_main_help(std::FILE *out) {
         "             [--time-limit S] [--output SOL.hdf5] [--json] [--verbose]\n"
         "  frix info FILE.hdf5 [--json]\n"
         "  frix solvers [NAME|ID] [--json]\n"
+        "  frix convert IN OUT.hdf5 [--title TEXT]\n"
+        "  frix bench FILES|DIRS... [--solvers LIST] [--tol T] [--time-limit S] --out DIR\n"
         "  frix help [COMMAND]     frix COMMAND --help     frix --version\n"
         "\n"
         "Commands:\n"
         "  solve     solve an FCLIB problem from r = 0; report status, iterations, error\n"
         "  info      describe an FCLIB problem: kind, sizes, nnz, friction, title\n"
         "  solvers   list the registered solvers, or describe one\n"
+        "  convert   write a problem (FCLIB or Siconos .dat) as a new FCLIB file\n"
+        "  bench     run solvers (frix's and Siconos's) on problems: CSV, profiles, plots\n"
+        "\n"
+        "FILE may be an FCLIB .hdf5 file or a Siconos text problem (.dat).\n"
         "\n",
         out);
     std::fputs(kExitText, out);
@@ -100,6 +106,23 @@ void print_solvers_help(std::FILE *out) {
         "\n"
         "Options:\n"
         "  --json              print JSON instead of text\n"
+        "  -h, --help          show this help\n"
+        "\n",
+        out);
+    std::fputs(kExitText, out);
+}
+
+void print_convert_help(std::FILE *out) {
+    std::fputs(
+        "Usage: frix convert IN OUT.hdf5 [--title TEXT]\n"
+        "\n"
+        "Reads the problem in IN (an FCLIB file, or a Siconos text problem .dat, local or\n"
+        "global) and writes it to OUT as an FCLIB file, which Siconos and libfclib read\n"
+        "too. A global problem stays global; nothing is solved or reduced. OUT is replaced\n"
+        "atomically if it exists.\n"
+        "\n"
+        "Options:\n"
+        "  --title TEXT        the title stored in OUT (default: IN's, if any)\n"
         "  -h, --help          show this help\n"
         "\n",
         out);

@@ -24,8 +24,12 @@ int help_for(const char *topic) {
         print_info_help(stdout);
     } else if (std::strcmp(topic, "solvers") == 0) {
         print_solvers_help(stdout);
+    } else if (std::strcmp(topic, "convert") == 0) {
+        print_convert_help(stdout);
+    } else if (std::strcmp(topic, "bench") == 0) {
+        print_bench_help(stdout);
     } else {
-        fail(std::string("no help for '") + topic + "' (commands: solve, info, solvers)");
+        fail(std::string("no help for '") + topic + "' (commands: solve, info, solvers, convert, bench)");
     }
     return kExitConverged;
 }
@@ -45,6 +49,10 @@ int run(int argc, char **argv) {
     if (std::strcmp(cmd, "solve") == 0) return cmd_solve(argc - 1, argv + 1);
     if (std::strcmp(cmd, "info") == 0) return cmd_info(argc - 1, argv + 1);
     if (std::strcmp(cmd, "solvers") == 0) return cmd_solvers(argc - 1, argv + 1);
+    if (std::strcmp(cmd, "convert") == 0) return cmd_convert(argc - 1, argv + 1);
+    if (std::strcmp(cmd, "bench") == 0) return cmd_bench(argc - 1, argv + 1);
+    // Hidden: one run of a bench campaign, in the child process the bench starts.
+    if (std::strcmp(cmd, "bench-run") == 0) return cmd_bench_run(argc - 1, argv + 1);
     if (cmd[0] == '-') fail(std::string("unknown option '") + cmd + "' (see 'frix --help')");
     fail(std::string("unknown command '") + cmd + "' (see 'frix --help')");
 }

@@ -1,0 +1,511 @@
+#include "global.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <vector>
+
+#include "error_state.hpp"
+#include "linalg/linalg.hpp"
+#include "matrix.hpp"
+#include "measures.hpp"
+#include "newton.hpp"
+#include "nsn_functions.hpp"
+
+namespace frix {
+
+namespace {
+
+struct Csc {
+    int64_t rows = 0, cols = 0;
+    std::vector<int64_t> colptr, rowind;
+    std::vector<double> val;
+    linalg::CscView view() const { return {rows, cols, colptr.data(), rowind.data(), val.data()}; }
+};
+
+frix_error to_csc(const frix_matrix &A, Csc &out) {
+    out.rows = A.rows;
+    out.cols = A.cols;
+    int64_t nnz = 0;
+    if (frix_error e = frix_matrix_to_csc(&A, &nnz, nullptr, nullptr, nullptr)) return e;
+    out.colptr.resize(A.cols + 1);
+    out.rowind.resize(std::max<int64_t>(nnz, 1));
+    out.val.resize(std::max<int64_t>(nnz, 1));
+    return frix_matrix_to_csc(&A, &nnz, out.colptr.data(), out.rowind.data(), out.val.data());
+}
+
+// Whether M equals its transpose to round-off (CHOLMOD reads only the upper triangle).
+bool is_symmetric(const Csc &M) {
+    double amax = 0.0;
+    for (double x : M.val) amax = std::max(amax, std::fabs(x));
+    const double tol = 1e-12 * amax;
+    for (int64_t j = 0; j < M.cols; ++j)
+        for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e) {
+            const int64_t i = M.rowind[e];
+            // M(j, i) by binary search in column i.
+            auto first = M.rowind.begin() + M.colptr[i], last = M.rowind.begin() + M.colptr[i + 1];
+            auto it = std::lower_bound(first, last, j);
+            const double mji = (it != last && *it == j) ? M.val[it - M.rowind.begin()] : 0.0;
+            if (std::fabs(mji - M.val[e]) > tol) return false;
+        }
+    return true;
+}
+
+// A factorisation of M: CHOLMOD when M is symmetric positive definite, UMFPACK otherwise.
+class MassSolver {
+   public:
+    frix_error factor(const frix_matrix &M) {
+        if (frix_error e = to_csc(M, csc_)) return e;
+        if (is_symmetric(csc_) && chol_.factor(csc_.view()) == FRIX_OK) {
+            use_chol_ = true;
+            return FRIX_OK;
+        }
+        use_chol_ = false;
+        if (frix_error e = lu_.analyze(csc_.view())) return e;
+        if (frix_error e = lu_.factor(csc_.view()))
+            return fail(e, "global problem: M cannot be factorised (%s)", frix_last_error_message());
+        return FRIX_OK;
+    }
+    frix_error solve(const double *b, double *x) const {
+        return use_chol_ ? chol_.solve(b, x) : lu_.solve(b, x);
+    }
+    // W = H^T M^-1 H as CSC.
+    frix_error congruence(const frix_matrix &H, Csc &W) {
+        Csc h;
+        if (frix_error e = to_csc(H, h)) return e;
+        W.rows = W.cols = H.cols;
+        if (use_chol_) return chol_.inverse_congruence(h.view(), W.colptr, W.rowind, W.val);
+        // LU: one solve per column of H; exact zeros (contacts M does not couple) are dropped.
+        const int64_t n = H.rows, k = H.cols;
+        std::vector<double> col(n), x(n), wcol(k);
+        W.colptr.assign(k + 1, 0);
+        W.rowind.clear();
+        W.val.clear();
+        for (int64_t j = 0; j < k; ++j) {
+            std::fill(col.begin(), col.end(), 0.0);
+            for (int64_t e = h.colptr[j]; e < h.colptr[j + 1]; ++e) col[h.rowind[e]] = h.val[e];
+            if (frix_error e = lu_.solve(col.data(), x.data())) return e;
+            matrix_gemv_transposed(H, 1.0, x.data(), 0.0, wcol.data());
+            for (int64_t i = 0; i < k; ++i)
+                if (wcol[i] != 0.0) {
+                    W.rowind.push_back(i);
+                    W.val.push_back(wcol[i]);
+                }
+            W.colptr[j + 1] = (int64_t)W.rowind.size();
+        }
+        return FRIX_OK;
+    }
+    const linalg::FactorStats &stats() const { return use_chol_ ? chol_.stats() : lu_.stats(); }
+
+   private:
+    Csc csc_;
+    linalg::SparseCholesky chol_;
+    linalg::SparseLU lu_;
+    bool use_chol_ = false;
+};
+
+// v = M^-1 (H r + f).
+frix_error recover_velocity(const frix_problem &p, const MassSolver &ms, const double *r, double *v) {
+    std::vector<double> b(p.f, p.f + p.n);
+    if (p.nc > 0) matrix_gemv(*p.H, 1.0, r, 1.0, b.data());
+    return ms.solve(b.data(), v);
+}
+
+// Route (a): reduce, solve the local problem with any local solver, recover v.
+frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const SolverEntry &entry,
+                         double *r, double *u, double *v, frix_info &info, const Stopwatch &clock,
+                         frix_error (*solve_local)(const frix_problem &, const frix_options &,
+                                                   const SolverEntry &, double *, double *,
+                                                   frix_info &, const Stopwatch &)) {
+    const Stopwatch setup;
+    MassSolver ms;
+    if (frix_error e = ms.factor(*p.M)) return e;
+    if (p.nc == 0) return recover_velocity(p, ms, r, v);
+    Csc w;
+    if (frix_error e = ms.congruence(*p.H, w)) return e;
+    frix_matrix *W = nullptr;
+    if (frix_error e = frix_matrix_from_csc(w.rows, w.cols, w.colptr.data(), w.rowind.data(),
+                                            w.val.data(), &W))
+        return e;
+    std::unique_ptr<frix_matrix> W_owner(W);
+    w = Csc();  // the block copy is what the solvers read
+    std::vector<double> q(3 * p.nc), x(p.n);
+    if (frix_error e = ms.solve(p.f, x.data())) return e;
+    matrix_gemv_transposed(*p.H, 1.0, x.data(), 0.0, q.data());
+    for (int64_t i = 0; i < 3 * p.nc; ++i) q[i] += p.w[i];
+    frix_problem *local = nullptr;
+    if (frix_error e = make_local_problem(W, q.data(), p.mu, p.nc, &local)) return e;
+    std::unique_ptr<frix_problem> local_owner(local);
+    const double setup_time = setup.seconds();
+    if (frix_error e = solve_local(*local, opts, entry, r, u, info, clock)) return e;
+    info.setup_time = setup_time;
+    info.factorizations += ms.stats().numeric;
+    info.symbolic_analyses += ms.stats().symbolic;
+    info.factorization_time += ms.stats().seconds;
+    return recover_velocity(p, ms, r, v);
+}
+
+}  // namespace
+
+// ---- Route (b): semismooth Newton (Alart-Curnier) on (v, r).
+namespace gnewton {
+
+namespace {
+
+// The Jacobian [[M, -H], [B H^T, A]] in CSC with a fixed pattern; the dynamic entries are
+// listed with where their value comes from.
+struct Jacobian {
+    int64_t n = 0, m = 0, size = 0;
+    Csc J;
+    // B H^T entries: slot, contact a, row i of the block, and H(j, 3a..3a+2).
+    struct BHEntry {
+        int64_t slot, a;
+        int i;
+        double h[3];
+    };
+    std::vector<BHEntry> bh;
+    std::vector<int64_t> a_slot;  // 9 per contact: slot of A(i, c), column-major
+
+    void build(const Csc &M, const Csc &H, int64_t nc) {
+        n = M.rows;
+        m = 3 * nc;
+        size = n + m;
+        struct E {
+            int64_t col, row;
+            int kind;  // 0 M, 1 -H, 2 BH, 3 A
+            int64_t src;
+            int64_t a;
+            int i, c;
+        };
+        std::vector<E> es;
+        for (int64_t j = 0; j < n; ++j)
+            for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e) es.push_back({j, M.rowind[e], 0, e, 0, 0, 0});
+        for (int64_t k = 0; k < m; ++k)
+            for (int64_t e = H.colptr[k]; e < H.colptr[k + 1]; ++e)
+                es.push_back({n + k, H.rowind[e], 1, e, 0, 0, 0});
+        // Rows of H used by contact a (the union over its 3 columns).
+        std::vector<int64_t> mark(n, -1), rows;
+        for (int64_t a = 0; a < nc; ++a) {
+            rows.clear();
+            for (int c = 0; c < 3; ++c)
+                for (int64_t e = H.colptr[3 * a + c]; e < H.colptr[3 * a + c + 1]; ++e)
+                    if (mark[H.rowind[e]] != a) {
+                        mark[H.rowind[e]] = a;
+                        rows.push_back(H.rowind[e]);
+                    }
+            for (int64_t j : rows)
+                for (int i = 0; i < 3; ++i) es.push_back({j, n + 3 * a + i, 2, j, a, i, 0});
+            for (int c = 0; c < 3; ++c)
+                for (int i = 0; i < 3; ++i) es.push_back({n + 3 * a + c, n + 3 * a + i, 3, 0, a, i, c});
+        }
+        std::sort(es.begin(), es.end(), [](const E &x, const E &y) {
+            return x.col != y.col ? x.col < y.col : x.row < y.row;
+        });
+        J.rows = J.cols = size;
+        J.colptr.assign(size + 1, 0);
+        J.rowind.resize(es.size());
+        J.val.assign(es.size(), 0.0);
+        a_slot.assign(9 * nc, 0);
+        bh.clear();
+        // H(j, col) lookup for the BH entries.
+        auto h_at = [&](int64_t j, int64_t col) {
+            auto first = H.rowind.begin() + H.colptr[col], last = H.rowind.begin() + H.colptr[col + 1];
+            auto it = std::lower_bound(first, last, j);
+            return (it != last && *it == j) ? H.val[it - H.rowind.begin()] : 0.0;
+        };
+        for (size_t s = 0; s < es.size(); ++s) {
+            const E &e = es[s];
+            ++J.colptr[e.col + 1];
+            J.rowind[s] = e.row;
+            switch (e.kind) {
+                case 0: J.val[s] = M.val[e.src]; break;
+                case 1: J.val[s] = -H.val[e.src]; break;
+                case 2: {
+                    BHEntry b{(int64_t)s, e.a, e.i, {0, 0, 0}};
+                    for (int c = 0; c < 3; ++c) b.h[c] = h_at(e.src, 3 * e.a + c);
+                    bh.push_back(b);
+                    break;
+                }
+                default: a_slot[9 * e.a + e.i + 3 * e.c] = (int64_t)s; break;
+            }
+        }
+        for (int64_t c = 0; c < size; ++c) J.colptr[c + 1] += J.colptr[c];
+    }
+
+    // The dynamic entries for A + delta B and B.
+    void assemble(const std::vector<double> &A, const std::vector<double> &B, double delta) {
+        for (const BHEntry &e : bh) {
+            const double *Ba = &B[9 * e.a];
+            J.val[e.slot] = Ba[e.i] * e.h[0] + Ba[e.i + 3] * e.h[1] + Ba[e.i + 6] * e.h[2];
+        }
+        for (size_t k = 0; k < a_slot.size(); ++k) J.val[a_slot[k]] = A[k] + delta * B[k];
+    }
+};
+
+double dot(const double *x, const double *y, int64_t n) {
+    double s = 0.0;
+    for (int64_t i = 0; i < n; ++i) s += x[i] * y[i];
+    return s;
+}
+
+constexpr double kM1 = 0.01, kArmijo = 1e-4;
+constexpr int kStallSteps = 25;
+constexpr double kDeltaStart = 1e-6, kDeltaFloor = 1e-8;
+
+frix_error solve(SolveContext &ctx) {
+    const frix_problem &p = ctx.problem;
+    const frix_options &o = ctx.options;
+    frix_info &info = ctx.info;
+    const newton::Settings s = newton::settings_from(o, FRIX_SOLVER_NSN_AC);
+    const double tol = o.d(FRIX_OPT_TOLERANCE);
+    const int64_t max_iter = o.i(FRIX_OPT_MAX_ITER);
+    const int64_t n = p.n, nc = p.nc, m = 3 * nc, N = n + m;
+    double *r = ctx.r, *u = ctx.u, *v = ctx.v;
+
+    Csc M, H;
+    if (frix_error e = to_csc(*p.M, M)) return e;
+    if (frix_error e = to_csc(*p.H, H)) return e;
+    // rho from the lumped Delassus blocks H_a^T diag(M)^-1 H_a: W itself is never formed.
+    std::vector<double> dinv(n, 0.0), rho_n(nc), rho_t(nc);
+    for (int64_t j = 0; j < n; ++j)
+        for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e)
+            if (M.rowind[e] == j && M.val[e] > 0.0) dinv[j] = 1.0 / M.val[e];
+    double wscale = 0.0;
+    for (int64_t a = 0; a < nc; ++a) {
+        double Wd[9] = {0};
+        for (int c1 = 0; c1 < 3; ++c1)
+            for (int c2 = 0; c2 < 3; ++c2) {
+                // sum_j H(j, 3a+c1) H(j, 3a+c2) / M_jj over the shared rows (both sorted).
+                int64_t e1 = H.colptr[3 * a + c1], e2 = H.colptr[3 * a + c2];
+                const int64_t f1 = H.colptr[3 * a + c1 + 1], f2 = H.colptr[3 * a + c2 + 1];
+                double sum = 0.0;
+                while (e1 < f1 && e2 < f2) {
+                    if (H.rowind[e1] < H.rowind[e2]) ++e1;
+                    else if (H.rowind[e2] < H.rowind[e1]) ++e2;
+                    else {
+                        sum += H.val[e1] * H.val[e2] * dinv[H.rowind[e1]];
+                        ++e1, ++e2;
+                    }
+                }
+                Wd[c1 + 3 * c2] = sum;
+            }
+        nsn::contact_rho(s.rho_strategy, s.rho, Wd, &rho_n[a], &rho_t[a]);
+        double fro = 0.0;
+        for (double x : Wd) fro += x * x;
+        wscale += std::sqrt(fro);
+    }
+    wscale = nc > 0 && wscale > 0.0 ? wscale / (double)nc : 1.0;
+
+    Jacobian jac;
+    jac.build(M, H, nc);
+    linalg::SparseLU lu;
+    std::vector<double> A(9 * nc), B(9 * nc), phi(m), res(n), F(N), dx(N), rhs(N);
+    std::vector<double> Mdv(n), Hdr(n), Htdv(m), rt(m), ut(m), phit(m), rest(n);
+    std::vector<double> best_r(r, r + m), best_v(n);
+    // Start from v = M^-1 (H r + f) would need a factorisation of M; the Newton step on the
+    // linear block gets there in one step anyway, so v starts from the caller's array (0).
+    for (int64_t j = 0; j < n; ++j) v[j] = 0.0;
+    std::copy(v, v + n, best_v.begin());
+    const double norm_f = std::sqrt(dot(p.f, p.f, n));
+
+    auto evaluate = [&](const double *rr, const double *vv, double *uu, double *rr_res, double *ph,
+                        bool jacobian) {
+        matrix_gemv(*p.M, 1.0, vv, 0.0, rr_res);
+        if (nc > 0) matrix_gemv(*p.H, -1.0, rr, 1.0, rr_res);
+        for (int64_t j = 0; j < n; ++j) rr_res[j] -= p.f[j];
+        if (nc > 0) matrix_gemv_transposed(*p.H, 1.0, vv, 0.0, uu);
+        for (int64_t i = 0; i < m; ++i) uu[i] += p.w[i];
+        for (int64_t a = 0; a < nc; ++a)
+            nsn::contact_function(nsn::kAlartCurnier, rr + 3 * a, uu + 3 * a, p.mu[a], rho_n[a],
+                                  rho_t[a], ph + 3 * a, jacobian ? &A[9 * a] : nullptr,
+                                  jacobian ? &B[9 * a] : nullptr);
+        return 0.5 * (dot(rr_res, rr_res, n) + dot(ph, ph, m));
+    };
+    double equilibrium = 0.0;
+    auto error_of = [&]() {
+        const Measures meas = global_measures(p, r, v, u, &equilibrium);
+        return std::max(selected_error(meas, s.measure), equilibrium);
+    };
+
+    double psi = evaluate(r, v, u, res.data(), phi.data(), true);
+    double err = error_of();
+    double best_err = err, ref_err = err, delta = 0.0;
+    int since_progress = 0, failures = 0;
+    int64_t it = 0, ls_steps = 0;
+    info.status = FRIX_STATUS_MAX_ITER;
+    while (true) {
+        if (err <= tol) {
+            info.status = FRIX_STATUS_CONVERGED;
+            break;
+        }
+        if (it >= max_iter) break;
+        const double tl = o.d(FRIX_OPT_TIME_LIMIT);
+        if (tl > 0.0 && ctx.clock.seconds() >= tl) {
+            info.status = FRIX_STATUS_TIME_LIMIT;
+            break;
+        }
+        bool factored = false;
+        for (int attempt = 0; attempt < 12 && !factored; ++attempt) {
+            jac.assemble(A, B, delta * wscale);
+            if (lu.stats().symbolic == 0)
+                if (frix_error e = lu.analyze(jac.J.view())) return e;
+            const frix_error e = lu.factor(jac.J.view());
+            if (e == FRIX_ERR_OUT_OF_MEMORY) return e;
+            factored = e == FRIX_OK && lu.rcond() > 1e-15;
+            if (!factored) delta = delta == 0.0 ? kDeltaStart : delta * 100.0;
+        }
+        if (!factored) {
+            info.status = FRIX_STATUS_NUMERICAL_FAILURE;
+            break;
+        }
+        for (int64_t j = 0; j < n; ++j) rhs[j] = -res[j];
+        for (int64_t i = 0; i < m; ++i) rhs[n + i] = -phi[i];
+        if (frix_error e = lu.solve(rhs.data(), dx.data())) return e;
+        ++it;
+        const double *dv = dx.data(), *dr = dx.data() + n;
+        matrix_gemv(*p.M, 1.0, dv, 0.0, Mdv.data());
+        if (nc > 0) {
+            matrix_gemv(*p.H, 1.0, dr, 0.0, Hdr.data());
+            matrix_gemv_transposed(*p.H, 1.0, dv, 0.0, Htdv.data());
+        }
+        // Slope of the merit: res . (M dv - H dr) + Phi . (A dr + B H^T dv).
+        double slope = 0.0;
+        for (int64_t j = 0; j < n; ++j) slope += res[j] * (Mdv[j] - Hdr[j]);
+        for (int64_t a = 0; a < nc; ++a) {
+            const double *Aa = &A[9 * a], *Ba = &B[9 * a], *d = dr + 3 * a, *du = &Htdv[3 * a];
+            for (int i = 0; i < 3; ++i)
+                slope += phi[3 * a + i] * (Aa[i] * d[0] + Aa[i + 3] * d[1] + Aa[i + 6] * d[2] +
+                                           Ba[i] * du[0] + Ba[i + 3] * du[1] + Ba[i + 6] * du[2]);
+        }
+        double t = 1.0;
+        bool accepted = s.line_search == FRIX_LINE_SEARCH_NONE;
+        if (!accepted && slope < 0.0) {
+            const double c = s.line_search == FRIX_LINE_SEARCH_GOLDSTEIN_PRICE ? kM1 : kArmijo;
+            double best_t = 0.0, best_psi = psi;
+            for (int k = 0; k < s.ls_max_iter; ++k) {
+                for (int64_t j = 0; j < n; ++j) rest[j] = res[j] + t * (Mdv[j] - Hdr[j]);
+                for (int64_t i = 0; i < m; ++i) {
+                    rt[i] = r[i] + t * dr[i];
+                    ut[i] = u[i] + t * Htdv[i];
+                }
+                for (int64_t a = 0; a < nc; ++a)
+                    nsn::contact_function(nsn::kAlartCurnier, &rt[3 * a], &ut[3 * a], p.mu[a],
+                                          rho_n[a], rho_t[a], &phit[3 * a], nullptr, nullptr);
+                ++ls_steps;
+                const double pt = 0.5 * (dot(rest.data(), rest.data(), n) + dot(phit.data(), phit.data(), m));
+                if (pt < best_psi) best_psi = pt, best_t = t;
+                if (pt <= psi + c * t * slope) {
+                    accepted = true;
+                    break;
+                }
+                t *= 0.5;
+            }
+            if (!accepted && best_t > 0.0) {
+                t = best_t;
+                accepted = true;
+            }
+        }
+        if (accepted) {
+            for (int64_t j = 0; j < n; ++j) v[j] += t * dv[j];
+            for (int64_t i = 0; i < m; ++i) r[i] += t * dr[i];
+            psi = evaluate(r, v, u, res.data(), phi.data(), true);
+            err = error_of();
+            failures = 0;
+            if (t == 1.0) delta = delta < kDeltaFloor ? 0.0 : delta * 0.1;
+        } else {
+            ++failures;
+            delta = std::max(delta * 10.0, kDeltaStart);
+        }
+        if (s.verbosity >= 2)
+            std::fprintf(stderr, "global newton: step %lld t %.3g error %.3e equilibrium %.3e delta %.1e\n",
+                         (long long)it, t, err, equilibrium, delta);
+        if (o.callback && o.callback(o.callback_data, it, err, ctx.clock.seconds()) != 0) {
+            info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
+            break;
+        }
+        if (err < best_err) {
+            best_err = err;
+            std::copy(r, r + m, best_r.begin());
+            std::copy(v, v + n, best_v.begin());
+        }
+        if (best_err < 0.5 * ref_err) {
+            ref_err = best_err;
+            since_progress = 0;
+        } else if (++since_progress >= kStallSteps || failures >= 3) {
+            info.status = FRIX_STATUS_STAGNATED;
+            break;
+        }
+    }
+    if (best_err < err) {
+        std::copy(best_r.begin(), best_r.end(), r);
+        std::copy(best_v.begin(), best_v.end(), v);
+    }
+    (void)norm_f;
+    info.iterations = it;
+    info.newton_iterations = it;
+    info.line_search_steps = ls_steps;
+    info.factorizations = lu.stats().numeric;
+    info.symbolic_analyses = lu.stats().symbolic;
+    info.factorization_time = lu.stats().seconds;
+    if (s.verbosity >= 1)
+        std::fprintf(stderr, "global newton: %s after %lld steps\n", frix_status_string(info.status),
+                     (long long)it);
+    return FRIX_OK;
+}
+
+const frix_option_key kExtraKeys[] = {FRIX_OPT_RHO_STRATEGY, FRIX_OPT_RHO, FRIX_OPT_LINE_SEARCH,
+                                      FRIX_OPT_LINE_SEARCH_MAX_ITER, (frix_option_key)0};
+const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 500},
+                                   {FRIX_OPT_LINE_SEARCH, FRIX_LINE_SEARCH_ARMIJO},
+                                   {(frix_option_key)0, 0}};
+
+}  // namespace
+}  // namespace gnewton
+
+const SolverEntry kGlobalNsnAcEntry = {
+    FRIX_SOLVER_GLOBAL_NSN_AC, "gnsn-ac", "GLOBAL_FRICTION_3D_NSN_AC",
+    "Semismooth Newton (Alart-Curnier) on the global problem itself: unknowns (v, r), "
+    "equations M v - H r - f = 0 and Phi(r, H^T v + w) = 0, Jacobian [[M, -H], [B H^T, A]] "
+    "factorised by UMFPACK (one symbolic analysis per solve). W = H^T M^-1 H is never formed, "
+    "which is what large FEM problems need; rho comes from the lumped blocks "
+    "H_a^T diag(M)^-1 H_a. Converged means both the error and the equilibrium residual are "
+    "below the tolerance. Global problems only (local solvers reach global problems through "
+    "the reduction W = H^T M^-1 H). Options: rho_strategy, rho, line_search (Armijo by "
+    "default; Goldstein-Price is taken as Armijo with m1 = 0.01), line_search_max_iter.",
+    gnewton::solve, false, true, gnewton::kExtraKeys, gnewton::kDefaults};
+
+frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
+                                const SolverEntry &entry, double *r, double *u, double *v,
+                                frix_info &info, const Stopwatch &clock,
+                                frix_error (*solve_local)(const frix_problem &, const frix_options &,
+                                                          const SolverEntry &, double *, double *,
+                                                          frix_info &, const Stopwatch &)) {
+    const int64_t m = 3 * p.nc;
+    for (int64_t i = 0; i < m; ++i)
+        if (!std::isfinite(r[i])) r[i] = 0.0;
+    if (entry.solves_global && (p.nc > 0)) {
+        SolveContext ctx{p, opts, r, u, v, info, clock};
+        if (frix_error e = entry.solve(ctx)) return e;
+        for (int64_t i = 0; i < m; ++i)
+            if (!std::isfinite(r[i]))
+                return fail(FRIX_ERR_INTERNAL, "frix_solve: solver %s returned a non-finite r", entry.name);
+        for (int64_t j = 0; j < p.n; ++j)
+            if (!std::isfinite(v[j]))
+                return fail(FRIX_ERR_INTERNAL, "frix_solve: solver %s returned a non-finite v", entry.name);
+    } else if (entry.solves_local || p.nc == 0) {
+        if (frix_error e = solve_reduced(p, opts, entry, r, u, v, info, clock, solve_local)) return e;
+        if (p.nc == 0) info.status = FRIX_STATUS_CONVERGED;
+    } else {
+        return fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s solves no global problem", entry.name);
+    }
+    // The final measures of the global problem, from the (r, v) returned.
+    Measures meas = global_measures(p, r, v, u, &info.equilibrium);
+    record_measures(info, meas, opts.i(FRIX_OPT_ERROR_MEASURE));
+    if (info.status == FRIX_STATUS_CONVERGED &&
+        !(info.error <= info.tolerance && info.equilibrium <= std::max(info.tolerance, 1e-12)))
+        info.status = FRIX_STATUS_STAGNATED;
+    return FRIX_OK;
+}
+
+}  // namespace frix

@@ -1,0 +1,23 @@
+// Global problems (M, H, f, w, mu): M v = H r + f, u = H^T v + w. Two routes:
+//  - reduction (any local solver): W = H^T M^-1 H and q = H^T M^-1 f + w formed sparse with
+//    CHOLMOD (UMFPACK when M is not symmetric positive definite), the local problem solved,
+//    and v = M^-1 (H r + f) recovered;
+//  - id 607: semismooth Newton on (v, r) itself with UMFPACK, which never forms W.
+#pragma once
+
+#include "solver_api.hpp"
+
+namespace frix {
+
+extern const SolverEntry kGlobalNsnAcEntry;
+
+// The driver's global path (src/solve.cpp): runs `entry` natively if it solves global
+// problems, through the reduction otherwise. r, u (3nc) and v (n) as in frix_solve.
+frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
+                                const SolverEntry &entry, double *r, double *u, double *v,
+                                frix_info &info, const Stopwatch &clock,
+                                frix_error (*solve_local)(const frix_problem &, const frix_options &,
+                                                          const SolverEntry &, double *, double *,
+                                                          frix_info &, const Stopwatch &));
+
+}  // namespace frix

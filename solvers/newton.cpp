@@ -1,0 +1,464 @@
+#include "newton.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "error_state.hpp"
+#include "matrix.hpp"
+#include "measures.hpp"
+#include "nsgs.hpp"
+#include "nsn_functions.hpp"
+
+namespace frix {
+namespace newton {
+
+namespace {
+
+double dot(const double *x, const double *y, int64_t n) {
+    double s = 0.0;
+    for (int64_t i = 0; i < n; ++i) s += x[i] * y[i];
+    return s;
+}
+
+// Goldstein-Price constants of Siconos (m1, m2), Armijo's sigma, the non-monotone memory.
+constexpr double kM1 = 0.01, kM2 = 0.99, kArmijo = 1e-4;
+constexpr int kNonMonotoneMemory = 8;
+// Newton is declared stalled after this many steps without halving the best error, or this
+// many failed line searches in a row.
+constexpr int kStallSteps = 25;
+constexpr int kMaxLineSearchFailures = 3;
+// The Jacobian regularisation delta (relative to the mean |W_aa|): where it starts and
+// restarts, and below which it is dropped (tuned on the rank-deficient FCLIB problems).
+constexpr double kDeltaStart = 1e-6, kDeltaFloor = 1e-8;
+
+}  // namespace
+
+bool Limits::out_of_time() const {
+    const double tl = options.d(FRIX_OPT_TIME_LIMIT);
+    return tl > 0.0 && clock.seconds() >= tl;
+}
+
+bool Limits::report(double error) {
+    if (options.callback &&
+        options.callback(options.callback_data, *iterations, error, clock.seconds()) != 0)
+        stop_requested = true;
+    return stop_requested;
+}
+
+Settings settings_from(const frix_options &o, int solver_id) {
+    Settings s;
+    s.formulation = solver_id == FRIX_SOLVER_NSN_FB   ? nsn::kFischerBurmeister
+                    : solver_id == FRIX_SOLVER_NSN_NM ? nsn::kNaturalMap
+                                                      : nsn::kAlartCurnier;
+    s.rho_strategy = (int)o.i(FRIX_OPT_RHO_STRATEGY);
+    s.rho = o.d(FRIX_OPT_RHO);
+    s.line_search = (int)o.i(FRIX_OPT_LINE_SEARCH);
+    s.ls_max_iter = (int)o.i(FRIX_OPT_LINE_SEARCH_MAX_ITER);
+    s.hybrid = (int)o.i(FRIX_OPT_HYBRID);
+    s.hybrid_sweeps = o.i(FRIX_OPT_HYBRID_SWEEPS);
+    s.measure = o.i(FRIX_OPT_ERROR_MEASURE);
+    s.verbosity = (int)o.i(FRIX_OPT_VERBOSITY);
+    return s;
+}
+
+Engine::Engine(const frix_matrix &W, const double *mu, int64_t nc, const Settings &s)
+    : W_(W), mu_(mu), nc_(nc), m_(3 * nc), s_(s), rho_n_(nc), rho_t_(nc), A_(9 * nc), B_(9 * nc) {
+    static const double kZero[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    double scale = 0.0;
+    for (int64_t a = 0; a < nc; ++a) {
+        const int64_t d = W.diag_index[a];
+        const double *Waa = d >= 0 ? &W.block_val[9 * d] : kZero;
+        nsn::contact_rho(s.rho_strategy, s.rho, Waa, &rho_n_[a], &rho_t_[a]);
+        double fro = 0.0;
+        for (int i = 0; i < 9; ++i) fro += Waa[i] * Waa[i];
+        scale += std::sqrt(fro);
+    }
+    w_scale_ = nc > 0 && scale > 0.0 ? scale / (double)nc : 1.0;
+    build_pattern();
+}
+
+void Engine::build_pattern() {
+    const int64_t nb = W_.nblocks();
+    std::vector<int64_t> count(nc_, 0);
+    w_has_diag_.assign(nc_, false);
+    for (int64_t a = 0; a < nc_; ++a) {
+        w_has_diag_[a] = W_.diag_index[a] >= 0;
+        if (!w_has_diag_[a]) ++count[a];
+    }
+    for (int64_t b = 0; b < nb; ++b) ++count[W_.block_col[b]];
+    std::vector<int64_t> start(nc_ + 1, 0);
+    for (int64_t c = 0; c < nc_; ++c) start[c + 1] = start[c] + 9 * count[c];
+    colptr_.assign(m_ + 1, 0);
+    for (int64_t c = 0; c < nc_; ++c)
+        for (int j = 0; j < 3; ++j) colptr_[3 * c + j + 1] = start[c] + (j + 1) * 3 * count[c];
+    rowind_.assign(start[nc_], 0);
+    values_.assign(start[nc_], 0.0);
+    block_pos_.assign(nb, 0);
+    block_stride_.assign(nb, 0);
+    diag_pos_.assign(nc_, 0);
+    diag_stride_.assign(nc_, 0);
+    // Block rows in increasing order: each column's list of block rows comes out sorted.
+    std::vector<int64_t> fill(nc_, 0);
+    auto place = [&](int64_t a, int64_t c) {
+        const int64_t pos = start[c] + 3 * fill[c]++, stride = 3 * count[c];
+        for (int j = 0; j < 3; ++j)
+            for (int i = 0; i < 3; ++i) rowind_[pos + j * stride + i] = 3 * a + i;
+        return pos;
+    };
+    for (int64_t a = 0; a < nc_; ++a) {
+        bool placed_diag = w_has_diag_[a];
+        for (int64_t b = W_.row_ptr[a]; b < W_.row_ptr[a + 1]; ++b) {
+            const int64_t c = W_.block_col[b];
+            if (!placed_diag && c > a) {
+                diag_pos_[a] = place(a, a);
+                diag_stride_[a] = 3 * count[a];
+                placed_diag = true;
+            }
+            block_pos_[b] = place(a, c);
+            block_stride_[b] = 3 * count[c];
+            if (c == a) {
+                diag_pos_[a] = block_pos_[b];
+                diag_stride_[a] = block_stride_[b];
+            }
+        }
+        if (!placed_diag) {
+            diag_pos_[a] = place(a, a);
+            diag_stride_[a] = 3 * count[a];
+        }
+    }
+}
+
+void Engine::evaluate(const double *r, const double *u, bool jacobian, double *phi) {
+    for (int64_t a = 0; a < nc_; ++a)
+        nsn::contact_function(s_.formulation, r + 3 * a, u + 3 * a, mu_[a], rho_n_[a], rho_t_[a],
+                              phi + 3 * a, jacobian ? &A_[9 * a] : nullptr,
+                              jacobian ? &B_[9 * a] : nullptr);
+}
+
+void Engine::assemble(double shift) {
+    double *val = values_.data();
+    for (int64_t a = 0; a < nc_; ++a) {
+        const double *A = &A_[9 * a], *B = &B_[9 * a];
+        // J_aa = A + shift B + B W_aa (the last term added with W's diagonal block below).
+        double D[9];
+        for (int i = 0; i < 9; ++i) D[i] = A[i] + shift * B[i];
+        if (!w_has_diag_[a]) {
+            const int64_t pos = diag_pos_[a], st = diag_stride_[a];
+            for (int j = 0; j < 3; ++j)
+                for (int i = 0; i < 3; ++i) val[pos + j * st + i] = D[i + 3 * j];
+        }
+        for (int64_t b = W_.row_ptr[a]; b < W_.row_ptr[a + 1]; ++b) {
+            const double *Wb = &W_.block_val[9 * b];
+            const bool diag = W_.block_col[b] == a;
+            const int64_t pos = block_pos_[b], st = block_stride_[b];
+            for (int j = 0; j < 3; ++j)
+                for (int i = 0; i < 3; ++i) {
+                    double v = B[i] * Wb[3 * j] + B[i + 3] * Wb[3 * j + 1] + B[i + 6] * Wb[3 * j + 2];
+                    if (diag) v += D[i + 3 * j];
+                    val[pos + j * st + i] = v;
+                }
+        }
+    }
+}
+
+// 1/2 |Phi(r + t d, u + t du)|^2; rt, ut, phi are work vectors.
+double Engine::merit_along(const double *r, const double *u, const double *d, const double *du,
+                           double t, double *rt, double *ut, double *phi) {
+    for (int64_t i = 0; i < m_; ++i) {
+        rt[i] = r[i] + t * d[i];
+        ut[i] = u[i] + t * du[i];
+    }
+    evaluate(rt, ut, false, phi);
+    ++counters.line_search;
+    return 0.5 * dot(phi, phi, m_);
+}
+
+frix_error Engine::run(double *r, const double *q, double shift, double tol, Limits &lim,
+                       RunResult &res) {
+    const int64_t m = m_;
+    std::vector<double> u(m), phi(m), d(m), du(m), rhs(m), rt(m), ut(m), phit(m), best(r, r + m);
+    double norm_q = std::sqrt(dot(q, q, m));
+    auto product = [&](const double *x, double *y) {  // y = (W + shift I) x
+        matrix_gemv(W_, 1.0, x, 0.0, y);
+        if (shift != 0.0)
+            for (int64_t i = 0; i < m; ++i) y[i] += shift * x[i];
+    };
+    auto velocity = [&]() {
+        product(r, u.data());
+        for (int64_t i = 0; i < m; ++i) u[i] += q[i];
+    };
+    auto error_of = [&]() {
+        return selected_error(measures_from_ru(r, u.data(), mu_, nc_, norm_q), s_.measure);
+    };
+
+    velocity();
+    evaluate(r, u.data(), true, phi.data());
+    double psi = 0.5 * dot(phi.data(), phi.data(), m);
+    double err = error_of();
+    double best_err = err, ref_err = err;
+    int since_progress = 0, ls_failures = 0;
+    // Jacobian regularisation, in units of w_scale_. Rank-deficient W (rigid scenes) make
+    // J singular on the sticking contacts, and the raw Newton step then runs along W's null
+    // space; a small delta costs nothing in u (the null space does not move u) and keeps the
+    // steps acceptable. It falls after full steps, down to 0 on well-posed problems.
+    // A proximal shift already regularises J: delta then starts at 0.
+    double delta = shift > 0.0 ? 0.0 : kDeltaStart;
+    double history[kNonMonotoneMemory];
+    int nhist = 0;
+    history[nhist++ % kNonMonotoneMemory] = psi;
+    res.status = FRIX_STATUS_MAX_ITER;
+
+    while (true) {
+        if (!(err > tol)) {
+            res.status = FRIX_STATUS_CONVERGED;
+            break;
+        }
+        if (*lim.iterations >= lim.max_iter) {
+            res.status = FRIX_STATUS_MAX_ITER;
+            break;
+        }
+        if (lim.stop_requested) {
+            res.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
+            break;
+        }
+        if (lim.out_of_time()) {
+            res.status = FRIX_STATUS_TIME_LIMIT;
+            break;
+        }
+        // Factorise J (+ delta B); a singular J is regularised until it factorises.
+        if (!analysed_) {
+            assemble(shift);
+            linalg::CscView J{m, m, colptr_.data(), rowind_.data(), values_.data()};
+            if (frix_error e = lu_.analyze(J)) return e;
+            analysed_ = true;
+        }
+        bool factored = false;
+        for (int attempt = 0; attempt < 12 && !factored; ++attempt) {
+            assemble(shift + delta * w_scale_);
+            linalg::CscView J{m, m, colptr_.data(), rowind_.data(), values_.data()};
+            const frix_error e = lu_.factor(J);
+            if (e == FRIX_ERR_OUT_OF_MEMORY) return e;
+            factored = e == FRIX_OK && lu_.rcond() > 1e-15;
+            if (!factored) delta = delta == 0.0 ? kDeltaStart : delta * 100.0;
+            if (delta > 1e6) break;
+        }
+        if (!factored) {
+            res.status = FRIX_STATUS_NUMERICAL_FAILURE;
+            break;
+        }
+        for (int64_t i = 0; i < m; ++i) rhs[i] = -phi[i];
+        if (frix_error e = lu_.solve(rhs.data(), d.data())) return e;
+        bool finite = true;
+        for (int64_t i = 0; i < m && finite; ++i) finite = std::isfinite(d[i]);
+        ++counters.newton;
+        ++*lim.iterations;
+
+        double t = 0.0;
+        bool accepted = false;
+        if (finite) {
+            product(d.data(), du.data());
+            // Slope of the merit along d: Phi . (A d + B du), the exact directional derivative.
+            double slope = 0.0;
+            for (int64_t a = 0; a < nc_; ++a) {
+                const double *A = &A_[9 * a], *B = &B_[9 * a], *da = &d[3 * a], *dua = &du[3 * a];
+                for (int i = 0; i < 3; ++i)
+                    slope += phi[3 * a + i] *
+                             (A[i] * da[0] + A[i + 3] * da[1] + A[i + 6] * da[2] + B[i] * dua[0] +
+                              B[i + 3] * dua[1] + B[i + 6] * dua[2]);
+            }
+            double ref = psi;
+            if (s_.line_search == FRIX_LINE_SEARCH_NONMONOTONE)
+                for (int k = 0; k < std::min(nhist, kNonMonotoneMemory); ++k) ref = std::max(ref, history[k]);
+            if (s_.line_search == FRIX_LINE_SEARCH_NONE) {
+                t = 1.0;
+                accepted = true;
+            } else if (slope < 0.0) {
+                double lo = 0.0, hi = INFINITY;
+                t = 1.0;
+                double best_t = 0.0, best_psi = psi;
+                for (int k = 0; k < s_.ls_max_iter; ++k) {
+                    const double pt = merit_along(r, u.data(), d.data(), du.data(), t, rt.data(),
+                                                  ut.data(), phit.data());
+                    if (pt < best_psi) best_psi = pt, best_t = t;
+                    if (s_.line_search == FRIX_LINE_SEARCH_GOLDSTEIN_PRICE) {
+                        if (pt > psi + kM1 * t * slope || !std::isfinite(pt)) {
+                            hi = t;
+                        } else if (pt < psi + kM2 * t * slope && t < 1.0) {
+                            lo = t;  // too short: Newton steps are never extended beyond 1
+                        } else {
+                            accepted = true;
+                            break;
+                        }
+                        t = std::isfinite(hi) ? 0.5 * (lo + hi) : std::min(2.0 * t, 1.0);
+                    } else {
+                        if (pt <= ref + kArmijo * t * slope) {
+                            accepted = true;
+                            break;
+                        }
+                        t *= 0.5;
+                    }
+                }
+                if (!accepted && best_t > 0.0) {  // no sufficient decrease, but a decrease
+                    t = best_t;
+                    accepted = true;
+                }
+            }
+        }
+        if (accepted) {
+            for (int64_t i = 0; i < m; ++i) r[i] += t * d[i];
+            velocity();  // a fresh product: no drift of u = W r + q over many steps
+            evaluate(r, u.data(), true, phi.data());
+            psi = 0.5 * dot(phi.data(), phi.data(), m);
+            history[nhist++ % kNonMonotoneMemory] = psi;
+            err = error_of();
+            ls_failures = 0;
+            if (t == 1.0) delta = delta < kDeltaFloor ? 0.0 : delta * 0.1;
+        } else {
+            // No descent along d: a more regularised Jacobian gives a shorter, safer step.
+            ++ls_failures;
+            delta = std::max(delta * 10.0, kDeltaStart);
+        }
+        if (s_.verbosity >= 2)
+            std::fprintf(stderr, "newton: step %lld t %.3g error %.3e merit %.3e delta %.1e\n",
+                         (long long)counters.newton, t, err, psi, delta);
+        lim.report(err);
+        if (err < best_err) {
+            best_err = err;
+            std::copy(r, r + m, best.begin());
+        }
+        if (best_err < 0.5 * ref_err) {
+            ref_err = best_err;
+            since_progress = 0;
+        } else if (++since_progress >= kStallSteps || ls_failures >= kMaxLineSearchFailures) {
+            res.status = FRIX_STATUS_STAGNATED;
+            break;
+        }
+    }
+    if (best_err < err) {
+        std::copy(best.begin(), best.end(), r);
+        err = best_err;
+    }
+    res.error = err;
+    return FRIX_OK;
+}
+
+namespace {
+
+frix_error solve(SolveContext &ctx, int solver_id) {
+    const frix_problem &p = ctx.problem;
+    const frix_options &o = ctx.options;
+    if (!p.W || !p.W->block) return fail(FRIX_ERR_INTERNAL, "newton: W is not stored as 3x3 blocks");
+    const Settings s = settings_from(o, solver_id);
+    const double tol = o.d(FRIX_OPT_TOLERANCE);
+    frix_info &info = ctx.info;
+    int64_t iterations = 0;
+    Limits lim{o, ctx.clock, &iterations, o.i(FRIX_OPT_MAX_ITER)};
+    Engine engine(*p.W, p.mu, p.nc, s);
+    RunResult res;
+    std::unique_ptr<nsgs::Workspace> gs;  // made on the first fallback only
+    std::vector<double> keep;
+    while (true) {
+        if (frix_error e = engine.run(ctx.r, p.q, 0.0, tol, lim, res)) return e;
+        if (res.status != FRIX_STATUS_STAGNATED && res.status != FRIX_STATUS_NUMERICAL_FAILURE) break;
+        if (s.hybrid != FRIX_HYBRID_NSGS) break;
+        // Newton stalls (typically on rank-deficient W): NSGS sweeps move r to where the
+        // active set is right, then Newton resumes from there. The better r is kept.
+        if (!gs) {
+            nsgs::Settings gss;
+            gss.local.solver = local::kClosedForm;
+            gs = std::make_unique<nsgs::Workspace>(p, gss);
+        }
+        keep.assign(ctx.r, ctx.r + 3 * p.nc);
+        const double before = res.error;
+        for (int64_t k = 0; k < s.hybrid_sweeps && iterations < lim.max_iter; ++k) {
+            gs->sweep(ctx.r);
+            ++engine.counters.sweeps;
+            ++iterations;
+        }
+        const double after = selected_error(local_measures(p, ctx.r, ctx.u), s.measure);
+        if (s.verbosity >= 1)
+            std::fprintf(stderr, "newton: stalled at %.3e, %lld NSGS sweeps -> %.3e\n", before,
+                         (long long)s.hybrid_sweeps, after);
+        lim.report(after);
+        if (!(after <= before)) std::copy(keep.begin(), keep.end(), ctx.r);
+        if (after <= tol) {
+            res.status = FRIX_STATUS_CONVERGED;
+            break;
+        }
+        if (iterations >= lim.max_iter || lim.out_of_time() || lim.stop_requested) {
+            res.status = lim.stop_requested  ? FRIX_STATUS_STOPPED_BY_CALLBACK
+                         : lim.out_of_time() ? FRIX_STATUS_TIME_LIMIT
+                                             : FRIX_STATUS_MAX_ITER;
+            break;
+        }
+    }
+    info.status = res.status;
+    info.iterations = iterations;
+    info.newton_iterations = engine.counters.newton;
+    info.line_search_steps = engine.counters.line_search;
+    info.hybrid_sweeps = engine.counters.sweeps;
+    info.factorizations = engine.factor_stats().numeric;
+    info.symbolic_analyses = engine.factor_stats().symbolic;
+    info.factorization_time = engine.factor_stats().seconds;
+    if (s.verbosity >= 1)
+        std::fprintf(stderr, "newton: %s after %lld iterations (%lld Newton, %lld sweeps)\n",
+                     frix_status_string(info.status), (long long)iterations,
+                     (long long)engine.counters.newton, (long long)engine.counters.sweeps);
+    return FRIX_OK;
+}
+
+frix_error solve_ac(SolveContext &ctx) { return solve(ctx, FRIX_SOLVER_NSN_AC); }
+frix_error solve_fb(SolveContext &ctx) { return solve(ctx, FRIX_SOLVER_NSN_FB); }
+frix_error solve_nm(SolveContext &ctx) { return solve(ctx, FRIX_SOLVER_NSN_NM); }
+
+const frix_option_key kExtraKeys[] = {FRIX_OPT_RHO_STRATEGY, FRIX_OPT_RHO, FRIX_OPT_LINE_SEARCH,
+                                      FRIX_OPT_LINE_SEARCH_MAX_ITER, FRIX_OPT_HYBRID,
+                                      FRIX_OPT_HYBRID_SWEEPS, (frix_option_key)0};
+
+const OptionDefault kAcDefaults[] = {{FRIX_OPT_MAX_ITER, 2000},
+                                     {FRIX_OPT_RHO_STRATEGY, FRIX_RHO_SPECTRAL},
+                                     {(frix_option_key)0, 0}};
+const OptionDefault kFbDefaults[] = {{FRIX_OPT_MAX_ITER, 2000},
+                                     {FRIX_OPT_RHO_STRATEGY, FRIX_RHO_SPECTRAL},
+                                     {(frix_option_key)0, 0}};
+const OptionDefault kNmDefaults[] = {{FRIX_OPT_MAX_ITER, 2000},
+                                     {FRIX_OPT_RHO_STRATEGY, FRIX_RHO_SPECTRAL},
+                                     {(frix_option_key)0, 0}};
+
+#define FRIX_NEWTON_COMMON_DOC                                                                   \
+    " The generalized Jacobian A + B W is assembled directly in sparse form from W's 3x3 "      \
+    "blocks (pattern fixed for the solve: one UMFPACK symbolic analysis, one numeric "          \
+    "factorisation per step); the step is damped by a line search on 1/2 |Phi|^2 "             \
+    "(Goldstein-Price by default, Armijo, non-monotone Armijo or none). A singular Jacobian "  \
+    "(rank-deficient W) is regularised as A + B (W + delta I) with delta adapted. With "        \
+    "hybrid = nsgs (the default), a stalled Newton hands over to NSGS sweeps and resumes. "    \
+    "Options: rho_strategy (constant, spectral, split), rho, line_search, "                    \
+    "line_search_max_iter, hybrid, hybrid_sweeps. Iterations count Newton steps plus "         \
+    "fallback sweeps."
+
+}  // namespace
+}  // namespace newton
+
+const SolverEntry kNsnAcEntry = {
+    FRIX_SOLVER_NSN_AC, "nsn-ac", "FRICTION_3D_NSN_AC",
+    "Semismooth Newton on the Alart-Curnier formulation Phi(r) = 0 (per contact: "
+    "r_N - max(0, r_N - rho_N u_N) and r_T minus the projection of r_T - rho_T u_T on the disk "
+    "of radius mu max(0, r_N - rho_N u_N)). Fast and quadratically convergent near the "
+    "solution; the method of choice for flexible (FEM) problems and tight tolerances." FRIX_NEWTON_COMMON_DOC,
+    newton::solve_ac, true, false, newton::kExtraKeys, newton::kAcDefaults};
+
+const SolverEntry kNsnFbEntry = {
+    FRIX_SOLVER_NSN_FB, "nsn-fb", "FRICTION_3D_NSN_FB",
+    "Semismooth Newton on the Fischer-Burmeister function of the second-order cone "
+    "complementarity K ∋ r ⟂ u^ ∈ K* (u^ the De Saxce velocity), after the sqrt(mu) scaling "
+    "that maps K and K* onto the Lorentz cone." FRIX_NEWTON_COMMON_DOC,
+    newton::solve_fb, true, false, newton::kExtraKeys, newton::kFbDefaults};
+
+const SolverEntry kNsnNmEntry = {
+    FRIX_SOLVER_NSN_NM, "nsn-nm", "FRICTION_3D_NSN_NM",
+    "Semismooth Newton on the natural map Phi(r) = r - P_K(r - rho u^), the residual of the "
+    "error measure (u^ the De Saxce velocity)." FRIX_NEWTON_COMMON_DOC,
+    newton::solve_nm, true, false, newton::kExtraKeys, newton::kNmDefaults};
+
+}  // namespace frix

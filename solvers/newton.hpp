@@ -1,0 +1,104 @@
+// Semismooth Newton on the local (reduced) problem: ids 504 (Alart-Curnier), 513
+// (Fischer-Burmeister), 520 (natural map). The engine below is shared with PROX (prox.cpp),
+// which runs it on the shifted problem u = (W + alpha I) r + q' without touching W.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "linalg/linalg.hpp"
+#include "problem.hpp"
+#include "solver_api.hpp"
+
+namespace frix {
+
+extern const SolverEntry kNsnAcEntry;
+extern const SolverEntry kNsnFbEntry;
+extern const SolverEntry kNsnNmEntry;
+extern const SolverEntry kProxEntry;  // prox.cpp
+
+namespace newton {
+
+struct Settings {
+    int formulation = 0;        // nsn::Formulation
+    int rho_strategy = 1;       // frix_rho_strategy
+    double rho = 1.0;
+    int line_search = 1;        // frix_line_search
+    int ls_max_iter = 20;
+    int hybrid = 1;             // frix_hybrid
+    int64_t hybrid_sweeps = 50;
+    int64_t measure = 0;        // frix_error_measure
+    int verbosity = 0;
+};
+
+// The Newton settings of options of solver 504/513/520 (formulation from the id).
+Settings settings_from(const frix_options &o, int solver_id);
+
+// Everything the engine counts; copied into frix_info by the solvers.
+struct Counters {
+    int64_t newton = 0;
+    int64_t line_search = 0;
+    int64_t sweeps = 0;
+};
+
+// What stops a run besides convergence: the iteration budget, the time limit, the callback.
+struct Limits {
+    const frix_options &options;
+    const Stopwatch &clock;
+    int64_t *iterations;  // the solve's iteration counter (the callback's count), advanced here
+    int64_t max_iter;     // on *iterations
+    bool stop_requested = false;
+    bool out_of_time() const;
+    // Calls the callback; true if it asks to stop.
+    bool report(double error);
+};
+
+struct RunResult {
+    frix_status status = FRIX_STATUS_MAX_ITER;  // STAGNATED when Newton stalls
+    double error = 0.0;                         // of the returned r, on the problem solved
+};
+
+// Newton on u = (W + shift I) r + q. The Jacobian A + B (W + (shift + delta) I) has the
+// block pattern of W plus its diagonal, fixed for the whole solve: it is analysed once
+// (SparseLU) and factorised once per step. delta is a regularisation used only when the
+// Jacobian is singular, as it is on rank-deficient W with many sticking contacts.
+class Engine {
+   public:
+    Engine(const frix_matrix &W, const double *mu, int64_t nc, const Settings &s);
+    // Runs from r (updated in place; on return, the best iterate found), stopping when the
+    // selected error of the problem (W + shift I, q) is <= tol. scale_q is the |q| of the
+    // error's denominator.
+    frix_error run(double *r, const double *q, double shift, double tol, Limits &lim,
+                   RunResult &res);
+
+    const linalg::FactorStats &factor_stats() const { return lu_.stats(); }
+    Counters counters;
+    double w_scale() const { return w_scale_; }  // mean |W_aa|_2, the unit of shifts
+
+   private:
+    void build_pattern();
+    void evaluate(const double *r, const double *u, bool jacobian, double *phi);
+    void assemble(double shift);
+    double merit_along(const double *r, const double *u, const double *d, const double *du,
+                       double t, double *rt, double *ut, double *phi);
+
+    const frix_matrix &W_;
+    const double *mu_;
+    int64_t nc_, m_;
+    Settings s_;
+    std::vector<double> rho_n_, rho_t_;
+    std::vector<double> A_, B_;  // 9 per contact
+    // Jacobian CSC: per block of W, the offset of its (0,0) entry and the stride between its
+    // columns; diag_pos_ for the diagonal blocks (W's own or added).
+    std::vector<int64_t> colptr_, rowind_;
+    std::vector<double> values_;
+    std::vector<int64_t> block_pos_, block_stride_, diag_pos_, diag_stride_;
+    std::vector<bool> w_has_diag_;
+    linalg::SparseLU lu_;
+    bool analysed_ = false;
+    double w_scale_ = 1.0;
+};
+
+}  // namespace newton
+}  // namespace frix

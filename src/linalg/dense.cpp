@@ -1,0 +1,88 @@
+// DenseLU and DenseCholesky on LAPACK (Fortran symbols, 32-bit integers as in OpenBLAS's
+// default LP64 build).
+#include <chrono>
+#include <climits>
+
+#include "error_state.hpp"
+#include "linalg.hpp"
+
+extern "C" {
+void dgetrf_(const int *m, const int *n, double *a, const int *lda, int *ipiv, int *info);
+void dgetrs_(const char *trans, const int *n, const int *nrhs, const double *a, const int *lda,
+             const int *ipiv, double *b, const int *ldb, int *info, size_t trans_len);
+void dpotrf_(const char *uplo, const int *n, double *a, const int *lda, int *info, size_t uplo_len);
+void dpotrs_(const char *uplo, const int *n, const int *nrhs, const double *a, const int *lda,
+             double *b, const int *ldb, int *info, size_t uplo_len);
+}
+
+namespace frix::linalg {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+frix_error copy_square(const char *what, int64_t n, const double *A, int64_t lda,
+                       std::vector<double> &out, int &n_out) {
+    if (n <= 0 || n > INT_MAX / 2 || lda < n)
+        return fail(FRIX_ERR_DIMENSION, "%s: invalid size %lld (lda %lld)", what, (long long)n,
+                    (long long)lda);
+    out.resize((size_t)(n * n));
+    for (int64_t j = 0; j < n; ++j)
+        for (int64_t i = 0; i < n; ++i) out[(size_t)(i + j * n)] = A[i + j * lda];
+    n_out = (int)n;
+    return FRIX_OK;
+}
+
+}  // namespace
+
+frix_error DenseLU::factor(int64_t n, const double *A, int64_t lda) {
+    ok_ = false;
+    if (frix_error e = copy_square("dense LU", n, A, lda, lu_, n_)) return e;
+    piv_.resize((size_t)n_);
+    const auto t0 = Clock::now();
+    int info = 0;
+    dgetrf_(&n_, &n_, lu_.data(), &n_, piv_.data(), &info);
+    stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+    ++stats_.numeric;
+    if (info > 0) return fail(FRIX_ERR_NUMERICAL, "dense LU: singular matrix (U(%d,%d) = 0)", info, info);
+    if (info < 0) return fail(FRIX_ERR_INTERNAL, "dense LU: dgetrf argument %d invalid", -info);
+    ok_ = true;
+    return FRIX_OK;
+}
+
+frix_error DenseLU::solve(const double *b, double *x) const {
+    if (!ok_) return fail(FRIX_ERR_NUMERICAL, "dense LU: solve() without a factorisation");
+    for (int i = 0; i < n_; ++i) x[i] = b[i];
+    const int one = 1;
+    int info = 0;
+    dgetrs_("N", &n_, &one, lu_.data(), &n_, piv_.data(), x, &n_, &info, 1);
+    if (info != 0) return fail(FRIX_ERR_INTERNAL, "dense LU: dgetrs failed (%d)", info);
+    return FRIX_OK;
+}
+
+frix_error DenseCholesky::factor(int64_t n, const double *A, int64_t lda) {
+    ok_ = false;
+    if (frix_error e = copy_square("dense Cholesky", n, A, lda, l_, n_)) return e;
+    const auto t0 = Clock::now();
+    int info = 0;
+    dpotrf_("L", &n_, l_.data(), &n_, &info, 1);
+    stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+    ++stats_.numeric;
+    if (info > 0)
+        return fail(FRIX_ERR_NUMERICAL, "dense Cholesky: the matrix is not positive definite (minor %d)", info);
+    if (info < 0) return fail(FRIX_ERR_INTERNAL, "dense Cholesky: dpotrf argument %d invalid", -info);
+    ok_ = true;
+    return FRIX_OK;
+}
+
+frix_error DenseCholesky::solve(const double *b, double *x) const {
+    if (!ok_) return fail(FRIX_ERR_NUMERICAL, "dense Cholesky: solve() without a factorisation");
+    for (int i = 0; i < n_; ++i) x[i] = b[i];
+    const int one = 1;
+    int info = 0;
+    dpotrs_("L", &n_, &one, l_.data(), &n_, x, &n_, &info, 1);
+    if (info != 0) return fail(FRIX_ERR_INTERNAL, "dense Cholesky: dpotrs failed (%d)", info);
+    return FRIX_OK;
+}
+
+}  // namespace frix::linalg

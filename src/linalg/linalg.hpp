@@ -1,0 +1,125 @@
+// The one internal interface for linear solves: sparse LU (UMFPACK), sparse Cholesky
+// (CHOLMOD, supernodal) and dense LU / Cholesky (LAPACK). Every factorisation lives in its own
+// object (no global state), every failure comes back as a frix_error with a message
+// (frix::fail), never as a crash or a print.
+//
+// Sparse matrices here are plain CSC views (column pointers, sorted row indices, values) over
+// arrays the caller owns and keeps alive while the object uses them.
+#pragma once
+
+#include <frix/frix_errors.h>
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace frix::linalg {
+
+struct CscView {
+    int64_t rows = 0, cols = 0;
+    const int64_t *colptr = nullptr;  // cols + 1
+    const int64_t *rowind = nullptr;  // colptr[cols], sorted within each column
+    const double *values = nullptr;   // colptr[cols]
+    int64_t nnz() const { return cols > 0 ? colptr[cols] : 0; }
+};
+
+// Counters every factorising solver reports in its frix_info.
+struct FactorStats {
+    int64_t symbolic = 0;      // symbolic analyses (orderings) done
+    int64_t numeric = 0;       // numeric factorisations done
+    double seconds = 0.0;      // time in analysis + factorisation (not in solves)
+};
+
+// Sparse LU of a square matrix with UMFPACK. The symbolic analysis (ordering, strategy) is
+// kept and reused by every factor() while the sparsity pattern is the one of the last
+// analyze(): Newton-type solvers assemble their Jacobian in a fixed pattern (explicit zeros
+// kept), so they analyse once per solve and factor once per iteration.
+class SparseLU {
+   public:
+    SparseLU();
+    ~SparseLU();
+    SparseLU(const SparseLU &) = delete;
+    SparseLU &operator=(const SparseLU &) = delete;
+
+    // Symbolic analysis of A's pattern (values are used only as hints). Discards any
+    // previous analysis and factorisation.
+    frix_error analyze(const CscView &A);
+    // Numeric factorisation of A, which must have the pattern given to analyze() (same
+    // pointers or same content). FRIX_ERR_NUMERICAL if A is singular (the factorisation is
+    // then unusable) or if no analysis was done.
+    frix_error factor(const CscView &A);
+    // x = A^-1 b (or A^-T b) with the last factorisation; x and b may not alias.
+    frix_error solve(const double *b, double *x, bool transposed = false) const;
+
+    // min |U_ii| / max |U_ii| of the last factorisation (UMFPACK's cheap estimate).
+    double rcond() const { return rcond_; }
+    bool factored() const { return numeric_ != nullptr; }
+    const FactorStats &stats() const { return stats_; }
+
+   private:
+    void free_numeric();
+    void free_symbolic();
+    CscView A_;
+    void *symbolic_ = nullptr;
+    void *numeric_ = nullptr;
+    double rcond_ = 0.0;
+    FactorStats stats_;
+    std::vector<double> control_;
+};
+
+// Sparse Cholesky A = P^T L L^T P of a symmetric positive definite matrix with CHOLMOD
+// (supernodal). Only the upper triangle of A is read. FRIX_ERR_NUMERICAL if A is not
+// positive definite (the caller may then use SparseLU).
+class SparseCholesky {
+   public:
+    SparseCholesky();
+    ~SparseCholesky();
+    SparseCholesky(const SparseCholesky &) = delete;
+    SparseCholesky &operator=(const SparseCholesky &) = delete;
+
+    frix_error factor(const CscView &A);
+    // x = A^-1 b for one dense right-hand side.
+    frix_error solve(const double *b, double *x) const;
+    // C = B^T A^-1 B for a sparse B (n x k), as CSC (k x k, rows sorted). Computed as Z^T Z
+    // with Z = L^-1 P B sparse: no dense n x k block is ever formed.
+    frix_error inverse_congruence(const CscView &B, std::vector<int64_t> &colptr,
+                                  std::vector<int64_t> &rowind, std::vector<double> &values);
+
+    const FactorStats &stats() const { return stats_; }
+
+   private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+    FactorStats stats_;
+};
+
+// Dense LU with partial pivoting (LAPACK dgetrf/dgetrs), column-major n x n.
+class DenseLU {
+   public:
+    frix_error factor(int64_t n, const double *A, int64_t lda);
+    frix_error solve(const double *b, double *x) const;
+    const FactorStats &stats() const { return stats_; }
+
+   private:
+    int n_ = 0;
+    std::vector<double> lu_;
+    std::vector<int> piv_;
+    bool ok_ = false;
+    FactorStats stats_;
+};
+
+// Dense Cholesky A = L L^T (LAPACK dpotrf/dpotrs), column-major n x n, lower triangle read.
+class DenseCholesky {
+   public:
+    frix_error factor(int64_t n, const double *A, int64_t lda);
+    frix_error solve(const double *b, double *x) const;
+    const FactorStats &stats() const { return stats_; }
+
+   private:
+    int n_ = 0;
+    std::vector<double> l_;
+    bool ok_ = false;
+    FactorStats stats_;
+};
+
+}  // namespace frix::linalg

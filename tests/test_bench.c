@@ -1,0 +1,448 @@
+/* `frix bench`, run as a separate process: the CSV files it writes (quoting included), the
+ * performance-profile and work-precision computation on a hand-made table with known
+ * values (`frix bench --report`), the isolation of runs (a hanging run is killed at its
+ * time limit and a crashing one recorded, and the campaign goes on), and the Siconos
+ * comparator when it was built (skipped with a note otherwise). Needs no shared data. */
+#define _POSIX_C_SOURCE 200809L
+
+#include <frix/frix.h>
+
+#include <fcntl.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "check_main.h"
+
+#define TMP FRIX_TEST_TMPDIR "/bench"
+
+/* ---- Files and processes ------------------------------------------------------------- */
+
+static char *slurp(const char *path) {
+    FILE *f = fopen(path, "rb");
+    ck_assert_msg(f != NULL, "cannot open %s", path);
+    size_t cap = 4096, len = 0, n;
+    char *buf = malloc(cap);
+    ck_assert_ptr_nonnull(buf);
+    while ((n = fread(buf + len, 1, cap - len - 1, f)) > 0) {
+        len += n;
+        if (cap - len < 2) {
+            cap *= 2;
+            buf = realloc(buf, cap);
+            ck_assert_ptr_nonnull(buf);
+        }
+    }
+    buf[len] = '\0';
+    fclose(f);
+    return buf;
+}
+
+static void write_text(const char *path, const char *text) {
+    FILE *f = fopen(path, "wb");
+    ck_assert_msg(f != NULL, "cannot write %s", path);
+    fputs(text, f);
+    fclose(f);
+}
+
+static int exists(const char *path) {
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+static void fresh_dir(const char *path) {
+    char cmd[1024];
+    mkdir(FRIX_TEST_TMPDIR, 0755);
+    mkdir(TMP, 0755);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mkdir -p '%s'", path, path);
+    ck_assert_int_eq(system(cmd), 0);
+}
+
+static double now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* Runs `program` with the NULL-terminated arguments, stdout and stderr into files (so no
+ * pipe fills up); returns the exit code (128 + signal if killed). */
+static int run(const char *program, const char *const *args) {
+    const char *argv[40];
+    int argc = 0;
+    argv[argc++] = program;
+    for (; args[argc - 1] != NULL; ++argc) {
+        ck_assert_int_lt(argc, 39);
+        argv[argc] = args[argc - 1];
+    }
+    argv[argc] = NULL;
+    fflush(stdout);
+    fflush(stderr);
+    pid_t pid = fork();
+    ck_assert_int_ge(pid, 0);
+    if (pid == 0) {
+        int fo = open(TMP "/last.out", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        int fe = open(TMP "/last.err", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (fo < 0 || fe < 0 || dup2(fo, 1) < 0 || dup2(fe, 2) < 0) _exit(126);
+        execv(program, (char *const *)argv);
+        _exit(127);
+    }
+    int status = 0;
+    ck_assert_int_eq(waitpid(pid, &status, 0), pid);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+static int run_cli(const char *const *args) { return run(FRIX_CLI, args); }
+
+/* Two contacts, converges in a few sweeps. */
+static void make_problem(const char *path) {
+    static const double blocks[18] = {2, 0, 0, 0, 1, 0, 0, 0, 1, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+    static const int64_t rows[2] = {0, 1}, cols[2] = {0, 1};
+    static const double q[6] = {-1, 0.1, 0, -2, 0, 3}, mu[2] = {0.5, 0.3};
+    frix_matrix *W = NULL;
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_matrix_from_blocks(2, 2, 2, rows, cols, blocks, &W), FRIX_OK);
+    ck_assert_int_eq(frix_problem_local(W, q, mu, 2, &p), FRIX_OK);
+    unlink(path);
+    ck_assert_int_eq(frix_fclib_write(path, p, NULL, NULL, NULL, 0, NULL, NULL, NULL), FRIX_OK);
+    frix_problem_free(p);
+    frix_matrix_free(W);
+}
+
+/* ---- A small RFC 4180 reader, independent of frix's -------------------------------------- */
+
+typedef struct {
+    int rows, cols[4096];
+    char *field[4096][20];
+} csv;
+
+static csv *csv_read(const char *path) {
+    char *text = slurp(path);
+    csv *c = calloc(1, sizeof *c);
+    ck_assert_ptr_nonnull(c);
+    char buf[4096];
+    size_t len = 0;
+    int quoted = 0, row = 0, col = 0, any = 0;
+    for (const char *p = text;; ++p) {
+        char ch = *p;
+        if (quoted && ch != '\0') {
+            if (ch == '"' && p[1] == '"') {
+                buf[len++] = '"';
+                ++p;
+            } else if (ch == '"') {
+                quoted = 0;
+            } else {
+                buf[len++] = ch;
+            }
+            continue;
+        }
+        if (ch == '"') {
+            quoted = any = 1;
+        } else if (ch == ',' || ch == '\n' || (ch == '\0' && any)) {
+            buf[len] = '\0';
+            ck_assert_int_lt(row, 4096);
+            ck_assert_int_lt(col, 20);
+            c->field[row][col++] = strdup(buf);
+            len = 0;
+            if (ch != ',') {
+                c->cols[row++] = col;
+                col = any = 0;
+            }
+        } else if (ch != '\0') {
+            buf[len++] = ch;
+            any = 1;
+        }
+        if (ch == '\0') break;
+        ck_assert_uint_lt(len, sizeof buf - 1);
+    }
+    c->rows = row;
+    free(text);
+    return c;
+}
+
+static int csv_col(const csv *c, const char *name) {
+    for (int k = 0; k < c->cols[0]; ++k)
+        if (strcmp(c->field[0][k], name) == 0) return k;
+    ck_abort_msg("no column %s", name);
+    return -1;
+}
+
+static const char *csv_get(const csv *c, int row, const char *name) {
+    int k = csv_col(c, name);
+    ck_assert_int_lt(k, c->cols[row]);
+    return c->field[row][k];
+}
+
+/* The first data row whose columns a and b hold va and vb, or -1. */
+static int csv_find(const csv *c, const char *a, const char *va, const char *b, const char *vb) {
+    for (int r = 1; r < c->rows; ++r)
+        if (strcmp(csv_get(c, r, a), va) == 0 && (!b || strcmp(csv_get(c, r, b), vb) == 0)) return r;
+    return -1;
+}
+
+static void csv_free(csv *c) {
+    for (int r = 0; r < c->rows; ++r)
+        for (int k = 0; k < c->cols[r]; ++k) free(c->field[r][k]);
+    free(c);
+}
+
+/* ---- The CSV files of a campaign --------------------------------------------------------- */
+
+START_TEST(test_csv_files) {
+    const char *odd = "odd, \"name\".hdf5"; /* a comma and quotes: must be quoted in CSV */
+    fresh_dir(TMP "/csv/problems");
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", TMP "/csv/problems", odd);
+    make_problem(path);
+    const char *args[] = {"bench", TMP "/csv/problems", "--solvers", "nsgs,500", "--tol", "1e-10",
+                          "--time-limit", "5", "--out", TMP "/csv/out", "--no-plots", NULL};
+    ck_assert_int_eq(run_cli(args), 0);
+
+    char *raw = slurp(TMP "/csv/out/runs.csv");
+    const char *header = "problem,family,contacts,dofs,solver,status,iterations,error,time,";
+    ck_assert_msg(strncmp(raw, header, strlen(header)) == 0, "header: %.120s", raw);
+    ck_assert_msg(strstr(raw, "\n\"odd, \"\"name\"\".hdf5\",other,2,6,nsgs,converged,") != NULL,
+                  "row not quoted as RFC 4180 says: %s", raw);
+    free(raw);
+
+    csv *runs = csv_read(TMP "/csv/out/runs.csv");
+    ck_assert_int_eq(runs->rows, 2); /* header + one run: "500" is nsgs again */
+    ck_assert_int_eq(runs->cols[1], runs->cols[0]);
+    ck_assert_str_eq(csv_get(runs, 1, "problem"), odd);
+    ck_assert_str_eq(csv_get(runs, 1, "solver_id"), "500");
+    ck_assert_double_le(atof(csv_get(runs, 1, "error")), 1e-10);
+    ck_assert_double_gt(atof(csv_get(runs, 1, "time")), 0);
+    ck_assert_int_gt(atoi(csv_get(runs, 1, "iterations")), 0);
+    ck_assert_str_eq(csv_get(runs, 1, "tolerance"), "1e-10");
+    csv_free(runs);
+
+    csv *tr = csv_read(TMP "/csv/out/traces.csv");
+    ck_assert_int_ge(tr->rows, 2);
+    ck_assert_str_eq(tr->field[0][0], "problem");
+    double last = -1;
+    for (int r = 1; r < tr->rows; ++r) {
+        ck_assert_str_eq(csv_get(tr, r, "problem"), odd);
+        double t = atof(csv_get(tr, r, "elapsed"));
+        ck_assert_double_ge(t, last); /* elapsed time only grows */
+        last = t;
+    }
+    ck_assert_double_le(atof(csv_get(tr, tr->rows - 1, "error")), 1e-10);
+    csv_free(tr);
+
+    ck_assert(exists(TMP "/csv/out/profile.csv"));
+    ck_assert(exists(TMP "/csv/out/work_precision.csv"));
+    char *md = slurp(TMP "/csv/out/summary.md");
+    ck_assert_msg(strstr(md, "| nsgs | 1/1 |") != NULL, "summary: %s", md);
+    free(md);
+}
+END_TEST
+
+START_TEST(test_usage_errors) {
+    const char *no_out[] = {"bench", FRIX_TEST_TMPDIR, "--solvers", "nsgs", NULL};
+    ck_assert_int_eq(run_cli(no_out), 2);
+    const char *bad_solver[] = {"bench", FRIX_TEST_TMPDIR, "--solvers", "nosuch", "--out",
+                                TMP "/never", NULL};
+    ck_assert_int_eq(run_cli(bad_solver), 2);
+    const char *bad_limit[] = {"bench", FRIX_TEST_TMPDIR, "--time-limit", "0", "--out", TMP "/never", NULL};
+    ck_assert_int_eq(run_cli(bad_limit), 2);
+    ck_assert(!exists(TMP "/never"));
+    const char *help[] = {"bench", "--help", NULL};
+    ck_assert_int_eq(run_cli(help), 0);
+}
+END_TEST
+
+/* ---- Performance profile and work-precision on a hand-made table --------------------------
+ * Three solvers, four problems (times in s; "-" = not converged):
+ *          P1 (F1)  P2 (F1)  P3 (F2)  "P,4" (F2)
+ *   A      1        3        -        -
+ *   B      2        1.5      -        -
+ *   C      4        -        2        -
+ * Best times 1, 1.5, 2, none; ratios A: 1, 2; B: 2, 1; C: 4, 1. Hence over all four
+ * problems rho_A = rho_B = 1/4 at tau = 1 and 1/2 from tau = 2 on; rho_C = 1/4 at 1, 1/2
+ * from 4 on. In family F1: rho_A = rho_B = 1/2 at 1, 1 at 2; rho_C = 0 at 1, 1/2 at 4. In
+ * F2: rho_A = rho_B = 0, rho_C = 1/2. */
+static const char kRuns[] =
+    "problem,family,contacts,dofs,solver,status,iterations,error,time,solver_id,tolerance,time_limit,max_iter,reported_error,note\n"
+    "P1,F1,1,3,A,converged,5,1e-9,1.0,901,1e-8,10,1000,1e-9,\n"
+    "P1,F1,1,3,B,converged,5,1e-9,2.0,902,1e-8,10,1000,1e-9,\n"
+    "P1,F1,1,3,C,converged,5,1e-9,4.0,903,1e-8,10,1000,1e-9,\n"
+    "P2,F1,1,3,A,converged,5,1e-9,3.0,901,1e-8,10,1000,1e-9,\n"
+    "P2,F1,1,3,B,converged,5,1e-9,1.5,902,1e-8,10,1000,1e-9,\n"
+    "P2,F1,1,3,C,max_iter,1000,1e-3,10.0,903,1e-8,10,1000,1e-3,\n"
+    "P3,F2,1,3,A,timeout,7,1e-2,10.0,901,1e-8,10,1000,,killed\n"
+    "P3,F2,1,3,B,crash(SIGSEGV),0,,0.1,902,1e-8,10,1000,,\n"
+    "P3,F2,1,3,C,converged,5,1e-9,2.0,903,1e-8,10,1000,1e-9,\n"
+    "\"P,4\",F2,1,3,A,max_iter,1000,1e-1,9.0,901,1e-8,10,1000,1e-1,\n"
+    "\"P,4\",F2,1,3,B,time_limit,50,1e-2,10.0,902,1e-8,10,1000,1e-2,\n"
+    "\"P,4\",F2,1,3,C,error,0,,,903,1e-8,10,1000,,\"said \"\"no\"\", twice\"\n"
+    /* G takes none of these problems (as a global-only solver would): left out */
+    "P1,F1,1,3,G,unsupported,0,,,607,1e-8,10,1000,,\n"
+    "P2,F1,1,3,G,unsupported,0,,,607,1e-8,10,1000,,\n"
+    "P3,F2,1,3,G,unsupported,0,,,607,1e-8,10,1000,,\n"
+    "\"P,4\",F2,1,3,G,unsupported,0,,,607,1e-8,10,1000,,\n";
+/* B on P1 reached 1e-3 at 0.5 s and 1e-6 at 1.2 s (then 1e-9 when it stopped at 2 s). */
+static const char kTraces[] =
+    "problem,solver,iteration,elapsed,error\n"
+    "P1,B,1,0.1,1e-1\n"
+    "P1,B,2,0.5,1e-3\n"
+    "P1,B,3,1.2,1e-6\n"
+    "P1,B,5,2.0,1e-9\n";
+
+/* rho_s(tau) of `scope` from profile.csv: the last step at or before tau. */
+static double rho_at(const csv *p, const char *scope, const char *solver, double tau) {
+    double rho = -1;
+    for (int r = 1; r < p->rows; ++r)
+        if (strcmp(csv_get(p, r, "scope"), scope) == 0 && strcmp(csv_get(p, r, "solver"), solver) == 0 &&
+            atof(csv_get(p, r, "tau")) <= tau * (1 + 1e-12))
+            rho = atof(csv_get(p, r, "rho"));
+    ck_assert_msg(rho >= 0, "no profile step for %s %s at %g", scope, solver, tau);
+    return rho;
+}
+
+START_TEST(test_profile_known_values) {
+    fresh_dir(TMP "/profile");
+    write_text(TMP "/profile/runs.csv", kRuns);
+    write_text(TMP "/profile/traces.csv", kTraces);
+    const char *args[] = {"bench", "--report", TMP "/profile", "--no-plots", NULL};
+    ck_assert_int_eq(run_cli(args), 0);
+
+    csv *p = csv_read(TMP "/profile/profile.csv");
+    const double eps = 1e-12;
+    const struct {
+        const char *scope, *solver;
+        double tau, rho;
+    } expect[] = {
+        {"all", "A", 1, 0.25},  {"all", "A", 1.99, 0.25}, {"all", "A", 2, 0.5},  {"all", "A", 1e6, 0.5},
+        {"all", "B", 1, 0.25},  {"all", "B", 2, 0.5},     {"all", "C", 1, 0.25}, {"all", "C", 3.9, 0.25},
+        {"all", "C", 4, 0.5},   {"all", "C", 1e6, 0.5},   {"F1", "A", 1, 0.5},   {"F1", "A", 2, 1.0},
+        {"F1", "B", 1.5, 0.5},  {"F1", "B", 2, 1.0},      {"F1", "C", 1, 0.0},   {"F1", "C", 4, 0.5},
+        {"F2", "A", 100, 0.0},  {"F2", "B", 100, 0.0},    {"F2", "C", 1, 0.5},   {"F2", "C", 100, 0.5},
+    };
+    for (size_t k = 0; k < sizeof expect / sizeof expect[0]; ++k)
+        ck_assert_msg(fabs(rho_at(p, expect[k].scope, expect[k].solver, expect[k].tau) - expect[k].rho) < eps,
+                      "rho_%s(%g) in %s: %g, expected %g", expect[k].solver, expect[k].tau,
+                      expect[k].scope, rho_at(p, expect[k].scope, expect[k].solver, expect[k].tau),
+                      expect[k].rho);
+    int r = csv_find(p, "scope", "F2", "solver", "C");
+    ck_assert_int_gt(r, 0);
+    ck_assert_str_eq(csv_get(p, r, "problems"), "2");
+    ck_assert_int_lt(csv_find(p, "solver", "G", NULL, NULL), 0);
+    csv_free(p);
+
+    /* Work-precision: time to reach an accuracy, from the traces where there are some. */
+    csv *w = csv_read(TMP "/profile/work_precision.csv");
+    r = csv_find(w, "solver", "B", "accuracy", "1e-03");
+    ck_assert_int_gt(r, 0);
+    ck_assert_str_eq(csv_get(w, r, "reached"), "2");      /* P1 at 0.5 s, P2 at 1.5 s */
+    ck_assert_str_eq(csv_get(w, r, "problems"), "4");
+    ck_assert_double_eq_tol(atof(csv_get(w, r, "geomean_time_reached")), sqrt(0.5 * 1.5), 1e-12);
+    r = csv_find(w, "solver", "A", "accuracy", "1e-08");
+    ck_assert_str_eq(csv_get(w, r, "reached"), "2");
+    /* unreached counted at the time limit: (1 * 3 * 10 * 10)^(1/4) */
+    ck_assert_double_eq_tol(atof(csv_get(w, r, "geomean_time_penalized")), pow(300.0, 0.25), 1e-12);
+    r = csv_find(w, "solver", "A", "accuracy", "1e-10");
+    ck_assert_str_eq(csv_get(w, r, "reached"), "0");
+    r = csv_find(w, "solver", "A", "accuracy", "1e-02"); /* the killed run's last estimate counts */
+    ck_assert_str_eq(csv_get(w, r, "reached"), "3");
+    csv_free(w);
+
+    char *md = slurp(TMP "/profile/summary.md");
+    ck_assert_msg(strstr(md, "| A | 2/4 | 1 | 0 | 1 |") != NULL, "summary: %s", md);
+    ck_assert_msg(strstr(md, "| B | 2/4 | 1 | 1 | 0 |") != NULL, "summary: %s", md);
+    ck_assert_msg(strstr(md, "Solved by no solver: P,4.") != NULL, "summary: %s", md);
+    ck_assert_msg(strstr(md, "Left out, as they take none of these problems (e.g. global-only solvers): G.") != NULL,
+                  "summary: %s", md);
+    ck_assert_msg(strstr(md, "| G |") == NULL, "summary: %s", md);
+    free(md);
+}
+END_TEST
+
+/* ---- Isolation: a hanging run is killed at its limit, a crash is recorded, the rest runs -- */
+
+START_TEST(test_isolation) {
+    fresh_dir(TMP "/iso/problems");
+    make_problem(TMP "/iso/problems/a-hangs.hdf5");
+    make_problem(TMP "/iso/problems/b-crashes.hdf5");
+    make_problem(TMP "/iso/problems/c-fine.hdf5");
+    setenv("FRIX_BENCH_FAULT", "hang:a-hangs,crash:b-crashes", 1);
+    const char *args[] = {"bench", TMP "/iso/problems", "--solvers", "nsgs", "--time-limit", "0.3",
+                          "--grace", "0.5", "--out", TMP "/iso/out", "--no-plots", NULL};
+    double t0 = now();
+    ck_assert_int_eq(run_cli(args), 0);
+    double wall = now() - t0;
+    unsetenv("FRIX_BENCH_FAULT");
+    ck_assert_msg(wall < 10, "campaign took %g s", wall);
+
+    csv *runs = csv_read(TMP "/iso/out/runs.csv");
+    ck_assert_int_eq(runs->rows, 4);
+    int a = csv_find(runs, "problem", "a-hangs.hdf5", NULL, NULL);
+    int b = csv_find(runs, "problem", "b-crashes.hdf5", NULL, NULL);
+    int c = csv_find(runs, "problem", "c-fine.hdf5", NULL, NULL);
+    ck_assert(a > 0 && b > 0 && c > 0);
+    ck_assert_str_eq(csv_get(runs, a, "status"), "timeout");
+    ck_assert_msg(strstr(csv_get(runs, a, "note"), "killed after") != NULL, "note: %s", csv_get(runs, a, "note"));
+    double t = atof(csv_get(runs, a, "time"));
+    ck_assert_msg(t >= 0.8 && t < 5, "killed after %g s, expected 0.3 + 0.5", t);
+    ck_assert_str_eq(csv_get(runs, b, "status"), "crash(SIGABRT)");
+    ck_assert_str_eq(csv_get(runs, c, "status"), "converged");
+    csv_free(runs);
+    char *md = slurp(TMP "/iso/out/summary.md");
+    ck_assert_msg(strstr(md, "| nsgs | 1/3 | 1 | 1 | 0 |") != NULL, "summary: %s", md);
+    free(md);
+}
+END_TEST
+
+/* ---- The Siconos comparator, when built ---------------------------------------------------- */
+
+START_TEST(test_siconos_comparator) {
+    char adapter[1024];
+    snprintf(adapter, sizeof adapter, "%s", FRIX_CLI);
+    char *slash = strrchr(adapter, '/');
+    ck_assert_ptr_nonnull(slash);
+    strcpy(slash + 1, "frix-siconos");
+    if (access(adapter, X_OK) != 0) {
+        printf("test_bench: frix-siconos not built (no Siconos): comparator test skipped\n");
+        return;
+    }
+    fresh_dir(TMP "/sic/problems");
+    make_problem(TMP "/sic/problems/tiny.hdf5");
+    const char *direct[] = {TMP "/sic/problems/tiny.hdf5", "--solver", "FC3D_NSN_AC", "--tol", "1e-10", "--json", NULL};
+    ck_assert_int_eq(run(adapter, direct), 0);
+    char *out = slurp(TMP "/last.out");
+    ck_assert_msg(strstr(out, "\"solver\":\"siconos:NSN_AC\"") && strstr(out, "\"status\":\"converged\""),
+                  "frix-siconos: %s", out);
+    free(out);
+
+    const char *args[] = {"bench", TMP "/sic/problems", "--solvers", "nsgs,siconos:NSGS,siconos:504",
+                          "--tol", "1e-10", "--time-limit", "5", "--out", TMP "/sic/out", "--no-plots", NULL};
+    ck_assert_int_eq(run_cli(args), 0);
+    csv *runs = csv_read(TMP "/sic/out/runs.csv");
+    ck_assert_int_eq(runs->rows, 4);
+    int r = csv_find(runs, "solver", "siconos:NSGS", NULL, NULL);
+    ck_assert_int_gt(r, 0);
+    ck_assert_str_eq(csv_get(runs, r, "status"), "converged");
+    ck_assert_str_eq(csv_get(runs, r, "solver_id"), "500");
+    ck_assert_double_le(atof(csv_get(runs, r, "error")), 1e-10); /* frix's measure of Siconos's r */
+    ck_assert_int_gt(csv_find(runs, "solver", "siconos:NSN_AC", "status", "converged"), 0);
+    csv_free(runs);
+    char *md = slurp(TMP "/sic/out/summary.md");
+    ck_assert_msg(strstr(md, "| 500 | nsgs | 1 | siconos:NSGS | 1 | 1 |") != NULL, "summary: %s", md);
+    free(md);
+}
+END_TEST
+
+int main(void) {
+    Suite *s = suite_create("bench");
+    TCase *tc = tcase_create("bench");
+    tcase_set_timeout(tc, 120);
+    tcase_add_test(tc, test_csv_files);
+    tcase_add_test(tc, test_usage_errors);
+    tcase_add_test(tc, test_profile_known_values);
+    tcase_add_test(tc, test_isolation);
+    tcase_add_test(tc, test_siconos_comparator);
+    suite_add_tcase(s, tc);
+    return frix_run_suite(s);
+}

@@ -1,0 +1,186 @@
+/* Global problems (M, H, f, w, mu): the reduction W = H^T M^-1 H (CHOLMOD, or UMFPACK when M
+ * is not SPD) followed by any local solver, and the Newton solver on (v, r) (607), on the
+ * FCLIB global files and on small problems stored as general CSC. */
+#include <frix/frix.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include "check_main.h"
+
+#ifndef FRIX_SHARED_DIR
+#define FRIX_SHARED_DIR ""
+#endif
+
+static frix_problem *load(const char *relative) {
+    char path[4096];
+    snprintf(path, sizeof path, "%s/fclib/%s", FRIX_SHARED_DIR, relative);
+    if (access(path, R_OK) != 0) {
+        fprintf(stderr, "note: %s not found, test skipped\n", path);
+        return NULL;
+    }
+    frix_problem *p = NULL;
+    ck_assert_msg(frix_fclib_read(path, &p) == FRIX_OK, "%s: %s", path, frix_last_error_message());
+    return p;
+}
+
+typedef struct {
+    frix_status status;
+    double error, equilibrium;
+} outcome;
+
+/* Solves, then checks the reported measures against an independent frix_problem_measure. */
+static outcome solve_global(const frix_problem *p, int solver, double *r, double *v) {
+    const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
+    double *u = calloc((size_t)m + 1, sizeof *u);
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(solver, &o), FRIX_OK);
+    frix_info *info = NULL, *check = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_info_create(&check), FRIX_OK);
+    ck_assert_msg(frix_solve(p, o, r, u, v, info) == FRIX_OK, "%s", frix_last_error_message());
+    for (int64_t i = 0; i < m; ++i) ck_assert(isfinite(r[i]));
+    for (int64_t j = 0; j < n; ++j) ck_assert(isfinite(v[j]));
+    ck_assert_int_eq(frix_problem_measure(p, r, v, NULL, check), FRIX_OK);
+    outcome out = {frix_info_status(info), NAN, NAN};
+    ck_assert_int_eq(frix_info_get_double(check, FRIX_INFO_ERROR_RELATIVE, &out.error), FRIX_OK);
+    ck_assert_int_eq(frix_info_get_double(check, FRIX_INFO_EQUILIBRIUM, &out.equilibrium), FRIX_OK);
+    double reported = NAN;
+    ck_assert_int_eq(frix_info_get_double(info, FRIX_INFO_EQUILIBRIUM, &reported), FRIX_OK);
+    ck_assert_double_eq_tol(reported, out.equilibrium, 1e-12);
+    frix_info_free(check);
+    frix_info_free(info);
+    frix_options_free(o);
+    free(u);
+    return out;
+}
+
+/* The FEM (LMGC90) problems and the box stack, by both routes and from NSGS too. */
+static const char *const kGlobalFiles[] = {
+    "global/CubeH8.hdf5",
+    "global/LMGC_GFC3D-i00501-4-00000.hdf5",
+    "global/Box_Stacks-i0035-31-0.hdf5",
+};
+
+START_TEST(both_routes_solve_the_global_files) {
+    const char *file = kGlobalFiles[_i];
+    frix_problem *p = load(file);
+    if (!p) return;
+    const int solvers[] = {FRIX_SOLVER_GLOBAL_NSN_AC, FRIX_SOLVER_NSN_AC, FRIX_SOLVER_PROX, FRIX_SOLVER_NSGS};
+    for (int k = 0; k < 4; ++k) {
+        double *r = calloc((size_t)frix_problem_contact_dofs(p) + 1, sizeof *r);
+        double *v = calloc((size_t)frix_problem_dofs(p) + 1, sizeof *v);
+        outcome out = solve_global(p, solvers[k], r, v);
+        ck_assert_msg(out.status == FRIX_STATUS_CONVERGED && out.error <= 1e-8 && out.equilibrium <= 1e-8,
+                      "%s by %d: %s, error %g, equilibrium %g", file, solvers[k],
+                      frix_status_string(out.status), out.error, out.equilibrium);
+        free(r);
+        free(v);
+    }
+    frix_problem_free(p);
+}
+END_TEST
+
+START_TEST(reduction_of_the_rigid_spheres) {
+    frix_problem *p = load("global/spheres-in-a-box-98-i10000-256-10.hdf5");
+    if (!p) return;
+    double *r = calloc((size_t)frix_problem_contact_dofs(p), sizeof *r);
+    double *v = calloc((size_t)frix_problem_dofs(p), sizeof *v);
+    outcome out = solve_global(p, FRIX_SOLVER_NSN_AC, r, v);
+    ck_assert_msg(out.status == FRIX_STATUS_CONVERGED && out.error <= 1e-8 && out.equilibrium <= 1e-8,
+                  "%s, error %g", frix_status_string(out.status), out.error);
+    free(r);
+    free(v);
+    frix_problem_free(p);
+}
+END_TEST
+
+/* Two contacts on a 4-dof system (n not a multiple of 3: M and H stored as CSC). */
+static frix_problem *small_global(const double *m_dense, frix_matrix **M, frix_matrix **H,
+                                  double *f, double *w, double *mu) {
+    const double h[24] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0,    /* contact 0 */
+                          0, 0, 0, 1, 0.5, 0, 0, 0, 0, 0.5, 0, 0}; /* contact 1 */
+    ck_assert_int_eq(frix_matrix_from_dense(4, 4, m_dense, 4, M), FRIX_OK);
+    ck_assert_int_eq(frix_matrix_from_dense(4, 6, h, 4, H), FRIX_OK);
+    ck_assert_int_eq(frix_matrix_is_block(*M), 0);
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_problem_global(*M, *H, f, w, mu, 2, &p), FRIX_OK);
+    return p;
+}
+
+START_TEST(small_problems_stored_as_csc) {
+    /* SPD M (CHOLMOD), then a non-symmetric M (the LU fallback). */
+    const double spd[16] = {2, 0.1, 0, 0, 0.1, 2, 0, 0, 0, 0, 1, 0.2, 0, 0, 0.2, 3};
+    const double unsym[16] = {2, 0.3, 0, 0, 0.1, 2, 0, 0, 0, 0, 1, 0.2, 0, 0, 0.5, 3};
+    const double *ms[2] = {spd, unsym};
+    for (int k = 0; k < 2; ++k) {
+        double f[4] = {-1, 0.5, 0.2, -2}, w[6] = {0, 0, 0, 0.1, 0, 0}, mu[2] = {0.3, 0.5};
+        frix_matrix *M = NULL, *H = NULL;
+        frix_problem *p = small_global(ms[k], &M, &H, f, w, mu);
+        const int solvers[] = {FRIX_SOLVER_GLOBAL_NSN_AC, FRIX_SOLVER_NSN_AC, FRIX_SOLVER_NSGS};
+        for (int s = 0; s < 3; ++s) {
+            double r[6] = {0}, v[4] = {0};
+            outcome out = solve_global(p, solvers[s], r, v);
+            ck_assert_msg(out.status == FRIX_STATUS_CONVERGED && out.error <= 1e-8 && out.equilibrium <= 1e-8,
+                          "M %d solver %d: %s error %g equilibrium %g", k, solvers[s],
+                          frix_status_string(out.status), out.error, out.equilibrium);
+        }
+        frix_problem_free(p);
+        frix_matrix_free(M);
+        frix_matrix_free(H);
+    }
+}
+END_TEST
+
+START_TEST(singular_mass_matrix_is_an_error) {
+    const double zero_row[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1};
+    double f[4] = {-1, 0.5, 0.2, -2}, w[6] = {0}, mu[2] = {0.3, 0.5};
+    frix_matrix *M = NULL, *H = NULL;
+    frix_problem *p = small_global(zero_row, &M, &H, f, w, mu);
+    double r[6] = {0}, u[6], v[4] = {0};
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS, &o), FRIX_OK);
+    ck_assert_int_eq(frix_solve(p, o, r, u, v, NULL), FRIX_ERR_NUMERICAL);
+    ck_assert(frix_last_error_message()[0] != '\0');
+    frix_options_free(o);
+    frix_problem_free(p);
+    frix_matrix_free(M);
+    frix_matrix_free(H);
+}
+END_TEST
+
+START_TEST(no_contacts) {
+    const double m[9] = {2, 0, 0, 0, 4, 0, 0, 0, 1};
+    double f[3] = {2, -4, 3};
+    frix_matrix *M = NULL;
+    ck_assert_int_eq(frix_matrix_from_dense(3, 3, m, 3, &M), FRIX_OK);
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_problem_global(M, NULL, f, NULL, NULL, 0, &p), FRIX_OK);
+    double v[3] = {0};
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_solve(p, NULL, NULL, NULL, v, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    ck_assert_double_eq_tol(v[0], 1.0, 1e-15);
+    ck_assert_double_eq_tol(v[1], -1.0, 1e-15);
+    ck_assert_double_eq_tol(v[2], 3.0, 1e-15);
+    frix_info_free(info);
+    frix_problem_free(p);
+    frix_matrix_free(M);
+}
+END_TEST
+
+int main(void) {
+    Suite *s = suite_create("global");
+    TCase *tc = tcase_create("core");
+    tcase_set_timeout(tc, 120);
+    tcase_add_loop_test(tc, both_routes_solve_the_global_files, 0,
+                        (int)(sizeof kGlobalFiles / sizeof kGlobalFiles[0]));
+    tcase_add_test(tc, reduction_of_the_rigid_spheres);
+    tcase_add_test(tc, small_problems_stored_as_csc);
+    tcase_add_test(tc, singular_mass_matrix_is_an_error);
+    tcase_add_test(tc, no_contacts);
+    suite_add_tcase(s, tc);
+    return frix_run_suite(s);
+}

@@ -1,0 +1,123 @@
+// The lines a `frix bench` child run writes to its parent through a pipe (the parent reads
+// them as they come, so the trace of a run that is later killed is not lost):
+//
+//   T <iteration> <elapsed s> <error>     one point of the trace (thinned, see TraceThinner)
+//   R <status> <iterations> <error> <time s> <reported error>   the result, once
+//   N <text>                              a note (one line), e.g. a library message
+//
+// Fields are tab-separated; numbers are written so that they read back exactly. Header-only
+// because two executables speak it: `frix bench-run` (frix's solvers) and `frix-siconos`
+// (the Siconos comparator, built only when Siconos is installed).
+#pragma once
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+namespace frix_bench {
+
+// Keeps a bounded, plot-worthy subset of the per-iteration points: the first point, every
+// point that reaches a new tenth of a decade below the best error so far (so the time to
+// reach any 10^-k is exact), and points spaced geometrically in time (so stalls and
+// rises still show). NSGS can do 10^5 sweeps in a run; this keeps a few hundred points.
+class TraceThinner {
+public:
+    bool keep(double elapsed, double error) {
+        bool take = false;
+        if (count_ == 0) {
+            take = true;
+        } else if (std::isfinite(error) && bin(error) < best_bin_) {
+            take = true;
+        } else if (elapsed >= 1.5 * last_time_ && elapsed - last_time_ >= 1e-4) {
+            take = true;
+        }
+        ++count_;
+        if (!take) return false;
+        if (std::isfinite(error) && bin(error) < best_bin_) best_bin_ = bin(error);
+        last_time_ = elapsed;
+        return true;
+    }
+
+private:
+    static long bin(double error) {
+        if (error <= 0) return -100000;  // exactly solved: below every level
+        return static_cast<long>(std::floor(10.0 * std::log10(error)));
+    }
+    long best_bin_ = 100000;
+    double last_time_ = 0;
+    std::int64_t count_ = 0;
+};
+
+// "%.17g" reads back to the same double; NaN and Inf are written as "nan" / "inf".
+inline std::string exact(double v) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return buf;
+}
+
+inline std::string one_line(std::string s) {
+    for (char &c : s)
+        if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+    return s;
+}
+
+inline std::string trace_line(std::int64_t iteration, double elapsed, double error) {
+    return "T\t" + std::to_string(iteration) + "\t" + exact(elapsed) + "\t" + exact(error) + "\n";
+}
+
+inline std::string result_line(const std::string &status, std::int64_t iterations, double error,
+                               double time, double reported_error) {
+    return "R\t" + status + "\t" + std::to_string(iterations) + "\t" + exact(error) + "\t" +
+           exact(time) + "\t" + exact(reported_error) + "\n";
+}
+
+inline std::string note_line(const std::string &text) { return "N\t" + one_line(text) + "\n"; }
+
+// Writes the whole line or gives up silently: a parent that went away must not turn into
+// a crash of the child (SIGPIPE is ignored by the children for the same reason).
+inline void write_line(int fd, const std::string &line) {
+    const char *p = line.data();
+    std::size_t left = line.size();
+    while (left > 0) {
+        ssize_t n = ::write(fd, p, left);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return;
+        p += n;
+        left -= static_cast<std::size_t>(n);
+    }
+}
+
+// The parent's side: one parsed line.
+struct ProtocolLine {
+    char kind = 0;  // 'T', 'R', 'N', or 0 for a line that is none of them
+    std::vector<std::string> fields;
+};
+
+inline ProtocolLine parse_line(const std::string &line) {
+    ProtocolLine out;
+    if (line.size() < 2 || line[1] != '\t') return out;
+    out.kind = line[0];
+    std::size_t start = 2;
+    for (;;) {
+        std::size_t tab = line.find('\t', start);
+        out.fields.push_back(line.substr(start, tab == std::string::npos ? tab : tab - start));
+        if (tab == std::string::npos) break;
+        start = tab + 1;
+    }
+    return out;
+}
+
+inline double to_double(const std::string &s) {
+    if (s.empty()) return NAN;
+    char *end = nullptr;
+    double v = std::strtod(s.c_str(), &end);
+    return end && *end == '\0' ? v : NAN;
+}
+
+}  // namespace frix_bench

@@ -1,0 +1,449 @@
+// `frix bench [FILES or DIRS...] --solvers LIST --tol T --time-limit S --out DIR`: every
+// solver on every problem, each run in a child process (bench_runner.hpp), then the report
+// (bench_report.cpp): DIR/runs.csv, DIR/traces.csv, profiles, work-precision, summary, plots.
+#include "args.hpp"
+#include "bench.hpp"
+#include "bench_runner.hpp"
+#include "cli.hpp"
+#include "csv.hpp"
+
+#include <dirent.h>
+#include <sys/ioctl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace frix_cli {
+namespace {
+
+// The Siconos solvers of the shared baseline (siconos-4.4-baseline.csv): "siconos:all".
+const char *const kSiconosAll[] = {"NSGS", "NSN_AC", "NSN_FB", "NSN_NM", "PROX",
+                                   "VI_FPP", "VI_EG", "TFP", "ADMM"};
+
+struct BenchArgs {
+    std::vector<std::string> paths;
+    std::string solvers = "all", out, report_dir;
+    double tol = 1e-8, time_limit = 10, grace = -1;
+    std::int64_t max_iter = 100000, jobs = 1;
+    bool plots = true, quiet = false, help = false;
+};
+
+struct Solver {
+    std::string name;  // "nsgs", "siconos:NSGS"
+    int id = 0;
+    bool siconos = false;
+};
+
+struct Problem {
+    std::string path, name, family;
+    std::int64_t contacts = 0, dofs = 0;
+};
+
+volatile std::sig_atomic_t g_interrupted = 0;
+void on_interrupt(int) { g_interrupted = 1; }
+
+BenchArgs parse(int argc, char **argv) {
+    ArgCursor args("bench", argc, argv);
+    BenchArgs a;
+    std::string v;
+    while (!args.done()) {
+        if (args.flag("--help") || args.flag("-h")) {
+            a.help = true;
+            return a;
+        } else if (args.option("--solvers", v)) {
+            a.solvers = v;
+        } else if (args.option("--tol", v)) {
+            a.tol = parse_double("bench", "--tol", v);
+        } else if (args.option("--time-limit", v)) {
+            a.time_limit = parse_double("bench", "--time-limit", v);
+        } else if (args.option("--grace", v)) {
+            a.grace = parse_double("bench", "--grace", v);
+        } else if (args.option("--max-iter", v)) {
+            a.max_iter = parse_int("bench", "--max-iter", v);
+        } else if (args.option("--jobs", v) || args.option("-j", v)) {
+            a.jobs = parse_int("bench", "--jobs", v);
+        } else if (args.option("--out", v) || args.option("-o", v)) {
+            a.out = v;
+        } else if (args.option("--report", v)) {
+            a.report_dir = v;
+        } else if (args.flag("--no-plots")) {
+            a.plots = false;
+        } else if (args.flag("--quiet") || args.flag("-q")) {
+            a.quiet = true;
+        } else if (args.at_option()) {
+            args.unknown_option();
+        } else {
+            a.paths.push_back(args.positional());
+        }
+    }
+    if (!a.report_dir.empty()) {
+        if (!a.paths.empty() || !a.out.empty())
+            usage_error("bench", "--report DIR takes no problems and no --out");
+        return a;
+    }
+    if (a.paths.empty()) usage_error("bench", "expected FILES or DIRS of problems");
+    if (a.out.empty()) usage_error("bench", "--out DIR is required");
+    if (!(a.tol > 0 && a.tol <= 1)) usage_error("bench", "--tol must be in (0, 1]");
+    if (!(a.time_limit > 0)) usage_error("bench", "--time-limit must be > 0 seconds");
+    if (a.max_iter < 1) usage_error("bench", "--max-iter must be >= 1");
+    if (a.jobs < 1 || a.jobs > 64) usage_error("bench", "--jobs must be in [1, 64]");
+    if (a.grace < 0) a.grace = 1.0 + 0.2 * a.time_limit;
+    return a;
+}
+
+std::vector<std::string> split(const std::string &text, char sep) {
+    std::vector<std::string> out;
+    std::stringstream in(text);
+    std::string item;
+    while (std::getline(in, item, sep))
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+std::string upper(std::string s) {
+    for (char &c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return s;
+}
+
+// The Siconos solvers the comparator offers, by asking it ("frix-siconos --list").
+std::vector<Solver> siconos_catalogue(const std::string &adapter) {
+    int code = 0;
+    std::string text = capture_output({adapter, "--list"}, &code);
+    if (code != 0) fail("bench: " + adapter + " --list failed (exit code " + std::to_string(code) + ")");
+    std::vector<Solver> out;
+    std::istringstream in(text);
+    Solver s;
+    std::string name;
+    while (in >> s.id >> name) {
+        s.name = "siconos:" + name;
+        s.siconos = true;
+        out.push_back(s);
+    }
+    return out;
+}
+
+std::vector<Solver> resolve_solvers(const std::string &list, const std::string &adapter) {
+    std::vector<Solver> out;
+    std::vector<Solver> catalogue;
+    bool catalogue_read = false, warned = false;
+    auto add = [&](const Solver &s) {
+        for (const Solver &o : out)
+            if (o.name == s.name) return;
+        out.push_back(s);
+    };
+    for (const std::string &item : split(list, ',')) {
+        if (item.compare(0, 8, "siconos:") == 0) {
+            if (::access(adapter.c_str(), X_OK) != 0) {
+                if (!warned)
+                    std::fprintf(stderr,
+                                 "frix: bench: Siconos solvers skipped: %s was not built (install "
+                                 "libsiconos-numerics-dev and configure again)\n",
+                                 adapter.c_str());
+                warned = true;
+                continue;
+            }
+            if (!catalogue_read) catalogue = siconos_catalogue(adapter);
+            catalogue_read = true;
+            std::string want = upper(item.substr(8));
+            for (const char *prefix : {"SICONOS_", "FRICTION_3D_", "FC3D_"})
+                if (want.compare(0, std::string(prefix).size(), prefix) == 0)
+                    want.erase(0, std::string(prefix).size());
+            std::vector<std::string> wanted = {want};
+            if (want == "ALL") wanted.assign(std::begin(kSiconosAll), std::end(kSiconosAll));
+            bool found = false;
+            for (const std::string &w : wanted)
+                for (const Solver &s : catalogue)
+                    if (s.name == "siconos:" + w || std::to_string(s.id) == w) {
+                        add(s);
+                        found = true;
+                    }
+            if (!found) usage_error("bench", "unknown Siconos solver '" + item + "' (see 'frix-siconos --list')");
+        } else if (item == "all") {
+            for (int64_t k = 0; k < frix_solver_count(); ++k) {
+                int id = frix_solver_id_at(k);
+                add({frix_solver_name(id), id, false});
+            }
+        } else {
+            int id = 0;
+            if (frix_solver_by_name(item.c_str(), &id) != FRIX_OK)
+                usage_error("bench", "unknown solver '" + item + "' (see 'frix solvers')");
+            add({frix_solver_name(id), id, false});
+        }
+    }
+    if (out.empty()) usage_error("bench", "no solver to run");
+    return out;
+}
+
+bool is_directory(const std::string &path) {
+    struct stat st;
+    return ::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+std::string base_name(const std::string &path) {
+    std::size_t slash = path.find_last_of('/');
+    return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+// A directory gives its *.hdf5 files (sorted); a file is taken as given. Each problem is
+// read once here for its sizes; one that cannot be read is reported and left out.
+std::vector<Problem> collect_problems(const std::vector<std::string> &paths) {
+    std::vector<std::string> files;
+    for (const std::string &p : paths) {
+        if (!is_directory(p)) {
+            files.push_back(p);
+            continue;
+        }
+        std::vector<std::string> names;
+        if (DIR *d = ::opendir(p.c_str())) {
+            while (const dirent *e = ::readdir(d)) {
+                std::string n = e->d_name;
+                if (n.size() > 5 && n.compare(n.size() - 5, 5, ".hdf5") == 0) names.push_back(n);
+            }
+            ::closedir(d);
+        }
+        std::sort(names.begin(), names.end());
+        for (const std::string &n : names) files.push_back(p + (p.back() == '/' ? "" : "/") + n);
+    }
+    std::vector<Problem> out;
+    std::multiset<std::string> seen;
+    for (const std::string &f : files) seen.insert(base_name(f));
+    for (const std::string &f : files) {
+        Problem pr;
+        pr.path = f;
+        pr.name = base_name(f);
+        if (seen.count(pr.name) > 1) {  // same name in two directories: keep them apart
+            std::string dir = f.substr(0, f.size() - pr.name.size());
+            while (!dir.empty() && dir.back() == '/') dir.pop_back();
+            pr.name = base_name(dir) + "/" + pr.name;
+        }
+        pr.family = problem_family(pr.name);
+        ProblemPtr p;
+        try {
+            p = read_problem(f);
+        } catch (const Failure &e) {
+            std::fprintf(stderr, "frix: bench: left out: %s\n", e.message.c_str());
+            continue;
+        }
+        pr.contacts = frix_problem_contacts(p.get());
+        pr.dofs = frix_problem_get_kind(p.get()) == FRIX_PROBLEM_GLOBAL ? frix_problem_dofs(p.get())
+                                                                         : frix_problem_contact_dofs(p.get());
+        out.push_back(pr);
+    }
+    if (out.empty()) usage_error("bench", "no readable problem among the paths given");
+    return out;
+}
+
+std::string safe_file_name(std::string s) {
+    for (char &c : s)
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_') c = '_';
+    return s;
+}
+
+// The terminal line: problem k of N, solver, elapsed, ETA.
+class Progress {
+public:
+    Progress(std::size_t total, bool quiet)
+        : total_(total), quiet_(quiet), tty_(::isatty(2) != 0), start_(now_seconds()) {}
+    void running(std::size_t done, const std::string &what) {
+        if (quiet_ || !tty_) return;
+        // Redrawn at most 5 times a second: the loop wakes up for every trace line.
+        if (done == last_done_ && now_seconds() - last_draw_ < 0.2) return;
+        draw(done, what);
+    }
+    void finished(std::size_t done, const RunRecord &r) {
+        if (quiet_) return;
+        if (tty_) {
+            draw(done, r.problem + "  " + r.solver + ": " + r.status);
+            return;
+        }
+        std::fprintf(stderr, "[%zu/%zu] %s %s: %s, %.3g s (%s elapsed, ETA %s)\n", done, total_,
+                     r.problem.c_str(), r.solver.c_str(), r.status.c_str(), r.time,
+                     clock_text(elapsed()).c_str(), clock_text(eta(done)).c_str());
+    }
+    void end() {
+        if (!quiet_ && tty_) std::fprintf(stderr, "\r\033[K");
+    }
+    double elapsed() const { return now_seconds() - start_; }
+
+private:
+    double eta(std::size_t done) const {
+        return done ? elapsed() / static_cast<double>(done) * static_cast<double>(total_ - done) : 0;
+    }
+    void draw(std::size_t done, const std::string &what) {
+        const int bar = 20;
+        int filled = static_cast<int>(bar * done / std::max<std::size_t>(total_, 1));
+        std::string line = "[" + std::to_string(done) + "/" + std::to_string(total_) + "] [" +
+                           std::string(static_cast<std::size_t>(filled), '#') +
+                           std::string(static_cast<std::size_t>(bar - filled), '.') + "] " +
+                           clock_text(elapsed()) + " elapsed, ETA " +
+                           (done ? clock_text(eta(done)) : std::string("?")) + "  " + what;
+        winsize ws{};
+        std::size_t width = ::ioctl(2, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 20 ? ws.ws_col : 100;
+        if (line.size() >= width) line = line.substr(0, width - 1);
+        std::fprintf(stderr, "\r\033[K%s", line.c_str());
+        std::fflush(stderr);
+        last_done_ = done;
+        last_draw_ = now_seconds();
+    }
+    std::size_t total_;
+    bool quiet_, tty_;
+    double start_, last_draw_ = 0;
+    std::size_t last_done_ = static_cast<std::size_t>(-1);
+};
+
+void write_file(const std::string &path, const std::string &text) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out << text;
+    if (!out) fail("bench: cannot write " + path);
+}
+
+int run_campaign(const BenchArgs &a) {
+    const std::string self = self_directory();
+    const std::string adapter = self + "/frix-siconos";
+    std::vector<Solver> solvers = resolve_solvers(a.solvers, adapter);
+    std::vector<Problem> problems = collect_problems(a.paths);
+
+    for (std::size_t slash = a.out.find('/', 1); slash != std::string::npos; slash = a.out.find('/', slash + 1))
+        ::mkdir(a.out.substr(0, slash).c_str(), 0755);  // like mkdir -p
+    ::mkdir(a.out.c_str(), 0755);
+    const std::string logs = a.out + "/logs";
+    ::mkdir(logs.c_str(), 0755);
+    if (!is_directory(logs)) fail("bench: cannot create " + logs);
+
+    const std::size_t total = problems.size() * solvers.size();
+    std::vector<RunRecord> records(total);
+    std::vector<std::vector<TracePoint>> traces(total);
+    // Written as the runs end, so that an interrupted campaign keeps what it did; rewritten
+    // in (problem, solver) order at the end.
+    std::ofstream runs_csv(a.out + "/runs.csv", std::ios::trunc);
+    std::ofstream traces_csv(a.out + "/traces.csv", std::ios::trunc);
+    if (!runs_csv || !traces_csv) fail("bench: cannot write into " + a.out);
+    runs_csv << csv_row(runs_header()) << std::flush;
+    traces_csv << csv_row(traces_header()) << std::flush;
+
+    std::fprintf(stderr, "frix bench: %zu problems x %zu solvers = %zu runs, tolerance %g, "
+                         "time limit %g s (+%g s grace), %lld job(s)\n",
+                 problems.size(), solvers.size(), total, a.tol, a.time_limit, a.grace,
+                 static_cast<long long>(a.jobs));
+    auto old_int = std::signal(SIGINT, on_interrupt);
+    auto old_term = std::signal(SIGTERM, on_interrupt);
+
+    // "problem 3/28 Capsules-i125-1213.hdf5  siconos:NSN_AC"
+    auto running_text = [&](std::size_t run) {
+        const std::size_t k = run / solvers.size();
+        return "problem " + std::to_string(k + 1) + "/" + std::to_string(problems.size()) + " " +
+               problems[k].name + "  " + solvers[run % solvers.size()].name;
+    };
+    Runner runner(static_cast<std::size_t>(a.jobs));
+    Progress progress(total, a.quiet);
+    std::size_t next = 0, done = 0;
+    char num[64];
+    while ((next < total || runner.running() > 0) && !g_interrupted) {
+        while (runner.can_start() && next < total) {
+            const Problem &p = problems[next / solvers.size()];
+            const Solver &s = solvers[next % solvers.size()];
+            RunSpec spec;
+            spec.index = next;
+            spec.log_path = logs + "/run-" + std::to_string(next) + ".log";
+            // frix's solvers stop themselves at the limit and get the grace to report;
+            // Siconos's have no time limit: past it (plus reading the problem) they only
+            // burn the campaign's time, so they are killed sooner.
+            spec.wall_limit = a.time_limit + (s.siconos ? std::min(a.grace, 1.0) : a.grace);
+            std::snprintf(num, sizeof num, "%.17g", a.tol);
+            std::string tol = num;
+            if (s.siconos) {
+                spec.argv = {adapter, p.path, "--solver", s.name.substr(8), "--tol", tol,
+                             "--max-iter", std::to_string(a.max_iter)};
+            } else {
+                std::snprintf(num, sizeof num, "%.17g", a.time_limit);
+                spec.argv = {self + "/frix", "bench-run", p.path, "--solver", s.name, "--tol", tol,
+                             "--max-iter", std::to_string(a.max_iter), "--time-limit", num};
+            }
+            runner.start(spec);
+            progress.running(done, running_text(next));
+            ++next;
+        }
+        for (RunOutcome &o : runner.poll(0.25)) {
+            const Problem &p = problems[o.index / solvers.size()];
+            const Solver &s = solvers[o.index % solvers.size()];
+            RunRecord &r = records[o.index];
+            r = {p.name, p.family, p.contacts, p.dofs, s.name, s.id, o.status, o.iterations,
+                 o.error, o.time, a.tol, a.time_limit, a.max_iter, o.reported_error, o.note};
+            // One rule for all: a result after the time limit does not count as converged
+            // (frix's solvers stop themselves at it; Siconos's are only killed later).
+            if (r.converged() && r.time > a.time_limit) {
+                r.status = "time_limit";
+                r.note = "converged after the time limit";
+            }
+            traces[o.index] = std::move(o.trace);
+            if (std::isfinite(r.error) && std::isfinite(r.time) && r.status != "timeout" &&
+                r.status.compare(0, 5, "crash") != 0)
+                traces[o.index].push_back({r.iterations, r.time, r.error});
+            ++done;
+            runs_csv << csv_row(run_fields(r)) << std::flush;
+            for (const TracePoint &t : traces[o.index])
+                traces_csv << csv_row({r.problem, r.solver, std::to_string(t.iteration),
+                                       number_text(t.elapsed), number_text(t.error)});
+            traces_csv.flush();
+            // Logs are kept for the runs that did not converge and said something.
+            struct stat st;
+            const std::string log = logs + "/run-" + std::to_string(o.index) + ".log";
+            if (r.converged() || ::stat(log.c_str(), &st) != 0 || st.st_size == 0)
+                ::unlink(log.c_str());
+            else
+                ::rename(log.c_str(), (logs + "/" + safe_file_name(p.name + "--" + s.name) + ".log").c_str());
+            progress.finished(done, r);
+        }
+        if (runner.running() > 0) progress.running(done, running_text(runner.running_indices().front()));
+    }
+    progress.end();
+    std::signal(SIGINT, old_int);
+    std::signal(SIGTERM, old_term);
+    if (g_interrupted) {
+        runner.kill_all();
+        std::fprintf(stderr, "frix bench: interrupted after %zu of %zu runs; %s/runs.csv has them\n",
+                     done, total, a.out.c_str());
+        return 130;
+    }
+    ::rmdir(logs.c_str());  // only if empty
+
+    std::string runs_text = csv_row(runs_header()), traces_text = csv_row(traces_header());
+    for (std::size_t k = 0; k < total; ++k) {
+        runs_text += csv_row(run_fields(records[k]));
+        for (const TracePoint &t : traces[k])
+            traces_text += csv_row({records[k].problem, records[k].solver, std::to_string(t.iteration),
+                                    number_text(t.elapsed), number_text(t.error)});
+    }
+    runs_csv.close();
+    traces_csv.close();
+    write_file(a.out + "/runs.csv", runs_text);
+    write_file(a.out + "/traces.csv", traces_text);
+    std::fprintf(stderr, "frix bench: %zu runs in %s\n", total, clock_text(progress.elapsed()).c_str());
+    std::printf("%s\n", bench_report(a.out, a.plots, self).c_str());
+    return kExitConverged;
+}
+
+}  // namespace
+
+int cmd_bench(int argc, char **argv) {
+    BenchArgs a = parse(argc, argv);
+    if (a.help) {
+        print_bench_help(stdout);
+        return kExitConverged;
+    }
+    if (!a.report_dir.empty()) {
+        std::printf("%s\n", bench_report(a.report_dir, a.plots, self_directory()).c_str());
+        return kExitConverged;
+    }
+    return run_campaign(a);
+}
+
+}  // namespace frix_cli

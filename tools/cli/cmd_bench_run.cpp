@@ -1,0 +1,144 @@
+// `frix bench-run FILE --solver NAME --tol T --max-iter N --time-limit S --fd FD` (hidden):
+// one run of a `frix bench` campaign, in a child process of its own. It streams the trace
+// and then the result to FD in the bench protocol (bench_protocol.hpp).
+//
+// For the bench's own tests, FRIX_BENCH_FAULT=hang|crash[:TEXT][,...] makes the runs whose
+// "FILE SOLVER" contains TEXT (all runs without it) hang or abort instead of solving: that
+// is how the isolation (time limit, crash) is proven without a solver that misbehaves.
+#include "args.hpp"
+#include "bench_protocol.hpp"
+#include "cli.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+namespace frix_cli {
+namespace {
+
+void injected_fault(const std::string &file, const std::string &solver) {
+    const char *env = std::getenv("FRIX_BENCH_FAULT");
+    if (!env || !*env) return;
+    std::string all = env;
+    for (std::size_t start = 0; start <= all.size();) {
+        std::size_t comma = all.find(',', start);
+        if (comma == std::string::npos) comma = all.size();
+        std::string spec = all.substr(start, comma - start), kind = spec, text;
+        start = comma + 1;
+        std::size_t colon = spec.find(':');
+        if (colon != std::string::npos) {
+            kind = spec.substr(0, colon);
+            text = spec.substr(colon + 1);
+        }
+        if (!text.empty() && (file + " " + solver).find(text) == std::string::npos) continue;
+        if (kind == "hang")
+            for (;;) ::pause();
+        if (kind == "crash") std::abort();
+    }
+}
+
+struct Stream {
+    frix_bench::TraceThinner thinner;
+    int fd;
+};
+
+int on_progress(void *data, int64_t iteration, double error, double elapsed) {
+    auto *s = static_cast<Stream *>(data);
+    if (s->thinner.keep(elapsed, error))
+        frix_bench::write_line(s->fd, frix_bench::trace_line(iteration, elapsed, error));
+    return 0;
+}
+
+// Sets an option the solver has; an int option is clamped into its bounds (a campaign's
+// --max-iter applies to solvers with different ranges).
+void set_option(frix_options *o, frix_option_key key, double value, const char *label) {
+    double lo = 0, hi = 0;
+    int is_int = 0;
+    frix_error err = frix_options_bounds(o, key, &lo, &hi, &is_int);
+    if (err != FRIX_OK) fail(std::string("bench-run: ") + label + ": " + library_message(err));
+    if (is_int)
+        err = frix_options_set_int(o, key, static_cast<int64_t>(std::clamp(value, lo, hi)));
+    else
+        err = frix_options_set_double(o, key, value);
+    if (err != FRIX_OK) fail(std::string("bench-run: ") + label + ": " + library_message(err));
+}
+
+}  // namespace
+
+int cmd_bench_run(int argc, char **argv) {
+    ArgCursor args("bench-run", argc, argv);
+    std::string file, solver, v;
+    double tol = 1e-8, time_limit = 0;
+    int64_t max_iter = 0;
+    int fd = -1;
+    while (!args.done()) {
+        if (args.option("--solver", v)) {
+            solver = v;
+        } else if (args.option("--tol", v)) {
+            tol = parse_double("bench-run", "--tol", v);
+        } else if (args.option("--max-iter", v)) {
+            max_iter = parse_int("bench-run", "--max-iter", v);
+        } else if (args.option("--time-limit", v)) {
+            time_limit = parse_double("bench-run", "--time-limit", v);
+        } else if (args.option("--fd", v)) {
+            fd = static_cast<int>(parse_int("bench-run", "--fd", v));
+        } else if (args.at_option()) {
+            args.unknown_option();
+        } else {
+            if (!file.empty()) usage_error("bench-run", "expected one FILE");
+            file = args.positional();
+        }
+    }
+    if (file.empty() || solver.empty() || fd < 0)
+        usage_error("bench-run", "expected FILE --solver NAME --fd FD");
+    std::signal(SIGPIPE, SIG_IGN);
+    injected_fault(file, solver);
+
+    int id = 0;
+    if (frix_solver_by_name(solver.c_str(), &id) != FRIX_OK)
+        fail("bench-run: unknown solver '" + solver + "'");
+    frix_options *raw = nullptr;
+    frix_error err = frix_options_create(id, &raw);
+    OptionsPtr opts(raw);
+    if (err != FRIX_OK) fail("bench-run: " + library_message(err));
+    set_option(opts.get(), FRIX_OPT_TOLERANCE, tol, "--tol");
+    if (max_iter > 0) set_option(opts.get(), FRIX_OPT_MAX_ITER, static_cast<double>(max_iter), "--max-iter");
+    set_option(opts.get(), FRIX_OPT_TIME_LIMIT, time_limit, "--time-limit");
+    Stream stream{{}, fd};
+    frix_options_set_callback(opts.get(), on_progress, &stream);
+
+    ProblemPtr problem = read_problem(file);
+    const int64_t m = frix_problem_contact_dofs(problem.get()), n = frix_problem_dofs(problem.get());
+    std::vector<double> r(static_cast<std::size_t>(std::max<int64_t>(m, 1)), 0.0);
+    std::vector<double> u(r.size(), 0.0), vel(static_cast<std::size_t>(std::max<int64_t>(n, 1)), 0.0);
+    double *vp = frix_problem_get_kind(problem.get()) == FRIX_PROBLEM_GLOBAL ? vel.data() : nullptr;
+
+    frix_info *raw_info = nullptr;
+    if (frix_info_create(&raw_info) != FRIX_OK) fail("bench-run: out of memory");
+    InfoPtr info(raw_info);
+    err = frix_solve(problem.get(), opts.get(), r.data(), u.data(), vp, info.get());
+    if (err != FRIX_OK) {
+        const bool unsupported = err == FRIX_ERR_UNSUPPORTED;
+        frix_bench::write_line(fd, frix_bench::note_line(library_message(err)));
+        frix_bench::write_line(fd, frix_bench::result_line(unsupported ? "unsupported" : "error",
+                                                           0, NAN, NAN, NAN));
+        return kExitUsage;
+    }
+    // The error column is always the relative measure (Siconos's too); the solver's own
+    // stopping measure, which an option may change, is the reported one.
+    const frix_status status = frix_info_status(info.get());
+    double error = NAN;
+    if (frix_info_get_double(info.get(), FRIX_INFO_ERROR_RELATIVE, &error) != FRIX_OK) error = NAN;
+    frix_bench::write_line(fd, frix_bench::result_line(status_token(status),
+                                                       frix_info_iterations(info.get()), error,
+                                                       frix_info_solve_time(info.get()),
+                                                       frix_info_error(info.get())));
+    return status == FRIX_STATUS_CONVERGED ? kExitConverged : kExitNotConverged;
+}
+
+}  // namespace frix_cli
