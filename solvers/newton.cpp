@@ -28,11 +28,23 @@ constexpr int kNonMonotoneMemory = 8;
 // many failed line searches in a row.
 constexpr int kStallSteps = 25;
 constexpr int kMaxLineSearchFailures = 3;
+// The hybrid gives up after this many Newton + NSGS rounds in a row without halving the error.
+constexpr int kMaxIdleRounds = 10;
 // The Jacobian regularisation delta (relative to the mean |W_aa|): where it starts and
 // restarts, and below which it is dropped (tuned on the rank-deficient FCLIB problems).
 constexpr double kDeltaStart = 1e-6, kDeltaFloor = 1e-8;
+// Active systems up to this size are factorised dense (LAPACK): a 60 x 60 LU costs less than
+// UMFPACK's fixed overhead.
+constexpr int64_t kDenseMax = 60;
 
 }  // namespace
+
+linalg::FactorStats Engine::factor_stats() const {
+    linalg::FactorStats s = lu_.stats();
+    s.numeric += dense_lu_.stats().numeric;
+    s.seconds += dense_lu_.stats().seconds;
+    return s;
+}
 
 bool Limits::out_of_time() const {
     const double tl = options.d(FRIX_OPT_TIME_LIMIT);
@@ -75,56 +87,87 @@ Engine::Engine(const frix_matrix &W, const double *mu, int64_t nc, const Setting
         scale += std::sqrt(fro);
     }
     w_scale_ = nc > 0 && scale > 0.0 ? scale / (double)nc : 1.0;
+    index_.assign(nc, 0);
+}
+
+// Contacts whose Phi does not depend on u (B_a = 0, A_a = I: separating ones) have the
+// Newton step d_a = -Phi_a outright and drop out of the linear system; the others are
+// "active". The system's pattern is W's block pattern on the active contacts plus their
+// diagonal blocks: it changes only when contacts join the active set, and is analysed again
+// only then. On granular scenes, where many contacts separate, the system is much smaller
+// than W.
+bool Engine::update_active() {
+    bool changed = !analysed_;
+    for (int64_t a = 0; a < nc_; ++a) {
+        const double *A = &A_[9 * a], *B = &B_[9 * a];
+        bool free = A[0] == 1.0 && A[4] == 1.0 && A[8] == 1.0;
+        for (int i = 0; i < 9 && free; ++i) free = B[i] == 0.0 && (i % 4 == 0 || A[i] == 0.0);
+        // Only joining contacts change the pattern: one that separates stays in the system
+        // (its rows are then the identity), so that the active set, and with it the
+        // analysis, settles after a few steps instead of following every change.
+        if (!analysed_) {
+            index_[a] = free ? -1 : 0;
+        } else if (!free && index_[a] < 0) {
+            changed = true;
+            index_[a] = 0;
+        }
+    }
+    if (!changed) return false;
+    int64_t k = 0;
+    for (int64_t a = 0; a < nc_; ++a)
+        if (index_[a] >= 0) index_[a] = k++;
+    n_active_ = k;
     build_pattern();
+    return true;
 }
 
 void Engine::build_pattern() {
     const int64_t nb = W_.nblocks();
-    std::vector<int64_t> count(nc_, 0);
-    w_has_diag_.assign(nc_, false);
+    const int64_t na = n_active_;
+    std::vector<int64_t> count(na, 0);  // blocks per active block column
     for (int64_t a = 0; a < nc_; ++a) {
-        w_has_diag_[a] = W_.diag_index[a] >= 0;
-        if (!w_has_diag_[a]) ++count[a];
+        if (index_[a] < 0) continue;
+        if (W_.diag_index[a] < 0) ++count[index_[a]];
+        for (int64_t b = W_.row_ptr[a]; b < W_.row_ptr[a + 1]; ++b)
+            if (index_[W_.block_col[b]] >= 0) ++count[index_[W_.block_col[b]]];
     }
-    for (int64_t b = 0; b < nb; ++b) ++count[W_.block_col[b]];
-    std::vector<int64_t> start(nc_ + 1, 0);
-    for (int64_t c = 0; c < nc_; ++c) start[c + 1] = start[c] + 9 * count[c];
-    colptr_.assign(m_ + 1, 0);
-    for (int64_t c = 0; c < nc_; ++c)
+    std::vector<int64_t> start(na + 1, 0);
+    for (int64_t c = 0; c < na; ++c) start[c + 1] = start[c] + 9 * count[c];
+    colptr_.assign(3 * na + 1, 0);
+    for (int64_t c = 0; c < na; ++c)
         for (int j = 0; j < 3; ++j) colptr_[3 * c + j + 1] = start[c] + (j + 1) * 3 * count[c];
-    rowind_.assign(start[nc_], 0);
-    values_.assign(start[nc_], 0.0);
-    block_pos_.assign(nb, 0);
+    rowind_.assign(start[na], 0);
+    values_.assign(start[na], 0.0);
+    block_pos_.assign(nb, -1);
     block_stride_.assign(nb, 0);
-    diag_pos_.assign(nc_, 0);
+    diag_pos_.assign(nc_, -1);
     diag_stride_.assign(nc_, 0);
-    // Block rows in increasing order: each column's list of block rows comes out sorted.
-    std::vector<int64_t> fill(nc_, 0);
-    auto place = [&](int64_t a, int64_t c) {
-        const int64_t pos = start[c] + 3 * fill[c]++, stride = 3 * count[c];
+    // Active block rows in increasing order: each column's list of block rows comes out sorted.
+    std::vector<int64_t> fill(na, 0);
+    auto place = [&](int64_t ia, int64_t ic) {
+        const int64_t pos = start[ic] + 3 * fill[ic]++, stride = 3 * count[ic];
         for (int j = 0; j < 3; ++j)
-            for (int i = 0; i < 3; ++i) rowind_[pos + j * stride + i] = 3 * a + i;
+            for (int i = 0; i < 3; ++i) rowind_[pos + j * stride + i] = 3 * ia + i;
         return pos;
     };
     for (int64_t a = 0; a < nc_; ++a) {
-        bool placed_diag = w_has_diag_[a];
+        const int64_t ia = index_[a];
+        if (ia < 0) continue;
+        bool placed_diag = W_.diag_index[a] >= 0;
         for (int64_t b = W_.row_ptr[a]; b < W_.row_ptr[a + 1]; ++b) {
-            const int64_t c = W_.block_col[b];
+            const int64_t c = W_.block_col[b], ic = index_[c];
+            if (ic < 0) continue;
             if (!placed_diag && c > a) {
-                diag_pos_[a] = place(a, a);
-                diag_stride_[a] = 3 * count[a];
+                diag_pos_[a] = place(ia, ia);
+                diag_stride_[a] = 3 * count[ia];
                 placed_diag = true;
             }
-            block_pos_[b] = place(a, c);
-            block_stride_[b] = 3 * count[c];
-            if (c == a) {
-                diag_pos_[a] = block_pos_[b];
-                diag_stride_[a] = block_stride_[b];
-            }
+            block_pos_[b] = place(ia, ic);
+            block_stride_[b] = 3 * count[ic];
         }
         if (!placed_diag) {
-            diag_pos_[a] = place(a, a);
-            diag_stride_[a] = 3 * count[a];
+            diag_pos_[a] = place(ia, ia);
+            diag_stride_[a] = 3 * count[ia];
         }
     }
 }
@@ -139,19 +182,21 @@ void Engine::evaluate(const double *r, const double *u, bool jacobian, double *p
 void Engine::assemble(double shift) {
     double *val = values_.data();
     for (int64_t a = 0; a < nc_; ++a) {
+        if (index_[a] < 0) continue;
         const double *A = &A_[9 * a], *B = &B_[9 * a];
         // J_aa = A + shift B + B W_aa (the last term added with W's diagonal block below).
         double D[9];
         for (int i = 0; i < 9; ++i) D[i] = A[i] + shift * B[i];
-        if (!w_has_diag_[a]) {
+        if (W_.diag_index[a] < 0) {
             const int64_t pos = diag_pos_[a], st = diag_stride_[a];
             for (int j = 0; j < 3; ++j)
                 for (int i = 0; i < 3; ++i) val[pos + j * st + i] = D[i + 3 * j];
         }
         for (int64_t b = W_.row_ptr[a]; b < W_.row_ptr[a + 1]; ++b) {
+            const int64_t pos = block_pos_[b], st = block_stride_[b];
+            if (pos < 0) continue;  // column of a separating contact
             const double *Wb = &W_.block_val[9 * b];
             const bool diag = W_.block_col[b] == a;
-            const int64_t pos = block_pos_[b], st = block_stride_[b];
             for (int j = 0; j < 3; ++j)
                 for (int i = 0; i < 3; ++i) {
                     double v = B[i] * Wb[3 * j] + B[i + 3] * Wb[3 * j + 1] + B[i + 6] * Wb[3 * j + 2];
@@ -160,6 +205,31 @@ void Engine::assemble(double shift) {
                 }
         }
     }
+}
+
+// The Newton step d from the factorised active system: d_a = -Phi_a on separating contacts,
+// then the active ones with those moved to the right-hand side.
+frix_error Engine::step(const double *phi, double *d, double *rhs, double *x) {
+    for (int64_t a = 0; a < nc_; ++a)
+        if (index_[a] < 0)
+            for (int i = 0; i < 3; ++i) d[3 * a + i] = -phi[3 * a + i];
+    if (n_active_ == 0) return FRIX_OK;
+    for (int64_t a = 0; a < nc_; ++a) {
+        const int64_t ia = index_[a];
+        if (ia < 0) continue;
+        double t[3] = {0.0, 0.0, 0.0};
+        for (int64_t b = W_.row_ptr[a]; b < W_.row_ptr[a + 1]; ++b)
+            if (index_[W_.block_col[b]] < 0)
+                block_gemv_add(&W_.block_val[9 * b], &d[3 * W_.block_col[b]], t);
+        const double *B = &B_[9 * a];
+        for (int i = 0; i < 3; ++i)
+            rhs[3 * ia + i] = -phi[3 * a + i] - (B[i] * t[0] + B[i + 3] * t[1] + B[i + 6] * t[2]);
+    }
+    if (frix_error e = use_dense_ ? dense_lu_.solve(rhs, x) : lu_.solve(rhs, x)) return e;
+    for (int64_t a = 0; a < nc_; ++a)
+        if (index_[a] >= 0)
+            for (int i = 0; i < 3; ++i) d[3 * a + i] = x[3 * index_[a] + i];
+    return FRIX_OK;
 }
 
 // 1/2 |Phi(r + t d, u + t du)|^2; rt, ut, phi are work vectors.
@@ -175,14 +245,14 @@ double Engine::merit_along(const double *r, const double *u, const double *d, co
 }
 
 frix_error Engine::run(double *r, const double *q, double shift, double tol, Limits &lim,
-                       RunResult &res) {
+                       RunResult &res, double scale_q) {
     const int64_t m = m_;
-    std::vector<double> u(m), phi(m), d(m), du(m), rhs(m), rt(m), ut(m), phit(m), best(r, r + m);
-    double norm_q = std::sqrt(dot(q, q, m));
-    auto product = [&](const double *x, double *y) {  // y = (W + shift I) x
-        matrix_gemv(W_, 1.0, x, 0.0, y);
+    std::vector<double> u(m), phi(m), d(m), du(m), rhs(m), x(m), rt(m), ut(m), phit(m), best(r, r + m);
+    const double norm_q = scale_q >= 0.0 ? scale_q : std::sqrt(dot(q, q, m));
+    auto product = [&](const double *z, double *y) {  // y = (W + shift I) z
+        matrix_gemv(W_, 1.0, z, 0.0, y);
         if (shift != 0.0)
-            for (int64_t i = 0; i < m; ++i) y[i] += shift * x[i];
+            for (int64_t i = 0; i < m; ++i) y[i] += shift * z[i];
     };
     auto velocity = [&]() {
         product(r, u.data());
@@ -226,29 +296,44 @@ frix_error Engine::run(double *r, const double *q, double shift, double tol, Lim
             res.status = FRIX_STATUS_TIME_LIMIT;
             break;
         }
-        // Factorise J (+ delta B); a singular J is regularised until it factorises.
-        if (!analysed_) {
-            assemble(shift);
-            linalg::CscView J{m, m, colptr_.data(), rowind_.data(), values_.data()};
-            if (frix_error e = lu_.analyze(J)) return e;
-            analysed_ = true;
+        // Factorise the active part of J (+ delta B); a singular J is regularised until it
+        // factorises. The pattern (and so the symbolic analysis) changes only with the
+        // active set.
+        const bool new_pattern = update_active();
+        const int64_t ma = 3 * n_active_;
+        use_dense_ = ma <= kDenseMax;
+        if (ma > 0) {
+            linalg::CscView J{ma, ma, colptr_.data(), rowind_.data(), values_.data()};
+            if (new_pattern && !use_dense_) {
+                assemble(shift + delta * w_scale_);
+                if (frix_error e = lu_.analyze(J)) return e;
+            }
+            bool factored = false;
+            for (int attempt = 0; attempt < 12 && !factored; ++attempt) {
+                assemble(shift + delta * w_scale_);
+                frix_error e;
+                if (use_dense_) {
+                    dense_.assign((size_t)(ma * ma), 0.0);
+                    for (int64_t j = 0; j < ma; ++j)
+                        for (int64_t k = colptr_[j]; k < colptr_[j + 1]; ++k)
+                            dense_[(size_t)(rowind_[k] + ma * j)] = values_[k];
+                    e = dense_lu_.factor(ma, dense_.data(), ma);
+                    factored = e == FRIX_OK && dense_lu_.rcond() > 1e-15;
+                } else {
+                    e = lu_.factor(J);
+                    factored = e == FRIX_OK && lu_.rcond() > 1e-15;
+                }
+                if (e == FRIX_ERR_OUT_OF_MEMORY) return e;
+                if (!factored) delta = delta == 0.0 ? kDeltaStart : delta * 100.0;
+                if (delta > 1e6) break;
+            }
+            if (!factored) {
+                res.status = FRIX_STATUS_NUMERICAL_FAILURE;
+                break;
+            }
         }
-        bool factored = false;
-        for (int attempt = 0; attempt < 12 && !factored; ++attempt) {
-            assemble(shift + delta * w_scale_);
-            linalg::CscView J{m, m, colptr_.data(), rowind_.data(), values_.data()};
-            const frix_error e = lu_.factor(J);
-            if (e == FRIX_ERR_OUT_OF_MEMORY) return e;
-            factored = e == FRIX_OK && lu_.rcond() > 1e-15;
-            if (!factored) delta = delta == 0.0 ? kDeltaStart : delta * 100.0;
-            if (delta > 1e6) break;
-        }
-        if (!factored) {
-            res.status = FRIX_STATUS_NUMERICAL_FAILURE;
-            break;
-        }
-        for (int64_t i = 0; i < m; ++i) rhs[i] = -phi[i];
-        if (frix_error e = lu_.solve(rhs.data(), d.data())) return e;
+        analysed_ = true;
+        if (frix_error e = step(phi.data(), d.data(), rhs.data(), x.data())) return e;
         bool finite = true;
         for (int64_t i = 0; i < m && finite; ++i) finite = std::isfinite(d[i]);
         ++counters.newton;
@@ -298,6 +383,10 @@ frix_error Engine::run(double *r, const double *q, double shift, double tol, Lim
                         }
                         t *= 0.5;
                     }
+                }
+                if (!accepted && full_step_on_failure) {
+                    t = 1.0;  // Siconos' rule: a failed line search takes the full step
+                    accepted = true;
                 }
                 if (!accepted && best_t > 0.0) {  // no sufficient decrease, but a decrease
                     t = best_t;
@@ -358,6 +447,8 @@ frix_error solve(SolveContext &ctx, int solver_id) {
     RunResult res;
     std::unique_ptr<nsgs::Workspace> gs;  // made on the first fallback only
     std::vector<double> keep;
+    int idle_rounds = 0;  // Newton + NSGS rounds in a row that did not halve the error
+    double round_start = INFINITY;  // the error at the last halving
     while (true) {
         if (frix_error e = engine.run(ctx.r, p.q, 0.0, tol, lim, res)) return e;
         if (res.status != FRIX_STATUS_STAGNATED && res.status != FRIX_STATUS_NUMERICAL_FAILURE) break;
@@ -384,6 +475,16 @@ frix_error solve(SolveContext &ctx, int solver_id) {
         if (!(after <= before)) std::copy(keep.begin(), keep.end(), ctx.r);
         if (after <= tol) {
             res.status = FRIX_STATUS_CONVERGED;
+            break;
+        }
+        if (after < 0.5 * round_start) {
+            round_start = after;
+            idle_rounds = 0;
+        } else {
+            ++idle_rounds;
+        }
+        if (idle_rounds >= kMaxIdleRounds) {
+            res.status = FRIX_STATUS_STAGNATED;  // neither Newton nor NSGS makes progress
             break;
         }
         if (iterations >= lim.max_iter || lim.out_of_time() || lim.stop_requested) {
@@ -419,11 +520,14 @@ const frix_option_key kExtraKeys[] = {FRIX_OPT_RHO_STRATEGY, FRIX_OPT_RHO, FRIX_
 const OptionDefault kAcDefaults[] = {{FRIX_OPT_MAX_ITER, 2000},
                                      {FRIX_OPT_RHO_STRATEGY, FRIX_RHO_SPECTRAL},
                                      {(frix_option_key)0, 0}};
+// FB and the natural map take rho = 1/W_NN (the split strategy's rho_N): with the spectral
+// rho they stall on three of the rigid FCLIB problems (Capsules, spheres-in-a-box) that
+// they solve with this one; Alart-Curnier is the other way round.
 const OptionDefault kFbDefaults[] = {{FRIX_OPT_MAX_ITER, 2000},
-                                     {FRIX_OPT_RHO_STRATEGY, FRIX_RHO_SPECTRAL},
+                                     {FRIX_OPT_RHO_STRATEGY, FRIX_RHO_SPLIT},
                                      {(frix_option_key)0, 0}};
 const OptionDefault kNmDefaults[] = {{FRIX_OPT_MAX_ITER, 2000},
-                                     {FRIX_OPT_RHO_STRATEGY, FRIX_RHO_SPECTRAL},
+                                     {FRIX_OPT_RHO_STRATEGY, FRIX_RHO_SPLIT},
                                      {(frix_option_key)0, 0}};
 
 #define FRIX_NEWTON_COMMON_DOC                                                                   \

@@ -60,24 +60,33 @@ struct RunResult {
 };
 
 // Newton on u = (W + shift I) r + q. The Jacobian A + B (W + (shift + delta) I) has the
-// block pattern of W plus its diagonal, fixed for the whole solve: it is analysed once
-// (SparseLU) and factorised once per step. delta is a regularisation used only when the
+// block pattern of W plus its diagonal; separating contacts (B = 0) are eliminated, and the
+// pattern of the rest is analysed (SparseLU) only when the set of active contacts changes,
+// then factorised once per step. delta is a regularisation used only when the
 // Jacobian is singular, as it is on rank-deficient W with many sticking contacts.
 class Engine {
    public:
     Engine(const frix_matrix &W, const double *mu, int64_t nc, const Settings &s);
     // Runs from r (updated in place; on return, the best iterate found), stopping when the
-    // selected error of the problem (W + shift I, q) is <= tol. scale_q is the |q| of the
-    // error's denominator.
+    // selected error of the problem (W + shift I, q) is <= tol. scale_q (if >= 0) replaces
+    // |q| in the error's denominator: PROX measures its inner problems, whose q - alpha r_k
+    // can be far larger than q, on the scale of the original one.
     frix_error run(double *r, const double *q, double shift, double tol, Limits &lim,
-                   RunResult &res);
+                   RunResult &res, double scale_q = -1.0);
 
-    const linalg::FactorStats &factor_stats() const { return lu_.stats(); }
+    // Sparse and dense factorisations together.
+    linalg::FactorStats factor_stats() const;
     Counters counters;
+    // Take the full step when the line search finds no sufficient decrease (instead of the
+    // best trial step). PROX sets it: its regularised inner problems tolerate full steps,
+    // and the short steps otherwise stall on degenerate contacts (spheres-in-a-box).
+    bool full_step_on_failure = false;
     double w_scale() const { return w_scale_; }  // mean |W_aa|_2, the unit of shifts
 
    private:
+    bool update_active();
     void build_pattern();
+    frix_error step(const double *phi, double *d, double *rhs, double *x);
     void evaluate(const double *r, const double *u, bool jacobian, double *phi);
     void assemble(double shift);
     double merit_along(const double *r, const double *u, const double *d, const double *du,
@@ -89,13 +98,21 @@ class Engine {
     Settings s_;
     std::vector<double> rho_n_, rho_t_;
     std::vector<double> A_, B_;  // 9 per contact
-    // Jacobian CSC: per block of W, the offset of its (0,0) entry and the stride between its
-    // columns; diag_pos_ for the diagonal blocks (W's own or added).
+    // Active contacts (index_[a] = position in the system, -1 for a separating contact whose
+    // step is -Phi_a) and the CSC of the active Jacobian: per block of W, the offset of its
+    // (0,0) entry and the stride between its columns (-1: not in the system); diag_pos_ for
+    // the diagonal blocks W lacks.
+    std::vector<int64_t> index_;
+    int64_t n_active_ = 0;
     std::vector<int64_t> colptr_, rowind_;
     std::vector<double> values_;
     std::vector<int64_t> block_pos_, block_stride_, diag_pos_, diag_stride_;
-    std::vector<bool> w_has_diag_;
     linalg::SparseLU lu_;
+    // Small active systems (<= kDenseMax unknowns) are factorised dense: UMFPACK's fixed
+    // cost per factorisation dominates there.
+    linalg::DenseLU dense_lu_;
+    std::vector<double> dense_;
+    bool use_dense_ = false;
     bool analysed_ = false;
     double w_scale_ = 1.0;
 };

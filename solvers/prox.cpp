@@ -39,12 +39,16 @@ frix_error solve(SolveContext &ctx) {
     frix_info &info = ctx.info;
 
     newton::Engine engine(*p.W, p.mu, p.nc, s);
+    engine.full_step_on_failure = true;
     const double scale = engine.w_scale();
     auto adapted = [&](double err) {
         return std::clamp(sigma * std::pow(err, nu), kAlphaMin, kAlphaMax) * scale;
     };
     double *r = ctx.r;
     std::vector<double> qk(m), rk(r, r + m);
+    double norm_q = 0.0;
+    for (int64_t i = 0; i < m; ++i) norm_q += p.q[i] * p.q[i];
+    norm_q = std::sqrt(norm_q);
     double err = selected_error(local_measures(p, r, ctx.u), s.measure);
     double alpha = fixed_alpha > 0.0 ? fixed_alpha : adapted(err);
     int64_t outer = 0, inner_iterations = 0;
@@ -71,7 +75,7 @@ frix_error solve(SolveContext &ctx) {
         // The inner problem is solved a decade below the current error: tighter wastes Newton
         // steps on a problem about to change, looser slows the outer convergence.
         const double inner_tol = 0.1 * std::max(err, tol);
-        if (frix_error e = engine.run(r, qk.data(), alpha, inner_tol, lim, res)) return e;
+        if (frix_error e = engine.run(r, qk.data(), alpha, inner_tol, lim, res, norm_q)) return e;
         if (res.status == FRIX_STATUS_TIME_LIMIT || res.status == FRIX_STATUS_STOPPED_BY_CALLBACK) {
             std::copy(rk.begin(), rk.end(), r);
             info.status = res.status;

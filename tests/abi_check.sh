@@ -15,7 +15,8 @@ hd=
 for d in "$@"; do hd="$hd --headers-dir $d"; done
 mkdir -p "$out"
 # shellcheck disable=SC2086
-abidw $hd --drop-private-types --no-corpus-path --no-comp-dir-path --short-locs \
+abidw $hd --drop-private-types --exported-interfaces-only --type-id-style hash \
+      --no-corpus-path --no-comp-dir-path --short-locs \
       --out-file "$out/current.abi" "$lib" || { echo "abidw failed on $lib"; exit 1; }
 abidiff --no-added-syms --suppressions "$suppr" "$baseline" "$out/current.abi"
 rc=$?

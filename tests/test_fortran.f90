@@ -66,6 +66,7 @@ program test_fortran
   r2 = -1
   err = frix_fclib_read_solution(frix_cstr(path), back, c_loc(r2), c_null_ptr, c_null_ptr)
   call check('solution read back', err == FRIX_OK .and. all(r2 == r))
+  call frix_problem_free(back)
   err = frix_read_problem(frix_cstr('no/such/file.hdf5'), back)
   call check('missing file', err == FRIX_ERR_IO .and. index(frix_last_error(), 'no/such') > 0)
 
@@ -74,6 +75,7 @@ program test_fortran
   call frix_problem_free(p)
   call frix_matrix_free(W)
   call frix_problem_free(c_null_ptr)
+  deallocate(path)
 
   print '(i0, " passed, ", i0, " failed")', passed, failures
   if (failures > 0) error stop 1

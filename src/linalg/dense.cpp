@@ -1,7 +1,9 @@
 // DenseLU and DenseCholesky on LAPACK (Fortran symbols, 32-bit integers as in OpenBLAS's
 // default LP64 build).
+#include <algorithm>
 #include <chrono>
 #include <climits>
+#include <cmath>
 
 #include "error_state.hpp"
 #include "linalg.hpp"
@@ -44,8 +46,15 @@ frix_error DenseLU::factor(int64_t n, const double *A, int64_t lda) {
     dgetrf_(&n_, &n_, lu_.data(), &n_, piv_.data(), &info);
     stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
     ++stats_.numeric;
+    rcond_ = 0.0;
     if (info > 0) return fail(FRIX_ERR_NUMERICAL, "dense LU: singular matrix (U(%d,%d) = 0)", info, info);
     if (info < 0) return fail(FRIX_ERR_INTERNAL, "dense LU: dgetrf argument %d invalid", -info);
+    double lo = INFINITY, hi = 0.0;
+    for (int i = 0; i < n_; ++i) {
+        const double d = std::fabs(lu_[(size_t)i * (size_t)(n_ + 1)]);
+        lo = std::min(lo, d), hi = std::max(hi, d);
+    }
+    rcond_ = hi > 0.0 ? lo / hi : 0.0;
     ok_ = true;
     return FRIX_OK;
 }

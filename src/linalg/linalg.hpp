@@ -99,9 +99,12 @@ class DenseLU {
     frix_error factor(int64_t n, const double *A, int64_t lda);
     frix_error solve(const double *b, double *x) const;
     const FactorStats &stats() const { return stats_; }
+    // min |U_ii| / max |U_ii| (the same cheap estimate as SparseLU::rcond).
+    double rcond() const { return rcond_; }
 
    private:
     int n_ = 0;
+    double rcond_ = 0.0;
     std::vector<double> lu_;
     std::vector<int> piv_;
     bool ok_ = false;
