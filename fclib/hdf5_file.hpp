@@ -10,7 +10,7 @@
 namespace frix::fclib {
 
 // One HDF5 identifier, closed with the function of its kind when the owner goes away, so
-// that every early exit (a thrown failure) releases what was opened.
+// that every early return or thrown failure releases what was opened.
 class Handle {
    public:
     using Closer = herr_t (*)(hid_t);

@@ -280,8 +280,12 @@ frix_error Engine::run(double *r, const double *q, double shift, double tol, Lim
     res.status = FRIX_STATUS_MAX_ITER;
 
     while (true) {
-        if (!(err > tol)) {
+        if (err <= tol) {
             res.status = FRIX_STATUS_CONVERGED;
+            break;
+        }
+        if (!std::isfinite(err)) {  // the best (finite) iterate is given back below
+            res.status = FRIX_STATUS_DIVERGED;
             break;
         }
         if (*lim.iterations >= lim.max_iter) {
@@ -424,7 +428,7 @@ frix_error Engine::run(double *r, const double *q, double shift, double tol, Lim
             break;
         }
     }
-    if (best_err < err) {
+    if (!(err <= best_err)) {
         std::copy(best.begin(), best.end(), r);
         err = best_err;
     }

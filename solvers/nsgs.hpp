@@ -1,17 +1,22 @@
-// Nonsmooth Gauss-Seidel (id 500): sweeps over the contacts of a local problem, each solved
-// exactly or nearly so by a one-contact solver of local3x3.hpp.
+// Nonsmooth Gauss-Seidel: sweeps over the contacts of a local problem, each solved exactly or
+// nearly so by a one-contact solver. Ids 500 (NSGS: local q from W's block rows) and 501
+// (velocity-based NSGS: u = W r + q kept up to date by W's block columns). The sweep is also
+// the inner solver of the fixed points (fixed_points.cpp), which pass their own local step.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
 #include "local3x3.hpp"
+#include "matrix.hpp"
 #include "problem.hpp"
 #include "solver_api.hpp"
 
 namespace frix {
 
 extern const SolverEntry kNsgsEntry;
+extern const SolverEntry kNsgsVelocityEntry;
 
 namespace nsgs {
 
@@ -20,9 +25,12 @@ struct Settings {
     double relaxation = 1.0;
     int shuffle = 0;  // frix_shuffle
     uint64_t seed = 0;
+    // A contact whose reaction moved by less than the freeze threshold in a sweep is skipped
+    // for this many sweeps (0: never).
+    int64_t freezing = 0;
 };
 
-// The sweep settings an options object (of solver 500) asks for.
+// The sweep settings an options object (of solver 500 or 501) asks for.
 Settings settings_from(const frix_options &o);
 
 struct SweepStats {
@@ -30,23 +38,94 @@ struct SweepStats {
     double r2 = 0.0;         // |r|^2 after the sweep
     int64_t rejected = 0;    // non-finite local results discarded
     int64_t unsolved = 0;    // local solves that stopped short of the local tolerance
+    int64_t frozen = 0;      // contacts skipped because frozen
 };
 
 // Everything a sweep needs, prepared once per solve; sweeps allocate nothing.
 class Workspace {
    public:
     Workspace(const frix_problem &p, const Settings &s);
-    // One pass over the contacts, updating r in place.
+    // One pass over the contacts with the settings' one-contact solver, updating r in place.
     SweepStats sweep(double *r);
+    // The same pass with another one-contact step: step(a, contact, q_local, r_a) receives
+    // the local q (q_a + sum_{b!=a} W_ab r_b) and r_a (3 values: the current reaction in, the
+    // new one out) and returns a local::Outcome. Used by the fixed points, whose inner
+    // problems (Tresca, second-order cone) differ from Coulomb's only in the local step.
+    template <class Step>
+    SweepStats sweep_with(double *r, Step &&step);
+    // Velocity-based pass: the local q is u_a - W_aa r_a, and each change of r_a is pushed
+    // into u through W's block column a, so that u = W r + q holds after the sweep (up to
+    // rounding, see resync) and a contact whose reaction does not change costs O(1).
+    SweepStats sweep_velocity(double *r, double *u);
+
+    // Freezing: a contact whose |r_a,new - r_a,old|^2 is <= dr2 is then skipped for
+    // settings.freezing sweeps. thaw() releases every frozen contact.
+    void set_freeze_threshold(double dr2) { freeze_dr2_ = dr2; }
+    void thaw();
+
+    local::Contact &contact(int64_t a) { return contacts_[(size_t)a]; }
+    int64_t contacts() const { return (int64_t)contacts_.size(); }
 
    private:
+    void reshuffle();
+    void build_columns();
+    // Local q of contact a: q_a + sum_{b != a} W_ab r_b, in one pass over the block row that
+    // steps over the diagonal block instead of subtracting it (no cancellation).
+    void local_q(int64_t a, const double *r, double *ql) const {
+        ql[0] = q_[3 * a];
+        ql[1] = q_[3 * a + 1];
+        ql[2] = q_[3 * a + 2];
+        const int64_t *col = W_.block_col.data();
+        const double *val = W_.block_val.data();
+        const int64_t beg = W_.row_ptr[a], end = W_.row_ptr[a + 1], d = W_.diag_index[a];
+        const int64_t mid = d >= 0 ? d : end;
+        for (int64_t b = beg; b < mid; ++b) block_gemv_add(val + 9 * b, r + 3 * col[b], ql);
+        for (int64_t b = d >= 0 ? d + 1 : end; b < end; ++b)
+            block_gemv_add(val + 9 * b, r + 3 * col[b], ql);
+    }
+    // Accepts rn as contact a's new reaction (relaxation, finiteness, freezing), updating
+    // the statistics; returns false (ra unchanged) if it was rejected.
+    bool accept(int64_t a, double *ra, double *rn, SweepStats &st);
+
     const frix_matrix &W_;
     const double *q_;
     Settings s_;
     std::vector<local::Contact> contacts_;
     std::vector<int64_t> order_;
     uint64_t rng_;
+    std::vector<int64_t> frozen_;  // sweeps left to skip, per contact (empty: no freezing)
+    double freeze_dr2_ = 0.0;
+    // Block columns of W (velocity sweeps): for block column a, the blocks (row, index into
+    // block_val) at col_ptr_[a] .. col_ptr_[a+1].
+    std::vector<int64_t> col_ptr_, col_row_, col_block_;
 };
+
+template <class Step>
+SweepStats Workspace::sweep_with(double *r, Step &&step) {
+    SweepStats st;
+    if (s_.shuffle == FRIX_SHUFFLE_EACH_SWEEP) reshuffle();
+    const int64_t nc = (int64_t)contacts_.size();
+    const int64_t *order = order_.empty() ? nullptr : order_.data();
+    int64_t *frozen = frozen_.empty() ? nullptr : frozen_.data();
+    for (int64_t k = 0; k < nc; ++k) {
+        const int64_t a = order ? order[k] : k;
+        double *ra = r + 3 * a;
+        if (frozen && frozen[a] > 0) {
+            --frozen[a];
+            ++st.frozen;
+            st.r2 += ra[0] * ra[0] + ra[1] * ra[1] + ra[2] * ra[2];
+            continue;
+        }
+        double ql[3];
+        local_q(a, r, ql);
+        double rn[3] = {ra[0], ra[1], ra[2]};
+        const local::Outcome out = step(a, contacts_[(size_t)a], (const double *)ql, rn);
+        if (out == local::Outcome::NotConverged || out == local::Outcome::NoSolution) ++st.unsolved;
+        accept(a, ra, rn, st);
+        st.r2 += ra[0] * ra[0] + ra[1] * ra[1] + ra[2] * ra[2];
+    }
+    return st;
+}
 
 }  // namespace nsgs
 }  // namespace frix

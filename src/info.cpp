@@ -29,6 +29,7 @@ FRIX_API frix_error frix_info_get_int(const frix_info *info, frix_info_key key, 
         case FRIX_INFO_FACTORIZATIONS: *value = info->factorizations; return FRIX_OK;
         case FRIX_INFO_SYMBOLIC_ANALYSES: *value = info->symbolic_analyses; return FRIX_OK;
         case FRIX_INFO_HYBRID_SWEEPS: *value = info->hybrid_sweeps; return FRIX_OK;
+        case FRIX_INFO_INNER_ITERATIONS: *value = info->inner_iterations; return FRIX_OK;
         default: break;
     }
     return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_info_get_int: key %d is not an int key", (int)key);

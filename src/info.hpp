@@ -28,6 +28,7 @@ struct frix_info {
     int64_t factorizations = 0;
     int64_t symbolic_analyses = 0;
     int64_t hybrid_sweeps = 0;
+    int64_t inner_iterations = 0;
     double factorization_time = 0.0;
     double setup_time = 0.0;
 };

@@ -12,12 +12,44 @@
 
 namespace {
 
+// Squares of values beyond these bounds overflow or lose all precision; sums inside them are
+// exact enough, and they keep the plain arithmetic (the same numbers as Siconos) on every
+// physical problem. Problems scaled by 1e+-200 take the rescaled path.
+constexpr double kSafeSumMin = 1e-280, kSafeSumMax = 1e280;
+
+double max_abs(const double *x, int64_t n) {
+    double a = 0.0;
+    for (int64_t i = 0; i < n; ++i) a = std::max(a, std::fabs(x[i]));
+    return a;
+}
+
 double norm2(const double *x, int64_t n) {
-    // Scaled accumulation would be safer against overflow, but inputs are checked finite and
-    // physical magnitudes stay far from 1e154; a plain sum keeps the same numbers as Siconos.
     double s = 0.0;
     for (int64_t i = 0; i < n; ++i) s += x[i] * x[i];
-    return std::sqrt(s);
+    if (s > kSafeSumMin && s < kSafeSumMax) return std::sqrt(s);
+    const double a = max_abs(x, n);
+    if (a == 0.0) return 0.0;
+    s = 0.0;
+    for (int64_t i = 0; i < n; ++i) s += (x[i] / a) * (x[i] / a);
+    return a * std::sqrt(s);
+}
+
+// Sum over contacts of the squared natural-map residual and the largest distance of r_a to
+// its cone, for (r, u) multiplied by `factor` (both are positively homogeneous, so the caller
+// divides the results by it).
+void residual_and_cone(const double *r, const double *u, const double *mu, int64_t nc,
+                       double factor, double &sum, double &cone) {
+    sum = 0.0;
+    cone = 0.0;
+    for (int64_t a = 0; a < nc; ++a) {
+        const double ra[3] = {factor * r[3 * a], factor * r[3 * a + 1], factor * r[3 * a + 2]};
+        const double ua[3] = {factor * u[3 * a], factor * u[3 * a + 1], factor * u[3 * a + 2]};
+        sum += frix::contact_residual_sq(ra, ua, mu[a]);
+        double p[3] = {ra[0], ra[1], ra[2]};
+        frix::local::project_on_cone(p, mu[a]);
+        const double d0 = ra[0] - p[0], d1 = ra[1] - p[1], d2 = ra[2] - p[2];
+        cone = std::max(cone, std::sqrt(d0 * d0 + d1 * d1 + d2 * d2));
+    }
 }
 
 }  // namespace
@@ -35,21 +67,27 @@ double contact_residual_sq(const double *r, const double *u, double mu) {
 Measures measures_from_ru(const double *r, const double *u, const double *mu, int64_t nc,
                           double norm_q) {
     Measures m;
-    double sum = 0.0;
+    double sum, cone;
+    residual_and_cone(r, u, mu, nc, 1.0, sum, cone);
+    m.residual_absolute = std::sqrt(sum);
+    if (!(sum > kSafeSumMin && sum < kSafeSumMax)) {
+        // Squares overflowed or underflowed (e.g. a problem scaled by 1e+-200): redo on
+        // (r, u) / max|.|, where every square is in range, and scale the results back.
+        const double a = std::max(max_abs(r, 3 * nc), max_abs(u, 3 * nc));
+        if (a > 0.0) {
+            residual_and_cone(r, u, mu, nc, 1.0 / a, sum, cone);
+            m.residual_absolute = a * std::sqrt(sum);
+            cone *= a;
+        }
+    }
+    m.cone_violation = cone;
     for (int64_t a = 0; a < nc; ++a) {
         const double *ra = r + 3 * a, *ua = u + 3 * a;
-        sum += contact_residual_sq(ra, ua, mu[a]);
-        double p[3] = {ra[0], ra[1], ra[2]};
-        local::project_on_cone(p, mu[a]);
-        m.cone_violation = std::max(m.cone_violation,
-                                    std::sqrt((ra[0] - p[0]) * (ra[0] - p[0]) + (ra[1] - p[1]) * (ra[1] - p[1]) +
-                                              (ra[2] - p[2]) * (ra[2] - p[2])));
         m.penetration = std::max(m.penetration, -ua[0]);
         const double uhat_n = ua[0] + mu[a] * std::hypot(ua[1], ua[2]);
         m.complementarity = std::max(m.complementarity,
                                      std::fabs(ra[0] * uhat_n + ra[1] * ua[1] + ra[2] * ua[2]));
     }
-    m.residual_absolute = std::sqrt(sum);
     m.norm_q = norm_q;
     m.norm_r = norm2(r, 3 * nc);
     m.norm_u = norm2(u, 3 * nc);

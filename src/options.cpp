@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <string>
 
 #include "error_state.hpp"
 #include "solver_api.hpp"
@@ -55,6 +56,12 @@ const KeySpec kKeys[] = {
     {FRIX_OPT_PROX_SIGMA, "prox_sigma", false, 1e-300, 1e300, 5.0},
     {FRIX_OPT_PROX_NU, "prox_nu", false, 1e-3, 10.0, 1.0},
     {FRIX_OPT_INNER_SOLVER, "inner_solver", true, 504.0, 520.0, 504.0, kInnerSolvers},
+    {FRIX_OPT_FREEZING, "freezing", true, 0.0, 1e6, 0.0},
+    {FRIX_OPT_ERROR_FREQUENCY, "error_frequency", true, 1.0, 1e6, 1.0},
+    {FRIX_OPT_RHO_ADAPTIVE, "rho_adaptive", true, 0.0, 1.0, 1.0},
+    {FRIX_OPT_INNER_MAX_ITER, "inner_max_iter", true, 1.0, 1e9, 1000.0},
+    {FRIX_OPT_INNER_TOLERANCE_RATIO, "inner_tolerance_ratio", false, 1e-6, 1.0, 0.1},
+    {FRIX_OPT_ACCELERATION, "acceleration", true, 0.0, 1.0, 1.0},
 };
 
 const frix_option_key kCommonKeys[] = {FRIX_OPT_TOLERANCE, FRIX_OPT_MAX_ITER, FRIX_OPT_TIME_LIMIT,
@@ -122,9 +129,11 @@ FRIX_API frix_error frix_options_create(int solver_id, frix_options **out) {
         o->solver_id = solver_id;
         for (const KeySpec &s : kKeys) store("frix_options_create", o.get(), s, s.default_value);
         for (const frix::OptionDefault *d = e->defaults; d && d->key; ++d)
-            if (store("frix_options_create", o.get(), *spec_of(d->key), d->value) != FRIX_OK)
+            if (store("frix_options_create", o.get(), *spec_of(d->key), d->value) != FRIX_OK) {
+                const std::string why = frix_last_error_message();  // fail() rewrites that buffer
                 return fail(FRIX_ERR_INTERNAL, "solver %s has an invalid default: %s", e->name,
-                            frix_last_error_message());
+                            why.c_str());
+            }
         *out = o.release();
         return FRIX_OK;
     });

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "error_state.hpp"
+#include "first_order.hpp"
 #include "global.hpp"
 #include "newton.hpp"
 #include "nsgs.hpp"
@@ -12,7 +13,8 @@
 
 namespace {
 
-// In id order. A solver appears here only once it really solves.
+// In the order solvers were added (ids are the stable keys, not positions). A solver appears
+// here only once it really solves.
 const frix::SolverEntry *const kSolvers[] = {
     &frix::kNsgsEntry,
     &frix::kProxEntry,
@@ -20,6 +22,13 @@ const frix::SolverEntry *const kSolvers[] = {
     &frix::kNsnFbEntry,
     &frix::kNsnNmEntry,
     &frix::kGlobalNsnAcEntry,
+    &frix::kNsgsVelocityEntry,
+    &frix::kViFppEntry,
+    &frix::kViEgEntry,
+    &frix::kHpEntry,
+    &frix::kTfpEntry,
+    &frix::kAclmEntry,
+    &frix::kAdmmEntry,
 };
 constexpr int64_t kSolverCount = sizeof kSolvers / sizeof kSolvers[0];
 

@@ -1,8 +1,10 @@
 // frix_solve: the driver around every solver. It owns what must be the same for all of them:
 // argument checks, the empty and all-separating cases, a finite warm start, timing, and the
 // final measures computed by the one error module from the r actually returned.
+#include <algorithm>
 #include <cmath>
 #include <memory>
+#include <vector>
 
 #include "error_state.hpp"
 #include "global.hpp"
@@ -19,6 +21,9 @@ frix_error solve_local(const frix_problem &p, const frix_options &opts,
     const int64_t m = 3 * p.nc;
     bool separating = true;
     for (int64_t a = 0; a < p.nc && separating; ++a) separating = p.q[3 * a] >= 0.0;
+    // Kept to fall back on if the solver diverges: a finite but huge r can make W r + q
+    // overflow, and the caller must never get a non-finite u or error back.
+    std::vector<double> warm_start;
     if (p.nc == 0 || separating) {
         // r = 0 is then the exact solution: u = q has u_N >= 0, so u^ lies in K*.
         for (int64_t i = 0; i < m; ++i) r[i] = 0.0;
@@ -30,6 +35,7 @@ frix_error solve_local(const frix_problem &p, const frix_options &opts,
             if (!std::isfinite(r[i])) r[i] = 0.0;
         if (!entry.solves_local)
             return fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s does not solve local problems", entry.name);
+        warm_start.assign(r, r + m);
         frix::SolveContext ctx{p, opts, r, u, nullptr, info, clock};
         if (frix_error e = entry.solve(ctx)) return e;
         for (int64_t i = 0; i < m; ++i)
@@ -38,6 +44,15 @@ frix_error solve_local(const frix_problem &p, const frix_options &opts,
                             entry.name, (long long)i);
     }
     frix::Measures meas = frix::local_measures(p, r, u);
+    if (!std::isfinite(meas.relative) && !warm_start.empty()) {
+        std::copy(warm_start.begin(), warm_start.end(), r);
+        meas = frix::local_measures(p, r, u);
+        if (!std::isfinite(meas.relative)) {
+            std::fill(r, r + m, 0.0);  // u = q then: finite, since q was checked
+            meas = frix::local_measures(p, r, u);
+        }
+        info.status = FRIX_STATUS_DIVERGED;
+    }
     frix::record_measures(info, meas, opts.i(FRIX_OPT_ERROR_MEASURE));
     // The status must agree with the final, independent measure.
     if (info.status == FRIX_STATUS_CONVERGED && !(info.error <= info.tolerance))

@@ -113,6 +113,21 @@ START_TEST(test_frictionless) {
 }
 END_TEST
 
+/* The measures are positively homogeneous: scaling r and q by 1e200 or 1e-200 scales the
+ * residual by the same factor, without overflow or underflow to NaN or 0. */
+START_TEST(test_extreme_scales) {
+    double q[3] = {1e200, 0, 0}, r[3] = {1e200, 0, 0}, u[3];
+    measured m = measure_one(0.5, q, r, u);
+    ck_assert_double_eq_tol(m.abs / 1e200, 1.0, 1e-15);
+    ck_assert_double_eq_tol(m.rel, 0.5, 1e-15);
+    ck_assert_double_eq_tol(m.cone, 0.0, 1e-15);
+    double qs[3] = {-1e-200, 1e-200, 0}, rs[3] = {1e-200, 0.5e-200, 0};
+    m = measure_one(0.5, qs, rs, u); /* the "wrong way" slide of test_sliding_on_boundary */
+    ck_assert_double_eq_tol(m.abs / 1e-200, sqrt(0.8), 1e-14);
+    ck_assert_double_eq_tol(m.cone / 1e-200, 0.0, 1e-14);
+}
+END_TEST
+
 START_TEST(test_bad_arguments) {
     static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     double q[3] = {-1, 0, 0}, mu = 0.3, r[3] = {NAN, 0, 0}, e;
@@ -136,6 +151,7 @@ int main(void) {
     tcase_add_test(tc, test_sliding_on_boundary);
     tcase_add_test(tc, test_polar_cone);
     tcase_add_test(tc, test_frictionless);
+    tcase_add_test(tc, test_extreme_scales);
     tcase_add_test(tc, test_bad_arguments);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);

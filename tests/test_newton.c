@@ -69,6 +69,7 @@ START_TEST(jacobians_match_finite_differences) {
     const int formulation = _i; /* 0 AC, 1 FB, 2 NM */
     const double h = 1e-7;
     int checked = 0;
+    rng_state = 777 + (uint64_t)formulation;
     for (int regime = 0; regime < REGIMES; ++regime)
         for (int trial = 0; trial < 200; ++trial) {
             double r[3], u[3], mu, phi[3], A[9], B[9];
@@ -131,6 +132,7 @@ typedef struct {
 
 static void make_problem(small_problem *s, int nc) {
     const int m = 3 * nc;
+    rng_state = 12345 + (uint64_t)nc; /* the same problem with and without CK_FORK */
     double *L = malloc((size_t)(m * m) * sizeof *L), *W = malloc((size_t)(m * m) * sizeof *W);
     for (int i = 0; i < m * m; ++i) L[i] = uniform(-0.5, 0.5);
     for (int i = 0; i < m; ++i)
@@ -201,11 +203,11 @@ START_TEST(quadratic_convergence_near_the_solution) {
     frix_info *info = solve(s.p, o, r);
     ck_assert_msg(frix_info_status(info) == FRIX_STATUS_CONVERGED, "%s", frix_status_string(frix_info_status(info)));
     /* Near the solution each step squares the error (up to a constant): every step that
-     * starts below 1e-3 ends below 100 e^2 (or at round-off). A linearly converging method
+     * starts below 1e-4 ends below 100 e^2 (or at round-off). A linearly converging method
      * fails this at once (e.g. 1e-4 -> 1e-5). */
     int seen = 0;
     for (int k = 0; k + 1 < tr.n; ++k)
-        if (tr.e[k] < 1e-3 && tr.e[k] > 1e-12) {
+        if (tr.e[k] < 1e-4 && tr.e[k] > 1e-12) {
             ck_assert_msg(tr.e[k + 1] <= 100.0 * tr.e[k] * tr.e[k] || tr.e[k + 1] <= 1e-14,
                           "step %d: %g -> %g is not quadratic", k, tr.e[k], tr.e[k + 1]);
             ++seen;
@@ -424,6 +426,7 @@ END_TEST
 START_TEST(local_newton_solvers) {
     static const int solvers[] = {553, 550, 551, 561, 565};
     int solved[5] = {0}, total = 0;
+    rng_state = 4242;
     for (int trial = 0; trial < 300; ++trial) {
         double L[9], W[9], q[3], mu = trial % 7 == 0 ? 0.0 : uniform(0.1, 1.0);
         for (int i = 0; i < 9; ++i) L[i] = uniform(-1, 1);

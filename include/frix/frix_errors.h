@@ -16,7 +16,7 @@
 extern "C" {
 #endif
 
-typedef enum frix_error {
+typedef enum frix_error FRIX_ENUM_BASE {
     FRIX_OK = 0,
     FRIX_ERR_INVALID_ARGUMENT = -1, /* NULL where a value is required, or a bad value */
     FRIX_ERR_DIMENSION = -2,        /* sizes that do not match or are out of range */
@@ -32,7 +32,7 @@ typedef enum frix_error {
     FRIX_ERR_INTERNAL = -12         /* a bug in frix: please report it */
 } frix_error;
 
-typedef enum frix_status {
+typedef enum frix_status FRIX_ENUM_BASE {
     FRIX_STATUS_NOT_RUN = 0,
     FRIX_STATUS_CONVERGED = 1,       /* error <= tolerance, checked with the full error measure */
     FRIX_STATUS_MAX_ITER = 2,

@@ -27,4 +27,14 @@
 #  define FRIX_DEPRECATED(msg)
 #endif
 
+/* The public enums are int-sized in C. In C++ an enum without a fixed underlying type may
+ * only hold values within the range of its enumerators, so a value a C caller passes (say an
+ * unknown key, -1) would be undefined behaviour inside the library: give them int as base
+ * (C++11 and later; the size is the same int for older C++ and for C). */
+#if defined(__cplusplus) && __cplusplus >= 201103L
+#  define FRIX_ENUM_BASE : int
+#else
+#  define FRIX_ENUM_BASE
+#endif
+
 #endif /* FRIX_EXPORT_H */

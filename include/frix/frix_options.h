@@ -19,7 +19,7 @@ extern "C" {
 
 typedef struct frix_options frix_options;
 
-typedef enum frix_option_key {
+typedef enum frix_option_key FRIX_ENUM_BASE {
     FRIX_OPT_TOLERANCE = 1,       /* double: stop when the error measure <= this (default 1e-8) */
     FRIX_OPT_MAX_ITER = 2,        /* int: iteration limit (sweeps for NSGS) */
     FRIX_OPT_TIME_LIMIT = 3,      /* double: seconds of solve time, 0 = none */
@@ -33,7 +33,9 @@ typedef enum frix_option_key {
     FRIX_OPT_SEED = 11,           /* int >= 0: seed of the shuffle (deterministic) */
     /* Newton-type solvers (504, 513, 520, 502, 607) */
     FRIX_OPT_RHO_STRATEGY = 12,   /* int, frix_rho_strategy: the per-contact rho of Phi */
-    FRIX_OPT_RHO = 13,            /* double > 0: rho of FRIX_RHO_CONSTANT */
+    FRIX_OPT_RHO = 13,            /* double > 0: rho of FRIX_RHO_CONSTANT; VI, HP (506-508): the
+                                     initial (or fixed) step in units of 1 / max_a |W_aa|_2;
+                                     ADMM (523): the penalty in units of mean_a |W_aa|_2 */
     FRIX_OPT_LINE_SEARCH = 14,    /* int, frix_line_search: on the merit 1/2 |Phi|^2 */
     FRIX_OPT_LINE_SEARCH_MAX_ITER = 15, /* int: trial steps per line search */
     FRIX_OPT_HYBRID = 16,         /* int, frix_hybrid: what to do when Newton stalls */
@@ -42,43 +44,54 @@ typedef enum frix_option_key {
     FRIX_OPT_PROX_ALPHA = 18,     /* double >= 0: fixed proximal alpha, 0 = adapted to the error */
     FRIX_OPT_PROX_SIGMA = 19,     /* double > 0: adapted alpha = sigma * error^nu * scale(W) */
     FRIX_OPT_PROX_NU = 20,        /* double > 0: see FRIX_OPT_PROX_SIGMA */
-    FRIX_OPT_INNER_SOLVER = 21    /* int: PROX's inner Newton solver id (504, 513 or 520) */
+    FRIX_OPT_INNER_SOLVER = 21,   /* int: PROX's inner Newton solver id (504, 513 or 520) */
+    /* NSGS (500, 501) */
+    FRIX_OPT_FREEZING = 22,       /* int >= 0: sweeps a settled contact is skipped, 0 = never */
+    FRIX_OPT_ERROR_FREQUENCY = 23, /* int >= 1: the stopping test runs every k sweeps */
+    /* First-order solvers (506, 507, 508, 523) */
+    FRIX_OPT_RHO_ADAPTIVE = 24,   /* int 0/1: adapt rho (VI: self-adaptive step; ADMM: residual
+                                     balancing) or keep FRIX_OPT_RHO fixed */
+    /* Fixed points (503, 516) */
+    FRIX_OPT_INNER_MAX_ITER = 25, /* int: inner sweeps per outer iteration */
+    FRIX_OPT_INNER_TOLERANCE_RATIO = 26, /* double in (0, 1]: inner tolerance = ratio * outer error */
+    /* ADMM (523) */
+    FRIX_OPT_ACCELERATION = 27    /* int 0/1: Nesterov acceleration with restart */
 } frix_option_key;
 
-typedef enum frix_rho_strategy {
+typedef enum frix_rho_strategy FRIX_ENUM_BASE {
     FRIX_RHO_CONSTANT = 0,   /* rho_N = rho_T = FRIX_OPT_RHO */
     FRIX_RHO_SPECTRAL = 1,   /* rho = 1 / |W_aa|_2 per contact */
     FRIX_RHO_SPLIT = 2       /* rho_N = 1 / W_aa,NN, rho_T = 1 / |W_aa,TT|_2 (AC); FB and the
                                 natural map, which take one rho, use rho_N */
 } frix_rho_strategy;
 
-typedef enum frix_line_search {
+typedef enum frix_line_search FRIX_ENUM_BASE {
     FRIX_LINE_SEARCH_NONE = 0,            /* full Newton steps */
     FRIX_LINE_SEARCH_GOLDSTEIN_PRICE = 1, /* Goldstein-Price, m1 = 0.01, m2 = 0.99 (Siconos) */
     FRIX_LINE_SEARCH_ARMIJO = 2,          /* Armijo backtracking, sigma = 1e-4 */
     FRIX_LINE_SEARCH_NONMONOTONE = 3      /* Armijo against the max of the last 8 merits */
 } frix_line_search;
 
-typedef enum frix_hybrid {
+typedef enum frix_hybrid FRIX_ENUM_BASE {
     FRIX_HYBRID_NONE = 0,  /* Newton only */
     FRIX_HYBRID_NSGS = 1   /* when Newton stalls, NSGS sweeps, then Newton again */
 } frix_hybrid;
 
-typedef enum frix_error_measure {
+typedef enum frix_error_measure FRIX_ENUM_BASE {
     /* The Siconos 4.4 measure: natural-map residual / max(|q|, |r|, |u|). */
     FRIX_MEASURE_RELATIVE = 0,
     /* The same residual / |q| (Acary, Bremond, Huber 2018). */
     FRIX_MEASURE_Q_RELATIVE = 1
 } frix_error_measure;
 
-typedef enum frix_shuffle {
+typedef enum frix_shuffle FRIX_ENUM_BASE {
     FRIX_SHUFFLE_NONE = 0,
     FRIX_SHUFFLE_ONCE = 1,
     FRIX_SHUFFLE_EACH_SWEEP = 2
 } frix_shuffle;
 
 /* One-contact solvers (values match the Siconos 4.4 ids of the same algorithms). */
-typedef enum frix_local_solver {
+typedef enum frix_local_solver FRIX_ENUM_BASE {
     /* One projected step r <- P_K(r - rho (W_aa r + q_a + mu|u_T| e_N)), rho from W_aa. */
     FRIX_LOCAL_PROJECTION = 552,
     /* Exact stick and take-off cases, otherwise projected steps iterated with a

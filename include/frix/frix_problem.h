@@ -24,7 +24,7 @@ extern "C" {
 
 typedef struct frix_problem frix_problem;
 
-typedef enum frix_problem_kind {
+typedef enum frix_problem_kind FRIX_ENUM_BASE {
     FRIX_PROBLEM_LOCAL = 1,
     FRIX_PROBLEM_GLOBAL = 2
 } frix_problem_kind;

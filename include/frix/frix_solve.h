@@ -21,7 +21,14 @@ enum {
     FRIX_SOLVER_NSN_AC = 504,      /* semismooth Newton, Alart-Curnier */
     FRIX_SOLVER_NSN_FB = 513,      /* semismooth Newton, Fischer-Burmeister */
     FRIX_SOLVER_NSN_NM = 520,      /* semismooth Newton, natural map */
-    FRIX_SOLVER_GLOBAL_NSN_AC = 607 /* global (M, H) problems: Newton on (v, r), W never formed */
+    FRIX_SOLVER_GLOBAL_NSN_AC = 607, /* global (M, H) problems: Newton on (v, r), W never formed */
+    FRIX_SOLVER_NSGS_VELOCITY = 501, /* NSGS keeping u = W r + q up to date */
+    FRIX_SOLVER_TFP = 503,         /* Tresca fixed point, NSGS inside */
+    FRIX_SOLVER_VI_FPP = 506,      /* VI fixed-point projection, self-adaptive step */
+    FRIX_SOLVER_VI_EG = 507,       /* VI extragradient, self-adaptive step */
+    FRIX_SOLVER_HP = 508,          /* hyperplane projection */
+    FRIX_SOLVER_ACLM = 516,        /* Acary-Cadoux-Lemarechal-Malick fixed point on s = |u_T| */
+    FRIX_SOLVER_ADMM = 523         /* ADMM on r = xi, W + rho I factorised */
 };
 
 FRIX_API int64_t frix_solver_count(void);
@@ -38,7 +45,7 @@ FRIX_API frix_error frix_solver_by_name(const char *name, int *solver_id);
 /* ---- The result record of a solve, read by key. */
 typedef struct frix_info frix_info;
 
-typedef enum frix_info_key {
+typedef enum frix_info_key FRIX_ENUM_BASE {
     /* int keys */
     FRIX_INFO_STATUS = 1,          /* frix_status */
     FRIX_INFO_ITERATIONS = 2,
@@ -50,6 +57,8 @@ typedef enum frix_info_key {
     FRIX_INFO_SYMBOLIC_ANALYSES = 8, /* symbolic analyses (orderings); reused while the
                                         sparsity pattern is unchanged */
     FRIX_INFO_HYBRID_SWEEPS = 9,     /* NSGS sweeps run by a hybrid Newton's fallback */
+    FRIX_INFO_INNER_ITERATIONS = 10, /* fixed points (503, 516): inner sweeps, summed over the
+                                        outer iterations */
     /* double keys */
     FRIX_INFO_ERROR = 100,          /* the measure compared with the tolerance (FRIX_OPT_ERROR_MEASURE) */
     FRIX_INFO_ERROR_RELATIVE = 101, /* natural-map residual / max(|q|,|r|,|u|) (Siconos 4.4) */

@@ -1,0 +1,69 @@
+#include "first_order.hpp"
+
+#include <algorithm>
+#include <cfloat>
+
+#include "local3x3.hpp"
+#include "matrix.hpp"
+
+namespace frix::fo {
+
+void de_saxce_map(const frix_problem &p, const double *r, double *u, double *F) {
+    const frix_matrix &W = *p.W;
+    for (int64_t a = 0; a < p.nc; ++a) {
+        double t[3];
+        block_row_product(W, a, r, t);
+        const double *qa = p.q + 3 * a;
+        double *ua = u + 3 * a, *Fa = F + 3 * a;
+        ua[0] = t[0] + qa[0];
+        ua[1] = t[1] + qa[1];
+        ua[2] = t[2] + qa[2];
+        Fa[0] = ua[0] + p.mu[a] * std::sqrt(ua[1] * ua[1] + ua[2] * ua[2]);
+        Fa[1] = ua[1];
+        Fa[2] = ua[2];
+    }
+}
+
+void project_on_cones(const frix_problem &p, double *r) {
+    for (int64_t a = 0; a < p.nc; ++a) local::project_on_cone(r + 3 * a, p.mu[a]);
+}
+
+void diagonal_scales(const frix_problem &p, double *max_norm, double *mean_norm) {
+    const frix_matrix &W = *p.W;
+    double mx = 0.0, sum = 0.0;
+    int64_t counted = 0;
+    for (int64_t a = 0; a < p.nc; ++a) {
+        const int64_t d = W.diag_index[a];
+        if (d < 0) continue;
+        local::Contact c;
+        local::contact_setup(&W.block_val[9 * d], p.mu[a], c);
+        if (!(c.rho0 > 0.0)) continue;
+        const double n = 1.0 / c.rho0;
+        mx = std::max(mx, n);
+        sum += n;
+        ++counted;
+    }
+    if (!(mx > 0.0) || !std::isfinite(mx)) mx = 1.0;
+    *max_norm = mx;
+    *mean_norm = counted > 0 && sum > 0.0 && std::isfinite(sum) ? sum / (double)counted : mx;
+}
+
+Loop::Loop(SolveContext &c, const char *solver_name)
+    : p(c.problem),
+      o(c.options),
+      ctx(c),
+      name(solver_name),
+      tol(c.options.d(FRIX_OPT_TOLERANCE)),
+      max_iter(c.options.i(FRIX_OPT_MAX_ITER)),
+      time_limit(c.options.d(FRIX_OPT_TIME_LIMIT)),
+      verbosity(c.options.i(FRIX_OPT_VERBOSITY)),
+      measure(c.options.i(FRIX_OPT_ERROR_MEASURE)),
+      norm_q(norm(c.problem.q, 3 * c.problem.nc)),
+      m(3 * c.problem.nc) {}
+
+double Loop::scale(double norm_r, double norm_u) const {
+    const double s = measure == FRIX_MEASURE_Q_RELATIVE ? norm_q : std::max({norm_q, norm_r, norm_u});
+    return s > DBL_EPSILON ? s : 1.0;
+}
+
+}  // namespace frix::fo
