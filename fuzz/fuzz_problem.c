@@ -22,15 +22,14 @@ typedef struct {
 static uint8_t byte(stream *s) { return s->at < s->size ? s->data[s->at++] : 0; }
 
 /* Full range (FRIX_FUZZ_FULL_RANGE=1 in the environment): raw doubles up to 1e308, whose
- * products overflow. Without it, magnitudes stay within [1e-300, 1e12] (and NaN/Inf): the
- * overflow findings of the full range are known and open (issue 7 note), and the short runs
- * of the test suite look for everything else. */
+ * products overflow. Without it, magnitudes stay within [1e-300, 1e12] (and NaN/Inf), which
+ * is what the short runs of the test suite explore. */
 static int full_range = -1;
 
-/* FRIX_FUZZ_KNOWN_OPEN=1 (set by the test suite's short runs) waives the one class of findings
- * known and open (issue 7 note): a solve that returns a finite but huge r whose u = W r + q,
- * or whose error measure, overflows to Inf/NaN. Crashes, sanitizer reports, leaks, a non-finite
- * r, FRIX_ERR_INTERNAL and a false CONVERGED are never waived. */
+/* FRIX_FUZZ_KNOWN_OPEN=1 waives one class of findings, for triage only (no run sets it since
+ * the drivers fall back to a finite state): a solve that returns a finite but huge r whose
+ * u = W r + q, or whose error measure, overflows to Inf/NaN. Crashes, sanitizer reports, leaks,
+ * a non-finite r, FRIX_ERR_INTERNAL and a false CONVERGED are never waived. */
 static int known_open(void) {
     static int value = -1;
     if (value < 0) value = getenv("FRIX_FUZZ_KNOWN_OPEN") && *getenv("FRIX_FUZZ_KNOWN_OPEN") == '1';

@@ -28,8 +28,6 @@ elseif(MODE STREQUAL "run")
   set(artifacts "${DIR}/artifacts/${TARGET}/")
   file(MAKE_DIRECTORY "${corpus}" "${artifacts}")
   # -rss_limit_mb: a reader must never allocate what the input does not hold.
-  # The one known, open class of findings is waived here (fuzz/fuzz_problem.c, known_open).
-  set(ENV{FRIX_FUZZ_KNOWN_OPEN} 1)
   # HDF5's own leak on corrupt files (fuzz/hdf5-leaks.supp) is matched by function name,
   # which needs the slow unwinder: libhdf5 is built without frame pointers.
   set(ENV{LSAN_OPTIONS} "suppressions=${SOURCE}/fuzz/hdf5-leaks.supp")

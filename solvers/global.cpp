@@ -543,7 +543,8 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
     }
     // The final measures of the global problem, from the (r, v) returned.
     Measures meas = global_measures(p, r, v, u, &info.equilibrium);
-    bool finite = std::isfinite(meas.relative) && std::isfinite(info.equilibrium);
+    bool finite = std::isfinite(meas.relative) && std::isfinite(meas.norm_u) &&
+                  std::isfinite(info.equilibrium);
     for (int64_t i = 0; i < m && finite; ++i) finite = std::isfinite(r[i]);
     for (int64_t j = 0; j < p.n && finite; ++j) finite = std::isfinite(v[j]);
     if (!finite) {

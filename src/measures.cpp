@@ -35,15 +35,16 @@ double norm2(const double *x, int64_t n) {
 }
 
 // Sum over contacts of the squared natural-map residual and the largest distance of r_a to
-// its cone, for (r, u) multiplied by `factor` (both are positively homogeneous, so the caller
-// divides the results by it).
+// its cone, for (r, u) divided by `divisor` (both are positively homogeneous, so the caller
+// multiplies the results back). Dividing, not multiplying by 1/divisor, which overflows
+// for a subnormal divisor.
 void residual_and_cone(const double *r, const double *u, const double *mu, int64_t nc,
-                       double factor, double &sum, double &cone) {
+                       double divisor, double &sum, double &cone) {
     sum = 0.0;
     cone = 0.0;
     for (int64_t a = 0; a < nc; ++a) {
-        const double ra[3] = {factor * r[3 * a], factor * r[3 * a + 1], factor * r[3 * a + 2]};
-        const double ua[3] = {factor * u[3 * a], factor * u[3 * a + 1], factor * u[3 * a + 2]};
+        const double ra[3] = {r[3 * a] / divisor, r[3 * a + 1] / divisor, r[3 * a + 2] / divisor};
+        const double ua[3] = {u[3 * a] / divisor, u[3 * a + 1] / divisor, u[3 * a + 2] / divisor};
         sum += frix::contact_residual_sq(ra, ua, mu[a]);
         double p[3] = {ra[0], ra[1], ra[2]};
         frix::local::project_on_cone(p, mu[a]);
@@ -75,7 +76,7 @@ Measures measures_from_ru(const double *r, const double *u, const double *mu, in
         // (r, u) / max|.|, where every square is in range, and scale the results back.
         const double a = std::max(max_abs(r, 3 * nc), max_abs(u, 3 * nc));
         if (a > 0.0) {
-            residual_and_cone(r, u, mu, nc, 1.0 / a, sum, cone);
+            residual_and_cone(r, u, mu, nc, a, sum, cone);
             m.residual_absolute = a * std::sqrt(sum);
             cone *= a;
         }

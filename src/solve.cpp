@@ -43,11 +43,14 @@ frix_error solve_local(const frix_problem &p, const frix_options &opts,
                 return fail(FRIX_ERR_INTERNAL, "frix_solve: solver %s returned a non-finite r[%lld]",
                             entry.name, (long long)i);
     }
+    // |u| is part of the test: an overflowed u can leave the relative error finite (it
+    // divides by |u| = Inf).
+    auto finite = [](const frix::Measures &x) { return std::isfinite(x.relative) && std::isfinite(x.norm_u); };
     frix::Measures meas = frix::local_measures(p, r, u);
-    if (!std::isfinite(meas.relative) && !warm_start.empty()) {
+    if (!finite(meas) && !warm_start.empty()) {
         std::copy(warm_start.begin(), warm_start.end(), r);
         meas = frix::local_measures(p, r, u);
-        if (!std::isfinite(meas.relative)) {
+        if (!finite(meas)) {
             std::fill(r, r + m, 0.0);  // u = q then: finite, since q was checked
             meas = frix::local_measures(p, r, u);
         }

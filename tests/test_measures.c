@@ -125,6 +125,12 @@ START_TEST(test_extreme_scales) {
     m = measure_one(0.5, qs, rs, u); /* the "wrong way" slide of test_sliding_on_boundary */
     ck_assert_double_eq_tol(m.abs / 1e-200, sqrt(0.8), 1e-14);
     ck_assert_double_eq_tol(m.cone / 1e-200, 0.0, 1e-14);
+    /* Subnormal data: the rescale must divide by the largest entry, not multiply by its
+     * inverse (which overflows). r = 0 with u = q > 0 is an exact solution. */
+    double qd[3] = {4.9406564584124654e-324, 4.9406564584124654e-324, 0}, r0[3] = {0, 0, 0};
+    m = measure_one(0.0, qd, r0, u);
+    ck_assert(isfinite(m.rel) && isfinite(m.abs));
+    ck_assert_double_eq(m.abs, 0.0);
 }
 END_TEST
 
