@@ -10,23 +10,10 @@
 #include <unistd.h>
 
 #include "check_main.h"
+#include "shared_data.h"
 #include "frix_testing.h"
 
-#ifndef FRIX_SHARED_DIR
-#define FRIX_SHARED_DIR ""
-#endif
 
-static frix_problem *load(const char *relative) {
-    char path[4096];
-    snprintf(path, sizeof path, "%s/fclib/%s", FRIX_SHARED_DIR, relative);
-    if (access(path, R_OK) != 0) {
-        fprintf(stderr, "note: %s not found, test skipped\n", path);
-        return NULL;
-    }
-    frix_problem *p = NULL;
-    ck_assert_msg(frix_fclib_read(path, &p) == FRIX_OK, "%s: %s", path, frix_last_error_message());
-    return p;
-}
 
 /* A small deterministic generator (the tests must not depend on rand()). */
 static uint64_t rng_state = 12345;

@@ -9,24 +9,9 @@
 #include <unistd.h>
 
 #include "check_main.h"
+#include "shared_data.h"
 
-#ifndef FRIX_SHARED_DIR
-#define FRIX_SHARED_DIR ""
-#endif
 
-/* The shared data directory may be absent (e.g. a bare checkout): such tests then pass
- * with a note instead of failing. */
-static frix_problem *load(const char *relative) {
-    char path[4096];
-    snprintf(path, sizeof path, "%s/fclib/%s", FRIX_SHARED_DIR, relative);
-    if (access(path, R_OK) != 0) {
-        fprintf(stderr, "note: %s not found, test skipped\n", path);
-        return NULL;
-    }
-    frix_problem *p = NULL;
-    ck_assert_msg(frix_fclib_read(path, &p) == FRIX_OK, "%s: %s", path, frix_last_error_message());
-    return p;
-}
 
 static frix_options *nsgs_options(double tol) {
     frix_options *o = NULL;
