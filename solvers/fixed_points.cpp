@@ -216,39 +216,25 @@ Outcome projected(Contact &c, const double *q, double s, double *r, const local:
 // u = l b(th), b = (mu, -cos th, -sin th), l >= 0 (the ray of K* orthogonal to a). The three
 // vectors W a, b and q are then coplanar: G(th) = det[W a(th), b(th), q] = 0, a trigonometric
 // polynomial of degree 2 (at most four roots), and (t, l) solve W a t - b l = -q.
-struct ConeAngle {
-    double A0, A1, B1, A2, B2, scale;
-    ConeAngle(const double *W, const double *q, double mu) {
-        // D(x, y) = det[x, y, q] for columns x of W and unit vectors y.
-        auto det = [q](const double *x, int e) {
-            // det[x, e_k, q] = x . (e_k x q)
-            const double ex[3] = {e == 0 ? 1.0 : 0.0, e == 1 ? 1.0 : 0.0, e == 2 ? 1.0 : 0.0};
-            const double c[3] = {ex[1] * q[2] - ex[2] * q[1], ex[2] * q[0] - ex[0] * q[2],
-                                 ex[0] * q[1] - ex[1] * q[0]};
-            return x[0] * c[0] + x[1] * c[1] + x[2] * c[2];
-        };
-        const double *w0 = W, *w1 = W + 3, *w2 = W + 6;
-        const double d11 = det(w1, 1), d22 = det(w2, 2), d12 = det(w1, 2), d21 = det(w2, 1);
-        A0 = mu * det(w0, 0) - 0.5 * mu * (d11 + d22);
-        A1 = -det(w0, 1) + mu * mu * det(w1, 0);
-        B1 = -det(w0, 2) + mu * mu * det(w2, 0);
-        A2 = -0.5 * mu * (d11 - d22);
-        B2 = -0.5 * mu * (d12 + d21);
-        scale = std::fabs(A0) + std::fabs(A1) + std::fabs(B1) + std::fabs(A2) + std::fabs(B2);
-    }
-    double value(double c, double s) const {
-        return A0 + A1 * c + B1 * s + A2 * (c * c - s * s) + 2.0 * B2 * c * s;
-    }
-    double derivative(double c, double s) const {
-        return -A1 * s + B1 * c - 4.0 * A2 * c * s + 2.0 * B2 * (c * c - s * s);
-    }
-};
-
-inline void rotate(double &c, double &s, double d) {
-    const double inv = 1.0 / std::sqrt(1.0 + d * d);
-    const double c2 = (c - s * d) * inv, s2 = (s + c * d) * inv;
-    c = c2;
-    s = s2;
+local::TrigPoly2 cone_angle_equation(const double *W, const double *q, double mu) {
+    // D(x, y) = det[x, y, q] for columns x of W and unit vectors y.
+    auto det = [q](const double *x, int e) {
+        // det[x, e_k, q] = x . (e_k x q)
+        const double ex[3] = {e == 0 ? 1.0 : 0.0, e == 1 ? 1.0 : 0.0, e == 2 ? 1.0 : 0.0};
+        const double c[3] = {ex[1] * q[2] - ex[2] * q[1], ex[2] * q[0] - ex[0] * q[2],
+                             ex[0] * q[1] - ex[1] * q[0]};
+        return x[0] * c[0] + x[1] * c[1] + x[2] * c[2];
+    };
+    const double *w0 = W, *w1 = W + 3, *w2 = W + 6;
+    const double d11 = det(w1, 1), d22 = det(w2, 2), d12 = det(w1, 2), d21 = det(w2, 1);
+    local::TrigPoly2 g;
+    g.A0 = mu * det(w0, 0) - 0.5 * mu * (d11 + d22);
+    g.A1 = -det(w0, 1) + mu * mu * det(w1, 0);
+    g.B1 = -det(w0, 2) + mu * mu * det(w2, 0);
+    g.A2 = -0.5 * mu * (d11 - d22);
+    g.B2 = -0.5 * mu * (d12 + d21);
+    g.set_scale();
+    return g;
 }
 
 // (t, l) of the root direction (c, s), if t > 0 and l >= 0: r = t a.
@@ -276,69 +262,8 @@ bool cone_reaction(const double *W, const double *q, double mu, double c, double
 // root bracketed on a 32-point grid. dir receives the root's direction.
 bool cone_slide(const double *W, const double *q, double mu, double hc, double hs, double *r,
                 double *dir) {
-    const ConeAngle g(W, q, mu);
-    if (!(g.scale > 0.0) || !std::isfinite(g.scale)) return false;
-    const double tiny = 1e-15 * g.scale;
-    auto newton = [&](double &c, double &s) {
-        for (int k = 0; k < 30; ++k) {
-            const double G = g.value(c, s);
-            if (std::fabs(G) <= tiny) return true;
-            const double dG = g.derivative(c, s);
-            if (!(std::fabs(dG) > 0.0)) return false;
-            const double d = -G / dG;
-            if (!std::isfinite(d) || std::fabs(d) > 1.0) return false;
-            rotate(c, s, d);
-            if (std::fabs(d) <= 1e-9) return true;
-        }
-        return false;
-    };
-    double c = hc, s = hs;
-    if (newton(c, s) && cone_reaction(W, q, mu, c, s, r)) {
-        dir[0] = c;
-        dir[1] = s;
-        return true;
-    }
-    constexpr int kSamples = 32;
-    constexpr double kCos = 0.98078528040323043, kSin = 0.19509032201612825;  // pi/16
-    double pc[kSamples], ps[kSamples], pg[kSamples];
-    pc[0] = 1.0;
-    ps[0] = 0.0;
-    for (int k = 1; k < kSamples; ++k) {
-        pc[k] = pc[k - 1] * kCos - ps[k - 1] * kSin;
-        ps[k] = ps[k - 1] * kCos + pc[k - 1] * kSin;
-    }
-    for (int k = 0; k < kSamples; ++k) pg[k] = g.value(pc[k], ps[k]);
-    double best = -2.0;
-    for (int k = 0; k < kSamples; ++k) {
-        const int j = (k + 1) % kSamples;
-        if ((pg[k] > 0.0) == (pg[j] > 0.0) && pg[k] != 0.0) continue;
-        // Bisection on the arc (pi/16 wide), then Newton polishing.
-        double lo_c = pc[k], lo_s = ps[k], glo = pg[k];
-        double t0 = 0.0, t1 = kSin / kCos;  // tan of the offset along the arc
-        double rc = lo_c, rs = lo_s;
-        for (int it = 0; it < 60 && glo != 0.0; ++it) {
-            const double tm = 0.5 * (t0 + t1);
-            const double inv = 1.0 / std::sqrt(1.0 + tm * tm);
-            rc = (lo_c - lo_s * tm) * inv;
-            rs = (lo_s + lo_c * tm) * inv;
-            const double gm = g.value(rc, rs);
-            if (gm == 0.0) break;
-            if ((gm > 0.0) == (glo > 0.0)) t0 = tm;
-            else t1 = tm;
-            if (t1 - t0 <= 1e-13) break;
-        }
-        newton(rc, rs);
-        double cand[3];
-        if (!cone_reaction(W, q, mu, rc, rs, cand)) continue;
-        const double closeness = rc * hc + rs * hs;
-        if (closeness > best) {
-            best = closeness;
-            std::copy(cand, cand + 3, r);
-            dir[0] = rc;
-            dir[1] = rs;
-        }
-    }
-    return best > -2.0;
+    return local::nearest_valid_root(cone_angle_equation(W, q, mu), W, q, mu, cone_reaction, hc, hs,
+                                     r, dir);
 }
 
 // One contact of the second-order cone complementarity problem K ∋ r _|_ W r + q ∈ K*

@@ -70,27 +70,19 @@ double relative_scale(const double *q, const double *r, const double *u) {
 // a = W (1, mu t), and u_T = r_N a_T + q_T anti-parallel to t. Multiplied by a_N > 0, the
 // parallelism condition t_perp . u_T = 0 reads G(theta) = 0 with G a trigonometric
 // polynomial of degree 2 (so at most 4 roots): G = A0 + A1 cos + B1 sin + A2 cos2 + B2 sin2.
-struct AngleEquation {
-    double A0, A1, B1, A2, B2, scale;
-
-    AngleEquation(const double *W, const double *q, double mu) {
-        const double wnn = W[0], p1 = W[3], p2 = W[6], v1 = W[1], v2 = W[2];
-        const double m11 = W[4], m12 = W[7], m21 = W[5], m22 = W[8];
-        const double qn = q[0], q1 = q[1], q2 = q[2];
-        A0 = 0.5 * mu * (p1 * q2 - p2 * q1) - 0.5 * qn * mu * (m21 - m12);
-        A1 = wnn * q2 - qn * v2;
-        B1 = -wnn * q1 + qn * v1;
-        A2 = 0.5 * mu * (p1 * q2 + p2 * q1) - 0.5 * qn * mu * (m21 + m12);
-        B2 = 0.5 * mu * (p2 * q2 - p1 * q1) - 0.5 * qn * mu * (m22 - m11);
-        scale = std::fabs(A0) + std::fabs(A1) + std::fabs(B1) + std::fabs(A2) + std::fabs(B2);
-    }
-    double value(double c, double s) const {
-        return A0 + A1 * c + B1 * s + A2 * (c * c - s * s) + 2.0 * B2 * c * s;
-    }
-    double derivative(double c, double s) const {
-        return -A1 * s + B1 * c - 4.0 * A2 * c * s + 2.0 * B2 * (c * c - s * s);
-    }
-};
+TrigPoly2 sliding_angle_equation(const double *W, const double *q, double mu) {
+    const double wnn = W[0], p1 = W[3], p2 = W[6], v1 = W[1], v2 = W[2];
+    const double m11 = W[4], m12 = W[7], m21 = W[5], m22 = W[8];
+    const double qn = q[0], q1 = q[1], q2 = q[2];
+    TrigPoly2 g;
+    g.A0 = 0.5 * mu * (p1 * q2 - p2 * q1) - 0.5 * qn * mu * (m21 - m12);
+    g.A1 = wnn * q2 - qn * v2;
+    g.B1 = -wnn * q1 + qn * v1;
+    g.A2 = 0.5 * mu * (p1 * q2 + p2 * q1) - 0.5 * qn * mu * (m21 + m12);
+    g.B2 = 0.5 * mu * (p2 * q2 - p1 * q1) - 0.5 * qn * mu * (m22 - m11);
+    g.set_scale();
+    return g;
+}
 
 // Rotates the unit vector (c, s) by atan(d): the Newton step d in angle, without sin/cos
 // (atan(d) = d + O(d^3), so quadratic convergence is kept).
@@ -104,7 +96,7 @@ inline void rotate(double &c, double &s, double d) {
     s = s2;
 }
 
-bool newton_angle(const AngleEquation &g, double &c, double &s) {
+bool newton_angle(const TrigPoly2 &g, double &c, double &s) {
     const double tiny = 1e-15 * g.scale;
     for (int k = 0; k < 30; ++k) {
         const double G = g.value(c, s);
@@ -122,7 +114,7 @@ bool newton_angle(const AngleEquation &g, double &c, double &s) {
 
 // Root in the arc from ta to tb (less than pi apart, G of opposite signs at the ends):
 // safeguarded Newton on tau, t(tau) = normalize(ta + tau ta_perp), tau in [0, tau_b].
-bool bracketed_root(const AngleEquation &g, double ca, double sa, double cb, double sb, double &c,
+bool bracketed_root(const TrigPoly2 &g, double ca, double sa, double cb, double sb, double &c,
                     double &s) {
     const double dot = ca * cb + sa * sb, cross = ca * sb - sa * cb;
     if (!(dot > 0.0)) return false;
@@ -326,10 +318,17 @@ bool slide_from(const Contact &c, const double *q, double hc, double hs, double 
         dir[1] = hs;
         return std::isfinite(r[0]);
     }
-    const AngleEquation g(c.W, q, c.mu);
+    return nearest_valid_root(sliding_angle_equation(c.W, q, c.mu), c.W, q, c.mu, sliding_reaction,
+                              hc, hs, r, dir);
+}
+
+}  // namespace
+
+bool nearest_valid_root(const TrigPoly2 &g, const double *W, const double *q, double mu,
+                        ReactionFn reaction, double hc, double hs, double *r, double *dir) {
     if (!(g.scale > 0.0) || !std::isfinite(g.scale)) return false;
     double tc = hc, ts = hs;
-    if (newton_angle(g, tc, ts) && sliding_reaction(c.W, q, c.mu, tc, ts, r)) {
+    if (newton_angle(g, tc, ts) && reaction(W, q, mu, tc, ts, r)) {
         dir[0] = tc;
         dir[1] = ts;
         return true;
@@ -358,7 +357,7 @@ bool slide_from(const Contact &c, const double *q, double hc, double hs, double 
         } else if (!bracketed_root(g, pc[k], ps[k], pc[j], ps[j], rc, rs)) {
             continue;
         }
-        if (!sliding_reaction(c.W, q, c.mu, rc, rs, cand)) continue;
+        if (!reaction(W, q, mu, rc, rs, cand)) continue;
         const double closeness = rc * hc + rs * hs;
         if (closeness > best) {
             best = closeness;
@@ -369,8 +368,6 @@ bool slide_from(const Contact &c, const double *q, double hc, double hs, double 
     }
     return best > -2.0;
 }
-
-}  // namespace
 
 bool solve_slide(const Contact &c, const double *q, const double *hint, double *r) {
     // Starting direction: the hint's tangential direction, else opposite to q_T.

@@ -3,6 +3,7 @@
 // Vectors are per contact, normal first; 3x3 matrices are column-major.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 namespace frix::local {
@@ -48,6 +49,32 @@ struct Params {
     double tol = 1e-12;  // on the one-contact residual, relative to max(|q|, |r|, |u|)
     int max_iter = 20;   // of the projected iterations (553, and 562's fallback)
 };
+
+// G(theta) = A0 + A1 cos + B1 sin + A2 cos 2theta + B2 sin 2theta, evaluated at the unit vector
+// (c, s) = (cos theta, sin theta): the form to which the boundary case of both one-contact
+// problems reduces (De Saxce sliding here, the second-order cone one in fixed_points.cpp).
+struct TrigPoly2 {
+    double A0 = 0, A1 = 0, B1 = 0, A2 = 0, B2 = 0, scale = 0;
+    void set_scale() {
+        scale = std::fabs(A0) + std::fabs(A1) + std::fabs(B1) + std::fabs(A2) + std::fabs(B2);
+    }
+    double value(double c, double s) const {
+        return A0 + A1 * c + B1 * s + A2 * (c * c - s * s) + 2.0 * B2 * c * s;
+    }
+    double derivative(double c, double s) const {
+        return -A1 * s + B1 * c - 4.0 * A2 * c * s + 2.0 * B2 * (c * c - s * s);
+    }
+};
+
+// Turns a root direction (c, s) into a reaction r (3) if it is a valid solution.
+using ReactionFn = bool (*)(const double *W, const double *q, double mu, double c, double s,
+                            double *r);
+
+// The root of g whose reaction is valid and whose direction is nearest the unit vector
+// (hc, hs): Newton from (hc, hs), else every sign change on a 32-point grid bracketed and
+// polished. dir (2) receives the root's direction. False if no valid root exists.
+bool nearest_valid_root(const TrigPoly2 &g, const double *W, const double *q, double mu,
+                        ReactionFn reaction, double hc, double hs, double *r, double *dir);
 
 // Solves the one-contact problem u = W_aa r + q, K ∋ r ⟂ u + mu|u_T| e_N ∈ K*.
 // r holds the current reaction on entry (warm start) and the new one on return; it is
