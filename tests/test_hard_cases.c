@@ -143,7 +143,14 @@ START_TEST(test_hard_case_every_solver) {
             ck_assert_msg(res.converged, "%s: solver %d: %s", c.name, solver, frix_status_string(res.status));
     }
     ck_assert_int_ge(ran, 1);
-    /* The case is solvable: at least one solver gets there (else the scene is wrong). */
+    /* The case is solvable: at least one solver gets there (else the scene is wrong). The
+     * loop above stops each run at TIME_LIMIT to keep the suite short, which a slow machine
+     * (or valgrind) can hit first; the verdict must not depend on timing, so it is settled
+     * again without a time limit, bounded by the iteration limit alone. */
+    for (int64_t k = 0; k < frix_solver_count() && converged == 0; ++k) {
+        run_result res = run(c.name, p, frix_solver_id_at(k), 1e-8, MAX_ITER, 0.0, r, u, v);
+        converged += res.err == FRIX_OK && res.converged;
+    }
     ck_assert_msg(converged >= 1, "%s: no solver converged", c.name);
     free(r);
     free(u);
@@ -200,7 +207,7 @@ START_TEST(test_scaled_problems_are_the_same_problem) {
     double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u);
     double *rs = calloc((size_t)m, sizeof *rs), dummy[1];
     /* A rough r (error ~1e-5): its error is far above rounding, so it must not move. */
-    run_result base = run("stack", f.local, FRIX_SOLVER_NSGS, 1e-5, 100000, 5.0, r, u, dummy);
+    run_result base = run("stack", f.local, FRIX_SOLVER_NSGS, 1e-5, 100000, 0.0, r, u, dummy);
     ck_assert(base.converged);
     /* Only q x factor scales r and u alike (r x factor): the natural-map residual mixes r
      * and u, so it is homogeneous under that scaling and under no other. */
@@ -215,7 +222,7 @@ START_TEST(test_scaled_problems_are_the_same_problem) {
         ck_assert_int_eq(frix_problem_error(f.local, r, NULL, &e0), FRIX_OK);
         ck_assert_int_eq(frix_problem_error(c.problem, rs, NULL, &e1), FRIX_OK);
         ck_assert_msg(fabs(e1 - e0) <= 1e-6 * e0, "%s: error %g, unscaled %g", name, e1, e0);
-        run_result sc = run(name, c.problem, FRIX_SOLVER_NSGS, 1e-12, 100000, 5.0, rs, u, dummy);
+        run_result sc = run(name, c.problem, FRIX_SOLVER_NSGS, 1e-12, 100000, 0.0, rs, u, dummy);
         ck_assert_msg(sc.converged, "%s: NSGS %s at %g", name, frix_status_string(sc.status), sc.error);
         frix_hard_case_free(&c);
     }
@@ -386,7 +393,7 @@ START_TEST(test_friction_is_isotropic) {
         ck_assert_int_eq(frix_scene_build(&sp, &s, NULL), FRIX_OK);
         ck_assert_int_eq(frix_scene_problems_make(&s, &f), FRIX_OK);
         double r[12], u[12], dummy[1];
-        run_result res = run("chain", f.local, FRIX_SOLVER_NSGS, 1e-12, 100000, 5.0, r, u, dummy);
+        run_result res = run("chain", f.local, FRIX_SOLVER_NSGS, 1e-12, 100000, 0.0, r, u, dummy);
         ck_assert_msg(res.converged, "chain, frame %g: %s", sp.frame_angle, frix_status_string(res.status));
         for (int64_t a = 0; a < 4; ++a) {
             double w[3];
