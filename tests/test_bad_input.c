@@ -23,6 +23,7 @@
 #include <unistd.h>
 
 #include "check_main.h"
+#include "cli_runner.h"
 #include "scenes.h"
 
 /* An allocation of terabytes fails with std::bad_alloc, which frix turns into
@@ -51,7 +52,7 @@ static const char *tmp_path(const char *name) {
     return out;
 }
 
-static char *slurp(const char *path, long *size) {
+static char *slurp_bytes(const char *path, long *size) {
     FILE *f = fopen(path, "rb");
     ck_assert_msg(f != NULL, "cannot open %s", path);
     fseek(f, 0, SEEK_END);
@@ -154,7 +155,7 @@ START_TEST(test_truncated_files) {
         const char *good = tmp_path(global ? "good_global.hdf5" : "good_local.hdf5");
         write_scene_file(good, global);
         long size = 0;
-        char *data = slurp(good, &size);
+        char *data = slurp_bytes(good, &size);
         const char *cut = tmp_path("truncated.hdf5");
         int refused = 0, n = 0;
         for (long len = 0; len < size; len += len < 64 ? 8 : 1 + size / 97) {
@@ -178,7 +179,7 @@ START_TEST(test_corrupted_files) {
         const char *good = tmp_path(global ? "good_global.hdf5" : "good_local.hdf5");
         write_scene_file(good, global);
         long size = 0;
-        char *data = slurp(good, &size);
+        char *data = slurp_bytes(good, &size);
         char *bad = malloc((size_t)size);
         const char *path = tmp_path("corrupted.hdf5");
         int n = 0, refused = 0, io = 0, format = 0;
@@ -264,7 +265,7 @@ START_TEST(test_global_file_defects) {
     const char *good = tmp_path("defect_base.hdf5"), *path = tmp_path("defect.hdf5");
     write_scene_file(good, 1);
     long size = 0;
-    char *data = slurp(good, &size);
+    char *data = slurp_bytes(good, &size);
     frix_problem *base = NULL;
     ck_assert_int_eq(frix_fclib_read(good, &base), FRIX_OK);
     const int64_t n = frix_problem_dofs(base), m = frix_problem_contact_dofs(base), nc = m / 3;
@@ -671,47 +672,6 @@ END_TEST
 
 /* ---- The command line ----------------------------------------------------------------- */
 
-typedef struct {
-    int code;
-    char *out, *err;
-} cli_run;
-
-static cli_run run_cli(const char *const *args) {
-    char out_path[512], err_path[512];
-    snprintf(out_path, sizeof out_path, "%s/bad_cli_%ld.out", FRIX_TEST_TMPDIR, (long)getpid());
-    snprintf(err_path, sizeof err_path, "%s/bad_cli_%ld.err", FRIX_TEST_TMPDIR, (long)getpid());
-    const char *argv[32];
-    int argc = 0;
-    argv[argc++] = FRIX_CLI;
-    while (args[argc - 1] != NULL) {
-        ck_assert_int_lt(argc, 31);
-        argv[argc] = args[argc - 1];
-        ++argc;
-    }
-    argv[argc] = NULL;
-    fflush(stdout);
-    fflush(stderr);
-    pid_t pid = fork();
-    ck_assert_int_ge(pid, 0);
-    if (pid == 0) {
-        int fo = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        int fe = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (fo < 0 || fe < 0 || dup2(fo, 1) < 0 || dup2(fe, 2) < 0) _exit(126);
-        execv(FRIX_CLI, (char *const *)argv);
-        _exit(127);
-    }
-    int status = 0;
-    ck_assert_int_eq(waitpid(pid, &status, 0), pid);
-    cli_run r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    long size;
-    r.out = slurp(out_path, &size);
-    r.err = slurp(err_path, &size);
-    unlink(out_path);
-    unlink(err_path);
-    return r;
-}
-
 /* Exit 2, nothing on stdout, exactly one line on stderr starting "frix: " and containing
  * `needle`. */
 static void expect_cli_refusal(const char *const *args, const char *needle) {
@@ -732,11 +692,11 @@ START_TEST(test_cli_bad_input) {
     write_scene_file(good, 0);
     write_scene_file(global, 1);
     long size = 0;
-    char *data = slurp(good, &size);
+    char *data = slurp_bytes(good, &size);
     const char *cut = tmp_path("cli_truncated.hdf5"), *nanmu = tmp_path("cli_nanmu.hdf5");
     spit(cut, data, size / 3);
     long gsize = 0;
-    char *gdata = slurp(global, &gsize);
+    char *gdata = slurp_bytes(global, &gsize);
     spit(nanmu, gdata, gsize);
     double mus[8] = {0.5, NAN, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5};
     replace_doubles(nanmu, "/fclib_global/vectors/mu", mus, 8);
@@ -759,7 +719,7 @@ START_TEST(test_cli_bad_input) {
         const char *a4[] = {"solve", bad_files[i], "--output", target, NULL};
         expect_cli_refusal(a4, bad_files[i]);
         long after_size = 0;
-        char *after = slurp(target, &after_size);
+        char *after = slurp_bytes(target, &after_size);
         ck_assert_int_eq(after_size, size);
         ck_assert(memcmp(after, data, (size_t)size) == 0);
         free(after);

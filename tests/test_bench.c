@@ -18,29 +18,11 @@
 #include <unistd.h>
 
 #include "check_main.h"
+#include "cli_runner.h"
 
 #define TMP FRIX_TEST_TMPDIR "/bench"
 
 /* ---- Files and processes ------------------------------------------------------------- */
-
-static char *slurp(const char *path) {
-    FILE *f = fopen(path, "rb");
-    ck_assert_msg(f != NULL, "cannot open %s", path);
-    size_t cap = 4096, len = 0, n;
-    char *buf = malloc(cap);
-    ck_assert_ptr_nonnull(buf);
-    while ((n = fread(buf + len, 1, cap - len - 1, f)) > 0) {
-        len += n;
-        if (cap - len < 2) {
-            cap *= 2;
-            buf = realloc(buf, cap);
-            ck_assert_ptr_nonnull(buf);
-        }
-    }
-    buf[len] = '\0';
-    fclose(f);
-    return buf;
-}
 
 static void write_text(const char *path, const char *text) {
     FILE *f = fopen(path, "wb");
@@ -95,7 +77,7 @@ static int run(const char *program, const char *const *args) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
-static int run_cli(const char *const *args) { return run(FRIX_CLI, args); }
+static int cli_exit_code(const char *const *args) { return run(FRIX_CLI, args); }
 
 /* Two contacts, converges in a few sweeps. */
 static void make_problem(const char *path) {
@@ -199,7 +181,7 @@ START_TEST(test_csv_files) {
     make_problem(path);
     const char *args[] = {"bench", TMP "/csv/problems", "--solvers", "nsgs,500", "--tol", "1e-10",
                           "--time-limit", "5", "--out", TMP "/csv/out", "--no-plots", NULL};
-    ck_assert_int_eq(run_cli(args), 0);
+    ck_assert_int_eq(cli_exit_code(args), 0);
 
     char *raw = slurp(TMP "/csv/out/runs.csv");
     const char *header = "problem,family,contacts,dofs,solver,status,iterations,error,time,";
@@ -242,15 +224,15 @@ END_TEST
 
 START_TEST(test_usage_errors) {
     const char *no_out[] = {"bench", FRIX_TEST_TMPDIR, "--solvers", "nsgs", NULL};
-    ck_assert_int_eq(run_cli(no_out), 2);
+    ck_assert_int_eq(cli_exit_code(no_out), 2);
     const char *bad_solver[] = {"bench", FRIX_TEST_TMPDIR, "--solvers", "nosuch", "--out",
                                 TMP "/never", NULL};
-    ck_assert_int_eq(run_cli(bad_solver), 2);
+    ck_assert_int_eq(cli_exit_code(bad_solver), 2);
     const char *bad_limit[] = {"bench", FRIX_TEST_TMPDIR, "--time-limit", "0", "--out", TMP "/never", NULL};
-    ck_assert_int_eq(run_cli(bad_limit), 2);
+    ck_assert_int_eq(cli_exit_code(bad_limit), 2);
     ck_assert(!exists(TMP "/never"));
     const char *help[] = {"bench", "--help", NULL};
-    ck_assert_int_eq(run_cli(help), 0);
+    ck_assert_int_eq(cli_exit_code(help), 0);
 }
 END_TEST
 
@@ -307,7 +289,7 @@ START_TEST(test_profile_known_values) {
     write_text(TMP "/profile/runs.csv", kRuns);
     write_text(TMP "/profile/traces.csv", kTraces);
     const char *args[] = {"bench", "--report", TMP "/profile", "--no-plots", NULL};
-    ck_assert_int_eq(run_cli(args), 0);
+    ck_assert_int_eq(cli_exit_code(args), 0);
 
     csv *p = csv_read(TMP "/profile/profile.csv");
     const double eps = 1e-12;
@@ -371,7 +353,7 @@ START_TEST(test_isolation) {
     const char *args[] = {"bench", TMP "/iso/problems", "--solvers", "nsgs", "--time-limit", "0.3",
                           "--grace", "0.5", "--out", TMP "/iso/out", "--no-plots", NULL};
     double t0 = now();
-    ck_assert_int_eq(run_cli(args), 0);
+    ck_assert_int_eq(cli_exit_code(args), 0);
     double wall = now() - t0;
     unsetenv("FRIX_BENCH_FAULT");
     ck_assert_msg(wall < 10, "campaign took %g s", wall);
@@ -418,7 +400,7 @@ START_TEST(test_siconos_comparator) {
 
     const char *args[] = {"bench", TMP "/sic/problems", "--solvers", "nsgs,siconos:NSGS,siconos:504",
                           "--tol", "1e-10", "--time-limit", "5", "--out", TMP "/sic/out", "--no-plots", NULL};
-    ck_assert_int_eq(run_cli(args), 0);
+    ck_assert_int_eq(cli_exit_code(args), 0);
     csv *runs = csv_read(TMP "/sic/out/runs.csv");
     ck_assert_int_eq(runs->rows, 4);
     int r = csv_find(runs, "solver", "siconos:NSGS", NULL, NULL);

@@ -1,0 +1,79 @@
+/* Shared by the tests that run the `frix` executable (FRIX_CLI) in a child process, and that
+ * read whole files. Include after the system headers (needs _POSIX_C_SOURCE). */
+#ifndef FRIX_CLI_RUNNER_H
+#define FRIX_CLI_RUNNER_H
+
+#include <check.h>
+#include <fcntl.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+typedef struct {
+    int code; /* exit code, or 128 + signal */
+    char *out, *err;
+} cli_run;
+
+static inline char *slurp(const char *path) {
+    FILE *f = fopen(path, "rb");
+    ck_assert_msg(f != NULL, "cannot open %s", path);
+    size_t cap = 4096, len = 0, n;
+    char *buf = malloc(cap);
+    ck_assert_ptr_nonnull(buf);
+    while ((n = fread(buf + len, 1, cap - len - 1, f)) > 0) {
+        len += n;
+        if (cap - len < 2) {
+            cap *= 2;
+            buf = realloc(buf, cap);
+            ck_assert_ptr_nonnull(buf);
+        }
+    }
+    buf[len] = '\0';
+    fclose(f);
+    return buf;
+}
+
+/* Runs FRIX_CLI with the NULL-terminated arguments; stdout and stderr go through files
+ * (no pipe can fill up and block the child). */
+static inline cli_run run_cli(const char *const *args) {
+    char out_path[512], err_path[512];
+    snprintf(out_path, sizeof out_path, "%s/cli_%ld.out", FRIX_TEST_TMPDIR, (long)getpid());
+    snprintf(err_path, sizeof err_path, "%s/cli_%ld.err", FRIX_TEST_TMPDIR, (long)getpid());
+    const char *argv[32];
+    int argc = 0;
+    argv[argc++] = FRIX_CLI;
+    for (; args[argc - 1] != NULL; ++argc) {
+        ck_assert_int_lt(argc, 31);
+        argv[argc] = args[argc - 1];
+    }
+    argv[argc] = NULL;
+
+    fflush(stdout);
+    fflush(stderr);
+    pid_t pid = fork();
+    ck_assert_int_ge(pid, 0);
+    if (pid == 0) {
+        int fo = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        int fe = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (fo < 0 || fe < 0 || dup2(fo, 1) < 0 || dup2(fe, 2) < 0) _exit(126);
+        execv(FRIX_CLI, (char *const *)argv);
+        _exit(127);
+    }
+    int status = 0;
+    ck_assert_int_eq(waitpid(pid, &status, 0), pid);
+    cli_run r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = slurp(out_path);
+    r.err = slurp(err_path);
+    unlink(out_path);
+    unlink(err_path);
+    return r;
+}
+
+static inline void run_free(cli_run *r) {
+    free(r->out);
+    free(r->err);
+}
+
+#endif
