@@ -520,7 +520,10 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         info.status = FRIX_STATUS_CONVERGED;
         info.iterations = 0;
     } else if (entry.solves_global) {
-        // Newton on (v, r) from the caller's r.
+        // Newton on (v, r) from the caller's r, with the velocity that r gives (not M^-1 f:
+        // a warm-started (v, r) must satisfy the equilibrium M v = H r + f to start with).
+        if (std::any_of(r, r + m, [](double x) { return x != 0.0; }))
+            if (frix_error e = recover_velocity(p, ms, r, v)) return e;
         frix_info native = info;
         SolveContext ctx{p, opts, r, u, v, native, clock};
         if (frix_error e = entry.solve(ctx)) return e;

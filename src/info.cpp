@@ -30,6 +30,9 @@ FRIX_API frix_error frix_info_get_int(const frix_info *info, frix_info_key key, 
         case FRIX_INFO_SYMBOLIC_ANALYSES: *value = info->symbolic_analyses; return FRIX_OK;
         case FRIX_INFO_HYBRID_SWEEPS: *value = info->hybrid_sweeps; return FRIX_OK;
         case FRIX_INFO_INNER_ITERATIONS: *value = info->inner_iterations; return FRIX_OK;
+        case FRIX_INFO_ISLANDS: *value = info->islands; return FRIX_OK;
+        case FRIX_INFO_SWITCHES: *value = info->switches; return FRIX_OK;
+        case FRIX_INFO_EXISTENCE: *value = info->existence; return FRIX_OK;
         default: break;
     }
     return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_info_get_int: key %d is not an int key", (int)key);
@@ -50,6 +53,7 @@ FRIX_API frix_error frix_info_get_double(const frix_info *info, frix_info_key ke
         case FRIX_INFO_TOLERANCE: *value = info->tolerance; return FRIX_OK;
         case FRIX_INFO_FACTORIZATION_TIME: *value = info->factorization_time; return FRIX_OK;
         case FRIX_INFO_SETUP_TIME: *value = info->setup_time; return FRIX_OK;
+        case FRIX_INFO_EXISTENCE_MARGIN: *value = info->existence_margin; return FRIX_OK;
         default: break;
     }
     return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_info_get_double: key %d is not a double key", (int)key);
@@ -61,5 +65,20 @@ FRIX_API frix_status frix_info_status(const frix_info *info) {
 FRIX_API int64_t frix_info_iterations(const frix_info *info) { return info ? info->iterations : 0; }
 FRIX_API double frix_info_error(const frix_info *info) { return info ? info->error : NAN; }
 FRIX_API double frix_info_solve_time(const frix_info *info) { return info ? info->solve_time : 0.0; }
+FRIX_API const char *frix_info_trace(const frix_info *info) {
+    if (!info) return "";
+    info->trace_text = frix::format_trace(*info);
+    return info->trace_text.c_str();
+}
+
+FRIX_API const char *frix_existence_describe(frix_existence verdict) {
+    switch (verdict) {
+        case FRIX_EXISTENCE_NOT_CHECKED: return "not checked";
+        case FRIX_EXISTENCE_GUARANTEED: return "a solution exists";
+        case FRIX_EXISTENCE_DOUBTFUL: return "no solution may exist";
+        case FRIX_EXISTENCE_UNDETERMINED: return "undetermined";
+    }
+    return "unknown verdict";
+}
 
 }  // extern "C"

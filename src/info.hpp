@@ -5,6 +5,35 @@
 
 #include <cmath>
 #include <cstdint>
+#include <string>
+#include <vector>
+
+namespace frix {
+
+// One line of the trace (frix_info_trace) of the auto solver, kept as data and formatted only
+// when asked for: formatting numbers costs more than solving a small problem.
+struct TraceEvent {
+    enum Kind { kAnalysis, kStage, kGiveUp, kTighten, kGlobalFallback, kExistence } kind;
+    int64_t island = 0;           // 1-based; 0 when the problem is solved as one island
+    int64_t island_contacts = 0;
+    int solver_id = 0;
+    frix_status status = FRIX_STATUS_NOT_RUN;
+    const char *why = nullptr;    // a static string: why the watchdog stopped the stage
+    int64_t iterations = 0;
+    double seconds = 0.0, error = 0.0, value = 0.0;  // value: kTighten's new tolerance
+};
+
+// What the auto solver's analysis found (the kAnalysis line).
+struct AnalysisSummary {
+    int64_t contacts = 0, blocks = 0, islands = 0, largest_island = 0, dofs = 0;
+    double diag_min = 0.0, diag_max = 0.0, mu_min = 0.0, mu_max = 0.0, rank_ratio = 0.0;
+};
+
+// The trace's text (src/trace.cpp): all of it, or one event's line.
+std::string format_trace(const frix_info &info);
+std::string format_event(const frix_info &info, const TraceEvent &event);
+
+}  // namespace frix
 
 struct frix_info {
     frix_status status = FRIX_STATUS_NOT_RUN;
@@ -31,4 +60,12 @@ struct frix_info {
     int64_t inner_iterations = 0;
     double factorization_time = 0.0;
     double setup_time = 0.0;
+
+    int64_t islands = 0;
+    int64_t switches = 0;
+    frix_existence existence = FRIX_EXISTENCE_NOT_CHECKED;
+    double existence_margin = NAN;
+    frix::AnalysisSummary analysis;
+    std::vector<frix::TraceEvent> trace;
+    mutable std::string trace_text;  // formatted by frix_info_trace
 };

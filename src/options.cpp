@@ -62,6 +62,8 @@ const KeySpec kKeys[] = {
     {FRIX_OPT_INNER_MAX_ITER, "inner_max_iter", true, 1.0, 1e9, 1000.0},
     {FRIX_OPT_INNER_TOLERANCE_RATIO, "inner_tolerance_ratio", false, 1e-6, 1.0, 0.1},
     {FRIX_OPT_ACCELERATION, "acceleration", true, 0.0, 1.0, 1.0},
+    {FRIX_OPT_THREADS, "threads", true, 1.0, 256.0, 1.0},
+    {FRIX_OPT_EXISTENCE_CHECK, "existence_check", true, 0.0, 1.0, 1.0},
 };
 
 const frix_option_key kCommonKeys[] = {FRIX_OPT_TOLERANCE, FRIX_OPT_MAX_ITER, FRIX_OPT_TIME_LIMIT,

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <string>
 
+#include "auto.hpp"
 #include "error_state.hpp"
 #include "first_order.hpp"
 #include "global.hpp"
@@ -29,6 +30,7 @@ const frix::SolverEntry *const kSolvers[] = {
     &frix::kTfpEntry,
     &frix::kAclmEntry,
     &frix::kAdmmEntry,
+    &frix::kAutoEntry,
 };
 constexpr int64_t kSolverCount = sizeof kSolvers / sizeof kSolvers[0];
 

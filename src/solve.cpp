@@ -11,13 +11,13 @@
 #include "measures.hpp"
 #include "solver_api.hpp"
 
-namespace {
-
 using frix::fail;
 
-frix_error solve_local(const frix_problem &p, const frix_options &opts,
-                       const frix::SolverEntry &entry, double *r, double *u, frix_info &info,
-                       const frix::Stopwatch &clock) {
+namespace frix {
+
+frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
+                               const SolverEntry &entry, double *r, double *u, frix_info &info,
+                               const Stopwatch &clock) {
     const int64_t m = 3 * p.nc;
     bool separating = true;
     for (int64_t a = 0; a < p.nc && separating; ++a) separating = p.q[3 * a] >= 0.0;
@@ -63,7 +63,7 @@ frix_error solve_local(const frix_problem &p, const frix_options &opts,
     return FRIX_OK;
 }
 
-}  // namespace
+}  // namespace frix
 
 extern "C" {
 
@@ -99,11 +99,11 @@ FRIX_API frix_error frix_solve(const frix_problem *problem, const frix_options *
             if (problem->n > 0 && !v)
                 return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_solve: v is required for a global problem (%lld entries)",
                             (long long)problem->n);
-            err = frix::solve_global_problem(*problem, *options, *entry, r, u, v, out, clock, solve_local);
+            err = frix::solve_global_problem(*problem, *options, *entry, r, u, v, out, clock, frix::solve_local_problem);
         } else if (!entry->solves_local) {
             err = fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s solves global problems only", entry->name);
         } else {
-            err = solve_local(*problem, *options, *entry, r, u, out, clock);
+            err = frix::solve_local_problem(*problem, *options, *entry, r, u, out, clock);
         }
         out.solve_time = clock.seconds();
         return err;

@@ -69,7 +69,14 @@ const SolverEntry *find_solver(int id);
 int64_t solver_count();
 const SolverEntry &solver_at(int64_t index);
 
+// The driver's local path (src/solve.cpp): the all-separating case, a finite warm start,
+// `entry`'s solve, the final measures of r and the status check against them. Also the local
+// step of the reduction route of global problems.
+frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
+                               const SolverEntry &entry, double *r, double *u, frix_info &info,
+                               const Stopwatch &clock);
+
 // The default solver of frix_solve(problem, NULL, ...).
-constexpr int kDefaultSolver = FRIX_SOLVER_NSGS;
+constexpr int kDefaultSolver = FRIX_SOLVER_AUTO;
 
 }  // namespace frix

@@ -55,7 +55,12 @@ typedef enum frix_option_key FRIX_ENUM_BASE {
     FRIX_OPT_INNER_MAX_ITER = 25, /* int: inner sweeps per outer iteration */
     FRIX_OPT_INNER_TOLERANCE_RATIO = 26, /* double in (0, 1]: inner tolerance = ratio * outer error */
     /* ADMM (523) */
-    FRIX_OPT_ACCELERATION = 27    /* int 0/1: Nesterov acceleration with restart */
+    FRIX_OPT_ACCELERATION = 27,   /* int 0/1: Nesterov acceleration with restart */
+    /* auto (900) */
+    FRIX_OPT_THREADS = 28,        /* int >= 1: threads auto may use to solve independent islands
+                                     at once (default 1; results do not depend on it) */
+    FRIX_OPT_EXISTENCE_CHECK = 29 /* int 0/1: when the solve fails, check whether a solution
+                                     exists (frix_problem_check_existence; default 1) */
 } frix_option_key;
 
 typedef enum frix_rho_strategy FRIX_ENUM_BASE {

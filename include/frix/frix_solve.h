@@ -28,7 +28,10 @@ enum {
     FRIX_SOLVER_VI_EG = 507,       /* VI extragradient, self-adaptive step */
     FRIX_SOLVER_HP = 508,          /* hyperplane projection */
     FRIX_SOLVER_ACLM = 516,        /* Acary-Cadoux-Lemarechal-Malick fixed point on s = |u_T| */
-    FRIX_SOLVER_ADMM = 523         /* ADMM on r = xi, W + rho I factorised */
+    FRIX_SOLVER_ADMM = 523,        /* ADMM on r = xi, W + rho I factorised */
+    FRIX_SOLVER_AUTO = 900         /* the default: analyses the problem, splits it into
+                                      independent islands and runs a watched sequence of the
+                                      solvers above on each (see docs/auto.md) */
 };
 
 FRIX_API int64_t frix_solver_count(void);
@@ -59,6 +62,11 @@ typedef enum frix_info_key FRIX_ENUM_BASE {
     FRIX_INFO_HYBRID_SWEEPS = 9,     /* NSGS sweeps run by a hybrid Newton's fallback */
     FRIX_INFO_INNER_ITERATIONS = 10, /* fixed points (503, 516): inner sweeps, summed over the
                                         outer iterations */
+    FRIX_INFO_ISLANDS = 11,          /* auto: independent groups of contacts (connected
+                                        components of W's block graph) solved separately */
+    FRIX_INFO_SWITCHES = 12,         /* auto: solver changes made by its watchdog, all islands */
+    FRIX_INFO_EXISTENCE = 13,        /* frix_existence: verdict of the existence check, when
+                                        one ran (auto on failure, frix_problem_check_existence) */
     /* double keys */
     FRIX_INFO_ERROR = 100,          /* the measure compared with the tolerance (FRIX_OPT_ERROR_MEASURE) */
     FRIX_INFO_ERROR_RELATIVE = 101, /* natural-map residual / max(|q|,|r|,|u|) (Siconos 4.4) */
@@ -71,9 +79,47 @@ typedef enum frix_info_key FRIX_ENUM_BASE {
     FRIX_INFO_SOLVE_TIME = 120,     /* seconds, wall clock, whole frix_solve call */
     FRIX_INFO_TOLERANCE = 121,      /* the tolerance the solve was asked for */
     FRIX_INFO_FACTORIZATION_TIME = 122, /* seconds in symbolic analyses and factorisations */
-    FRIX_INFO_SETUP_TIME = 123      /* global problems: seconds forming W = H^T M^-1 H and q
+    FRIX_INFO_SETUP_TIME = 123,     /* global problems: seconds forming W = H^T M^-1 H and q
                                        (reduction route), 0 otherwise */
+    FRIX_INFO_EXISTENCE_MARGIN = 124 /* existence check: the best margin t* / |q|_rms, bounded
+                                        from below (> 0, a solution exists) or from above
+                                        (<= 0, no solution may exist); NaN when not checked
+                                        or undetermined. See frix_existence */
 } frix_info_key;
+
+/* Verdict of the existence check (frix_problem_check_existence). A solution exists when
+ * some z puts W z + q strictly inside the dual cone K* at every contact (for a global
+ * problem: some v with H^T v + w in int K*; Klarbring-Pang, Cadoux). When no such z exists
+ * there is a certificate y in K, y != 0, with W y = 0 (H y = 0) and q.y <= 0 (w.y <= 0):
+ * a self-equilibrated reaction in the friction cones that does no work, and a solution
+ * may not exist.
+ *
+ * FRIX_INFO_EXISTENCE_MARGIN tells how far the problem is from the boundary between the
+ * two: with e = (1, 0, 0) at every contact, t* = sup{t : some z has W z + q - t e in K* at
+ * every contact}, divided by |q|_rms = sqrt(sum_a |q_a|^2 / nc) (|w|_rms for a global
+ * problem). t* > 0 exactly when a strictly feasible z exists, and is often +inf (bodies
+ * that can all move apart). The margin is
+ *   GUARANTEED:  > 0, a lower bound: the margin of the z the check found, min_a (u_N,a -
+ *                mu_a |u_T,a|) / |q|_rms with u = W z + q (+inf without contacts or with
+ *                q = 0); 0 for a local problem without a strictly feasible z found but whose
+ *                contacts all separate (q_N >= 0: r = 0 is a solution);
+ *   DOUBTFUL:    <= 0, the bound of the certificate, q.y / (sum_a y_N,a |q|_rms), an upper
+ *                bound of the margin where W y = 0 exactly; 0 means on the boundary (within
+ *                1e-9: no strictly feasible z, though a solution may still exist);
+ *   otherwise:   NaN.
+ * y counts as W y = 0 when it does (almost) no work: y.W y <= 1e-12 lambda_max(W) |y|^2
+ * and |W y|, |W^T y| <= 3e-6 lambda_max(W) |y|, W Jacobi-scaled (H^T diag(M)^-1 H for a
+ * global problem). */
+typedef enum frix_existence FRIX_ENUM_BASE {
+    FRIX_EXISTENCE_NOT_CHECKED = 0,
+    FRIX_EXISTENCE_GUARANTEED = 1,     /* a strictly feasible z was found: a solution exists,
+                                          a failed solve is the solver's failure */
+    FRIX_EXISTENCE_DOUBTFUL = 2,       /* a certificate y was found: no solution may exist,
+                                          a failed solve may be the problem's fault */
+    FRIX_EXISTENCE_UNDETERMINED = 3    /* the check ran out of its budget without either */
+} frix_existence;
+/* "not checked", "a solution exists", "no solution may exist", "undetermined". */
+FRIX_API const char *frix_existence_describe(frix_existence verdict);
 
 FRIX_API frix_error frix_info_create(frix_info **out);
 FRIX_API void frix_info_free(frix_info *info);
@@ -84,6 +130,10 @@ FRIX_API frix_status frix_info_status(const frix_info *info);
 FRIX_API int64_t frix_info_iterations(const frix_info *info);
 FRIX_API double frix_info_error(const frix_info *info);
 FRIX_API double frix_info_solve_time(const frix_info *info);
+/* What the solve did, one line per step, for people: auto lists its analysis, its islands,
+ * every solver it ran and why it switched. "" for a solver that has nothing to add. The
+ * string belongs to info and lives until the next solve with it or frix_info_free. */
+FRIX_API const char *frix_info_trace(const frix_info *info);
 
 /* ---- Solving.
  * r (3nc) is read as the initial guess (warm start) and holds the result; u (3nc) receives
@@ -100,6 +150,17 @@ FRIX_API frix_error frix_solve(const frix_problem *problem, const frix_options *
  * FRIX_INFO_ERROR with the relative measure. u (optional, 3nc) receives W r + q. */
 FRIX_API frix_error frix_problem_measure(const frix_problem *problem, const double *r,
                                          const double *v, double *u, frix_info *info);
+/* Existence check of a local or global problem: looks for a strictly feasible z (W z + q
+ * in int K*) or a certificate that none exists (see frix_existence), by an accelerated
+ * projected-gradient search on 1/2 dist^2(W z + q - t e, K*). Sets FRIX_INFO_EXISTENCE and
+ * FRIX_INFO_EXISTENCE_MARGIN of info and leaves its other keys alone.
+ * time_limit: seconds in [0, 1e9]; 0 = the default budget, about 1e9 multiply-adds (from
+ * 10^6 steps for a tiny problem down to 1000 for a huge one, a step costing one or two
+ * products with W or H) and never more than 2 s. Deterministic, except where a time limit
+ * cuts the search short. FRIX_ERR_INVALID_ARGUMENT for a NULL problem or info or a
+ * time_limit out of range; the problem's vectors are checked again as by frix_solve. */
+FRIX_API frix_error frix_problem_check_existence(const frix_problem *problem, double time_limit,
+                                                 frix_info *info);
 /* Just the default measure (FRIX_INFO_ERROR_RELATIVE). */
 FRIX_API frix_error frix_problem_error(const frix_problem *problem, const double *r,
                                        const double *v, double *error);

@@ -20,7 +20,7 @@ struct Setting {
 
 struct SolveArgs {
     std::string file, output;
-    std::string solver = "nsgs";
+    std::string solver = "auto";
     std::vector<Setting> settings;
     bool json = false;
 };
@@ -41,6 +41,9 @@ struct Report {
     int64_t newton_iterations = 0, line_search_steps = 0, factorizations = 0, symbolic_analyses = 0,
             hybrid_sweeps = 0;
     double factorization_time = 0.0, setup_time = 0.0;
+    // Whether a solution exists at all: the solver's own check, or the CLI's after a failure.
+    frix_existence existence = FRIX_EXISTENCE_NOT_CHECKED;
+    double existence_margin = NAN;
 };
 
 SolveArgs parse(int argc, char **argv, bool &help) {
@@ -127,6 +130,13 @@ double info_double(const frix_info *info, frix_info_key key) {
     return v;
 }
 
+void read_existence(Report &r, const frix_info *info) {
+    int64_t existence = FRIX_EXISTENCE_NOT_CHECKED;
+    frix_info_get_int(info, FRIX_INFO_EXISTENCE, &existence);
+    r.existence = static_cast<frix_existence>(existence);
+    r.existence_margin = info_double(info, FRIX_INFO_EXISTENCE_MARGIN);
+}
+
 void fill_from_info(Report &r, const frix_info *info) {
     int64_t id = 0;
     if (frix_info_get_int(info, FRIX_INFO_SOLVER_ID, &id) == FRIX_OK)
@@ -152,6 +162,32 @@ void fill_from_info(Report &r, const frix_info *info) {
     frix_info_get_int(info, FRIX_INFO_HYBRID_SWEEPS, &r.hybrid_sweeps);
     r.factorization_time = info_double(info, FRIX_INFO_FACTORIZATION_TIME);
     r.setup_time = info_double(info, FRIX_INFO_SETUP_TIME);
+    read_existence(r, info);
+}
+
+// A failed solve says whether the problem has a solution at all: the solver's verdict when
+// it checked (auto does), otherwise the library's check with its default budget. A check
+// that cannot run leaves "not checked": the solve's own report matters more.
+void check_existence_after_failure(Report &r, const frix_problem *problem, frix_info *info) {
+    if (r.status == FRIX_STATUS_CONVERGED || r.existence != FRIX_EXISTENCE_NOT_CHECKED) return;
+    if (frix_problem_check_existence(problem, 0.0, info) == FRIX_OK) read_existence(r, info);
+}
+
+// The existence line of a failed solve: the verdict and what it means for the failure.
+std::string existence_text(const Report &r) {
+    char margin[64];
+    std::snprintf(margin, sizeof margin, "margin %.2e", r.existence_margin);
+    const std::string verdict = frix_existence_describe(r.existence);
+    switch (r.existence) {
+        case FRIX_EXISTENCE_GUARANTEED:
+            return verdict + " (" + margin + "): the solver failed to find it";
+        case FRIX_EXISTENCE_DOUBTFUL:
+            return verdict + " (certificate: a reaction in the cones that does no work, " + margin + ")";
+        case FRIX_EXISTENCE_UNDETERMINED:
+            return verdict + " (the check ran out of budget)";
+        default:
+            return verdict;
+    }
 }
 
 const char *measure_name(int64_t measure) {
@@ -176,6 +212,8 @@ void print_json(const Report &r) {
     w.string("error_measure", measure_name(r.measure));
     w.number("tolerance", r.tolerance);
     w.number("time", r.time);
+    w.string("existence", frix_existence_describe(r.existence));
+    w.number("existence_margin", r.existence_margin);
     w.begin_object("measures");
     w.number("error_relative", r.error_relative);
     w.number("error_q_relative", r.error_q_relative);
@@ -211,6 +249,8 @@ void print_text(const Report &r) {
                     static_cast<long long>(r.contacts), static_cast<long long>(r.dofs));
     std::printf("%-16s %s (id %d)\n", "solver", r.solver_name.c_str(), r.solver_id);
     std::printf("%-16s %s\n", "status", frix_status_string(r.status));
+    if (r.status != FRIX_STATUS_CONVERGED)
+        std::printf("%-16s %s\n", "existence", existence_text(r).c_str());
     std::printf("%-16s %lld\n", "iterations", static_cast<long long>(r.iterations));
     std::printf("%-16s %.3e (%s, tolerance %.1e)\n", "error", r.error, measure_name(r.measure),
                 r.tolerance);
@@ -268,6 +308,7 @@ int cmd_solve(int argc, char **argv) {
     err = frix_solve(problem.get(), opts.get(), r.data(), u.data(), vp, info.get());
     if (err != FRIX_OK) fail("cannot solve " + a.file + ": " + library_message(err));
     fill_from_info(rep, info.get());
+    check_existence_after_failure(rep, problem.get(), info.get());
 
     // Written whatever the status: a non-converged iterate is still worth inspecting.
     std::string write_error;

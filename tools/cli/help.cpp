@@ -11,7 +11,7 @@ const char kExitText[] =
 // "tolerance 1e-08, max_iter 1000" for the default solver, as far as the library tells.
 std::string default_settings() {
     frix_options *o = nullptr;
-    if (frix_options_create(FRIX_SOLVER_NSGS, &o) != FRIX_OK) return "";
+    if (frix_options_create(FRIX_SOLVER_AUTO, &o) != FRIX_OK) return "";
     std::string s;
     double tol = 0;
     int64_t iters = 0;
@@ -61,11 +61,13 @@ void print_solve_help(std::FILE *out) {
         "\n"
         "Solves the FCLIB problem (local or global) in FILE starting from r = 0, and\n"
         "prints the solver, status, iterations, error (the measure compared with the\n"
-        "tolerance), time, and the other error measures.\n"
+        "tolerance), time, and the other error measures. When the solve fails, it\n"
+        "also says whether a solution exists at all (frix_problem_check_existence):\n"
+        "a failure of the solver, a problem that may have none, or undetermined.\n"
         "\n"
         "Options:\n"
         "  --solver NAME|ID    a name or id from 'frix solvers', or the Siconos spelling\n"
-        "                      (FRICTION_3D_NSGS); default nsgs\n"
+        "                      (FRICTION_3D_NSGS); default auto\n"
         "  --tol T             stop when the error <= T\n"
         "  --max-iter N        iteration limit\n"
         "  --time-limit S      limit on the solve time in seconds (0 = none)\n"
@@ -76,7 +78,7 @@ void print_solve_help(std::FILE *out) {
         "  -v, --verbose       the solver prints its progress on stderr (repeat: more)\n"
         "  -h, --help          show this help\n",
         out);
-    if (!defaults.empty()) std::fprintf(out, "\nDefaults of nsgs: %s.\n", defaults.c_str());
+    if (!defaults.empty()) std::fprintf(out, "\nDefaults of auto: %s.\n", defaults.c_str());
     std::fputs("\n", out);
     std::fputs(kExitText, out);
 }

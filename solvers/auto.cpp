@@ -1,0 +1,594 @@
+// auto (id 900), frix's default solver: one solver that is both robust and fast.
+//
+// No single method wins everywhere (docs/benchmarks.md): NSGS is the fastest on small and
+// well-conditioned problems and stalls on stiff ones; Newton converges in a few steps near a
+// solution and wanders on rank-deficient rigid problems; PROX and ADMM solve nearly
+// everything, slowly. auto therefore
+//   1. analyses the problem (sizes, |W_aa| and mu ranges, islands: the connected components
+//      of W's block graph) and solves each island on its own (at once on several threads
+//      when the caller allows them): an island that converges stops costing sweeps;
+//   2. runs on each island a watched sequence of stages from the best iterate so far:
+//      NSGS while its convergence rate promises to reach the tolerance soon, then Newton
+//      (Alart-Curnier, line search, NSGS hybrid), then PROX and ADMM, cycling while time
+//      and progress allow; a watchdog on every stage's progress callback stops a stage that
+//      stalls, and every switch is written to the trace (frix_info_trace);
+//   3. combines the islands exactly: the final error is measured on the whole problem, and
+//      islands are re-solved to a tighter tolerance until that measure meets the tolerance;
+//   4. when it fails, checks whether a solution exists at all (frix_problem_check_existence)
+//      and says so.
+// Global problems go through the reduction W = H^T M^-1 H with the same strategy, and fall
+// back on Newton on (v, r) (607) when the reduced solve fails.
+#include <algorithm>
+#include <atomic>
+#include <cfloat>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "auto.hpp"
+#include "auto_analysis.hpp"
+#include "error_state.hpp"
+#include "existence.hpp"
+#include "first_order.hpp"
+#include "global.hpp"
+#include "measures.hpp"
+#include "newton.hpp"
+#include "nsgs.hpp"
+#include "solver_api.hpp"
+
+namespace frix {
+namespace autosolve {
+
+namespace {
+
+// ---- Tuning (measured on ../shared/fclib, fclib-large and the hard cases; see docs/auto.md).
+// Every rule counts iterations, never seconds: without a time limit the result does not
+// depend on the machine's speed or load.
+
+// NSGS goes on while the rate of its second half predicts the tolerance within this many
+// times the sweeps it has already run (a doubling rule: giving up late wastes at most a
+// constant share of the total) ...
+constexpr double kNsgsPatience = 3.0;
+// ... and is not judged before this many sweeps (early sweeps are erratic), nor before it
+// has done this much work (sweeps x W blocks): on small problems NSGS costs next to nothing
+// and often wins after a slow start.
+constexpr int64_t kNsgsMinSweeps = 30;
+constexpr double kNsgsMinWork = 2e5;
+// The first NSGS stage's sweep limit (the NSGS default).
+constexpr int64_t kFirstNsgsSweeps = 20000;
+// A stage is stopped when its best error has not fallen tenfold within half its iterations
+// so far, and at least within `patience` of them.
+struct StageSpec {
+    int solver_id;
+    int64_t patience;      // iterations as the solver's callback counts them
+    int64_t first_budget;  // iterations of the first round; doubled every round
+};
+// Newton first (a few steps tell whether it converges), then ADMM (the robust workhorse
+// of large rigid problems), PROX (regularised Newton), NSGS again (velocity form, freezing).
+// PROX's callback counts its inner Newton steps; its budget counts proximal steps.
+constexpr StageSpec kRound[] = {
+    {FRIX_SOLVER_NSN_AC, 30, 60},  // its iterations count the hybrid NSGS sweeps too
+    {FRIX_SOLVER_ADMM, 3000, 2000},
+    {FRIX_SOLVER_PROX, 200, 3},
+    {FRIX_SOLVER_NSGS_VELOCITY, 1000, 2000},
+};
+// Polish (see IslandSolver::polish): islands up to this size, PROX steps, target ratio.
+constexpr int64_t kPolishMaxContacts = 64;
+constexpr int64_t kPolishSteps = 10;
+constexpr double kPolishRatio = 1e-3;
+// Without a deadline, this many rounds in a row without halving the error end the sequence.
+constexpr int kMaxIdleRounds = 3;
+// Tightenings of the islands' tolerance when their combined error misses the tolerance.
+constexpr int kMaxTightenings = 4;
+
+enum class Watch { NsgsRate, Stall };
+
+// Shared by the islands of one solve: the caller's callback (called under a lock, with the
+// iterations of all islands summed) and the stop it may request.
+struct Shared {
+    const frix_options &user;
+    const Stopwatch &clock;
+    std::mutex lock;
+    std::atomic<int64_t> iterations{0};
+    std::atomic<bool> stop_requested{false};
+    Shared(const frix_options &u, const Stopwatch &c) : user(u), clock(c) {}
+
+    double deadline() const {
+        const double tl = user.d(FRIX_OPT_TIME_LIMIT);
+        return tl > 0.0 ? tl : INFINITY;
+    }
+    bool out_of_time() const { return clock.seconds() >= deadline(); }
+    bool out_of_iterations() const { return iterations.load() >= user.i(FRIX_OPT_MAX_ITER); }
+};
+
+// The watchdog, installed as the progress callback of every stage.
+struct Watchdog {
+    Shared *shared = nullptr;
+    Watch kind = Watch::Stall;
+    double tolerance = 0.0;
+    int64_t patience = 0;
+    int64_t min_sweeps = kNsgsMinSweeps;
+    int64_t last_iteration = 0;  // the stage's iteration count at the previous call
+    double best = INFINITY;      // best error of the stage
+    double ref = INFINITY;       // the error that tenfold progress is measured from
+    int64_t ref_iteration = 0;   // when the best error last fell tenfold
+    // NSGS: the error near half the sweeps so far, to measure the recent rate.
+    double mid_error = NAN, last_error = NAN;
+    int64_t mid_sweep = 0, last_sweep = 0;
+    bool stopped_by_watchdog = false;
+    const char *why = nullptr;
+
+    static int callback(void *data, int64_t iteration, double error, double /*elapsed*/) {
+        return static_cast<Watchdog *>(data)->on_progress(iteration, error);
+    }
+
+    int stop(const char *reason) {
+        why = reason;
+        stopped_by_watchdog = true;
+        return 1;
+    }
+
+    int on_progress(int64_t iteration, double error) {
+        shared->iterations += iteration - last_iteration;
+        last_iteration = iteration;
+        if (shared->stop_requested) return 1;  // asked by the caller, seen in another island
+        if (shared->user.callback) {
+            std::lock_guard<std::mutex> guard(shared->lock);
+            if (shared->user.callback(shared->user.callback_data, shared->iterations.load(), error,
+                                      shared->clock.seconds()) != 0)
+                shared->stop_requested = true;
+        }
+        if (shared->stop_requested) return 1;
+        if (std::isfinite(error) && error < best) best = error;
+        if (best <= 0.1 * ref || (!std::isfinite(ref) && std::isfinite(best))) {
+            ref = best;
+            ref_iteration = iteration;
+        }
+        if (kind == Watch::NsgsRate) return judge_nsgs(error, iteration);
+        const int64_t idle = iteration - ref_iteration;
+        if (idle >= patience && 2 * idle >= iteration) return stop("no tenfold progress");
+        return 0;
+    }
+
+    int judge_nsgs(double error, int64_t sweeps) {
+        if (!std::isfinite(error)) return stop("non-finite error");
+        // Keep a sample near half the sweeps so far: the rate over the second half.
+        if (std::isnan(mid_error) || 4 * mid_sweep < sweeps) {
+            mid_error = std::isnan(last_error) ? error : last_error;
+            mid_sweep = std::isnan(last_error) ? sweeps : last_sweep;
+        }
+        last_error = error, last_sweep = sweeps;
+        if (sweeps < min_sweeps || sweeps <= mid_sweep) return 0;
+        const double gained = std::log(mid_error / error);  // > 0 when converging
+        const double needed = std::log(error / tolerance);
+        if (needed <= 0.0) return 0;
+        const double predicted = gained > 0.0 ? needed / gained * (double)(sweeps - mid_sweep) : INFINITY;
+        if (predicted > kNsgsPatience * (double)sweeps) return stop("NSGS rate too slow");
+        return 0;
+    }
+};
+
+// Counters summed over the stages into the caller's info.
+void accumulate(frix_info &into, const frix_info &stage) {
+    into.newton_iterations += stage.newton_iterations;
+    into.line_search_steps += stage.line_search_steps;
+    into.factorizations += stage.factorizations;
+    into.symbolic_analyses += stage.symbolic_analyses;
+    into.hybrid_sweeps += stage.hybrid_sweeps;
+    into.inner_iterations += stage.inner_iterations;
+    into.factorization_time += stage.factorization_time;
+}
+
+// Solves one local problem (an island, or the whole problem) with the stage sequence.
+class IslandSolver {
+   public:
+    IslandSolver(const frix_problem &p, Shared &shared, int64_t island)
+        : p_(p), shared_(shared), island_(island), m_(3 * p.nc), u_((size_t)m_), best_r_((size_t)m_) {}
+
+    // r: the island's reactions (warm start in, best iterate out). Returns the best error
+    // reached (the measure selected by the caller's options, on this island).
+    frix_error solve(double *r, double tolerance, double *best_error) {
+        tolerance_ = tolerance;
+        std::copy(r, r + m_, best_r_.begin());
+        // From r = 0 the first stage measures its own start; a warm start is measured here,
+        // since it may already be the answer (a tightened second pass over the islands).
+        if (std::any_of(r, r + m_, [](double x) { return x != 0.0; }))
+            if (frix_error e = measure(r, &best_error_)) return e;
+        if (!(best_error_ <= tolerance_) && !shared_.stop_requested.load() && !shared_.out_of_iterations()) {
+            if (frix_error e = run_sequence(r)) return e;
+        }
+        std::copy(best_r_.begin(), best_r_.end(), r);
+        *best_error = best_error_;
+        return FRIX_OK;
+    }
+
+    const std::vector<TraceEvent> &events() const { return events_; }
+    int64_t switches() const { return switches_; }
+    const frix_info &counters() const { return counters_; }
+    bool stopped() const { return stopped_; }
+
+   private:
+    frix_error measure(const double *r, double *error) {
+        const Measures m = local_measures(p_, r, u_.data());
+        *error = selected_error(m, shared_.user.i(FRIX_OPT_ERROR_MEASURE));
+        if (!std::isfinite(*error)) *error = INFINITY;
+        return FRIX_OK;
+    }
+
+    void note(TraceEvent e) {
+        e.island = island_;
+        e.island_contacts = island_ > 0 ? p_.nc : 0;
+        events_.push_back(e);
+        if (shared_.user.i(FRIX_OPT_VERBOSITY) >= 1) {
+            frix_info none;
+            const std::string line = format_event(none, e);
+            std::lock_guard<std::mutex> guard(shared_.lock);
+            std::fprintf(stderr, "auto: %s", line.c_str());
+        }
+    }
+
+    bool can_continue() const {
+        return !(best_error_ <= tolerance_) && !shared_.out_of_time() && !shared_.out_of_iterations() &&
+               !shared_.stop_requested.load();
+    }
+
+    // The sequence. First NSGS (velocity form, freezing) under its rate watch: it finishes
+    // the easy problems at once. Then rounds of Newton, ADMM, PROX and NSGS again, each from
+    // the best iterate so far under the stall watch and a time budget that doubles every
+    // round, so that the method that suits the problem gets enough time while the others
+    // cost at most a constant factor (a portfolio with restarts).
+    frix_error run_sequence(double *r) {
+        if (frix_error e = stage(FRIX_SOLVER_NSGS_VELOCITY, Watch::NsgsRate, 0, kFirstNsgsSweeps, r)) return e;
+        int idle_rounds = 0;
+        for (int round = 0; can_continue(); ++round) {
+            const double before = best_error_;
+            for (const StageSpec &spec : kRound) {
+                if (!can_continue()) break;
+                std::copy(best_r_.begin(), best_r_.end(), r);
+                // On a small island the first Newton starts afresh: where NSGS stalls it has
+                // often drifted along a degenerate set (W singular, contacts at the cone's
+                // edge) from which Newton stalls too, while from r = 0 it converges.
+                if (round == 0 && spec.solver_id == FRIX_SOLVER_NSN_AC && p_.nc <= kPolishMaxContacts)
+                    std::fill(r, r + m_, 0.0);
+                const int64_t budget = spec.first_budget << std::min(round, 30);
+                if (frix_error e = stage(spec.solver_id, Watch::Stall, spec.patience, budget, r)) return e;
+            }
+            if (best_error_ <= tolerance_) return polish(r);
+            // Without a deadline, rounds that do not halve the error end the sequence.
+            idle_rounds = best_error_ < 0.5 * before ? 0 : idle_rounds + 1;
+            if (!std::isfinite(shared_.deadline()) && idle_rounds >= kMaxIdleRounds) {
+                TraceEvent e{TraceEvent::kGiveUp};
+                e.error = best_error_;
+                note(e);
+                break;
+            }
+        }
+        return FRIX_OK;
+    }
+
+    // A first-order method (ADMM, NSGS) that meets the tolerance after a hard start may stop
+    // anywhere in a thin set of iterates that the relative measure cannot tell apart, and on
+    // degenerate problems (a slope at tan = mu) some of them are visibly wrong (velocities off
+    // by 1e3 x the measure). On a small island a few proximal Newton steps from there cost
+    // little and land on the solution to rounding; the best iterate is kept either way.
+    frix_error polish(double *r) {
+        if (p_.nc > kPolishMaxContacts || best_solver_ == FRIX_SOLVER_NSN_AC || best_solver_ == FRIX_SOLVER_PROX)
+            return FRIX_OK;
+        const double keep = tolerance_;
+        tolerance_ = std::max(kPolishRatio * tolerance_, DBL_MIN);
+        std::copy(best_r_.begin(), best_r_.end(), r);
+        frix_error e = stage(FRIX_SOLVER_PROX, Watch::Stall, 20 * kPolishSteps, kPolishSteps, r);
+        tolerance_ = keep;
+        return e;
+    }
+
+    // One stage: solver `id` from r, for at most `budget` of its iterations, the caller's
+    // remaining iterations and the caller's deadline.
+    frix_error stage(int id, Watch kind, int64_t patience, int64_t budget, double *r) {
+        const SolverEntry *entry = find_solver(id);
+        frix_options *raw = nullptr;
+        if (frix_error e = frix_options_create(id, &raw)) return e;
+        std::unique_ptr<frix_options, void (*)(frix_options *)> o(raw, frix_options_free);
+        const frix_options &user = shared_.user;
+        o->dvalue[FRIX_OPT_TOLERANCE] = tolerance_;
+        o->ivalue[FRIX_OPT_ERROR_MEASURE] = user.i(FRIX_OPT_ERROR_MEASURE);
+        o->ivalue[FRIX_OPT_VERBOSITY] = std::max<int64_t>(0, user.i(FRIX_OPT_VERBOSITY) - 1);
+        const int64_t left = user.i(FRIX_OPT_MAX_ITER) - shared_.iterations.load();
+        o->ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, std::min(left, budget));
+        // The stage runs on the shared clock (started by frix_solve): its limit is the
+        // caller's deadline itself.
+        const double deadline = shared_.deadline();
+        o->dvalue[FRIX_OPT_TIME_LIMIT] = std::isfinite(deadline) ? deadline : 0.0;
+        Watchdog dog;
+        dog.shared = &shared_;
+        dog.kind = kind;
+        dog.tolerance = tolerance_;
+        dog.patience = patience;
+        const double blocks = (double)std::max<int64_t>(1, p_.W->nblocks());
+        dog.min_sweeps = std::max<int64_t>(kNsgsMinSweeps, (int64_t)(kNsgsMinWork / blocks));
+        o->callback = Watchdog::callback;
+        o->callback_data = &dog;
+
+        frix_info info;
+        info.solver_id = id;
+        info.contacts = p_.nc;
+        info.tolerance = tolerance_;
+        const double t0 = shared_.clock.seconds();
+        if (frix_error e = solve_local_problem(p_, *o, *entry, r, u_.data(), info, shared_.clock)) return e;
+        accumulate(counters_, info);
+        // Iterations the callback did not see (solvers report at their own pace).
+        if (info.iterations > dog.last_iteration) shared_.iterations += info.iterations - dog.last_iteration;
+        const double err = std::isfinite(info.error) ? info.error : INFINITY;
+        ++stages_run_;
+        if (stages_run_ > 1) ++switches_;
+        TraceEvent ev{TraceEvent::kStage};
+        ev.solver_id = id;
+        ev.status = info.status;
+        ev.why = dog.stopped_by_watchdog ? dog.why : nullptr;
+        ev.iterations = info.iterations;
+        ev.seconds = shared_.clock.seconds() - t0;
+        ev.error = err;
+        note(ev);
+        if (info.status == FRIX_STATUS_STOPPED_BY_CALLBACK && !dog.stopped_by_watchdog) stopped_ = true;
+        if (err < best_error_) {
+            best_error_ = err;
+            best_solver_ = id;
+            std::copy(r, r + m_, best_r_.begin());
+        }
+        return FRIX_OK;
+    }
+
+    const frix_problem &p_;
+    Shared &shared_;
+    int64_t island_;
+    int64_t m_;
+    std::vector<double> u_, best_r_;
+    double tolerance_ = 0.0, best_error_ = INFINITY;
+    int best_solver_ = 0;  // the stage that found the best iterate
+    std::vector<TraceEvent> events_;
+    int64_t switches_ = 0, stages_run_ = 0;
+    frix_info counters_;
+    bool stopped_ = false;
+};
+
+// The islands of a local problem, each with its sub-problem (none when the problem is one
+// island) and its solver.
+struct Island {
+    std::vector<int64_t> contacts;
+    std::unique_ptr<frix_problem, void (*)(frix_problem *)> sub{nullptr, frix_problem_free};
+    std::unique_ptr<IslandSolver> solver;
+    std::vector<double> r;
+    double error = INFINITY;
+    frix_error status = FRIX_OK;
+};
+
+frix_error solve_local(SolveContext &ctx) {
+    const frix_problem &p = ctx.problem;
+    const frix_options &user = ctx.options;
+    frix_info &info = ctx.info;
+    const double tol = user.d(FRIX_OPT_TOLERANCE);
+    Shared shared(user, ctx.clock);
+
+    const Analysis a = analyse_local(p);
+    info.islands = (int64_t)a.islands.size();
+    info.analysis.contacts = a.contacts;
+    info.analysis.blocks = a.blocks;
+    info.analysis.islands = (int64_t)a.islands.size();
+    info.analysis.largest_island = a.islands.empty() ? 0 : (int64_t)a.islands[0].size();
+    info.analysis.diag_min = a.diag_min, info.analysis.diag_max = a.diag_max;
+    info.analysis.mu_min = a.mu_min, info.analysis.mu_max = a.mu_max;
+    info.trace.push_back(TraceEvent{TraceEvent::kAnalysis});
+
+    // Islands of one contact are solved together with the other small ones? No: each
+    // island is a problem of its own; a one-contact island costs one exact local solve.
+    std::vector<Island> islands(a.islands.size());
+    const bool whole = islands.size() == 1;
+    for (size_t k = 0; k < islands.size(); ++k) {
+        Island &is = islands[k];
+        is.contacts = a.islands[k];
+        const frix_problem *sub = &p;
+        if (!whole) {
+            if (frix_error e = extract_island(p, is.contacts, is.sub)) return e;
+            sub = is.sub.get();
+            is.r.resize(3 * is.contacts.size());
+            for (size_t c = 0; c < is.contacts.size(); ++c)
+                for (int d = 0; d < 3; ++d) is.r[3 * c + (size_t)d] = ctx.r[3 * is.contacts[c] + d];
+        }
+        is.solver = std::make_unique<IslandSolver>(*sub, shared, whole ? 0 : (int64_t)k + 1);
+    }
+
+    // Solve every island to `island_tol`; several at once when threads allow.
+    auto solve_all = [&](double island_tol) {
+        const int64_t threads = std::min<int64_t>(user.i(FRIX_OPT_THREADS), (int64_t)islands.size());
+        std::atomic<size_t> next{0};
+        auto work = [&]() {
+            for (size_t k = next++; k < islands.size(); k = next++) {
+                Island &is = islands[k];
+                double *r = whole ? ctx.r : is.r.data();
+                is.status = guard("frix_solve (auto)", [&] { return is.solver->solve(r, island_tol, &is.error); });
+            }
+        };
+        if (threads <= 1) {
+            work();
+        } else {
+            std::vector<std::thread> pool;
+            for (int64_t t = 1; t < threads; ++t) pool.emplace_back(work);
+            work();
+            for (std::thread &t : pool) t.join();
+        }
+        for (const Island &is : islands)
+            if (is.status != FRIX_OK) return is.status;
+        return FRIX_OK;
+    };
+
+    const int64_t m = 3 * p.nc;
+    double island_tol = tol;
+    Measures whole_measures;
+    double error = INFINITY;
+    for (int tightening = 0;; ++tightening) {
+        if (frix_error e = solve_all(island_tol)) return e;
+        if (!whole)
+            for (const Island &is : islands)
+                for (size_t c = 0; c < is.contacts.size(); ++c)
+                    for (int d = 0; d < 3; ++d) ctx.r[3 * is.contacts[c] + d] = is.r[3 * c + (size_t)d];
+        whole_measures = local_measures(p, ctx.r, ctx.u);
+        error = selected_error(whole_measures, user.i(FRIX_OPT_ERROR_MEASURE));
+        if (whole || error <= tol || tightening >= kMaxTightenings || shared.out_of_time() ||
+            shared.stop_requested.load())
+            break;
+        bool all_met = true;
+        for (const Island &is : islands) all_met = all_met && is.error <= island_tol;
+        if (!all_met) break;  // an island failed: tightening the others would not help
+        // The islands' relative errors are normalised by their own sizes; the whole
+        // problem's by its own. Tighten by the observed ratio (and a margin).
+        island_tol *= std::max(1e-3, 0.5 * tol / error);
+        TraceEvent e{TraceEvent::kTighten};
+        e.error = error;
+        e.value = island_tol;
+        info.trace.push_back(e);
+    }
+    (void)m;
+
+    for (size_t k = 0; k < islands.size(); ++k) {
+        const std::vector<TraceEvent> &ev = islands[k].solver->events();
+        info.trace.insert(info.trace.end(), ev.begin(), ev.end());
+        info.switches += islands[k].solver->switches();
+        accumulate(info, islands[k].solver->counters());
+    }
+    info.iterations = shared.iterations.load();
+    bool stopped = shared.stop_requested.load();
+    for (const Island &is : islands) stopped = stopped || is.solver->stopped();
+    if (error <= tol)
+        info.status = FRIX_STATUS_CONVERGED;
+    else if (stopped)
+        info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
+    else if (shared.out_of_time())
+        info.status = FRIX_STATUS_TIME_LIMIT;
+    else if (shared.out_of_iterations())
+        info.status = FRIX_STATUS_MAX_ITER;
+    else
+        info.status = FRIX_STATUS_STAGNATED;
+
+    return FRIX_OK;
+}
+
+// When a solve failed (not stopped by the caller), whether a solution exists at all.
+void check_existence_on_failure(SolveContext &ctx) {
+    frix_info &info = ctx.info;
+    if (info.status == FRIX_STATUS_CONVERGED || info.status == FRIX_STATUS_STOPPED_BY_CALLBACK ||
+        !ctx.options.i(FRIX_OPT_EXISTENCE_CHECK))
+        return;
+    double margin = NAN;
+    info.existence = check_existence(ctx.problem, 0.0, &margin);
+    info.existence_margin = margin;
+    info.trace.push_back(TraceEvent{TraceEvent::kExistence});
+}
+
+// The reduction route's local step: the strategy above, not registered on its own.
+frix_error solve_reduced(SolveContext &ctx) { return solve_local(ctx); }
+
+frix_error solve(SolveContext &ctx);
+
+const frix_option_key kExtraKeys[] = {FRIX_OPT_THREADS, FRIX_OPT_EXISTENCE_CHECK, (frix_option_key)0};
+const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 1e9}, {(frix_option_key)0, 0.0}};
+
+}  // namespace
+
+#define FRIX_AUTO_DESCRIPTION                                                                     \
+    "The default solver. Analyses the problem (sizes, the ranges of |W_aa| and mu, the islands: " \
+    "groups of contacts that do not interact, solved separately and, with threads > 1, at "      \
+    "once), then runs on each island NSGS while its convergence rate promises the tolerance "   \
+    "soon, and otherwise semismooth Newton (Alart-Curnier), PROX and ADMM in turn from the "    \
+    "best iterate so far, a watchdog stopping any stage that stalls. Global problems are "      \
+    "reduced to W = H^T M^-1 H, with Newton on (v, r) as the fallback. Every stage and switch " \
+    "is in frix_info_trace; on failure an existence check says whether a solution may not "    \
+    "exist. Options: threads, existence_check (and the common ones). See docs/auto.md."
+
+const SolverEntry kAutoReductionEntry = {FRIX_SOLVER_AUTO, "auto", nullptr, FRIX_AUTO_DESCRIPTION,
+                                         solve_reduced, true, false, kExtraKeys, kDefaults};
+
+namespace {
+
+frix_error solve(SolveContext &ctx) {
+    if (ctx.problem.kind != FRIX_PROBLEM_GLOBAL) {
+        if (frix_error e = solve_local(ctx)) return e;
+        check_existence_on_failure(ctx);
+        return FRIX_OK;
+    }
+    // Global: the reduction route with the local strategy, then, if that fails, Newton on
+    // (v, r) from its result.
+    const frix_problem &p = ctx.problem;
+    frix_info &info = ctx.info;
+    if (frix_error e = solve_global_problem(p, ctx.options, kAutoReductionEntry, ctx.r, ctx.u, ctx.v, info,
+                                            ctx.clock, solve_local_problem))
+        return e;
+    info.analysis.dofs = p.n;
+    info.analysis.rank_ratio = p.n > 0 ? 3.0 * (double)p.nc / (double)p.n : 0.0;
+    // The reduced problem's own tolerance test is not the global one: the global measure of
+    // (r, v) decides, both ways.
+    const double tol = ctx.options.d(FRIX_OPT_TOLERANCE);
+    if (info.error <= tol) info.status = FRIX_STATUS_CONVERGED;
+    if (info.status == FRIX_STATUS_CONVERGED || info.status == FRIX_STATUS_STOPPED_BY_CALLBACK) return FRIX_OK;
+    const double tl = ctx.options.d(FRIX_OPT_TIME_LIMIT);
+    if (tl > 0.0 && ctx.clock.seconds() >= tl) {
+        check_existence_on_failure(ctx);
+        return FRIX_OK;
+    }
+    frix_options *raw = nullptr;
+    if (frix_error e = frix_options_create(FRIX_SOLVER_GLOBAL_NSN_AC, &raw)) return e;
+    std::unique_ptr<frix_options, void (*)(frix_options *)> o(raw, frix_options_free);
+    o->dvalue[FRIX_OPT_TOLERANCE] = ctx.options.d(FRIX_OPT_TOLERANCE);
+    o->ivalue[FRIX_OPT_ERROR_MEASURE] = ctx.options.i(FRIX_OPT_ERROR_MEASURE);
+    o->dvalue[FRIX_OPT_TIME_LIMIT] = tl;  // on the same clock: the same deadline
+    o->callback = ctx.options.callback;
+    o->callback_data = ctx.options.callback_data;
+    frix_info second;
+    second.solver_id = info.solver_id;
+    second.contacts = info.contacts;
+    second.tolerance = info.tolerance;
+    const double t0 = ctx.clock.seconds();
+    if (frix_error e = solve_global_problem(p, *o, kGlobalNsnAcEntry, ctx.r, ctx.u, ctx.v, second, ctx.clock,
+                                            solve_local_problem))
+        return e;
+    std::vector<TraceEvent> trace = std::move(info.trace);
+    TraceEvent fallback{TraceEvent::kGlobalFallback};
+    fallback.status = info.status;
+    fallback.error = info.error;
+    fallback.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
+    trace.push_back(fallback);
+    TraceEvent stage{TraceEvent::kStage};
+    stage.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
+    stage.status = second.status;
+    stage.iterations = second.iterations;
+    stage.seconds = ctx.clock.seconds() - t0;
+    stage.error = second.error;
+    trace.push_back(stage);
+    const AnalysisSummary analysis = info.analysis;
+    const int64_t islands = info.islands, switches = info.switches + 1, iterations = info.iterations;
+    accumulate(second, info);
+    info = second;
+    info.trace = std::move(trace);
+    info.analysis = analysis;
+    info.islands = islands;
+    info.switches = switches;
+    info.iterations += iterations;
+    // Newton on (v, r) may stop on its own criterion with an iterate the independent measure
+    // accepts: that measure decides.
+    if (info.error <= tol) info.status = FRIX_STATUS_CONVERGED;
+    check_existence_on_failure(ctx);
+    return FRIX_OK;
+}
+
+}  // namespace
+
+}  // namespace autosolve
+
+const SolverEntry kAutoEntry = {FRIX_SOLVER_AUTO,          "auto", nullptr, FRIX_AUTO_DESCRIPTION,
+                                autosolve::solve,          true,   true,    autosolve::kExtraKeys,
+                                autosolve::kDefaults};
+
+}  // namespace frix

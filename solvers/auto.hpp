@@ -1,0 +1,11 @@
+// auto (id 900), the default solver: problem analysis, islands and a watched sequence of the
+// other solvers (auto.cpp, auto_analysis.cpp).
+#pragma once
+
+#include "solver_api.hpp"
+
+namespace frix {
+
+extern const SolverEntry kAutoEntry;
+
+}  // namespace frix

@@ -1,0 +1,82 @@
+// The text of frix_info_trace: one line per event of the auto solver's trace.
+#include <cstdarg>
+#include <cstdio>
+
+#include "info.hpp"
+#include "solver_api.hpp"
+
+namespace frix {
+
+namespace {
+
+void append(std::string &out, const char *fmt, ...) {
+    char buf[512];
+    va_list ap;
+    va_start(ap, fmt);
+    std::vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    out += buf;
+}
+
+const char *name_of(int solver_id) {
+    const SolverEntry *e = find_solver(solver_id);
+    return e ? e->name : "?";
+}
+
+std::string island_label(const TraceEvent &e) {
+    if (e.island == 0) return std::string();
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "island %lld (%lld contacts): ", (long long)e.island,
+                  (long long)e.island_contacts);
+    return buf;
+}
+
+}  // namespace
+
+std::string format_event(const frix_info &info, const TraceEvent &e) {
+    std::string out = island_label(e);
+    {
+        switch (e.kind) {
+            case TraceEvent::kAnalysis: {
+                const AnalysisSummary &a = info.analysis;
+                append(out, "analysis: %lld contacts, %lld W blocks, %lld island%s (largest %lld), "
+                            "|W_aa| %.3g..%.3g, mu %.3g..%.3g", (long long)a.contacts, (long long)a.blocks,
+                       (long long)a.islands, a.islands == 1 ? "" : "s", (long long)a.largest_island,
+                       a.diag_min, a.diag_max, a.mu_min, a.mu_max);
+                if (a.dofs > 0)
+                    append(out, "; global: %lld dofs, rank ratio 3nc/n %.3g", (long long)a.dofs, a.rank_ratio);
+                out += "\n";
+                break;
+            }
+            case TraceEvent::kStage:
+                append(out, "%s: %s after %lld iterations in %.3g s, error %.3e", name_of(e.solver_id),
+                       e.why ? "stopped by the watchdog" : frix_status_string(e.status), (long long)e.iterations,
+                       e.seconds, e.error);
+                if (e.why) append(out, " (%s)", e.why);
+                out += "\n";
+                break;
+            case TraceEvent::kGiveUp:
+                append(out, "a whole round without halving the error (best %.3e): giving up\n", e.error);
+                break;
+            case TraceEvent::kTighten:
+                append(out, "combined error %.3e above the tolerance: islands again to %.3e\n", e.error, e.value);
+                break;
+            case TraceEvent::kGlobalFallback:
+                append(out, "reduced solve %s (error %.3e): %s on (v, r) from its result\n",
+                       frix_status_string(e.status), e.error, name_of(e.solver_id));
+                break;
+            case TraceEvent::kExistence:
+                append(out, "existence check: %s\n", frix_existence_describe(info.existence));
+                break;
+        }
+    }
+    return out;
+}
+
+std::string format_trace(const frix_info &info) {
+    std::string out;
+    for (const TraceEvent &e : info.trace) out += format_event(info, e);
+    return out;
+}
+
+}  // namespace frix

@@ -1,0 +1,343 @@
+/* auto (900): registered and the default, islands found and combined exactly, results
+ * independent of the thread count, the trace and the switch count, the caller's callback,
+ * and convergence to 1e-8 on every local and global problem of ../shared/fclib. */
+#include <check.h>
+#include <frix/frix.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check_main.h"
+#include "shared_data.h"
+
+/* A local problem of `groups` independent pairs of coupled contacts (islands of 2), plus
+ * `singles` contacts coupled to nothing: block-diagonal W with 2x2-block groups. Every
+ * contact is pressed (q_N < 0) and pushed sideways, some enough to slide. */
+typedef struct {
+    frix_matrix *W;
+    double *q, *mu;
+    frix_problem *p;
+    int64_t nc;
+} islands_problem;
+
+static void islands_make(islands_problem *ip, int64_t groups, int64_t singles) {
+    const int64_t nc = 2 * groups + singles;
+    const int64_t nblocks = 4 * groups + singles;
+    int64_t *brow = calloc((size_t)nblocks, sizeof *brow), *bcol = calloc((size_t)nblocks, sizeof *bcol);
+    double *vals = calloc((size_t)(9 * nblocks), sizeof *vals);
+    int64_t b = 0;
+    for (int64_t g = 0; g < groups; ++g) {
+        for (int i = 0; i < 2; ++i)
+            for (int j = 0; j < 2; ++j) {
+                brow[b] = 2 * g + i, bcol[b] = 2 * g + j;
+                double *B = &vals[9 * b];
+                const double s = 1.0 + 0.1 * (double)g;
+                if (i == j) {
+                    B[0] = 2.0 * s, B[4] = 1.5 * s, B[8] = 1.5 * s;
+                    B[3] = B[1] = 0.2 * s;
+                } else {
+                    B[0] = 0.9 * s, B[4] = 0.3 * s, B[8] = 0.3 * s;
+                }
+                ++b;
+            }
+    }
+    for (int64_t k = 0; k < singles; ++k) {
+        brow[b] = bcol[b] = 2 * groups + k;
+        double *B = &vals[9 * b];
+        B[0] = 1.0 + 0.01 * (double)k, B[4] = B[8] = 0.8;
+        ++b;
+    }
+    ck_assert_int_eq(frix_matrix_from_blocks(nc, nc, nblocks, brow, bcol, vals, &ip->W), FRIX_OK);
+    ip->q = calloc((size_t)(3 * nc), sizeof *ip->q);
+    ip->mu = calloc((size_t)nc, sizeof *ip->mu);
+    for (int64_t a = 0; a < nc; ++a) {
+        ip->q[3 * a] = -1.0 - 0.05 * (double)(a % 7);
+        ip->q[3 * a + 1] = 0.3 * (double)((a % 5) - 2);
+        ip->q[3 * a + 2] = 0.2 * (double)((a % 3) - 1);
+        ip->mu[a] = 0.2 + 0.1 * (double)(a % 4);
+    }
+    ip->nc = nc;
+    ck_assert_int_eq(frix_problem_local(ip->W, ip->q, ip->mu, nc, &ip->p), FRIX_OK);
+    free(brow);
+    free(bcol);
+    free(vals);
+}
+
+static void islands_free(islands_problem *ip) {
+    frix_problem_free(ip->p);
+    frix_matrix_free(ip->W);
+    free(ip->q);
+    free(ip->mu);
+}
+
+static frix_options *auto_options(double tol) {
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, tol), FRIX_OK);
+    return o;
+}
+
+START_TEST(test_registered_and_default) {
+    int id = 0;
+    ck_assert_int_eq(frix_solver_by_name("auto", &id), FRIX_OK);
+    ck_assert_int_eq(id, FRIX_SOLVER_AUTO);
+    ck_assert_str_eq(frix_solver_name(FRIX_SOLVER_AUTO), "auto");
+    ck_assert_ptr_nonnull(strstr(frix_solver_describe(FRIX_SOLVER_AUTO), "island"));
+    /* NULL options: the default solver is auto. */
+    islands_problem ip;
+    islands_make(&ip, 2, 1);
+    double r[15] = {0}, u[15];
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_solve(ip.p, NULL, r, u, NULL, info), FRIX_OK);
+    int64_t solver = 0;
+    ck_assert_int_eq(frix_info_get_int(info, FRIX_INFO_SOLVER_ID, &solver), FRIX_OK);
+    ck_assert_int_eq(solver, FRIX_SOLVER_AUTO);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    frix_info_free(info);
+    islands_free(&ip);
+}
+END_TEST
+
+START_TEST(test_option_keys) {
+    frix_options *o = auto_options(1e-8);
+    int64_t threads = 0;
+    ck_assert_int_eq(frix_options_get_int(o, FRIX_OPT_THREADS, &threads), FRIX_OK);
+    ck_assert_int_eq(threads, 1);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_THREADS, 0), FRIX_ERR_OPTION_RANGE);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_EXISTENCE_CHECK, 2), FRIX_ERR_OPTION_RANGE);
+    /* auto runs other solvers' options itself: their keys are not auto's. */
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_LOCAL_SOLVER, 562), FRIX_ERR_UNKNOWN_OPTION);
+    frix_options_free(o);
+    /* threads is auto's key only. */
+    frix_options *n = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS, &n), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(n, FRIX_OPT_THREADS, 2), FRIX_ERR_UNKNOWN_OPTION);
+    frix_options_free(n);
+}
+END_TEST
+
+/* Islands: counted, each solved, and the result meets the tolerance on the whole problem;
+ * the same bits with 1 and with 3 threads. */
+START_TEST(test_islands_and_threads) {
+    islands_problem ip;
+    islands_make(&ip, 6, 5);
+    const int64_t m = 3 * ip.nc;
+    double *r1 = calloc((size_t)m, sizeof *r1), *r3 = calloc((size_t)m, sizeof *r3);
+    double *u = calloc((size_t)m, sizeof *u);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    frix_options *o = auto_options(1e-10);
+    ck_assert_int_eq(frix_solve(ip.p, o, r1, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    ck_assert(frix_info_error(info) <= 1e-10);
+    int64_t islands = 0;
+    ck_assert_int_eq(frix_info_get_int(info, FRIX_INFO_ISLANDS, &islands), FRIX_OK);
+    ck_assert_int_eq(islands, 6 + 5);
+    ck_assert_ptr_nonnull(strstr(frix_info_trace(info), "11 islands"));
+    /* The whole problem's own measure agrees. */
+    double e = NAN;
+    ck_assert_int_eq(frix_problem_error(ip.p, r1, NULL, &e), FRIX_OK);
+    ck_assert(e <= 1e-10);
+
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_THREADS, 3), FRIX_OK);
+    ck_assert_int_eq(frix_solve(ip.p, o, r3, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    ck_assert_mem_eq(r1, r3, (size_t)m * sizeof *r1);
+    frix_options_free(o);
+    frix_info_free(info);
+    free(r1);
+    free(r3);
+    free(u);
+    islands_free(&ip);
+}
+END_TEST
+
+/* A problem where NSGS alone is a limit cycle (Siconos' NSGS fails too): auto switches and
+ * converges, and says so in the trace and the switch count. */
+START_TEST(test_switches_recorded) {
+    frix_problem *p = load("converted/OneObject-i100000-316.from_dat.hdf5");
+    if (!p) return;
+    const int64_t m = frix_problem_contact_dofs(p);
+    double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    frix_options *o = auto_options(1e-8);
+    ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    int64_t switches = -1;
+    ck_assert_int_eq(frix_info_get_int(info, FRIX_INFO_SWITCHES, &switches), FRIX_OK);
+    ck_assert_int_ge(switches, 1);
+    const char *trace = frix_info_trace(info);
+    ck_assert_ptr_nonnull(strstr(trace, "analysis: 25 contacts"));
+    ck_assert_ptr_nonnull(strstr(trace, "nsgs-v: stopped by the watchdog"));
+    frix_options_free(o);
+    frix_info_free(info);
+    free(r);
+    free(u);
+    frix_problem_free(p);
+}
+END_TEST
+
+typedef struct {
+    int64_t calls, last_iteration, stop_after;
+    int monotone;
+} progress_log;
+
+static int on_progress(void *data, int64_t iteration, double error, double elapsed) {
+    progress_log *log = data;
+    (void)error;
+    (void)elapsed;
+    if (iteration < log->last_iteration) log->monotone = 0;
+    log->last_iteration = iteration;
+    ++log->calls;
+    return log->stop_after > 0 && log->calls >= log->stop_after;
+}
+
+START_TEST(test_callback_sees_progress_and_stops) {
+    frix_problem *p = load("local/Capsules-i125-1213.hdf5");
+    if (!p) return;
+    const int64_t m = frix_problem_contact_dofs(p);
+    double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    frix_options *o = auto_options(1e-8);
+    progress_log log = {0, 0, 0, 1};
+    ck_assert_int_eq(frix_options_set_callback(o, on_progress, &log), FRIX_OK);
+    ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    ck_assert_int_gt(log.calls, 10);
+    ck_assert(log.monotone);
+    ck_assert_int_le(log.last_iteration, frix_info_iterations(info));
+
+    progress_log stop = {0, 0, 5, 1};
+    memset(r, 0, (size_t)m * sizeof *r);
+    ck_assert_int_eq(frix_options_set_callback(o, on_progress, &stop), FRIX_OK);
+    ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_STOPPED_BY_CALLBACK);
+    ck_assert_int_eq(stop.calls, 5);
+    frix_options_free(o);
+    frix_info_free(info);
+    free(r);
+    free(u);
+    frix_problem_free(p);
+}
+END_TEST
+
+/* The iteration limit and the time limit bound the whole sequence. */
+START_TEST(test_limits) {
+    frix_problem *p = load("converted/RockPile_tob1.from_dat.hdf5");
+    if (!p) return;
+    const int64_t m = frix_problem_contact_dofs(p);
+    double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    frix_options *o = auto_options(1e-12);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 50), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_EXISTENCE_CHECK, 0), FRIX_OK);
+    ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_MAX_ITER);
+    ck_assert(isfinite(frix_info_error(info)));
+    int64_t existence = -1;
+    ck_assert_int_eq(frix_info_get_int(info, FRIX_INFO_EXISTENCE, &existence), FRIX_OK);
+    ck_assert_int_eq(existence, FRIX_EXISTENCE_NOT_CHECKED);
+
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 1000000000), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TIME_LIMIT, 0.2), FRIX_OK);
+    memset(r, 0, (size_t)m * sizeof *r);
+    ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_TIME_LIMIT);
+    ck_assert(isfinite(frix_info_error(info)));
+    frix_options_free(o);
+    frix_info_free(info);
+    free(r);
+    free(u);
+    frix_problem_free(p);
+}
+END_TEST
+
+static void solve_to_1e8(const char *relative) {
+    frix_problem *p = load(relative);
+    if (!p) return;
+    const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
+    double *r = calloc((size_t)m + 1, sizeof *r), *u = calloc((size_t)m + 1, sizeof *u);
+    double *v = calloc((size_t)n + 1, sizeof *v);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    frix_options *o = auto_options(1e-8);
+    ck_assert_int_eq(frix_solve(p, o, r, u, v, info), FRIX_OK);
+    if (frix_info_status(info) != FRIX_STATUS_CONVERGED) fprintf(stderr, "%s\n%s", relative, frix_info_trace(info));
+    ck_assert_msg(frix_info_status(info) == FRIX_STATUS_CONVERGED, "%s: %s, error %.3e (trace above)", relative,
+                  frix_status_string(frix_info_status(info)), frix_info_error(info));
+    double e = NAN;
+    ck_assert_int_eq(frix_problem_error(p, r, v, &e), FRIX_OK);
+    ck_assert_msg(e <= 1e-8, "%s: recomputed error %.3e", relative, e);
+    frix_options_free(o);
+    frix_info_free(info);
+    free(r);
+    free(u);
+    free(v);
+    frix_problem_free(p);
+}
+
+/* Every local problem of ../shared/fclib but RockPile_tob1, which auto does not bring to 1e-8
+ * yet (about 1e-6 after 20 s: docs/auto.md); test_limits still runs it. */
+static const char *const kLocalFiles[] = {
+    "local/Capsules-i125-1213.hdf5",
+    "local/LMGC_100_PR_PerioBox-i00361-60-03000.hdf5",
+    "local/local_problem_test.hdf5",
+    "converted/Box_Stacks-i0035-31-0.reduced.hdf5",
+    "converted/Capsules-i100-1090.from_dat.hdf5",
+    "converted/Capsules-i101-404.from_dat.hdf5",
+    "converted/Confeti-ex03-Fc3D-SBM.from_dat.hdf5",
+    "converted/Confeti-ex13-4contact-Fc3D-SBM.from_dat.hdf5",
+    "converted/CubeH8.reduced.hdf5",
+    "converted/FC3D_Example1.from_dat.hdf5",
+    "converted/FrictionContact3D_1c.from_dat.hdf5",
+    "converted/GFC3D_Example0.from_dat.hdf5",
+    "converted/GFC3D_Example00_badly_scaled.from_dat.hdf5",
+    "converted/GFC3D_Example1_v2.from_dat.hdf5",
+    "converted/GFC3D_TwoRods1.from_dat.hdf5",
+    "converted/LMGC_GFC3D-i00501-4-00000.reduced.hdf5",
+    "converted/NESpheres_10_1.from_dat.hdf5",
+    "converted/OneObject-i100000-316.from_dat.hdf5",
+    "converted/OneObject-i1028-138.from_dat.hdf5",
+    "converted/Rover1039.from_dat.hdf5",
+    "converted/Rover1040.from_dat.hdf5",
+    "converted/Rover11035.from_dat.hdf5",
+    "converted/Rover3865.from_dat.hdf5",
+    "converted/Rover4396.from_dat.hdf5",
+    "converted/Rover4516.from_dat.hdf5",
+    "converted/Rover4613.from_dat.hdf5",
+    "converted/spheres-in-a-box-98-i10000-256-10.reduced.hdf5",
+};
+
+START_TEST(test_every_local_fclib_problem) { solve_to_1e8(kLocalFiles[_i]); }
+END_TEST
+
+static const char *const kGlobalFiles[] = {
+    "global/Box_Stacks-i0035-31-0.hdf5",
+    "global/CubeH8.hdf5",
+    "global/LMGC_GFC3D-i00501-4-00000.hdf5",
+    "global/spheres-in-a-box-98-i10000-256-10.hdf5",
+};
+
+START_TEST(test_global_fclib_problems) { solve_to_1e8(kGlobalFiles[_i]); }
+END_TEST
+
+int main(void) {
+    Suite *s = suite_create("auto");
+    TCase *tc = tcase_create("auto");
+    tcase_set_timeout(tc, 300);
+    tcase_add_test(tc, test_registered_and_default);
+    tcase_add_test(tc, test_option_keys);
+    tcase_add_test(tc, test_islands_and_threads);
+    tcase_add_test(tc, test_switches_recorded);
+    tcase_add_test(tc, test_callback_sees_progress_and_stops);
+    tcase_add_test(tc, test_limits);
+    tcase_add_loop_test(tc, test_every_local_fclib_problem, 0, (int)(sizeof kLocalFiles / sizeof kLocalFiles[0]));
+    tcase_add_loop_test(tc, test_global_fclib_problems, 0, (int)(sizeof kGlobalFiles / sizeof kGlobalFiles[0]));
+    suite_add_tcase(s, tc);
+    return frix_run_suite(s);
+}
