@@ -76,6 +76,8 @@ constexpr StageSpec kRound[] = {
     {FRIX_SOLVER_PROX, 200, 3},
     {FRIX_SOLVER_NSGS_VELOCITY, 1000, 2000},
 };
+// Islands smaller than this are solved together (see solve_local).
+constexpr int64_t kMinIslandContacts = 16;
 // Polish (see IslandSolver::polish): islands up to this size, PROX steps, target ratio.
 constexpr int64_t kPolishMaxContacts = 64;
 constexpr int64_t kPolishSteps = 10;
@@ -383,13 +385,15 @@ frix_error solve_local(SolveContext &ctx) {
     info.analysis.mu_min = a.mu_min, info.analysis.mu_max = a.mu_max;
     info.trace.push_back(TraceEvent{TraceEvent::kAnalysis});
 
-    // Islands of one contact are solved together with the other small ones? No: each
-    // island is a problem of its own; a one-contact island costs one exact local solve.
-    std::vector<Island> islands(a.islands.size());
+    // The units of work: every island of at least kMinIslandContacts contacts on its own, the
+    // smaller ones together (one sub-problem, still block-diagonal): a sub-problem per tiny
+    // island would cost more in setup than its solve.
+    const std::vector<std::vector<int64_t>> units = group_small_islands(a.islands, kMinIslandContacts);
+    std::vector<Island> islands(units.size());
     const bool whole = islands.size() == 1;
     for (size_t k = 0; k < islands.size(); ++k) {
         Island &is = islands[k];
-        is.contacts = a.islands[k];
+        is.contacts = units[k];
         const frix_problem *sub = &p;
         if (!whole) {
             if (frix_error e = extract_island(p, is.contacts, is.sub)) return e;

@@ -82,6 +82,23 @@ Analysis analyse_local(const frix_problem &p) {
     return a;
 }
 
+std::vector<std::vector<int64_t>> group_small_islands(const std::vector<std::vector<int64_t>> &islands,
+                                                     int64_t min_size) {
+    std::vector<std::vector<int64_t>> units;
+    std::vector<int64_t> small;
+    for (const std::vector<int64_t> &island : islands) {
+        if ((int64_t)island.size() >= min_size)
+            units.push_back(island);
+        else
+            small.insert(small.end(), island.begin(), island.end());
+    }
+    if (!small.empty()) {
+        std::sort(small.begin(), small.end());
+        units.push_back(std::move(small));
+    }
+    return units;
+}
+
 frix_error extract_island(const frix_problem &p, const std::vector<int64_t> &island,
                           std::unique_ptr<frix_problem, void (*)(frix_problem *)> &out) {
     const frix_matrix &W = *p.W;

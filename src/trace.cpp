@@ -26,7 +26,7 @@ const char *name_of(int solver_id) {
 std::string island_label(const TraceEvent &e) {
     if (e.island == 0) return std::string();
     char buf[96];
-    std::snprintf(buf, sizeof buf, "island %lld (%lld contacts): ", (long long)e.island,
+    std::snprintf(buf, sizeof buf, "part %lld (%lld contacts): ", (long long)e.island,
                   (long long)e.island_contacts);
     return buf;
 }

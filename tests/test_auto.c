@@ -11,9 +11,9 @@
 #include "check_main.h"
 #include "shared_data.h"
 
-/* A local problem of `groups` independent pairs of coupled contacts (islands of 2), plus
- * `singles` contacts coupled to nothing: block-diagonal W with 2x2-block groups. Every
- * contact is pressed (q_N < 0) and pushed sideways, some enough to slide. */
+/* A local problem of `groups` independent chains of `size` contacts (each coupled to the
+ * next: islands of `size`), plus `singles` contacts coupled to nothing. Every contact is
+ * pressed (q_N < 0) and pushed sideways, some enough to slide. */
 typedef struct {
     frix_matrix *W;
     double *q, *mu;
@@ -21,18 +21,19 @@ typedef struct {
     int64_t nc;
 } islands_problem;
 
-static void islands_make(islands_problem *ip, int64_t groups, int64_t singles) {
-    const int64_t nc = 2 * groups + singles;
-    const int64_t nblocks = 4 * groups + singles;
+static void islands_make(islands_problem *ip, int64_t groups, int64_t size, int64_t singles) {
+    const int64_t nc = groups * size + singles;
+    const int64_t nblocks = groups * (3 * size - 2) + singles;
     int64_t *brow = calloc((size_t)nblocks, sizeof *brow), *bcol = calloc((size_t)nblocks, sizeof *bcol);
     double *vals = calloc((size_t)(9 * nblocks), sizeof *vals);
     int64_t b = 0;
     for (int64_t g = 0; g < groups; ++g) {
-        for (int i = 0; i < 2; ++i)
-            for (int j = 0; j < 2; ++j) {
-                brow[b] = 2 * g + i, bcol[b] = 2 * g + j;
+        const double s = 1.0 + 0.1 * (double)g;
+        for (int64_t i = 0; i < size; ++i)
+            for (int64_t j = i - 1; j <= i + 1; ++j) {
+                if (j < 0 || j >= size) continue;
+                brow[b] = g * size + i, bcol[b] = g * size + j;
                 double *B = &vals[9 * b];
-                const double s = 1.0 + 0.1 * (double)g;
                 if (i == j) {
                     B[0] = 2.0 * s, B[4] = 1.5 * s, B[8] = 1.5 * s;
                     B[3] = B[1] = 0.2 * s;
@@ -43,7 +44,7 @@ static void islands_make(islands_problem *ip, int64_t groups, int64_t singles) {
             }
     }
     for (int64_t k = 0; k < singles; ++k) {
-        brow[b] = bcol[b] = 2 * groups + k;
+        brow[b] = bcol[b] = groups * size + k;
         double *B = &vals[9 * b];
         B[0] = 1.0 + 0.01 * (double)k, B[4] = B[8] = 0.8;
         ++b;
@@ -86,7 +87,7 @@ START_TEST(test_registered_and_default) {
     ck_assert_ptr_nonnull(strstr(frix_solver_describe(FRIX_SOLVER_AUTO), "island"));
     /* NULL options: the default solver is auto. */
     islands_problem ip;
-    islands_make(&ip, 2, 1);
+    islands_make(&ip, 2, 2, 1);
     double r[15] = {0}, u[15];
     frix_info *info = NULL;
     ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
@@ -118,11 +119,12 @@ START_TEST(test_option_keys) {
 }
 END_TEST
 
-/* Islands: counted, each solved, and the result meets the tolerance on the whole problem;
- * the same bits with 1 and with 3 threads. */
+/* Islands: counted, the large ones solved as parts of their own and the small ones together,
+ * the result meets the tolerance on the whole problem, and the same bits with 1 and with 3
+ * threads. */
 START_TEST(test_islands_and_threads) {
     islands_problem ip;
-    islands_make(&ip, 6, 5);
+    islands_make(&ip, 4, 40, 5);
     const int64_t m = 3 * ip.nc;
     double *r1 = calloc((size_t)m, sizeof *r1), *r3 = calloc((size_t)m, sizeof *r3);
     double *u = calloc((size_t)m, sizeof *u);
@@ -134,8 +136,12 @@ START_TEST(test_islands_and_threads) {
     ck_assert(frix_info_error(info) <= 1e-10);
     int64_t islands = 0;
     ck_assert_int_eq(frix_info_get_int(info, FRIX_INFO_ISLANDS, &islands), FRIX_OK);
-    ck_assert_int_eq(islands, 6 + 5);
-    ck_assert_ptr_nonnull(strstr(frix_info_trace(info), "11 islands"));
+    ck_assert_int_eq(islands, 4 + 5);
+    const char *trace = frix_info_trace(info);
+    ck_assert_ptr_nonnull(strstr(trace, "9 islands (largest 40)"));
+    ck_assert_ptr_nonnull(strstr(trace, "part 4 (40 contacts)")); /* the fourth chain */
+    ck_assert_ptr_nonnull(strstr(trace, "part 5 (5 contacts)"));  /* the singles, together */
+    ck_assert_ptr_null(strstr(trace, "part 6"));
     /* The whole problem's own measure agrees. */
     double e = NAN;
     ck_assert_int_eq(frix_problem_error(ip.p, r1, NULL, &e), FRIX_OK);
