@@ -193,15 +193,29 @@ class IslandSolver {
 
     // r: the island's reactions (warm start in, best iterate out). Returns the best error
     // reached (the measure selected by the caller's options, on this island).
-    frix_error solve(double *r, double tolerance, double *best_error) {
-        tolerance_ = tolerance;
-        std::copy(r, r + m_, best_r_.begin());
-        // From r = 0 the first stage measures its own start; a warm start is measured here,
-        // since it may already be the answer (a tightened second pass over the islands).
-        if (std::any_of(r, r + m_, [](double x) { return x != 0.0; }))
-            if (frix_error e = measure(r, &best_error_)) return e;
-        if (!(best_error_ <= tolerance_) && !shared_.stop_requested.load() && !shared_.out_of_iterations()) {
-            if (frix_error e = run_sequence(r)) return e;
+    // Phase kFirst runs the first NSGS stage, phase kRest one round of the others: every
+    // part gets its cheap chance before any part gets a long one, and the parts take their
+    // rounds in turn (with a time limit, a hard part must not starve the others).
+    enum Phase { kFirst, kRest };
+
+    // Whether another round may help this part.
+    bool active() const {
+        return !finished_ && !(best_error_ <= tolerance_) && !shared_.stop_requested.load() &&
+               !shared_.out_of_iterations() && !shared_.out_of_time();
+    }
+    frix_error solve(Phase phase, double *r, double tolerance, double *best_error) {
+        if (phase == kFirst) {
+            tolerance_ = tolerance;
+            round_ = idle_rounds_ = 0;
+            finished_ = false;
+            std::copy(r, r + m_, best_r_.begin());
+            // From r = 0 the first stage measures its own start; a warm start is measured
+            // here, since it may already be the answer (a tightened pass over the parts).
+            if (std::any_of(r, r + m_, [](double x) { return x != 0.0; }))
+                if (frix_error e = measure(r, &best_error_)) return e;
+        }
+        if (active()) {
+            if (frix_error e = phase == kFirst ? first_stage(r) : run_round(r)) return e;
         }
         std::copy(best_r_.begin(), best_r_.end(), r);
         *best_error = best_error_;
@@ -243,31 +257,39 @@ class IslandSolver {
     // the best iterate so far under the stall watch and a time budget that doubles every
     // round, so that the method that suits the problem gets enough time while the others
     // cost at most a constant factor (a portfolio with restarts).
-    frix_error run_sequence(double *r) {
-        if (frix_error e = stage(FRIX_SOLVER_NSGS_VELOCITY, Watch::NsgsRate, 0, kFirstNsgsSweeps, r)) return e;
-        int idle_rounds = 0;
-        for (int round = 0; can_continue(); ++round) {
-            const double before = best_error_;
-            for (const StageSpec &spec : kRound) {
-                if (!can_continue()) break;
-                std::copy(best_r_.begin(), best_r_.end(), r);
-                // On a small island the first Newton starts afresh: where NSGS stalls it has
-                // often drifted along a degenerate set (W singular, contacts at the cone's
-                // edge) from which Newton stalls too, while from r = 0 it converges.
-                if (round == 0 && spec.solver_id == FRIX_SOLVER_NSN_AC && p_.nc <= kPolishMaxContacts)
-                    std::fill(r, r + m_, 0.0);
-                const int64_t budget = spec.first_budget << std::min(round, 30);
-                if (frix_error e = stage(spec.solver_id, Watch::Stall, spec.patience, budget, r)) return e;
-            }
-            if (best_error_ <= tolerance_) return polish(r);
-            // Without a deadline, rounds that do not halve the error end the sequence.
-            idle_rounds = best_error_ < 0.5 * before ? 0 : idle_rounds + 1;
-            if (!std::isfinite(shared_.deadline()) && idle_rounds >= kMaxIdleRounds) {
-                TraceEvent e{TraceEvent::kGiveUp};
-                e.error = best_error_;
-                note(e);
-                break;
-            }
+    frix_error first_stage(double *r) {
+        return stage(FRIX_SOLVER_NSGS_VELOCITY, Watch::NsgsRate, 0, kFirstNsgsSweeps, r);
+    }
+
+    // One round of the stages (the caller calls it again while `active()`): round k gives
+    // each stage 2^k times its first budget and 2^k times its patience.
+    frix_error run_round(double *r) {
+        const double before = best_error_;
+        for (const StageSpec &spec : kRound) {
+            if (!can_continue()) break;
+            std::copy(best_r_.begin(), best_r_.end(), r);
+            // On a small island the first Newton starts afresh: where NSGS stalls it has
+            // often drifted along a degenerate set (W singular, contacts at the cone's
+            // edge) from which Newton stalls too, while from r = 0 it converges.
+            if (round_ == 0 && spec.solver_id == FRIX_SOLVER_NSN_AC && p_.nc <= kPolishMaxContacts)
+                std::fill(r, r + m_, 0.0);
+            const int shift = std::min(round_, 30);
+            if (frix_error e = stage(spec.solver_id, Watch::Stall, spec.patience << shift,
+                                     spec.first_budget << shift, r))
+                return e;
+        }
+        ++round_;
+        if (best_error_ <= tolerance_) {
+            finished_ = true;
+            return polish(r);
+        }
+        // Without a deadline, rounds that do not halve the error end the sequence.
+        idle_rounds_ = best_error_ < 0.5 * before ? 0 : idle_rounds_ + 1;
+        if (!std::isfinite(shared_.deadline()) && idle_rounds_ >= kMaxIdleRounds) {
+            TraceEvent e{TraceEvent::kGiveUp};
+            e.error = best_error_;
+            note(e);
+            finished_ = true;
         }
         return FRIX_OK;
     }
@@ -351,6 +373,8 @@ class IslandSolver {
     std::vector<double> u_, best_r_;
     double tolerance_ = 0.0, best_error_ = INFINITY;
     int best_solver_ = 0;  // the stage that found the best iterate
+    int round_ = 0, idle_rounds_ = 0;
+    bool finished_ = false;
     std::vector<TraceEvent> events_;
     int64_t switches_ = 0, stages_run_ = 0;
     frix_info counters_;
@@ -408,24 +432,31 @@ frix_error solve_local(SolveContext &ctx) {
     // Solve every island to `island_tol`; several at once when threads allow.
     auto solve_all = [&](double island_tol) {
         const int64_t threads = std::min<int64_t>(user.i(FRIX_OPT_THREADS), (int64_t)islands.size());
-        std::atomic<size_t> next{0};
-        auto work = [&]() {
-            for (size_t k = next++; k < islands.size(); k = next++) {
-                Island &is = islands[k];
-                double *r = whole ? ctx.r : is.r.data();
-                is.status = guard("frix_solve (auto)", [&] { return is.solver->solve(r, island_tol, &is.error); });
+        for (int pass = 0;; ++pass) {
+            const IslandSolver::Phase phase = pass == 0 ? IslandSolver::kFirst : IslandSolver::kRest;
+            if (phase == IslandSolver::kRest &&
+                std::none_of(islands.begin(), islands.end(), [](const Island &is) { return is.solver->active(); }))
+                break;
+            std::atomic<size_t> next{0};
+            auto work = [&]() {
+                for (size_t k = next++; k < islands.size(); k = next++) {
+                    Island &is = islands[k];
+                    double *r = whole ? ctx.r : is.r.data();
+                    is.status = guard("frix_solve (auto)",
+                                      [&] { return is.solver->solve(phase, r, island_tol, &is.error); });
+                }
+            };
+            if (threads <= 1) {
+                work();
+            } else {
+                std::vector<std::thread> pool;
+                for (int64_t t = 1; t < threads; ++t) pool.emplace_back(work);
+                work();
+                for (std::thread &t : pool) t.join();
             }
-        };
-        if (threads <= 1) {
-            work();
-        } else {
-            std::vector<std::thread> pool;
-            for (int64_t t = 1; t < threads; ++t) pool.emplace_back(work);
-            work();
-            for (std::thread &t : pool) t.join();
+            for (const Island &is : islands)
+                if (is.status != FRIX_OK) return is.status;
         }
-        for (const Island &is : islands)
-            if (is.status != FRIX_OK) return is.status;
         return FRIX_OK;
     };
 
