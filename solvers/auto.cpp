@@ -5,23 +5,26 @@
 // solution and wanders on rank-deficient rigid problems; PROX and ADMM solve nearly
 // everything, slowly. auto therefore
 //   1. analyses the problem (sizes, |W_aa| and mu ranges, islands: the connected components
-//      of W's block graph) and solves each island on its own (at once on several threads
-//      when the caller allows them): an island that converges stops costing sweeps;
-//   2. runs on each island a watched sequence of stages from the best iterate so far:
-//      NSGS while its convergence rate promises to reach the tolerance soon, then Newton
-//      (Alart-Curnier, line search, NSGS hybrid), then PROX and ADMM, cycling while time
-//      and progress allow; a watchdog on every stage's progress callback stops a stage that
-//      stalls, and every switch is written to the trace (frix_info_trace);
-//   3. combines the islands exactly: the final error is measured on the whole problem, and
-//      islands are re-solved to a tighter tolerance until that measure meets the tolerance;
+//      of W's block graph) and solves each large island as a part of its own, the small ones
+//      together (at once on several threads when the caller allows them): a part that
+//      converges stops costing work;
+//   2. runs on each part, from the best iterate so far, NSGS while its convergence rate
+//      promises the tolerance soon, then rounds of Newton (Alart-Curnier), ADMM, PROX and
+//      NSGS with budgets that double every round; a watchdog on every stage's progress
+//      callback stops a stage that stalls, and every stage is recorded in the trace
+//      (frix_info_trace). The parts take their turns, so a hard one does not starve the rest;
+//   3. combines the parts exactly: the final error is measured on the whole problem, and the
+//      parts are re-solved to a tighter tolerance until that measure meets the tolerance;
 //   4. when it fails, checks whether a solution exists at all (frix_problem_check_existence)
 //      and says so.
 // Global problems go through the reduction W = H^T M^-1 H with the same strategy, and fall
-// back on Newton on (v, r) (607) when the reduced solve fails.
+// back on Newton on (v, r) (607) when the reduced solve misses the tolerance.
+// docs/auto.md describes the strategy for users.
 #include <algorithm>
 #include <atomic>
 #include <cfloat>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <memory>
 #include <mutex>
@@ -33,11 +36,8 @@
 #include "auto_analysis.hpp"
 #include "error_state.hpp"
 #include "existence.hpp"
-#include "first_order.hpp"
 #include "global.hpp"
 #include "measures.hpp"
-#include "newton.hpp"
-#include "nsgs.hpp"
 #include "solver_api.hpp"
 
 namespace frix {
@@ -71,7 +71,7 @@ struct StageSpec {
 // of large rigid problems), PROX (regularised Newton), NSGS again (velocity form, freezing).
 // PROX's callback counts its inner Newton steps; its budget counts proximal steps.
 constexpr StageSpec kRound[] = {
-    {FRIX_SOLVER_NSN_AC, 30, 60},  // its iterations count the hybrid NSGS sweeps too
+    {FRIX_SOLVER_NSN_AC, 50, 100},  // its iterations count the hybrid NSGS sweeps too
     {FRIX_SOLVER_ADMM, 3000, 2000},
     {FRIX_SOLVER_PROX, 200, 3},
     {FRIX_SOLVER_NSGS_VELOCITY, 1000, 2000},
@@ -268,15 +268,20 @@ class IslandSolver {
         for (const StageSpec &spec : kRound) {
             if (!can_continue()) break;
             std::copy(best_r_.begin(), best_r_.end(), r);
-            // On a small island the first Newton starts afresh: where NSGS stalls it has
-            // often drifted along a degenerate set (W singular, contacts at the cone's
-            // edge) from which Newton stalls too, while from r = 0 it converges.
-            if (round_ == 0 && spec.solver_id == FRIX_SOLVER_NSN_AC && p_.nc <= kPolishMaxContacts)
-                std::fill(r, r + m_, 0.0);
             const int shift = std::min(round_, 30);
-            if (frix_error e = stage(spec.solver_id, Watch::Stall, spec.patience << shift,
-                                     spec.first_budget << shift, r))
-                return e;
+            const int64_t patience = spec.patience << shift, budget = spec.first_budget << shift;
+            // The first Newton stage also starts afresh: where NSGS stalls it has often
+            // drifted along a degenerate set (W singular, contacts at the cone's edge) from
+            // which Newton stalls too, while from r = 0 it converges. On a small part only
+            // from r = 0; on a larger one from NSGS's iterate first (usually a few steps).
+            if (round_ == 0 && spec.solver_id == FRIX_SOLVER_NSN_AC) {
+                if (p_.nc > kPolishMaxContacts) {
+                    if (frix_error e = stage(spec.solver_id, Watch::Stall, patience, budget, r)) return e;
+                    if (!can_continue()) break;
+                }
+                std::fill(r, r + m_, 0.0);
+            }
+            if (frix_error e = stage(spec.solver_id, Watch::Stall, patience, budget, r)) return e;
         }
         ++round_;
         if (best_error_ <= tolerance_) {
@@ -460,7 +465,15 @@ frix_error solve_local(SolveContext &ctx) {
         return FRIX_OK;
     };
 
-    const int64_t m = 3 * p.nc;
+    // The parts' trace events, in part order, as far as they have been copied into info.
+    std::vector<size_t> copied(islands.size(), 0);
+    auto flush_events = [&]() {
+        for (size_t k = 0; k < islands.size(); ++k) {
+            const std::vector<TraceEvent> &ev = islands[k].solver->events();
+            info.trace.insert(info.trace.end(), ev.begin() + (std::ptrdiff_t)copied[k], ev.end());
+            copied[k] = ev.size();
+        }
+    };
     double island_tol = tol;
     Measures whole_measures;
     double error = INFINITY;
@@ -481,16 +494,14 @@ frix_error solve_local(SolveContext &ctx) {
         // The islands' relative errors are normalised by their own sizes; the whole
         // problem's by its own. Tighten by the observed ratio (and a margin).
         island_tol *= std::max(1e-3, 0.5 * tol / error);
+        flush_events();
         TraceEvent e{TraceEvent::kTighten};
         e.error = error;
         e.value = island_tol;
         info.trace.push_back(e);
     }
-    (void)m;
-
+    flush_events();
     for (size_t k = 0; k < islands.size(); ++k) {
-        const std::vector<TraceEvent> &ev = islands[k].solver->events();
-        info.trace.insert(info.trace.end(), ev.begin(), ev.end());
         info.switches += islands[k].solver->switches();
         accumulate(info, islands[k].solver->counters());
     }

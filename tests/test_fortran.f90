@@ -56,6 +56,17 @@ program test_fortran
   call check('info by key', err == FRIX_OK .and. n64 == frix_info_iterations(info))
   call check('u = W r + q', abs(u(1) - (4d0 * r(1) + r(2) - 2d0)) < 1d-12)
 
+  ! The default solver (auto): its trace, and the existence check.
+  r = 0
+  err = frix_solve(p, c_null_ptr, r, u, dummy, info)
+  err = frix_info_get_int(info, FRIX_INFO_SOLVER_ID, n64)
+  call check('default solver is auto', err == FRIX_OK .and. n64 == FRIX_SOLVER_AUTO)
+  call check('auto trace', index(frix_fstr(frix_info_trace(info)), 'analysis:') == 1)
+  err = frix_problem_check_existence(p, 0d0, info)
+  err = frix_info_get_int(info, FRIX_INFO_EXISTENCE, n64)
+  call check('existence', err == FRIX_OK .and. n64 == FRIX_EXISTENCE_GUARANTEED .and. &
+       frix_fstr(frix_existence_describe(int(n64, c_int))) == 'a solution exists')
+
   ! FCLIB round trip; optional arrays go through c_loc / c_null_ptr.
   path = 'test_fortran.hdf5'
   err = frix_fclib_write(frix_cstr(path), p, c_loc(r), c_loc(u), c_null_ptr, 0_c_int64_t, &

@@ -36,14 +36,20 @@ module frix
        FRIX_OPT_LOCAL_SOLVER = 6, FRIX_OPT_LOCAL_TOLERANCE = 7, FRIX_OPT_LOCAL_MAX_ITER = 8, &
        FRIX_OPT_RELAXATION = 9, FRIX_OPT_SHUFFLE = 10, FRIX_OPT_SEED = 11
   ! ---- solvers
-  integer(c_int), parameter :: FRIX_SOLVER_NSGS = 500
+  integer(c_int), parameter :: FRIX_SOLVER_NSGS = 500, FRIX_SOLVER_AUTO = 900
+  integer(c_int), parameter :: FRIX_OPT_THREADS = 28, FRIX_OPT_EXISTENCE_CHECK = 29
+  ! ---- frix_existence
+  integer(c_int), parameter :: FRIX_EXISTENCE_NOT_CHECKED = 0, FRIX_EXISTENCE_GUARANTEED = 1, &
+       FRIX_EXISTENCE_DOUBTFUL = 2, FRIX_EXISTENCE_UNDETERMINED = 3
   ! ---- frix_info_key
   integer(c_int), parameter :: FRIX_INFO_KEY_STATUS = 1, FRIX_INFO_KEY_ITERATIONS = 2, &
        FRIX_INFO_SOLVER_ID = 3, FRIX_INFO_CONTACTS = 4, FRIX_INFO_KEY_ERROR = 100, &
        FRIX_INFO_ERROR_RELATIVE = 101, FRIX_INFO_ERROR_Q_RELATIVE = 102, &
        FRIX_INFO_RESIDUAL_ABSOLUTE = 103, FRIX_INFO_CONE_VIOLATION = 104, &
        FRIX_INFO_PENETRATION = 105, FRIX_INFO_COMPLEMENTARITY = 106, &
-       FRIX_INFO_EQUILIBRIUM = 107, FRIX_INFO_SOLVE_TIME = 120, FRIX_INFO_TOLERANCE = 121
+       FRIX_INFO_EQUILIBRIUM = 107, FRIX_INFO_SOLVE_TIME = 120, FRIX_INFO_TOLERANCE = 121, &
+       FRIX_INFO_ISLANDS = 11, FRIX_INFO_SWITCHES = 12, FRIX_INFO_EXISTENCE = 13, &
+       FRIX_INFO_EXISTENCE_MARGIN = 124
 
   interface
     ! ---- version and errors
@@ -282,6 +288,24 @@ module frix
       real(c_double), intent(inout) :: r(*)
       real(c_double), intent(out) :: u(*), v(*)
       integer(c_int) :: frix_solve
+    end function
+    ! What auto did, one line per step (a C string owned by info: frix_fstr copies it).
+    function frix_info_trace(info) bind(C, name='frix_info_trace')
+      import :: c_ptr
+      type(c_ptr), value :: info
+      type(c_ptr) :: frix_info_trace
+    end function
+    function frix_problem_check_existence(problem, time_limit, info) &
+         bind(C, name='frix_problem_check_existence')
+      import :: c_ptr, c_int, c_double
+      type(c_ptr), value :: problem, info
+      real(c_double), value :: time_limit
+      integer(c_int) :: frix_problem_check_existence
+    end function
+    function frix_existence_describe(verdict) bind(C, name='frix_existence_describe')
+      import :: c_ptr, c_int
+      integer(c_int), value :: verdict
+      type(c_ptr) :: frix_existence_describe
     end function
     function frix_problem_error(problem, r, v, error) bind(C, name='frix_problem_error')
       import :: c_ptr, c_int, c_double

@@ -1,50 +1,95 @@
 #!/usr/bin/env bash
-# Regenerates the results of docs/benchmarks.md: the two campaigns over the shared FCLIB
-# problems (tolerance 1e-4 and 1e-8; every registered frix solver and Siconos 4.4's nine),
-# their tables spliced between the markers of docs/benchmarks.md, and their plots and
-# runs.csv copied to docs/benchmarks/<tol>/. The traces stay in the work directory.
+# Regenerates the results of docs/benchmarks.md and docs/auto.md: three campaigns (every
+# registered frix solver and Siconos 4.4's nine) over the shared FCLIB problems at tolerance
+# 1e-4 and 1e-8 and over the larger problems of fclib-large at 1e-8; their tables spliced
+# between the markers of docs/benchmarks.md, their plots and runs.csv copied to
+# docs/benchmarks/<campaign>/; then auto against the best solver of each library, problem by
+# problem, over the two 1e-8 campaigns (tools/bench/auto_summary.py), with the performance
+# profile of all the solvers over both (docs/benchmarks/all-1e-8/). The traces stay in the
+# work directory.
 #
 #   tools/bench/bench_docs.sh [BUILD_DIR]      (from the repository root; default: build)
 #
 # Environment: FRIX_SHARED_DIR (default ../shared), BENCH_WORK (default BUILD_DIR/bench-docs),
-# BENCH_TIME_LIMIT (default 10 s per run), BENCH_JOBS (default 1).
+# BENCH_TIME_LIMIT (default 20 s per run), BENCH_LARGE_TIME_LIMIT (default 30 s per run on
+# fclib-large), BENCH_JOBS (default 1), BENCH_CAMPAIGNS (default "1e-4 1e-8 large"),
+# BENCH_REUSE=1 (redo the report of a campaign whose BENCH_WORK/<campaign>/runs.csv exists,
+# e.g. after rows were added to it by hand, instead of running it again).
 set -euo pipefail
 build=${1:-build}
 shared=${FRIX_SHARED_DIR:-../shared}
 work=${BENCH_WORK:-$build/bench-docs}
-limit=${BENCH_TIME_LIMIT:-10}
+limit=${BENCH_TIME_LIMIT:-20}
+large_limit=${BENCH_LARGE_TIME_LIMIT:-30}
 jobs=${BENCH_JOBS:-1}
+campaigns=${BENCH_CAMPAIGNS:-1e-4 1e-8 large}
 frix="$build/tools/frix"
 doc=docs/benchmarks.md
+auto_doc=docs/auto.md
 
 [ -x "$frix" ] || { echo "bench_docs.sh: $frix not found: build first" >&2; exit 2; }
 [ -f "$doc" ] || { echo "bench_docs.sh: run from the repository root ($doc not found)" >&2; exit 2; }
 [ -x "$build/tools/frix-siconos" ] ||
     echo "bench_docs.sh: warning: frix-siconos not built: the tables will lack Siconos" >&2
 
-for tol in 1e-4 1e-8; do
-    start=$SECONDS
-    "$frix" bench "$shared/fclib/local" "$shared/fclib/converted" --solvers all,siconos:all \
-        --tol "$tol" --time-limit "$limit" --jobs "$jobs" --out "$work/$tol"
-    wall=$((SECONDS - start))
-    [ -f "$work/$tol/plots/profile.png" ] ||
-        { echo "bench_docs.sh: no plots (python3-matplotlib missing?)" >&2; exit 1; }
-    mkdir -p "docs/benchmarks/$tol"
-    cp "$work/$tol/runs.csv" "$work/$tol/summary.md" "$work/$tol"/plots/*.png \
-        "$work/$tol"/plots/*.svg "docs/benchmarks/$tol/"
-    {
-        printf 'Generated on %s by `tools/bench/bench_docs.sh` (%s, Siconos %s; %s cores, %s job(s); campaign wall time %dm%02ds).\n\n' \
-            "$(date -u +%Y-%m-%d)" "$("$frix" --version)" \
-            "$(dpkg-query -W -f='${Version}' libsiconos-numerics-dev 2>/dev/null || echo 'not installed')" \
-            "$(nproc)" "$jobs" $((wall / 60)) $((wall % 60))
-        cat "$work/$tol/summary.md"
-    } > "$work/$tol/block.md"
-    # Replace what lies between "<!-- bench TOL begin -->" and "<!-- bench TOL end -->".
-    awk -v begin="<!-- bench $tol begin -->" -v end="<!-- bench $tol end -->" \
-        -v block="$work/$tol/block.md" '
+# splice FILE MARKER BLOCK: replaces what lies between "<!-- MARKER begin -->" and
+# "<!-- MARKER end -->" in FILE with the contents of BLOCK.
+splice() {
+    awk -v begin="<!-- $2 begin -->" -v end="<!-- $2 end -->" -v block="$3" '
         $0 == begin { print; while ((getline line < block) > 0) print line; skip = 1; next }
         $0 == end { skip = 0 }
-        !skip { print }' "$doc" > "$doc.new"
-    mv "$doc.new" "$doc"
+        !skip { print }' "$1" > "$1.new"
+    mv "$1.new" "$1"
+}
+
+versions() {
+    printf '%s, Siconos %s; %s cores, %s job(s)' "$("$frix" --version)" \
+        "$(dpkg-query -W -f='${Version}' libsiconos-numerics-dev 2>/dev/null || echo 'not installed')" \
+        "$(nproc)" "$jobs"
+}
+
+for campaign in $campaigns; do
+    case $campaign in
+        large) dirs=("$shared/fclib-large"); tol=1e-8; tl=$large_limit ;;
+        *) dirs=("$shared/fclib/local" "$shared/fclib/converted"); tol=$campaign; tl=$limit ;;
+    esac
+    out="$work/$campaign"
+    start=$SECONDS
+    if [ "${BENCH_REUSE:-0}" = 1 ] && [ -f "$out/runs.csv" ]; then
+        "$frix" bench --report "$out"
+        how="report redone from $out/runs.csv"
+    else
+        "$frix" bench "${dirs[@]}" --solvers all,siconos:all --tol "$tol" --time-limit "$tl" \
+            --jobs "$jobs" --out "$out"
+        wall=$((SECONDS - start))
+        how=$(printf 'campaign wall time %dm%02ds' $((wall / 60)) $((wall % 60)))
+    fi
+    [ -f "$out/plots/profile.png" ] ||
+        { echo "bench_docs.sh: no plots (python3-matplotlib missing?)" >&2; exit 1; }
+    mkdir -p "docs/benchmarks/$campaign"
+    cp "$out/runs.csv" "$out/summary.md" "$out"/plots/*.png "$out"/plots/*.svg "docs/benchmarks/$campaign/"
+    {
+        printf 'Generated on %s by `tools/bench/bench_docs.sh` (%s; tolerance %s, %s s per run; %s).\n\n' \
+            "$(date -u +%Y-%m-%d)" "$(versions)" "$tol" "$tl" "$how"
+        cat "$out/summary.md"
+    } > "$out/block.md"
+    splice "$doc" "bench $campaign" "$out/block.md"
 done
-echo "bench_docs.sh: $doc and docs/benchmarks/ updated"
+
+# auto against the best of each library, and the profile of every solver, over both 1e-8
+# campaigns together.
+if [ -f "$work/1e-8/runs.csv" ] && [ -f "$work/large/runs.csv" ]; then
+    all="$work/all-1e-8"
+    mkdir -p "$all"
+    cp "$work/1e-8/runs.csv" "$all/runs.csv"
+    tail -n +2 "$work/large/runs.csv" >> "$all/runs.csv"
+    cp "$work/1e-8/traces.csv" "$all/traces.csv"
+    tail -n +2 "$work/large/traces.csv" >> "$all/traces.csv"
+    "$frix" bench --report "$all"
+    mkdir -p docs/benchmarks/all-1e-8
+    cp "$all"/plots/profile.png "$all"/plots/profile.svg docs/benchmarks/all-1e-8/
+    tools/bench/auto_summary.py "$work/1e-8/runs.csv" "$work/large/runs.csv" > "$all/auto.md"
+    splice "$doc" "bench auto" "$all/auto.md"
+    splice "$auto_doc" "auto figures" "$all/auto.md"
+fi
+echo "bench_docs.sh: $doc, $auto_doc and docs/benchmarks/ updated"
