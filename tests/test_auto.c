@@ -79,6 +79,45 @@ static frix_options *auto_options(double tol) {
     return o;
 }
 
+/* One shared problem with what a solve of it needs: r, u, v (all zero), an info and auto's
+ * options at `tol`. open() returns 0 when the shared data is absent (the test then passes). */
+typedef struct {
+    frix_problem *p;
+    int64_t m;
+    double *r, *u, *v;
+    frix_info *info;
+    frix_options *o;
+} file_run;
+
+static int file_run_open(file_run *f, const char *relative, double tol) {
+    memset(f, 0, sizeof *f);
+    f->p = load(relative);
+    if (!f->p) return 0;
+    f->m = frix_problem_contact_dofs(f->p);
+    f->r = calloc((size_t)f->m + 1, sizeof *f->r);
+    f->u = calloc((size_t)f->m + 1, sizeof *f->u);
+    f->v = calloc((size_t)frix_problem_dofs(f->p) + 1, sizeof *f->v);
+    ck_assert_int_eq(frix_info_create(&f->info), FRIX_OK);
+    f->o = auto_options(tol);
+    return 1;
+}
+
+/* Solves from r = 0 (v = 0). */
+static void file_run_solve(file_run *f) {
+    memset(f->r, 0, (size_t)f->m * sizeof *f->r);
+    memset(f->v, 0, (size_t)frix_problem_dofs(f->p) * sizeof *f->v);
+    ck_assert_int_eq(frix_solve(f->p, f->o, f->r, f->u, f->v, f->info), FRIX_OK);
+}
+
+static void file_run_close(file_run *f) {
+    frix_options_free(f->o);
+    frix_info_free(f->info);
+    free(f->r);
+    free(f->u);
+    free(f->v);
+    frix_problem_free(f->p);
+}
+
 START_TEST(test_registered_and_default) {
     int id = 0;
     ck_assert_int_eq(frix_solver_by_name("auto", &id), FRIX_OK);
@@ -163,26 +202,17 @@ END_TEST
 /* A problem where NSGS alone is a limit cycle (Siconos' NSGS fails too): auto switches and
  * converges, and says so in the trace and the switch count. */
 START_TEST(test_switches_recorded) {
-    frix_problem *p = load("converted/OneObject-i100000-316.from_dat.hdf5");
-    if (!p) return;
-    const int64_t m = frix_problem_contact_dofs(p);
-    double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u);
-    frix_info *info = NULL;
-    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
-    frix_options *o = auto_options(1e-8);
-    ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
-    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    file_run f;
+    if (!file_run_open(&f, "converted/OneObject-i100000-316.from_dat.hdf5", 1e-8)) return;
+    file_run_solve(&f);
+    ck_assert_int_eq(frix_info_status(f.info), FRIX_STATUS_CONVERGED);
     int64_t switches = -1;
-    ck_assert_int_eq(frix_info_get_int(info, FRIX_INFO_SWITCHES, &switches), FRIX_OK);
+    ck_assert_int_eq(frix_info_get_int(f.info, FRIX_INFO_SWITCHES, &switches), FRIX_OK);
     ck_assert_int_ge(switches, 1);
-    const char *trace = frix_info_trace(info);
+    const char *trace = frix_info_trace(f.info);
     ck_assert_ptr_nonnull(strstr(trace, "analysis: 25 contacts"));
     ck_assert_ptr_nonnull(strstr(trace, "nsgs-v: stopped by the watchdog"));
-    frix_options_free(o);
-    frix_info_free(info);
-    free(r);
-    free(u);
-    frix_problem_free(p);
+    file_run_close(&f);
 }
 END_TEST
 
@@ -202,89 +232,58 @@ static int on_progress(void *data, int64_t iteration, double error, double elaps
 }
 
 START_TEST(test_callback_sees_progress_and_stops) {
-    frix_problem *p = load("local/Capsules-i125-1213.hdf5");
-    if (!p) return;
-    const int64_t m = frix_problem_contact_dofs(p);
-    double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u);
-    frix_info *info = NULL;
-    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
-    frix_options *o = auto_options(1e-8);
+    file_run f;
+    if (!file_run_open(&f, "local/Capsules-i125-1213.hdf5", 1e-8)) return;
     progress_log log = {0, 0, 0, 1};
-    ck_assert_int_eq(frix_options_set_callback(o, on_progress, &log), FRIX_OK);
-    ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
-    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    ck_assert_int_eq(frix_options_set_callback(f.o, on_progress, &log), FRIX_OK);
+    file_run_solve(&f);
+    ck_assert_int_eq(frix_info_status(f.info), FRIX_STATUS_CONVERGED);
     ck_assert_int_gt(log.calls, 10);
     ck_assert(log.monotone);
-    ck_assert_int_le(log.last_iteration, frix_info_iterations(info));
+    ck_assert_int_le(log.last_iteration, frix_info_iterations(f.info));
 
     progress_log stop = {0, 0, 5, 1};
-    memset(r, 0, (size_t)m * sizeof *r);
-    ck_assert_int_eq(frix_options_set_callback(o, on_progress, &stop), FRIX_OK);
-    ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
-    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_STOPPED_BY_CALLBACK);
+    ck_assert_int_eq(frix_options_set_callback(f.o, on_progress, &stop), FRIX_OK);
+    file_run_solve(&f);
+    ck_assert_int_eq(frix_info_status(f.info), FRIX_STATUS_STOPPED_BY_CALLBACK);
     ck_assert_int_eq(stop.calls, 5);
-    frix_options_free(o);
-    frix_info_free(info);
-    free(r);
-    free(u);
-    frix_problem_free(p);
+    file_run_close(&f);
 }
 END_TEST
 
 /* The iteration limit and the time limit bound the whole sequence. */
 START_TEST(test_limits) {
-    frix_problem *p = load("converted/RockPile_tob1.from_dat.hdf5");
-    if (!p) return;
-    const int64_t m = frix_problem_contact_dofs(p);
-    double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u);
-    frix_info *info = NULL;
-    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
-    frix_options *o = auto_options(1e-12);
-    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 50), FRIX_OK);
-    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_EXISTENCE_CHECK, 0), FRIX_OK);
-    ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
-    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_MAX_ITER);
-    ck_assert(isfinite(frix_info_error(info)));
+    file_run f;
+    if (!file_run_open(&f, "converted/RockPile_tob1.from_dat.hdf5", 1e-12)) return;
+    ck_assert_int_eq(frix_options_set_int(f.o, FRIX_OPT_MAX_ITER, 50), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(f.o, FRIX_OPT_EXISTENCE_CHECK, 0), FRIX_OK);
+    file_run_solve(&f);
+    ck_assert_int_eq(frix_info_status(f.info), FRIX_STATUS_MAX_ITER);
+    ck_assert(isfinite(frix_info_error(f.info)));
     int64_t existence = -1;
-    ck_assert_int_eq(frix_info_get_int(info, FRIX_INFO_EXISTENCE, &existence), FRIX_OK);
+    ck_assert_int_eq(frix_info_get_int(f.info, FRIX_INFO_EXISTENCE, &existence), FRIX_OK);
     ck_assert_int_eq(existence, FRIX_EXISTENCE_NOT_CHECKED);
 
-    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 1000000000), FRIX_OK);
-    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TIME_LIMIT, 0.2), FRIX_OK);
-    memset(r, 0, (size_t)m * sizeof *r);
-    ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
-    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_TIME_LIMIT);
-    ck_assert(isfinite(frix_info_error(info)));
-    frix_options_free(o);
-    frix_info_free(info);
-    free(r);
-    free(u);
-    frix_problem_free(p);
+    ck_assert_int_eq(frix_options_set_int(f.o, FRIX_OPT_MAX_ITER, 1000000000), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(f.o, FRIX_OPT_TIME_LIMIT, 0.2), FRIX_OK);
+    file_run_solve(&f);
+    ck_assert_int_eq(frix_info_status(f.info), FRIX_STATUS_TIME_LIMIT);
+    ck_assert(isfinite(frix_info_error(f.info)));
+    file_run_close(&f);
 }
 END_TEST
 
 static void solve_to_1e8(const char *relative) {
-    frix_problem *p = load(relative);
-    if (!p) return;
-    const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
-    double *r = calloc((size_t)m + 1, sizeof *r), *u = calloc((size_t)m + 1, sizeof *u);
-    double *v = calloc((size_t)n + 1, sizeof *v);
-    frix_info *info = NULL;
-    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
-    frix_options *o = auto_options(1e-8);
-    ck_assert_int_eq(frix_solve(p, o, r, u, v, info), FRIX_OK);
-    if (frix_info_status(info) != FRIX_STATUS_CONVERGED) fprintf(stderr, "%s\n%s", relative, frix_info_trace(info));
-    ck_assert_msg(frix_info_status(info) == FRIX_STATUS_CONVERGED, "%s: %s, error %.3e (trace above)", relative,
-                  frix_status_string(frix_info_status(info)), frix_info_error(info));
+    file_run f;
+    if (!file_run_open(&f, relative, 1e-8)) return;
+    file_run_solve(&f);
+    if (frix_info_status(f.info) != FRIX_STATUS_CONVERGED) fprintf(stderr, "%s\n%s", relative, frix_info_trace(f.info));
+    ck_assert_msg(frix_info_status(f.info) == FRIX_STATUS_CONVERGED, "%s: %s, error %.3e (trace above)", relative,
+                  frix_status_string(frix_info_status(f.info)), frix_info_error(f.info));
     double e = NAN;
-    ck_assert_int_eq(frix_problem_error(p, r, v, &e), FRIX_OK);
+    ck_assert_int_eq(frix_problem_error(f.p, f.r, f.v, &e), FRIX_OK);
     ck_assert_msg(e <= 1e-8, "%s: recomputed error %.3e", relative, e);
-    frix_options_free(o);
-    frix_info_free(info);
-    free(r);
-    free(u);
-    free(v);
-    frix_problem_free(p);
+    file_run_close(&f);
 }
 
 /* Every local problem of ../shared/fclib but RockPile_tob1, which auto does not bring to 1e-8

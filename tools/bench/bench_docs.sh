@@ -57,7 +57,7 @@ for campaign in $campaigns; do
     start=$SECONDS
     if [ "${BENCH_REUSE:-0}" = 1 ] && [ -f "$out/runs.csv" ]; then
         "$frix" bench --report "$out"
-        how="report redone from $out/runs.csv"
+        how="report redone from the campaign's runs.csv"
     else
         "$frix" bench "${dirs[@]}" --solvers all,siconos:all --tol "$tol" --time-limit "$tl" \
             --jobs "$jobs" --out "$out"

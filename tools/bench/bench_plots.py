@@ -31,6 +31,7 @@ ID_COLOURS = {
     500: "tab:blue", 502: "tab:orange", 503: "tab:olive", 504: "tab:green",
     506: "tab:purple", 507: "tab:brown", 513: "tab:red", 520: "tab:pink",
     523: "tab:cyan", 516: "tab:gray", 508: "gold", 505: "navy", 522: "teal",
+    900: "magenta",  # auto, frix's default: drawn thicker too
 }
 SPARE_COLOURS = ["black", "darkgoldenrod", "slateblue", "darkseagreen", "indianred",
                  "peru", "orchid", "steelblue"]
@@ -64,7 +65,7 @@ class Styles:
         siconos = solver.startswith("siconos:")
         return dict(color=self.colour_of_id[self.ids[solver]],
                     linestyle="--" if siconos else "-",
-                    linewidth=1.6 if siconos else 2.2)
+                    linewidth=1.6 if siconos else (3.2 if solver == "auto" else 2.2))
 
     def marker(self, solver):
         return "s" if solver.startswith("siconos:") else "o"
