@@ -319,9 +319,9 @@ class IslandSolver {
     // remaining iterations and the caller's deadline.
     frix_error stage(int id, Watch kind, int64_t patience, int64_t budget, double *r) {
         const SolverEntry *entry = find_solver(id);
-        frix_options *raw = nullptr;
-        if (frix_error e = frix_options_create(id, &raw)) return e;
-        std::unique_ptr<frix_options, void (*)(frix_options *)> o(raw, frix_options_free);
+        frix_options options;
+        default_options(*entry, options);
+        frix_options *o = &options;
         const frix_options &user = shared_.user;
         o->dvalue[FRIX_OPT_TOLERANCE] = tolerance_;
         o->ivalue[FRIX_OPT_ERROR_MEASURE] = user.i(FRIX_OPT_ERROR_MEASURE);
@@ -483,6 +483,10 @@ frix_error solve_local(SolveContext &ctx) {
             for (const Island &is : islands)
                 for (size_t c = 0; c < is.contacts.size(); ++c)
                     for (int d = 0; d < 3; ++d) ctx.r[3 * is.contacts[c] + d] = is.r[3 * c + (size_t)d];
+        if (whole) {  // the part's own measure is the whole problem's (the driver measures r again)
+            error = islands[0].error;
+            break;
+        }
         whole_measures = local_measures(p, ctx.r, ctx.u);
         error = selected_error(whole_measures, user.i(FRIX_OPT_ERROR_MEASURE));
         if (whole || error <= tol || tightening >= kMaxTightenings || shared.out_of_time() ||

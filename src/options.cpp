@@ -117,7 +117,25 @@ frix_error store(const char *where, frix_options *opts, const KeySpec &s, double
     return FRIX_OK;
 }
 
+void assign(frix_options &o, const KeySpec &s, double value) {
+    if (s.is_int)
+        o.ivalue[s.key] = (int64_t)value;
+    else
+        o.dvalue[s.key] = value;
+}
+
 }  // namespace
+
+namespace frix {
+
+void default_options(const SolverEntry &e, frix_options &o) {
+    o = frix_options();
+    o.solver_id = e.id;
+    for (const KeySpec &s : kKeys) assign(o, s, s.default_value);
+    for (const OptionDefault *d = e.defaults; d && d->key; ++d) assign(o, *spec_of(d->key), d->value);
+}
+
+}  // namespace frix
 
 extern "C" {
 

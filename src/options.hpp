@@ -7,6 +7,7 @@
 
 namespace frix {
 constexpr int kMaxOptionKey = 29;  // highest frix_option_key value
+struct SolverEntry;
 }
 
 struct frix_options {
@@ -21,3 +22,9 @@ struct frix_options {
     int64_t i(frix_option_key k) const { return ivalue[k]; }
     double d(frix_option_key k) const { return dvalue[k]; }
 };
+
+namespace frix {
+// The options frix_options_create(e.id) makes, without its checks and without allocating:
+// for solvers that run other solvers (auto), whose tables frix_options_create checks.
+void default_options(const SolverEntry &e, frix_options &o);
+}  // namespace frix
