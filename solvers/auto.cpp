@@ -395,6 +395,7 @@ struct Island {
     std::vector<double> r;
     double error = INFINITY;
     frix_error status = FRIX_OK;
+    std::string message;  // the error message of a failed solve, from its thread
 };
 
 frix_error solve_local(SolveContext &ctx) {
@@ -449,6 +450,8 @@ frix_error solve_local(SolveContext &ctx) {
                     double *r = whole ? ctx.r : is.r.data();
                     is.status = guard("frix_solve (auto)",
                                       [&] { return is.solver->solve(phase, r, island_tol, &is.error); });
+                    // The message lives in this thread's error state: keep it for the caller's.
+                    if (is.status != FRIX_OK) is.message = frix_last_error_message();
                 }
             };
             if (threads <= 1) {
@@ -460,7 +463,7 @@ frix_error solve_local(SolveContext &ctx) {
                 for (std::thread &t : pool) t.join();
             }
             for (const Island &is : islands)
-                if (is.status != FRIX_OK) return is.status;
+                if (is.status != FRIX_OK) return fail(is.status, "%s", is.message.c_str());
         }
         return FRIX_OK;
     };
