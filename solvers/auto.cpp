@@ -551,15 +551,17 @@ const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 1e9}, {(frix_option_key)0
 
 }  // namespace
 
-#define FRIX_AUTO_DESCRIPTION                                                                     \
-    "The default solver. Analyses the problem (sizes, the ranges of |W_aa| and mu, the islands: " \
-    "groups of contacts that do not interact, solved separately and, with threads > 1, at "      \
-    "once), then runs on each island NSGS while its convergence rate promises the tolerance "   \
-    "soon, and otherwise semismooth Newton (Alart-Curnier), PROX and ADMM in turn from the "    \
-    "best iterate so far, a watchdog stopping any stage that stalls. Global problems are "      \
-    "reduced to W = H^T M^-1 H, with Newton on (v, r) as the fallback. Every stage and switch " \
-    "is in frix_info_trace; on failure an existence check says whether a solution may not "    \
-    "exist. Options: threads, existence_check (and the common ones). See docs/auto.md."
+#define FRIX_AUTO_DESCRIPTION                                                                       \
+    "The default solver. Analyses the problem (sizes, the ranges of |W_aa| and mu, the islands: "   \
+    "groups of contacts that do not interact, each large one solved as a part of its own, the "    \
+    "small ones together, with threads > 1 at once), then runs on each part NSGS while its "       \
+    "convergence rate promises the tolerance soon, and otherwise rounds of semismooth Newton "     \
+    "(Alart-Curnier), ADMM, PROX and NSGS from the best iterate so far, with budgets that double " \
+    "every round and a watchdog stopping any stage that stalls; deterministic (iteration counts, " \
+    "not seconds). Global problems are reduced to W = H^T M^-1 H, with Newton on (v, r) as the "   \
+    "fallback. Every stage is in frix_info_trace; on failure an existence check says whether a "   \
+    "solution may not exist. Options: threads, existence_check (and the common ones). See "        \
+    "docs/auto.md."
 
 const SolverEntry kAutoReductionEntry = {FRIX_SOLVER_AUTO, "auto", nullptr, FRIX_AUTO_DESCRIPTION,
                                          solve_reduced, true, false, kExtraKeys, kDefaults};
