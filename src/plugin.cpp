@@ -82,6 +82,9 @@ const frix_plugin_table kTableV1 = {
     frix_dat_read,
     frix_fclib_guess_count,
     frix_fclib_read_guess,
+    frix_info_trace,
+    frix_problem_check_existence,
+    frix_existence_describe,
 };
 
 }  // namespace

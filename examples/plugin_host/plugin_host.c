@@ -10,6 +10,7 @@
 
 #include <dlfcn.h>
 #include <stdio.h>
+#include <string.h>
 
 /* The SONAME major this host was built for: another major may change any signature. */
 #define HOST_WANTS_MAJOR FRIX_VERSION_MAJOR
@@ -33,6 +34,12 @@ static int solve_one(const frix_plugin_table *fx) {
                (long long)fx->info_iterations(info), fx->info_error(info));
         printf("r = (%g, %g, %g | %g, %g, %g)\n", r[0], r[1], r[2], r[3], r[4], r[5]);
         ok = fx->info_status(info) == FRIX_STATUS_CONVERGED;
+        /* A member appended after the first table: present only in newer libraries. */
+        if (FRIX_PLUGIN_HAS(fx, info_trace)) {
+            const char *trace = fx->info_trace(info);
+            printf("trace: %.*s\n", (int)strcspn(trace, "\n"), trace);
+            ok = ok && strncmp(trace, "analysis:", 9) == 0;
+        }
     }
     fx->info_free(info);
     fx->problem_free(p);

@@ -157,6 +157,13 @@ typedef struct frix_plugin_table {
     frix_error (*fclib_read_guess)(const char *path, const frix_problem *problem, int64_t index,
                                    double *r, double *u, double *v);
 
+    /* ---- Appended in frix 0.1 after the first table: the default solver's trace and the
+     * existence check (frix_solve.h). Check with FRIX_PLUGIN_HAS before use. */
+    const char *(*info_trace)(const frix_info *info);
+    frix_error (*problem_check_existence)(const frix_problem *problem, double time_limit,
+                                          frix_info *info);
+    const char *(*existence_describe)(frix_existence verdict);
+
     /* New members go here, at the end, and nowhere else. */
 } frix_plugin_table;
 
