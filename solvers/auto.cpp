@@ -535,8 +535,13 @@ void check_existence_on_failure(SolveContext &ctx) {
     if (info.status == FRIX_STATUS_CONVERGED || info.status == FRIX_STATUS_STOPPED_BY_CALLBACK ||
         !ctx.options.i(FRIX_OPT_EXISTENCE_CHECK))
         return;
+    // Within the caller's time limit: what is left of it, and no check once it is spent
+    // (frix solve then checks on its own, outside the solve).
+    const double tl = ctx.options.d(FRIX_OPT_TIME_LIMIT);
+    const double left = tl > 0.0 ? tl - ctx.clock.seconds() : 0.0;
+    if (tl > 0.0 && left <= 0.0) return;
     double margin = NAN;
-    info.existence = check_existence(ctx.problem, 0.0, &margin);
+    info.existence = check_existence(ctx.problem, left, &margin);
     info.existence_margin = margin;
     info.trace.push_back(TraceEvent{TraceEvent::kExistence});
 }

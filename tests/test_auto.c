@@ -264,11 +264,24 @@ START_TEST(test_limits) {
     ck_assert_int_eq(frix_info_get_int(f.info, FRIX_INFO_EXISTENCE, &existence), FRIX_OK);
     ck_assert_int_eq(existence, FRIX_EXISTENCE_NOT_CHECKED);
 
+    /* A spent time limit leaves no time for the existence check: it is skipped. */
     ck_assert_int_eq(frix_options_set_int(f.o, FRIX_OPT_MAX_ITER, 1000000000), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(f.o, FRIX_OPT_EXISTENCE_CHECK, 1), FRIX_OK);
     ck_assert_int_eq(frix_options_set_double(f.o, FRIX_OPT_TIME_LIMIT, 0.2), FRIX_OK);
     file_run_solve(&f);
     ck_assert_int_eq(frix_info_status(f.info), FRIX_STATUS_TIME_LIMIT);
     ck_assert(isfinite(frix_info_error(f.info)));
+    ck_assert_int_eq(frix_info_get_int(f.info, FRIX_INFO_EXISTENCE, &existence), FRIX_OK);
+    ck_assert_int_eq(existence, FRIX_EXISTENCE_NOT_CHECKED);
+
+    /* Without a limit, a failure is followed by the check: RockPile has a solution. */
+    ck_assert_int_eq(frix_options_set_double(f.o, FRIX_OPT_TIME_LIMIT, 0.0), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(f.o, FRIX_OPT_MAX_ITER, 50), FRIX_OK);
+    file_run_solve(&f);
+    ck_assert_int_eq(frix_info_status(f.info), FRIX_STATUS_MAX_ITER);
+    ck_assert_int_eq(frix_info_get_int(f.info, FRIX_INFO_EXISTENCE, &existence), FRIX_OK);
+    ck_assert_int_eq(existence, FRIX_EXISTENCE_GUARANTEED);
+    ck_assert_ptr_nonnull(strstr(frix_info_trace(f.info), "existence check: a solution exists"));
     file_run_close(&f);
 }
 END_TEST
