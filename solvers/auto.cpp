@@ -191,8 +191,6 @@ class IslandSolver {
     IslandSolver(const frix_problem &p, Shared &shared, int64_t island)
         : p_(p), shared_(shared), island_(island), m_(3 * p.nc), u_((size_t)m_), best_r_((size_t)m_) {}
 
-    // r: the island's reactions (warm start in, best iterate out). Returns the best error
-    // reached (the measure selected by the caller's options, on this island).
     // Phase kFirst runs the first NSGS stage, phase kRest one round of the others: every
     // part gets its cheap chance before any part gets a long one, and the parts take their
     // rounds in turn (with a time limit, a hard part must not starve the others).
@@ -203,6 +201,8 @@ class IslandSolver {
         return !finished_ && !(best_error_ <= tolerance_) && !shared_.stop_requested.load() &&
                !shared_.out_of_iterations() && !shared_.out_of_time();
     }
+    // r: the part's reactions (warm start in, best iterate out); *best_error: the best error
+    // reached (the measure selected by the caller's options, on this part).
     frix_error solve(Phase phase, double *r, double tolerance, double *best_error) {
         if (phase == kFirst) {
             tolerance_ = tolerance;
@@ -211,8 +211,7 @@ class IslandSolver {
             std::copy(r, r + m_, best_r_.begin());
             // From r = 0 the first stage measures its own start; a warm start is measured
             // here, since it may already be the answer (a tightened pass over the parts).
-            if (std::any_of(r, r + m_, [](double x) { return x != 0.0; }))
-                if (frix_error e = measure(r, &best_error_)) return e;
+            if (std::any_of(r, r + m_, [](double x) { return x != 0.0; })) best_error_ = measure(r);
         }
         if (active()) {
             if (frix_error e = phase == kFirst ? first_stage(r) : run_round(r)) return e;
@@ -228,11 +227,10 @@ class IslandSolver {
     bool stopped() const { return stopped_; }
 
    private:
-    frix_error measure(const double *r, double *error) {
-        const Measures m = local_measures(p_, r, u_.data());
-        *error = selected_error(m, shared_.user.i(FRIX_OPT_ERROR_MEASURE));
-        if (!std::isfinite(*error)) *error = INFINITY;
-        return FRIX_OK;
+    // The part's error at r (a non-finite one counts as infinite).
+    double measure(const double *r) {
+        const double e = selected_error(local_measures(p_, r, u_.data()), shared_.user.i(FRIX_OPT_ERROR_MEASURE));
+        return std::isfinite(e) ? e : INFINITY;
     }
 
     void note(TraceEvent e) {
@@ -319,19 +317,18 @@ class IslandSolver {
     // remaining iterations and the caller's deadline.
     frix_error stage(int id, Watch kind, int64_t patience, int64_t budget, double *r) {
         const SolverEntry *entry = find_solver(id);
-        frix_options options;
-        default_options(*entry, options);
-        frix_options *o = &options;
+        frix_options o;
+        default_options(*entry, o);
         const frix_options &user = shared_.user;
-        o->dvalue[FRIX_OPT_TOLERANCE] = tolerance_;
-        o->ivalue[FRIX_OPT_ERROR_MEASURE] = user.i(FRIX_OPT_ERROR_MEASURE);
-        o->ivalue[FRIX_OPT_VERBOSITY] = std::max<int64_t>(0, user.i(FRIX_OPT_VERBOSITY) - 1);
+        o.dvalue[FRIX_OPT_TOLERANCE] = tolerance_;
+        o.ivalue[FRIX_OPT_ERROR_MEASURE] = user.i(FRIX_OPT_ERROR_MEASURE);
+        o.ivalue[FRIX_OPT_VERBOSITY] = std::max<int64_t>(0, user.i(FRIX_OPT_VERBOSITY) - 1);
         const int64_t left = user.i(FRIX_OPT_MAX_ITER) - shared_.iterations.load();
-        o->ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, std::min(left, budget));
+        o.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, std::min(left, budget));
         // The stage runs on the shared clock (started by frix_solve): its limit is the
         // caller's deadline itself.
         const double deadline = shared_.deadline();
-        o->dvalue[FRIX_OPT_TIME_LIMIT] = std::isfinite(deadline) ? deadline : 0.0;
+        o.dvalue[FRIX_OPT_TIME_LIMIT] = std::isfinite(deadline) ? deadline : 0.0;
         Watchdog dog;
         dog.shared = &shared_;
         dog.kind = kind;
@@ -339,15 +336,15 @@ class IslandSolver {
         dog.patience = patience;
         const double blocks = (double)std::max<int64_t>(1, p_.W->nblocks());
         dog.min_sweeps = std::max<int64_t>(kNsgsMinSweeps, (int64_t)(kNsgsMinWork / blocks));
-        o->callback = Watchdog::callback;
-        o->callback_data = &dog;
+        o.callback = Watchdog::callback;
+        o.callback_data = &dog;
 
         frix_info info;
         info.solver_id = id;
         info.contacts = p_.nc;
         info.tolerance = tolerance_;
         const double t0 = shared_.clock.seconds();
-        if (frix_error e = solve_local_problem(p_, *o, *entry, r, u_.data(), info, shared_.clock)) return e;
+        if (frix_error e = solve_local_problem(p_, o, *entry, r, u_.data(), info, shared_.clock)) return e;
         accumulate(counters_, info);
         // Iterations the callback did not see (solvers report at their own pace).
         if (info.iterations > dog.last_iteration) shared_.iterations += info.iterations - dog.last_iteration;
@@ -598,20 +595,19 @@ frix_error solve(SolveContext &ctx) {
         check_existence_on_failure(ctx);
         return FRIX_OK;
     }
-    frix_options *raw = nullptr;
-    if (frix_error e = frix_options_create(FRIX_SOLVER_GLOBAL_NSN_AC, &raw)) return e;
-    std::unique_ptr<frix_options, void (*)(frix_options *)> o(raw, frix_options_free);
-    o->dvalue[FRIX_OPT_TOLERANCE] = ctx.options.d(FRIX_OPT_TOLERANCE);
-    o->ivalue[FRIX_OPT_ERROR_MEASURE] = ctx.options.i(FRIX_OPT_ERROR_MEASURE);
-    o->dvalue[FRIX_OPT_TIME_LIMIT] = tl;  // on the same clock: the same deadline
-    o->callback = ctx.options.callback;
-    o->callback_data = ctx.options.callback_data;
+    frix_options o;
+    default_options(kGlobalNsnAcEntry, o);
+    o.dvalue[FRIX_OPT_TOLERANCE] = ctx.options.d(FRIX_OPT_TOLERANCE);
+    o.ivalue[FRIX_OPT_ERROR_MEASURE] = ctx.options.i(FRIX_OPT_ERROR_MEASURE);
+    o.dvalue[FRIX_OPT_TIME_LIMIT] = tl;  // on the same clock: the same deadline
+    o.callback = ctx.options.callback;
+    o.callback_data = ctx.options.callback_data;
     frix_info second;
     second.solver_id = info.solver_id;
     second.contacts = info.contacts;
     second.tolerance = info.tolerance;
     const double t0 = ctx.clock.seconds();
-    if (frix_error e = solve_global_problem(p, *o, kGlobalNsnAcEntry, ctx.r, ctx.u, ctx.v, second, ctx.clock,
+    if (frix_error e = solve_global_problem(p, o, kGlobalNsnAcEntry, ctx.r, ctx.u, ctx.v, second, ctx.clock,
                                             solve_local_problem))
         return e;
     std::vector<TraceEvent> trace = std::move(info.trace);

@@ -96,6 +96,14 @@ frix_error lookup(const char *where, const frix_options *opts, int key, const Ke
     return FRIX_OK;
 }
 
+// Sets key s.key to value in o, in the slot of its type (no checks).
+void assign(frix_options &o, const KeySpec &s, double value) {
+    if (s.is_int)
+        o.ivalue[s.key] = (int64_t)value;
+    else
+        o.dvalue[s.key] = value;
+}
+
 frix_error store(const char *where, frix_options *opts, const KeySpec &s, double value) {
     if (std::isnan(value) || value < s.lower || value > s.upper)
         return fail(FRIX_ERR_OPTION_RANGE, "%s: %s = %g is outside [%g, %g]", where, s.name, value,
@@ -110,18 +118,9 @@ frix_error store(const char *where, frix_options *opts, const KeySpec &s, double
                 return fail(FRIX_ERR_OPTION_RANGE, "%s: %s = %g is not one of the defined values",
                             where, s.name, value);
         }
-        opts->ivalue[s.key] = (int64_t)value;
-    } else {
-        opts->dvalue[s.key] = value;
     }
+    assign(*opts, s, value);
     return FRIX_OK;
-}
-
-void assign(frix_options &o, const KeySpec &s, double value) {
-    if (s.is_int)
-        o.ivalue[s.key] = (int64_t)value;
-    else
-        o.dvalue[s.key] = value;
 }
 
 }  // namespace
