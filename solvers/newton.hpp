@@ -17,6 +17,7 @@ extern const SolverEntry kNsnAcEntry;
 extern const SolverEntry kNsnFbEntry;
 extern const SolverEntry kNsnNmEntry;
 extern const SolverEntry kProxEntry;  // prox.cpp
+extern const SolverEntry kIpmEntry;   // ipm.cpp
 
 namespace newton {
 

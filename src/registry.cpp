@@ -31,6 +31,7 @@ const frix::SolverEntry *const kSolvers[] = {
     &frix::kAclmEntry,
     &frix::kAdmmEntry,
     &frix::kAutoEntry,
+    &frix::kIpmEntry,
 };
 constexpr int64_t kSolverCount = sizeof kSolvers / sizeof kSolvers[0];
 

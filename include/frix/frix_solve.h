@@ -29,6 +29,7 @@ enum {
     FRIX_SOLVER_HP = 508,          /* hyperplane projection */
     FRIX_SOLVER_ACLM = 516,        /* Acary-Cadoux-Lemarechal-Malick fixed point on s = |u_T| */
     FRIX_SOLVER_ADMM = 523,        /* ADMM on r = xi, W + rho I factorised */
+    FRIX_SOLVER_IPM = 524,         /* interior-point method, then Newton from its best point */
     FRIX_SOLVER_AUTO = 900         /* the default: analyses the problem, splits it into
                                       independent islands and runs a watched sequence of the
                                       solvers above on each (see docs/auto.md) */
