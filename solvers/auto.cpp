@@ -79,8 +79,9 @@ constexpr StageSpec kRound[] = {
 // Parts of at least this many contacts start their first round with the interior-point
 // method (524): where NSGS does not finish a large part, the IPM usually gets within reach
 // of Newton in tens of factorisations (granular and stacked scenes of fclib-large), while
-// Newton from NSGS's iterate needs hundreds of steps or stalls. It ignores the warm start,
-// so it runs in the first round only, and its result is kept only when it converged.
+// Newton from NSGS's iterate needs hundreds of steps or stalls. It cannot start from the
+// best iterate (an interior point is needed), so it runs in the first round only, and its
+// result is kept only when it converged.
 // Patience and budget count its iterations (interior points and then Newton steps).
 constexpr int64_t kIpmMinContacts = 200;
 constexpr StageSpec kIpmStage = {FRIX_SOLVER_IPM, 50, 500};

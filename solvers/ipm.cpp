@@ -107,17 +107,19 @@ inline void jordan_solve(const double *l, const double *c, double *t) {
 }
 
 // CSC pattern of W + block diagonal, with, for every entry, where its W value comes from
-// (an index into W's block values, or -1 for a diagonal entry W does not store) and, for the
-// diagonal blocks, the position of each of the 9 entries.
+// (an index into W's block values; kZero for a diagonal entry W does not store) and, for the
+// diagonal blocks, the position of each of the 9 entries. The tangential rows of frictionless
+// contacts are the identity rows of dr_T = 0: their entries are kZero or kOne, whatever W has.
 struct SystemPattern {
+    static constexpr int64_t kZero = -1, kOne = -2;
     std::vector<int64_t> colptr, rowind, w_source, diag_pos;  // diag_pos: 9 per contact
-    void build(const frix_matrix &W, int64_t nc) {
+    void build(const frix_matrix &W, const double *mu, int64_t nc) {
         const int64_t m = 3 * nc;
         std::vector<std::vector<std::pair<int64_t, int64_t>>> cols(m);  // (row, source)
         for (int64_t a = 0; a < nc; ++a) {
             if (W.diag_index[a] < 0)
                 for (int j = 0; j < 3; ++j)
-                    for (int i = 0; i < 3; ++i) cols[3 * a + j].push_back({3 * a + i, -1});
+                    for (int i = 0; i < 3; ++i) cols[3 * a + j].push_back({3 * a + i, kZero});
             for (int64_t b = W.row_ptr[a]; b < W.row_ptr[a + 1]; ++b) {
                 const int64_t c = W.block_col[b];
                 for (int j = 0; j < 3; ++j)
@@ -135,7 +137,8 @@ struct SystemPattern {
                 const int64_t a = j / 3;
                 if (e.first / 3 == a) diag_pos[9 * a + 3 * (e.first % 3) + j % 3] = (int64_t)rowind.size();
                 rowind.push_back(e.first);
-                w_source.push_back(e.second);
+                const bool fixed_row = e.first % 3 != 0 && !(mu[e.first / 3] > 0.0);
+                w_source.push_back(fixed_row ? (e.first == j ? kOne : kZero) : e.second);
             }
             colptr[j + 1] = (int64_t)rowind.size();
         }
@@ -175,7 +178,8 @@ class Solver {
     const frix_problem &p_;
     const int64_t nc_, m_;
     std::vector<double> r_, u_, s_, pres_;
-    std::vector<double> G_, Gi_, lambda_, D_;  // per contact: G, G^-1, G x, 3x3 D (row-major)
+    // Per contact: G, G^-1, G^2 (row-major 3x3), G x, and D (row-major 3x3).
+    std::vector<double> G_, Gi_, G2_, lambda_, D_;
     std::vector<double> dr_a_, du_a_, ds_a_, g_, rhs_;
     SystemPattern pat_;
     std::vector<double> values_;
@@ -199,7 +203,7 @@ void Solver::scalings() {
         nt_scaling(x, y, G, &Gi_[9 * a]);
         mul3(G, x, &lambda_[3 * a]);
         // Tangential rows: dy = G t - G^2 dx with dx = (mu dr_N, dr_T), dy = (ds, du_T).
-        double G2[9];
+        double *G2 = &G2_[9 * a];
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j)
                 G2[3 * i + j] = G[3 * i] * G[j] + G[3 * i + 1] * G[3 + j] + G[3 * i + 2] * G[6 + j];
@@ -214,17 +218,14 @@ void Solver::scalings() {
 frix_error Solver::assemble_and_factor() {
     const frix_matrix &W = *p_.W;
     const int64_t nnz = (int64_t)pat_.rowind.size();
-    for (int64_t k = 0; k < nnz; ++k)
-        values_[k] = pat_.w_source[k] >= 0 ? W.block_val[pat_.w_source[k]] : 0.0;
+    for (int64_t k = 0; k < nnz; ++k) {
+        const int64_t src = pat_.w_source[k];
+        values_[k] = src >= 0 ? W.block_val[src] : src == SystemPattern::kOne ? 1.0 : 0.0;
+    }
+    // D's tangential rows are zero on frictionless contacts: their identity rows stay.
     for (int64_t a = 0; a < nc_; ++a)
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) values_[pat_.diag_pos[9 * a + 3 * i + j]] += D_[9 * a + 3 * i + j];
-    // Frictionless contacts: the rows of r_T become dr_T = 0.
-    for (int64_t j = 0; j < m_; ++j)
-        for (int64_t k = pat_.colptr[j]; k < pat_.colptr[j + 1]; ++k) {
-            const int64_t row = pat_.rowind[k];
-            if (row % 3 != 0 && !friction(row / 3)) values_[k] = row == j ? 1.0 : 0.0;
-        }
     linalg::CscView A{m_, m_, pat_.colptr.data(), pat_.rowind.data(), values_.data()};
     if (!analysed_) {
         if (frix_error e = lu_.analyze(A)) return e;
@@ -282,11 +283,9 @@ frix_error Solver::direction(double target, bool corrector, std::vector<double> 
         }
         du[3 * a + 1] = g_[3 * a + 1] - d3[1];
         du[3 * a + 2] = g_[3 * a + 2] - d3[2];
-        const double *G = &G_[9 * a];
-        double G2row0[3];
-        for (int j = 0; j < 3; ++j) G2row0[j] = G[0] * G[j] + G[1] * G[3 + j] + G[2] * G[6 + j];
+        const double *G2 = &G2_[9 * a];  // row 0: ds = (G t)_0 - (G^2 dx)_0
         const double dx[3] = {p_.mu[a] * dr[3 * a], dr[3 * a + 1], dr[3 * a + 2]};
-        ds[a] -= G2row0[0] * dx[0] + G2row0[1] * dx[1] + G2row0[2] * dx[2];
+        ds[a] -= G2[0] * dx[0] + G2[1] * dx[1] + G2[2] * dx[2];
     }
     return FRIX_OK;
 }
@@ -335,6 +334,7 @@ frix_error Solver::run() {
     pres_.assign(m, 0.0);
     G_.assign(9 * nc_, 0.0);
     Gi_.assign(9 * nc_, 0.0);
+    G2_.assign(9 * nc_, 0.0);
     lambda_.assign(3 * nc_, 0.0);
     D_.assign(9 * nc_, 0.0);
     dr_a_.assign(m, 0.0);
@@ -343,7 +343,7 @@ frix_error Solver::run() {
     g_.assign(m, 0.0);
     rhs_.assign(m, 0.0);
     std::vector<double> dr(m), du(m), ds(nc_), wr(m);
-    pat_.build(W, nc_);
+    pat_.build(W, p_.mu, nc_);
     values_.assign(pat_.rowind.size(), 0.0);
 
     // Interior start on the cones' axes, scaled like the problem: |q|_inf for velocities,
