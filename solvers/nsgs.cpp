@@ -112,42 +112,24 @@ void Workspace::build_columns() {
 
 SweepStats Workspace::sweep_velocity(double *r, double *u) {
     if (col_ptr_.empty()) build_columns();
-    SweepStats st;
-    if (s_.shuffle == FRIX_SHUFFLE_EACH_SWEEP) reshuffle();
-    const int64_t nc = (int64_t)contacts_.size();
-    const int64_t *order = order_.empty() ? nullptr : order_.data();
-    int64_t *frozen = frozen_.empty() ? nullptr : frozen_.data();
     const double *val = W_.block_val.data();
     const local::Params lp = s_.local;
-    for (int64_t k = 0; k < nc; ++k) {
-        const int64_t a = order ? order[k] : k;
-        double *ra = r + 3 * a;
-        if (frozen && frozen[a] > 0) {
-            --frozen[a];
-            ++st.frozen;
-            st.r2 += ra[0] * ra[0] + ra[1] * ra[1] + ra[2] * ra[2];
-            continue;
-        }
-        local::Contact &c = contacts_[(size_t)a];
-        // q_a + sum_{b != a} W_ab r_b = u_a - W_aa r_a.
-        double ql[3] = {u[3 * a], u[3 * a + 1], u[3 * a + 2]};
-        const double *Wd = c.W;
-        ql[0] -= Wd[0] * ra[0] + Wd[3] * ra[1] + Wd[6] * ra[2];
-        ql[1] -= Wd[1] * ra[0] + Wd[4] * ra[1] + Wd[7] * ra[2];
-        ql[2] -= Wd[2] * ra[0] + Wd[5] * ra[1] + Wd[8] * ra[2];
-        double rn[3] = {ra[0], ra[1], ra[2]};
-        const local::Outcome out = local::solve_contact(c, ql, rn, lp);
-        if (out == local::Outcome::NotConverged || out == local::Outcome::NoSolution) ++st.unsolved;
-        const double old[3] = {ra[0], ra[1], ra[2]};
-        if (accept(a, ra, rn, st)) {
-            const double dr[3] = {ra[0] - old[0], ra[1] - old[1], ra[2] - old[2]};
-            if (dr[0] != 0.0 || dr[1] != 0.0 || dr[2] != 0.0)
-                for (int64_t e = col_ptr_[a]; e < col_ptr_[a + 1]; ++e)
-                    block_gemv_add(val + 9 * col_block_[e], dr, u + 3 * col_row_[e]);
-        }
-        st.r2 += ra[0] * ra[0] + ra[1] * ra[1] + ra[2] * ra[2];
-    }
-    return st;
+    return sweep_loop(
+        r,
+        [r, u](int64_t a, const local::Contact &c, double *ql) {
+            // q_a + sum_{b != a} W_ab r_b = u_a - W_aa r_a.
+            const double *Wd = c.W, *ra = r + 3 * a;
+            ql[0] = u[3 * a] - (Wd[0] * ra[0] + Wd[3] * ra[1] + Wd[6] * ra[2]);
+            ql[1] = u[3 * a + 1] - (Wd[1] * ra[0] + Wd[4] * ra[1] + Wd[7] * ra[2]);
+            ql[2] = u[3 * a + 2] - (Wd[2] * ra[0] + Wd[5] * ra[1] + Wd[8] * ra[2]);
+        },
+        [&lp](int64_t, local::Contact &c, const double *ql, double *rn) {
+            return local::solve_contact(c, ql, rn, lp);
+        },
+        [this, u, val](int64_t a, const double *dr) {
+            for (int64_t e = col_ptr_[a]; e < col_ptr_[a + 1]; ++e)
+                block_gemv_add(val + 9 * col_block_[e], dr, u + 3 * col_row_[e]);
+        });
 }
 
 namespace {

@@ -67,6 +67,10 @@ class Workspace {
     int64_t contacts() const { return (int64_t)contacts_.size(); }
 
    private:
+    // The loop of every sweep: contact order, freezing, statistics. local_q(a, contact, ql)
+    // gives contact a's local q; moved(a, dr) is told of each accepted change dr of r_a.
+    template <class LocalQ, class Step, class Moved>
+    SweepStats sweep_loop(double *r, LocalQ &&local_q, Step &&step, Moved &&moved);
     void reshuffle();
     void build_columns();
     // Local q of contact a: q_a + sum_{b != a} W_ab r_b, in one pass over the block row that
@@ -100,8 +104,8 @@ class Workspace {
     std::vector<int64_t> col_ptr_, col_row_, col_block_;
 };
 
-template <class Step>
-SweepStats Workspace::sweep_with(double *r, Step &&step) {
+template <class LocalQ, class Step, class Moved>
+SweepStats Workspace::sweep_loop(double *r, LocalQ &&local_q, Step &&step, Moved &&moved) {
     SweepStats st;
     if (s_.shuffle == FRIX_SHUFFLE_EACH_SWEEP) reshuffle();
     const int64_t nc = (int64_t)contacts_.size();
@@ -116,15 +120,27 @@ SweepStats Workspace::sweep_with(double *r, Step &&step) {
             st.r2 += ra[0] * ra[0] + ra[1] * ra[1] + ra[2] * ra[2];
             continue;
         }
+        local::Contact &c = contacts_[(size_t)a];
         double ql[3];
-        local_q(a, r, ql);
+        local_q(a, c, ql);
         double rn[3] = {ra[0], ra[1], ra[2]};
-        const local::Outcome out = step(a, contacts_[(size_t)a], (const double *)ql, rn);
+        const local::Outcome out = step(a, c, (const double *)ql, rn);
         if (out == local::Outcome::NotConverged || out == local::Outcome::NoSolution) ++st.unsolved;
-        accept(a, ra, rn, st);
+        const double old[3] = {ra[0], ra[1], ra[2]};
+        if (accept(a, ra, rn, st)) {
+            const double dr[3] = {ra[0] - old[0], ra[1] - old[1], ra[2] - old[2]};
+            if (dr[0] != 0.0 || dr[1] != 0.0 || dr[2] != 0.0) moved(a, dr);
+        }
         st.r2 += ra[0] * ra[0] + ra[1] * ra[1] + ra[2] * ra[2];
     }
     return st;
+}
+
+template <class Step>
+SweepStats Workspace::sweep_with(double *r, Step &&step) {
+    return sweep_loop(
+        r, [this, r](int64_t a, const local::Contact &, double *ql) { local_q(a, r, ql); },
+        step, [](int64_t, const double *) {});
 }
 
 }  // namespace nsgs
