@@ -154,7 +154,7 @@ START_TEST(ipm_limits_and_callback) {
 }
 END_TEST
 
-/* Where the interior iterates stall (RockPile's nearly singular, non-symmetric W), Newton
+/* Where the interior iterates stall (RockPile's rank-deficient, non-symmetric W), Newton
  * takes over from the best of them: Newton steps are reported and r is no worse than the
  * interior-point stage's best (~2e-4). */
 START_TEST(ipm_hands_over_to_newton) {
