@@ -34,15 +34,15 @@ static inline char *slurp(const char *path) {
     return buf;
 }
 
-/* Runs FRIX_CLI with the NULL-terminated arguments; stdout and stderr go through files
+/* Runs `program` with the NULL-terminated arguments; stdout and stderr go through files
  * (no pipe can fill up and block the child). */
-static inline cli_run run_cli(const char *const *args) {
+static inline cli_run run_program(const char *program, const char *const *args) {
     char out_path[512], err_path[512];
     snprintf(out_path, sizeof out_path, "%s/cli_%ld.out", FRIX_TEST_TMPDIR, (long)getpid());
     snprintf(err_path, sizeof err_path, "%s/cli_%ld.err", FRIX_TEST_TMPDIR, (long)getpid());
     const char *argv[32];
     int argc = 0;
-    argv[argc++] = FRIX_CLI;
+    argv[argc++] = program;
     for (; args[argc - 1] != NULL; ++argc) {
         ck_assert_int_lt(argc, 31);
         argv[argc] = args[argc - 1];
@@ -57,7 +57,7 @@ static inline cli_run run_cli(const char *const *args) {
         int fo = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
         int fe = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
         if (fo < 0 || fe < 0 || dup2(fo, 1) < 0 || dup2(fe, 2) < 0) _exit(126);
-        execv(FRIX_CLI, (char *const *)argv);
+        execv(program, (char *const *)argv);
         _exit(127);
     }
     int status = 0;
@@ -70,6 +70,9 @@ static inline cli_run run_cli(const char *const *args) {
     unlink(err_path);
     return r;
 }
+
+/* Runs FRIX_CLI (the `frix` executable) with the NULL-terminated arguments. */
+static inline cli_run run_cli(const char *const *args) { return run_program(FRIX_CLI, args); }
 
 static inline void run_free(cli_run *r) {
     free(r->out);

@@ -7,13 +7,11 @@
 
 #include <frix/frix.h>
 
-#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -50,34 +48,11 @@ static double now(void) {
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-/* Runs `program` with the NULL-terminated arguments, stdout and stderr into files (so no
- * pipe fills up); returns the exit code (128 + signal if killed). */
-static int run(const char *program, const char *const *args) {
-    const char *argv[40];
-    int argc = 0;
-    argv[argc++] = program;
-    for (; args[argc - 1] != NULL; ++argc) {
-        ck_assert_int_lt(argc, 39);
-        argv[argc] = args[argc - 1];
-    }
-    argv[argc] = NULL;
-    fflush(stdout);
-    fflush(stderr);
-    pid_t pid = fork();
-    ck_assert_int_ge(pid, 0);
-    if (pid == 0) {
-        int fo = open(TMP "/last.out", O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        int fe = open(TMP "/last.err", O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (fo < 0 || fe < 0 || dup2(fo, 1) < 0 || dup2(fe, 2) < 0) _exit(126);
-        execv(program, (char *const *)argv);
-        _exit(127);
-    }
-    int status = 0;
-    ck_assert_int_eq(waitpid(pid, &status, 0), pid);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+static int cli_exit_code(const char *const *args) {
+    cli_run r = run_cli(args);
+    run_free(&r);
+    return r.code;
 }
-
-static int cli_exit_code(const char *const *args) { return run(FRIX_CLI, args); }
 
 /* Two contacts, converges in a few sweeps. */
 static void make_problem(const char *path) {
@@ -392,11 +367,11 @@ START_TEST(test_siconos_comparator) {
     fresh_dir(TMP "/sic/problems");
     make_problem(TMP "/sic/problems/tiny.hdf5");
     const char *direct[] = {TMP "/sic/problems/tiny.hdf5", "--solver", "FC3D_NSN_AC", "--tol", "1e-10", "--json", NULL};
-    ck_assert_int_eq(run(adapter, direct), 0);
-    char *out = slurp(TMP "/last.out");
-    ck_assert_msg(strstr(out, "\"solver\":\"siconos:NSN_AC\"") && strstr(out, "\"status\":\"converged\""),
-                  "frix-siconos: %s", out);
-    free(out);
+    cli_run sic = run_program(adapter, direct);
+    ck_assert_int_eq(sic.code, 0);
+    ck_assert_msg(strstr(sic.out, "\"solver\":\"siconos:NSN_AC\"") && strstr(sic.out, "\"status\":\"converged\""),
+                  "frix-siconos: %s", sic.out);
+    run_free(&sic);
 
     const char *args[] = {"bench", TMP "/sic/problems", "--solvers", "nsgs,siconos:NSGS,siconos:504",
                           "--tol", "1e-10", "--time-limit", "5", "--out", TMP "/sic/out", "--no-plots", NULL};
