@@ -97,14 +97,15 @@ class ShiftedSystem {
     bool dense() const { return dense_; }
     const char *kind() const { return lu_ ? "LU" : skew_ ? "Cholesky of the symmetric part" : "Cholesky"; }
 
-    frix_error factor(double rho) {
+    // Factorises W + rho R, R = diag(weight_a I_3) (contact a's penalty is rho weight_a).
+    frix_error factor(double rho, const std::vector<double> &weight) {
         if (dense_) {
             work_ = base_;
-            for (int64_t i = 0; i < m_; ++i) work_[(size_t)(i + i * m_)] += rho;
+            for (int64_t i = 0; i < m_; ++i) work_[(size_t)(i + i * m_)] += rho * weight[(size_t)(i / 3)];
             return lu_ ? dlu_.factor(m_, work_.data(), m_) : dchol_.factor(m_, work_.data(), m_);
         }
         values_ = base_;
-        for (int64_t i = 0; i < m_; ++i) values_[(size_t)diag_[(size_t)i]] += rho;
+        for (int64_t i = 0; i < m_; ++i) values_[(size_t)diag_[(size_t)i]] += rho * weight[(size_t)(i / 3)];
         linalg::CscView A{m_, m_, colptr_.data(), rowind_.data(), values_.data()};
         if (!lu_) return schol_.factor(A);
         if (!analysed_) {
@@ -186,6 +187,16 @@ frix_error solve(SolveContext &ctx) {
     double wmax, wmean;
     fo::diagonal_scales(p, &wmax, &wmean);
     double rho = L.o.d(FRIX_OPT_RHO) * wmean;
+    // Contact a's penalty is rho * weight[a]: 1 (FRIX_RHO_CONSTANT), or |W_aa|_2 / mean_a
+    // |W_aa|_2 (per contact): the same as ADMM with one rho on the problem scaled so that
+    // every |W_aa|_2 is equal, which is what keeps it working when contacts differ in
+    // stiffness by decades.
+    std::vector<double> weight((size_t)nc, 1.0);
+    if (L.o.i(FRIX_OPT_RHO_STRATEGY) != FRIX_RHO_CONSTANT)
+        for (int64_t a = 0; a < nc; ++a) {
+            const double n = fo::contact_diagonal_norm(p, a);
+            if (n > 0.0 && std::isfinite(n)) weight[(size_t)a] = n / wmean;
+        }
     frix_info &info = ctx.info;
 
     double *r = ctx.r;
@@ -205,7 +216,7 @@ frix_error solve(SolveContext &ctx) {
         const double *ua = &u[3 * a];
         s[a] = std::sqrt(ua[1] * ua[1] + ua[2] * ua[2]);
         for (int i = 0; i < 3; ++i)
-            y[3 * a + i] = warm ? -(ua[i] + (i == 0 ? p.mu[a] * s[a] : 0.0)) / rho : 0.0;
+            y[3 * a + i] = warm ? -(ua[i] + (i == 0 ? p.mu[a] * s[a] : 0.0)) / (rho * weight[(size_t)a]) : 0.0;
     }
 
     ShiftedSystem sys(*p.W);
@@ -217,7 +228,7 @@ frix_error solve(SolveContext &ctx) {
         work.assign(m, 0.0);
         sys.skew_product(z.data(), kx.data(), work.data());  // x_prev ~ z for the first step
     }
-    if (frix_error e = sys.factor(rho)) {
+    if (frix_error e = sys.factor(rho, weight)) {
         (void)e;
         info.status = FRIX_STATUS_NUMERICAL_FAILURE;
         info.iterations = 0;
@@ -238,7 +249,7 @@ frix_error solve(SolveContext &ctx) {
         for (int64_t a = 0; a < nc; ++a)
             for (int i = 0; i < 3; ++i) {
                 const int64_t k = 3 * a + i;
-                rhs[k] = -(p.q[k] + (i == 0 ? p.mu[a] * s[a] : 0.0)) + rho * (zh[k] - yh[k]);
+                rhs[k] = -(p.q[k] + (i == 0 ? p.mu[a] * s[a] : 0.0)) + rho * weight[(size_t)a] * (zh[k] - yh[k]);
                 if (skew) rhs[k] -= kx[k];
             }
         if (frix_error e = sys.solve(rhs.data(), x.data())) {
@@ -257,17 +268,19 @@ frix_error solve(SolveContext &ctx) {
             double *za = &z[3 * a];
             for (int i = 0; i < 3; ++i) za[i] = x[3 * a + i] + yh[3 * a + i];
             local::project_on_cone(za, p.mu[a]);
+            const double w = weight[(size_t)a];
             double ua[3];
             for (int i = 0; i < 3; ++i) {
                 const int64_t k = 3 * a + i;
                 y[k] = yh[k] + x[k] - z[k];
-                ua[i] = rho * (zh[k] - yh[k] - x[k]) - (i == 0 ? p.mu[a] * s[a] : 0.0);
+                ua[i] = rho * w * (zh[k] - yh[k] - x[k]) - (i == 0 ? p.mu[a] * s[a] : 0.0);
                 if (skew) ua[i] += kx[k] - kx_prev[k];
+                const double dz = w * (z[k] - zh[k]), wy = w * y[k];
                 prim2 += (x[k] - z[k]) * (x[k] - z[k]);
-                dual2 += (z[k] - zh[k]) * (z[k] - zh[k]);
-                comb += (y[k] - yh[k]) * (y[k] - yh[k]) + (z[k] - zh[k]) * (z[k] - zh[k]);
+                dual2 += dz * dz;
+                comb += w * ((y[k] - yh[k]) * (y[k] - yh[k]) + (z[k] - zh[k]) * (z[k] - zh[k]));
                 nz2 += z[k] * z[k];
-                ny2 += y[k] * y[k];
+                ny2 += wy * wy;
             }
             s[a] = std::sqrt(ua[1] * ua[1] + ua[2] * ua[2]);
         }
@@ -275,7 +288,7 @@ frix_error solve(SolveContext &ctx) {
             status = FRIX_STATUS_DIVERGED;
             break;
         }
-        // Relative residuals: primal against |z|, dual against max(|u^| = rho |y|, |q|).
+        // Relative residuals: primal against |z|, dual against max(|u^| = rho |R y|, |q|).
         const double nz = std::max(std::sqrt(nz2), 1e-300);
         const double nu = std::max({rho * std::sqrt(ny2), L.norm_q, 1e-300});
         const double prim = std::sqrt(prim2) / nz, dual = rho * std::sqrt(dual2) / nu;
@@ -343,7 +356,7 @@ frix_error solve(SolveContext &ctx) {
                 c_prev = INFINITY;
                 since_change = 0;
                 ++changes;
-                if (frix_error e = sys.factor(rho)) {
+                if (frix_error e = sys.factor(rho, weight)) {
                     (void)e;
                     status = FRIX_STATUS_NUMERICAL_FAILURE;
                     break;
@@ -369,12 +382,13 @@ frix_error solve(SolveContext &ctx) {
 }
 
 const frix_option_key kExtraKeys[] = {FRIX_OPT_RHO, FRIX_OPT_RHO_ADAPTIVE, FRIX_OPT_ACCELERATION,
-                                      (frix_option_key)0};
+                                      FRIX_OPT_RHO_STRATEGY, (frix_option_key)0};
 
 const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 100000},
                                    {FRIX_OPT_RHO, 1.0},
                                    {FRIX_OPT_RHO_ADAPTIVE, 1},
                                    {FRIX_OPT_ACCELERATION, 1},
+                                   {FRIX_OPT_RHO_STRATEGY, FRIX_RHO_CONSTANT},
                                    {(frix_option_key)0, 0}};
 
 }  // namespace
@@ -392,8 +406,10 @@ const SolverEntry kAdmmEntry = {
     "iterate (exact at the fixed point), or LU when the skew part exceeds 1% of W. Robust on "
     "rank-deficient W (W + rho I is regular): it solves every FCLIB problem here but "
     "RockPile at 1e-8, spheres-in-a-box included; memory O(nnz of the factor). Options: rho "
-    "(initial penalty, in units of mean_a |W_aa|_2), rho_adaptive (0: keep rho), "
-    "acceleration (0: plain ADMM).",
+    "(initial penalty, in units of mean_a |W_aa|_2), rho_strategy (0: one penalty for all "
+    "contacts; 1 or 2: contact a's penalty scaled by |W_aa|_2 / mean, i.e. ADMM on the "
+    "problem scaled to equal |W_aa|, for contacts whose stiffness differs by decades), "
+    "rho_adaptive (0: keep rho), acceleration (0: plain ADMM).",
     admm::solve, true, false, admm::kExtraKeys, admm::kDefaults};
 
 }  // namespace frix

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cfloat>
+#include <cmath>
 
 #include "local3x3.hpp"
 #include "matrix.hpp"
@@ -28,17 +29,21 @@ void project_on_cones(const frix_problem &p, double *r) {
     for (int64_t a = 0; a < p.nc; ++a) local::project_on_cone(r + 3 * a, p.mu[a]);
 }
 
-void diagonal_scales(const frix_problem &p, double *max_norm, double *mean_norm) {
+double contact_diagonal_norm(const frix_problem &p, int64_t a) {
     const frix_matrix &W = *p.W;
+    const int64_t d = W.diag_index[a];
+    if (d < 0) return NAN;
+    local::Contact c;
+    local::contact_setup(&W.block_val[9 * d], p.mu[a], c);
+    return c.rho0 > 0.0 ? 1.0 / c.rho0 : NAN;
+}
+
+void diagonal_scales(const frix_problem &p, double *max_norm, double *mean_norm) {
     double mx = 0.0, sum = 0.0;
     int64_t counted = 0;
     for (int64_t a = 0; a < p.nc; ++a) {
-        const int64_t d = W.diag_index[a];
-        if (d < 0) continue;
-        local::Contact c;
-        local::contact_setup(&W.block_val[9 * d], p.mu[a], c);
-        if (!(c.rho0 > 0.0)) continue;
-        const double n = 1.0 / c.rho0;
+        const double n = contact_diagonal_norm(p, a);
+        if (std::isnan(n)) continue;
         mx = std::max(mx, n);
         sum += n;
         ++counted;

@@ -39,6 +39,8 @@ inline double distance(const double *x, const double *y, int64_t n) {
 void de_saxce_map(const frix_problem &p, const double *r, double *u, double *F);
 // r <- P_K(r), contact by contact.
 void project_on_cones(const frix_problem &p, double *r);
+// |W_aa|_2 (the scale of W seen by contact a); NaN without a usable diagonal block.
+double contact_diagonal_norm(const frix_problem &p, int64_t a);
 // max_a |W_aa|_2 and mean_a |W_aa|_2 (the scale of W seen by one contact).
 void diagonal_scales(const frix_problem &p, double *max_norm, double *mean_norm);
 

@@ -309,6 +309,32 @@ START_TEST(test_every_local_fclib_problem) {
 }
 END_TEST
 
+/* Contacts in units that differ by decades (OneObject-i100000 rescaled per contact by
+ * 10^[-2, 2]): auto sees the spread of |W_aa| and gives ADMM per-contact penalties; it
+ * converges in 1277 iterations where, with one penalty for all contacts, it needed 18386. */
+START_TEST(test_contacts_in_different_units) {
+    scaled_problem sp;
+    if (!scaled_problem_load(&sp, "converted/OneObject-i100000-316.from_dat.hdf5", 2.0)) return;
+    const int64_t m = frix_problem_contact_dofs(sp.p);
+    double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u);
+    frix_options *o = auto_options(1e-8);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_solve(sp.p, o, r, u, NULL, info), FRIX_OK);
+    double err = NAN;
+    ck_assert_int_eq(frix_problem_error(sp.p, r, NULL, &err), FRIX_OK);
+    ck_assert_msg(frix_info_status(info) == FRIX_STATUS_CONVERGED && err <= 1e-8, "%s, error %g",
+                  frix_status_string(frix_info_status(info)), err);
+    ck_assert_msg(frix_info_iterations(info) < 3000, "%lld iterations",
+                  (long long)frix_info_iterations(info));
+    frix_info_free(info);
+    frix_options_free(o);
+    scaled_problem_free(&sp);
+    free(r);
+    free(u);
+}
+END_TEST
+
 static const char *const kGlobalFiles[] = {
     "global/Box_Stacks-i0035-31-0.hdf5",
     "global/CubeH8.hdf5",
@@ -329,6 +355,7 @@ int main(void) {
     tcase_add_test(tc, test_switches_recorded);
     tcase_add_test(tc, test_callback_sees_progress_and_stops);
     tcase_add_test(tc, test_limits);
+    tcase_add_test(tc, test_contacts_in_different_units);
     tcase_add_loop_test(tc, test_every_local_fclib_problem, 0, FRIX_FCLIB_LOCAL_COUNT);
     tcase_add_loop_test(tc, test_global_fclib_problems, 0, (int)(sizeof kGlobalFiles / sizeof kGlobalFiles[0]));
     suite_add_tcase(s, tc);
