@@ -6,9 +6,13 @@
 // alpha follows the error: alpha = sigma * error^nu * |W| (Siconos' variable rule, here in
 // units of W so that it does not depend on the problem's scaling), times 10 after a failed
 // inner solve; a fixed alpha can be set instead.
+// A rejected step leaves the iterate where it was, so when the alpha rule comes back to a value
+// it has already tried from the same iterate, the steps that follow would repeat (on rigid
+// scenes it cycles 1e-5 -> 1e-4 -> 1e-3 -> 1e-5 ... for ever): the method stops, stagnated.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "error_state.hpp"
 #include "measures.hpp"
@@ -51,6 +55,7 @@ frix_error solve(SolveContext &ctx) {
     norm_q = std::sqrt(norm_q);
     double err = selected_error(local_measures(p, r, ctx.u), s.measure);
     double alpha = fixed_alpha > 0.0 ? fixed_alpha : adapted(err);
+    std::vector<double> tried;  // alphas tried from the current accepted iterate rk
     int64_t outer = 0, inner_iterations = 0;
     info.status = FRIX_STATUS_MAX_ITER;
     newton::Limits lim{o, ctx.clock, &inner_iterations, 0};
@@ -68,6 +73,13 @@ frix_error solve(SolveContext &ctx) {
             info.status = FRIX_STATUS_TIME_LIMIT;
             break;
         }
+        // Each step starts from rk (a rejected step restores it): the same alpha from the same
+        // rk would repeat a step already taken.
+        if (std::find(tried.begin(), tried.end(), alpha) != tried.end()) {
+            info.status = FRIX_STATUS_STAGNATED;
+            break;
+        }
+        tried.push_back(alpha);
         ++outer;
         for (int64_t i = 0; i < m; ++i) qk[i] = p.q[i] - alpha * rk[i];
         lim.max_iter = inner_iterations + kInnerMaxIter;
@@ -90,6 +102,7 @@ frix_error solve(SolveContext &ctx) {
         if (e_new < err) {  // progress on the original problem: keep the step
             err = e_new;
             std::copy(r, r + m, rk.begin());
+            tried.clear();
         } else {
             std::copy(rk.begin(), rk.end(), r);
         }
@@ -134,7 +147,9 @@ const SolverEntry kProxEntry = {
     "semismooth Newton solver (inner_solver: 504 Alart-Curnier by default, 513, 520), so that "
     "the inner Jacobians stay regular on rank-deficient W; the solution of the original problem "
     "is the fixed point r_k = r_k+1. alpha = prox_sigma * error^prox_nu * mean|W_aa| adapts to "
-    "the error (raised tenfold after a failed inner solve), or is fixed by prox_alpha. The "
+    "the error (raised tenfold after a failed inner solve), or is fixed by prox_alpha; a step "
+    "that does not lower the error is undone, and when alpha comes back to a value already "
+    "tried from the same iterate the method stops (stagnated) rather than repeat itself. The "
     "caller's W and q are only read. The robust choice for rigid scenes at tight tolerance. "
     "Iterations count proximal steps; the Newton steps are reported separately.",
     prox::solve, true, false, prox::kExtraKeys, prox::kDefaults};

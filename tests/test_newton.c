@@ -325,6 +325,34 @@ START_TEST(prox_solves_rigid_problems) {
 }
 END_TEST
 
+/* On RockPile_tob1 PROX's alpha rule cycles (a rejected step, alpha x10, x10, back to what the
+ * error asks for, the same rejected step...): it must stop, stagnated, once a step would repeat
+ * one already taken from the same iterate, instead of spending max_iter (1000 proximal steps,
+ * over a minute) or the time limit on the cycle. */
+START_TEST(prox_stops_when_its_steps_would_repeat) {
+    frix_problem *p = load("converted/RockPile_tob1.from_dat.hdf5");
+    if (!p) return;
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_PROX, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TIME_LIMIT, 20.0), FRIX_OK);
+    const int64_t m = frix_problem_contact_dofs(p);
+    double *r = calloc((size_t)m, sizeof *r);
+    frix_info *info = solve(p, o, r);
+    ck_assert_msg(frix_info_status(info) == FRIX_STATUS_STAGNATED, "%s after %lld steps",
+                  frix_status_string(frix_info_status(info)), (long long)frix_info_iterations(info));
+    ck_assert_int_le(frix_info_iterations(info), 50);
+    /* r is the last accepted iterate, whose error the info reports. */
+    double err = NAN;
+    ck_assert_int_eq(frix_problem_error(p, r, NULL, &err), FRIX_OK);
+    ck_assert(isfinite(err) && err < 1e-2);
+    ck_assert_double_eq_tol(frix_info_error(info), err, 1e-12 * (1.0 + err));
+    free(r);
+    frix_info_free(info);
+    frix_options_free(o);
+    frix_problem_free(p);
+}
+END_TEST
+
 /* nsn-fb and nsn-nm on a few problems of each family. */
 START_TEST(fb_and_nm_solve_small_problems) {
     static const char *const files[] = {"converted/Rover4613.from_dat.hdf5",
@@ -462,6 +490,7 @@ int main(void) {
     tcase_add_test(tc, local_newton_solvers);
     tcase_add_loop_test(tc, nsn_ac_solves_what_siconos_solves, 0, FRIX_FCLIB_LOCAL_COUNT);
     tcase_add_loop_test(tc, prox_solves_rigid_problems, 0, (int)(sizeof kProxSolves / sizeof kProxSolves[0]));
+    tcase_add_test(tc, prox_stops_when_its_steps_would_repeat);
     tcase_add_test(tc, fb_and_nm_solve_small_problems);
     tcase_add_loop_test(tc, nsgs_hybrid_as_robust_as_projection, 0,
                         (int)(sizeof kNsgs553Solves / sizeof kNsgs553Solves[0]));
