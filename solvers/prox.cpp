@@ -7,8 +7,8 @@
 // units of W so that it does not depend on the problem's scaling), times 10 after a failed
 // inner solve; a fixed alpha can be set instead.
 // A rejected step leaves the iterate where it was, so when the alpha rule comes back to a value
-// it has already tried from the same iterate, the steps that follow would repeat (on rigid
-// scenes it cycles 1e-5 -> 1e-4 -> 1e-3 -> 1e-5 ... for ever): the method stops, stagnated.
+// it has already tried from the same iterate, the steps that follow would repeat (RockPile_tob1:
+// alpha 1.5e-3, 1.5e-2, 1.5e-3, ... until max_iter): the method stops, stagnated.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
