@@ -8,19 +8,12 @@
 #include "error_state.hpp"
 #include "matrix.hpp"
 #include "measures.hpp"
+#include "random.hpp"
 
 namespace frix {
 namespace nsgs {
 
 namespace {
-
-// splitmix64: a small, fully specified generator, so a seed gives the same order everywhere.
-uint64_t next_random(uint64_t &state) {
-    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
 
 void shuffle(std::vector<int64_t> &order, uint64_t &state) {
     for (size_t i = order.size(); i > 1; --i) {

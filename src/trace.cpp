@@ -49,7 +49,9 @@ std::string format_event(const frix_info &info, const TraceEvent &e) {
                 break;
             }
             case TraceEvent::kStage:
-                append(out, "%s: %s after %lld iterations in %.3g s, error %.3e", name_of(e.solver_id),
+                append(out, "%s", name_of(e.solver_id));
+                if (e.from) append(out, " from %s", e.from);
+                append(out, ": %s after %lld iterations in %.3g s, error %.3e",
                        e.why ? "stopped by the watchdog" : frix_status_string(e.status), (long long)e.iterations,
                        e.seconds, e.error);
                 if (e.why) append(out, " (%s)", e.why);

@@ -251,6 +251,122 @@ START_TEST(test_callback_sees_progress_and_stops) {
 }
 END_TEST
 
+/* The connected component of the contact graph (contacts a, b linked when W_ab != 0) that
+ * has exactly `size` contacts, as a local problem of its own; NULL if there is none. The
+ * problem borrows the arrays of `island`, freed by island_free. */
+typedef struct {
+    frix_matrix *W;
+    double *q, *mu;
+    int64_t *colptr, *rowind;
+    double *values;
+    frix_problem *p;
+} island_part;
+
+static int island_of_size(const frix_problem *whole, int64_t size, island_part *island) {
+    memset(island, 0, sizeof *island);
+    const int64_t nc = frix_problem_contacts(whole), m = 3 * nc;
+    int64_t nnz = 0;
+    ck_assert_int_eq(frix_matrix_to_csc(frix_problem_W(whole), &nnz, NULL, NULL, NULL), FRIX_OK);
+    int64_t *cp = malloc((size_t)(m + 1) * sizeof *cp), *ri = malloc((size_t)nnz * sizeof *ri);
+    double *vx = malloc((size_t)nnz * sizeof *vx);
+    ck_assert_int_eq(frix_matrix_to_csc(frix_problem_W(whole), &nnz, cp, ri, vx), FRIX_OK);
+    /* Components by repeated labelling over the (symmetric) block pattern. */
+    int64_t *label = malloc((size_t)nc * sizeof *label), *stack = malloc((size_t)nc * sizeof *stack);
+    int64_t *index = malloc((size_t)nc * sizeof *index);
+    for (int64_t a = 0; a < nc; ++a) label[a] = -1;
+    int64_t found = -1;
+    for (int64_t seed = 0; seed < nc && found < 0; ++seed) {
+        if (label[seed] >= 0) continue;
+        int64_t top = 0, count = 0;
+        label[seed] = seed;
+        stack[top++] = seed;
+        while (top > 0) {
+            const int64_t a = stack[--top];
+            ++count;
+            for (int64_t j = 3 * a; j < 3 * a + 3; ++j)
+                for (int64_t k = cp[j]; k < cp[j + 1]; ++k) {
+                    const int64_t b = ri[k] / 3;
+                    if (label[b] < 0) label[b] = seed, stack[top++] = b;
+                }
+        }
+        if (count == size) found = seed;
+    }
+    if (found >= 0) {
+        int64_t n = 0;
+        for (int64_t a = 0; a < nc; ++a) index[a] = label[a] == found ? n++ : -1;
+        island->colptr = calloc((size_t)(3 * n + 1), sizeof *island->colptr);
+        island->rowind = malloc((size_t)nnz * sizeof *island->rowind);
+        island->values = malloc((size_t)nnz * sizeof *island->values);
+        island->q = malloc((size_t)(3 * n) * sizeof *island->q);
+        island->mu = malloc((size_t)n * sizeof *island->mu);
+        int64_t e = 0;
+        for (int64_t a = 0; a < nc; ++a) {
+            if (index[a] < 0) continue;
+            island->mu[index[a]] = frix_problem_mu(whole)[a];
+            for (int d = 0; d < 3; ++d) {
+                const int64_t j = 3 * a + d;
+                island->q[3 * index[a] + d] = frix_problem_q(whole)[j];
+                for (int64_t k = cp[j]; k < cp[j + 1]; ++k) {
+                    island->rowind[e] = 3 * index[ri[k] / 3] + ri[k] % 3;
+                    island->values[e++] = vx[k];
+                }
+                island->colptr[3 * index[a] + d + 1] = e;
+            }
+        }
+        ck_assert_int_eq(frix_matrix_from_csc(3 * n, 3 * n, island->colptr, island->rowind, island->values, &island->W),
+                         FRIX_OK);
+        ck_assert_int_eq(frix_problem_local(island->W, island->q, island->mu, n, &island->p), FRIX_OK);
+    }
+    free(cp), free(ri), free(vx), free(label), free(stack), free(index);
+    return found >= 0;
+}
+
+static void island_free(island_part *island) {
+    frix_problem_free(island->p);
+    frix_matrix_free(island->W);
+    free(island->q), free(island->mu), free(island->colptr), free(island->rowind), free(island->values);
+}
+
+/* RockPile's 25-contact island: Newton from r = 0 and from the best iterate stops at a
+ * stationary point of its merit function (error ~5e-8) that is not a solution, NSGS needs
+ * ~1.6 million sweeps. The random restarts of Newton solve it within a few thousand
+ * iterations; before them auto had not converged after 10 s (2.2 million iterations). */
+START_TEST(test_random_restarts_solve_rockpile_small_island) {
+    frix_problem *whole = load("converted/RockPile_tob1.from_dat.hdf5");
+    if (!whole) return;
+    island_part island;
+    ck_assert_msg(island_of_size(whole, 25, &island), "RockPile has a 25-contact island");
+    const int64_t m = frix_problem_contact_dofs(island.p);
+    double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u);
+    frix_options *o = NULL;
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &o), FRIX_OK);
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 20000), FRIX_OK);
+    ck_assert_int_eq(frix_solve(island.p, o, r, u, NULL, info), FRIX_OK);
+    ck_assert_msg(frix_info_status(info) == FRIX_STATUS_CONVERGED, "%s, error %.3e\n%s",
+                  frix_status_string(frix_info_status(info)), frix_info_error(info), frix_info_trace(info));
+    double e = NAN;
+    ck_assert_int_eq(frix_problem_error(island.p, r, NULL, &e), FRIX_OK);
+    ck_assert_double_le(e, 1e-8);
+    ck_assert_ptr_nonnull(strstr(frix_info_trace(info), "nsn-ac from a random start: converged"));
+
+    /* Deterministic: the same draws, the same iterations and reactions. */
+    double *r2 = calloc((size_t)m, sizeof *r2);
+    const int64_t iterations = frix_info_iterations(info);
+    ck_assert_int_eq(frix_solve(island.p, o, r2, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_iterations(info), iterations);
+    ck_assert_mem_eq(r, r2, (size_t)m * sizeof *r);
+
+    free(r), free(r2), free(u);
+    frix_info_free(info);
+    frix_options_free(o);
+    island_free(&island);
+    frix_problem_free(whole);
+}
+END_TEST
+
 /* The iteration limit and the time limit bound the whole sequence. */
 START_TEST(test_limits) {
     file_run f;
@@ -355,6 +471,7 @@ int main(void) {
     tcase_add_test(tc, test_switches_recorded);
     tcase_add_test(tc, test_callback_sees_progress_and_stops);
     tcase_add_test(tc, test_limits);
+    tcase_add_test(tc, test_random_restarts_solve_rockpile_small_island);
     tcase_add_test(tc, test_contacts_in_different_units);
     tcase_add_loop_test(tc, test_every_local_fclib_problem, 0, FRIX_FCLIB_LOCAL_COUNT);
     tcase_add_loop_test(tc, test_global_fclib_problems, 0, (int)(sizeof kGlobalFiles / sizeof kGlobalFiles[0]));
