@@ -323,7 +323,7 @@ class IslandSolver {
             }
             if (frix_error e = stage(spec.solver_id, Watch::Stall, patience, budget, r)) return e;
             if (spec.solver_id == FRIX_SOLVER_NSN_AC && p_.nc <= kRestartMaxContacts)
-                if (frix_error e = random_restarts(patience, budget, r)) return e;
+                if (frix_error e = random_restarts(spec, r)) return e;
         }
         ++round_;
         if (best_error_ <= tolerance_) {
@@ -349,11 +349,14 @@ class IslandSolver {
     // descent direction. The problem is not convex and has other basins; from a random start
     // Newton lands in the solution's about half of the time there (18 to 28 of 40 starts, for
     // draws scaled from 0.07 to 7 times the one below), in tens of steps.
-    frix_error random_restarts(int64_t patience, int64_t budget, double *r) {
+    // Each start gets the first round's budget and patience: a start that converges does so
+    // within it, and the restarts' work doubles every round like the other stages', rather
+    // than crowding them out.
+    frix_error random_restarts(const StageSpec &spec, double *r) {
         const int starts = 1 << std::min(round_, 20);
         for (int k = 0; k < starts && can_continue(); ++k) {
             draw_start(r);
-            if (frix_error e = stage(FRIX_SOLVER_NSN_AC, Watch::Stall, patience, budget, r, "a random start"))
+            if (frix_error e = stage(spec.solver_id, Watch::Stall, spec.patience, spec.first_budget, r, "a random start"))
                 return e;
         }
         return FRIX_OK;
