@@ -96,6 +96,7 @@ constexpr StageSpec kIpmStage = {FRIX_SOLVER_IPM, 50, 500};
 constexpr double kScaledPenaltySpread = 100.0;
 // The random restarts' seed (any fixed value: the results must not depend on the run).
 constexpr uint64_t kRestartSeed = 0x6672697872657374ull;
+constexpr double kTwoPi = 6.283185307179586;  // M_PI is POSIX, not C++
 // Islands smaller than this are solved together (see solve_local).
 constexpr int64_t kMinIslandContacts = 16;
 // Random restarts of Newton (see IslandSolver::random_restarts) on parts up to this size: the
@@ -378,7 +379,7 @@ class IslandSolver {
         for (int64_t a = 0; a < p_.nc; ++a) {
             const double rn = start_scale_ * next_uniform(rng_);
             const double radius = p_.mu[a] * rn * std::sqrt(next_uniform(rng_));
-            const double angle = 2.0 * M_PI * next_uniform(rng_);
+            const double angle = kTwoPi * next_uniform(rng_);
             r[3 * a] = rn;
             r[3 * a + 1] = radius * std::cos(angle);
             r[3 * a + 2] = radius * std::sin(angle);
