@@ -352,14 +352,25 @@ class IslandSolver {
     // draws scaled from 0.07 to 7 times the one below), in tens of steps.
     // Each start gets the first round's budget and patience: a start that converges does so
     // within it, and the restarts' work doubles every round like the other stages', rather
-    // than crowding them out.
+    // than crowding them out. The round's starts make one trace event (their number, summed
+    // iterations and time, best error), so that the trace stays as short as the rounds.
     frix_error random_restarts(const StageSpec &spec, double *r) {
-        const int starts = 1 << std::min(round_, 20);
-        for (int k = 0; k < starts && can_continue(); ++k) {
+        const int64_t starts = int64_t{1} << std::min(round_, 40);
+        TraceEvent sum{TraceEvent::kStage};
+        sum.solver_id = spec.solver_id;
+        sum.error = INFINITY;
+        for (int64_t k = 0; k < starts && can_continue(); ++k) {
             draw_start(r);
-            if (frix_error e = stage(spec.solver_id, Watch::Stall, spec.patience, spec.first_budget, r, "a random start"))
+            TraceEvent ev{TraceEvent::kStage};
+            if (frix_error e = run_stage(spec.solver_id, Watch::Stall, spec.patience, spec.first_budget, r, ev))
                 return e;
+            ++sum.random_starts;
+            sum.iterations += ev.iterations;
+            sum.seconds += ev.seconds;
+            sum.status = ev.status, sum.why = ev.why;  // the last start's ending
+            sum.error = std::min(sum.error, ev.error);
         }
+        if (sum.random_starts > 0) record(sum);
         return FRIX_OK;
     }
 
@@ -403,9 +414,23 @@ class IslandSolver {
     }
 
     // One stage: solver `id` from r, for at most `budget` of its iterations, the caller's
-    // remaining iterations and the caller's deadline. `from` names the start in the trace when
-    // it is not the best iterate so far (a static string).
-    frix_error stage(int id, Watch kind, int64_t patience, int64_t budget, double *r, const char *from = nullptr) {
+    // remaining iterations and the caller's deadline; recorded in the trace.
+    frix_error stage(int id, Watch kind, int64_t patience, int64_t budget, double *r) {
+        TraceEvent ev{TraceEvent::kStage};
+        if (frix_error e = run_stage(id, kind, patience, budget, r, ev)) return e;
+        record(ev);
+        return FRIX_OK;
+    }
+
+    // A stage's event into the trace; every stage after the part's first is a switch.
+    void record(const TraceEvent &ev) {
+        if (++stages_run_ > 1) ++switches_;
+        note(ev);
+    }
+
+    // The work of a stage, its event (not yet recorded) in `ev`: the best iterate and the
+    // counters are updated here.
+    frix_error run_stage(int id, Watch kind, int64_t patience, int64_t budget, double *r, TraceEvent &ev) {
         const SolverEntry *entry = find_solver(id);
         frix_options o;
         default_options(*entry, o);
@@ -440,17 +465,12 @@ class IslandSolver {
         // Iterations the callback did not see (solvers report at their own pace).
         if (info.iterations > dog.last_iteration) shared_.iterations += info.iterations - dog.last_iteration;
         const double err = std::isfinite(info.error) ? info.error : INFINITY;
-        ++stages_run_;
-        if (stages_run_ > 1) ++switches_;
-        TraceEvent ev{TraceEvent::kStage};
         ev.solver_id = id;
         ev.status = info.status;
         ev.why = dog.stopped_by_watchdog ? dog.why : nullptr;
-        ev.from = from;
         ev.iterations = info.iterations;
         ev.seconds = shared_.clock.seconds() - t0;
         ev.error = err;
-        note(ev);
         if (info.status == FRIX_STATUS_STOPPED_BY_CALLBACK && !dog.stopped_by_watchdog) stopped_ = true;
         if (err < best_error_) {
             best_error_ = err;

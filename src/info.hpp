@@ -19,7 +19,7 @@ struct TraceEvent {
     int solver_id = 0;
     frix_status status = FRIX_STATUS_NOT_RUN;
     const char *why = nullptr;    // a static string: why the watchdog stopped the stage
-    const char *from = nullptr;   // a static string: the stage's start, when not the best iterate
+    int64_t random_starts = 0;    // > 0: the stage ran from that many random starts (auto)
     int64_t iterations = 0;
     double seconds = 0.0, error = 0.0, value = 0.0;  // value: kTighten's new tolerance
 };

@@ -50,7 +50,8 @@ std::string format_event(const frix_info &info, const TraceEvent &e) {
             }
             case TraceEvent::kStage:
                 append(out, "%s", name_of(e.solver_id));
-                if (e.from) append(out, " from %s", e.from);
+                if (e.random_starts > 0)
+                    append(out, " from %lld random start%s", (long long)e.random_starts, e.random_starts == 1 ? "" : "s");
                 append(out, ": %s after %lld iterations in %.3g s, error %.3e",
                        e.why ? "stopped by the watchdog" : frix_status_string(e.status), (long long)e.iterations,
                        e.seconds, e.error);

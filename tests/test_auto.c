@@ -350,7 +350,7 @@ START_TEST(test_random_restarts_solve_rockpile_small_island) {
     double e = NAN;
     ck_assert_int_eq(frix_problem_error(island.p, r, NULL, &e), FRIX_OK);
     ck_assert_double_le(e, 1e-8);
-    ck_assert_ptr_nonnull(strstr(frix_info_trace(info), "nsn-ac from a random start: converged"));
+    ck_assert_ptr_nonnull(strstr(frix_info_trace(info), "nsn-ac from 1 random start: converged"));
 
     /* Deterministic: the same draws, the same iterations and reactions. */
     double *r2 = calloc((size_t)m, sizeof *r2);
@@ -364,6 +364,66 @@ START_TEST(test_random_restarts_solve_rockpile_small_island) {
     frix_options_free(o);
     island_free(&island);
     frix_problem_free(whole);
+}
+END_TEST
+
+/* Two contacts pressing one body from opposite sides (u_0N = r_0N - r_1N - 1, u_1N = r_1N - r_0N
+ * - 1): no solution, and with the |q| measure no run can pass, so auto goes round after round
+ * until its time limit, Newton stalling every time on this small part. Round k makes 2^k
+ * random starts; the trace must give each round's starts one line (2^k of them), however
+ * many rounds the machine's speed allows. */
+START_TEST(test_random_restarts_one_trace_line_per_round) {
+    double Wd[36] = {0};
+    Wd[0] = Wd[3 * 6 + 3] = 1.0, Wd[3] = Wd[3 * 6] = -1.0;
+    Wd[1 * 6 + 1] = Wd[2 * 6 + 2] = Wd[4 * 6 + 4] = Wd[5 * 6 + 5] = 1.0;
+    const double q[6] = {-1, 0.1, 0, -1, 0.1, 0}, mu[2] = {0.3, 0.3};
+    double r[6] = {0}, u[6];
+    frix_matrix *W = NULL;
+    frix_problem *p = NULL;
+    frix_options *o = NULL;
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_matrix_from_dense(6, 6, Wd, 6, &W), FRIX_OK);
+    ck_assert_int_eq(frix_problem_local(W, q, mu, 2, &p), FRIX_OK);
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &o), FRIX_OK);
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_ERROR_MEASURE, FRIX_MEASURE_Q_RELATIVE), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TIME_LIMIT, 0.5), FRIX_OK);
+    ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_TIME_LIMIT);
+    const char *trace = frix_info_trace(info);
+    int64_t lines = 0, restart_lines = 0, newton_lines = 0;
+    long long starts_of[64] = {0};
+    for (const char *line = trace; *line;) {
+        const char *end = strchr(line, '\n');
+        const size_t n = end ? (size_t)(end - line) : strlen(line);
+        char buf[512];
+        snprintf(buf, sizeof buf, "%.*s", (int)(n < sizeof buf - 1 ? n : sizeof buf - 1), line);
+        ++lines;
+        if (strstr(buf, "random start")) {
+            ck_assert_int_lt(restart_lines, 64);
+            ck_assert_msg(sscanf(buf, "nsn-ac from %lld random start", &starts_of[restart_lines]) == 1, "%s", buf);
+            ++restart_lines;
+        } else if (strncmp(buf, "nsn-ac:", 7) == 0) {
+            ++newton_lines;
+        }
+        line = end ? end + 1 : line + n;
+    }
+    ck_assert_int_ge(restart_lines, 2);
+    /* Round k: 2^k starts; the deadline may cut the last round's short. */
+    for (int64_t k = 0; k < restart_lines; ++k) {
+        const long long expected = 1LL << k;
+        if (k + 1 < restart_lines)
+            ck_assert_msg(starts_of[k] == expected, "round %lld: %lld starts", (long long)k, starts_of[k]);
+        else
+            ck_assert(starts_of[k] >= 1 && starts_of[k] <= expected);
+    }
+    /* Newton from r = 0 and from the best iterate: one or two lines a round, never more. */
+    ck_assert_int_le(restart_lines, newton_lines);
+    ck_assert_int_le(lines, 8 * restart_lines + 8);
+    frix_info_free(info);
+    frix_options_free(o);
+    frix_problem_free(p);
+    frix_matrix_free(W);
 }
 END_TEST
 
@@ -472,6 +532,7 @@ int main(void) {
     tcase_add_test(tc, test_callback_sees_progress_and_stops);
     tcase_add_test(tc, test_limits);
     tcase_add_test(tc, test_random_restarts_solve_rockpile_small_island);
+    tcase_add_test(tc, test_random_restarts_one_trace_line_per_round);
     tcase_add_test(tc, test_contacts_in_different_units);
     tcase_add_loop_test(tc, test_every_local_fclib_problem, 0, FRIX_FCLIB_LOCAL_COUNT);
     tcase_add_loop_test(tc, test_global_fclib_problems, 0, (int)(sizeof kGlobalFiles / sizeof kGlobalFiles[0]));
