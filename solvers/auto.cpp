@@ -9,8 +9,9 @@
 //      together (at once on several threads when the caller allows them): a part that
 //      converges stops costing work;
 //   2. runs on each part, from the best iterate so far, NSGS while its convergence rate
-//      promises the tolerance soon, then rounds of Newton (Alart-Curnier), ADMM, PROX and
-//      NSGS with budgets that double every round; a watchdog on every stage's progress
+//      promises the tolerance soon, then rounds of Newton (Alart-Curnier; on a small part
+//      also from random starts, the problem not being convex), ADMM, PROX and NSGS with
+//      budgets that double every round; a watchdog on every stage's progress
 //      callback stops a stage that stalls, and every stage is recorded in the trace
 //      (frix_info_trace). The parts take their turns, so a hard one does not starve the rest;
 //   3. combines the parts exactly: the final error is measured on the whole problem, and the
@@ -673,8 +674,9 @@ const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 1e9}, {(frix_option_key)0
     "groups of contacts that do not interact, each large one solved as a part of its own, the "    \
     "small ones together, with threads > 1 at once), then runs on each part NSGS while its "       \
     "convergence rate promises the tolerance soon, and otherwise rounds of semismooth Newton "     \
-    "(Alart-Curnier), ADMM, PROX and NSGS from the best iterate so far, with budgets that double " \
-    "every round and a watchdog stopping any stage that stalls; deterministic (iteration counts, " \
+    "(Alart-Curnier; on parts of at most 64 contacts also from seeded random starts), ADMM, PROX " \
+    "and NSGS from the best iterate so far, with budgets that double every round and a watchdog " \
+    "stopping any stage that stalls; deterministic (iteration counts, " \
     "not seconds). Global problems are reduced to W = H^T M^-1 H, with Newton on (v, r) as the "   \
     "fallback. Every stage is in frix_info_trace; on failure an existence check says whether a "   \
     "solution may not exist. Options: threads, existence_check (and the common ones). See "        \
