@@ -517,7 +517,7 @@ frix_error solve_local(SolveContext &ctx) {
     const double tol = user.d(FRIX_OPT_TOLERANCE);
     Shared shared(user, ctx.clock);
 
-    const Analysis a = analyse_local(p);
+    Analysis a = analyse_local(p);
     info.islands = (int64_t)a.islands.size();
     info.analysis.contacts = a.contacts;
     info.analysis.blocks = a.blocks;
@@ -531,12 +531,12 @@ frix_error solve_local(SolveContext &ctx) {
     // The units of work: every island of at least kMinIslandContacts contacts on its own, the
     // smaller ones together (one sub-problem, still block-diagonal): a sub-problem per tiny
     // island would cost more in setup than its solve.
-    const std::vector<std::vector<int64_t>> units = group_small_islands(a.islands, kMinIslandContacts);
+    std::vector<std::vector<int64_t>> units = group_small_islands(std::move(a.islands), kMinIslandContacts);
     std::vector<Island> islands(units.size());
     const bool whole = islands.size() == 1;
     for (size_t k = 0; k < islands.size(); ++k) {
         Island &is = islands[k];
-        is.contacts = units[k];
+        is.contacts = std::move(units[k]);
         const frix_problem *sub = &p;
         if (!whole) {
             if (frix_error e = extract_island(p, is.contacts, is.sub)) return e;

@@ -77,18 +77,20 @@ Analysis analyse_local(const frix_problem &p) {
         }
         a.islands[(size_t)index_of_root[(size_t)root]].push_back(i);
     }
-    std::stable_sort(a.islands.begin(), a.islands.end(),
-                     [](const std::vector<int64_t> &x, const std::vector<int64_t> &y) { return x.size() > y.size(); });
+    if (a.islands.size() > 1)  // (a sort allocates a buffer even for one element)
+        std::stable_sort(a.islands.begin(), a.islands.end(),
+                         [](const std::vector<int64_t> &x, const std::vector<int64_t> &y) { return x.size() > y.size(); });
     return a;
 }
 
-std::vector<std::vector<int64_t>> group_small_islands(const std::vector<std::vector<int64_t>> &islands,
-                                                     int64_t min_size) {
+std::vector<std::vector<int64_t>> group_small_islands(std::vector<std::vector<int64_t>> islands, int64_t min_size) {
+    // One island (the usual small problem): it is the one unit as it stands.
+    if (islands.size() <= 1) return islands;
     std::vector<std::vector<int64_t>> units;
     std::vector<int64_t> small;
-    for (const std::vector<int64_t> &island : islands) {
+    for (std::vector<int64_t> &island : islands) {
         if ((int64_t)island.size() >= min_size)
-            units.push_back(island);
+            units.push_back(std::move(island));
         else
             small.insert(small.end(), island.begin(), island.end());
     }

@@ -24,9 +24,9 @@ struct Analysis {
 };
 
 // The units auto solves separately: each island of at least min_size contacts, largest
-// first, then the smaller ones merged into one unit (contacts in increasing order).
-std::vector<std::vector<int64_t>> group_small_islands(const std::vector<std::vector<int64_t>> &islands,
-                                                     int64_t min_size);
+// first, then the smaller ones merged into one unit (contacts in increasing order). Takes
+// the islands over (moved, not copied).
+std::vector<std::vector<int64_t>> group_small_islands(std::vector<std::vector<int64_t>> islands, int64_t min_size);
 
 // Local problems only (W block-CSR). O(nc + blocks).
 Analysis analyse_local(const frix_problem &p);

@@ -89,7 +89,16 @@ FRIX_API frix_error frix_solve(const frix_problem *problem, const frix_options *
 
         frix_info local_info;
         frix_info &out = info ? *info : local_info;
-        out = frix_info();
+        {   // A fresh info, but the trace's buffers kept: a caller solving every time step
+            // should not pay for their allocation each time.
+            std::vector<frix::TraceEvent> trace = std::move(out.trace);
+            std::string text = std::move(out.trace_text);
+            trace.clear();
+            text.clear();
+            out = frix_info();
+            out.trace = std::move(trace);
+            out.trace_text = std::move(text);
+        }
         out.solver_id = entry->id;
         out.contacts = problem->nc;
         out.tolerance = options->d(FRIX_OPT_TOLERANCE);
