@@ -252,8 +252,8 @@ START_TEST(test_callback_sees_progress_and_stops) {
 END_TEST
 
 /* The connected component of the contact graph (contacts a, b linked when W_ab != 0) that
- * has exactly `size` contacts, as a local problem of its own; NULL if there is none. The
- * problem borrows the arrays of `island`, freed by island_free. */
+ * has exactly `size` contacts, as a local problem of its own in island->p; returns 0 if there
+ * is none. The problem borrows the arrays of `island`, freed by island_free. */
 typedef struct {
     frix_matrix *W;
     double *q, *mu;
