@@ -391,8 +391,10 @@ int run_campaign(const BenchArgs &a) {
                 // rescaled to end at it, so that it stays in time order and on one clock.
                 std::vector<TracePoint> &tr = traces[o.index];
                 if (!tr.empty() && tr.back().elapsed > r.time && tr.back().elapsed > 0.0) {
+                    // Clamped: x * (time / x) may exceed time by an ulp, and the rows that
+                    // follow must not go back in time.
                     const double scale = r.time / tr.back().elapsed;
-                    for (TracePoint &t : tr) t.elapsed *= scale;
+                    for (TracePoint &t : tr) t.elapsed = std::min(t.elapsed * scale, r.time);
                 }
                 tr.push_back({r.iterations, r.time, r.error});
             }
