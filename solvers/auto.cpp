@@ -88,12 +88,14 @@ constexpr StageSpec kRound[] = {
 // of Newton in tens of factorisations (granular and stacked scenes of fclib-large), while
 // Newton from NSGS's iterate needs hundreds of steps or stalls. It cannot start from the
 // best iterate (an interior point is needed), so it runs in the first round only. When it
-// stalls below the best error, one Newton stage runs from its iterate, and the result is
-// kept only within kIpmKeepRatio of the tolerance: there the next stages finish it in a few
-// steps (Kapla-4x2x25-ball s100, OpenBLAS on two threads: the IPM stalls at 5.6e-7, Newton
-// ends at 3.5e-8, auto takes 3.0 s instead of 12-15 s), while a point far above it sends the
-// rounds on a longer path than NSGS's (Spheres-n400 s140: 3.5e-4 after Newton; kept, 41-49 s
-// instead of 10 s).
+// stalls below the best error, one Newton stage runs from its iterate: near a solution Newton
+// often finishes what the IPM could not (Kapla-4x2x25-ball s100, OpenBLAS on one thread: the
+// IPM stops at 1.8e-7, Newton converges from there in 75 steps, 0.3 s, where the rounds from
+// NSGS's iterate took 10 s). The result is kept only within kIpmKeepRatio of the tolerance:
+// there the next stages finish it in a few steps (the same problem, OpenBLAS on two threads:
+// the IPM stalls at 5.6e-7, Newton ends at 3.5e-8, auto takes 3.0 s instead of 12-15 s),
+// while a point far above it sends the rounds on a longer path than NSGS's (Spheres-n400
+// s140: 3.5e-4 after Newton; kept, 41-49 s instead of 10 s).
 // Patience and budget count its iterations (interior points and then Newton steps).
 constexpr int64_t kIpmMinContacts = 200;
 constexpr StageSpec kIpmStage = {FRIX_SOLVER_IPM, 50, 500};
@@ -303,10 +305,7 @@ class IslandSolver {
     frix_error run_round(double *r) {
         const double before = best_error_;
         if (round_ == 0 && p_.nc >= kIpmMinContacts && can_continue()) {
-            // Kept only if it comes within kIpmKeepRatio of the tolerance: a stalled
-            // interior-point run leaves an iterate that often sends the later stages on a
-            // longer path than NSGS's (Spheres-n400 s140: 53 s instead of 7 s when the round
-            // went on from it).
+            // Its iterate is kept only within kIpmKeepRatio of the tolerance (see there).
             const std::vector<double> keep_r = best_r_;
             const double keep_error = best_error_;
             const int keep_solver = best_solver_;
@@ -314,10 +313,7 @@ class IslandSolver {
                                      kIpmStage.first_budget, r))
                 return e;
             // A stalled run that lowered the error gets one Newton stage (the round's, with
-            // the first round's budget) from its iterate before that is judged: near a
-            // solution Newton often finishes what the IPM could not (Kapla-4x2x25-ball s100,
-            // OpenBLAS on one thread: the IPM stops at 1.8e-7 and Newton converges from there
-            // in 75 steps, 0.3 s, where the rounds from NSGS's iterate took 10 s).
+            // the first round's budget) from its iterate before that is judged.
             if (!(best_error_ <= tolerance_) && best_error_ < keep_error && can_continue()) {
                 std::copy(best_r_.begin(), best_r_.end(), r);
                 const StageSpec &newton = kRound[0];
