@@ -10,8 +10,9 @@
 //      converges stops costing work;
 //   2. runs on each part, from the best iterate so far, NSGS while its convergence rate
 //      promises the tolerance soon, then rounds of Newton (Alart-Curnier; on a small part
-//      also from random starts, the problem not being convex), ADMM, PROX and NSGS with
-//      budgets that double every round; a watchdog on every stage's progress
+//      also from random starts, the problem not being convex), NSGS (its stages one chain,
+//      steady drifts carried ahead), ADMM and PROX with budgets that double every round;
+//      a watchdog on every stage's progress
 //      callback stops a stage that stalls, and every stage is recorded in the trace
 //      (frix_info_trace). The parts take their turns, so a hard one does not starve the rest;
 //   3. combines the parts exactly: the final error is measured on the whole problem, and the
@@ -69,20 +70,33 @@ struct StageSpec {
     int64_t patience;      // iterations as the solver's callback counts them
     int64_t first_budget;  // iterations of the first round; doubled every round
 };
-// Newton first (a few steps tell whether it converges), then ADMM (the robust workhorse
-// of large rigid problems), PROX (regularised Newton), NSGS again (velocity form, freezing).
-// PROX's callback counts its inner Newton steps; its budget counts proximal steps.
+// Newton first (a few steps tell whether it converges), then NSGS again (velocity form,
+// freezing, drifts carried ahead), ADMM (the robust workhorse of large rigid problems), PROX
+// (regularised Newton). PROX's callback counts its inner Newton steps; its budget counts
+// proximal steps.
 // A sweep costs about a fifth of an ADMM iteration (no triangular solves): NSGS gets five
 // times ADMM's iterations, so that both get about the same time in a round (RockPile's
-// large island 14-18 us against 68-74 us, Spheres-n1000 0.2 ms against 1.1 ms). With as many
-// sweeps as ADMM iterations it got a tenth of the time, too little for the slow but steady
-// progress by which NSGS alone solves RockPile's island (docs/auto.md).
+// large island 14-18 us against 68-74 us, Spheres-n1000 0.2 ms against 1.1 ms).
+// NSGS's stages are one chain: each goes on from where the previous one stopped, not from the
+// best iterate, and runs its whole budget (patience = budget). Where NSGS makes progress, on
+// rank-deficient piles, it is by a drift of r at an error that does not fall (see
+// kDriftWindow), which a restart from the best iterate would undo every round. Before ADMM
+// in the round: on RockPile the chain is what converges, and the round's ADMM after it would
+// cost as much again (RockPile 12.8-14.1 s in five runs instead of 16.6-17.0 s; Spheres-n400 s140, solved
+// by PROX in the second round, 12.0-13.1 s instead of 9.9-10.3 s).
 constexpr StageSpec kRound[] = {
     {FRIX_SOLVER_NSN_AC, 50, 100},  // its iterations count the hybrid NSGS sweeps too
+    {FRIX_SOLVER_NSGS_VELOCITY, 10000, 10000},
     {FRIX_SOLVER_ADMM, 3000, 2000},
     {FRIX_SOLVER_PROX, 200, 3},
-    {FRIX_SOLVER_NSGS_VELOCITY, 5000, 10000},
 };
+// NSGS's stages carry steady drifts of r ahead every this many sweeps (nsgs.cpp, option
+// drift_window): RockPile's large island, on which the plain sweeps need 6.5 million
+// sweeps (63 s) to 1e-8, crossing plateaus of the error on which two contacts hand load to
+// each other at a steady rate, takes 619048 with them on the whole problem (nsgs-v alone).
+// The window matters little between 1000 and 20000 sweeps (a prototype on the island: 0.53 to
+// 1.06 million sweeps), more above (2.7 million with 100000).
+constexpr int64_t kDriftWindow = 1000;
 // Parts of at least this many contacts start their first round with the interior-point
 // method (524): where NSGS does not finish a large part, the IPM usually gets within reach
 // of Newton in tens of factorisations (granular and stacked scenes of fclib-large), while
@@ -292,10 +306,11 @@ class IslandSolver {
     }
 
     // The sequence. First NSGS (velocity form, freezing) under its rate watch: it finishes
-    // the easy problems at once. Then rounds of Newton, ADMM, PROX and NSGS again, each from
-    // the best iterate so far under the stall watch and a time budget that doubles every
-    // round, so that the method that suits the problem gets enough time while the others
-    // cost at most a constant factor (a portfolio with restarts).
+    // the easy problems at once. Then rounds of Newton, NSGS again, ADMM and PROX, each from
+    // the best iterate so far (NSGS from where its previous stage stopped, see kRound) under
+    // the stall watch and a budget that doubles every round, so that the method that suits
+    // the problem gets enough time while the others cost at most a constant factor (a
+    // portfolio with restarts).
     frix_error first_stage(double *r) {
         return stage(FRIX_SOLVER_NSGS_VELOCITY, Watch::NsgsRate, 0, kFirstNsgsSweeps, r);
     }
@@ -328,7 +343,11 @@ class IslandSolver {
         }
         for (const StageSpec &spec : kRound) {
             if (!can_continue()) break;
-            std::copy(best_r_.begin(), best_r_.end(), r);
+            const bool chain = spec.solver_id == FRIX_SOLVER_NSGS_VELOCITY && !nsgs_chain_.empty();
+            if (chain)
+                std::copy(nsgs_chain_.begin(), nsgs_chain_.end(), r);
+            else
+                std::copy(best_r_.begin(), best_r_.end(), r);
             const int shift = std::min(round_, 30);
             const int64_t patience = spec.patience << shift, budget = spec.first_budget << shift;
             // The first Newton stage also starts afresh: where NSGS stalls it has often
@@ -343,6 +362,7 @@ class IslandSolver {
                 std::fill(r, r + m_, 0.0);
             }
             if (frix_error e = stage(spec.solver_id, Watch::Stall, patience, budget, r)) return e;
+            if (spec.solver_id == FRIX_SOLVER_NSGS_VELOCITY) nsgs_chain_.assign(r, r + m_);
             if (spec.solver_id == FRIX_SOLVER_NSN_AC && p_.nc <= kRestartMaxContacts)
                 if (frix_error e = random_restarts(spec, r)) return e;
         }
@@ -459,6 +479,7 @@ class IslandSolver {
         o.ivalue[FRIX_OPT_ERROR_MEASURE] = user.i(FRIX_OPT_ERROR_MEASURE);
         o.ivalue[FRIX_OPT_VERBOSITY] = std::max<int64_t>(0, user.i(FRIX_OPT_VERBOSITY) - 1);
         if (id == FRIX_SOLVER_ADMM && shared_.scaled_penalty) o.ivalue[FRIX_OPT_RHO_STRATEGY] = FRIX_RHO_SPECTRAL;
+        if (id == FRIX_SOLVER_NSGS_VELOCITY) o.ivalue[FRIX_OPT_DRIFT_WINDOW] = kDriftWindow;
         const int64_t left = user.i(FRIX_OPT_MAX_ITER) - shared_.iterations.load();
         o.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, std::min(left, budget));
         // The stage runs on the shared clock (started by frix_solve): its limit is the
@@ -505,6 +526,7 @@ class IslandSolver {
     int64_t island_;
     int64_t m_;
     std::vector<double> u_, best_r_;
+    std::vector<double> nsgs_chain_;  // where the last NSGS stage of the rounds stopped
     double tolerance_ = 0.0, best_error_ = INFINITY;
     int best_solver_ = 0;  // the stage that found the best iterate
     uint64_t rng_;               // random restarts: seeded by the part, so threads do not matter
@@ -693,8 +715,9 @@ const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 1e9}, {(frix_option_key)0
     "groups of contacts that do not interact, each large one solved as a part of its own, the "    \
     "small ones together, with threads > 1 at once), then runs on each part NSGS while its "       \
     "convergence rate promises the tolerance soon, and otherwise rounds of semismooth Newton "     \
-    "(Alart-Curnier; on parts of at most 64 contacts also from seeded random starts), ADMM, PROX " \
-    "and NSGS from the best iterate so far, with budgets that double every round and a watchdog " \
+    "(Alart-Curnier; on parts of at most 64 contacts also from seeded random starts), NSGS (one " \
+    "chain over the rounds, steady drifts of r carried ahead), ADMM and PROX (from the best "    \
+    "iterate so far), with budgets that double every round and a watchdog "                      \
     "stopping any stage that stalls; deterministic (iteration counts, " \
     "not seconds). Global problems are reduced to W = H^T M^-1 H, with Newton on (v, r) as the "   \
     "fallback. Every stage is in frix_info_trace; on failure an existence check says whether a "   \

@@ -133,6 +133,69 @@ namespace {
 constexpr int64_t kFullCheckPeriod = 16;
 // Freezing starts after this many sweeps (Siconos' rule): the first sweeps move every contact.
 constexpr int64_t kFreezeAfter = 10;
+// Drift extrapolation (option drift_window): two successive windows' displacements count as
+// one steady drift when the cosine of their angle exceeds this; a jump goes at most this many
+// windows ahead.
+constexpr double kDriftCosine = 0.99;
+constexpr double kMaxDriftJump = 1000.0;
+
+// On rank-deficient W, NSGS can sit for millions of sweeps on a plateau of the error while r
+// drifts at a steady rate along a nearly self-equilibrated transfer of load between contacts,
+// until one of them loses contact and the error falls (RockPile's 295-contact island: two
+// contacts exchange 0.2 of r_N per 100000 sweeps in one straight line, cosine 0.999 between
+// successive displacements, for about 1.5 million sweeps). The drift is carried ahead at
+// once: every `window` sweeps, the displacement d of r over the window is compared with the
+// previous window's; when both point the same way, r jumps along d to the first loss of contact
+// ahead (t = min r_aN / -d_aN over the contacts with d_aN < 0; when |d| shrank, at most to
+// the limit of the geometric series of displacements) and is projected on the cones. The
+// sweeps that follow restore what the straight line missed. A jump raises the error for a
+// while (up to 1e-3 from 4e-8 on RockPile, back below the plateau within a window or two), so
+// none is taken within two windows of the sweep limit.
+class DriftExtrapolation {
+   public:
+    // r: the start of the first window.
+    DriftExtrapolation(int64_t window, int64_t m, const double *r) : window_(window) {
+        if (window_ > 0) start_.assign(r, r + m), last_.assign((size_t)m, 0.0);
+    }
+    // After sweep `it` of at most `max_sweeps`: true when r jumped (then u and the frozen
+    // contacts need a refresh).
+    bool after_sweep(int64_t it, int64_t max_sweeps, double *r, const double *mu) {
+        if (window_ <= 0 || it % window_ != 0) return false;
+        const size_t m = start_.size();
+        double dd = 0.0, dl = 0.0, ll = 0.0;
+        for (size_t i = 0; i < m; ++i) {
+            const double d = r[i] - start_[i];
+            dd += d * d;
+            dl += d * last_[i];
+            ll += last_[i] * last_[i];
+            last_[i] = d;
+            start_[i] = r[i];
+        }
+        const bool steady = have_last_ && dd > 0.0 && dl > kDriftCosine * std::sqrt(dd * ll);
+        have_last_ = dd > 0.0;
+        if (!steady) return false;
+        double t = INFINITY;
+        for (size_t a = 0; 3 * a < m; ++a)
+            if (last_[3 * a] < 0.0 && r[3 * a] > 0.0) t = std::min(t, -r[3 * a] / last_[3 * a]);
+        const double ratio = std::sqrt(dd / ll);
+        if (ratio < 1.0) t = std::min(t, ratio / (1.0 - ratio));
+        if (!(t > 1.0) || !std::isfinite(t) || max_sweeps - it < 2 * window_) return false;
+        t = std::min(t, kMaxDriftJump);
+        for (size_t i = 0; i < m; ++i) r[i] += t * last_[i];
+        for (size_t a = 0; 3 * a < m; ++a) local::project_on_cone(r + 3 * a, mu[a]);
+        std::copy(r, r + m, start_.begin());
+        have_last_ = false;  // a new window history from the new point
+        ++jumps_;
+        return true;
+    }
+    int64_t jumps() const { return jumps_; }
+
+   private:
+    int64_t window_;
+    std::vector<double> start_, last_;  // r at the window's start; the last window's displacement
+    bool have_last_ = false;
+    int64_t jumps_ = 0;
+};
 
 // NSGS (velocity = false) and velocity-based NSGS (velocity = true): the same stopping logic.
 frix_error run(SolveContext &ctx, bool velocity) {
@@ -183,6 +246,8 @@ frix_error run(SolveContext &ctx, bool velocity) {
         std::copy(p.q, p.q + m, u);  // u = W 0 + q
     }
 
+    DriftExtrapolation drift(o.i(FRIX_OPT_DRIFT_WINDOW), m, r);
+
     double tol_light = tol;
     int64_t it = 0, evaluations = 0;
     info.status = FRIX_STATUS_MAX_ITER;
@@ -200,9 +265,20 @@ frix_error run(SolveContext &ctx, bool velocity) {
             info.status = FRIX_STATUS_DIVERGED;
             break;
         }
+        const bool jumped = drift.after_sweep(it, max_iter, r, p.mu);
+        if (jumped) {
+            if (velocity) {  // u = W r + q again
+                matrix_gemv(*p.W, 1.0, r, 0.0, u);
+                for (int64_t i = 0; i < m; ++i) u[i] += p.q[i];
+            }
+            ws.thaw();
+            if (verbosity >= 1)
+                std::fprintf(stderr, "%s: sweep %lld: drift carried ahead (jump %lld)\n", name, (long long)it,
+                             (long long)drift.jumps());
+        }
         checked_last = false;
         double light = NAN;
-        if (it % frequency == 0) {
+        if (it % frequency == 0 && !jumped) {  // (the sweep's light error predates a jump)
             ++evaluations;
             light = st.r2 > 0.0 ? std::sqrt(st.dr2 / st.r2) : std::sqrt(st.dr2);
             estimate = light;
@@ -259,7 +335,7 @@ frix_error solve_velocity(SolveContext &ctx) { return run(ctx, true); }
 const frix_option_key kExtraKeys[] = {FRIX_OPT_LOCAL_SOLVER, FRIX_OPT_LOCAL_TOLERANCE,
                                       FRIX_OPT_LOCAL_MAX_ITER, FRIX_OPT_RELAXATION,
                                       FRIX_OPT_SHUFFLE, FRIX_OPT_SEED, FRIX_OPT_FREEZING,
-                                      FRIX_OPT_ERROR_FREQUENCY, (frix_option_key)0};
+                                      FRIX_OPT_ERROR_FREQUENCY, FRIX_OPT_DRIFT_WINDOW, (frix_option_key)0};
 
 // The sweep limit covers the slowest FCLIB problems that NSGS solves at 1e-8 (Capsules:
 // ~8000 sweeps).
@@ -299,8 +375,11 @@ const SolverEntry kNsgsEntry = {
     "> 1; omega = 0.9 breaks the limit cycles plain Gauss-Seidel falls into on some rigid "
     "scenes), shuffle (none, once, each sweep) and seed, freezing (a contact that moved by "
     "less than a tenth of the light tolerance's share is skipped for that many sweeps; all "
-    "are swept again whenever a full check fails, so the result is never less accurate) and "
-    "error_frequency (the light error is tested every k sweeps).",
+    "are swept again whenever a full check fails, so the result is never less accurate), "
+    "error_frequency (the light error is tested every k sweeps) and drift_window (every k "
+    "sweeps, when r's displacement over the last k sweeps points the way of the previous k's, "
+    "r jumps along it to the next loss of contact: for rank-deficient piles on which the "
+    "sweeps creep along a steady transfer of load; 0 = never, the default).",
     nsgs::solve,
     true,
     false,
@@ -321,7 +400,7 @@ const SolverEntry kNsgsVelocityEntry = {
     "Freezing is on by default (10 sweeps): two to three times faster than nsgs on the "
     "Capsules and spheres-in-a-box problems. Best on scenes where many contacts separate or "
     "settle early. Options: those of nsgs (local_solver, local_tolerance, local_max_iter, "
-    "relaxation, shuffle, seed, freezing, error_frequency). Unlike Siconos 4.4's NSGSV "
+    "relaxation, shuffle, seed, freezing, error_frequency, drift_window). Unlike Siconos 4.4's NSGSV "
     "(dense W only, pseudo-inverse, prints), it takes any sparse W.",
     nsgs::solve_velocity,
     true,

@@ -59,8 +59,11 @@ typedef enum frix_option_key FRIX_ENUM_BASE {
     /* auto (900) */
     FRIX_OPT_THREADS = 28,        /* int >= 1: threads auto may use to solve independent islands
                                      at once (default 1; results do not depend on it) */
-    FRIX_OPT_EXISTENCE_CHECK = 29 /* int 0/1: when the solve fails, check whether a solution
+    FRIX_OPT_EXISTENCE_CHECK = 29, /* int 0/1: when the solve fails, check whether a solution
                                      exists (frix_problem_check_existence; default 1) */
+    /* NSGS (500, 501) */
+    FRIX_OPT_DRIFT_WINDOW = 30    /* int >= 0: every k sweeps, a steady drift of r is carried
+                                     ahead to the next loss of contact; 0 = never (default) */
 } frix_option_key;
 
 typedef enum frix_rho_strategy FRIX_ENUM_BASE {
