@@ -149,8 +149,8 @@ constexpr double kMaxDriftJump = 1000.0;
 // ahead (t = min r_aN / -d_aN over the contacts with d_aN < 0; when |d| shrank, at most to
 // the limit of the geometric series of displacements) and is projected on the cones. The
 // sweeps that follow restore what the straight line missed. A jump raises the error for a
-// while (up to 1e-3 from 4e-8 on RockPile, back below the plateau within a window or two), so
-// none is taken within two windows of the sweep limit.
+// while (up to 2.5e-3 from 4e-8 in a prototype's runs on RockPile, back on the plateau by the
+// end of the next window), so none is taken within two windows of the sweep limit.
 class DriftExtrapolation {
    public:
     // r: the start of the first window.
