@@ -81,11 +81,10 @@ struct StageSpec {
 // best iterate, and runs its whole budget (patience = budget; with 5000, about half of it,
 // RockPile took 20.6 s instead of 13 s). Where NSGS makes progress, on rank-deficient piles,
 // it is by a drift of r at an error that does not fall (see kDriftWindow), which a restart
-// from the best iterate would undo every round. Before ADMM
-// in the round: on RockPile the chain is what converges, and the round's ADMM before it would
-// cost as much again (RockPile 12.8-14.1 s in five runs instead of 16.6-17.0 s; Spheres-n400
-// s140, solved by PROX in the second round, 12.0-13.1 s instead of 9.9-10.3 s, OpenBLAS on
-// one thread).
+// from the best iterate would undo every round. Before ADMM in the round: on RockPile the
+// chain is what converges, and the round's ADMM before it would cost as much again
+// (RockPile 12.8-14.1 s in five runs instead of 16.6-17.0 s; Spheres-n400 s140, solved by
+// PROX in the second round, 12.0-13.1 s instead of 9.9-10.3 s, OpenBLAS on one thread).
 constexpr StageSpec kRound[] = {
     {FRIX_SOLVER_NSN_AC, 50, 100},  // its iterations count the hybrid NSGS sweeps too
     {FRIX_SOLVER_NSGS_VELOCITY, 10000, 10000},
