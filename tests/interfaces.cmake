@@ -69,7 +69,11 @@ add_test(NAME readme_shows_solve_csc
          COMMAND sh -c "sed -n '/^`examples\\/c\\/solve_csc.c`, in full:$/,/^```$/p' \"$1/README.md\" | sed '1,3d;$d' | diff - \"$1/examples/c/solve_csc.c\""
                  sh "${PROJECT_SOURCE_DIR}")
 
-# ---- Fortran: the module's own test and the example.
+# ---- Fortran: the module against the C headers (text only, no compiler needed), the
+# module's own test and the example.
+add_test(NAME fortran_binding_complete
+         COMMAND ${CMAKE_COMMAND} -DFRIX_INCLUDE_DIR=${PROJECT_SOURCE_DIR}/include/frix
+                 -P "${CMAKE_CURRENT_SOURCE_DIR}/fortran_binding_complete.cmake")
 if(TARGET frix_fortran)
   add_executable(test_fortran test_fortran.f90)
   target_link_libraries(test_fortran PRIVATE frix_fortran)

@@ -1,18 +1,45 @@
+! A progress callback written in Fortran: counts its calls in the integer user_data points
+! to and asks to stop at the second iteration.
+module test_fortran_callback
+  use, intrinsic :: iso_c_binding
+  implicit none
+contains
+  function stop_at_two(user_data, iteration, error, elapsed_seconds) result(stop) bind(C)
+    type(c_ptr), value :: user_data
+    integer(c_int64_t), value :: iteration
+    real(c_double), value :: error, elapsed_seconds
+    integer(c_int) :: stop
+    integer(c_int), pointer :: calls
+    call c_f_pointer(user_data, calls)
+    calls = calls + 1
+    stop = 0
+    if (iteration >= 2 .and. error >= 0d0 .and. elapsed_seconds >= 0d0) stop = 1
+  end function
+end module test_fortran_callback
+
 ! The Fortran binding (include/frix/frix.f90) end to end: constants, strings both ways,
-! errors with messages, matrices, a solve checked by an independent error, options, and an
-! FCLIB round trip through c_loc. Prints one line per check; exits non-zero on a failure.
+! errors with messages, matrices, a solve checked by an independent error, options by key
+! and by name, the registry, a Fortran progress callback, views of the problem's data, and
+! an FCLIB round trip through c_loc. Prints one line per check; exits non-zero on a failure.
 program test_fortran
   use, intrinsic :: iso_c_binding
   use frix
+  use test_fortran_callback
   implicit none
   integer :: failures = 0, passed = 0
   real(c_double), target :: Wd(9) = [4d0, 1d0, 0d0, 1d0, 3d0, 0d0, 0d0, 0d0, 3d0]
   real(c_double), target :: q(3) = [-2d0, 0.5d0, 0.1d0], mu(1) = [0.4d0]
   real(c_double), target :: r(3), u(3), r2(3), dummy(1)
   real(c_double) :: err_value, tol
-  integer(c_int64_t) :: n64
-  integer(c_int) :: err, id
-  type(c_ptr) :: W, p, back, opts, info
+  real(c_double) :: lower, upper, block(9), y(3)
+  real(c_double), pointer :: view(:)
+  real(c_double), allocatable, target :: csc_values(:)
+  integer(c_int64_t), allocatable, target :: csc_colptr(:), csc_rowind(:)
+  integer(c_int64_t) :: n64, k
+  integer(c_int), target :: calls
+  integer(c_int) :: err, id, key, is_int
+  logical :: found
+  type(c_ptr) :: W, Wb, p, back, opts, opts2, info
   character(len=:), allocatable :: path
 
   call check('version string', len(frix_fstr(frix_version_string())) > 0)
@@ -67,16 +94,106 @@ program test_fortran
   call check('existence', err == FRIX_OK .and. n64 == FRIX_EXISTENCE_GUARANTEED .and. &
        frix_fstr(frix_existence_describe(int(n64, c_int))) == 'a solution exists')
 
-  ! FCLIB round trip; optional arrays go through c_loc / c_null_ptr.
+  call check('solve time', frix_info_solve_seconds(info) >= 0d0)
+
+  ! The registry and option names.
+  found = .false.
+  do k = 0, frix_solver_count() - 1
+    found = found .or. frix_solver_id_at(k) == FRIX_SOLVER_IPM
+  end do
+  call check('registry lists ipm', found .and. frix_solver_id_at(frix_solver_count()) == -1)
+  call check('solver description', &
+       index(frix_fstr(frix_solver_describe(FRIX_SOLVER_NSGS_VELOCITY)), 'Gauss-Seidel') > 0)
+  err = frix_option_by_name(frix_cstr('drift_window'), key)
+  call check('option by name', err == FRIX_OK .and. key == FRIX_OPT_DRIFT_WINDOW)
+  call check('option name', frix_fstr(frix_option_name(FRIX_OPT_LOCAL_SOLVER)) == 'local_solver')
+
+  ! Options of nsgs-v, their bounds, a copy, and values named by the module's constants.
+  err = frix_options_create(FRIX_SOLVER_NSGS_VELOCITY, opts2)
+  err = frix_options_bounds(opts2, FRIX_OPT_DRIFT_WINDOW, lower, upper, is_int)
+  call check('bounds', err == FRIX_OK .and. lower == 0d0 .and. upper >= 1d6 .and. is_int == 1)
+  err = frix_options_set_int(opts2, FRIX_OPT_LOCAL_SOLVER, int(FRIX_LOCAL_NEWTON_AC, c_int64_t))
+  call check('local solver by constant', err == FRIX_OK)
+  err = frix_options_set_int(opts2, FRIX_OPT_SHUFFLE, int(FRIX_SHUFFLE_ONCE, c_int64_t))
+  call check('shuffle by constant', err == FRIX_OK)
+  call frix_options_free(opts)
+  err = frix_options_copy(opts2, opts)
+  err = frix_options_get_int(opts, FRIX_OPT_LOCAL_SOLVER, n64)
+  call check('copy', err == FRIX_OK .and. frix_options_solver(opts) == FRIX_SOLVER_NSGS_VELOCITY &
+       .and. n64 == FRIX_LOCAL_NEWTON_AC)
+  call frix_options_free(opts2)
+
+  ! A Fortran callback stops a solve that would run longer (vi-fpp to 1e-15).
+  call frix_options_free(opts)
+  err = frix_options_create(FRIX_SOLVER_VI_FPP, opts)
+  err = frix_options_set_double(opts, FRIX_OPT_TOLERANCE, 1d-15)
+  calls = 0
+  err = frix_options_set_callback(opts, c_funloc(stop_at_two), c_loc(calls))
+  call check('callback set', err == FRIX_OK)
+  r = 0
+  err = frix_solve(p, opts, r, u, dummy, info)
+  call check('stopped by the callback', err == FRIX_OK .and. calls == 2 .and. &
+       frix_info_status(info) == FRIX_STATUS_STOPPED_BY_CALLBACK .and. &
+       frix_info_iterations(info) == 2)
+  err = frix_options_set_callback(opts, c_null_funptr, c_null_ptr)
+  calls = 0
+  r = 0
+  err = frix_solve(p, opts, r, u, dummy, info)
+  call check('callback removed', err == FRIX_OK .and. calls == 0 .and. &
+       frix_info_status(info) /= FRIX_STATUS_STOPPED_BY_CALLBACK)
+
+  ! Views of the problem's data, and the measures of a given r.
+  call c_f_pointer(frix_problem_q(p), view, [3])
+  call check('q view', all(view == q))
+  call c_f_pointer(frix_problem_mu(p), view, [1])
+  call check('mu view', view(1) == mu(1))
+  call check('W view', frix_matrix_nnz(frix_problem_W_matrix(p)) == 9)
+  call check('no global members', .not. (c_associated(frix_problem_M(p)) .or. &
+       c_associated(frix_problem_H(p)) .or. c_associated(frix_problem_f(p)) .or. &
+       c_associated(frix_problem_w_vector(p))))
+  err = frix_options_set_double(opts, FRIX_OPT_TOLERANCE, 1d-12)
+  err = frix_solve(p, opts, r, u, dummy, info)
+  u = -1
+  err = frix_problem_measure(p, r, dummy, c_loc(u), info)
+  err = frix_info_get_double(info, FRIX_INFO_ERROR_RELATIVE, err_value)
+  call check('measure', err == FRIX_OK .and. err_value <= 1d-12 .and. &
+       abs(u(1) - (4d0 * r(1) + r(2) - 2d0)) < 1d-12)
+
+  ! Block storage: one 3x3 block, its diagonal block, the CSC export and W^T x.
+  err = frix_matrix_from_blocks(1_c_int64_t, 1_c_int64_t, 1_c_int64_t, [0_c_int64_t], &
+       [0_c_int64_t], Wd, Wb)
+  call check('block matrix', err == FRIX_OK .and. frix_matrix_is_block(Wb) == 1 .and. &
+       frix_matrix_block_count(Wb) == 1)
+  err = frix_matrix_diagonal_block(Wb, 0_c_int64_t, block)
+  call check('diagonal block', err == FRIX_OK .and. all(block == Wd))
+  err = frix_matrix_to_csc(Wb, n64, c_null_ptr, c_null_ptr, c_null_ptr)
+  call check('CSC size', err == FRIX_OK .and. n64 == 5)
+  allocate(csc_colptr(4), csc_rowind(n64), csc_values(n64))
+  err = frix_matrix_to_csc(Wb, n64, c_loc(csc_colptr), c_loc(csc_rowind), c_loc(csc_values))
+  call check('CSC export', err == FRIX_OK .and. all(csc_colptr == [0, 2, 4, 5]) .and. &
+       all(csc_rowind == [0, 1, 0, 1, 2]) .and. all(csc_values == [4d0, 1d0, 1d0, 3d0, 3d0]))
+  y = 1
+  err = frix_matrix_gemv_transposed(Wb, 1d0, [1d0, 2d0, 3d0], 0d0, y)
+  call check('W^T x', err == FRIX_OK .and. all(y == [6d0, 7d0, 9d0]))
+  call frix_matrix_free(Wb)
+
+  ! FCLIB round trip; optional arrays go through c_loc / c_null_ptr; one guess.
   path = 'test_fortran.hdf5'
-  err = frix_fclib_write(frix_cstr(path), p, c_loc(r), c_loc(u), c_null_ptr, 0_c_int64_t, &
-       c_null_ptr, c_null_ptr, c_null_ptr)
+  r2 = r + 1
+  err = frix_fclib_write(frix_cstr(path), p, c_loc(r), c_loc(u), c_null_ptr, 1_c_int64_t, &
+       c_loc(r2), c_loc(u), c_null_ptr)
   call check('FCLIB write', err == FRIX_OK)
+  err = frix_fclib_guess_count(frix_cstr(path), n64)
+  call check('guess count', err == FRIX_OK .and. n64 == 1)
   err = frix_read_problem(frix_cstr(path), back)
   call check('FCLIB read', err == FRIX_OK .and. frix_problem_contacts(back) == 1)
   r2 = -1
   err = frix_fclib_read_solution(frix_cstr(path), back, c_loc(r2), c_null_ptr, c_null_ptr)
   call check('solution read back', err == FRIX_OK .and. all(r2 == r))
+  r2 = 0
+  err = frix_fclib_read_guess(frix_cstr(path), back, 0_c_int64_t, c_loc(r2), c_null_ptr, &
+       c_null_ptr)
+  call check('guess read back', err == FRIX_OK .and. all(r2 == r + 1))
   call frix_problem_free(back)
   err = frix_read_problem(frix_cstr('no/such/file.hdf5'), back)
   call check('missing file', err == FRIX_ERR_IO .and. index(frix_last_error(), 'no/such') > 0)
@@ -86,7 +203,7 @@ program test_fortran
   call frix_problem_free(p)
   call frix_matrix_free(W)
   call frix_problem_free(c_null_ptr)
-  deallocate(path)
+  deallocate(path, csc_colptr, csc_rowind, csc_values)
 
   print '(i0, " passed, ", i0, " failed")', passed, failures
   if (failures > 0) error stop 1

@@ -8,11 +8,18 @@
 ! as in C. Strings going in must end with c_null_char: use frix_cstr('nsgs'). Strings coming
 ! out are C pointers: frix_fstr(ptr) copies one into a Fortran string, and
 ! frix_last_error() is frix_last_error_message() as a Fortran string.
-! Fortran names are case-insensitive, so the C constants spelled like a function are
-! renamed: FRIX_PROBLEM_LOCAL/GLOBAL are FRIX_PROBLEM_KIND_LOCAL/GLOBAL here, and
-! FRIX_INFO_STATUS/ITERATIONS/ERROR are FRIX_INFO_KEY_STATUS/ITERATIONS/ERROR.
-! Only the constants that existed when this module was written are here; any other key or
-! id of the C headers can be passed as its integer value.
+! Fortran names are case-insensitive, so the C names that differ only in case from another
+! are renamed here:
+!   FRIX_PROBLEM_LOCAL, FRIX_PROBLEM_GLOBAL     -> FRIX_PROBLEM_KIND_LOCAL, _KIND_GLOBAL
+!   FRIX_INFO_STATUS, _ITERATIONS, _ERROR       -> FRIX_INFO_KEY_STATUS, _KEY_ITERATIONS,
+!                                                  _KEY_ERROR
+!   frix_problem_W (the matrix), frix_problem_w -> frix_problem_W_matrix,
+!   (the vector w)                                 frix_problem_w_vector
+!   frix_info_solve_time (the function)         -> frix_info_solve_seconds (the key
+!                                                  FRIX_INFO_SOLVE_TIME keeps its name)
+! Every other constant and function of the C headers is here under its C name (the test
+! fortran_binding_complete checks it), except frix_plugin_api, the function table for C
+! hosts that dlopen the library.
 module frix
   use, intrinsic :: iso_c_binding
   implicit none
@@ -34,22 +41,63 @@ module frix
   integer(c_int), parameter :: FRIX_OPT_TOLERANCE = 1, FRIX_OPT_MAX_ITER = 2, &
        FRIX_OPT_TIME_LIMIT = 3, FRIX_OPT_VERBOSITY = 4, FRIX_OPT_ERROR_MEASURE = 5, &
        FRIX_OPT_LOCAL_SOLVER = 6, FRIX_OPT_LOCAL_TOLERANCE = 7, FRIX_OPT_LOCAL_MAX_ITER = 8, &
-       FRIX_OPT_RELAXATION = 9, FRIX_OPT_SHUFFLE = 10, FRIX_OPT_SEED = 11
-  ! ---- solvers
-  integer(c_int), parameter :: FRIX_SOLVER_NSGS = 500, FRIX_SOLVER_AUTO = 900
-  integer(c_int), parameter :: FRIX_OPT_THREADS = 28, FRIX_OPT_EXISTENCE_CHECK = 29
+       FRIX_OPT_RELAXATION = 9, FRIX_OPT_SHUFFLE = 10, FRIX_OPT_SEED = 11, &
+       FRIX_OPT_RHO_STRATEGY = 12, FRIX_OPT_RHO = 13, FRIX_OPT_LINE_SEARCH = 14, &
+       FRIX_OPT_LINE_SEARCH_MAX_ITER = 15, FRIX_OPT_HYBRID = 16, FRIX_OPT_HYBRID_SWEEPS = 17, &
+       FRIX_OPT_PROX_ALPHA = 18, FRIX_OPT_PROX_SIGMA = 19, FRIX_OPT_PROX_NU = 20, &
+       FRIX_OPT_INNER_SOLVER = 21, FRIX_OPT_FREEZING = 22, FRIX_OPT_ERROR_FREQUENCY = 23, &
+       FRIX_OPT_RHO_ADAPTIVE = 24, FRIX_OPT_INNER_MAX_ITER = 25, &
+       FRIX_OPT_INNER_TOLERANCE_RATIO = 26, FRIX_OPT_ACCELERATION = 27, &
+       FRIX_OPT_THREADS = 28, FRIX_OPT_EXISTENCE_CHECK = 29, FRIX_OPT_DRIFT_WINDOW = 30
+  ! ---- option values: frix_rho_strategy, frix_line_search, frix_hybrid,
+  !      frix_error_measure, frix_shuffle, frix_local_solver
+  integer(c_int), parameter :: FRIX_RHO_CONSTANT = 0, FRIX_RHO_SPECTRAL = 1, &
+       FRIX_RHO_SPLIT = 2
+  integer(c_int), parameter :: FRIX_LINE_SEARCH_NONE = 0, &
+       FRIX_LINE_SEARCH_GOLDSTEIN_PRICE = 1, FRIX_LINE_SEARCH_ARMIJO = 2, &
+       FRIX_LINE_SEARCH_NONMONOTONE = 3
+  integer(c_int), parameter :: FRIX_HYBRID_NONE = 0, FRIX_HYBRID_NSGS = 1
+  integer(c_int), parameter :: FRIX_MEASURE_RELATIVE = 0, FRIX_MEASURE_Q_RELATIVE = 1
+  integer(c_int), parameter :: FRIX_SHUFFLE_NONE = 0, FRIX_SHUFFLE_ONCE = 1, &
+       FRIX_SHUFFLE_EACH_SWEEP = 2
+  integer(c_int), parameter :: FRIX_LOCAL_NEWTON_AC = 550, FRIX_LOCAL_NEWTON_AC_GP = 551, &
+       FRIX_LOCAL_PROJECTION = 552, FRIX_LOCAL_PROJECTION_ITERATED = 553, &
+       FRIX_LOCAL_NEWTON_FB = 561, FRIX_LOCAL_CLOSED_FORM = 562, FRIX_LOCAL_HYBRID = 565
+  ! ---- solvers (the registry's ids)
+  integer(c_int), parameter :: FRIX_SOLVER_NSGS = 500, FRIX_SOLVER_NSGS_VELOCITY = 501, &
+       FRIX_SOLVER_PROX = 502, FRIX_SOLVER_TFP = 503, FRIX_SOLVER_NSN_AC = 504, &
+       FRIX_SOLVER_VI_FPP = 506, FRIX_SOLVER_VI_EG = 507, FRIX_SOLVER_HP = 508, &
+       FRIX_SOLVER_NSN_FB = 513, FRIX_SOLVER_ACLM = 516, FRIX_SOLVER_NSN_NM = 520, &
+       FRIX_SOLVER_ADMM = 523, FRIX_SOLVER_IPM = 524, FRIX_SOLVER_GLOBAL_NSN_AC = 607, &
+       FRIX_SOLVER_AUTO = 900
   ! ---- frix_existence
   integer(c_int), parameter :: FRIX_EXISTENCE_NOT_CHECKED = 0, FRIX_EXISTENCE_GUARANTEED = 1, &
        FRIX_EXISTENCE_DOUBTFUL = 2, FRIX_EXISTENCE_UNDETERMINED = 3
   ! ---- frix_info_key
   integer(c_int), parameter :: FRIX_INFO_KEY_STATUS = 1, FRIX_INFO_KEY_ITERATIONS = 2, &
-       FRIX_INFO_SOLVER_ID = 3, FRIX_INFO_CONTACTS = 4, FRIX_INFO_KEY_ERROR = 100, &
+       FRIX_INFO_SOLVER_ID = 3, FRIX_INFO_CONTACTS = 4, FRIX_INFO_NEWTON_ITERATIONS = 5, &
+       FRIX_INFO_LINE_SEARCH_STEPS = 6, FRIX_INFO_FACTORIZATIONS = 7, &
+       FRIX_INFO_SYMBOLIC_ANALYSES = 8, FRIX_INFO_HYBRID_SWEEPS = 9, &
+       FRIX_INFO_INNER_ITERATIONS = 10, FRIX_INFO_KEY_ERROR = 100, &
        FRIX_INFO_ERROR_RELATIVE = 101, FRIX_INFO_ERROR_Q_RELATIVE = 102, &
        FRIX_INFO_RESIDUAL_ABSOLUTE = 103, FRIX_INFO_CONE_VIOLATION = 104, &
        FRIX_INFO_PENETRATION = 105, FRIX_INFO_COMPLEMENTARITY = 106, &
        FRIX_INFO_EQUILIBRIUM = 107, FRIX_INFO_SOLVE_TIME = 120, FRIX_INFO_TOLERANCE = 121, &
+       FRIX_INFO_FACTORIZATION_TIME = 122, FRIX_INFO_SETUP_TIME = 123, &
        FRIX_INFO_ISLANDS = 11, FRIX_INFO_SWITCHES = 12, FRIX_INFO_EXISTENCE = 13, &
        FRIX_INFO_EXISTENCE_MARGIN = 124
+
+  ! The progress callback (frix_options_set_callback): called after each iteration; a
+  ! non-zero result stops the solve (FRIX_STATUS_STOPPED_BY_CALLBACK).
+  abstract interface
+    function frix_progress_fn(user_data, iteration, error, elapsed_seconds) bind(C)
+      import :: c_ptr, c_int, c_int64_t, c_double
+      type(c_ptr), value :: user_data
+      integer(c_int64_t), value :: iteration
+      real(c_double), value :: error, elapsed_seconds
+      integer(c_int) :: frix_progress_fn
+    end function
+  end interface
 
   interface
     ! ---- version and errors
@@ -113,6 +161,15 @@ module frix
       type(c_ptr), intent(out) :: out
       integer(c_int) :: frix_matrix_from_dense
     end function
+    function frix_matrix_from_blocks(nblock_rows, nblock_cols, nblocks, block_rows, &
+         block_cols, values, out) bind(C, name='frix_matrix_from_blocks')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      integer(c_int64_t), value :: nblock_rows, nblock_cols, nblocks
+      integer(c_int64_t), intent(in) :: block_rows(*), block_cols(*)
+      real(c_double), intent(in) :: values(*)
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: frix_matrix_from_blocks
+    end function
     subroutine frix_matrix_free(m) bind(C, name='frix_matrix_free')
       import :: c_ptr
       type(c_ptr), value :: m
@@ -132,6 +189,16 @@ module frix
       type(c_ptr), value :: m
       integer(c_int64_t) :: frix_matrix_nnz
     end function
+    function frix_matrix_block_count(m) bind(C, name='frix_matrix_block_count')
+      import :: c_ptr, c_int64_t
+      type(c_ptr), value :: m
+      integer(c_int64_t) :: frix_matrix_block_count
+    end function
+    function frix_matrix_is_block(m) bind(C, name='frix_matrix_is_block')
+      import :: c_ptr, c_int
+      type(c_ptr), value :: m
+      integer(c_int) :: frix_matrix_is_block
+    end function
     function frix_matrix_gemv(m, alpha, x, beta, y) bind(C, name='frix_matrix_gemv')
       import :: c_ptr, c_int, c_double
       type(c_ptr), value :: m
@@ -139,6 +206,32 @@ module frix
       real(c_double), intent(in) :: x(*)
       real(c_double), intent(inout) :: y(*)
       integer(c_int) :: frix_matrix_gemv
+    end function
+    function frix_matrix_gemv_transposed(m, alpha, x, beta, y) &
+         bind(C, name='frix_matrix_gemv_transposed')
+      import :: c_ptr, c_int, c_double
+      type(c_ptr), value :: m
+      real(c_double), value :: alpha, beta
+      real(c_double), intent(in) :: x(*)
+      real(c_double), intent(inout) :: y(*)
+      integer(c_int) :: frix_matrix_gemv_transposed
+    end function
+    function frix_matrix_diagonal_block(m, k, out) bind(C, name='frix_matrix_diagonal_block')
+      import :: c_ptr, c_int, c_int64_t, c_double
+      type(c_ptr), value :: m
+      integer(c_int64_t), value :: k
+      real(c_double), intent(out) :: out(9)
+      integer(c_int) :: frix_matrix_diagonal_block
+    end function
+    ! Call with c_null_ptr arrays to learn nnz, then with c_loc of colptr (cols+1), rowind and
+    ! values (nnz each).
+    function frix_matrix_to_csc(m, nnz, colptr, rowind, values) &
+         bind(C, name='frix_matrix_to_csc')
+      import :: c_ptr, c_int, c_int64_t
+      type(c_ptr), value :: m
+      integer(c_int64_t), intent(out) :: nnz
+      type(c_ptr), value :: colptr, rowind, values
+      integer(c_int) :: frix_matrix_to_csc
     end function
 
     ! ---- problems (they borrow the arrays they are built from: keep those alive)
@@ -188,6 +281,49 @@ module frix
       character(kind=c_char), intent(in) :: title(*)
       integer(c_int) :: frix_problem_set_title
     end function
+    function frix_problem_title(p) bind(C, name='frix_problem_title')
+      import :: c_ptr
+      type(c_ptr), value :: p
+      type(c_ptr) :: frix_problem_title
+    end function
+    ! Views of the problem's data (c_null_ptr where its kind has no such member): matrices
+    ! are handles, vectors C pointers to read with c_f_pointer (3nc entries for q, w; nc for
+    ! mu; n for f).
+    function frix_problem_W_matrix(p) bind(C, name='frix_problem_W')
+      import :: c_ptr
+      type(c_ptr), value :: p
+      type(c_ptr) :: frix_problem_W_matrix
+    end function
+    function frix_problem_M(p) bind(C, name='frix_problem_M')
+      import :: c_ptr
+      type(c_ptr), value :: p
+      type(c_ptr) :: frix_problem_M
+    end function
+    function frix_problem_H(p) bind(C, name='frix_problem_H')
+      import :: c_ptr
+      type(c_ptr), value :: p
+      type(c_ptr) :: frix_problem_H
+    end function
+    function frix_problem_q(p) bind(C, name='frix_problem_q')
+      import :: c_ptr
+      type(c_ptr), value :: p
+      type(c_ptr) :: frix_problem_q
+    end function
+    function frix_problem_f(p) bind(C, name='frix_problem_f')
+      import :: c_ptr
+      type(c_ptr), value :: p
+      type(c_ptr) :: frix_problem_f
+    end function
+    function frix_problem_w_vector(p) bind(C, name='frix_problem_w')
+      import :: c_ptr
+      type(c_ptr), value :: p
+      type(c_ptr) :: frix_problem_w_vector
+    end function
+    function frix_problem_mu(p) bind(C, name='frix_problem_mu')
+      import :: c_ptr
+      type(c_ptr), value :: p
+      type(c_ptr) :: frix_problem_mu
+    end function
 
     ! ---- options
     function frix_options_create(solver_id, out) bind(C, name='frix_options_create')
@@ -195,6 +331,17 @@ module frix
       integer(c_int), value :: solver_id
       type(c_ptr), intent(out) :: out
       integer(c_int) :: frix_options_create
+    end function
+    function frix_options_copy(src, out) bind(C, name='frix_options_copy')
+      import :: c_ptr, c_int
+      type(c_ptr), value :: src
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: frix_options_copy
+    end function
+    function frix_options_solver(opts) bind(C, name='frix_options_solver')
+      import :: c_ptr, c_int
+      type(c_ptr), value :: opts
+      integer(c_int) :: frix_options_solver
     end function
     subroutine frix_options_free(opts) bind(C, name='frix_options_free')
       import :: c_ptr
@@ -228,6 +375,36 @@ module frix
       real(c_double), intent(out) :: value
       integer(c_int) :: frix_options_get_double
     end function
+    function frix_options_bounds(opts, key, lower, upper, is_int) &
+         bind(C, name='frix_options_bounds')
+      import :: c_ptr, c_int, c_double
+      type(c_ptr), value :: opts
+      integer(c_int), value :: key
+      real(c_double), intent(out) :: lower, upper
+      integer(c_int), intent(out) :: is_int
+      integer(c_int) :: frix_options_bounds
+    end function
+    function frix_option_name(key) bind(C, name='frix_option_name')
+      import :: c_ptr, c_int
+      integer(c_int), value :: key
+      type(c_ptr) :: frix_option_name
+    end function
+    function frix_option_by_name(name, key) bind(C, name='frix_option_by_name')
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: name(*)
+      integer(c_int), intent(out) :: key
+      integer(c_int) :: frix_option_by_name
+    end function
+    ! fn: c_funloc of a function with the interface frix_progress_fn (c_null_funptr removes
+    ! the callback); user_data is handed back to it unchanged.
+    function frix_options_set_callback(opts, fn, user_data) &
+         bind(C, name='frix_options_set_callback')
+      import :: c_ptr, c_funptr, c_int
+      type(c_ptr), value :: opts
+      type(c_funptr), value :: fn
+      type(c_ptr), value :: user_data
+      integer(c_int) :: frix_options_set_callback
+    end function
     function frix_solver_by_name(name, solver_id) bind(C, name='frix_solver_by_name')
       import :: c_int, c_char
       character(kind=c_char), intent(in) :: name(*)
@@ -238,6 +415,20 @@ module frix
       import :: c_ptr, c_int
       integer(c_int), value :: solver_id
       type(c_ptr) :: frix_solver_name
+    end function
+    function frix_solver_count() bind(C, name='frix_solver_count')
+      import :: c_int64_t
+      integer(c_int64_t) :: frix_solver_count
+    end function
+    function frix_solver_id_at(index) bind(C, name='frix_solver_id_at')
+      import :: c_int, c_int64_t
+      integer(c_int64_t), value :: index
+      integer(c_int) :: frix_solver_id_at
+    end function
+    function frix_solver_describe(solver_id) bind(C, name='frix_solver_describe')
+      import :: c_ptr, c_int
+      integer(c_int), value :: solver_id
+      type(c_ptr) :: frix_solver_describe
     end function
 
     ! ---- results and solving
@@ -279,6 +470,11 @@ module frix
       type(c_ptr), value :: info
       real(c_double) :: frix_info_error
     end function
+    function frix_info_solve_seconds(info) bind(C, name='frix_info_solve_time')
+      import :: c_ptr, c_double
+      type(c_ptr), value :: info
+      real(c_double) :: frix_info_solve_seconds
+    end function
     ! r (3nc) is the initial guess and the result; pass c_null_ptr for options or info to use
     ! the defaults or skip the record. v is only read for global problems: for a local one
     ! pass any array (a 1-element dummy is fine).
@@ -313,6 +509,13 @@ module frix
       real(c_double), intent(in) :: r(*), v(*)
       real(c_double), intent(out) :: error
       integer(c_int) :: frix_problem_error
+    end function
+    ! u (W r + q) is optional: c_null_ptr or c_loc(u); for a local problem v may be any array.
+    function frix_problem_measure(problem, r, v, u, info) bind(C, name='frix_problem_measure')
+      import :: c_ptr, c_int, c_double
+      type(c_ptr), value :: problem, u, info
+      real(c_double), intent(in) :: r(*), v(*)
+      integer(c_int) :: frix_problem_measure
     end function
 
     ! ---- files (paths end with c_null_char: frix_cstr(path))
@@ -349,6 +552,21 @@ module frix
       character(kind=c_char), intent(in) :: path(*)
       type(c_ptr), value :: problem, r, u, v
       integer(c_int) :: frix_fclib_read_solution
+    end function
+    function frix_fclib_guess_count(path, count) bind(C, name='frix_fclib_guess_count')
+      import :: c_int, c_int64_t, c_char
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int64_t), intent(out) :: count
+      integer(c_int) :: frix_fclib_guess_count
+    end function
+    ! index is 0-based; r, u, v as in frix_fclib_read_solution.
+    function frix_fclib_read_guess(path, problem, index, r, u, v) &
+         bind(C, name='frix_fclib_read_guess')
+      import :: c_ptr, c_int, c_int64_t, c_char
+      character(kind=c_char), intent(in) :: path(*)
+      type(c_ptr), value :: problem, r, u, v
+      integer(c_int64_t), value :: index
+      integer(c_int) :: frix_fclib_read_guess
     end function
 
     function frix_c_strlen(s) bind(C, name='strlen')
