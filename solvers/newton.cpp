@@ -52,7 +52,9 @@ bool Limits::out_of_time() const {
 }
 
 bool Limits::report(double error) {
-    if (options.callback &&
+    // Once the callback asked to stop it is not called again, though the caller (PROX's outer
+    // step after an inner solve) may still report before it gets to stop.
+    if (!stop_requested && options.callback &&
         options.callback(options.callback_data, *iterations, error, clock.seconds()) != 0)
         stop_requested = true;
     return stop_requested;

@@ -384,7 +384,8 @@ START_TEST(every_solver_honours_the_common_options) {
     out = run(p, o, r, u);
     ck_assert_msg(out.status == FRIX_STATUS_STOPPED_BY_CALLBACK || out.status == FRIX_STATUS_STAGNATED,
                   "%s: the callback did not stop the solve (%s)", name, frix_status_string(out.status));
-    ck_assert_msg(stops >= 1 || out.status == FRIX_STATUS_STAGNATED, "%s: callback never called", name);
+    ck_assert_msg(stops == 1 || (stops == 0 && out.status == FRIX_STATUS_STAGNATED),
+                  "%s: the callback was called %d times (once expected: it asked to stop)", name, stops);
 
     ck_assert_int_eq(frix_options_set_callback(o, NULL, NULL), FRIX_OK);
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TIME_LIMIT, 0.05), FRIX_OK);
