@@ -22,6 +22,7 @@
 #define CAPSULES SHARED_FCLIB "/local/Capsules-i125-1213.hdf5"
 #define ROVER SHARED_FCLIB "/converted/Rover4613.from_dat.hdf5"
 #define BOX_STACKS SHARED_FCLIB "/global/Box_Stacks-i0035-31-0.hdf5"
+#define ROCKPILE SHARED_FCLIB "/converted/RockPile_tob1.from_dat.hdf5"
 #define TINY FRIX_TEST_TMPDIR "/cli_tiny.hdf5"
 #define TEXT_FILE FRIX_TEST_TMPDIR "/cli_not_hdf5.txt"
 
@@ -441,6 +442,31 @@ START_TEST(test_not_converged_shared) {
 }
 END_TEST
 
+START_TEST(test_progress_shared) {
+    /* NSGS takes far longer than 1.6 s on RockPile: --progress prints a line a second after
+     * the first second, plain lines (stderr is a file here, not a terminal). */
+    const char *a1[] = {"solve", ROCKPILE, "--solver", "nsgs", "--max-iter", "1000000000",
+                        "--time-limit", "1.6", "--progress", NULL};
+    cli_run r = run_cli(a1);
+    ck_assert_msg(r.code == 1, "exit %d: %s%s", r.code, r.out, r.err);
+    ck_assert_msg(strncmp(r.err, "frix solve: 1.", 14) == 0 && strstr(r.err, " iterations, error ") &&
+                      r.err[strlen(r.err) - 1] == '\n' && strchr(r.err, '\033') == NULL,
+                  "progress lines: '%s'", r.err);
+    ck_assert(strstr(r.out, "time limit reached"));
+    run_free(&r);
+
+    /* Without it, and stderr not a terminal: no progress line. */
+    const char *a2[] = {"solve", ROCKPILE, "--solver", "nsgs", "--max-iter", "1000000000",
+                        "--time-limit", "1.2", NULL};
+    cli_run q = run_cli(a2);
+    ck_assert_msg(q.code == 1 && q.err[0] == '\0', "exit %d, stderr '%s'", q.code, q.err);
+    run_free(&q);
+
+    const char *a3[] = {"solve", ROCKPILE, "--quiet", "--progress", NULL};
+    expect_usage_error(a3, "exclude each other");
+}
+END_TEST
+
 /* Whether the library solves this global problem with the default solver, asked directly:
  * FRIX_ERR_UNSUPPORTED means not in this build (the rest of the test then does not apply). */
 static int global_solve_supported(const char *path) {
@@ -495,6 +521,7 @@ static Suite *cli_suite(void) {
         tcase_add_test(shared, test_info_shared);
         tcase_add_test(shared, test_solve_shared);
         tcase_add_test(shared, test_not_converged_shared);
+        tcase_add_test(shared, test_progress_shared);
         tcase_add_test(shared, test_solve_global_shared);
         suite_add_tcase(s, shared);
     } else {

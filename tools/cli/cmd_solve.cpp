@@ -3,8 +3,11 @@
 #include "cli.hpp"
 #include "json.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 namespace frix_cli {
@@ -23,6 +26,42 @@ struct SolveArgs {
     std::string solver = "auto";
     std::vector<Setting> settings;
     bool json = false;
+    int verbosity = 0;
+    // The progress line: by default on a terminal only; --progress forces it (one line per
+    // update), --quiet turns it off.
+    bool progress_forced = false, quiet = false;
+};
+
+// A solve that lasts shows where it is on stderr: after the first second, the elapsed time,
+// the iterations and the last error the solver reported (for auto, its current stage's, not
+// the whole problem's). On a terminal one line, redrawn at most 5 times a second and erased
+// at the end; otherwise (--progress) one line per second.
+class SolveProgress {
+public:
+    explicit SolveProgress(bool tty) : tty_(tty) {}
+    static int callback(void *data, int64_t iteration, double error, double elapsed) {
+        static_cast<SolveProgress *>(data)->update(iteration, error, elapsed);
+        return 0;
+    }
+    void end() {
+        if (drawn_ && tty_) std::fprintf(stderr, "\r\033[K");
+        std::fflush(stderr);
+    }
+
+private:
+    void update(int64_t iteration, double error, double elapsed) {
+        if (elapsed < kFirstDraw || elapsed - last_draw_ < (tty_ ? 0.2 : 1.0)) return;
+        std::fprintf(stderr, "%sfrix solve: %.1f s, %lld iterations, error %.3e%s",
+                     tty_ ? "\r\033[K" : "", elapsed, static_cast<long long>(iteration), error,
+                     tty_ ? "" : "\n");
+        std::fflush(stderr);
+        last_draw_ = elapsed;
+        drawn_ = true;
+    }
+    static constexpr double kFirstDraw = 1.0;  // shorter solves print nothing
+    bool tty_;
+    bool drawn_ = false;
+    double last_draw_ = -1.0;
 };
 
 struct Report {
@@ -50,7 +89,7 @@ SolveArgs parse(int argc, char **argv, bool &help) {
     ArgCursor args("solve", argc, argv);
     SolveArgs a;
     std::vector<std::string> files;
-    int verbosity = 0;
+    int &verbosity = a.verbosity;
     std::string v;
     help = false;
     while (!args.done()) {
@@ -79,6 +118,10 @@ SolveArgs parse(int argc, char **argv, bool &help) {
             a.output = v;
         } else if (args.flag("--json")) {
             a.json = true;
+        } else if (args.flag("--progress")) {
+            a.progress_forced = true;
+        } else if (args.flag("--quiet") || args.flag("-q")) {
+            a.quiet = true;
         } else if (args.flag("--verbose") || args.flag("-v")) {
             ++verbosity;
         } else if (args.flag("-vv")) {
@@ -92,6 +135,8 @@ SolveArgs parse(int argc, char **argv, bool &help) {
         }
     }
     if (files.size() != 1) usage_error("solve", "expected one FILE.hdf5");
+    if (a.quiet && a.progress_forced)
+        usage_error("solve", "--quiet and --progress exclude each other");
     a.file = files[0];
     if (verbosity > 0)
         a.settings.push_back({FRIX_OPT_VERBOSITY, "--verbose", std::to_string(verbosity),
@@ -305,7 +350,13 @@ int cmd_solve(int argc, char **argv) {
     frix_error err = frix_info_create(&raw_info);
     InfoPtr info(raw_info);
     if (err != FRIX_OK) fail("solve: " + library_message(err));
+    // The solver's own messages (--verbose) replace the progress line.
+    const bool tty = ::isatty(2) != 0;
+    SolveProgress progress(tty && !a.progress_forced);
+    if (a.progress_forced || (tty && !a.quiet && a.verbosity == 0))
+        frix_options_set_callback(opts.get(), SolveProgress::callback, &progress);
     err = frix_solve(problem.get(), opts.get(), r.data(), u.data(), vp, info.get());
+    progress.end();
     if (err != FRIX_OK) fail("cannot solve " + a.file + ": " + library_message(err));
     fill_from_info(rep, info.get());
     check_existence_after_failure(rep, problem.get(), info.get());

@@ -35,6 +35,7 @@ void print_main_help(std::FILE *out) {
         "Usage:\n"
         "  frix solve FILE.hdf5 [--solver NAME|ID] [--tol T] [--max-iter N]\n"
         "             [--time-limit S] [--output SOL.hdf5] [--json] [--verbose]\n"
+        "             [--progress | --quiet]\n"
         "  frix info FILE.hdf5 [--json]\n"
         "  frix solvers [NAME|ID] [--json]\n"
         "  frix convert IN OUT.hdf5 [--title TEXT]\n"
@@ -76,6 +77,10 @@ void print_solve_help(std::FILE *out) {
         "                      global problem) to a new FCLIB file\n"
         "  --json              print one JSON object instead of text\n"
         "  -v, --verbose       the solver prints its progress on stderr (repeat: more)\n"
+        "  --progress          a progress line on stderr every second (time, iterations,\n"
+        "                      error) once the solve has run 1 s; by default only when\n"
+        "                      stderr is a terminal, as one line redrawn in place\n"
+        "  -q, --quiet         no progress line\n"
         "  -h, --help          show this help\n",
         out);
     if (!defaults.empty()) std::fprintf(out, "\nDefaults of auto: %s.\n", defaults.c_str());
