@@ -89,7 +89,6 @@ SolveArgs parse(int argc, char **argv, bool &help) {
     ArgCursor args("solve", argc, argv);
     SolveArgs a;
     std::vector<std::string> files;
-    int &verbosity = a.verbosity;
     std::string v;
     help = false;
     while (!args.done()) {
@@ -123,11 +122,11 @@ SolveArgs parse(int argc, char **argv, bool &help) {
         } else if (args.flag("--quiet") || args.flag("-q")) {
             a.quiet = true;
         } else if (args.flag("--verbose") || args.flag("-v")) {
-            ++verbosity;
+            ++a.verbosity;
         } else if (args.flag("-vv")) {
-            verbosity += 2;
+            a.verbosity += 2;
         } else if (args.flag("-vvv")) {
-            verbosity += 3;
+            a.verbosity += 3;
         } else if (args.at_option()) {
             args.unknown_option();
         } else if (!args.done()) {
@@ -138,9 +137,9 @@ SolveArgs parse(int argc, char **argv, bool &help) {
     if (a.quiet && a.progress_forced)
         usage_error("solve", "--quiet and --progress exclude each other");
     a.file = files[0];
-    if (verbosity > 0)
-        a.settings.push_back({FRIX_OPT_VERBOSITY, "--verbose", std::to_string(verbosity),
-                              "verbosity " + std::to_string(verbosity)});
+    if (a.verbosity > 0)
+        a.settings.push_back({FRIX_OPT_VERBOSITY, "--verbose", std::to_string(a.verbosity),
+                              "verbosity " + std::to_string(a.verbosity)});
     return a;
 }
 
