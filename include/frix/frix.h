@@ -7,6 +7,15 @@
  * (FRIX_OK = 0) and a failing call leaves a message in frix_last_error_message().
  * Per-contact vectors are stored normal component first. Nothing prints unless the
  * verbosity option asks for it, and nothing ever exits the process.
+ *
+ * Threads: the library keeps no global mutable state. Calls on different handles may run at
+ * once from any threads; a problem (with its matrices) may be shared by concurrent solves,
+ * which only read it; an options or info object serves one call at a time. A progress
+ * callback runs in the solving thread (with auto and FRIX_OPT_THREADS > 1, in its worker
+ * threads, never two calls at once). frix_last_error_message() is per thread. Results
+ * depend neither on FRIX_OPT_THREADS nor on how many threads call the library
+ * (tests/test_threads.c, also run under ThreadSanitizer); the interior-point stages can
+ * depend on the BLAS library's own thread count (docs/auto.md).
  */
 #ifndef FRIX_H
 #define FRIX_H
