@@ -28,6 +28,7 @@ program test_fortran
   implicit none
   integer :: failures = 0, passed = 0
   real(c_double), target :: Wd(9) = [4d0, 1d0, 0d0, 1d0, 3d0, 0d0, 0d0, 0d0, 3d0]
+  real(c_double), target :: Bd(9) = [1d0, 2d0, 3d0, 4d0, 5d0, 6d0, 7d0, 8d0, 9d0]
   real(c_double), target :: q(3) = [-2d0, 0.5d0, 0.1d0], mu(1) = [0.4d0]
   real(c_double), target :: r(3), u(3), r2(3), dummy(1)
   real(c_double) :: err_value, tol
@@ -159,22 +160,23 @@ program test_fortran
   call check('measure', err == FRIX_OK .and. err_value <= 1d-12 .and. &
        abs(u(1) - (4d0 * r(1) + r(2) - 2d0)) < 1d-12)
 
-  ! Block storage: one 3x3 block, its diagonal block, the CSC export and W^T x.
+  ! Block storage: one unsymmetric 3x3 block (column-major 1..9), its diagonal block, the
+  ! CSC export and B^T x (B x would give 30, 36, 42).
   err = frix_matrix_from_blocks(1_c_int64_t, 1_c_int64_t, 1_c_int64_t, [0_c_int64_t], &
-       [0_c_int64_t], Wd, Wb)
+       [0_c_int64_t], Bd, Wb)
   call check('block matrix', err == FRIX_OK .and. frix_matrix_is_block(Wb) == 1 .and. &
        frix_matrix_block_count(Wb) == 1)
   err = frix_matrix_diagonal_block(Wb, 0_c_int64_t, block)
-  call check('diagonal block', err == FRIX_OK .and. all(block == Wd))
+  call check('diagonal block', err == FRIX_OK .and. all(block == Bd))
   err = frix_matrix_to_csc(Wb, n64, c_null_ptr, c_null_ptr, c_null_ptr)
-  call check('CSC size', err == FRIX_OK .and. n64 == 5)
+  call check('CSC size', err == FRIX_OK .and. n64 == 9)
   allocate(csc_colptr(4), csc_rowind(n64), csc_values(n64))
   err = frix_matrix_to_csc(Wb, n64, c_loc(csc_colptr), c_loc(csc_rowind), c_loc(csc_values))
-  call check('CSC export', err == FRIX_OK .and. all(csc_colptr == [0, 2, 4, 5]) .and. &
-       all(csc_rowind == [0, 1, 0, 1, 2]) .and. all(csc_values == [4d0, 1d0, 1d0, 3d0, 3d0]))
+  call check('CSC export', err == FRIX_OK .and. all(csc_colptr == [0, 3, 6, 9]) .and. &
+       all(csc_rowind == [0, 1, 2, 0, 1, 2, 0, 1, 2]) .and. all(csc_values == Bd))
   y = 1
   err = frix_matrix_gemv_transposed(Wb, 1d0, [1d0, 2d0, 3d0], 0d0, y)
-  call check('W^T x', err == FRIX_OK .and. all(y == [6d0, 7d0, 9d0]))
+  call check('B^T x', err == FRIX_OK .and. all(y == [14d0, 32d0, 50d0]))
   call frix_matrix_free(Wb)
 
   ! FCLIB round trip; optional arrays go through c_loc / c_null_ptr; one guess.
