@@ -440,6 +440,14 @@ START_TEST(test_limits) {
     ck_assert_int_eq(frix_info_get_int(f.info, FRIX_INFO_EXISTENCE, &existence), FRIX_OK);
     ck_assert_int_eq(existence, FRIX_EXISTENCE_NOT_CHECKED);
 
+    /* max_iter bounds the sum of the stages' iterations exactly (one thread), PROX's inner
+     * Newton steps included: with every stage limited to half of what is left, PROX stages
+     * of one outer step came late and overran 2000 by 45 until the watchdog enforced it. */
+    ck_assert_int_eq(frix_options_set_int(f.o, FRIX_OPT_MAX_ITER, 2000), FRIX_OK);
+    file_run_solve(&f);
+    ck_assert_int_eq(frix_info_status(f.info), FRIX_STATUS_MAX_ITER);
+    ck_assert_int_eq(frix_info_iterations(f.info), 2000);
+
     /* A spent time limit leaves no time for the existence check: it is skipped. */
     ck_assert_int_eq(frix_options_set_int(f.o, FRIX_OPT_MAX_ITER, 1000000000), FRIX_OK);
     ck_assert_int_eq(frix_options_set_int(f.o, FRIX_OPT_EXISTENCE_CHECK, 1), FRIX_OK);
