@@ -744,9 +744,14 @@ frix_error solve(SolveContext &ctx) {
     }
     // Global: the reduction route with the local strategy, then, if that fails, Newton on
     // (v, r) from its result.
+    // The two routes share the caller's max_iter: the reduction route gets half (as every
+    // stage of the local strategy, see run_stage), Newton on (v, r) what is left.
     const frix_problem &p = ctx.problem;
     frix_info &info = ctx.info;
-    if (frix_error e = solve_global_problem(p, ctx.options, kAutoReductionEntry, ctx.r, ctx.u, ctx.v, info,
+    const int64_t max_iter = ctx.options.i(FRIX_OPT_MAX_ITER);
+    frix_options reduction = ctx.options;
+    reduction.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, max_iter / 2);
+    if (frix_error e = solve_global_problem(p, reduction, kAutoReductionEntry, ctx.r, ctx.u, ctx.v, info,
                                             ctx.clock, solve_local_problem))
         return e;
     info.analysis.dofs = p.n;
@@ -757,12 +762,14 @@ frix_error solve(SolveContext &ctx) {
     if (info.error <= tol) info.status = FRIX_STATUS_CONVERGED;
     if (info.status == FRIX_STATUS_CONVERGED || info.status == FRIX_STATUS_STOPPED_BY_CALLBACK) return FRIX_OK;
     const double tl = ctx.options.d(FRIX_OPT_TIME_LIMIT);
-    if (tl > 0.0 && ctx.clock.seconds() >= tl) {
+    const int64_t left = max_iter - info.iterations;
+    if ((tl > 0.0 && ctx.clock.seconds() >= tl) || left <= 0) {
         check_existence_on_failure(ctx);
         return FRIX_OK;
     }
     frix_options o;
     default_options(kGlobalNsnAcEntry, o);
+    o.ivalue[FRIX_OPT_MAX_ITER] = std::min(o.ivalue[FRIX_OPT_MAX_ITER], left);
     o.dvalue[FRIX_OPT_TOLERANCE] = ctx.options.d(FRIX_OPT_TOLERANCE);
     o.ivalue[FRIX_OPT_ERROR_MEASURE] = ctx.options.i(FRIX_OPT_ERROR_MEASURE);
     o.dvalue[FRIX_OPT_TIME_LIMIT] = tl;  // on the same clock: the same deadline
