@@ -743,9 +743,8 @@ frix_error solve(SolveContext &ctx) {
         return FRIX_OK;
     }
     // Global: the reduction route with the local strategy, then, if that fails, Newton on
-    // (v, r) from its result.
-    // The two routes share the caller's max_iter: the reduction route gets half (as every
-    // stage of the local strategy, see run_stage), Newton on (v, r) what is left.
+    // (v, r) from its result. The two share the caller's max_iter: the reduction route gets
+    // half (as every stage of the local strategy, see run_stage), Newton on (v, r) the rest.
     const frix_problem &p = ctx.problem;
     frix_info &info = ctx.info;
     const int64_t max_iter = ctx.options.i(FRIX_OPT_MAX_ITER);
