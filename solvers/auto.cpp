@@ -724,7 +724,8 @@ const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 1e9}, {(frix_option_key)0
     "convergence rate promises the tolerance soon, and otherwise rounds of semismooth Newton "     \
     "(Alart-Curnier; on parts of at most 64 contacts also from seeded random starts), NSGS (one " \
     "chain over the rounds, steady drifts of r carried ahead), ADMM and PROX (from the best "    \
-    "iterate so far), with budgets that double every round and a watchdog "                      \
+    "iterate so far), with budgets that double every round (each at most half of the "           \
+    "iterations left) and a watchdog "                                                            \
     "stopping any stage that stalls; deterministic (iteration counts, " \
     "not seconds). Global problems are reduced to W = H^T M^-1 H, with Newton on (v, r) as the "   \
     "fallback. Every stage is in frix_info_trace; on failure an existence check says whether a "   \
