@@ -323,6 +323,7 @@ class IslandSolver {
     // each stage 2^k times its first budget and 2^k times its patience.
     frix_error run_round(double *r) {
         const double before = best_error_;
+        cut_short_ = false;
         if (round_ == 0 && p_.nc >= kIpmMinContacts && can_continue()) {
             // Its iterate is kept only within kIpmKeepRatio of the tolerance (see there).
             const std::vector<double> keep_r = best_r_;
@@ -375,8 +376,10 @@ class IslandSolver {
             finished_ = true;
             return polish(r);
         }
-        // Without a deadline, rounds that do not halve the error end the sequence.
-        idle_rounds_ = best_error_ < 0.5 * before ? 0 : idle_rounds_ + 1;
+        // Without a deadline, rounds that do not halve the error end the sequence; a round
+        // whose stages the caller's iteration limit cut short does not count (that is the
+        // limit's doing: the status is then max_iter, not stagnated).
+        idle_rounds_ = best_error_ < 0.5 * before ? 0 : idle_rounds_ + (cut_short_ ? 0 : 1);
         if (!std::isfinite(shared_.deadline()) && idle_rounds_ >= kMaxIdleRounds) {
             TraceEvent e{TraceEvent::kGiveUp};
             e.error = best_error_;
@@ -489,6 +492,7 @@ class IslandSolver {
         // converge, against 26 when a stage could take all that was left).
         const int64_t left = user.i(FRIX_OPT_MAX_ITER) - shared_.iterations.load();
         o.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, std::min(left / 2, budget));
+        if (left / 2 < budget) cut_short_ = true;
         // The stage runs on the shared clock (started by frix_solve): its limit is the
         // caller's deadline itself.
         const double deadline = shared_.deadline();
@@ -539,6 +543,7 @@ class IslandSolver {
     uint64_t rng_;               // random restarts: seeded by the part, so threads do not matter
     double start_scale_ = 0.0;   // of the random starts (draw_start); 0 until first needed
     int round_ = 0, idle_rounds_ = 0;
+    bool cut_short_ = false;  // a stage of this round got less than its budget (max_iter)
     bool finished_ = false;
     std::vector<TraceEvent> events_;
     int64_t switches_ = 0, stages_run_ = 0;
