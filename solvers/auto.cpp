@@ -11,8 +11,8 @@
 //   2. runs on each part, from the best iterate so far, NSGS while its convergence rate
 //      promises the tolerance soon, then rounds of Newton (Alart-Curnier; on a small part
 //      also from random starts, the problem not being convex), NSGS (its stages one chain,
-//      steady drifts carried ahead), ADMM and PROX with budgets that double every round;
-//      a watchdog on every stage's progress
+//      steady drifts carried ahead), ADMM and PROX with budgets that double every round
+//      (each at most half of the iterations left); a watchdog on every stage's progress
 //      callback stops a stage that stalls, and every stage is recorded in the trace
 //      (frix_info_trace). The parts take their turns, so a hard one does not starve the rest;
 //   3. combines the parts exactly: the final error is measured on the whole problem, and the
