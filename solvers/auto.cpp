@@ -140,6 +140,15 @@ constexpr double kPolishRatio = 1e-3;
 constexpr int kMaxIdleRounds = 3;
 // Tightenings of the islands' tolerance when their combined error misses the tolerance.
 constexpr int kMaxTightenings = 4;
+// A global problem is reduced to W = H^T M^-1 H unless W would have more than this many
+// entries and more than kReductionMaxGrowth times those of M and H: a deformable body makes W
+// dense among its contacts (memory and every sweep then grow with their square), and Newton
+// on (v, r), which factorises the sparse (v, r) system, is the faster route there (an FEM-like
+// grid of 1600 contacts: 3.6 s and 0.21 GB against 12.3 s and 0.52 GB; of 6400: 11 s and
+// 0.64 GB against 7.2 GB and 270 s without a single iteration). Rigid bodies give W about as
+// many entries as M and H (see docs/auto.md).
+constexpr double kReductionMaxEntries = 1e6;
+constexpr double kReductionMaxGrowth = 30.0;
 
 enum class Watch { NsgsRate, Stall };
 
@@ -742,6 +751,38 @@ const SolverEntry kAutoReductionEntry = {FRIX_SOLVER_AUTO, "auto", nullptr, FRIX
 
 namespace {
 
+// Newton on (v, r) (607) from ctx's (r, v), for at most max_iter iterations (and its own
+// limit), on the caller's clock, tolerance, measure and callback: ctx.info becomes its info
+// (status, counters, measures), `stage` its trace event. Its own stopping test may accept an
+// iterate that the independent measure also accepts: that measure decides.
+frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage) {
+    frix_options o;
+    default_options(kGlobalNsnAcEntry, o);
+    o.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, std::min(o.ivalue[FRIX_OPT_MAX_ITER], max_iter));
+    o.dvalue[FRIX_OPT_TOLERANCE] = ctx.options.d(FRIX_OPT_TOLERANCE);
+    o.ivalue[FRIX_OPT_ERROR_MEASURE] = ctx.options.i(FRIX_OPT_ERROR_MEASURE);
+    o.dvalue[FRIX_OPT_TIME_LIMIT] = ctx.options.d(FRIX_OPT_TIME_LIMIT);  // the same clock: the same deadline
+    o.callback = ctx.options.callback;
+    o.callback_data = ctx.options.callback_data;
+    frix_info run;
+    run.solver_id = ctx.info.solver_id;
+    run.contacts = ctx.info.contacts;
+    run.tolerance = ctx.info.tolerance;
+    run.analysis = ctx.info.analysis;
+    const double t0 = ctx.clock.seconds();
+    if (frix_error e = solve_global_problem(ctx.problem, o, kGlobalNsnAcEntry, ctx.r, ctx.u, ctx.v, run,
+                                            ctx.clock, solve_local_problem))
+        return e;
+    if (run.error <= ctx.options.d(FRIX_OPT_TOLERANCE)) run.status = FRIX_STATUS_CONVERGED;
+    stage.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
+    stage.status = run.status;
+    stage.iterations = run.iterations;
+    stage.seconds = ctx.clock.seconds() - t0;
+    stage.error = run.error;
+    ctx.info = std::move(run);
+    return FRIX_OK;
+}
+
 frix_error solve(SolveContext &ctx) {
     if (ctx.problem.kind != FRIX_PROBLEM_GLOBAL) {
         if (frix_error e = solve_local(ctx)) return e;
@@ -751,16 +792,37 @@ frix_error solve(SolveContext &ctx) {
     // Global: the reduction route with the local strategy, then, if that fails, Newton on
     // (v, r) from its result. The two share the caller's max_iter: the reduction route gets
     // half (as every stage of the local strategy, see run_stage), Newton on (v, r) the rest.
+    // Where W would be dense (deformable bodies), Newton on (v, r) alone.
     const frix_problem &p = ctx.problem;
     frix_info &info = ctx.info;
+    const ReductionSize size = reduction_size(p);
+    info.analysis.dofs = p.n;
+    info.analysis.contacts = p.nc;
+    info.analysis.rank_ratio = p.n > 0 ? 3.0 * (double)p.nc / (double)p.n : 0.0;
+    info.analysis.reduced_entries = size.w_entries;
+    info.analysis.input_entries = size.input_entries;
     const int64_t max_iter = ctx.options.i(FRIX_OPT_MAX_ITER);
+    if (size.w_entries > kReductionMaxEntries &&
+        size.w_entries > kReductionMaxGrowth * size.input_entries) {
+        TraceEvent stage{TraceEvent::kStage};
+        if (frix_error e = global_newton(ctx, max_iter, stage)) return e;
+        TraceEvent direct{TraceEvent::kGlobalDirect};
+        direct.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
+        info.trace.push_back(direct);
+        info.trace.push_back(stage);
+        check_existence_on_failure(ctx);
+        return FRIX_OK;
+    }
     frix_options reduction = ctx.options;
     reduction.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, max_iter / 2);
+    const AnalysisSummary global_analysis = info.analysis;
     if (frix_error e = solve_global_problem(p, reduction, kAutoReductionEntry, ctx.r, ctx.u, ctx.v, info,
                                             ctx.clock, solve_local_problem))
         return e;
-    info.analysis.dofs = p.n;
-    info.analysis.rank_ratio = p.n > 0 ? 3.0 * (double)p.nc / (double)p.n : 0.0;
+    info.analysis.dofs = global_analysis.dofs;
+    info.analysis.rank_ratio = global_analysis.rank_ratio;
+    info.analysis.reduced_entries = global_analysis.reduced_entries;
+    info.analysis.input_entries = global_analysis.input_entries;
     // The reduced problem's own tolerance test is not the global one: the global measure of
     // (r, v) decides, both ways.
     const double tol = ctx.options.d(FRIX_OPT_TOLERANCE);
@@ -772,47 +834,24 @@ frix_error solve(SolveContext &ctx) {
         check_existence_on_failure(ctx);
         return FRIX_OK;
     }
-    frix_options o;
-    default_options(kGlobalNsnAcEntry, o);
-    o.ivalue[FRIX_OPT_MAX_ITER] = std::min(o.ivalue[FRIX_OPT_MAX_ITER], left);
-    o.dvalue[FRIX_OPT_TOLERANCE] = ctx.options.d(FRIX_OPT_TOLERANCE);
-    o.ivalue[FRIX_OPT_ERROR_MEASURE] = ctx.options.i(FRIX_OPT_ERROR_MEASURE);
-    o.dvalue[FRIX_OPT_TIME_LIMIT] = tl;  // on the same clock: the same deadline
-    o.callback = ctx.options.callback;
-    o.callback_data = ctx.options.callback_data;
-    frix_info second;
-    second.solver_id = info.solver_id;
-    second.contacts = info.contacts;
-    second.tolerance = info.tolerance;
-    const double t0 = ctx.clock.seconds();
-    if (frix_error e = solve_global_problem(p, o, kGlobalNsnAcEntry, ctx.r, ctx.u, ctx.v, second, ctx.clock,
-                                            solve_local_problem))
-        return e;
     std::vector<TraceEvent> trace = std::move(info.trace);
     TraceEvent fallback{TraceEvent::kGlobalFallback};
     fallback.status = info.status;
     fallback.error = info.error;
     fallback.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
     trace.push_back(fallback);
-    TraceEvent stage{TraceEvent::kStage};
-    stage.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
-    stage.status = second.status;
-    stage.iterations = second.iterations;
-    stage.seconds = ctx.clock.seconds() - t0;
-    stage.error = second.error;
-    trace.push_back(stage);
     const AnalysisSummary analysis = info.analysis;
     const int64_t islands = info.islands, switches = info.switches + 1, iterations = info.iterations;
-    accumulate(second, info);
-    info = second;
+    const frix_info reduced = info;
+    TraceEvent stage{TraceEvent::kStage};
+    if (frix_error e = global_newton(ctx, left, stage)) return e;
+    trace.push_back(stage);
+    accumulate(info, reduced);
     info.trace = std::move(trace);
     info.analysis = analysis;
     info.islands = islands;
     info.switches = switches;
     info.iterations += iterations;
-    // Newton on (v, r) may stop on its own criterion with an iterate the independent measure
-    // accepts: that measure decides.
-    if (info.error <= tol) info.status = FRIX_STATUS_CONVERGED;
     check_existence_on_failure(ctx);
     return FRIX_OK;
 }

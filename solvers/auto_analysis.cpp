@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <utility>
+
+#include "matrix.hpp"
 
 namespace frix {
 namespace autosolve {
@@ -81,6 +84,32 @@ Analysis analyse_local(const frix_problem &p) {
         std::stable_sort(a.islands.begin(), a.islands.end(),
                          [](const std::vector<int64_t> &x, const std::vector<int64_t> &y) { return x.size() > y.size(); });
     return a;
+}
+
+ReductionSize reduction_size(const frix_problem &p) {
+    ReductionSize size;
+    DisjointSets components(p.n);
+    for_each_nonzero(*p.M, [&](int64_t i, int64_t j) {
+        components.unite(i, j);
+        size.input_entries += 1.0;
+    });
+    // (component, column of H) pairs, each counted once.
+    std::vector<std::pair<int64_t, int64_t>> touches;
+    if (p.nc > 0) for_each_nonzero(*p.H, [&](int64_t i, int64_t c) { touches.emplace_back(components.find(i), c); });
+    size.input_entries += (double)touches.size();
+    std::sort(touches.begin(), touches.end());
+    touches.erase(std::unique(touches.begin(), touches.end()), touches.end());
+    double bound = 0.0;
+    for (size_t k = 0; k < touches.size();) {
+        size_t end = k;
+        while (end < touches.size() && touches[end].first == touches[k].first) ++end;
+        const double columns = (double)(end - k);
+        bound += columns * columns;
+        k = end;
+    }
+    const double full = 3.0 * (double)p.nc;
+    size.w_entries = std::min(bound, full * full);
+    return size;
 }
 
 std::vector<std::vector<int64_t>> group_small_islands(std::vector<std::vector<int64_t>> islands, int64_t min_size) {

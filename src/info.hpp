@@ -13,7 +13,7 @@ namespace frix {
 // One line of the trace (frix_info_trace) of the auto solver, kept as data and formatted only
 // when asked for: formatting numbers costs more than solving a small problem.
 struct TraceEvent {
-    enum Kind { kAnalysis, kStage, kGiveUp, kTighten, kGlobalFallback, kExistence } kind;
+    enum Kind { kAnalysis, kStage, kGiveUp, kTighten, kGlobalFallback, kGlobalDirect, kExistence } kind;
     int64_t island = 0;           // 1-based; 0 when the problem is solved as one island
     int64_t island_contacts = 0;
     int solver_id = 0;
@@ -28,6 +28,8 @@ struct TraceEvent {
 struct AnalysisSummary {
     int64_t contacts = 0, blocks = 0, islands = 0, largest_island = 0, dofs = 0;
     double diag_min = 0.0, diag_max = 0.0, mu_min = 0.0, mu_max = 0.0, rank_ratio = 0.0;
+    // Global problems: the bound on the entries of W = H^T M^-1 H, and those of M and H.
+    double reduced_entries = 0.0, input_entries = 0.0;
 };
 
 // The trace's text (src/trace.cpp): all of it, or one event's line.

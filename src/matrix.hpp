@@ -43,6 +43,23 @@ inline void block_row_product(const frix_matrix &A, int64_t k, const double *x, 
         block_gemv_add(&A.block_val[9 * b], &x[3 * A.block_col[b]], y);
 }
 
+// f(row, col) for every stored non-zero entry of A, in either storage (the exact zeros of a
+// stored 3x3 block are skipped: they couple nothing).
+template <class F>
+void for_each_nonzero(const frix_matrix &A, F f) {
+    if (!A.block) {
+        for (int64_t c = 0; c < A.cols; ++c)
+            for (int64_t e = A.col_ptr[c]; e < A.col_ptr[c + 1]; ++e)
+                if (A.val[e] != 0.0) f(A.row_ind[e], c);
+        return;
+    }
+    for (int64_t k = 0; k < A.block_rows; ++k)
+        for (int64_t b = A.row_ptr[k]; b < A.row_ptr[k + 1]; ++b)
+            for (int j = 0; j < 3; ++j)
+                for (int i = 0; i < 3; ++i)
+                    if (A.block_val[9 * b + 3 * j + i] != 0.0) f(3 * k + i, 3 * A.block_col[b] + j);
+}
+
 // y = alpha*A*x + beta*y for either storage; no argument checks (internal callers).
 void matrix_gemv(const frix_matrix &A, double alpha, const double *x, double beta, double *y);
 void matrix_gemv_transposed(const frix_matrix &A, double alpha, const double *x, double beta,

@@ -1,4 +1,5 @@
 // The text of frix_info_trace: one line per event of the auto solver's trace.
+#include <algorithm>
 #include <cstdarg>
 #include <cstdio>
 
@@ -44,7 +45,10 @@ std::string format_event(const frix_info &info, const TraceEvent &e) {
                        (long long)a.islands, a.islands == 1 ? "" : "s", (long long)a.largest_island,
                        a.diag_min, a.diag_max, a.mu_min, a.mu_max);
                 if (a.dofs > 0)
-                    append(out, "; global: %lld dofs, rank ratio 3nc/n %.3g", (long long)a.dofs, a.rank_ratio);
+                    append(out, "; global: %lld dofs, rank ratio 3nc/n %.3g, W = H^T M^-1 H at most %.3g entries "
+                                "(%.3g per entry of M and H)",
+                           (long long)a.dofs, a.rank_ratio, a.reduced_entries,
+                           a.reduced_entries / std::max(1.0, a.input_entries));
                 out += "\n";
                 break;
             }
@@ -68,6 +72,15 @@ std::string format_event(const frix_info &info, const TraceEvent &e) {
                 append(out, "reduced solve %s (error %.3e): %s on (v, r) from its result\n",
                        frix_status_string(e.status), e.error, name_of(e.solver_id));
                 break;
+            case TraceEvent::kGlobalDirect: {
+                const AnalysisSummary &a = info.analysis;
+                append(out, "analysis: global, %lld dofs, %lld contacts; W = H^T M^-1 H would have up to %.3g "
+                            "entries (%.3g per entry of M and H: a deformable body couples all its contacts): "
+                            "%s on (v, r) without it\n",
+                       (long long)a.dofs, (long long)a.contacts, a.reduced_entries,
+                       a.reduced_entries / std::max(1.0, a.input_entries), name_of(e.solver_id));
+                break;
+            }
             case TraceEvent::kExistence:
                 append(out, "existence check: %s\n", frix_existence_describe(info.existence));
                 break;

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <unistd.h>
 
 #include "check_main.h"
@@ -158,6 +159,116 @@ START_TEST(no_contacts) {
 }
 END_TEST
 
+/* A deformable body: an nx x ny x nz grid of nodes (3 dofs each) joined to their 6
+ * neighbours by springs, as in an implicit FEM step (M = m I + h^2 k L, L the grid's
+ * Laplacian for each direction), its bottom layer pressed on the plane z = 0 and sliding
+ * (contacts: normal z, tangents x and y). M^-1 couples every node of a direction, so
+ * W = H^T M^-1 H would be dense: 3 (nx ny)^2 entries. The problem borrows the grid's arrays. */
+typedef struct {
+    frix_problem *p;
+    frix_matrix *M, *H;
+    double *f, *w, *mu;
+} grid;
+
+static void grid_free(grid *g) {
+    frix_problem_free(g->p);
+    frix_matrix_free(g->M);
+    frix_matrix_free(g->H);
+    free(g->f), free(g->w), free(g->mu);
+}
+
+static grid elastic_grid(int nx, int ny, int nz) {
+    const double m = 1.0, h2k = 1.0; /* h^2 k: h = 0.01, k = 1e4 */
+    const int64_t nodes = (int64_t)nx * ny * nz, n = 3 * nodes, nc = (int64_t)nx * ny;
+    int64_t *rows = malloc(sizeof *rows * (size_t)(7 * n)), *cols = malloc(sizeof *cols * (size_t)(7 * n));
+    double *vals = malloc(sizeof *vals * (size_t)(7 * n));
+    int64_t e = 0;
+    for (int l = 0; l < nz; ++l)
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i) {
+                const int64_t a = ((int64_t)l * ny + j) * nx + i;
+                const int nb[6][3] = {{i - 1, j, l}, {i + 1, j, l}, {i, j - 1, l}, {i, j + 1, l}, {i, j, l - 1}, {i, j, l + 1}};
+                int degree = 0;
+                for (int t = 0; t < 6; ++t) {
+                    if (nb[t][0] < 0 || nb[t][1] < 0 || nb[t][2] < 0 || nb[t][0] >= nx || nb[t][1] >= ny || nb[t][2] >= nz)
+                        continue;
+                    const int64_t b = ((int64_t)nb[t][2] * ny + nb[t][1]) * nx + nb[t][0];
+                    ++degree;
+                    for (int d = 0; d < 3; ++d) rows[e] = 3 * a + d, cols[e] = 3 * b + d, vals[e++] = -h2k;
+                }
+                for (int d = 0; d < 3; ++d) rows[e] = 3 * a + d, cols[e] = 3 * a + d, vals[e++] = m + h2k * degree;
+            }
+    grid g = {NULL, NULL, NULL, NULL, NULL, NULL};
+    ck_assert_int_eq(frix_matrix_from_triplets(n, n, e, rows, cols, vals, &g.M), FRIX_OK);
+    e = 0;
+    for (int64_t c = 0; c < nc; ++c) { /* node c of the bottom layer */
+        rows[e] = 3 * c + 2, cols[e] = 3 * c, vals[e++] = 1.0;
+        rows[e] = 3 * c, cols[e] = 3 * c + 1, vals[e++] = 1.0;
+        rows[e] = 3 * c + 1, cols[e] = 3 * c + 2, vals[e++] = 1.0;
+    }
+    ck_assert_int_eq(frix_matrix_from_triplets(n, 3 * nc, e, rows, cols, vals, &g.H), FRIX_OK);
+    g.f = malloc(sizeof *g.f * (size_t)n), g.w = calloc((size_t)(3 * nc), sizeof *g.w);
+    g.mu = malloc(sizeof *g.mu * (size_t)nc);
+    for (int64_t a = 0; a < nodes; ++a) g.f[3 * a] = 0.5 * m, g.f[3 * a + 1] = 0.1 * m, g.f[3 * a + 2] = -m - 0.0981 * m;
+    for (int64_t c = 0; c < nc; ++c) { /* uneven gaps: some nodes touch, some not */
+        g.w[3 * c] = 0.25 * (double)((c * 7919) % 13) / 13.0;
+        g.mu[c] = 0.3;
+    }
+    ck_assert_int_eq(frix_problem_global(g.M, g.H, g.f, g.w, g.mu, nc, &g.p), FRIX_OK);
+    free(rows), free(cols), free(vals);
+    return g;
+}
+
+/* auto does not form W where it would be dense: it runs Newton on (v, r) alone (and says so
+ * in its trace), with the same answer as 607 itself; on rigid bodies it still reduces. */
+START_TEST(auto_does_not_reduce_a_deformable_body) {
+    grid g = elastic_grid(30, 30, 2);
+    const frix_problem *p = g.p;
+    const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
+    double *r = calloc((size_t)m, sizeof *r), *v = calloc((size_t)n, sizeof *v);
+    double *r607 = calloc((size_t)m, sizeof *r607), *v607 = calloc((size_t)n, sizeof *v607);
+    outcome out = solve_global(p, FRIX_SOLVER_GLOBAL_NSN_AC, r607, v607);
+    ck_assert_msg(out.status == FRIX_STATUS_CONVERGED && out.error <= 1e-8 && out.equilibrium <= 1e-8,
+                  "607: %s, error %g", frix_status_string(out.status), out.error);
+
+    frix_options *o = NULL;
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &o), FRIX_OK);
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    double *u = calloc((size_t)m, sizeof *u);
+    ck_assert_msg(frix_solve(p, o, r, u, v, info) == FRIX_OK, "%s", frix_last_error_message());
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    const char *trace = frix_info_trace(info);
+    /* 3 directions x 900 contacts: 3 x 900^2 entries, the dense coupling of the grid. */
+    ck_assert_msg(strstr(trace, "would have up to 2.43e+06 entries") && strstr(trace, "gnsn-ac on (v, r) without it"),
+                  "trace:\n%s", trace);
+    ck_assert_msg(!strstr(trace, "W blocks"), "a reduced solve ran:\n%s", trace);
+    double diff = 0.0, scale = 0.0;
+    for (int64_t i = 0; i < m; ++i) diff = fmax(diff, fabs(r[i] - r607[i])), scale = fmax(scale, fabs(r607[i]));
+    ck_assert_msg(diff <= 1e-12 * scale, "auto and 607 differ by %g (max |r| %g)", diff, scale);
+    free(r), free(v), free(r607), free(v607), free(u);
+
+    /* Rigid spheres in a box: W has 13 entries per entry of M and H; reduced as before. */
+    frix_problem *rigid = load("global/spheres-in-a-box-98-i10000-256-10.hdf5");
+    if (rigid) {
+        r = calloc((size_t)frix_problem_contact_dofs(rigid), sizeof *r);
+        u = calloc((size_t)frix_problem_contact_dofs(rigid), sizeof *u);
+        v = calloc((size_t)frix_problem_dofs(rigid), sizeof *v);
+        ck_assert_int_eq(frix_solve(rigid, o, r, u, v, info), FRIX_OK);
+        ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+        trace = frix_info_trace(info);
+        ck_assert_msg(strstr(trace, "W blocks") && strstr(trace, "W = H^T M^-1 H at most 1.02e+05 entries") &&
+                          !strstr(trace, "without it"),
+                      "trace:\n%s", trace);
+        free(r), free(u), free(v);
+        frix_problem_free(rigid);
+    }
+    frix_info_free(info);
+    frix_options_free(o);
+    grid_free(&g);
+}
+END_TEST
+
 int main(void) {
     Suite *s = suite_create("global");
     TCase *tc = tcase_create("core");
@@ -168,6 +279,7 @@ int main(void) {
     tcase_add_test(tc, small_problems_stored_as_csc);
     tcase_add_test(tc, singular_mass_matrix_is_an_error);
     tcase_add_test(tc, no_contacts);
+    tcase_add_test(tc, auto_does_not_reduce_a_deformable_body);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }
