@@ -144,9 +144,9 @@ constexpr int kMaxTightenings = 4;
 // entries and more than kReductionMaxGrowth times those of M and H: a deformable body makes W
 // dense among its contacts (memory and every sweep then grow with their square), and Newton
 // on (v, r), which factorises the sparse (v, r) system, is the faster route there (an FEM-like
-// grid of 1600 contacts: 3.6 s and 0.21 GB against 12.3 s and 0.52 GB; of 6400: 11 s and
-// 0.64 GB against 7.2 GB and 270 s without a single iteration). Rigid bodies give W about as
-// many entries as M and H (see docs/auto.md).
+// grid of 1600 contacts: 2.3 s and 0.20 GB against 12.3 s and 0.52 GB; of 6400: 10 s and
+// 0.60 GB against 7.2 GB and 270 s without a single iteration). Rigid bodies give W at most
+// 13 entries per entry of M and H on ../shared (see docs/auto.md).
 constexpr double kReductionMaxEntries = 1e6;
 constexpr double kReductionMaxGrowth = 30.0;
 

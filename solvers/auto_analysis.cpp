@@ -89,13 +89,18 @@ Analysis analyse_local(const frix_problem &p) {
 ReductionSize reduction_size(const frix_problem &p) {
     ReductionSize size;
     DisjointSets components(p.n);
-    for_each_nonzero(*p.M, [&](int64_t i, int64_t j) {
+    // Exact zeros (of a stored 3x3 block) couple nothing.
+    for_each_entry(*p.M, [&](int64_t i, int64_t j, double v) {
+        if (v == 0.0) return;
         components.unite(i, j);
         size.input_entries += 1.0;
     });
     // (component, column of H) pairs, each counted once.
     std::vector<std::pair<int64_t, int64_t>> touches;
-    if (p.nc > 0) for_each_nonzero(*p.H, [&](int64_t i, int64_t c) { touches.emplace_back(components.find(i), c); });
+    if (p.nc > 0)
+        for_each_entry(*p.H, [&](int64_t i, int64_t c, double v) {
+            if (v != 0.0) touches.emplace_back(components.find(i), c);
+        });
     size.input_entries += (double)touches.size();
     std::sort(touches.begin(), touches.end());
     touches.erase(std::unique(touches.begin(), touches.end()), touches.end());

@@ -307,6 +307,10 @@ frix_error solve(SolveContext &ctx) {
     Jacobian jac;
     jac.build(M, H, nc);
     linalg::SparseLU lu;
+    // M's pattern is a mesh's for a deformable body, where nested dissection leaves far less
+    // fill than AMD (an FEM-like grid of 1600 contacts: 4.3 s against 18.1 s, the same
+    // steps); on the rigid global files of ../shared it is as fast or faster.
+    lu.set_ordering(linalg::SparseLU::Ordering::kNestedDissection);
     std::vector<double> A(9 * nc), B(9 * nc), phi(m), res(n), F(N), dx(N), rhs(N);
     std::vector<double> Mdv(n), Hdr(n), Htdv(m), rt(m), ut(m), phit(m), rest(n);
     std::vector<double> best_r(r, r + m), best_v(n);
@@ -479,7 +483,7 @@ const SolverEntry kGlobalNsnAcEntry = {
     FRIX_SOLVER_GLOBAL_NSN_AC, "gnsn-ac", "GLOBAL_FRICTION_3D_NSN_AC",
     "Semismooth Newton (Alart-Curnier) on the global problem itself: unknowns (v, r), "
     "equations M v - H r - f = 0 and Phi(r, H^T v + w) = 0, Jacobian [[M, -H], [B H^T, A]] "
-    "factorised by UMFPACK (one symbolic analysis per solve). W = H^T M^-1 H is never formed, "
+    "factorised by UMFPACK with a nested-dissection (METIS) ordering (one symbolic analysis per solve). W = H^T M^-1 H is never formed, "
     "which is what large FEM problems need; rho comes from the lumped blocks "
     "H_a^T diag(M)^-1 H_a. Converged means both the error and the equilibrium residual are "
     "below the tolerance. Global problems only (local solvers reach global problems through "

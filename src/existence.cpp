@@ -35,6 +35,7 @@
 namespace {
 
 using Vec = std::vector<double>;
+using frix::for_each_entry;
 
 // ---- Budget and tolerances.
 // time_limit = 0: steps worth about kDefaultWork multiply-adds (a step costs one or two
@@ -118,21 +119,6 @@ double cone_residual(const double *u, double t, const double *mu, int64_t nc, do
         if (y) std::copy(x, x + 3, y + 3 * a);
     }
     return f;
-}
-
-// f(row, col, value) for every stored entry of A.
-template <class F>
-void for_each_entry(const frix_matrix &A, F &&f) {
-    if (A.block) {
-        for (int64_t k = 0; k < A.block_rows; ++k)
-            for (int64_t b = A.row_ptr[k]; b < A.row_ptr[k + 1]; ++b)
-                for (int c = 0; c < 3; ++c)
-                    for (int r = 0; r < 3; ++r)
-                        f(3 * k + r, 3 * A.block_col[b] + c, A.block_val[9 * b + r + 3 * c]);
-        return;
-    }
-    for (int64_t c = 0; c < A.cols; ++c)
-        for (int64_t e = A.col_ptr[c]; e < A.col_ptr[c + 1]; ++e) f(A.row_ind[e], c, A.val[e]);
 }
 
 // Multiply-adds of one step in the diagonal metric: two products, and the vector updates.

@@ -43,21 +43,20 @@ inline void block_row_product(const frix_matrix &A, int64_t k, const double *x, 
         block_gemv_add(&A.block_val[9 * b], &x[3 * A.block_col[b]], y);
 }
 
-// f(row, col) for every stored non-zero entry of A, in either storage (the exact zeros of a
-// stored 3x3 block are skipped: they couple nothing).
+// f(row, col, value) for every stored entry of A, in either storage (a stored 3x3 block gives
+// its 9 entries, zeros included).
 template <class F>
-void for_each_nonzero(const frix_matrix &A, F f) {
-    if (!A.block) {
-        for (int64_t c = 0; c < A.cols; ++c)
-            for (int64_t e = A.col_ptr[c]; e < A.col_ptr[c + 1]; ++e)
-                if (A.val[e] != 0.0) f(A.row_ind[e], c);
+void for_each_entry(const frix_matrix &A, F &&f) {
+    if (A.block) {
+        for (int64_t k = 0; k < A.block_rows; ++k)
+            for (int64_t b = A.row_ptr[k]; b < A.row_ptr[k + 1]; ++b)
+                for (int c = 0; c < 3; ++c)
+                    for (int r = 0; r < 3; ++r)
+                        f(3 * k + r, 3 * A.block_col[b] + c, A.block_val[9 * b + r + 3 * c]);
         return;
     }
-    for (int64_t k = 0; k < A.block_rows; ++k)
-        for (int64_t b = A.row_ptr[k]; b < A.row_ptr[k + 1]; ++b)
-            for (int j = 0; j < 3; ++j)
-                for (int i = 0; i < 3; ++i)
-                    if (A.block_val[9 * b + 3 * j + i] != 0.0) f(3 * k + i, 3 * A.block_col[b] + j);
+    for (int64_t c = 0; c < A.cols; ++c)
+        for (int64_t e = A.col_ptr[c]; e < A.col_ptr[c + 1]; ++e) f(A.row_ind[e], c, A.val[e]);
 }
 
 // y = alpha*A*x + beta*y for either storage; no argument checks (internal callers).

@@ -51,6 +51,12 @@ class SparseLU {
     // x = A^-1 b (or A^-T b) with the last factorisation; x and b may not alias.
     frix_error solve(const double *b, double *x, bool transposed = false) const;
 
+    // The fill-reducing ordering of the next analyze(): AMD (the default; the least fill on
+    // the clustered patterns of a local W) or METIS's nested dissection (far less on
+    // mesh-like patterns, such as the (v, r) Jacobian of an FEM body).
+    enum class Ordering { kAmd, kNestedDissection };
+    void set_ordering(Ordering ordering);
+
     // min |U_ii| / max |U_ii| of the last factorisation (UMFPACK's cheap estimate).
     double rcond() const { return rcond_; }
     bool factored() const { return numeric_ != nullptr; }

@@ -44,6 +44,11 @@ SparseLU::SparseLU() : control_(UMFPACK_CONTROL) {
     // One refinement step: the Jacobians of semismooth Newton are often badly scaled, and a
     // step costs one product, far less than the factorisation.
     control_[UMFPACK_IRSTEP] = 1;
+    set_ordering(Ordering::kAmd);
+}
+
+void SparseLU::set_ordering(Ordering ordering) {
+    control_[UMFPACK_ORDERING] = ordering == Ordering::kNestedDissection ? UMFPACK_ORDERING_METIS : UMFPACK_ORDERING_AMD;
 }
 
 SparseLU::~SparseLU() {
