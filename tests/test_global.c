@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "check_main.h"
+#include "elastic_grid.h"
 #include "shared_data.h"
 
 
@@ -159,71 +160,13 @@ START_TEST(no_contacts) {
 }
 END_TEST
 
-/* A deformable body: an nx x ny x nz grid of nodes (3 dofs each) joined to their 6
- * neighbours by springs, as in an implicit FEM step (M = m I + h^2 k L, L the grid's
- * Laplacian for each direction), its bottom layer pressed on the plane z = 0 and sliding
- * (contacts: normal z, tangents x and y). M^-1 couples every node of a direction, so
- * W = H^T M^-1 H would be dense: 3 (nx ny)^2 entries. The problem borrows the grid's arrays. */
-typedef struct {
-    frix_problem *p;
-    frix_matrix *M, *H;
-    double *f, *w, *mu;
-} grid;
-
-static void grid_free(grid *g) {
-    frix_problem_free(g->p);
-    frix_matrix_free(g->M);
-    frix_matrix_free(g->H);
-    free(g->f), free(g->w), free(g->mu);
-}
-
-static grid elastic_grid(int nx, int ny, int nz) {
-    const double m = 1.0, h2k = 1.0; /* h^2 k: h = 0.01, k = 1e4 */
-    const int64_t nodes = (int64_t)nx * ny * nz, n = 3 * nodes, nc = (int64_t)nx * ny;
-    int64_t *rows = malloc(sizeof *rows * (size_t)(7 * n)), *cols = malloc(sizeof *cols * (size_t)(7 * n));
-    double *vals = malloc(sizeof *vals * (size_t)(7 * n));
-    int64_t e = 0;
-    for (int l = 0; l < nz; ++l)
-        for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i) {
-                const int64_t a = ((int64_t)l * ny + j) * nx + i;
-                const int nb[6][3] = {{i - 1, j, l}, {i + 1, j, l}, {i, j - 1, l}, {i, j + 1, l}, {i, j, l - 1}, {i, j, l + 1}};
-                int degree = 0;
-                for (int t = 0; t < 6; ++t) {
-                    if (nb[t][0] < 0 || nb[t][1] < 0 || nb[t][2] < 0 || nb[t][0] >= nx || nb[t][1] >= ny || nb[t][2] >= nz)
-                        continue;
-                    const int64_t b = ((int64_t)nb[t][2] * ny + nb[t][1]) * nx + nb[t][0];
-                    ++degree;
-                    for (int d = 0; d < 3; ++d) rows[e] = 3 * a + d, cols[e] = 3 * b + d, vals[e++] = -h2k;
-                }
-                for (int d = 0; d < 3; ++d) rows[e] = 3 * a + d, cols[e] = 3 * a + d, vals[e++] = m + h2k * degree;
-            }
-    grid g = {NULL, NULL, NULL, NULL, NULL, NULL};
-    ck_assert_int_eq(frix_matrix_from_triplets(n, n, e, rows, cols, vals, &g.M), FRIX_OK);
-    e = 0;
-    for (int64_t c = 0; c < nc; ++c) { /* node c of the bottom layer */
-        rows[e] = 3 * c + 2, cols[e] = 3 * c, vals[e++] = 1.0;
-        rows[e] = 3 * c, cols[e] = 3 * c + 1, vals[e++] = 1.0;
-        rows[e] = 3 * c + 1, cols[e] = 3 * c + 2, vals[e++] = 1.0;
-    }
-    ck_assert_int_eq(frix_matrix_from_triplets(n, 3 * nc, e, rows, cols, vals, &g.H), FRIX_OK);
-    g.f = malloc(sizeof *g.f * (size_t)n), g.w = calloc((size_t)(3 * nc), sizeof *g.w);
-    g.mu = malloc(sizeof *g.mu * (size_t)nc);
-    for (int64_t a = 0; a < nodes; ++a) g.f[3 * a] = 0.5 * m, g.f[3 * a + 1] = 0.1 * m, g.f[3 * a + 2] = -m - 0.0981 * m;
-    for (int64_t c = 0; c < nc; ++c) { /* uneven gaps: some nodes touch, some not */
-        g.w[3 * c] = 0.25 * (double)((c * 7919) % 13) / 13.0;
-        g.mu[c] = 0.3;
-    }
-    ck_assert_int_eq(frix_problem_global(g.M, g.H, g.f, g.w, g.mu, nc, &g.p), FRIX_OK);
-    free(rows), free(cols), free(vals);
-    return g;
-}
-
 /* auto does not form W where it would be dense: it runs Newton on (v, r) alone (and says so
  * in its trace), with the same answer as 607 itself; on rigid bodies it still reduces. */
 START_TEST(auto_does_not_reduce_a_deformable_body) {
-    grid g = elastic_grid(30, 30, 2);
-    const frix_problem *p = g.p;
+    /* 900 contacts, some sticking, some sliding, some off the plane. */
+    frix_elastic_grid g;
+    ck_assert_int_eq(frix_elastic_grid_make(30, 30, 2, 0.5, &g), FRIX_OK);
+    const frix_problem *p = g.problem;
     const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
     double *r = calloc((size_t)m, sizeof *r), *v = calloc((size_t)n, sizeof *v);
     double *r607 = calloc((size_t)m, sizeof *r607), *v607 = calloc((size_t)n, sizeof *v607);
@@ -265,7 +208,28 @@ START_TEST(auto_does_not_reduce_a_deformable_body) {
     }
     frix_info_free(info);
     frix_options_free(o);
-    grid_free(&g);
+    frix_elastic_grid_free(&g);
+}
+END_TEST
+
+/* The grid generator refuses what it cannot build, and leaves nothing to leak. */
+START_TEST(elastic_grid_arguments) {
+    frix_elastic_grid g;
+    ck_assert_int_eq(frix_elastic_grid_make(3, 2, 4, 0.1, &g), FRIX_OK);
+    ck_assert_int_eq(frix_problem_contacts(g.problem), 6);
+    ck_assert_int_eq(frix_problem_dofs(g.problem), 72);
+    frix_elastic_grid_free(&g);
+    ck_assert_ptr_null(g.problem);
+    frix_elastic_grid_free(&g); /* twice, and NULL: harmless */
+    frix_elastic_grid_free(NULL);
+    const int bad[4][3] = {{0, 3, 3}, {3, -1, 3}, {3, 3, 0}, {100000, 100000, 1}};
+    for (int k = 0; k < 4; ++k) {
+        ck_assert_int_eq(frix_elastic_grid_make(bad[k][0], bad[k][1], bad[k][2], 0.0, &g), FRIX_ERR_INVALID_ARGUMENT);
+        ck_assert_ptr_null(g.problem);
+    }
+    ck_assert_int_eq(frix_elastic_grid_make(3, 3, 3, -1.0, &g), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(frix_elastic_grid_make(3, 3, 3, NAN, &g), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(frix_elastic_grid_make(3, 3, 3, INFINITY, &g), FRIX_ERR_INVALID_ARGUMENT);
 }
 END_TEST
 
@@ -280,6 +244,7 @@ int main(void) {
     tcase_add_test(tc, singular_mass_matrix_is_an_error);
     tcase_add_test(tc, no_contacts);
     tcase_add_test(tc, auto_does_not_reduce_a_deformable_body);
+    tcase_add_test(tc, elastic_grid_arguments);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

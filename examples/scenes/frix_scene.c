@@ -1,14 +1,17 @@
-/* Writes FCLIB problems built from rigid-body scenes (scenes.h), or the whole hard-case set.
+/* Writes FCLIB problems built from rigid-body scenes (scenes.h), a deformable grid
+ * (elastic_grid.h), or the whole hard-case set.
  *
  *   frix_scene stack|chain|spheres|slope OUT.hdf5 [--count N] [--mass-ratio R] [--mu MU]
  *              [--step H] [--scale S] [--per-face K] [--angle DEG] [--speed V] [--load L]
  *              [--frame-angle DEG] [--spread F] [--local]
+ *   frix_scene elastic-grid OUT.hdf5 NX NY NZ [GAP]   (global only: its W would be dense)
  *   frix_scene hard-set DIR      (DIR/NAME.hdf5 for every case of the hard-case set)
  *   frix_scene list              (the hard-case set, one line per case)
  *
  * A scene is written as a global problem (M, H, f, w, mu), or reduced (W, q, mu) with
  * --local. Exit status 0 on success, 2 on a usage error or a failed write.
  */
+#include "elastic_grid.h"
 #include "scenes.h"
 
 #include <errno.h>
@@ -24,6 +27,7 @@ static int usage(const char *msg, const char *arg) {
     fprintf(stderr, "usage: frix_scene stack|chain|spheres|slope OUT.hdf5 [--count N] [--mass-ratio R]\n"
                     "         [--mu MU] [--step H] [--scale S] [--per-face K] [--angle DEG] [--speed V]\n"
                     "         [--load L] [--frame-angle DEG] [--spread F] [--local]\n"
+                    "       frix_scene elastic-grid OUT.hdf5 NX NY NZ [GAP]\n"
                     "       frix_scene hard-set DIR | frix_scene list\n");
     return 2;
 }
@@ -55,6 +59,27 @@ static int hard_set(const char *dir) {
     return failed ? 2 : 0;
 }
 
+static int elastic_grid(int argc, char **argv) {
+    if (argc < 6 || argc > 7) return usage("elastic-grid takes OUT.hdf5 NX NY NZ [GAP]", NULL);
+    double size[3], gap = 0.0;
+    for (int k = 0; k < 3; ++k)
+        if (!number(argv[3 + k], &size[k]) || size[k] != floor(size[k]) || size[k] < 1 || size[k] > 1e6)
+            return usage("not a grid size", argv[3 + k]);
+    if (argc == 7 && (!number(argv[6], &gap) || gap < 0)) return usage("not a gap >= 0", argv[6]);
+    frix_elastic_grid g;
+    frix_error err = frix_elastic_grid_make((int)size[0], (int)size[1], (int)size[2], gap, &g);
+    if (err == FRIX_ERR_INVALID_ARGUMENT) return usage("grid too large", NULL);
+    if (!err) err = frix_fclib_write(argv[2], g.problem, NULL, NULL, NULL, 0, NULL, NULL, NULL);
+    if (err)
+        fprintf(stderr, "frix_scene: %s\n", frix_last_error_message());
+    else
+        printf("wrote %s: elastic grid %dx%dx%d, %lld contacts, %lld dofs (global)\n", argv[2], (int)size[0],
+               (int)size[1], (int)size[2], (long long)frix_problem_contacts(g.problem),
+               (long long)frix_problem_dofs(g.problem));
+    frix_elastic_grid_free(&g);
+    return err ? 2 : 0;
+}
+
 int main(int argc, char **argv) {
     if (argc < 2) return usage("missing scene", NULL);
     if (strcmp(argv[1], "list") == 0) {
@@ -72,6 +97,7 @@ int main(int argc, char **argv) {
         if (argc != 3) return usage("hard-set takes one DIR", NULL);
         return hard_set(argv[2]);
     }
+    if (strcmp(argv[1], "elastic-grid") == 0) return elastic_grid(argc, argv);
     static const char *const kinds[] = {"stack", "chain", "spheres", "slope"};
     int kind = -1;
     for (int k = 0; k < 4; ++k)
