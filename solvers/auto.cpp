@@ -773,7 +773,7 @@ frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage)
     if (frix_error e = solve_global_problem(ctx.problem, o, kGlobalNsnAcEntry, ctx.r, ctx.u, ctx.v, run,
                                             ctx.clock, solve_local_problem))
         return e;
-    if (run.error <= ctx.options.d(FRIX_OPT_TOLERANCE)) run.status = FRIX_STATUS_CONVERGED;
+    if (meets_global_tolerance(run, ctx.options.d(FRIX_OPT_TOLERANCE))) run.status = FRIX_STATUS_CONVERGED;
     stage.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
     stage.status = run.status;
     stage.iterations = run.iterations;
@@ -802,14 +802,52 @@ frix_error solve(SolveContext &ctx) {
     info.analysis.reduced_entries = size.w_entries;
     info.analysis.input_entries = size.input_entries;
     const int64_t max_iter = ctx.options.i(FRIX_OPT_MAX_ITER);
+    const double tol = ctx.options.d(FRIX_OPT_TOLERANCE), tl = ctx.options.d(FRIX_OPT_TIME_LIMIT);
     if (size.w_entries > kReductionMaxEntries &&
         size.w_entries > kReductionMaxGrowth * size.input_entries) {
+        // Newton on (v, r) first. Where it fails, the reduction after all, from the caller's
+        // start: it costs W's memory but solves what Newton cannot (on a stiff grid, k = 1e8
+        // in the docs' grid, Newton's line search fails and the reduction solves it).
+        const std::vector<double> start(ctx.r, ctx.r + 3 * p.nc);
         TraceEvent stage{TraceEvent::kStage};
         if (frix_error e = global_newton(ctx, max_iter, stage)) return e;
         TraceEvent direct{TraceEvent::kGlobalDirect};
         direct.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
-        info.trace.push_back(direct);
-        info.trace.push_back(stage);
+        std::vector<TraceEvent> trace{direct, stage};
+        const int64_t left = max_iter - info.iterations;
+        if (info.status == FRIX_STATUS_CONVERGED || info.status == FRIX_STATUS_STOPPED_BY_CALLBACK ||
+            left <= 0 || (tl > 0.0 && ctx.clock.seconds() >= tl)) {
+            info.trace = std::move(trace);
+            check_existence_on_failure(ctx);
+            return FRIX_OK;
+        }
+        TraceEvent after{TraceEvent::kReductionAfterAll};
+        after.status = info.status;
+        after.error = info.error;
+        after.value = info.equilibrium;
+        trace.push_back(after);
+        const frix_info newton = info;
+        std::copy(start.begin(), start.end(), ctx.r);
+        frix_options reduction = ctx.options;
+        reduction.ivalue[FRIX_OPT_MAX_ITER] = left;
+        frix_info reduced;
+        reduced.solver_id = newton.solver_id;
+        reduced.contacts = newton.contacts;
+        reduced.tolerance = newton.tolerance;
+        if (frix_error e = solve_global_problem(p, reduction, kAutoReductionEntry, ctx.r, ctx.u, ctx.v, reduced,
+                                                ctx.clock, solve_local_problem))
+            return e;
+        if (meets_global_tolerance(reduced, tol)) reduced.status = FRIX_STATUS_CONVERGED;
+        trace.insert(trace.end(), reduced.trace.begin(), reduced.trace.end());
+        accumulate(reduced, newton);
+        reduced.iterations += newton.iterations;
+        reduced.switches += 1;
+        reduced.trace = std::move(trace);
+        reduced.analysis.dofs = newton.analysis.dofs;
+        reduced.analysis.rank_ratio = newton.analysis.rank_ratio;
+        reduced.analysis.reduced_entries = newton.analysis.reduced_entries;
+        reduced.analysis.input_entries = newton.analysis.input_entries;
+        info = std::move(reduced);
         check_existence_on_failure(ctx);
         return FRIX_OK;
     }
@@ -825,10 +863,8 @@ frix_error solve(SolveContext &ctx) {
     info.analysis.input_entries = global_analysis.input_entries;
     // The reduced problem's own tolerance test is not the global one: the global measure of
     // (r, v) decides, both ways.
-    const double tol = ctx.options.d(FRIX_OPT_TOLERANCE);
-    if (info.error <= tol) info.status = FRIX_STATUS_CONVERGED;
+    if (meets_global_tolerance(info, tol)) info.status = FRIX_STATUS_CONVERGED;
     if (info.status == FRIX_STATUS_CONVERGED || info.status == FRIX_STATUS_STOPPED_BY_CALLBACK) return FRIX_OK;
-    const double tl = ctx.options.d(FRIX_OPT_TIME_LIMIT);
     const int64_t left = max_iter - info.iterations;
     if ((tl > 0.0 && ctx.clock.seconds() >= tl) || left <= 0) {
         check_existence_on_failure(ctx);

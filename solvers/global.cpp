@@ -565,10 +565,13 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         info.status = FRIX_STATUS_DIVERGED;
     }
     record_measures(info, meas, opts.i(FRIX_OPT_ERROR_MEASURE));
-    if (info.status == FRIX_STATUS_CONVERGED &&
-        !(info.error <= info.tolerance && info.equilibrium <= std::max(info.tolerance, 1e-12)))
+    if (info.status == FRIX_STATUS_CONVERGED && !meets_global_tolerance(info, info.tolerance))
         info.status = FRIX_STATUS_STAGNATED;
     return FRIX_OK;
+}
+
+bool meets_global_tolerance(const frix_info &info, double tol) {
+    return info.error <= tol && info.equilibrium <= std::max(tol, 1e-12);
 }
 
 }  // namespace frix

@@ -20,4 +20,8 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
                                                           const SolverEntry &, double *, double *,
                                                           frix_info &, const Stopwatch &));
 
+// Whether a global solve's measures meet `tol`: the error and the equilibrium residual both
+// (the latter at least to 1e-12, which is rounding for M v = H r + f).
+bool meets_global_tolerance(const frix_info &info, double tol);
+
 }  // namespace frix

@@ -13,7 +13,7 @@ namespace frix {
 // One line of the trace (frix_info_trace) of the auto solver, kept as data and formatted only
 // when asked for: formatting numbers costs more than solving a small problem.
 struct TraceEvent {
-    enum Kind { kAnalysis, kStage, kGiveUp, kTighten, kGlobalFallback, kGlobalDirect, kExistence } kind;
+    enum Kind { kAnalysis, kStage, kGiveUp, kTighten, kGlobalFallback, kGlobalDirect, kReductionAfterAll, kExistence } kind;
     int64_t island = 0;           // 1-based; 0 when the problem is solved as one island
     int64_t island_contacts = 0;
     int solver_id = 0;
@@ -21,7 +21,7 @@ struct TraceEvent {
     const char *why = nullptr;    // a static string: why the watchdog stopped the stage
     int64_t random_starts = 0;    // > 0: the stage ran from that many random starts (auto)
     int64_t iterations = 0;
-    double seconds = 0.0, error = 0.0, value = 0.0;  // value: kTighten's new tolerance
+    double seconds = 0.0, error = 0.0, value = 0.0;  // value: kTighten's new tolerance, kReductionAfterAll's equilibrium
 };
 
 // What the auto solver's analysis found (the kAnalysis line).

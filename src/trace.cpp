@@ -81,6 +81,10 @@ std::string format_event(const frix_info &info, const TraceEvent &e) {
                        a.reduced_entries / std::max(1.0, a.input_entries), name_of(e.solver_id));
                 break;
             }
+            case TraceEvent::kReductionAfterAll:
+                append(out, "Newton on (v, r) %s (error %.3e, equilibrium %.3e): the reduction W = H^T M^-1 H "
+                            "after all, from the start\n", frix_status_string(e.status), e.error, e.value);
+                break;
             case TraceEvent::kExistence:
                 append(out, "existence check: %s\n", frix_existence_describe(info.existence));
                 break;

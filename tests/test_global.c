@@ -165,7 +165,7 @@ END_TEST
 START_TEST(auto_does_not_reduce_a_deformable_body) {
     /* 900 contacts, some sticking, some sliding, some off the plane. */
     frix_elastic_grid g;
-    ck_assert_int_eq(frix_elastic_grid_make(30, 30, 2, 0.5, &g), FRIX_OK);
+    ck_assert_int_eq(frix_elastic_grid_make(30, 30, 2, 0.5, 1e4, &g), FRIX_OK);
     const frix_problem *p = g.problem;
     const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
     double *r = calloc((size_t)m, sizeof *r), *v = calloc((size_t)n, sizeof *v);
@@ -215,7 +215,7 @@ END_TEST
 /* The grid generator refuses what it cannot build, and leaves nothing to leak. */
 START_TEST(elastic_grid_arguments) {
     frix_elastic_grid g;
-    ck_assert_int_eq(frix_elastic_grid_make(3, 2, 4, 0.1, &g), FRIX_OK);
+    ck_assert_int_eq(frix_elastic_grid_make(3, 2, 4, 0.1, 1e4, &g), FRIX_OK);
     ck_assert_int_eq(frix_problem_contacts(g.problem), 6);
     ck_assert_int_eq(frix_problem_dofs(g.problem), 72);
     frix_elastic_grid_free(&g);
@@ -224,12 +224,50 @@ START_TEST(elastic_grid_arguments) {
     frix_elastic_grid_free(NULL);
     const int bad[4][3] = {{0, 3, 3}, {3, -1, 3}, {3, 3, 0}, {100000, 100000, 1}};
     for (int k = 0; k < 4; ++k) {
-        ck_assert_int_eq(frix_elastic_grid_make(bad[k][0], bad[k][1], bad[k][2], 0.0, &g), FRIX_ERR_INVALID_ARGUMENT);
+        ck_assert_int_eq(frix_elastic_grid_make(bad[k][0], bad[k][1], bad[k][2], 0.0, 1e4, &g), FRIX_ERR_INVALID_ARGUMENT);
         ck_assert_ptr_null(g.problem);
     }
-    ck_assert_int_eq(frix_elastic_grid_make(3, 3, 3, -1.0, &g), FRIX_ERR_INVALID_ARGUMENT);
-    ck_assert_int_eq(frix_elastic_grid_make(3, 3, 3, NAN, &g), FRIX_ERR_INVALID_ARGUMENT);
-    ck_assert_int_eq(frix_elastic_grid_make(3, 3, 3, INFINITY, &g), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(frix_elastic_grid_make(3, 3, 3, -1.0, 1e4, &g), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(frix_elastic_grid_make(3, 3, 3, NAN, 1e4, &g), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(frix_elastic_grid_make(3, 3, 3, INFINITY, 1e4, &g), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(frix_elastic_grid_make(3, 3, 3, 0.0, 0.0, &g), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(frix_elastic_grid_make(3, 3, 3, 0.0, NAN, &g), FRIX_ERR_INVALID_ARGUMENT);
+}
+END_TEST
+
+/* Where Newton on (v, r) fails on a dense-W problem, auto reduces after all: a stiff grid
+ * (k = 1e8: 607's line search fails, equilibrium residual 1) is solved through W. */
+START_TEST(auto_reduces_after_all_where_newton_fails) {
+    frix_elastic_grid g;
+    ck_assert_int_eq(frix_elastic_grid_make(25, 25, 2, 0.0, 1e8, &g), FRIX_OK);
+    const int64_t m = frix_problem_contact_dofs(g.problem), n = frix_problem_dofs(g.problem);
+    double *r = calloc((size_t)m, sizeof *r), *v = calloc((size_t)n, sizeof *v);
+    outcome out = solve_global(g.problem, FRIX_SOLVER_GLOBAL_NSN_AC, r, v);
+    ck_assert_msg(out.status != FRIX_STATUS_CONVERGED, "607 converged: the case tests nothing");
+    memset(r, 0, sizeof *r * (size_t)m), memset(v, 0, sizeof *v * (size_t)n);
+    frix_options *o = NULL;
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &o), FRIX_OK);
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    double *u = calloc((size_t)m, sizeof *u);
+    ck_assert_msg(frix_solve(g.problem, o, r, u, v, info) == FRIX_OK, "%s", frix_last_error_message());
+    const char *trace = frix_info_trace(info);
+    ck_assert_msg(frix_info_status(info) == FRIX_STATUS_CONVERGED, "%s\n%s",
+                  frix_status_string(frix_info_status(info)), trace);
+    ck_assert_msg(strstr(trace, "without it") && strstr(trace, "after all") && strstr(trace, "W blocks"),
+                  "trace:\n%s", trace);
+    frix_info *check = NULL;
+    ck_assert_int_eq(frix_info_create(&check), FRIX_OK);
+    ck_assert_int_eq(frix_problem_measure(g.problem, r, v, NULL, check), FRIX_OK);
+    double error = NAN, equilibrium = NAN;
+    ck_assert_int_eq(frix_info_get_double(check, FRIX_INFO_ERROR_RELATIVE, &error), FRIX_OK);
+    ck_assert_int_eq(frix_info_get_double(check, FRIX_INFO_EQUILIBRIUM, &equilibrium), FRIX_OK);
+    ck_assert_msg(error <= 1e-8 && equilibrium <= 1e-8, "error %g, equilibrium %g", error, equilibrium);
+    frix_info_free(check);
+    frix_info_free(info);
+    frix_options_free(o);
+    free(r), free(v), free(u);
+    frix_elastic_grid_free(&g);
 }
 END_TEST
 
@@ -245,6 +283,7 @@ int main(void) {
     tcase_add_test(tc, no_contacts);
     tcase_add_test(tc, auto_does_not_reduce_a_deformable_body);
     tcase_add_test(tc, elastic_grid_arguments);
+    tcase_add_test(tc, auto_reduces_after_all_where_newton_fails);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

@@ -16,10 +16,10 @@ void frix_elastic_grid_free(frix_elastic_grid *g) {
     memset(g, 0, sizeof *g);
 }
 
-frix_error frix_elastic_grid_make(int nx, int ny, int nz, double gap, frix_elastic_grid *out) {
-    const double mass = 1.0, h = 0.01, k = 1e4, gravity = 9.81, mu = 0.3;
+frix_error frix_elastic_grid_make(int nx, int ny, int nz, double gap, double stiffness, frix_elastic_grid *out) {
+    const double mass = 1.0, h = 0.01, k = stiffness, gravity = 9.81, mu = 0.3;
     memset(out, 0, sizeof *out);
-    if (nx < 1 || ny < 1 || nz < 1 || !(gap >= 0.0) || !isfinite(gap) ||
+    if (nx < 1 || ny < 1 || nz < 1 || !(gap >= 0.0) || !isfinite(gap) || !(k > 0.0) || !isfinite(k) ||
         3.0 * nx * ny * (double)nz >= 2147483648.0)
         return FRIX_ERR_INVALID_ARGUMENT;
     const int64_t nodes = (int64_t)nx * ny * nz, n = 3 * nodes, nc = (int64_t)nx * ny;

@@ -1,6 +1,7 @@
 /* A deformable body, posed in the global form only: an nx x ny x nz grid of nodes (3 velocity
  * dofs each, unit spacing) joined to their 6 neighbours by springs, one implicit step of size
- * h = 0.01 with unit nodal masses and spring stiffness k = 1e4 as in an FEM code:
+ * h = 0.01 with unit nodal masses and spring stiffness k (1e4 in docs/auto.md's figures; 1e8
+ * makes M ill-conditioned) as in an FEM code:
  *
  *   M = I + h^2 k L   (L the grid's graph Laplacian, for each direction),
  *   f = M v_prev + h F_ext,   v_prev = (0.5, 0.1, -1) at every node, F_ext gravity,
@@ -29,9 +30,10 @@ typedef struct frix_elastic_grid {
     double *f, *w, *mu;
 } frix_elastic_grid;
 
-/* nx, ny, nz >= 1 with 3 nx ny nz < 2^31; gap >= 0. FRIX_ERR_INVALID_ARGUMENT otherwise,
- * FRIX_ERR_OUT_OF_MEMORY; *out is left empty (safe to free) on failure. */
-frix_error frix_elastic_grid_make(int nx, int ny, int nz, double gap, frix_elastic_grid *out);
+/* nx, ny, nz >= 1 with 3 nx ny nz < 2^31; gap >= 0; stiffness > 0, finite.
+ * FRIX_ERR_INVALID_ARGUMENT otherwise, FRIX_ERR_OUT_OF_MEMORY; *out is left empty (safe to
+ * free) on failure. */
+frix_error frix_elastic_grid_make(int nx, int ny, int nz, double gap, double stiffness, frix_elastic_grid *out);
 void frix_elastic_grid_free(frix_elastic_grid *grid);
 
 #ifdef __cplusplus

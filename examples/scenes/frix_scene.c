@@ -4,7 +4,7 @@
  *   frix_scene stack|chain|spheres|slope OUT.hdf5 [--count N] [--mass-ratio R] [--mu MU]
  *              [--step H] [--scale S] [--per-face K] [--angle DEG] [--speed V] [--load L]
  *              [--frame-angle DEG] [--spread F] [--local]
- *   frix_scene elastic-grid OUT.hdf5 NX NY NZ [GAP]   (global only: its W would be dense)
+ *   frix_scene elastic-grid OUT.hdf5 NX NY NZ [GAP [STIFFNESS]]   (global only: W would be dense)
  *   frix_scene hard-set DIR      (DIR/NAME.hdf5 for every case of the hard-case set)
  *   frix_scene list              (the hard-case set, one line per case)
  *
@@ -27,7 +27,7 @@ static int usage(const char *msg, const char *arg) {
     fprintf(stderr, "usage: frix_scene stack|chain|spheres|slope OUT.hdf5 [--count N] [--mass-ratio R]\n"
                     "         [--mu MU] [--step H] [--scale S] [--per-face K] [--angle DEG] [--speed V]\n"
                     "         [--load L] [--frame-angle DEG] [--spread F] [--local]\n"
-                    "       frix_scene elastic-grid OUT.hdf5 NX NY NZ [GAP]\n"
+                    "       frix_scene elastic-grid OUT.hdf5 NX NY NZ [GAP [STIFFNESS]]\n"
                     "       frix_scene hard-set DIR | frix_scene list\n");
     return 2;
 }
@@ -60,14 +60,15 @@ static int hard_set(const char *dir) {
 }
 
 static int elastic_grid(int argc, char **argv) {
-    if (argc < 6 || argc > 7) return usage("elastic-grid takes OUT.hdf5 NX NY NZ [GAP]", NULL);
-    double size[3], gap = 0.0;
+    if (argc < 6 || argc > 8) return usage("elastic-grid takes OUT.hdf5 NX NY NZ [GAP [STIFFNESS]]", NULL);
+    double size[3], gap = 0.0, stiffness = 1e4;
     for (int k = 0; k < 3; ++k)
         if (!number(argv[3 + k], &size[k]) || size[k] != floor(size[k]) || size[k] < 1 || size[k] > 1e6)
             return usage("not a grid size", argv[3 + k]);
-    if (argc == 7 && (!number(argv[6], &gap) || gap < 0)) return usage("not a gap >= 0", argv[6]);
+    if (argc >= 7 && (!number(argv[6], &gap) || gap < 0)) return usage("not a gap >= 0", argv[6]);
+    if (argc == 8 && (!number(argv[7], &stiffness) || stiffness <= 0)) return usage("not a stiffness > 0", argv[7]);
     frix_elastic_grid g;
-    frix_error err = frix_elastic_grid_make((int)size[0], (int)size[1], (int)size[2], gap, &g);
+    frix_error err = frix_elastic_grid_make((int)size[0], (int)size[1], (int)size[2], gap, stiffness, &g);
     if (err == FRIX_ERR_INVALID_ARGUMENT) return usage("grid too large", NULL);
     if (!err) err = frix_fclib_write(argv[2], g.problem, NULL, NULL, NULL, 0, NULL, NULL, NULL);
     if (err)
