@@ -20,7 +20,8 @@
 //   4. when it fails, checks whether a solution exists at all (frix_problem_check_existence)
 //      and says so.
 // Global problems go through the reduction W = H^T M^-1 H with the same strategy, and fall
-// back on Newton on (v, r) (607) when the reduced solve misses the tolerance.
+// back on Newton on (v, r) (607) when the reduced solve misses the tolerance; where W would be
+// dense (a deformable body), the other way round: Newton on (v, r) first.
 // docs/auto.md describes the strategy for users.
 #include <algorithm>
 #include <atomic>
@@ -742,9 +743,9 @@ const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 1e9}, {(frix_option_key)0
     "iterations left) and a watchdog "                                                            \
     "stopping any stage that stalls; deterministic (iteration counts, " \
     "not seconds). Global problems are reduced to W = H^T M^-1 H, with Newton on (v, r) as the "   \
-    "fallback. Every stage is in frix_info_trace; on failure an existence check says whether a "   \
-    "solution may not exist. Options: threads, existence_check (and the common ones). See "        \
-    "docs/auto.md."
+    "fallback (tried first where W would be dense: deformable bodies). Every stage is in "          \
+    "frix_info_trace; on failure an existence check says whether a solution may not exist. "      \
+    "Options: threads, existence_check (and the common ones). See docs/auto.md."
 
 const SolverEntry kAutoReductionEntry = {FRIX_SOLVER_AUTO, "auto", nullptr, FRIX_AUTO_DESCRIPTION,
                                          solve_reduced, true, false, kExtraKeys, kDefaults};
@@ -753,8 +754,8 @@ namespace {
 
 // Newton on (v, r) (607) from ctx's (r, v), for at most max_iter iterations (and its own
 // limit), on the caller's clock, tolerance, measure and callback: ctx.info becomes its info
-// (status, counters, measures), `stage` its trace event. Its own stopping test may accept an
-// iterate that the independent measure also accepts: that measure decides.
+// (status, counters, measures), `stage` its trace event. Converged is the driver's verdict on
+// the returned (r, v) (error and equilibrium), whatever Newton's own stopping test said.
 frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage) {
     frix_options o;
     default_options(kGlobalNsnAcEntry, o);
@@ -792,7 +793,8 @@ frix_error solve(SolveContext &ctx) {
     // Global: the reduction route with the local strategy, then, if that fails, Newton on
     // (v, r) from its result. The two share the caller's max_iter: the reduction route gets
     // half (as every stage of the local strategy, see run_stage), Newton on (v, r) the rest.
-    // Where W would be dense (deformable bodies), Newton on (v, r) alone.
+    // Where W would be dense (deformable bodies), Newton on (v, r) first and the reduction
+    // only if it fails.
     const frix_problem &p = ctx.problem;
     frix_info &info = ctx.info;
     const ReductionSize size = reduction_size(p);
