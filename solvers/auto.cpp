@@ -784,81 +784,25 @@ frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage)
     return FRIX_OK;
 }
 
-frix_error solve(SolveContext &ctx) {
-    if (ctx.problem.kind != FRIX_PROBLEM_GLOBAL) {
-        if (frix_error e = solve_local(ctx)) return e;
-        check_existence_on_failure(ctx);
-        return FRIX_OK;
-    }
-    // Global: the reduction route with the local strategy, then, if that fails, Newton on
-    // (v, r) from its result. The two share the caller's max_iter: the reduction route gets
-    // half (as every stage of the local strategy, see run_stage), Newton on (v, r) the rest.
-    // Where W would be dense (deformable bodies), Newton on (v, r) first and the reduction
-    // only if it fails.
+// The reduction route on a global problem: the local strategy on W = H^T M^-1 H with
+// `reduction_iter` of the `max_iter` iterations, then, where the global measure (error and
+// equilibrium) is not met, Newton on (v, r) from its result with what is left. ctx.info
+// becomes the route's info; the existence check is the caller's.
+frix_error reduce_then_newton(SolveContext &ctx, int64_t max_iter, int64_t reduction_iter) {
     const frix_problem &p = ctx.problem;
     frix_info &info = ctx.info;
-    const ReductionSize size = reduction_size(p);
-    info.analysis.dofs = p.n;
-    info.analysis.contacts = p.nc;
-    info.analysis.rank_ratio = p.n > 0 ? 3.0 * (double)p.nc / (double)p.n : 0.0;
-    info.analysis.reduced_entries = size.w_entries;
-    info.analysis.input_entries = size.input_entries;
-    const int64_t max_iter = ctx.options.i(FRIX_OPT_MAX_ITER);
     const double tol = ctx.options.d(FRIX_OPT_TOLERANCE), tl = ctx.options.d(FRIX_OPT_TIME_LIMIT);
-    if (size.w_entries > kReductionMaxEntries &&
-        size.w_entries > kReductionMaxGrowth * size.input_entries) {
-        // Newton on (v, r) first. Where it fails, the reduction after all, from the caller's
-        // start: it costs W's memory but solves what Newton cannot (on a stiff grid, k = 1e8
-        // in the docs' grid, Newton's line search fails and the reduction solves it).
-        const std::vector<double> start(ctx.r, ctx.r + 3 * p.nc);
-        TraceEvent stage{TraceEvent::kStage};
-        if (frix_error e = global_newton(ctx, max_iter, stage)) return e;
-        TraceEvent direct{TraceEvent::kGlobalDirect};
-        direct.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
-        std::vector<TraceEvent> trace{direct, stage};
-        const int64_t left = max_iter - info.iterations;
-        if (info.status == FRIX_STATUS_CONVERGED || info.status == FRIX_STATUS_STOPPED_BY_CALLBACK ||
-            left <= 0 || (tl > 0.0 && ctx.clock.seconds() >= tl)) {
-            info.trace = std::move(trace);
-            check_existence_on_failure(ctx);
-            return FRIX_OK;
-        }
-        TraceEvent after{TraceEvent::kReductionAfterAll};
-        after.status = info.status;
-        after.error = info.error;
-        after.value = info.equilibrium;
-        trace.push_back(after);
-        const frix_info newton = info;
-        std::copy(start.begin(), start.end(), ctx.r);
-        frix_options reduction = ctx.options;
-        reduction.ivalue[FRIX_OPT_MAX_ITER] = left;
-        frix_info reduced;
-        reduced.solver_id = newton.solver_id;
-        reduced.contacts = newton.contacts;
-        reduced.tolerance = newton.tolerance;
-        if (frix_error e = solve_global_problem(p, reduction, kAutoReductionEntry, ctx.r, ctx.u, ctx.v, reduced,
-                                                ctx.clock, solve_local_problem))
-            return e;
-        if (meets_global_tolerance(reduced, tol)) reduced.status = FRIX_STATUS_CONVERGED;
-        trace.insert(trace.end(), reduced.trace.begin(), reduced.trace.end());
-        accumulate(reduced, newton);
-        reduced.iterations += newton.iterations;
-        reduced.switches += 1;
-        reduced.trace = std::move(trace);
-        reduced.analysis.dofs = newton.analysis.dofs;
-        reduced.analysis.rank_ratio = newton.analysis.rank_ratio;
-        reduced.analysis.reduced_entries = newton.analysis.reduced_entries;
-        reduced.analysis.input_entries = newton.analysis.input_entries;
-        info = std::move(reduced);
-        check_existence_on_failure(ctx);
-        return FRIX_OK;
-    }
     frix_options reduction = ctx.options;
-    reduction.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, max_iter / 2);
+    reduction.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, reduction_iter);
     const AnalysisSummary global_analysis = info.analysis;
-    if (frix_error e = solve_global_problem(p, reduction, kAutoReductionEntry, ctx.r, ctx.u, ctx.v, info,
+    frix_info reduced;
+    reduced.solver_id = info.solver_id;
+    reduced.contacts = info.contacts;
+    reduced.tolerance = info.tolerance;
+    if (frix_error e = solve_global_problem(p, reduction, kAutoReductionEntry, ctx.r, ctx.u, ctx.v, reduced,
                                             ctx.clock, solve_local_problem))
         return e;
+    info = std::move(reduced);
     info.analysis.dofs = global_analysis.dofs;
     info.analysis.rank_ratio = global_analysis.rank_ratio;
     info.analysis.reduced_entries = global_analysis.reduced_entries;
@@ -868,28 +812,84 @@ frix_error solve(SolveContext &ctx) {
     if (meets_global_tolerance(info, tol)) info.status = FRIX_STATUS_CONVERGED;
     if (info.status == FRIX_STATUS_CONVERGED || info.status == FRIX_STATUS_STOPPED_BY_CALLBACK) return FRIX_OK;
     const int64_t left = max_iter - info.iterations;
-    if ((tl > 0.0 && ctx.clock.seconds() >= tl) || left <= 0) {
-        check_existence_on_failure(ctx);
-        return FRIX_OK;
-    }
+    if ((tl > 0.0 && ctx.clock.seconds() >= tl) || left <= 0) return FRIX_OK;
     std::vector<TraceEvent> trace = std::move(info.trace);
     TraceEvent fallback{TraceEvent::kGlobalFallback};
     fallback.status = info.status;
     fallback.error = info.error;
+    fallback.value = info.equilibrium;
     fallback.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
     trace.push_back(fallback);
     const AnalysisSummary analysis = info.analysis;
     const int64_t islands = info.islands, switches = info.switches + 1, iterations = info.iterations;
-    const frix_info reduced = info;
+    const frix_info before = info;
     TraceEvent stage{TraceEvent::kStage};
     if (frix_error e = global_newton(ctx, left, stage)) return e;
     trace.push_back(stage);
-    accumulate(info, reduced);
+    accumulate(info, before);
     info.trace = std::move(trace);
     info.analysis = analysis;
     info.islands = islands;
     info.switches = switches;
     info.iterations += iterations;
+    return FRIX_OK;
+}
+
+frix_error solve(SolveContext &ctx) {
+    if (ctx.problem.kind != FRIX_PROBLEM_GLOBAL) {
+        if (frix_error e = solve_local(ctx)) return e;
+        check_existence_on_failure(ctx);
+        return FRIX_OK;
+    }
+    // Global: the reduction route with the local strategy, then, if that fails, Newton on
+    // (v, r) from its result. The two share the caller's max_iter: the reduction route gets
+    // half (as every stage of the local strategy, see run_stage), Newton on (v, r) the rest.
+    // Where W would be dense (deformable bodies), Newton on (v, r) first and that route only
+    // if it fails.
+    const frix_problem &p = ctx.problem;
+    frix_info &info = ctx.info;
+    const ReductionSize size = reduction_size(p);
+    info.analysis.dofs = p.n;
+    info.analysis.contacts = p.nc;
+    info.analysis.rank_ratio = p.n > 0 ? 3.0 * (double)p.nc / (double)p.n : 0.0;
+    info.analysis.reduced_entries = size.w_entries;
+    info.analysis.input_entries = size.input_entries;
+    const int64_t max_iter = ctx.options.i(FRIX_OPT_MAX_ITER);
+    const double tl = ctx.options.d(FRIX_OPT_TIME_LIMIT);
+    if (!(size.w_entries > kReductionMaxEntries && size.w_entries > kReductionMaxGrowth * size.input_entries)) {
+        if (frix_error e = reduce_then_newton(ctx, max_iter, max_iter / 2)) return e;
+        check_existence_on_failure(ctx);
+        return FRIX_OK;
+    }
+    // Newton on (v, r) first. Where it fails, the reduction route after all, from the caller's
+    // start: it costs W's memory but solves what Newton cannot (the docs' grid with k = 1e12:
+    // no Newton step is accepted; the interior point on W converges).
+    const std::vector<double> start(ctx.r, ctx.r + 3 * p.nc);
+    TraceEvent stage{TraceEvent::kStage};
+    if (frix_error e = global_newton(ctx, max_iter, stage)) return e;
+    TraceEvent direct{TraceEvent::kGlobalDirect};
+    direct.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
+    std::vector<TraceEvent> trace{direct, stage};
+    const int64_t left = max_iter - info.iterations;
+    if (info.status == FRIX_STATUS_CONVERGED || info.status == FRIX_STATUS_STOPPED_BY_CALLBACK || left <= 0 ||
+        (tl > 0.0 && ctx.clock.seconds() >= tl)) {
+        info.trace = std::move(trace);
+        check_existence_on_failure(ctx);
+        return FRIX_OK;
+    }
+    TraceEvent after{TraceEvent::kReductionAfterAll};
+    after.status = info.status;
+    after.error = info.error;
+    after.value = info.equilibrium;
+    trace.push_back(after);
+    const frix_info newton = info;
+    std::copy(start.begin(), start.end(), ctx.r);
+    if (frix_error e = reduce_then_newton(ctx, left, left / 2)) return e;
+    trace.insert(trace.end(), info.trace.begin(), info.trace.end());
+    accumulate(info, newton);
+    info.iterations += newton.iterations;
+    info.switches += 1;
+    info.trace = std::move(trace);
     check_existence_on_failure(ctx);
     return FRIX_OK;
 }

@@ -21,7 +21,8 @@ struct TraceEvent {
     const char *why = nullptr;    // a static string: why the watchdog stopped the stage
     int64_t random_starts = 0;    // > 0: the stage ran from that many random starts (auto)
     int64_t iterations = 0;
-    double seconds = 0.0, error = 0.0, value = 0.0;  // value: kTighten's new tolerance, kReductionAfterAll's equilibrium
+    double seconds = 0.0, error = 0.0, value = 0.0;  // value: kTighten's new tolerance; the equilibrium residual
+                                                     // for kGlobalFallback and kReductionAfterAll
 };
 
 // What the auto solver's analysis found (the kAnalysis line).

@@ -69,8 +69,8 @@ std::string format_event(const frix_info &info, const TraceEvent &e) {
                 append(out, "combined error %.3e above the tolerance: islands again to %.3e\n", e.error, e.value);
                 break;
             case TraceEvent::kGlobalFallback:
-                append(out, "reduced solve %s (error %.3e): %s on (v, r) from its result\n",
-                       frix_status_string(e.status), e.error, name_of(e.solver_id));
+                append(out, "reduced solve %s (error %.3e, equilibrium %.3e): %s on (v, r) from its result\n",
+                       frix_status_string(e.status), e.error, e.value, name_of(e.solver_id));
                 break;
             case TraceEvent::kGlobalDirect: {
                 const AnalysisSummary &a = info.analysis;

@@ -235,11 +235,27 @@ START_TEST(elastic_grid_arguments) {
 }
 END_TEST
 
-/* Where Newton on (v, r) fails on a dense-W problem, auto reduces after all: a stiff grid
- * (k = 1e8: 607's line search fails, equilibrium residual 1) is solved through W. */
-START_TEST(auto_reduces_after_all_where_newton_fails) {
+/* Where Newton on (v, r) fails on a dense-W problem, auto reduces after all: a very stiff
+ * grid (k = 1e12: no step of 607 is accepted, even with rho cut, and its equilibrium
+ * residual stays at 1) is solved through W. */
+/* 607 cuts rho while no step is accepted: on the grid with k = 1e8, rho from the lumped
+ * diagonal (about 4e4) lets no step lower the merit; cut, it converges. */
+START_TEST(newton_cuts_a_rho_too_large) {
     frix_elastic_grid g;
     ck_assert_int_eq(frix_elastic_grid_make(25, 25, 2, 0.0, 1e8, &g), FRIX_OK);
+    double *r = calloc((size_t)frix_problem_contact_dofs(g.problem), sizeof *r);
+    double *v = calloc((size_t)frix_problem_dofs(g.problem), sizeof *v);
+    outcome out = solve_global(g.problem, FRIX_SOLVER_GLOBAL_NSN_AC, r, v);
+    ck_assert_msg(out.status == FRIX_STATUS_CONVERGED && out.error <= 1e-8 && out.equilibrium <= 1e-8,
+                  "%s, error %g, equilibrium %g", frix_status_string(out.status), out.error, out.equilibrium);
+    free(r), free(v);
+    frix_elastic_grid_free(&g);
+}
+END_TEST
+
+START_TEST(auto_reduces_after_all_where_newton_fails) {
+    frix_elastic_grid g;
+    ck_assert_int_eq(frix_elastic_grid_make(25, 25, 2, 0.0, 1e12, &g), FRIX_OK);
     const int64_t m = frix_problem_contact_dofs(g.problem), n = frix_problem_dofs(g.problem);
     double *r = calloc((size_t)m, sizeof *r), *v = calloc((size_t)n, sizeof *v);
     outcome out = solve_global(g.problem, FRIX_SOLVER_GLOBAL_NSN_AC, r, v);
@@ -283,6 +299,7 @@ int main(void) {
     tcase_add_test(tc, no_contacts);
     tcase_add_test(tc, auto_does_not_reduce_a_deformable_body);
     tcase_add_test(tc, elastic_grid_arguments);
+    tcase_add_test(tc, newton_cuts_a_rho_too_large);
     tcase_add_test(tc, auto_reduces_after_all_where_newton_fails);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
