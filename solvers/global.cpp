@@ -500,9 +500,9 @@ const SolverEntry kGlobalNsnAcEntry = {
     "Semismooth Newton (Alart-Curnier) on the global problem itself: unknowns (v, r), "
     "equations M v - H r - f = 0 and Phi(r, H^T v + w) = 0, Jacobian [[M, -H], [B H^T, A]] "
     "factorised by UMFPACK with a nested-dissection (METIS) ordering (one symbolic analysis "
-    "per solve). W = H^T M^-1 H is never formed, "
-    "which is what large FEM problems need; rho comes from the lumped blocks "
-    "H_a^T diag(M)^-1 H_a. Converged means both the error and the equilibrium residual are "
+    "per solve). W = H^T M^-1 H is never formed, which is what large FEM problems need; rho "
+    "comes from the lumped blocks H_a^T diag(M)^-1 H_a (cut tenfold, up to four times, while "
+    "no step is accepted). Converged means both the error and the equilibrium residual are "
     "below the tolerance. Global problems only (local solvers reach global problems through "
     "the reduction W = H^T M^-1 H). Options: rho_strategy, rho, line_search (Armijo by "
     "default; Goldstein-Price is taken as Armijo with m1 = 0.01), line_search_max_iter.",
