@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -77,8 +78,10 @@ class MassSolver {
         if (empty_) return FRIX_OK;
         return use_chol_ ? chol_.solve(b, x) : lu_.solve(b, x);
     }
-    // W = H^T M^-1 H as CSC.
-    frix_error congruence(const frix_matrix &H, Csc &W) {
+    // W = H^T M^-1 H as CSC. stop is asked between blocks of columns (see
+    // SparseCholesky::inverse_congruence); when it answers true, stopped is set and W is empty.
+    frix_error congruence(const frix_matrix &H, Csc &W, const std::function<bool()> &stop, bool &stopped) {
+        stopped = false;
         Csc h;
         if (frix_error e = to_csc(H, h)) return e;
         W.rows = W.cols = H.cols;
@@ -88,7 +91,7 @@ class MassSolver {
             W.val.assign(1, 0.0);
             return FRIX_OK;
         }
-        if (use_chol_) return chol_.inverse_congruence(h.view(), W.colptr, W.rowind, W.val);
+        if (use_chol_) return chol_.inverse_congruence(h.view(), W.colptr, W.rowind, W.val, stop, &stopped);
         // LU: one solve per column of H; exact zeros (contacts M does not couple) are dropped.
         const int64_t n = H.rows, k = H.cols;
         std::vector<double> col(n), x(n), wcol(k);
@@ -106,6 +109,11 @@ class MassSolver {
                     W.val.push_back(wcol[i]);
                 }
             W.colptr[j + 1] = (int64_t)W.rowind.size();
+            if ((j + 1) % linalg::kCongruenceBlockColumns == 0 && j + 1 < k && stop && stop()) {
+                W = Csc();
+                stopped = true;
+                return FRIX_OK;
+            }
         }
         return FRIX_OK;
     }
@@ -136,7 +144,18 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
                                                    frix_info &, const Stopwatch &)) {
     const Stopwatch setup;
     Csc w;
-    if (frix_error e = ms.congruence(*p.H, w)) return e;
+    // Where W is dense (a deformable body) forming it can take minutes: the time limit ends
+    // it as it ends an iteration, with the caller's start returned.
+    const double time_limit = opts.d(FRIX_OPT_TIME_LIMIT);
+    const std::function<bool()> out_of_time = [&]() { return time_limit > 0.0 && clock.seconds() >= time_limit; };
+    bool stopped = false;
+    if (frix_error e = ms.congruence(*p.H, w, out_of_time, stopped)) return e;
+    if (stopped) {
+        info.status = FRIX_STATUS_TIME_LIMIT;
+        info.iterations = 0;
+        info.setup_time += setup.seconds();
+        return recover_velocity(p, ms, r, v);
+    }
     frix_matrix *W = nullptr;
     if (frix_error e = frix_matrix_from_csc(w.rows, w.cols, w.colptr.data(), w.rowind.data(),
                                             w.val.data(), &W))

@@ -103,6 +103,30 @@ FRIX_TESTING_HOOK int frix_testing_sparse_cholesky(int64_t n, const int64_t *col
     return FRIX_OK;
 }
 
+FRIX_TESTING_HOOK int frix_testing_congruence_in_blocks(int64_t n, const int64_t *colptr,
+                                                        const int64_t *rowind, const double *values,
+                                                        int64_t k, const int64_t *bp, const int64_t *bi,
+                                                        const double *bx, int64_t block_cols, int stop_at,
+                                                        double *C, int *questions, int *stopped,
+                                                        int64_t *nnz) {
+    frix::linalg::SparseCholesky ch;
+    int e = ch.factor({n, n, colptr, rowind, values});
+    if (e != FRIX_OK) return e;
+    std::vector<int64_t> cp, ci;
+    std::vector<double> cx;
+    *questions = 0;
+    auto stop = [&]() { return ++*questions == stop_at; };
+    bool was_stopped = false;
+    e = ch.inverse_congruence({n, k, bp, bi, bx}, cp, ci, cx, stop, &was_stopped, block_cols);
+    *stopped = was_stopped ? 1 : 0;
+    *nnz = (int64_t)cx.size();
+    if (e != FRIX_OK || was_stopped) return e;
+    for (int64_t i = 0; i < k * k; ++i) C[i] = 0.0;
+    for (int64_t j = 0; j < k; ++j)
+        for (int64_t p = cp[j]; p < cp[j + 1]; ++p) C[ci[p] + k * j] = cx[p];
+    return FRIX_OK;
+}
+
 // Dense LU (cholesky = 0) or Cholesky (1) of the column-major n x n A: x = A^-1 b.
 FRIX_TESTING_HOOK int frix_testing_dense_solve(int cholesky, int64_t n, const double *A,
                                                const double *b, double *x) {

@@ -58,6 +58,14 @@ int frix_testing_sparse_cholesky(int64_t n, const int64_t *colptr, const int64_t
                                  const double *values, const double *b, double *x, int64_t k,
                                  const int64_t *bp, const int64_t *bi, const double *bx,
                                  double *C);
+/* C = B^T A^-1 B as frix_testing_sparse_cholesky, in blocks of block_cols columns; the work
+ * is asked to stop at the stop_at-th question (never if stop_at <= 0). *questions: how many
+ * were asked; *stopped: whether the work stopped; *nnz: the entries of C returned. */
+int frix_testing_congruence_in_blocks(int64_t n, const int64_t *colptr, const int64_t *rowind,
+                                      const double *values, int64_t k, const int64_t *bp,
+                                      const int64_t *bi, const double *bx, int64_t block_cols,
+                                      int stop_at, double *C, int *questions, int *stopped,
+                                      int64_t *nnz);
 /* Dense LU (cholesky = 0) or Cholesky (1): x = A^-1 b. */
 int frix_testing_dense_solve(int cholesky, int64_t n, const double *A, const double *b, double *x);
 

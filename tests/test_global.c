@@ -277,6 +277,45 @@ START_TEST(auto_reduces_after_all_where_newton_fails) {
 }
 END_TEST
 
+/* An explicit local solver on a deformable body forms the dense W, which can take minutes
+ * (6400 contacts: 270 s, 7.2 GB): the time limit ends that too, with the caller's start
+ * returned, its velocity and its measures. Forming W goes by blocks of 128 contacts (this
+ * grid: 7 blocks), and the limit here is over before the first block ends. */
+START_TEST(time_limit_ends_the_forming_of_w) {
+    frix_elastic_grid g;
+    ck_assert_int_eq(frix_elastic_grid_make(30, 30, 2, 0.5, 1e4, &g), FRIX_OK);
+    const frix_problem *p = g.problem;
+    const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
+    double *r = calloc((size_t)m, sizeof *r), *r0 = calloc((size_t)m, sizeof *r0);
+    double *u = calloc((size_t)m, sizeof *u), *v = calloc((size_t)n, sizeof *v);
+    for (int64_t i = 0; i < m; i += 3) r0[i] = 0.01, r0[i + 1] = 0.002;
+    memcpy(r, r0, sizeof *r * (size_t)m);
+    frix_options *o = NULL;
+    frix_info *info = NULL, *check = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TIME_LIMIT, 1e-6), FRIX_OK);
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_info_create(&check), FRIX_OK);
+    ck_assert_msg(frix_solve(p, o, r, u, v, info) == FRIX_OK, "%s", frix_last_error_message());
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_TIME_LIMIT);
+    ck_assert_int_eq(frix_info_iterations(info), 0); /* NSGS sweeps before it looks at the clock */
+    ck_assert(memcmp(r, r0, sizeof *r * (size_t)m) == 0);
+    ck_assert_int_eq(frix_problem_measure(p, r, v, NULL, check), FRIX_OK);
+    double reported = NAN, independent = NAN, equilibrium = NAN;
+    ck_assert_int_eq(frix_info_get_double(info, FRIX_INFO_ERROR_RELATIVE, &reported), FRIX_OK);
+    ck_assert_int_eq(frix_info_get_double(check, FRIX_INFO_ERROR_RELATIVE, &independent), FRIX_OK);
+    ck_assert_int_eq(frix_info_get_double(check, FRIX_INFO_EQUILIBRIUM, &equilibrium), FRIX_OK);
+    ck_assert(isfinite(reported) && reported > 1e-3);
+    ck_assert_double_eq_tol(reported, independent, 1e-14);
+    ck_assert_msg(equilibrium <= 1e-12, "v is not the start's velocity: equilibrium %g", equilibrium);
+    frix_info_free(check);
+    frix_info_free(info);
+    frix_options_free(o);
+    free(r), free(r0), free(u), free(v);
+    frix_elastic_grid_free(&g);
+}
+END_TEST
+
 int main(void) {
     Suite *s = suite_create("global");
     TCase *tc = tcase_create("core");
@@ -291,6 +330,7 @@ int main(void) {
     tcase_add_test(tc, elastic_grid_arguments);
     tcase_add_test(tc, newton_cuts_a_rho_too_large);
     tcase_add_test(tc, auto_reduces_after_all_where_newton_fails);
+    tcase_add_test(tc, time_limit_ends_the_forming_of_w);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

@@ -3,6 +3,7 @@
  * factorisation failures returned as frix_error values. */
 #include <frix/frix.h>
 #include <math.h>
+#include <string.h>
 
 #include "check_main.h"
 #include "frix_testing.h"
@@ -61,6 +62,73 @@ START_TEST(sparse_cholesky_and_congruence) {
 }
 END_TEST
 
+/* A = tridiag(-1, 4, -1) of size 16, CSC (both triangles); B (16 x 13) with column j holding
+ * j + 1 at row j and 1 at row j + 3. */
+enum { kN = 16, kK = 13 };
+static void build_congruence_case(int64_t ap[kN + 1], int64_t ai[3 * kN], double ax[3 * kN],
+                                  int64_t bp[kK + 1], int64_t bi[2 * kK], double bx[2 * kK]) {
+    int64_t e = 0;
+    for (int j = 0; j < kN; ++j) {
+        ap[j] = e;
+        for (int i = j - 1; i <= j + 1; ++i)
+            if (i >= 0 && i < kN) {
+                ai[e] = i;
+                ax[e++] = i == j ? 4.0 : -1.0;
+            }
+    }
+    ap[kN] = e;
+    for (int j = 0; j < kK; ++j) {
+        bp[j] = 2 * j;
+        bi[2 * j] = j;
+        bx[2 * j] = j + 1.0;
+        bi[2 * j + 1] = j + 3;
+        bx[2 * j + 1] = 1.0;
+    }
+    bp[kK] = 2 * kK;
+}
+
+START_TEST(congruence_in_blocks_is_the_same_and_stops_when_asked) {
+    int64_t ap[kN + 1], ai[3 * kN], bp[kK + 1], bi[2 * kK], nnz = -1;
+    double ax[3 * kN], bx[2 * kK], whole[kK * kK], blocked[kK * kK];
+    build_congruence_case(ap, ai, ax, bp, bi, bx);
+    int questions = -1, stopped = -1;
+    /* One block of 16 columns: asked once, after Z (not after C's last block). */
+    ck_assert_int_eq(frix_testing_congruence_in_blocks(kN, ap, ai, ax, kK, bp, bi, bx, 16, 0, whole,
+                                                       &questions, &stopped, &nnz),
+                     FRIX_OK);
+    ck_assert_int_eq(questions, 1);
+    ck_assert_int_eq(stopped, 0);
+    ck_assert_int_eq(nnz, kK * kK); /* A^-1 is dense: so is C */
+    /* C = B^T A^-1 B: symmetric, positive diagonal. */
+    for (int i = 0; i < kK; ++i) {
+        ck_assert(whole[i + kK * i] > 0.0);
+        for (int j = 0; j < kK; ++j) ck_assert_double_eq_tol(whole[i + kK * j], whole[j + kK * i], 1e-15);
+    }
+    /* Blocks of 8 and of 4 columns (1 is taken as 4): the same bits, one question per block of
+     * Z and per block of C but the last. */
+    const int cols[3] = {8, 4, 1}, blocks[3] = {2, 4, 4};
+    for (int t = 0; t < 3; ++t) {
+        ck_assert_int_eq(frix_testing_congruence_in_blocks(kN, ap, ai, ax, kK, bp, bi, bx, cols[t], 0,
+                                                           blocked, &questions, &stopped, &nnz),
+                         FRIX_OK);
+        ck_assert_int_eq(questions, 2 * blocks[t] - 1);
+        ck_assert_int_eq(stopped, 0);
+        ck_assert(memcmp(whole, blocked, sizeof whole) == 0);
+    }
+    /* Told to stop while forming Z (2nd question of 4) and while forming C (6th): it stops
+     * there, with nothing returned. */
+    const int stop_at[2] = {2, 6};
+    for (int t = 0; t < 2; ++t) {
+        ck_assert_int_eq(frix_testing_congruence_in_blocks(kN, ap, ai, ax, kK, bp, bi, bx, 4, stop_at[t],
+                                                           blocked, &questions, &stopped, &nnz),
+                         FRIX_OK);
+        ck_assert_int_eq(questions, stop_at[t]);
+        ck_assert_int_eq(stopped, 1);
+        ck_assert_int_eq(nnz, 0);
+    }
+}
+END_TEST
+
 START_TEST(dense_lu_and_cholesky) {
     const double b[3] = {6, 10, 8};
     double x[3];
@@ -80,6 +148,7 @@ int main(void) {
     tcase_add_test(tc, sparse_lu_reuses_symbolic);
     tcase_add_test(tc, sparse_lu_singular_is_an_error);
     tcase_add_test(tc, sparse_cholesky_and_congruence);
+    tcase_add_test(tc, congruence_in_blocks_is_the_same_and_stops_when_asked);
     tcase_add_test(tc, dense_lu_and_cholesky);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);

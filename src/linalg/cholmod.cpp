@@ -2,6 +2,7 @@
 // cholmod_common lives in the object: no state is shared between solves.
 #include <cholmod.h>
 
+#include <algorithm>
 #include <chrono>
 
 #include "error_state.hpp"
@@ -31,6 +32,27 @@ cholmod_sparse view_of(const CscView &A, int stype) {
     s.sorted = 1;
     s.packed = 1;
     return s;
+}
+
+// Columns [first, last) of A, as a view whose column pointers (kept in ptr) start at 0.
+CscView column_block(const CscView &A, int64_t first, int64_t last, std::vector<int64_t> &ptr) {
+    const int64_t base = A.colptr[first];
+    ptr.resize((size_t)(last - first + 1));
+    for (int64_t j = first; j <= last; ++j) ptr[(size_t)(j - first)] = A.colptr[j] - base;
+    return {A.rows, last - first, ptr.data(), A.rowind + base, A.values + base};
+}
+
+// Appends the columns of the packed CHOLMOD matrix S to the CSC arrays (colptr holds at least
+// its leading 0).
+void append_columns(const cholmod_sparse &S, std::vector<int64_t> &colptr, std::vector<int64_t> &rowind,
+                    std::vector<double> &values) {
+    const int64_t *p = static_cast<const int64_t *>(S.p);
+    const int64_t *i = static_cast<const int64_t *>(S.i);
+    const double *x = static_cast<const double *>(S.x);
+    const int64_t base = colptr.back(), nnz = p[S.ncol];
+    rowind.insert(rowind.end(), i, i + nnz);
+    values.insert(values.end(), x, x + nnz);
+    for (size_t j = 1; j <= S.ncol; ++j) colptr.push_back(base + p[j]);
 }
 
 }  // namespace
@@ -109,33 +131,69 @@ frix_error SparseCholesky::solve(const double *b, double *x) const {
 }
 
 frix_error SparseCholesky::inverse_congruence(const CscView &B, std::vector<int64_t> &colptr,
-                                              std::vector<int64_t> &rowind,
-                                              std::vector<double> &values) {
+                                              std::vector<int64_t> &rowind, std::vector<double> &values,
+                                              const std::function<bool()> &stop, bool *stopped,
+                                              int64_t block_cols) {
     Impl &m = *impl_;
+    if (stopped) *stopped = false;
+    colptr.clear();
+    rowind.clear();
+    values.clear();
     if (!m.L) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: no factorisation");
     if ((size_t)B.rows != m.L->n)
         return fail(FRIX_ERR_DIMENSION, "sparse Cholesky: B has %lld rows, the factor %lld",
                     (long long)B.rows, (long long)m.L->n);
+    // CHOLMOD's spsolve solves 4 columns at a time: blocks of a multiple of 4 group the
+    // columns as one call would, which keeps C's bits.
+    block_cols = block_cols <= 0 ? kCongruenceBlockColumns : (block_cols + 3) / 4 * 4;
     const auto t0 = Clock::now();
-    cholmod_sparse b = view_of(B, 0);
-    Impl::Sparse pb{cholmod_l_spsolve(CHOLMOD_P, m.L, &b, &m.c), &m.c};
-    Impl::Sparse z{pb.s ? cholmod_l_spsolve(CHOLMOD_L, m.L, pb.s, &m.c) : nullptr, &m.c};
-    Impl::Sparse zt{z.s ? cholmod_l_transpose(z.s, 1, &m.c) : nullptr, &m.c};
-    Impl::Sparse w{zt.s ? cholmod_l_ssmult(zt.s, z.s, 0, 1, 1, &m.c) : nullptr, &m.c};
-    stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
-    if (!w.s) {
+    const int64_t k = B.cols;
+    auto failed = [&](const char *what) {
+        stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+        colptr.clear();
+        rowind.clear();
+        values.clear();
         if (m.c.status == CHOLMOD_OUT_OF_MEMORY)
-            return fail(FRIX_ERR_OUT_OF_MEMORY, "sparse Cholesky: out of memory forming B^T A^-1 B");
-        return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: B^T A^-1 B failed (CHOLMOD status %d)",
+            return fail(FRIX_ERR_OUT_OF_MEMORY, "sparse Cholesky: out of memory forming %s", what);
+        return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: forming %s failed (CHOLMOD status %d)", what,
                     m.c.status);
+    };
+    auto interrupted = [&]() {
+        if (!stop || !stop()) return false;
+        stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+        colptr.clear();
+        rowind.clear();
+        values.clear();
+        if (stopped) *stopped = true;
+        return true;
+    };
+    // Z = L^-1 P B, a block of columns at a time.
+    std::vector<int64_t> zp{0}, zi, ptr;
+    std::vector<double> zx;
+    for (int64_t first = 0; first < k; first += block_cols) {
+        const int64_t last = std::min(k, first + block_cols);
+        cholmod_sparse b = view_of(column_block(B, first, last, ptr), 0);
+        Impl::Sparse pb{cholmod_l_spsolve(CHOLMOD_P, m.L, &b, &m.c), &m.c};
+        Impl::Sparse z{pb.s ? cholmod_l_spsolve(CHOLMOD_L, m.L, pb.s, &m.c) : nullptr, &m.c};
+        if (!z.s) return failed("L^-1 P B");
+        append_columns(*z.s, zp, zi, zx);
+        if (interrupted()) return FRIX_OK;
     }
-    const int64_t k = (int64_t)w.s->ncol;
-    const int64_t *p = static_cast<const int64_t *>(w.s->p);
-    const int64_t *i = static_cast<const int64_t *>(w.s->i);
-    const double *x = static_cast<const double *>(w.s->x);
-    colptr.assign(p, p + k + 1);
-    rowind.assign(i, i + p[k]);
-    values.assign(x, x + p[k]);
+    const CscView Z{B.rows, k, zp.data(), zi.data(), zx.data()};
+    cholmod_sparse z = view_of(Z, 0);
+    Impl::Sparse zt{cholmod_l_transpose(&z, 1, &m.c), &m.c};
+    if (!zt.s) return failed("Z^T");
+    // C = Z^T Z, a block of its columns at a time.
+    colptr.assign(1, 0);
+    for (int64_t first = 0; first < k; first += block_cols) {
+        const int64_t last = std::min(k, first + block_cols);
+        cholmod_sparse zj = view_of(column_block(Z, first, last, ptr), 0);
+        Impl::Sparse c{cholmod_l_ssmult(zt.s, &zj, 0, 1, 1, &m.c), &m.c};
+        if (!c.s) return failed("B^T A^-1 B");
+        append_columns(*c.s, colptr, rowind, values);
+        if (last < k && interrupted()) return FRIX_OK;
+    }
+    stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
     return FRIX_OK;
 }
 

@@ -10,6 +10,7 @@
 #include <frix/frix_errors.h>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -73,6 +74,10 @@ class SparseLU {
     std::vector<double> control_;
 };
 
+// Columns per block of the work that forming B^T A^-1 B does between two questions to its
+// caller (see SparseCholesky::inverse_congruence): 128 contacts.
+constexpr int64_t kCongruenceBlockColumns = 384;
+
 // Sparse Cholesky A = P^T L L^T P of a symmetric positive definite matrix with CHOLMOD
 // (supernodal). Only the upper triangle of A is read. FRIX_ERR_NUMERICAL if A is not
 // positive definite (the caller may then use SparseLU).
@@ -87,9 +92,16 @@ class SparseCholesky {
     // x = A^-1 b for one dense right-hand side.
     frix_error solve(const double *b, double *x) const;
     // C = B^T A^-1 B for a sparse B (n x k), as CSC (k x k, rows sorted). Computed as Z^T Z
-    // with Z = L^-1 P B sparse: no dense n x k block is ever formed.
+    // with Z = L^-1 P B sparse: no dense n x k block is ever formed. The work goes by blocks
+    // of block_cols columns (of Z, then of C), and stop, when given, is asked after each:
+    // where C is dense (a deformable body couples all its contacts) forming it takes minutes,
+    // and a caller's time limit must be able to end it. When stop answers true, *stopped is
+    // set and the outputs are left empty. block_cols is rounded up to a multiple of 4, which
+    // keeps C's bits those of a single block.
     frix_error inverse_congruence(const CscView &B, std::vector<int64_t> &colptr,
-                                  std::vector<int64_t> &rowind, std::vector<double> &values);
+                                  std::vector<int64_t> &rowind, std::vector<double> &values,
+                                  const std::function<bool()> &stop = nullptr, bool *stopped = nullptr,
+                                  int64_t block_cols = kCongruenceBlockColumns);
 
     const FactorStats &stats() const { return stats_; }
 
