@@ -407,6 +407,10 @@ START_TEST(test_solve_shared) {
     cli_run r = run_cli(a1);
     ck_assert_msg(r.code == 0, "exit %d: %s%s", r.code, r.out, r.err);
     ck_assert(strstr(r.out, "converged") && strstr(r.out, "iterations"));
+    /* auto's trace, one line per step, the first its analysis. */
+    const char *trace = text_field(r.out, "trace");
+    while (trace && *trace == ' ') ++trace;
+    ck_assert_msg(trace && strncmp(trace, "analysis: 5 contacts", 20) == 0, "%s", r.out);
     run_free(&r);
     double err = stored_solution_error(out, 5);
     ck_assert_msg(err <= 1e-8, "recomputed error %g", err);
@@ -416,7 +420,7 @@ START_TEST(test_solve_shared) {
     ck_assert_msg(j.code == 0, "exit %d: %s%s", j.code, j.out, j.err);
     ck_assert_msg(json_valid(j.out), "invalid JSON: %s", j.out);
     ck_assert_msg(strstr(j.out, "\"status\":\"converged\"") && strstr(j.out, "\"converged\":true") &&
-                      strstr(j.out, "\"contacts\":5"),
+                      strstr(j.out, "\"contacts\":5") && strstr(j.out, "\"trace\":[]"),
                   "%s", j.out);
     run_free(&j);
 }
@@ -500,8 +504,9 @@ START_TEST(test_solve_global_shared) {
     cli_run r = run_cli(a1);
     ck_assert_msg(r.code == 0, "exit %d: %s%s", r.code, r.out, r.err);
     ck_assert_msg(json_valid(r.out), "invalid JSON: %s", r.out);
-    ck_assert_msg(strstr(r.out, "\"kind\":\"global\"") && strstr(r.out, "\"equilibrium\":"), "%s",
-                  r.out);
+    ck_assert_msg(strstr(r.out, "\"kind\":\"global\"") && strstr(r.out, "\"equilibrium\":") &&
+                      strstr(r.out, "\"trace\":[\"analysis: 31 contacts") && strstr(r.out, "\"nsgs-v: converged"),
+                  "%s", r.out);
     run_free(&r);
     ck_assert_double_le(stored_solution_error(out, 31), 1e-8);
 }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 namespace frix_cli {
@@ -83,6 +84,8 @@ struct Report {
     // Whether a solution exists at all: the solver's own check, or the CLI's after a failure.
     frix_existence existence = FRIX_EXISTENCE_NOT_CHECKED;
     double existence_margin = NAN;
+    // What the solver did, line by line (frix_info_trace: auto's analysis, stages and switches).
+    std::vector<std::string> trace;
 };
 
 SolveArgs parse(int argc, char **argv, bool &help) {
@@ -207,6 +210,12 @@ void fill_from_info(Report &r, const frix_info *info) {
     r.factorization_time = info_double(info, FRIX_INFO_FACTORIZATION_TIME);
     r.setup_time = info_double(info, FRIX_INFO_SETUP_TIME);
     read_existence(r, info);
+    const std::string trace = frix_info_trace(info);
+    for (std::size_t at = 0; at < trace.size();) {
+        const std::size_t end = std::min(trace.find('\n', at), trace.size());
+        r.trace.push_back(trace.substr(at, end - at));
+        at = end + 1;
+    }
 }
 
 // A failed solve says whether the problem has a solution at all: the solver's verdict when
@@ -276,6 +285,9 @@ void print_json(const Report &r) {
     w.number("factorization_time", r.factorization_time);
     w.number("setup_time", r.setup_time);
     w.end_object();
+    w.begin_array("trace");
+    for (const std::string &line : r.trace) w.string(nullptr, line);
+    w.end_array();
     if (r.output.empty())
         w.null("output");
     else
@@ -314,6 +326,8 @@ void print_text(const Report &r) {
                     static_cast<long long>(r.factorizations),
                     static_cast<long long>(r.symbolic_analyses), r.factorization_time);
     if (r.setup_time > 0.0) std::printf("%-16s %.3g s (W = H^T M^-1 H)\n", "reduction", r.setup_time);
+    for (std::size_t k = 0; k < r.trace.size(); ++k)
+        std::printf("%-16s %s\n", k == 0 ? "trace" : "", r.trace[k].c_str());
     if (!r.output.empty()) std::printf("%-16s %s\n", "written to", r.output.c_str());
 }
 
