@@ -144,14 +144,26 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
                                                    frix_info &, const Stopwatch &)) {
     const Stopwatch setup;
     Csc w;
-    // Where W is dense (a deformable body) forming it can take minutes: the time limit ends
-    // it as it ends an iteration, with the caller's start returned.
+    // Where W is dense (a deformable body) forming it can take minutes: the time limit and
+    // the caller's callback (told iteration 0 and the start's error) can end it as they end
+    // an iteration, with the caller's start returned.
     const double time_limit = opts.d(FRIX_OPT_TIME_LIMIT);
-    const std::function<bool()> out_of_time = [&]() { return time_limit > 0.0 && clock.seconds() >= time_limit; };
+    double start_error = NAN;
+    if (opts.callback) {
+        if (frix_error e = recover_velocity(p, ms, r, v)) return e;
+        start_error = selected_error(global_measures(p, r, v, u, nullptr), opts.i(FRIX_OPT_ERROR_MEASURE));
+    }
+    frix_status stop_status = FRIX_STATUS_NOT_RUN;
+    const std::function<bool()> stop = [&]() {
+        if (time_limit > 0.0 && clock.seconds() >= time_limit) stop_status = FRIX_STATUS_TIME_LIMIT;
+        else if (opts.callback && opts.callback(opts.callback_data, 0, start_error, clock.seconds()) != 0)
+            stop_status = FRIX_STATUS_STOPPED_BY_CALLBACK;
+        return stop_status != FRIX_STATUS_NOT_RUN;
+    };
     bool stopped = false;
-    if (frix_error e = ms.congruence(*p.H, w, out_of_time, stopped)) return e;
+    if (frix_error e = ms.congruence(*p.H, w, stop, stopped)) return e;
     if (stopped) {
-        info.status = FRIX_STATUS_TIME_LIMIT;
+        info.status = stop_status;
         info.iterations = 0;
         info.setup_time += setup.seconds();
         return recover_velocity(p, ms, r, v);

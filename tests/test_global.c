@@ -277,11 +277,26 @@ START_TEST(auto_reduces_after_all_where_newton_fails) {
 }
 END_TEST
 
+/* A progress callback that stops the solve at its `at`-th call. */
+typedef struct {
+    int at, calls;
+    int64_t largest_iteration;
+    double error;
+} stop_at_call;
+
+static int stop_at(void *data, int64_t iteration, double error, double seconds) {
+    (void)seconds;
+    stop_at_call *s = data;
+    s->largest_iteration = iteration > s->largest_iteration ? iteration : s->largest_iteration;
+    s->error = error;
+    return ++s->calls == s->at;
+}
+
 /* An explicit local solver on a deformable body forms the dense W, which can take minutes
- * (6400 contacts: 270 s, 7.2 GB): the time limit ends that too, with the caller's start
- * returned, its velocity and its measures. Forming W goes by blocks of 128 contacts (this
+ * (6400 contacts: 270 s, 7.2 GB): the time limit and the callback end that too, with the
+ * caller's start returned, its velocity and its measures. Forming W goes by blocks of 128 contacts (this
  * grid: 7 blocks), and the limit here is over before the first block ends. */
-START_TEST(time_limit_ends_the_forming_of_w) {
+START_TEST(time_limit_and_callback_end_the_forming_of_w) {
     frix_elastic_grid g;
     ck_assert_int_eq(frix_elastic_grid_make(30, 30, 2, 0.5, 1e4, &g), FRIX_OK);
     const frix_problem *p = g.problem;
@@ -308,6 +323,19 @@ START_TEST(time_limit_ends_the_forming_of_w) {
     ck_assert(isfinite(reported) && reported > 1e-3);
     ck_assert_double_eq_tol(reported, independent, 1e-14);
     ck_assert_msg(equilibrium <= 1e-12, "v is not the start's velocity: equilibrium %g", equilibrium);
+
+    /* The callback is asked too (iteration 0, the start's error): told to stop at its third
+     * call, the solve stops there, with the start. */
+    stop_at_call stopper = {3, 0, 0, NAN};
+    memcpy(r, r0, sizeof *r * (size_t)m);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TIME_LIMIT, 0.0), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_callback(o, stop_at, &stopper), FRIX_OK);
+    ck_assert_msg(frix_solve(p, o, r, u, v, info) == FRIX_OK, "%s", frix_last_error_message());
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_STOPPED_BY_CALLBACK);
+    ck_assert_int_eq(stopper.calls, 3);
+    ck_assert_int_eq(stopper.largest_iteration, 0);
+    ck_assert_double_eq_tol(stopper.error, independent, 1e-14);
+    ck_assert(memcmp(r, r0, sizeof *r * (size_t)m) == 0);
     frix_info_free(check);
     frix_info_free(info);
     frix_options_free(o);
@@ -330,7 +358,7 @@ int main(void) {
     tcase_add_test(tc, elastic_grid_arguments);
     tcase_add_test(tc, newton_cuts_a_rho_too_large);
     tcase_add_test(tc, auto_reduces_after_all_where_newton_fails);
-    tcase_add_test(tc, time_limit_ends_the_forming_of_w);
+    tcase_add_test(tc, time_limit_and_callback_end_the_forming_of_w);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

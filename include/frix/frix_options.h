@@ -125,7 +125,9 @@ typedef enum frix_local_solver FRIX_ENUM_BASE {
 
 /* Called after each iteration; a non-zero return stops the solve with
  * FRIX_STATUS_STOPPED_BY_CALLBACK. `error` is the solver's current estimate (the light
- * error for NSGS between full checks). */
+ * error for NSGS between full checks). A global problem solved through W = H^T M^-1 H
+ * also calls it while W is formed (after each block of 128 contacts), with iteration 0 and
+ * the error of the start, which a stop then returns. */
 typedef int (*frix_progress_fn)(void *user_data, int64_t iteration, double error,
                                 double elapsed_seconds);
 
