@@ -294,8 +294,8 @@ static int stop_at(void *data, int64_t iteration, double error, double seconds) 
 
 /* An explicit local solver on a deformable body forms the dense W, which can take minutes
  * (6400 contacts: 270 s, 7.2 GB): the time limit and the callback end that too, with the
- * caller's start returned, its velocity and its measures. Forming W goes by blocks of 128 contacts (this
- * grid: 7 blocks), and the limit here is over before the first block ends. */
+ * caller's start returned, its velocity and its measures. Forming W goes by blocks of 128
+ * contacts (this grid: 8 blocks), and the limit here is over before the first block ends. */
 START_TEST(time_limit_and_callback_end_the_forming_of_w) {
     frix_elastic_grid g;
     ck_assert_int_eq(frix_elastic_grid_make(30, 30, 2, 0.5, 1e4, &g), FRIX_OK);
