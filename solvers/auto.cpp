@@ -877,6 +877,19 @@ frix_error solve(SolveContext &ctx) {
         check_existence_on_failure(ctx);
         return FRIX_OK;
     }
+    // Not where W would not even fit in memory (a large mesh): the system would kill the
+    // process part-way; Newton's answer is what there is.
+    const ReductionMemory memory = reduction_memory(size.w_entries);
+    if (!memory.fits) {
+        TraceEvent skipped{TraceEvent::kReductionTooLarge};
+        skipped.status = info.status;
+        skipped.error = memory.needed;
+        skipped.value = memory.available;
+        trace.push_back(skipped);
+        info.trace = std::move(trace);
+        check_existence_on_failure(ctx);
+        return FRIX_OK;
+    }
     TraceEvent after{TraceEvent::kReductionAfterAll};
     after.status = info.status;
     after.error = info.error;

@@ -1,5 +1,7 @@
 #include "global.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -8,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "auto_analysis.hpp"
 #include "error_state.hpp"
 #include "linalg/linalg.hpp"
 #include "matrix.hpp"
@@ -126,6 +129,21 @@ class MassSolver {
     bool use_chol_ = false;
     bool empty_ = false;
 };
+
+// The memory this process may use: the machine's, or its control group's limit where lower
+// (a container). 0 when unknown.
+double memory_available() {
+    double bytes = 0.0;
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    if (pages > 0 && page > 0) bytes = (double)pages * (double)page;
+    for (const char *path : {"/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"})
+        if (std::FILE *f = std::fopen(path, "r")) {
+            double limit = 0.0;  // "max" (no limit) does not parse
+            if (std::fscanf(f, "%lf", &limit) == 1 && limit > 0.0 && (bytes == 0.0 || limit < bytes)) bytes = limit;
+            std::fclose(f);
+        }
+    return bytes;
+}
 
 // v = M^-1 (H r + f).
 frix_error recover_velocity(const frix_problem &p, const MassSolver &ms, const double *r, double *v) {
@@ -585,6 +603,14 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         native.factorization_time += info.factorization_time;
         info = native;
     } else {
+        const autosolve::ReductionSize size = autosolve::reduction_size(p);
+        const ReductionMemory memory = reduction_memory(size.w_entries);
+        if (!memory.fits)
+            return fail(FRIX_ERR_OUT_OF_MEMORY,
+                        "frix_solve: %s reduces the global problem to W = H^T M^-1 H, which would have up to "
+                        "%.3g entries (at least %.3g GB, more than the %.3g GB of memory): a deformable body "
+                        "couples all its contacts; gnsn-ac (607) or auto solve it without W",
+                        entry.name, size.w_entries, memory.needed / 1e9, memory.available / 1e9);
         const frix_info before = info;
         info.factorizations = info.symbolic_analyses = 0;
         info.factorization_time = info.setup_time = 0.0;
@@ -616,6 +642,15 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
     if (info.status == FRIX_STATUS_CONVERGED && !meets_global_tolerance(info, info.tolerance))
         info.status = FRIX_STATUS_STAGNATED;
     return FRIX_OK;
+}
+
+ReductionMemory reduction_memory(double w_entries) {
+    ReductionMemory m;
+    m.needed = 16.0 * w_entries;  // CSC: a value and a row index per entry
+    if (m.needed < 1e9) return m;  // below 1 GB: not worth a look at the system
+    m.available = memory_available();
+    m.fits = !(m.available > 0.0 && m.needed > m.available);
+    return m;
 }
 
 bool meets_global_tolerance(const frix_info &info, double tol) {

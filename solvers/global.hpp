@@ -20,6 +20,17 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
                                                           const SolverEntry &, double *, double *,
                                                           frix_info &, const Stopwatch &));
 
+// Whether W = H^T M^-1 H would fit in memory: its entries (the structural bound of
+// reduction_size) at 16 bytes each, against the memory this process may use (the machine's,
+// or its control group's limit where lower). A deformable body makes W dense: on a large mesh
+// it would not fit, and the system would kill the process part-way through forming it.
+struct ReductionMemory {
+    double needed = 0.0;     // bytes, at least
+    double available = 0.0;  // bytes; 0 when unknown (then it fits)
+    bool fits = true;
+};
+ReductionMemory reduction_memory(double w_entries);
+
 // Whether a global solve's measures meet `tol`: the error and the equilibrium residual both
 // (the latter at least to 1e-12, which is rounding for M v = H r + f).
 bool meets_global_tolerance(const frix_info &info, double tol);

@@ -13,7 +13,10 @@ namespace frix {
 // One line of the trace (frix_info_trace) of the auto solver, kept as data and formatted only
 // when asked for: formatting numbers costs more than solving a small problem.
 struct TraceEvent {
-    enum Kind { kAnalysis, kStage, kGiveUp, kTighten, kGlobalFallback, kGlobalDirect, kReductionAfterAll, kExistence } kind;
+    enum Kind {
+        kAnalysis, kStage, kGiveUp, kTighten, kGlobalFallback, kGlobalDirect, kReductionAfterAll,
+        kReductionTooLarge, kExistence
+    } kind;
     int64_t island = 0;           // 1-based; 0 when the problem is solved as one island
     int64_t island_contacts = 0;
     int solver_id = 0;
@@ -22,7 +25,9 @@ struct TraceEvent {
     int64_t random_starts = 0;    // > 0: the stage ran from that many random starts (auto)
     int64_t iterations = 0;
     double seconds = 0.0, error = 0.0, value = 0.0;  // value: kTighten's new tolerance; the equilibrium residual
-                                                     // for kGlobalFallback and kReductionAfterAll
+                                                     // for kGlobalFallback and kReductionAfterAll; for
+                                                     // kReductionTooLarge, error and value are the
+                                                     // bytes W needs and those available
 };
 
 // What the auto solver's analysis found (the kAnalysis line).

@@ -85,6 +85,11 @@ std::string format_event(const frix_info &info, const TraceEvent &e) {
                 append(out, "Newton on (v, r) %s (error %.3e, equilibrium %.3e): the reduction W = H^T M^-1 H "
                             "after all, from the start\n", frix_status_string(e.status), e.error, e.value);
                 break;
+            case TraceEvent::kReductionTooLarge:
+                append(out, "Newton on (v, r) %s; the reduction W = H^T M^-1 H would need at least %.3g GB, "
+                            "more than the %.3g GB of memory: not tried\n", frix_status_string(e.status),
+                       e.error / 1e9, e.value / 1e9);
+                break;
             case TraceEvent::kExistence:
                 append(out, "existence check: %s\n", frix_existence_describe(info.existence));
                 break;

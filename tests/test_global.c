@@ -344,6 +344,31 @@ START_TEST(time_limit_and_callback_end_the_forming_of_w) {
 }
 END_TEST
 
+/* Where W would not fit in memory, a local solver on a global problem is refused before it
+ * starts forming it (the system would kill the process part-way): a chain of 160000 nodes
+ * on the plane, one body, W up to 3 x 160000^2 entries (1.2 TB). */
+START_TEST(reduction_refused_where_w_would_not_fit) {
+    frix_elastic_grid g;
+    ck_assert_int_eq(frix_elastic_grid_make(160000, 1, 1, 0.5, 1e4, &g), FRIX_OK);
+    const frix_problem *p = g.problem;
+    const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
+    double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u);
+    double *v = calloc((size_t)n, sizeof *v);
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS, &o), FRIX_OK);
+    /* Only a safety net: a broken refusal ends at the time limit, not out of memory. */
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TIME_LIMIT, 0.5), FRIX_OK);
+    ck_assert_int_eq(frix_solve(p, o, r, u, v, NULL), FRIX_ERR_OUT_OF_MEMORY);
+    const char *why = frix_last_error_message();
+    ck_assert_msg(strstr(why, "nsgs reduces the global problem") && strstr(why, "7.68e+10 entries") &&
+                      strstr(why, "gnsn-ac (607) or auto"),
+                  "%s", why);
+    frix_options_free(o);
+    free(r), free(u), free(v);
+    frix_elastic_grid_free(&g);
+}
+END_TEST
+
 int main(void) {
     Suite *s = suite_create("global");
     TCase *tc = tcase_create("core");
@@ -359,6 +384,7 @@ int main(void) {
     tcase_add_test(tc, newton_cuts_a_rho_too_large);
     tcase_add_test(tc, auto_reduces_after_all_where_newton_fails);
     tcase_add_test(tc, time_limit_and_callback_end_the_forming_of_w);
+    tcase_add_test(tc, reduction_refused_where_w_would_not_fit);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

@@ -80,8 +80,8 @@ typedef enum frix_info_key FRIX_ENUM_BASE {
     FRIX_INFO_SOLVE_TIME = 120,     /* seconds, wall clock, whole frix_solve call */
     FRIX_INFO_TOLERANCE = 121,      /* the tolerance the solve was asked for */
     FRIX_INFO_FACTORIZATION_TIME = 122, /* seconds in symbolic analyses and factorisations */
-    FRIX_INFO_SETUP_TIME = 123,     /* global problems: seconds forming W = H^T M^-1 H and q
-                                       (reduction route), 0 otherwise */
+    FRIX_INFO_SETUP_TIME = 123,     /* global problems: seconds factorising M and forming q,
+                                       and W = H^T M^-1 H on the reduction route; 0 for local */
     FRIX_INFO_EXISTENCE_MARGIN = 124 /* existence check: the best margin t* / |q|_rms, bounded
                                         from below (> 0, a solution exists) or from above
                                         (<= 0, no solution may exist); NaN when not checked

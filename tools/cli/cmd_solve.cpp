@@ -325,7 +325,9 @@ void print_text(const Report &r) {
         std::printf("%-16s %lld (%lld symbolic), %.3g s\n", "factorizations",
                     static_cast<long long>(r.factorizations),
                     static_cast<long long>(r.symbolic_analyses), r.factorization_time);
-    if (r.setup_time > 0.0) std::printf("%-16s %.3g s (W = H^T M^-1 H)\n", "reduction", r.setup_time);
+    if (r.setup_time > 0.0)
+        std::printf("%-16s %.3g s (M factorised, q and, on the reduction route, W = H^T M^-1 H)\n", "setup",
+                    r.setup_time);
     for (std::size_t k = 0; k < r.trace.size(); ++k)
         std::printf("%-16s %s\n", k == 0 ? "trace" : "", r.trace[k].c_str());
     if (!r.output.empty()) std::printf("%-16s %s\n", "written to", r.output.c_str());
