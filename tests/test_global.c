@@ -344,6 +344,49 @@ START_TEST(time_limit_and_callback_end_the_forming_of_w) {
 }
 END_TEST
 
+/* The same on the LU path (M not symmetric): 130 contacts, each on its own 3 dofs, M with
+ * unequal off-diagonals; W's 390 columns are asked about once, after the 384th. */
+START_TEST(callback_ends_the_forming_of_w_with_lu) {
+    enum { kContacts = 130, kDofs = 3 * kContacts };
+    double *m = calloc((size_t)kDofs * kDofs, sizeof *m), *h = calloc((size_t)kDofs * kDofs, sizeof *h);
+    double f[kDofs], w[kDofs] = {0}, mu[kContacts], r[kDofs] = {0}, u[kDofs], v[kDofs];
+    for (int i = 0; i < kDofs; ++i) {
+        m[i + kDofs * i] = 2.0;
+        if (i + 1 < kDofs) m[i + kDofs * (i + 1)] = 0.3, m[i + 1 + kDofs * i] = 0.1;
+        h[i + kDofs * i] = 1.0;
+        f[i] = i % 3 == 0 ? -1.0 : 0.2;
+    }
+    for (int a = 0; a < kContacts; ++a) mu[a] = 0.3;
+    frix_matrix *M = NULL, *H = NULL;
+    ck_assert_int_eq(frix_matrix_from_dense(kDofs, kDofs, m, kDofs, &M), FRIX_OK);
+    ck_assert_int_eq(frix_matrix_from_dense(kDofs, kDofs, h, kDofs, &H), FRIX_OK);
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_problem_global(M, H, f, w, mu, kContacts, &p), FRIX_OK);
+    frix_options *o = NULL;
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS, &o), FRIX_OK);
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    stop_at_call stopper = {1, 0, 0, NAN};
+    ck_assert_int_eq(frix_options_set_callback(o, stop_at, &stopper), FRIX_OK);
+    ck_assert_msg(frix_solve(p, o, r, u, v, info) == FRIX_OK, "%s", frix_last_error_message());
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_STOPPED_BY_CALLBACK);
+    ck_assert_int_eq(stopper.calls, 1);
+    ck_assert_int_eq(stopper.largest_iteration, 0);
+    for (int i = 0; i < kDofs; ++i) ck_assert(r[i] == 0.0);
+    /* Without the callback, NSGS solves it. */
+    double r2[kDofs] = {0};
+    const outcome out = solve_global(p, FRIX_SOLVER_NSGS, r2, v);
+    ck_assert_msg(out.status == FRIX_STATUS_CONVERGED && out.error <= 1e-8, "%s, error %g",
+                  frix_status_string(out.status), out.error);
+    frix_info_free(info);
+    frix_options_free(o);
+    frix_problem_free(p);
+    frix_matrix_free(M);
+    frix_matrix_free(H);
+    free(m), free(h);
+}
+END_TEST
+
 /* Where W would not fit in memory, a local solver on a global problem is refused before it
  * starts forming it (the system would kill the process part-way): a chain of 160000 nodes
  * on the plane, one body, W up to 3 x 160000^2 entries (1.2 TB). */
@@ -384,6 +427,7 @@ int main(void) {
     tcase_add_test(tc, newton_cuts_a_rho_too_large);
     tcase_add_test(tc, auto_reduces_after_all_where_newton_fails);
     tcase_add_test(tc, time_limit_and_callback_end_the_forming_of_w);
+    tcase_add_test(tc, callback_ends_the_forming_of_w_with_lu);
     tcase_add_test(tc, reduction_refused_where_w_would_not_fit);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
