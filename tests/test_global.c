@@ -50,6 +50,46 @@ static outcome solve_global(const frix_problem *p, int solver, double *r, double
     return solve_global_into(p, solver, r, v, NULL);
 }
 
+/* An elastic grid (examples/scenes/elastic_grid.h) with zeroed r, u (3nc) and v (n). */
+typedef struct {
+    frix_elastic_grid grid;
+    const frix_problem *p;
+    int64_t m, n;
+    double *r, *u, *v;
+} grid_case;
+
+static grid_case grid_case_make(int nx, int ny, int nz, double gap, double stiffness) {
+    grid_case c;
+    ck_assert_int_eq(frix_elastic_grid_make(nx, ny, nz, gap, stiffness, &c.grid), FRIX_OK);
+    c.p = c.grid.problem;
+    c.m = frix_problem_contact_dofs(c.p);
+    c.n = frix_problem_dofs(c.p);
+    c.r = calloc((size_t)c.m, sizeof *c.r);
+    c.u = calloc((size_t)c.m, sizeof *c.u);
+    c.v = calloc((size_t)c.n, sizeof *c.v);
+    ck_assert(c.r && c.u && c.v);
+    return c;
+}
+
+static void grid_case_free(grid_case *c) {
+    free(c->r), free(c->u), free(c->v);
+    frix_elastic_grid_free(&c->grid);
+}
+
+/* Solves with `o`, then checks status and the reported error and equilibrium <= 1e-8. */
+static void expect_converged(const grid_case *c, const frix_options *o) {
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_msg(frix_solve(c->p, o, c->r, c->u, c->v, info) == FRIX_OK, "%s", frix_last_error_message());
+    double equilibrium = NAN;
+    ck_assert_int_eq(frix_info_get_double(info, FRIX_INFO_EQUILIBRIUM, &equilibrium), FRIX_OK);
+    ck_assert_msg(frix_info_status(info) == FRIX_STATUS_CONVERGED && frix_info_error(info) <= 1e-8 &&
+                      equilibrium <= 1e-8,
+                  "%s, error %g, equilibrium %g", frix_status_string(frix_info_status(info)),
+                  frix_info_error(info), equilibrium);
+    frix_info_free(info);
+}
+
 /* The FEM (LMGC90) problems and the box stack, by both routes and from NSGS too. */
 static const char *const kGlobalFiles[] = {
     "global/CubeH8.hdf5",
@@ -240,41 +280,25 @@ END_TEST
  * diag(M)^-1 underrates W's blocks about 4e5-fold); 607 corrects it from a few exact blocks
  * and converges (stagnated after 7 steps without the correction). */
 START_TEST(newton_corrects_the_lumped_rho) {
-    frix_elastic_grid g;
-    ck_assert_int_eq(frix_elastic_grid_make(25, 25, 2, 0.0, 1e12, &g), FRIX_OK);
-    double *r = calloc((size_t)frix_problem_contact_dofs(g.problem), sizeof *r);
-    double *v = calloc((size_t)frix_problem_dofs(g.problem), sizeof *v);
-    outcome out = solve_global(g.problem, FRIX_SOLVER_GLOBAL_NSN_AC, r, v);
+    grid_case c = grid_case_make(25, 25, 2, 0.0, 1e12);
+    outcome out = solve_global(c.p, FRIX_SOLVER_GLOBAL_NSN_AC, c.r, c.v);
     ck_assert_msg(out.status == FRIX_STATUS_CONVERGED && out.error <= 1e-8 && out.equilibrium <= 1e-8,
                   "%s, error %g, equilibrium %g", frix_status_string(out.status), out.error, out.equilibrium);
-    free(r), free(v);
-    frix_elastic_grid_free(&g);
+    grid_case_free(&c);
 }
 END_TEST
 
 /* 607 also cuts rho while no step is accepted: a constant rho of 1e5 on the grid with k = 1e8
  * (where 1e3 converges) lets no step lower the merit; cut twice, it converges. */
 START_TEST(newton_cuts_a_rho_too_large) {
-    frix_elastic_grid g;
-    ck_assert_int_eq(frix_elastic_grid_make(25, 25, 2, 0.0, 1e8, &g), FRIX_OK);
-    const int64_t m = frix_problem_contact_dofs(g.problem), n = frix_problem_dofs(g.problem);
-    double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u), *v = calloc((size_t)n, sizeof *v);
+    grid_case c = grid_case_make(25, 25, 2, 0.0, 1e8);
     frix_options *o = NULL;
-    frix_info *info = NULL;
     ck_assert_int_eq(frix_options_create(FRIX_SOLVER_GLOBAL_NSN_AC, &o), FRIX_OK);
     ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_RHO_STRATEGY, FRIX_RHO_CONSTANT), FRIX_OK);
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_RHO, 1e5), FRIX_OK);
-    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
-    ck_assert_msg(frix_solve(g.problem, o, r, u, v, info) == FRIX_OK, "%s", frix_last_error_message());
-    double equilibrium = NAN;
-    ck_assert_int_eq(frix_info_get_double(info, FRIX_INFO_EQUILIBRIUM, &equilibrium), FRIX_OK);
-    ck_assert_msg(frix_info_status(info) == FRIX_STATUS_CONVERGED && frix_info_error(info) <= 1e-8 && equilibrium <= 1e-8,
-                  "%s, error %g, equilibrium %g", frix_status_string(frix_info_status(info)), frix_info_error(info),
-                  equilibrium);
-    frix_info_free(info);
+    expect_converged(&c, o);
     frix_options_free(o);
-    free(r), free(u), free(v);
-    frix_elastic_grid_free(&g);
+    grid_case_free(&c);
 }
 END_TEST
 
@@ -282,16 +306,13 @@ END_TEST
  * grid (k = 1e13) 607 stagnates with an equilibrium residual of 5e-8; through W auto
  * converges. */
 START_TEST(auto_reduces_after_all_where_newton_fails) {
-    frix_elastic_grid g;
-    ck_assert_int_eq(frix_elastic_grid_make(25, 25, 2, 0.0, 1e13, &g), FRIX_OK);
-    const int64_t m = frix_problem_contact_dofs(g.problem), n = frix_problem_dofs(g.problem);
-    double *r = calloc((size_t)m, sizeof *r), *v = calloc((size_t)n, sizeof *v);
-    outcome out = solve_global(g.problem, FRIX_SOLVER_GLOBAL_NSN_AC, r, v);
+    grid_case c = grid_case_make(25, 25, 2, 0.0, 1e13);
+    outcome out = solve_global(c.p, FRIX_SOLVER_GLOBAL_NSN_AC, c.r, c.v);
     ck_assert_msg(out.status != FRIX_STATUS_CONVERGED, "607 converged: the case tests nothing");
-    memset(r, 0, sizeof *r * (size_t)m), memset(v, 0, sizeof *v * (size_t)n);
+    memset(c.r, 0, sizeof *c.r * (size_t)c.m), memset(c.v, 0, sizeof *c.v * (size_t)c.n);
     frix_info *info = NULL;
     ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
-    out = solve_global_into(g.problem, FRIX_SOLVER_AUTO, r, v, info);
+    out = solve_global_into(c.p, FRIX_SOLVER_AUTO, c.r, c.v, info);
     const char *trace = frix_info_trace(info);
     ck_assert_msg(out.status == FRIX_STATUS_CONVERGED && out.error <= 1e-8 && out.equilibrium <= 1e-8,
                   "%s, error %g, equilibrium %g\n%s", frix_status_string(out.status), out.error,
@@ -299,8 +320,7 @@ START_TEST(auto_reduces_after_all_where_newton_fails) {
     ck_assert_msg(strstr(trace, "without it") && strstr(trace, "after all") && strstr(trace, "W blocks"),
                   "trace:\n%s", trace);
     frix_info_free(info);
-    free(r), free(v);
-    frix_elastic_grid_free(&g);
+    grid_case_free(&c);
 }
 END_TEST
 
@@ -324,12 +344,10 @@ static int stop_at(void *data, int64_t iteration, double error, double seconds) 
  * caller's start returned, its velocity and its measures. Forming W goes by blocks of 128
  * contacts (this grid: 8 blocks), and the limit here is over before the first block ends. */
 START_TEST(time_limit_and_callback_end_the_forming_of_w) {
-    frix_elastic_grid g;
-    ck_assert_int_eq(frix_elastic_grid_make(30, 30, 2, 0.5, 1e4, &g), FRIX_OK);
-    const frix_problem *p = g.problem;
-    const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
-    double *r = calloc((size_t)m, sizeof *r), *r0 = calloc((size_t)m, sizeof *r0);
-    double *u = calloc((size_t)m, sizeof *u), *v = calloc((size_t)n, sizeof *v);
+    grid_case c = grid_case_make(30, 30, 2, 0.5, 1e4);
+    const frix_problem *p = c.p;
+    const int64_t m = c.m;
+    double *r = c.r, *u = c.u, *v = c.v, *r0 = calloc((size_t)m, sizeof *r0);
     for (int64_t i = 0; i < m; i += 3) r0[i] = 0.01, r0[i + 1] = 0.002;
     memcpy(r, r0, sizeof *r * (size_t)m);
     frix_options *o = NULL;
@@ -366,8 +384,8 @@ START_TEST(time_limit_and_callback_end_the_forming_of_w) {
     frix_info_free(check);
     frix_info_free(info);
     frix_options_free(o);
-    free(r), free(r0), free(u), free(v);
-    frix_elastic_grid_free(&g);
+    free(r0);
+    grid_case_free(&c);
 }
 END_TEST
 
@@ -418,24 +436,18 @@ END_TEST
  * starts forming it (the system would kill the process part-way): a chain of 160000 nodes
  * on the plane, one body, W up to 3 x 160000^2 entries (1.2 TB). */
 START_TEST(reduction_refused_where_w_would_not_fit) {
-    frix_elastic_grid g;
-    ck_assert_int_eq(frix_elastic_grid_make(160000, 1, 1, 0.5, 1e4, &g), FRIX_OK);
-    const frix_problem *p = g.problem;
-    const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
-    double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u);
-    double *v = calloc((size_t)n, sizeof *v);
+    grid_case c = grid_case_make(160000, 1, 1, 0.5, 1e4);
     frix_options *o = NULL;
     ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS, &o), FRIX_OK);
     /* Only a safety net: a broken refusal ends at the time limit, not out of memory. */
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TIME_LIMIT, 0.5), FRIX_OK);
-    ck_assert_int_eq(frix_solve(p, o, r, u, v, NULL), FRIX_ERR_OUT_OF_MEMORY);
+    ck_assert_int_eq(frix_solve(c.p, o, c.r, c.u, c.v, NULL), FRIX_ERR_OUT_OF_MEMORY);
     const char *why = frix_last_error_message();
     ck_assert_msg(strstr(why, "nsgs reduces the global problem") && strstr(why, "7.68e+10 entries") &&
                       strstr(why, "gnsn-ac (607) or auto"),
                   "%s", why);
     frix_options_free(o);
-    free(r), free(u), free(v);
-    frix_elastic_grid_free(&g);
+    grid_case_free(&c);
 }
 END_TEST
 
