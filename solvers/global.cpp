@@ -603,8 +603,9 @@ const SolverEntry kGlobalNsnAcEntry = {
     "per solve). W = H^T M^-1 H is never formed, which is what large FEM problems need; rho "
     "comes from the lumped blocks H_a^T diag(M)^-1 H_a, scaled where they underrate W's "
     "blocks (a stiff body: by orders of magnitude; measured on 8 contacts with M's "
-    "factorisation), and is cut tenfold, up to four times, while no step is accepted. Converged means both the error and the equilibrium residual are "
-    "below the tolerance. Global problems only (local solvers reach global problems through "
+    "factorisation), and is cut tenfold, up to four times, while no step is accepted. "
+    "Converged means both the error and the equilibrium residual are below the tolerance. "
+    "Global problems only (local solvers reach global problems through "
     "the reduction W = H^T M^-1 H). Options: rho_strategy, rho, line_search (Armijo by "
     "default; Goldstein-Price is taken as Armijo with m1 = 0.01), line_search_max_iter.",
     gnewton::solve, false, true, gnewton::kExtraKeys, gnewton::kDefaults};
