@@ -130,6 +130,9 @@ class MassSolver {
     bool empty_ = false;
 };
 
+// W in CSC: a value and a row index per entry. Below 1 GB the system is not asked.
+constexpr double kBytesPerReducedEntry = 16.0, kMemoryCheckedAbove = 1e9;
+
 // The memory this process may use: the machine's, or its control group's limit where lower
 // (a container). 0 when unknown.
 double memory_available() {
@@ -658,14 +661,17 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         native.factorization_time += info.factorization_time;
         info = native;
     } else {
-        const autosolve::ReductionSize size = autosolve::reduction_size(p);
-        const ReductionMemory memory = reduction_memory(size.w_entries);
+        // W has at most (3nc)^2 entries: the structure is looked at only where that much could
+        // be worth checking (above 2600 contacts or so).
+        double w_entries = 9.0 * (double)p.nc * (double)p.nc;
+        if (kBytesPerReducedEntry * w_entries >= kMemoryCheckedAbove) w_entries = autosolve::reduction_size(p).w_entries;
+        const ReductionMemory memory = reduction_memory(w_entries);
         if (!memory.fits)
             return fail(FRIX_ERR_OUT_OF_MEMORY,
                         "frix_solve: %s reduces the global problem to W = H^T M^-1 H, which would have up to "
                         "%.3g entries (at least %.3g GB, more than the %.3g GB of memory): a deformable body "
                         "couples all its contacts; gnsn-ac (607) or auto solve it without W",
-                        entry.name, size.w_entries, memory.needed / 1e9, memory.available / 1e9);
+                        entry.name, w_entries, memory.needed / 1e9, memory.available / 1e9);
         const frix_info before = info;
         info.factorizations = info.symbolic_analyses = 0;
         info.factorization_time = info.setup_time = 0.0;
@@ -701,8 +707,8 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
 
 ReductionMemory reduction_memory(double w_entries) {
     ReductionMemory m;
-    m.needed = 16.0 * w_entries;  // CSC: a value and a row index per entry
-    if (m.needed < 1e9) return m;  // below 1 GB: not worth a look at the system
+    m.needed = kBytesPerReducedEntry * w_entries;
+    if (m.needed < kMemoryCheckedAbove) return m;
     m.available = memory_available();
     m.fits = !(m.available > 0.0 && m.needed > m.available);
     return m;
