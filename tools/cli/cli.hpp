@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace frix_cli {
 
@@ -43,6 +44,9 @@ using InfoPtr = std::unique_ptr<frix_info, InfoDeleter>;
 
 // frix_read_problem (FCLIB or Siconos .dat), or fail with "cannot read PATH: <reason>".
 ProblemPtr read_problem(const std::string &path);
+
+// The non-empty pieces of text between the separators.
+std::vector<std::string> split(const std::string &text, char sep);
 
 const char *kind_name(frix_problem_kind kind);
 // A stable lower-case token for JSON and scripts ("converged", "max_iter", ...).

@@ -99,15 +99,6 @@ BenchArgs parse(int argc, char **argv) {
     return a;
 }
 
-std::vector<std::string> split(const std::string &text, char sep) {
-    std::vector<std::string> out;
-    std::stringstream in(text);
-    std::string item;
-    while (std::getline(in, item, sep))
-        if (!item.empty()) out.push_back(item);
-    return out;
-}
-
 std::string upper(std::string s) {
     for (char &c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     return s;

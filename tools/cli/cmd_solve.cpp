@@ -210,12 +210,7 @@ void fill_from_info(Report &r, const frix_info *info) {
     r.factorization_time = info_double(info, FRIX_INFO_FACTORIZATION_TIME);
     r.setup_time = info_double(info, FRIX_INFO_SETUP_TIME);
     read_existence(r, info);
-    const std::string trace = frix_info_trace(info);
-    for (std::size_t at = 0; at < trace.size();) {
-        const std::size_t end = std::min(trace.find('\n', at), trace.size());
-        r.trace.push_back(trace.substr(at, end - at));
-        at = end + 1;
-    }
+    r.trace = split(frix_info_trace(info), '\n');
 }
 
 // A failed solve says whether the problem has a solution at all: the solver's verdict when

@@ -1,6 +1,8 @@
 // Helpers shared by the subcommands.
 #include "cli.hpp"
 
+#include <sstream>
+
 namespace frix_cli {
 
 void fail(const std::string &message, int code) {
@@ -9,6 +11,15 @@ void fail(const std::string &message, int code) {
     for (char &c : line)
         if (c == '\n' || c == '\r') c = ' ';
     throw Failure{code, line};
+}
+
+std::vector<std::string> split(const std::string &text, char sep) {
+    std::vector<std::string> out;
+    std::stringstream in(text);
+    std::string item;
+    while (std::getline(in, item, sep))
+        if (!item.empty()) out.push_back(item);
+    return out;
 }
 
 std::string library_message(frix_error err) {
