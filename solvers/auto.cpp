@@ -862,8 +862,8 @@ frix_error solve(SolveContext &ctx) {
         return FRIX_OK;
     }
     // Newton on (v, r) first. Where it fails, the reduction route after all, from the caller's
-    // start: it costs W's memory but solves what Newton cannot (the docs' grid with k = 1e12:
-    // no Newton step is accepted; the interior point on W converges).
+    // start: it costs W's memory but solves what Newton cannot (the docs' grid with k = 1e13:
+    // Newton stagnates at an equilibrium residual of 5e-8; through W auto converges).
     const std::vector<double> start(ctx.r, ctx.r + 3 * p.nc);
     TraceEvent stage{TraceEvent::kStage};
     if (frix_error e = global_newton(ctx, max_iter, stage)) return e;

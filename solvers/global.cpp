@@ -322,7 +322,8 @@ constexpr int kMaxRhoCuts = 4;
 // body, where diag(M)^-1 ignores that the body moves as a whole (an elastic grid with
 // k = 1e12: about 4e5).
 constexpr int kRhoSamples = 8;
-double lumped_underrate(const frix_problem &p, const Csc &H, const MassSolver &ms,
+double lumped_underrate(const frix_problem &p, const Csc &H,
+                        const std::function<frix_error(const double *, double *)> &solve_mass,
                         const std::vector<double> &lumped_trace) {
     const int64_t nc = p.nc, n = p.n;
     if (nc == 0) return 1.0;
@@ -335,7 +336,7 @@ double lumped_underrate(const frix_problem &p, const Csc &H, const MassSolver &m
             const int64_t col = 3 * a + c;
             std::fill(b.begin(), b.end(), 0.0);
             for (int64_t e = H.colptr[col]; e < H.colptr[col + 1]; ++e) b[H.rowind[e]] = H.val[e];
-            if (ms.solve(b.data(), x.data()) != FRIX_OK) return 1.0;
+            if (solve_mass(b.data(), x.data()) != FRIX_OK) return 1.0;
             for (int64_t e = H.colptr[col]; e < H.colptr[col + 1]; ++e) exact += H.val[e] * x[H.rowind[e]];
         }
         if (lumped_trace[a] > 0.0 && std::isfinite(exact)) ratios.push_back(exact / lumped_trace[a]);
@@ -348,7 +349,7 @@ double lumped_underrate(const frix_problem &p, const Csc &H, const MassSolver &m
 // Below this the lumped blocks are taken as they are (rigid bodies: the rho of before).
 constexpr double kUnderrateToCorrect = 2.0;
 
-frix_error solve_with_mass(SolveContext &ctx, const MassSolver *ms) {
+frix_error solve(SolveContext &ctx) {
     const frix_problem &p = ctx.problem;
     const frix_options &o = ctx.options;
     frix_info &info = ctx.info;
@@ -391,7 +392,8 @@ frix_error solve_with_mass(SolveContext &ctx, const MassSolver *ms) {
     // the lumped blocks is as much too large (k = 1e12: no step accepted, even with rho cut
     // 1e4-fold); a few exact blocks give the factor.
     const double underrate =
-        ms && s.rho_strategy != FRIX_RHO_CONSTANT ? lumped_underrate(p, H, *ms, lumped_trace) : 1.0;
+        ctx.solve_mass && s.rho_strategy != FRIX_RHO_CONSTANT ? lumped_underrate(p, H, *ctx.solve_mass, lumped_trace)
+                                                              : 1.0;
     const double correction = underrate > kUnderrateToCorrect ? underrate : 1.0;
     if (s.verbosity >= 1 && underrate != 1.0)
         std::fprintf(stderr, "global newton: the lumped blocks underrate W's by %.3g%s\n", underrate,
@@ -537,11 +539,11 @@ frix_error solve_with_mass(SolveContext &ctx, const MassSolver *ms) {
         } else {
             ++failures;
             delta = std::max(delta * 10.0, kDeltaStart);
-            // rho from the lumped blocks H_a^T diag(M)^-1 H_a can be far too large: on a stiff
-            // deformable body diag(M)^-1 underrates M^-1 (an elastic grid with k = 1e8: rho
-            // 4e4 where 1e3 or less converges), and no step lowers the merit then. Until a
-            // step is accepted, try smaller (later, a failed step is a kink, not a scale: on
-            // the rigid spheres-in-a-box cuts end at 1.5e-3 instead of 4e-7).
+            // rho can still be far too large (a calibration missed by the 8 samples, or a
+            // constant rho: 1e5 on the elastic grid with k = 1e8, where 1e3 converges), and
+            // no step lowers the merit then. Until a step is accepted, try smaller (later, a
+            // failed step is a kink, not a scale: on the rigid spheres-in-a-box cuts end at
+            // 1.5e-3 instead of 4e-7).
             if (rho_cuts < kMaxRhoCuts && accepted_steps == 0) {
                 ++rho_cuts;
                 for (int64_t a = 0; a < nc; ++a) rho_n[a] *= kRhoCut, rho_t[a] *= kRhoCut;
@@ -585,9 +587,6 @@ frix_error solve_with_mass(SolveContext &ctx, const MassSolver *ms) {
                      (long long)it);
     return FRIX_OK;
 }
-
-// Called through the registry without the driver's factorisation of M: the lumped blocks only.
-frix_error solve(SolveContext &ctx) { return solve_with_mass(ctx, nullptr); }
 
 const frix_option_key kExtraKeys[] = {FRIX_OPT_RHO_STRATEGY, FRIX_OPT_RHO, FRIX_OPT_LINE_SEARCH,
                                       FRIX_OPT_LINE_SEARCH_MAX_ITER, (frix_option_key)0};
@@ -651,10 +650,11 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         if (std::any_of(r, r + m, [](double x) { return x != 0.0; }))
             if (frix_error e = recover_velocity(p, ms, r, v)) return e;
         frix_info native = info;
-        SolveContext ctx{p, opts, r, u, v, native, clock};
-        // 607 gets M's factorisation for its rho (the only solver on (v, r)).
-        if (frix_error e = &entry == &kGlobalNsnAcEntry ? gnewton::solve_with_mass(ctx, &ms) : entry.solve(ctx))
-            return e;
+        const std::function<frix_error(const double *, double *)> solve_mass = [&ms](const double *b, double *x) {
+            return ms.solve(b, x);
+        };
+        SolveContext ctx{p, opts, r, u, v, native, clock, &solve_mass};
+        if (frix_error e = entry.solve(ctx)) return e;
         native.setup_time = info.setup_time;
         native.factorizations += info.factorizations;
         native.symbolic_analyses += info.symbolic_analyses;

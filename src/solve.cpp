@@ -36,7 +36,7 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
         if (!entry.solves_local)
             return fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s does not solve local problems", entry.name);
         warm_start.assign(r, r + m);
-        frix::SolveContext ctx{p, opts, r, u, nullptr, info, clock};
+        frix::SolveContext ctx{p, opts, r, u, nullptr, info, clock, nullptr};
         if (frix_error e = entry.solve(ctx)) return e;
         for (int64_t i = 0; i < m; ++i)
             if (!std::isfinite(r[i]))

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 
 #include "info.hpp"
 #include "options.hpp"
@@ -40,6 +41,9 @@ struct SolveContext {
     double *v;   // n, global problems only
     frix_info &info;
     const Stopwatch &clock;
+    // Global problems: x = M^-1 b with the driver's factorisation of M, for a solver that can
+    // use it (607 calibrates its rho with it); null where there is none.
+    const std::function<frix_error(const double *b, double *x)> *solve_mass;
 };
 
 using SolverFn = frix_error (*)(SolveContext &ctx);
