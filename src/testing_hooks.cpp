@@ -82,6 +82,16 @@ FRIX_TESTING_HOOK int frix_testing_sparse_lu(int64_t n, const int64_t *colptr,
     return e;
 }
 
+namespace {
+// The k x k CSC matrix (cp, ci, cx) as a dense column-major C.
+void to_dense(int64_t k, const std::vector<int64_t> &cp, const std::vector<int64_t> &ci,
+              const std::vector<double> &cx, double *C) {
+    for (int64_t i = 0; i < k * k; ++i) C[i] = 0.0;
+    for (int64_t j = 0; j < k; ++j)
+        for (int64_t p = cp[j]; p < cp[j + 1]; ++p) C[ci[p] + k * j] = cx[p];
+}
+}  // namespace
+
 // Sparse Cholesky of A (upper triangle read): x = A^-1 b, and C = B^T A^-1 B (k x k dense,
 // column-major) for the n x k CSC matrix B.
 FRIX_TESTING_HOOK int frix_testing_sparse_cholesky(int64_t n, const int64_t *colptr,
@@ -97,9 +107,7 @@ FRIX_TESTING_HOOK int frix_testing_sparse_cholesky(int64_t n, const int64_t *col
     std::vector<double> cx;
     e = ch.inverse_congruence({n, k, bp, bi, bx}, cp, ci, cx);
     if (e != FRIX_OK) return e;
-    for (int64_t i = 0; i < k * k; ++i) C[i] = 0.0;
-    for (int64_t j = 0; j < k; ++j)
-        for (int64_t p = cp[j]; p < cp[j + 1]; ++p) C[ci[p] + k * j] = cx[p];
+    to_dense(k, cp, ci, cx, C);
     return FRIX_OK;
 }
 
@@ -121,9 +129,7 @@ FRIX_TESTING_HOOK int frix_testing_congruence_in_blocks(int64_t n, const int64_t
     *stopped = was_stopped ? 1 : 0;
     *nnz = (int64_t)cx.size();
     if (e != FRIX_OK || was_stopped) return e;
-    for (int64_t i = 0; i < k * k; ++i) C[i] = 0.0;
-    for (int64_t j = 0; j < k; ++j)
-        for (int64_t p = cp[j]; p < cp[j + 1]; ++p) C[ci[p] + k * j] = cx[p];
+    to_dense(k, cp, ci, cx, C);
     return FRIX_OK;
 }
 
