@@ -12,7 +12,9 @@
 #
 # Environment: FRIX_SHARED_DIR (default ../shared), BENCH_WORK (default BUILD_DIR/bench-docs),
 # BENCH_TIME_LIMIT (default 20 s per run), BENCH_LARGE_TIME_LIMIT (default 30 s per run on
-# fclib-large), BENCH_JOBS (default 1), BENCH_CAMPAIGNS (default "1e-4 1e-8 large"),
+# fclib-large), BENCH_MAX_ITER (iterations per run, default 1000000000: the time limit is what
+# ends a run, so that a solver that needs millions of fast sweeps, NSGS on RockPile_tob1,
+# is judged by the clock), BENCH_JOBS (default 1), BENCH_CAMPAIGNS (default "1e-4 1e-8 large"),
 # BENCH_REUSE=1 (redo the report of a campaign whose BENCH_WORK/<campaign>/runs.csv exists,
 # e.g. after rows were added to it by hand, instead of running it again).
 set -euo pipefail
@@ -21,6 +23,7 @@ shared=${FRIX_SHARED_DIR:-../shared}
 work=${BENCH_WORK:-$build/bench-docs}
 limit=${BENCH_TIME_LIMIT:-20}
 large_limit=${BENCH_LARGE_TIME_LIMIT:-30}
+max_iter=${BENCH_MAX_ITER:-1000000000}
 jobs=${BENCH_JOBS:-1}
 campaigns=${BENCH_CAMPAIGNS:-1e-4 1e-8 large}
 frix="$build/tools/frix"
@@ -60,7 +63,7 @@ for campaign in $campaigns; do
         how="report redone from the campaign's runs.csv"
     else
         "$frix" bench "${dirs[@]}" --solvers all,siconos:all --tol "$tol" --time-limit "$tl" \
-            --jobs "$jobs" --out "$out"
+            --max-iter "$max_iter" --jobs "$jobs" --out "$out"
         wall=$((SECONDS - start))
         how=$(printf 'campaign wall time %dm%02ds' $((wall / 60)) $((wall % 60)))
     fi
@@ -68,9 +71,11 @@ for campaign in $campaigns; do
         { echo "bench_docs.sh: no plots (python3-matplotlib missing?)" >&2; exit 1; }
     mkdir -p "docs/benchmarks/$campaign"
     cp "$out/runs.csv" "$out/summary.md" "$out"/plots/*.png "$out"/plots/*.svg "docs/benchmarks/$campaign/"
+    # The cap the runs had (a reused campaign may predate BENCH_MAX_ITER's value).
+    cap=$(awk -F, 'NR == 2 { print $13 }' "$out/runs.csv")
     {
-        printf 'Generated on %s by `tools/bench/bench_docs.sh` (%s; tolerance %s, %s s per run; %s).\n\n' \
-            "$(date -u +%Y-%m-%d)" "$(versions)" "$tol" "$tl" "$how"
+        printf 'Generated on %s by `tools/bench/bench_docs.sh` (%s; tolerance %s, %s s and at most %s iterations per run; %s).\n\n' \
+            "$(date -u +%Y-%m-%d)" "$(versions)" "$tol" "$tl" "$cap" "$how"
         cat "$out/summary.md"
     } > "$out/block.md"
     splice "$doc" "bench $campaign" "$out/block.md"
