@@ -48,7 +48,7 @@ splice() {
 versions() {
     printf '%s, Siconos %s; %s cores, %s job(s)' "$("$frix" --version)" \
         "$(dpkg-query -W -f='${Version}' libsiconos-numerics-dev 2>/dev/null || echo 'not installed')" \
-        "$(nproc)" "$jobs"
+        "$(env -u OMP_NUM_THREADS -u OMP_THREAD_LIMIT nproc)" "$jobs"  # (nproc obeys OMP_NUM_THREADS)
 }
 
 for campaign in $campaigns; do
