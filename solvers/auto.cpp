@@ -879,7 +879,7 @@ frix_error solve(SolveContext &ctx) {
     }
     // Not where W would not even fit in memory (a large mesh): the system would kill the
     // process part-way; Newton's answer is what there is.
-    const ReductionMemory memory = reduction_memory(size.w_entries);
+    const ReductionMemory memory = reduction_memory(size);
     if (!memory.fits) {
         TraceEvent skipped{TraceEvent::kReductionTooLarge};
         skipped.status = info.status;

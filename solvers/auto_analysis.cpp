@@ -104,16 +104,21 @@ ReductionSize reduction_size(const frix_problem &p) {
     size.input_entries += (double)touches.size();
     std::sort(touches.begin(), touches.end());
     touches.erase(std::unique(touches.begin(), touches.end()), touches.end());
-    double bound = 0.0;
+    // Per component, the columns and the contacts (3 columns each, in order) touching it.
+    double bound = 0.0, block_bound = 0.0;
     for (size_t k = 0; k < touches.size();) {
         size_t end = k;
-        while (end < touches.size() && touches[end].first == touches[k].first) ++end;
+        double contacts = 0.0;
+        for (int64_t last_contact = -1; end < touches.size() && touches[end].first == touches[k].first; ++end)
+            if (touches[end].second / 3 != last_contact) last_contact = touches[end].second / 3, contacts += 1.0;
         const double columns = (double)(end - k);
         bound += columns * columns;
+        block_bound += contacts * contacts;
         k = end;
     }
     const double full = 3.0 * (double)p.nc;
     size.w_entries = std::min(bound, full * full);
+    size.w_blocks = std::min(block_bound, (double)p.nc * (double)p.nc);
     return size;
 }
 

@@ -39,6 +39,7 @@ Analysis analyse_local(const frix_problem &p);
 // cancellations. A deformable body makes W dense among its contacts.
 struct ReductionSize {
     double w_entries = 0.0;      // the bound on W's non-zero entries
+    double w_blocks = 0.0;       // the bound on its non-zero 3x3 blocks (contacts, squared)
     double input_entries = 0.0;  // non-zero entries of M and H
 };
 ReductionSize reduction_size(const frix_problem &p);

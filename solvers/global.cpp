@@ -81,44 +81,52 @@ class MassSolver {
         if (empty_) return FRIX_OK;
         return use_chol_ ? chol_.solve(b, x) : lu_.solve(b, x);
     }
-    // W = H^T M^-1 H as CSC. stop is asked between blocks of columns (see
-    // SparseCholesky::inverse_congruence); when it answers true, stopped is set and W is empty.
-    frix_error congruence(const frix_matrix &H, Csc &W, const std::function<bool()> &stop, bool &stopped) {
+    // W = H^T M^-1 H, block-CSR, assembled from its columns as they come (no CSC copy; see
+    // BlockMatrixFromColumns, told to expect up to expected_blocks blocks). stop is asked
+    // between blocks of columns (see SparseCholesky::inverse_congruence); when it answers
+    // true, stopped is set and W is null.
+    frix_error congruence(const frix_matrix &H, double expected_blocks, std::unique_ptr<frix_matrix> &W,
+                          const std::function<bool()> &stop, bool &stopped) {
         stopped = false;
+        W.reset();
         Csc h;
         if (frix_error e = to_csc(H, h)) return e;
-        W.rows = W.cols = H.cols;
-        if (empty_) {
-            W.colptr.assign(H.cols + 1, 0);
-            W.rowind.assign(1, 0);
-            W.val.assign(1, 0.0);
-            return FRIX_OK;
-        }
-        if (use_chol_) return chol_.inverse_congruence(h.view(), W.colptr, W.rowind, W.val, stop, &stopped);
-        // LU: one solve per column of H; exact zeros (contacts M does not couple) are dropped.
         const int64_t n = H.rows, k = H.cols;
-        std::vector<double> col(n), x(n), wcol(k);
-        W.colptr.assign(k + 1, 0);
-        W.rowind.clear();
-        W.val.clear();
-        for (int64_t j = 0; j < k; ++j) {
-            std::fill(col.begin(), col.end(), 0.0);
-            for (int64_t e = h.colptr[j]; e < h.colptr[j + 1]; ++e) col[h.rowind[e]] = h.val[e];
-            if (frix_error e = lu_.solve(col.data(), x.data())) return e;
-            matrix_gemv_transposed(H, 1.0, x.data(), 0.0, wcol.data());
-            for (int64_t i = 0; i < k; ++i)
-                if (wcol[i] != 0.0) {
-                    W.rowind.push_back(i);
-                    W.val.push_back(wcol[i]);
+        BlockMatrixFromColumns columns(k, "W = H^T M^-1 H", expected_blocks);
+        if (empty_) {
+            for (int64_t j = 0; j < k; ++j)
+                if (frix_error e = columns.add_column(0, nullptr, nullptr)) return e;
+        } else if (use_chol_) {
+            const linalg::SparseCholesky::ColumnSink sink = [&](int64_t count, const int64_t *rows,
+                                                                const double *values) {
+                return columns.add_column(count, rows, values);
+            };
+            if (frix_error e = chol_.inverse_congruence(h.view(), sink, stop, &stopped)) return e;
+            if (stopped) return FRIX_OK;
+        } else {
+            // LU: one solve per column of H; exact zeros (contacts M does not couple) are dropped.
+            std::vector<double> col(n), x(n), wcol(k), values;
+            std::vector<int64_t> rows;
+            for (int64_t j = 0; j < k; ++j) {
+                std::fill(col.begin(), col.end(), 0.0);
+                for (int64_t e = h.colptr[j]; e < h.colptr[j + 1]; ++e) col[h.rowind[e]] = h.val[e];
+                if (frix_error e = lu_.solve(col.data(), x.data())) return e;
+                matrix_gemv_transposed(H, 1.0, x.data(), 0.0, wcol.data());
+                rows.clear();
+                values.clear();
+                for (int64_t i = 0; i < k; ++i)
+                    if (wcol[i] != 0.0) {
+                        rows.push_back(i);
+                        values.push_back(wcol[i]);
+                    }
+                if (frix_error e = columns.add_column((int64_t)rows.size(), rows.data(), values.data())) return e;
+                if ((j + 1) % linalg::kCongruenceBlockColumns == 0 && j + 1 < k && stop && stop()) {
+                    stopped = true;
+                    return FRIX_OK;
                 }
-            W.colptr[j + 1] = (int64_t)W.rowind.size();
-            if ((j + 1) % linalg::kCongruenceBlockColumns == 0 && j + 1 < k && stop && stop()) {
-                W = Csc();
-                stopped = true;
-                return FRIX_OK;
             }
         }
-        return FRIX_OK;
+        return columns.finish(W);
     }
     const linalg::FactorStats &stats() const { return use_chol_ ? chol_.stats() : lu_.stats(); }
 
@@ -130,8 +138,9 @@ class MassSolver {
     bool empty_ = false;
 };
 
-// W in CSC: a value and a row index per entry. Below 1 GB the system is not asked.
-constexpr double kBytesPerReducedEntry = 16.0, kMemoryCheckedAbove = 1e9;
+// W's 3x3 blocks: 9 values and a column index each (BlockMatrixFromColumns keeps no other copy).
+// Below 1 GB the system is not asked.
+constexpr double kBytesPerReducedBlock = 80.0, kMemoryCheckedAbove = 1e9;
 
 // The memory this process may use: the machine's, or its control group's limit where lower
 // (a container). 0 when unknown.
@@ -155,6 +164,14 @@ frix_error recover_velocity(const frix_problem &p, const MassSolver &ms, const d
     return ms.solve(b.data(), v);
 }
 
+// How many 3x3 blocks W = H^T M^-1 H may have: nc^2, or where that is large (a W that dense
+// would take over 256 MB) the structural bound (reduction_size), which is far below it on
+// rigid bodies. Forming W reserves room for them (memory only counts once written).
+double expected_w_blocks(const frix_problem &p) {
+    const double dense = (double)p.nc * (double)p.nc;
+    return kBytesPerReducedBlock * dense <= 256e6 ? dense : std::min(dense, autosolve::reduction_size(p).w_blocks);
+}
+
 // Route (a): reduce with the factorised M, solve the local problem with any local solver,
 // recover v.
 frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const SolverEntry &entry,
@@ -164,7 +181,7 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
                                                    const SolverEntry &, double *, double *,
                                                    frix_info &, const Stopwatch &)) {
     const Stopwatch setup;
-    Csc w;
+    std::unique_ptr<frix_matrix> W;
     // Where W is dense (a deformable body) forming it can take minutes: the time limit and
     // the caller's callback (told iteration 0 and the start's error) can end it as they end
     // an iteration, with the caller's start returned.
@@ -182,22 +199,16 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
         return stop_status != FRIX_STATUS_NOT_RUN;
     };
     bool stopped = false;
-    if (frix_error e = ms.congruence(*p.H, w, stop, stopped)) return e;
+    if (frix_error e = ms.congruence(*p.H, expected_w_blocks(p), W, stop, stopped)) return e;
     if (stopped) {
         info.status = stop_status;
         info.iterations = 0;
         info.setup_time += setup.seconds();
         return recover_velocity(p, ms, r, v);
     }
-    frix_matrix *W = nullptr;
-    if (frix_error e = frix_matrix_from_csc(w.rows, w.cols, w.colptr.data(), w.rowind.data(),
-                                            w.val.data(), &W))
-        return e;
-    std::unique_ptr<frix_matrix> W_owner(W);
-    w = Csc();  // the block copy is what the solvers read
     std::vector<double> q(q0, q0 + 3 * p.nc);
     frix_problem *local = nullptr;
-    if (frix_error e = make_local_problem(W, q.data(), p.mu, p.nc, &local)) return e;
+    if (frix_error e = make_local_problem(W.get(), q.data(), p.mu, p.nc, &local)) return e;
     std::unique_ptr<frix_problem> local_owner(local);
     const double setup_time = setup.seconds();
     if (frix_error e = solve_local(*local, opts, entry, r, u, info, clock)) return e;
@@ -661,17 +672,19 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         native.factorization_time += info.factorization_time;
         info = native;
     } else {
-        // W has at most (3nc)^2 entries: the structure is looked at only where that much could
-        // be worth checking (above 2600 contacts or so).
-        double w_entries = 9.0 * (double)p.nc * (double)p.nc;
-        if (kBytesPerReducedEntry * w_entries >= kMemoryCheckedAbove) w_entries = autosolve::reduction_size(p).w_entries;
-        const ReductionMemory memory = reduction_memory(w_entries);
+        // W has at most nc^2 blocks: the structure is looked at only where that much could be
+        // worth checking (above 3500 contacts or so).
+        autosolve::ReductionSize size;
+        size.w_blocks = (double)p.nc * (double)p.nc;
+        size.w_entries = 9.0 * size.w_blocks;
+        if (kBytesPerReducedBlock * size.w_blocks >= kMemoryCheckedAbove) size = autosolve::reduction_size(p);
+        const ReductionMemory memory = reduction_memory(size);
         if (!memory.fits)
             return fail(FRIX_ERR_OUT_OF_MEMORY,
                         "frix_solve: %s reduces the global problem to W = H^T M^-1 H, which would have up to "
-                        "%.3g entries (at least %.3g GB, more than the %.3g GB of memory): a deformable body "
-                        "couples all its contacts; gnsn-ac (607) or auto solve it without W",
-                        entry.name, w_entries, memory.needed / 1e9, memory.available / 1e9);
+                        "%.3g entries in %.3g blocks (at least %.3g GB, more than the %.3g GB of memory): a "
+                        "deformable body couples all its contacts; gnsn-ac (607) or auto solve it without W",
+                        entry.name, size.w_entries, size.w_blocks, memory.needed / 1e9, memory.available / 1e9);
         const frix_info before = info;
         info.factorizations = info.symbolic_analyses = 0;
         info.factorization_time = info.setup_time = 0.0;
@@ -705,9 +718,9 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
     return FRIX_OK;
 }
 
-ReductionMemory reduction_memory(double w_entries) {
+ReductionMemory reduction_memory(const autosolve::ReductionSize &size) {
     ReductionMemory m;
-    m.needed = kBytesPerReducedEntry * w_entries;
+    m.needed = kBytesPerReducedBlock * size.w_blocks;
     if (m.needed < kMemoryCheckedAbove) return m;
     m.available = memory_available();
     m.fits = !(m.available > 0.0 && m.needed > m.available);

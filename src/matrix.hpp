@@ -4,6 +4,7 @@
 #include <frix/frix_matrix.h>
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 struct frix_matrix {
@@ -58,6 +59,47 @@ void for_each_entry(const frix_matrix &A, F &&f) {
     for (int64_t c = 0; c < A.cols; ++c)
         for (int64_t e = A.col_ptr[c]; e < A.col_ptr[c + 1]; ++e) f(A.row_ind[e], c, A.val[e]);
 }
+
+// Builds a square 3x3 block-CSR matrix from its columns, given one at a time in order, with
+// memory for its blocks and little more: W = H^T M^-1 H, dense among the contacts of a
+// deformable body, arrives by columns, and a CSC copy of it converted by frix_matrix_from_csc
+// costs about 40 bytes an entry at the peak (the 80x80x3 elastic grid: 7.1 GB), the blocks 8.
+// The blocks are kept by columns as they arrive. When the matrix is symmetric to the last bit
+// (W from CHOLMOD is), its block columns are its block rows transposed: finish() transposes
+// each block in place and hands the storage over; otherwise it copies the blocks into rows.
+// A block is stored where at least one entry falls (zeros included), as
+// frix_matrix_from_csc does: the same blocks with the same bits either way.
+class BlockMatrixFromColumns {
+   public:
+    // n x n, n a multiple of 3; `what` names the matrix in error messages; room is reserved
+    // for expected_blocks blocks (memory counts only once written: a bound will do).
+    BlockMatrixFromColumns(int64_t n, const char *what, double expected_blocks = 0.0);
+    // The next column: its entries' rows, increasing, and their values.
+    frix_error add_column(int64_t count, const int64_t *rows, const double *values);
+    // After the n columns.
+    frix_error finish(std::unique_ptr<frix_matrix> &out);
+    // Whether finish() found the matrix symmetric and handed its storage over.
+    bool in_place() const { return in_place_; }
+
+   private:
+    void flush_block_column();
+    bool symmetric() const;
+    int64_t nb_;                          // block rows = block columns
+    const char *what_;
+    int64_t column_ = 0;                  // columns received
+    bool in_place_ = false;
+    std::vector<int64_t> col_ptr_{0};     // per block column: its first block
+    std::vector<int64_t> block_row_;      // per block, by columns, increasing in each
+    std::vector<double> values_;          // 9 per block, column-major
+    // The block column being received: its entries (row, column within the block, value).
+    struct Entry {
+        int64_t row;
+        int col;
+        double value;
+    };
+    std::vector<Entry> pending_;
+    std::vector<int64_t> slot_;  // per block row: its block in the pending column, or -1
+};
 
 // y = alpha*A*x + beta*y for either storage; no argument checks (internal callers).
 void matrix_gemv(const frix_matrix &A, double alpha, const double *x, double beta, double *y);

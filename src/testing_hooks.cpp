@@ -133,6 +133,25 @@ FRIX_TESTING_HOOK int frix_testing_congruence_in_blocks(int64_t n, const int64_t
     return FRIX_OK;
 }
 
+// The n x n CSC matrix through BlockMatrixFromColumns (column by column), as a dense
+// column-major D; *blocks: its blocks; *in_place: whether it was found symmetric.
+#include "matrix.hpp"
+
+FRIX_TESTING_HOOK int frix_testing_matrix_from_columns(int64_t n, const int64_t *colptr, const int64_t *rowind,
+                                                       const double *values, double expected_blocks, double *D,
+                                                       int64_t *blocks, int *in_place) {
+    frix::BlockMatrixFromColumns columns(n, "test matrix", expected_blocks);
+    for (int64_t j = 0; j < n; ++j)
+        if (int e = columns.add_column(colptr[j + 1] - colptr[j], rowind + colptr[j], values + colptr[j])) return e;
+    std::unique_ptr<frix_matrix> A;
+    if (int e = columns.finish(A)) return e;
+    for (int64_t i = 0; i < n * n; ++i) D[i] = 0.0;
+    frix::for_each_entry(*A, [&](int64_t i, int64_t j, double v) { D[i + n * j] = v; });
+    *blocks = A->nblocks();
+    *in_place = columns.in_place() ? 1 : 0;
+    return FRIX_OK;
+}
+
 // Dense LU (cholesky = 0) or Cholesky (1) of the column-major n x n A: x = A^-1 b.
 FRIX_TESTING_HOOK int frix_testing_dense_solve(int cholesky, int64_t n, const double *A,
                                                const double *b, double *x) {

@@ -66,6 +66,13 @@ int frix_testing_congruence_in_blocks(int64_t n, const int64_t *colptr, const in
                                       const int64_t *bi, const double *bx, int64_t block_cols,
                                       int stop_at, double *C, int *questions, int *stopped,
                                       int64_t *nnz);
+/* The n x n CSC matrix (n a multiple of 3) assembled column by column as the reduction
+ * assembles W (room reserved for expected_blocks blocks), as a dense column-major D; *blocks:
+ * its 3x3 blocks; *in_place: 1 when it was found symmetric to the bit (its columns' storage
+ * then becomes its rows'). */
+int frix_testing_matrix_from_columns(int64_t n, const int64_t *colptr, const int64_t *rowind,
+                                     const double *values, double expected_blocks, double *D,
+                                     int64_t *blocks, int *in_place);
 /* Dense LU (cholesky = 0) or Cholesky (1): x = A^-1 b. */
 int frix_testing_dense_solve(int cholesky, int64_t n, const double *A, const double *b, double *x);
 

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "check_main.h"
+#include "frix_testing.h"
 
 /* A 6x6 test matrix (two block rows/cols) with an empty off-diagonal block, column-major. */
 static const double A6[36] = {
@@ -184,6 +185,82 @@ START_TEST(test_bad_input) {
 }
 END_TEST
 
+/* A symmetric 9x9 matrix (3 block rows): dense diagonal blocks, blocks (0, 2) and (2, 0) with
+ * three entries each (one a stored zero), and no block (0, 1) or (1, 0). `stored` marks the
+ * entries given; the CSC arrays are built from both. */
+enum { kS = 9 };
+static void symmetric_case(double D[kS * kS], int stored[kS * kS]) {
+    memset(D, 0, sizeof(double) * kS * kS);
+    memset(stored, 0, sizeof(int) * kS * kS);
+    for (int b = 0; b < 3; ++b)
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+                const int r = 3 * b + i, c = 3 * b + j;
+                D[r + kS * c] = i == j ? 4.0 + b : 1.0 / (3.0 + i + j); /* symmetric */
+                stored[r + kS * c] = 1;
+            }
+    D[1 + kS * 7] = D[7 + kS * 1] = 0.0; /* stored zeros */
+    stored[1 + kS * 7] = stored[7 + kS * 1] = 1;
+    D[0 + kS * 6] = D[6 + kS * 0] = 0.25; /* (0, 2) is not a symmetric block itself */
+    D[1 + kS * 8] = D[8 + kS * 1] = 0.5;
+    stored[0 + kS * 6] = stored[6 + kS * 0] = stored[1 + kS * 8] = stored[8 + kS * 1] = 1;
+}
+static int64_t to_csc(const double D[kS * kS], const int stored[kS * kS], int64_t cp[kS + 1], int64_t ri[kS * kS],
+                      double v[kS * kS]) {
+    int64_t e = 0;
+    for (int j = 0; j < kS; ++j) {
+        cp[j] = e;
+        for (int i = 0; i < kS; ++i)
+            if (stored[i + kS * j]) ri[e] = i, v[e++] = D[i + kS * j];
+    }
+    cp[kS] = e;
+    return e;
+}
+
+/* The reduction assembles W column by column: a symmetric W (as CHOLMOD's are) has its column
+ * storage turned into its row storage, anything else is copied into rows; both give the
+ * matrix as given, to the bit, with frix_matrix_from_csc's blocks. */
+START_TEST(test_matrix_from_columns) {
+    double D[kS * kS], out[kS * kS], v[kS * kS];
+    int stored[kS * kS], in_place = -1;
+    int64_t cp[kS + 1], ri[kS * kS], blocks = -1;
+    for (int t = 0; t < 5; ++t) {
+        symmetric_case(D, stored);
+        int symmetric = 1;
+        int64_t expected_blocks = 5;
+        if (t == 2) { /* one entry off by one unit in the last place */
+            D[0 + kS * 1] = nextafter(D[0 + kS * 1], 1.0);
+            symmetric = 0;
+        } else if (t == 3) { /* block (2, 0) not stored */
+            for (int i = 6; i < 9; ++i)
+                for (int j = 0; j < 3; ++j) stored[i + kS * j] = 0, D[i + kS * j] = 0.0;
+            symmetric = 0;
+            expected_blocks = 4;
+        } else if (t == 4) { /* -0 against +0: equal, not the same bits */
+            D[7 + kS * 1] = -0.0;
+            symmetric = 0;
+        }
+        to_csc(D, stored, cp, ri, v);
+        /* Without room reserved (t = 0), with more than needed (t > 0). */
+        ck_assert_int_eq(frix_testing_matrix_from_columns(kS, cp, ri, v, t == 0 ? 0.0 : 100.0, out, &blocks, &in_place),
+                         FRIX_OK);
+        ck_assert_msg(in_place == symmetric, "case %d: in_place %d", t, in_place);
+        ck_assert(memcmp(out, D, sizeof D) == 0);
+        ck_assert_int_eq(blocks, expected_blocks);
+        frix_matrix *M = NULL;
+        ck_assert_int_eq(frix_matrix_from_csc(kS, kS, cp, ri, v, &M), FRIX_OK);
+        ck_assert_int_eq(frix_matrix_block_count(M), blocks);
+        frix_matrix_free(M);
+    }
+    /* A non-finite entry is refused. */
+    symmetric_case(D, stored);
+    D[4 + kS * 4] = NAN;
+    to_csc(D, stored, cp, ri, v);
+    ck_assert_int_eq(frix_testing_matrix_from_columns(kS, cp, ri, v, 0.0, out, &blocks, &in_place),
+                     FRIX_ERR_NOT_FINITE);
+}
+END_TEST
+
 START_TEST(test_empty_matrix) {
     frix_matrix *M = NULL;
     ck_assert_int_eq(frix_matrix_from_triplets(0, 0, 0, NULL, NULL, NULL, &M), FRIX_OK);
@@ -205,6 +282,7 @@ int main(void) {
     tcase_add_test(tc, test_general_sparse);
     tcase_add_test(tc, test_bad_input);
     tcase_add_test(tc, test_empty_matrix);
+    tcase_add_test(tc, test_matrix_from_columns);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

@@ -134,11 +134,29 @@ frix_error SparseCholesky::inverse_congruence(const CscView &B, std::vector<int6
                                               std::vector<int64_t> &rowind, std::vector<double> &values,
                                               const std::function<bool()> &stop, bool *stopped,
                                               int64_t block_cols) {
-    Impl &m = *impl_;
-    if (stopped) *stopped = false;
-    colptr.clear();
+    colptr.assign(1, 0);
     rowind.clear();
     values.clear();
+    const ColumnSink append = [&](int64_t count, const int64_t *rows, const double *vals) {
+        rowind.insert(rowind.end(), rows, rows + count);
+        values.insert(values.end(), vals, vals + count);
+        colptr.push_back((int64_t)rowind.size());
+        return FRIX_OK;
+    };
+    const frix_error e = inverse_congruence(B, append, stop, stopped, block_cols);
+    if (e != FRIX_OK || (stopped && *stopped)) {
+        colptr.clear();
+        rowind.clear();
+        values.clear();
+    }
+    return e;
+}
+
+frix_error SparseCholesky::inverse_congruence(const CscView &B, const ColumnSink &sink,
+                                              const std::function<bool()> &stop, bool *stopped,
+                                              int64_t block_cols) {
+    Impl &m = *impl_;
+    if (stopped) *stopped = false;
     if (!m.L) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: no factorisation");
     if ((size_t)B.rows != m.L->n)
         return fail(FRIX_ERR_DIMENSION, "sparse Cholesky: B has %lld rows, the factor %lld",
@@ -150,9 +168,6 @@ frix_error SparseCholesky::inverse_congruence(const CscView &B, std::vector<int6
     const int64_t k = B.cols;
     auto failed = [&](const char *what) {
         stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
-        colptr.clear();
-        rowind.clear();
-        values.clear();
         if (m.c.status == CHOLMOD_OUT_OF_MEMORY)
             return fail(FRIX_ERR_OUT_OF_MEMORY, "sparse Cholesky: out of memory forming %s", what);
         return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: forming %s failed (CHOLMOD status %d)", what,
@@ -161,9 +176,6 @@ frix_error SparseCholesky::inverse_congruence(const CscView &B, std::vector<int6
     auto interrupted = [&]() {
         if (!stop || !stop()) return false;
         stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
-        colptr.clear();
-        rowind.clear();
-        values.clear();
         if (stopped) *stopped = true;
         return true;
     };
@@ -183,14 +195,20 @@ frix_error SparseCholesky::inverse_congruence(const CscView &B, std::vector<int6
     cholmod_sparse z = view_of(Z, 0);
     Impl::Sparse zt{cholmod_l_transpose(&z, 1, &m.c), &m.c};
     if (!zt.s) return failed("Z^T");
-    // C = Z^T Z, a block of its columns at a time.
-    colptr.assign(1, 0);
+    // C = Z^T Z, a block of its columns at a time. (C_ij sums Z_ri Z_rj over r in increasing
+    // order, as CHOLMOD's ssmult goes down column j of Z: C_ji has the same bits.)
     for (int64_t first = 0; first < k; first += block_cols) {
         const int64_t last = std::min(k, first + block_cols);
         cholmod_sparse zj = view_of(column_block(Z, first, last, ptr), 0);
         Impl::Sparse c{cholmod_l_ssmult(zt.s, &zj, 0, 1, 1, &m.c), &m.c};
         if (!c.s) return failed("B^T A^-1 B");
-        append_columns(*c.s, colptr, rowind, values);
+        const int64_t *cp = static_cast<const int64_t *>(c.s->p), *ci = static_cast<const int64_t *>(c.s->i);
+        const double *cx = static_cast<const double *>(c.s->x);
+        for (size_t j = 0; j < c.s->ncol; ++j)
+            if (frix_error e = sink(cp[j + 1] - cp[j], ci + cp[j], cx + cp[j])) {
+                stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+                return e;
+            }
         if (last < k && interrupted()) return FRIX_OK;
     }
     stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();

@@ -102,6 +102,13 @@ class SparseCholesky {
                                   std::vector<int64_t> &rowind, std::vector<double> &values,
                                   const std::function<bool()> &stop = nullptr, bool *stopped = nullptr,
                                   int64_t block_cols = kCongruenceBlockColumns);
+    // The same, C handed over a column at a time, in order (its entries' rows increasing),
+    // instead of kept: the caller stores it as it needs (a dense C is large). A sink's error
+    // ends the work and is returned.
+    using ColumnSink = std::function<frix_error(int64_t count, const int64_t *rows, const double *values)>;
+    frix_error inverse_congruence(const CscView &B, const ColumnSink &sink,
+                                  const std::function<bool()> &stop = nullptr, bool *stopped = nullptr,
+                                  int64_t block_cols = kCongruenceBlockColumns);
 
     const FactorStats &stats() const { return stats_; }
 
