@@ -139,8 +139,9 @@ class MassSolver {
 };
 
 // W's 3x3 blocks: 9 values and a column index each (BlockMatrixFromColumns keeps no other copy).
-// Below 1 GB the system is not asked.
-constexpr double kBytesPerReducedBlock = 80.0, kMemoryCheckedAbove = 1e9;
+// Below 1 GB the system is not asked. Where W could take more than kStructureAbove, its
+// structure is looked at for a tighter bound (forming W reserves that much address space).
+constexpr double kBytesPerReducedBlock = 80.0, kMemoryCheckedAbove = 1e9, kStructureAbove = 256e6;
 
 // The memory this process may use: the machine's, or its control group's limit where lower
 // (a container). 0 when unknown.
@@ -164,18 +165,11 @@ frix_error recover_velocity(const frix_problem &p, const MassSolver &ms, const d
     return ms.solve(b.data(), v);
 }
 
-// How many 3x3 blocks W = H^T M^-1 H may have: nc^2, or where that is large (a W that dense
-// would take over 256 MB) the structural bound (reduction_size), which is far below it on
-// rigid bodies. Forming W reserves room for them (memory only counts once written).
-double expected_w_blocks(const frix_problem &p) {
-    const double dense = (double)p.nc * (double)p.nc;
-    return kBytesPerReducedBlock * dense <= 256e6 ? dense : std::min(dense, autosolve::reduction_size(p).w_blocks);
-}
-
 // Route (a): reduce with the factorised M, solve the local problem with any local solver,
-// recover v.
+// recover v. W has at most w_blocks blocks (room is reserved for them: memory only counts once
+// written).
 frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const SolverEntry &entry,
-                         MassSolver &ms, const double *q0, double *r, double *u, double *v,
+                         MassSolver &ms, double w_blocks, const double *q0, double *r, double *u, double *v,
                          frix_info &info, const Stopwatch &clock,
                          frix_error (*solve_local)(const frix_problem &, const frix_options &,
                                                    const SolverEntry &, double *, double *,
@@ -199,7 +193,7 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
         return stop_status != FRIX_STATUS_NOT_RUN;
     };
     bool stopped = false;
-    if (frix_error e = ms.congruence(*p.H, expected_w_blocks(p), W, stop, stopped)) return e;
+    if (frix_error e = ms.congruence(*p.H, w_blocks, W, stop, stopped)) return e;
     if (stopped) {
         info.status = stop_status;
         info.iterations = 0;
@@ -673,11 +667,11 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         info = native;
     } else {
         // W has at most nc^2 blocks: the structure is looked at only where that much could be
-        // worth checking (above 3500 contacts or so).
+        // worth it (above 1800 contacts or so; on rigid bodies W has far fewer).
         autosolve::ReductionSize size;
         size.w_blocks = (double)p.nc * (double)p.nc;
         size.w_entries = 9.0 * size.w_blocks;
-        if (kBytesPerReducedBlock * size.w_blocks >= kMemoryCheckedAbove) size = autosolve::reduction_size(p);
+        if (kBytesPerReducedBlock * size.w_blocks >= kStructureAbove) size = autosolve::reduction_size(p);
         const ReductionMemory memory = reduction_memory(size);
         if (!memory.fits)
             return fail(FRIX_ERR_OUT_OF_MEMORY,
@@ -688,7 +682,7 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         const frix_info before = info;
         info.factorizations = info.symbolic_analyses = 0;
         info.factorization_time = info.setup_time = 0.0;
-        if (frix_error e = solve_reduced(p, opts, entry, ms, q.data(), r, u, v, info, clock, solve_local))
+        if (frix_error e = solve_reduced(p, opts, entry, ms, size.w_blocks, q.data(), r, u, v, info, clock, solve_local))
             return e;
         // The local solver reported its own work: add the factorisation of M.
         info.factorizations += before.factorizations;
