@@ -107,11 +107,12 @@ constexpr int64_t kDriftWindow = 1000;
 // stalls below the best error, one Newton stage runs from its iterate: near a solution Newton
 // often finishes what the IPM could not (Kapla-4x2x25-ball s100, OpenBLAS on one thread: the
 // IPM stops at 1.8e-7, Newton converges from there in 75 steps, 0.3 s, where the rounds from
-// NSGS's iterate took 10 s). The result is kept only within kIpmKeepRatio of the tolerance:
-// there the next stages finish it in a few steps (the same problem, OpenBLAS on two threads:
-// the IPM stalls at 5.6e-7, Newton ends at 3.5e-8, auto takes 3.0 s instead of 12-15 s),
-// while a point far above it sends the rounds on a longer path than NSGS's (Spheres-n400
-// s140: 3.5e-4 after Newton; kept, 41-49 s instead of 10 s).
+// NSGS's iterate took 10 s). The rounds start from the result only within kIpmKeepRatio of
+// the tolerance: there the next stages finish it in a few steps (the same problem, OpenBLAS
+// on two threads: the IPM stalls at 5.6e-7, Newton ends at 3.5e-8, auto takes 3.0 s instead
+// of 12-15 s), while a point far above it sends the rounds on a longer path than NSGS's
+// (Spheres-n400 s140: 3.5e-4 after Newton; started from, 41-49 s instead of 10 s). Such a
+// result is set aside, and returned if the rounds end above it (a time or iteration limit).
 // Patience and budget count its iterations (interior points and then Newton steps).
 constexpr int64_t kIpmMinContacts = 200;
 constexpr StageSpec kIpmStage = {FRIX_SOLVER_IPM, 50, 500};
@@ -278,6 +279,7 @@ class IslandSolver {
             round_ = idle_rounds_ = 0;
             finished_ = false;
             std::copy(r, r + m_, best_r_.begin());
+            held_error_ = INFINITY;
             // From r = 0 the first stage measures its own start; a warm start is measured
             // here, since it may already be the answer (a tightened pass over the parts).
             if (std::any_of(r, r + m_, [](double x) { return x != 0.0; })) best_error_ = measure(r);
@@ -285,8 +287,9 @@ class IslandSolver {
         if (active()) {
             if (frix_error e = phase == kFirst ? first_stage(r) : run_round(r)) return e;
         }
-        std::copy(best_r_.begin(), best_r_.end(), r);
-        *best_error = best_error_;
+        const bool held = held_error_ < best_error_;
+        std::copy(held ? held_r_.begin() : best_r_.begin(), held ? held_r_.end() : best_r_.end(), r);
+        *best_error = held ? held_error_ : best_error_;
         return FRIX_OK;
     }
 
@@ -335,7 +338,7 @@ class IslandSolver {
         const double before = best_error_;
         cut_short_ = false;
         if (round_ == 0 && p_.nc >= kIpmMinContacts && can_continue()) {
-            // Its iterate is kept only within kIpmKeepRatio of the tolerance (see there).
+            // The rounds start from its iterate only within kIpmKeepRatio of the tolerance.
             const std::vector<double> keep_r = best_r_;
             const double keep_error = best_error_;
             const int keep_solver = best_solver_;
@@ -351,6 +354,9 @@ class IslandSolver {
                     return e;
             }
             if (!(best_error_ <= kIpmKeepRatio * tolerance_)) {
+                // Set aside, not lost: where the rounds do not get below it (a time or
+                // iteration limit that ends them early) it is still the part's answer.
+                if (best_error_ < keep_error) held_r_ = best_r_, held_error_ = best_error_;
                 best_r_ = keep_r;
                 best_error_ = keep_error;
                 best_solver_ = keep_solver;
@@ -548,6 +554,10 @@ class IslandSolver {
     int64_t m_;
     std::vector<double> u_, best_r_;
     std::vector<double> nsgs_chain_;  // where the last NSGS stage of the rounds stopped
+    // The interior-point stage's result when the rounds do not start from it (kIpmKeepRatio):
+    // returned instead of the best iterate if that stays worse.
+    std::vector<double> held_r_;
+    double held_error_ = INFINITY;
     double tolerance_ = 0.0, best_error_ = INFINITY;
     int best_solver_ = 0;  // the stage that found the best iterate
     uint64_t rng_;               // random restarts: seeded by the part, so threads do not matter

@@ -575,6 +575,35 @@ START_TEST(test_newton_from_stalled_interior_point) {
 }
 END_TEST
 
+/* Spheres-n400 s140 (fclib-large) capped at 170 iterations: the interior-point stage and
+ * Newton after it reach about 1.7e-3, far above 100 x the tolerance, so the rounds start from
+ * NSGS's 2.2e-2 instead, and the cap ends them above the interior point's result (1.3e-2).
+ * That result is returned, not the rounds' best: the answer is the best of every stage. */
+START_TEST(test_set_aside_interior_point_returned) {
+    file_run f;
+    if (!file_run_open(&f, "../fclib-large/Spheres-n400-seed2-s00140-nc1165.hdf5", 1e-8)) return;
+    ck_assert_int_eq(frix_options_set_int(f.o, FRIX_OPT_MAX_ITER, 170), FRIX_OK);
+    file_run_solve(&f);
+    const char *trace = frix_info_trace(f.info);
+    ck_assert_int_eq(frix_info_status(f.info), FRIX_STATUS_MAX_ITER);
+    double best = INFINITY, last = NAN;
+    int after_ipm = 0, rounds_above = 0;
+    for (const char *line = strstr(trace, "part 1"); line; line = strstr(line + 1, "part 1")) {
+        const double e = line_error(line);
+        if (e < best) best = e;
+        last = e;
+        if (after_ipm && e > best) rounds_above = 1;
+        if (strncmp(strstr(line, ": ") + 2, "ipm:", 4) == 0) after_ipm = 1;
+    }
+    ck_assert_msg(after_ipm && rounds_above && last > best, "not the case meant:\n%s", trace);
+    double e = NAN;
+    ck_assert_int_eq(frix_problem_error(f.p, f.r, NULL, &e), FRIX_OK);
+    /* (the trace prints 4 digits) */
+    ck_assert_msg(e <= 1.001 * best, "returned %.4e, best stage %.4e\n%s", e, best, trace);
+    file_run_close(&f);
+}
+END_TEST
+
 static const char *const kGlobalFiles[] = {
     "global/Box_Stacks-i0035-31-0.hdf5",
     "global/CubeH8.hdf5",
@@ -597,6 +626,7 @@ int main(void) {
     tcase_add_test(tc, test_limits);
     tcase_add_test(tc, test_random_restarts_solve_rockpile_small_island);
     tcase_add_test(tc, test_random_restarts_one_trace_line_per_round);
+    tcase_add_test(tc, test_set_aside_interior_point_returned);
     tcase_add_test(tc, test_contacts_in_different_units);
     tcase_add_test(tc, test_newton_from_stalled_interior_point);
     tcase_add_test(tc, test_rockpile_by_the_nsgs_chain);
