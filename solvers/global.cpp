@@ -315,6 +315,7 @@ double dot(const double *x, const double *y, int64_t n) {
 
 constexpr double kM1 = 0.01, kArmijo = 1e-4;
 constexpr int kStallSteps = 25;
+constexpr int kNonMonotoneMemory = 8;
 constexpr double kDeltaStart = 1e-6, kDeltaFloor = 1e-8;
 // After a step that no line search accepts, rho is cut by kRhoCut, at most kMaxRhoCuts times.
 constexpr double kRhoCut = 0.1;
@@ -451,6 +452,9 @@ frix_error solve(SolveContext &ctx) {
     };
 
     double psi = evaluate(r, v, u, res.data(), phi.data(), true);
+    double merits[kNonMonotoneMemory];  // the last merits (non-monotone line search)
+    int64_t merits_seen = 0;
+    merits[merits_seen++] = psi;
     double err = error_of();
     double best_err = err, ref_err = err, delta = 0.0;
     int since_progress = 0, failures = 0, rho_cuts = 0;
@@ -509,6 +513,11 @@ frix_error solve(SolveContext &ctx) {
         bool accepted = s.line_search == FRIX_LINE_SEARCH_NONE;
         if (!accepted && slope < 0.0) {
             const double c = s.line_search == FRIX_LINE_SEARCH_GOLDSTEIN_PRICE ? kM1 : kArmijo;
+            // Non-monotone: against the largest of the last merits, so that a full step may
+            // climb for a while over the kinks of the merit.
+            double ref = psi;
+            if (s.line_search == FRIX_LINE_SEARCH_NONMONOTONE)
+                for (int k = 0; k < std::min<int64_t>(merits_seen, kNonMonotoneMemory); ++k) ref = std::max(ref, merits[k]);
             double best_t = 0.0, best_psi = psi;
             for (int k = 0; k < s.ls_max_iter; ++k) {
                 for (int64_t j = 0; j < n; ++j) rest[j] = res[j] + t * (Mdv[j] - Hdr[j]);
@@ -522,7 +531,7 @@ frix_error solve(SolveContext &ctx) {
                 ++ls_steps;
                 const double pt = 0.5 * (dot(rest.data(), rest.data(), n) + dot(phit.data(), phit.data(), m));
                 if (pt < best_psi) best_psi = pt, best_t = t;
-                if (pt <= psi + c * t * slope) {
+                if (pt <= ref + c * t * slope) {
                     accepted = true;
                     break;
                 }
@@ -537,6 +546,7 @@ frix_error solve(SolveContext &ctx) {
             for (int64_t j = 0; j < n; ++j) v[j] += t * dv[j];
             for (int64_t i = 0; i < m; ++i) r[i] += t * dr[i];
             psi = evaluate(r, v, u, res.data(), phi.data(), true);
+            merits[merits_seen++ % kNonMonotoneMemory] = psi;
             err = error_of();
             failures = 0;
             ++accepted_steps;
@@ -596,7 +606,7 @@ frix_error solve(SolveContext &ctx) {
 const frix_option_key kExtraKeys[] = {FRIX_OPT_RHO_STRATEGY, FRIX_OPT_RHO, FRIX_OPT_LINE_SEARCH,
                                       FRIX_OPT_LINE_SEARCH_MAX_ITER, (frix_option_key)0};
 const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 500},
-                                   {FRIX_OPT_LINE_SEARCH, FRIX_LINE_SEARCH_ARMIJO},
+                                   {FRIX_OPT_LINE_SEARCH, FRIX_LINE_SEARCH_NONMONOTONE},
                                    {(frix_option_key)0, 0}};
 
 }  // namespace
@@ -613,8 +623,10 @@ const SolverEntry kGlobalNsnAcEntry = {
     "factorisation), and is cut tenfold, up to four times, while no step is accepted. "
     "Converged means both the error and the equilibrium residual are below the tolerance. "
     "Global problems only (local solvers reach global problems through "
-    "the reduction W = H^T M^-1 H). Options: rho_strategy, rho, line_search (Armijo by "
-    "default; Goldstein-Price is taken as Armijo with m1 = 0.01), line_search_max_iter.",
+    "the reduction W = H^T M^-1 H). Options: rho_strategy, rho, line_search (by default "
+    "non-monotone Armijo, against the largest of the last 8 merits: the monotone one stops "
+    "short at the merit's kinks on rigid stacks and packings; Goldstein-Price is taken as "
+    "Armijo with m1 = 0.01), line_search_max_iter.",
     gnewton::solve, false, true, gnewton::kExtraKeys, gnewton::kDefaults};
 
 frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,

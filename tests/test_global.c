@@ -116,6 +116,36 @@ START_TEST(both_routes_solve_the_global_files) {
 }
 END_TEST
 
+/* Newton on (v, r) on the rigid spheres (rank-deficient: 768 contact dofs on 588): with
+ * the monotone Armijo line search it stagnates near 4e-7 (the merit's kinks stop every step
+ * short); the non-monotone search, its default, lets full steps through and converges. */
+START_TEST(newton_on_v_r_solves_the_rigid_spheres) {
+    frix_problem *p = load("global/spheres-in-a-box-98-i10000-256-10.hdf5");
+    if (!p) return;
+    double *r = calloc((size_t)frix_problem_contact_dofs(p), sizeof *r);
+    double *v = calloc((size_t)frix_problem_dofs(p), sizeof *v);
+    outcome out = solve_global(p, FRIX_SOLVER_GLOBAL_NSN_AC, r, v);
+    ck_assert_msg(out.status == FRIX_STATUS_CONVERGED && out.error <= 1e-8 && out.equilibrium <= 1e-8,
+                  "%s, error %g, equilibrium %g", frix_status_string(out.status), out.error, out.equilibrium);
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_GLOBAL_NSN_AC, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_LINE_SEARCH, FRIX_LINE_SEARCH_ARMIJO), FRIX_OK);
+    memset(r, 0, sizeof *r * (size_t)frix_problem_contact_dofs(p));
+    memset(v, 0, sizeof *v * (size_t)frix_problem_dofs(p));
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    double *u = calloc((size_t)frix_problem_contact_dofs(p), sizeof *u);
+    ck_assert_int_eq(frix_solve(p, o, r, u, v, info), FRIX_OK);
+    ck_assert_msg(frix_info_status(info) != FRIX_STATUS_CONVERGED, "monotone Armijo converged: the case tests nothing");
+    frix_info_free(info);
+    frix_options_free(o);
+    free(u);
+    free(r);
+    free(v);
+    frix_problem_free(p);
+}
+END_TEST
+
 START_TEST(reduction_of_the_rigid_spheres) {
     frix_problem *p = load("global/spheres-in-a-box-98-i10000-256-10.hdf5");
     if (!p) return;
@@ -458,6 +488,7 @@ int main(void) {
     tcase_add_loop_test(tc, both_routes_solve_the_global_files, 0,
                         (int)(sizeof kGlobalFiles / sizeof kGlobalFiles[0]));
     tcase_add_test(tc, reduction_of_the_rigid_spheres);
+    tcase_add_test(tc, newton_on_v_r_solves_the_rigid_spheres);
     tcase_add_test(tc, small_problems_stored_as_csc);
     tcase_add_test(tc, singular_mass_matrix_is_an_error);
     tcase_add_test(tc, no_contacts);
