@@ -315,7 +315,6 @@ double dot(const double *x, const double *y, int64_t n) {
 
 constexpr double kM1 = 0.01, kArmijo = 1e-4;
 constexpr int kStallSteps = 25;
-constexpr int kNonMonotoneMemory = 8;
 constexpr double kDeltaStart = 1e-6, kDeltaFloor = 1e-8;
 // After a step that no line search accepts, rho is cut by kRhoCut, at most kMaxRhoCuts times.
 constexpr double kRhoCut = 0.1;
@@ -452,9 +451,7 @@ frix_error solve(SolveContext &ctx) {
     };
 
     double psi = evaluate(r, v, u, res.data(), phi.data(), true);
-    double merits[kNonMonotoneMemory];  // the last merits (non-monotone line search)
-    int64_t merits_seen = 0;
-    merits[merits_seen++] = psi;
+    newton::MeritHistory history(psi);
     double err = error_of();
     double best_err = err, ref_err = err, delta = 0.0;
     int since_progress = 0, failures = 0, rho_cuts = 0;
@@ -515,9 +512,7 @@ frix_error solve(SolveContext &ctx) {
             const double c = s.line_search == FRIX_LINE_SEARCH_GOLDSTEIN_PRICE ? kM1 : kArmijo;
             // Non-monotone: against the largest of the last merits, so that a full step may
             // climb for a while over the kinks of the merit.
-            double ref = psi;
-            if (s.line_search == FRIX_LINE_SEARCH_NONMONOTONE)
-                for (int k = 0; k < std::min<int64_t>(merits_seen, kNonMonotoneMemory); ++k) ref = std::max(ref, merits[k]);
+            const double ref = s.line_search == FRIX_LINE_SEARCH_NONMONOTONE ? history.reference(psi) : psi;
             double best_t = 0.0, best_psi = psi;
             for (int k = 0; k < s.ls_max_iter; ++k) {
                 for (int64_t j = 0; j < n; ++j) rest[j] = res[j] + t * (Mdv[j] - Hdr[j]);
@@ -546,7 +541,7 @@ frix_error solve(SolveContext &ctx) {
             for (int64_t j = 0; j < n; ++j) v[j] += t * dv[j];
             for (int64_t i = 0; i < m; ++i) r[i] += t * dr[i];
             psi = evaluate(r, v, u, res.data(), phi.data(), true);
-            merits[merits_seen++ % kNonMonotoneMemory] = psi;
+            history.push(psi);
             err = error_of();
             failures = 0;
             ++accepted_steps;
@@ -563,6 +558,7 @@ frix_error solve(SolveContext &ctx) {
                 ++rho_cuts;
                 for (int64_t a = 0; a < nc; ++a) rho_n[a] *= kRhoCut, rho_t[a] *= kRhoCut;
                 psi = evaluate(r, v, u, res.data(), phi.data(), true);
+                history = newton::MeritHistory(psi);  // (merits of another rho)
                 failures = 0;
             }
         }

@@ -21,9 +21,8 @@ double dot(const double *x, const double *y, int64_t n) {
     return s;
 }
 
-// Goldstein-Price constants of Siconos (m1, m2), Armijo's sigma, the non-monotone memory.
+// Goldstein-Price constants of Siconos (m1, m2), Armijo's sigma.
 constexpr double kM1 = 0.01, kM2 = 0.99, kArmijo = 1e-4;
-constexpr int kNonMonotoneMemory = 8;
 // Newton is declared stalled after this many steps without halving the best error, or this
 // many failed line searches in a row.
 constexpr int kStallSteps = 25;
@@ -276,9 +275,7 @@ frix_error Engine::run(double *r, const double *q, double shift, double tol, Lim
     // steps acceptable. It falls after full steps, down to 0 on well-posed problems.
     // A proximal shift already regularises J: delta then starts at 0.
     double delta = shift > 0.0 ? 0.0 : kDeltaStart;
-    double history[kNonMonotoneMemory];
-    int nhist = 0;
-    history[nhist++ % kNonMonotoneMemory] = psi;
+    MeritHistory history(psi);
     res.status = FRIX_STATUS_MAX_ITER;
 
     while (true) {
@@ -358,9 +355,7 @@ frix_error Engine::run(double *r, const double *q, double shift, double tol, Lim
                              (A[i] * da[0] + A[i + 3] * da[1] + A[i + 6] * da[2] + B[i] * dua[0] +
                               B[i + 3] * dua[1] + B[i + 6] * dua[2]);
             }
-            double ref = psi;
-            if (s_.line_search == FRIX_LINE_SEARCH_NONMONOTONE)
-                for (int k = 0; k < std::min(nhist, kNonMonotoneMemory); ++k) ref = std::max(ref, history[k]);
+            const double ref = s_.line_search == FRIX_LINE_SEARCH_NONMONOTONE ? history.reference(psi) : psi;
             if (s_.line_search == FRIX_LINE_SEARCH_NONE) {
                 t = 1.0;
                 accepted = true;
@@ -405,7 +400,7 @@ frix_error Engine::run(double *r, const double *q, double shift, double tol, Lim
             velocity();  // a fresh product: no drift of u = W r + q over many steps
             evaluate(r, u.data(), true, phi.data());
             psi = 0.5 * dot(phi.data(), phi.data(), m);
-            history[nhist++ % kNonMonotoneMemory] = psi;
+            history.push(psi);
             err = error_of();
             ls_failures = 0;
             if (t == 1.0) delta = delta < kDeltaFloor ? 0.0 : delta * 0.1;

@@ -36,6 +36,24 @@ struct Settings {
 // The Newton settings of options of solver 504/513/520 (formulation from the id).
 Settings settings_from(const frix_options &o, int solver_id);
 
+// The last merits of a Newton run, for the non-monotone line search (Armijo against the
+// largest of them): shared by the local Newton and Newton on (v, r).
+class MeritHistory {
+   public:
+    explicit MeritHistory(double psi) { push(psi); }
+    void push(double psi) { last_[seen_++ % kMemory] = psi; }
+    // The reference of the Armijo test: psi, or the largest of the last merits if larger.
+    double reference(double psi) const {
+        for (int64_t k = 0; k < seen_ && k < kMemory; ++k) psi = psi < last_[k] ? last_[k] : psi;
+        return psi;
+    }
+
+   private:
+    static constexpr int kMemory = 8;
+    double last_[kMemory];
+    int64_t seen_ = 0;
+};
+
 // Everything the engine counts; copied into frix_info by the solvers.
 struct Counters {
     int64_t newton = 0;
