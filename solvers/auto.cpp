@@ -766,6 +766,26 @@ namespace {
 // limit), on the caller's clock, tolerance, measure and callback: ctx.info becomes its info
 // (status, counters, measures), `stage` its trace event. Converged is the driver's verdict on
 // the returned (r, v) (error and equilibrium), whatever Newton's own stopping test said.
+// A global answer (r, v) set aside while another route runs from elsewhere: the caller gets
+// the better of the two by the global measure (the larger of the error and the equilibrium
+// residual), as auto's local stages keep their best iterate.
+struct GlobalAnswer {
+    std::vector<double> r, v;
+    double score = INFINITY;
+    GlobalAnswer(const SolveContext &ctx, const frix_info &info)
+        : r(ctx.r, ctx.r + 3 * ctx.problem.nc), v(ctx.v, ctx.v + ctx.problem.n), score(score_of(info)) {}
+    static double score_of(const frix_info &info) {
+        const double s = std::max(info.error, info.equilibrium);
+        return std::isfinite(s) ? s : INFINITY;
+    }
+    // Puts the set-aside answer back where it is better than the one the route left.
+    void restore_if_better(SolveContext &ctx, const frix_info &info) const {
+        if (info.status == FRIX_STATUS_CONVERGED || !(score < score_of(info))) return;
+        std::copy(r.begin(), r.end(), ctx.r);
+        std::copy(v.begin(), v.end(), ctx.v);
+    }
+};
+
 frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage) {
     frix_options o;
     default_options(kGlobalNsnAcEntry, o);
@@ -833,8 +853,10 @@ frix_error reduce_then_newton(SolveContext &ctx, int64_t max_iter, int64_t reduc
     const AnalysisSummary analysis = info.analysis;
     const int64_t islands = info.islands, switches = info.switches + 1, iterations = info.iterations;
     const frix_info before = info;
+    const GlobalAnswer reduced_answer(ctx, info);
     TraceEvent stage{TraceEvent::kStage};
     if (frix_error e = global_newton(ctx, left, stage)) return e;
+    reduced_answer.restore_if_better(ctx, info);
     trace.push_back(stage);
     accumulate(info, before);
     info.trace = std::move(trace);
@@ -906,8 +928,10 @@ frix_error solve(SolveContext &ctx) {
     after.value = info.equilibrium;
     trace.push_back(after);
     const frix_info newton = info;
+    const GlobalAnswer newton_answer(ctx, info);
     std::copy(start.begin(), start.end(), ctx.r);
     if (frix_error e = reduce_then_newton(ctx, left, left / 2)) return e;
+    newton_answer.restore_if_better(ctx, info);
     trace.insert(trace.end(), info.trace.begin(), info.trace.end());
     accumulate(info, newton);
     info.iterations += newton.iterations;

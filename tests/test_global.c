@@ -358,6 +358,52 @@ static int stop_at(void *data, int64_t iteration, double error, double seconds) 
     return ++s->calls == s->at;
 }
 
+/* Stops at the first call with iteration 0 that follows calls with iterations above 0: on
+ * auto's dense-W route, the forming of W after Newton on (v, r) failed. */
+typedef struct {
+    int newton_seen, stopped;
+} stop_at_reduction;
+
+static int stop_when_reducing(void *data, int64_t iteration, double error, double seconds) {
+    (void)error, (void)seconds;
+    stop_at_reduction *s = data;
+    if (iteration > 0) s->newton_seen = 1;
+    else if (s->newton_seen) s->stopped = 1;
+    return s->stopped;
+}
+
+/* auto's answer is the better of its routes': on the k = 1e13 grid Newton on (v, r) fails
+ * (equilibrium 5e-8), and when the caller stops the reduction after all while it forms W
+ * (the start comes back from it), auto returns Newton's answer, not the start. */
+START_TEST(auto_keeps_the_better_route_when_stopped) {
+    grid_case c = grid_case_make(25, 25, 2, 0.0, 1e13);
+    const outcome newton = solve_global(c.p, FRIX_SOLVER_GLOBAL_NSN_AC, c.r, c.v);
+    ck_assert_msg(newton.status != FRIX_STATUS_CONVERGED, "607 converged: the case tests nothing");
+    const double newton_score = fmax(newton.error, newton.equilibrium);
+    memset(c.r, 0, sizeof *c.r * (size_t)c.m), memset(c.v, 0, sizeof *c.v * (size_t)c.n);
+    frix_options *o = NULL;
+    frix_info *info = NULL, *check = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &o), FRIX_OK);
+    stop_at_reduction stopper = {0, 0};
+    ck_assert_int_eq(frix_options_set_callback(o, stop_when_reducing, &stopper), FRIX_OK);
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_info_create(&check), FRIX_OK);
+    ck_assert_msg(frix_solve(c.p, o, c.r, c.u, c.v, info) == FRIX_OK, "%s", frix_last_error_message());
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_STOPPED_BY_CALLBACK);
+    ck_assert_msg(stopper.stopped && strstr(frix_info_trace(info), "after all"), "%s", frix_info_trace(info));
+    double error = NAN, equilibrium = NAN;
+    ck_assert_int_eq(frix_problem_measure(c.p, c.r, c.v, NULL, check), FRIX_OK);
+    ck_assert_int_eq(frix_info_get_double(check, FRIX_INFO_ERROR_RELATIVE, &error), FRIX_OK);
+    ck_assert_int_eq(frix_info_get_double(check, FRIX_INFO_EQUILIBRIUM, &equilibrium), FRIX_OK);
+    ck_assert_msg(fmax(error, equilibrium) <= 2.0 * newton_score, "error %g, equilibrium %g; Newton's %g",
+                  error, equilibrium, newton_score);
+    frix_info_free(check);
+    frix_info_free(info);
+    frix_options_free(o);
+    grid_case_free(&c);
+}
+END_TEST
+
 /* An explicit local solver on a deformable body forms the dense W, which can take minutes
  * (6400 contacts: 270 s, 7.2 GB): the time limit and the callback end that too, with the
  * caller's start returned, its velocity and its measures. Forming W goes by blocks of 128
@@ -485,6 +531,7 @@ int main(void) {
     tcase_add_test(tc, newton_corrects_the_lumped_rho);
     tcase_add_test(tc, newton_cuts_a_rho_too_large);
     tcase_add_test(tc, auto_reduces_after_all_where_newton_fails);
+    tcase_add_test(tc, auto_keeps_the_better_route_when_stopped);
     tcase_add_test(tc, time_limit_and_callback_end_the_forming_of_w);
     tcase_add_test(tc, callback_ends_the_forming_of_w_with_lu);
     tcase_add_test(tc, reduction_refused_where_w_would_not_fit);
