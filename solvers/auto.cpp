@@ -762,30 +762,35 @@ const SolverEntry kAutoReductionEntry = {FRIX_SOLVER_AUTO, "auto", nullptr, FRIX
 
 namespace {
 
-// Newton on (v, r) (607) from ctx's (r, v), for at most max_iter iterations (and its own
-// limit), on the caller's clock, tolerance, measure and callback: ctx.info becomes its info
-// (status, counters, measures), `stage` its trace event. Converged is the driver's verdict on
-// the returned (r, v) (error and equilibrium), whatever Newton's own stopping test said.
 // A global answer (r, v) set aside while another route runs from elsewhere: the caller gets
 // the better of the two by the global measure (the larger of the error and the equilibrium
 // residual), as auto's local stages keep their best iterate.
 struct GlobalAnswer {
     std::vector<double> r, v;
-    double score = INFINITY;
+    double error, equilibrium;
     GlobalAnswer(const SolveContext &ctx, const frix_info &info)
-        : r(ctx.r, ctx.r + 3 * ctx.problem.nc), v(ctx.v, ctx.v + ctx.problem.n), score(score_of(info)) {}
-    static double score_of(const frix_info &info) {
-        const double s = std::max(info.error, info.equilibrium);
+        : r(ctx.r, ctx.r + 3 * ctx.problem.nc), v(ctx.v, ctx.v + ctx.problem.n), error(info.error),
+          equilibrium(info.equilibrium) {}
+    static double score(double error, double equilibrium) {
+        const double s = std::max(error, equilibrium);
         return std::isfinite(s) ? s : INFINITY;
     }
-    // Puts the set-aside answer back where it is better than the one the route left.
-    void restore_if_better(SolveContext &ctx, const frix_info &info) const {
-        if (info.status == FRIX_STATUS_CONVERGED || !(score < score_of(info))) return;
+    // Puts the set-aside answer back where it is better than the one the route left, with its
+    // error and equilibrium (the driver measures the answer returned again in full).
+    void restore_if_better(SolveContext &ctx, frix_info &info) const {
+        if (info.status == FRIX_STATUS_CONVERGED || !(score(error, equilibrium) < score(info.error, info.equilibrium)))
+            return;
         std::copy(r.begin(), r.end(), ctx.r);
         std::copy(v.begin(), v.end(), ctx.v);
+        info.error = error;
+        info.equilibrium = equilibrium;
     }
 };
 
+// Newton on (v, r) (607) from ctx's (r, v), for at most max_iter iterations (and its own
+// limit), on the caller's clock, tolerance, measure and callback: ctx.info becomes its info
+// (status, counters, measures), `stage` its trace event. Converged is the driver's verdict on
+// the returned (r, v) (error and equilibrium), whatever Newton's own stopping test said.
 frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage) {
     frix_options o;
     default_options(kGlobalNsnAcEntry, o);
