@@ -429,7 +429,6 @@ frix_error solve(SolveContext &ctx) {
     // problem stalls at 0.35 instead of 4e-7.
     for (int64_t j = 0; j < n; ++j) v[j] = 0.0;
     std::copy(v, v + n, best_v.begin());
-    const double norm_f = std::sqrt(dot(p.f, p.f, n));
 
     auto evaluate = [&](const double *rr, const double *vv, double *uu, double *rr_res, double *ph,
                         bool jacobian) {
@@ -586,7 +585,6 @@ frix_error solve(SolveContext &ctx) {
         std::copy(best_r.begin(), best_r.end(), r);
         std::copy(best_v.begin(), best_v.end(), v);
     }
-    (void)norm_f;
     info.iterations = it;
     info.newton_iterations = it;
     info.line_search_steps = ls_steps;
