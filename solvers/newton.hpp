@@ -29,6 +29,7 @@ struct Settings {
     int ls_max_iter = 20;
     int hybrid = 1;             // frix_hybrid
     int64_t hybrid_sweeps = 50;
+    int watchdog = 0;           // steps of a full-step excursion (option watchdog; 0: none)
     int64_t measure = 0;        // frix_error_measure
     int verbosity = 0;
 };

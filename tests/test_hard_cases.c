@@ -52,14 +52,14 @@ static int all_finite(const double *x, int64_t n) {
     return 1;
 }
 
-/* Solves from r = 0 (v = 0) and checks what must hold for every solver on every problem. */
-static run_result run(const char *name, const frix_problem *p, int solver, double tol,
-                      int64_t max_iter, double time_limit, double *r, double *u, double *v) {
+/* Solves from r = 0 (v = 0) with options o (of `solver`, tolerance tol) and checks what must
+ * hold for every solver on every problem. */
+static run_result run_with(const char *name, const frix_problem *p, const frix_options *o, int solver,
+                           double tol, double *r, double *u, double *v) {
     const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
     const int global = frix_problem_get_kind(p) == FRIX_PROBLEM_GLOBAL;
     memset(r, 0, sizeof(double) * (size_t)m);
     memset(v, 0, sizeof(double) * (size_t)n);
-    frix_options *o = make_options(solver, tol, max_iter, time_limit);
     frix_info *info = NULL, *check = NULL;
     ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
     ck_assert_int_eq(frix_info_create(&check), FRIX_OK);
@@ -100,6 +100,14 @@ static run_result run(const char *name, const frix_problem *p, int solver, doubl
     }
     frix_info_free(check);
     frix_info_free(info);
+    return out;
+}
+
+/* run_with the solver's defaults but for the tolerance and the limits. */
+static run_result run(const char *name, const frix_problem *p, int solver, double tol,
+                      int64_t max_iter, double time_limit, double *r, double *u, double *v) {
+    frix_options *o = make_options(solver, tol, max_iter, time_limit);
+    run_result out = run_with(name, p, o, solver, tol, r, u, v);
     frix_options_free(o);
     return out;
 }
@@ -200,6 +208,44 @@ START_TEST(test_auto_under_a_tight_iteration_limit) {
     /* The limit holds for global problems too, whose fallback (Newton on (v, r)) gets what
      * the reduction route left (chain_mass1e6_global once ended at 2001). */
     ck_assert_msg(res.iterations <= 2000, "%s: %lld iterations", name, (long long)res.iterations);
+}
+END_TEST
+
+/* Newton's watchdog (option watchdog, 5 steps by default for nsn-ac and nsn-fb): on the
+ * mass-ratio cases the Alart-Curnier merit, dominated by the heavy bodies' contacts, rises by
+ * up to 1e8 on the full steps that solve the problem, and the line search alone stalls
+ * (stack_mass1e6 at 1.3e-3, chain_mass1e6 at 2.9e-4, spheres_mass1e6 at 2.6e-3, locally and
+ * reduced from the global problem); with the watchdog nsn-ac converges in 4 to 29 steps. */
+START_TEST(test_newton_watchdog_solves_the_mass_ratios) {
+    int cases = 0;
+    for (int i = 0; i < frix_hard_case_count(); ++i) {
+        if (!strstr(frix_hard_case_name(i), "mass1e6")) continue;
+        frix_hard_case c;
+        ck_assert_int_eq(frix_hard_case_make(i, &c), FRIX_OK);
+        const frix_problem *p = c.problem;
+        const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
+        double *r = calloc((size_t)m + 1, sizeof *r), *u = calloc((size_t)m + 1, sizeof *u);
+        double *v = calloc((size_t)n + 1, sizeof *v);
+        frix_options *o = make_options(FRIX_SOLVER_NSN_AC, 1e-8, MAX_ITER, 0.0);
+        int64_t steps = -1;
+        ck_assert_int_eq(frix_options_get_int(o, FRIX_OPT_WATCHDOG, &steps), FRIX_OK);
+        ck_assert_int_eq(steps, 5);
+        const run_result with = run_with(c.name, p, o, FRIX_SOLVER_NSN_AC, 1e-8, r, u, v);
+        ck_assert_msg(with.converged && with.iterations <= 50, "%s: nsn-ac: %s after %lld iterations, error %.3e",
+                      c.name, frix_status_string(with.status), (long long)with.iterations, with.error);
+        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_WATCHDOG, 0), FRIX_OK);
+        const run_result without = run_with(c.name, p, o, FRIX_SOLVER_NSN_AC, 1e-8, r, u, v);
+        ck_assert_msg(!without.converged && without.error > 1e-5,
+                      "%s: nsn-ac without the watchdog: %s, error %.3e (the case no longer needs it)",
+                      c.name, frix_status_string(without.status), without.error);
+        ++cases;
+        frix_options_free(o);
+        free(r);
+        free(u);
+        free(v);
+        frix_hard_case_free(&c);
+    }
+    ck_assert_int_eq(cases, 5);
 }
 END_TEST
 
@@ -523,6 +569,7 @@ int main(void) {
     tcase_add_loop_test(set, test_auto_under_a_tight_iteration_limit, 0, frix_hard_case_count());
     tcase_add_test(set, test_scaled_problems_are_the_same_problem);
     tcase_add_test(set, test_separating_at_once);
+    tcase_add_test(set, test_newton_watchdog_solves_the_mass_ratios);
     tcase_add_test(set, test_extreme_magnitudes_finite_error);
     tcase_add_test(set, test_global_without_dofs);
     suite_add_tcase(s, set);

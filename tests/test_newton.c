@@ -295,6 +295,52 @@ START_TEST(nsn_ac_solves_what_siconos_solves) {
 }
 END_TEST
 
+/* The watchdog's failed excursion is undone whole: on local_problem_test nsn-ac tries the full
+ * step once (its line search stalls where the full step halves the error), the error has not
+ * fallen tenfold k steps later, and the run goes back to where it was with everything it knew
+ * there: the same path as without the watchdog, k steps later (63 steps without it, 66 with
+ * k = 3, 68 with k = 5). A state left behind (the regularisation, the best iterate, the stall
+ * counters) changes that path. On spheres-in-a-box, where the full steps go on to converge,
+ * the kept excursion is what solves it for nsn-fb (which stagnates at 2.3e-6 without it). */
+START_TEST(watchdog_undoes_a_failed_excursion) {
+    frix_problem *p = load("local/local_problem_test.hdf5");
+    if (!p) return;
+    const int64_t m = frix_problem_contact_dofs(p);
+    double *r = calloc((size_t)m + 1, sizeof *r);
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSN_AC, &o), FRIX_OK);
+    int64_t its[3] = {0, 0, 0};
+    const int64_t steps[3] = {0, 3, 5};
+    for (int k = 0; k < 3; ++k) {
+        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_WATCHDOG, steps[k]), FRIX_OK);
+        memset(r, 0, sizeof(double) * (size_t)m);
+        frix_info *info = solve(p, o, r);
+        ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+        its[k] = frix_info_iterations(info);
+        frix_info_free(info);
+    }
+    ck_assert_msg(its[1] == its[0] + 3 && its[2] == its[0] + 5,
+                  "iterations: %lld without the watchdog, %lld with 3 steps, %lld with 5", (long long)its[0],
+                  (long long)its[1], (long long)its[2]);
+    frix_options_free(o);
+    free(r);
+    frix_problem_free(p);
+
+    p = load("converted/spheres-in-a-box-98-i10000-256-10.reduced.hdf5");
+    if (!p) return;
+    r = calloc((size_t)frix_problem_contact_dofs(p) + 1, sizeof *r);
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSN_FB, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TIME_LIMIT, 30.0), FRIX_OK);
+    frix_info *info = solve(p, o, r);
+    ck_assert_msg(frix_info_status(info) == FRIX_STATUS_CONVERGED, "nsn-fb on spheres-in-a-box: %s, error %.3e",
+                  frix_status_string(frix_info_status(info)), frix_info_error(info));
+    frix_info_free(info);
+    frix_options_free(o);
+    free(r);
+    frix_problem_free(p);
+}
+END_TEST
+
 /* PROX on the rank-deficient rigid problems the literature gives it. */
 static const char *const kProxSolves[] = {
     "local/Capsules-i125-1213.hdf5",
@@ -492,6 +538,7 @@ int main(void) {
     tcase_add_loop_test(tc, nsn_ac_solves_what_siconos_solves, 0, FRIX_FCLIB_LOCAL_COUNT);
     tcase_add_loop_test(tc, prox_solves_rigid_problems, 0, (int)(sizeof kProxSolves / sizeof kProxSolves[0]));
     tcase_add_test(tc, prox_stops_when_its_steps_would_repeat);
+    tcase_add_test(tc, watchdog_undoes_a_failed_excursion);
     tcase_add_test(tc, fb_and_nm_solve_small_problems);
     tcase_add_loop_test(tc, nsgs_hybrid_as_robust_as_projection, 0,
                         (int)(sizeof kNsgs553Solves / sizeof kNsgs553Solves[0]));

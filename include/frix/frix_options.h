@@ -63,8 +63,13 @@ typedef enum frix_option_key FRIX_ENUM_BASE {
     FRIX_OPT_EXISTENCE_CHECK = 29, /* int 0/1: when the solve fails, check whether a solution
                                      exists (frix_problem_check_existence; default 1) */
     /* NSGS (500, 501) */
-    FRIX_OPT_DRIFT_WINDOW = 30    /* int >= 0: every k sweeps, a steady drift of r is carried
+    FRIX_OPT_DRIFT_WINDOW = 30,   /* int >= 0: every k sweeps, a steady drift of r is carried
                                      ahead to the next loss of contact; 0 = never (default) */
+    /* Semismooth Newton (504, 513, 520) */
+    FRIX_OPT_WATCHDOG = 31        /* int >= 0: where the line search stalls but the full step
+                                     halves the best error, take it and k - 1 more steps, and
+                                     go back unless the error fell tenfold; 0 = never. Default
+                                     5 for 504 and 513, 0 for 520 */
 } frix_option_key;
 
 typedef enum frix_rho_strategy FRIX_ENUM_BASE {
