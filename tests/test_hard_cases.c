@@ -167,21 +167,35 @@ START_TEST(test_hard_case_every_solver) {
 }
 END_TEST
 
+/* Hard case `index` with room for its r, u and v. */
+typedef struct {
+    frix_hard_case c;
+    double *r, *u, *v;
+} case_run;
+
+static void case_open(int index, case_run *k) {
+    ck_assert_int_eq(frix_hard_case_make(index, &k->c), FRIX_OK);
+    const int64_t m = frix_problem_contact_dofs(k->c.problem), n = frix_problem_dofs(k->c.problem);
+    k->r = calloc((size_t)m + 1, sizeof *k->r);
+    k->u = calloc((size_t)m + 1, sizeof *k->u);
+    k->v = calloc((size_t)n + 1, sizeof *k->v);
+}
+
+static void case_close(case_run *k) {
+    free(k->r);
+    free(k->u);
+    free(k->v);
+    frix_hard_case_free(&k->c);
+}
+
 /* auto on hard case `index` from r = 0, with the iteration limit given and no time limit
  * (deterministic); *name receives the case's name (a static string). */
 static run_result run_auto_on_case(int index, int64_t max_iter, const char **name) {
-    frix_hard_case c;
-    ck_assert_int_eq(frix_hard_case_make(index, &c), FRIX_OK);
-    const frix_problem *p = c.problem;
-    const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
-    double *r = calloc((size_t)m + 1, sizeof *r), *u = calloc((size_t)m + 1, sizeof *u);
-    double *v = calloc((size_t)n + 1, sizeof *v);
-    run_result res = run(c.name, p, FRIX_SOLVER_AUTO, 1e-8, max_iter, 0.0, r, u, v);
-    *name = c.name;
-    free(r);
-    free(u);
-    free(v);
-    frix_hard_case_free(&c);
+    case_run k;
+    case_open(index, &k);
+    run_result res = run(k.c.name, k.c.problem, FRIX_SOLVER_AUTO, 1e-8, max_iter, 0.0, k.r, k.u, k.v);
+    *name = k.c.name;
+    case_close(&k);
     return res;
 }
 
@@ -220,30 +234,25 @@ START_TEST(test_newton_watchdog_solves_the_mass_ratios) {
     int cases = 0;
     for (int i = 0; i < frix_hard_case_count(); ++i) {
         if (!strstr(frix_hard_case_name(i), "mass1e6")) continue;
-        frix_hard_case c;
-        ck_assert_int_eq(frix_hard_case_make(i, &c), FRIX_OK);
-        const frix_problem *p = c.problem;
-        const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
-        double *r = calloc((size_t)m + 1, sizeof *r), *u = calloc((size_t)m + 1, sizeof *u);
-        double *v = calloc((size_t)n + 1, sizeof *v);
+        case_run k;
+        case_open(i, &k);
+        const char *name = k.c.name;
         frix_options *o = make_options(FRIX_SOLVER_NSN_AC, 1e-8, MAX_ITER, 0.0);
         int64_t steps = -1;
         ck_assert_int_eq(frix_options_get_int(o, FRIX_OPT_WATCHDOG, &steps), FRIX_OK);
         ck_assert_int_eq(steps, 5);
-        const run_result with = run_with(c.name, p, o, FRIX_SOLVER_NSN_AC, 1e-8, r, u, v);
-        ck_assert_msg(with.converged && with.iterations <= 50, "%s: nsn-ac: %s after %lld iterations, error %.3e",
-                      c.name, frix_status_string(with.status), (long long)with.iterations, with.error);
+        const run_result with = run_with(name, k.c.problem, o, FRIX_SOLVER_NSN_AC, 1e-8, k.r, k.u, k.v);
+        ck_assert_msg(with.converged && with.iterations <= 50,
+                      "%s: nsn-ac: %s after %lld iterations, error %.3e", name,
+                      frix_status_string(with.status), (long long)with.iterations, with.error);
         ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_WATCHDOG, 0), FRIX_OK);
-        const run_result without = run_with(c.name, p, o, FRIX_SOLVER_NSN_AC, 1e-8, r, u, v);
+        const run_result without = run_with(name, k.c.problem, o, FRIX_SOLVER_NSN_AC, 1e-8, k.r, k.u, k.v);
         ck_assert_msg(!without.converged && without.error > 1e-5,
                       "%s: nsn-ac without the watchdog: %s, error %.3e (the case no longer needs it)",
-                      c.name, frix_status_string(without.status), without.error);
+                      name, frix_status_string(without.status), without.error);
         ++cases;
         frix_options_free(o);
-        free(r);
-        free(u);
-        free(v);
-        frix_hard_case_free(&c);
+        case_close(&k);
     }
     ck_assert_int_eq(cases, 5);
 }
