@@ -129,6 +129,15 @@ std::unique_ptr<frix_matrix> read_matrix(TextTokens &in, const std::string &name
     const std::string rows_what = "rows of " + name, cols_what = "columns of " + name;
     const int64_t m = in.integer(rows_what.c_str(), rows < 0 ? 0 : rows, rows < 0 ? kMaxSize : rows);
     const int64_t n = in.integer(cols_what.c_str(), cols < 0 ? 0 : cols, cols < 0 ? kMaxSize : cols);
+    if (rows < 0 || cols < 0) {
+        // W or M, whose sizes nothing read so far bounds, is square and no larger than the file
+        // can back: storage grows with the size even without entries (16 bytes declaring a
+        // 0 x 1.4e9 matrix made the fuzzer allocate 3.8 GB). Dense, its m^2 values must be
+        // there; sparse-block, the vector that follows it (q or f, as many numbers as rows).
+        if (m != n)
+            in.error(name + " is " + std::to_string(m) + " x " + std::to_string(n) + ", not square");
+        if (storage == 1) in.require(static_cast<size_t>(m), (name + " and the vector after it").c_str());
+    }
     return storage == 0 ? read_dense(in, name, m, n) : read_sparse_block(in, name, m, n);
 }
 

@@ -305,6 +305,12 @@ START_TEST(malformed_files) {
                  "mu[0]");
     expect_error("blocknum.dat", "3 1\n1 3 3 1 1 1 3 3 2 1 0 1 0\n5 1 0 0 0 1 0 0 0 1\n-1 0 0 0.3\n",
                  FRIX_ERR_FORMAT, "block number");
+    /* Sizes no file of that length can back (the fuzzer's: 0 x 1443521715 made it allocate
+     * 3.8 GB for an empty matrix): refused before anything of that size is allocated. */
+    expect_error("wide.dat", "3 1\n0 0 1443521715\n0 1443521715\n-1 0 0 0.3\n", FRIX_ERR_FORMAT,
+                 "0 x 1443521715, not square");
+    expect_error("huge.dat", "3 1\n1 1443521715 1443521715 0 0 0 1 0\n-1 0 0 0.3\n", FRIX_ERR_FORMAT,
+                 "W or M and the vector after it needs 1443521715 more numbers");
     expect_error("empty.dat", "", FRIX_ERR_FORMAT, "ends where the dimension");
     expect_error("text.txt", "hello\n", FRIX_ERR_FORMAT, "found 'hello'");
     frix_problem *p = NULL;
