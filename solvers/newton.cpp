@@ -42,12 +42,14 @@ constexpr int64_t kDenseMax = 60;
 // error from 9.2e-2 to 2.3e-6 (hard case chain_mass1e6), so the line search keeps cutting the
 // step to nothing (stagnated at 2.9e-4, where full steps converge in 4). Where the line search
 // stalls (its step below kWatchdogShortStep, or none) while the full step at least halves the
-// best error (kWatchdogTrigger), the full step is taken, then k - 1 more steps; unless the error
+// best error (kWatchdogTrigger), the full step is taken, then k - 1 more steps, full too where
+// the line search would cut them short (with the line search there instead, nsn-fb still
+// stagnated on chain_mass1e6 and stack_mass1e6 took 29 steps instead of 8); unless the error
 // then stands tenfold below the best error at the start (kWatchdogGain), the run goes back to
 // the start with everything it knew there and does not try again in that run. A failed try
 // costs k steps and leaves the path as it was, up to rounding (the sparse LU's analysis may be
 // redone on the way back; Kapla-3x3x20 s60 parts from it 29 steps later, at the fourth digit
-// of the error, and ends after 134 steps instead of 121): on chaotic paths (local_problem_test) a
+// of the error, and ends after 126 steps instead of 121): on chaotic paths (local_problem_test) a
 // kept excursion judged on its first point alone, or by its best error, took 110 to 163
 // steps instead of 63; judged after k = 5 steps, 68.
 constexpr double kWatchdogShortStep = 1e-2, kWatchdogTrigger = 0.5, kWatchdogGain = 0.1;
@@ -440,6 +442,11 @@ frix_error Engine::run(double *r, const double *q, double shift, double tol, Lim
                 }
             }
         }
+        // Within an excursion, the steps the line search would cut short are full steps too.
+        if (finite && excursion.active && (!accepted || t < kWatchdogShortStep)) {
+            t = 1.0;
+            accepted = true;
+        }
         if (accepted) {
             for (int64_t i = 0; i < m; ++i) r[i] += t * d[i];
             velocity();  // a fresh product: no drift of u = W r + q over many steps
@@ -613,8 +620,9 @@ const OptionDefault kNmDefaults[] = {{FRIX_OPT_MAX_ITER, 2000},
     "hybrid = nsgs (the default), a stalled Newton hands over to NSGS sweeps and resumes. "    \
     "Options: rho_strategy (constant, spectral, split), rho, line_search, "                    \
     "line_search_max_iter, hybrid, hybrid_sweeps, watchdog (where the line search stalls but the " \
-    "full step halves the best error: the full step and k - 1 more, undone unless the error "  \
-    "fell tenfold). Iterations count Newton steps plus fallback sweeps."
+    "full step halves the best error: the full step and k - 1 more, full too where the line "  \
+    "search would cut them short, undone unless the error fell tenfold). Iterations count "     \
+    "Newton steps plus fallback sweeps."
 
 }  // namespace
 }  // namespace newton

@@ -67,9 +67,10 @@ typedef enum frix_option_key FRIX_ENUM_BASE {
                                      ahead to the next loss of contact; 0 = never (default) */
     /* Semismooth Newton (504, 513, 520) */
     FRIX_OPT_WATCHDOG = 31        /* int >= 0: where the line search stalls but the full step
-                                     halves the best error, take it and k - 1 more steps, and
-                                     go back unless the error fell tenfold; 0 = never. Default
-                                     5 for 504 and 513, 0 for 520 */
+                                     halves the best error, take it and k - 1 more steps (full
+                                     where the line search would cut them short), and go back
+                                     unless the error fell tenfold; 0 = never. Default 5 for
+                                     504 and 513, 0 for 520 */
 } frix_option_key;
 
 typedef enum frix_rho_strategy FRIX_ENUM_BASE {
