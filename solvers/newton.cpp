@@ -594,8 +594,8 @@ const frix_option_key kExtraKeys[] = {FRIX_OPT_RHO_STRATEGY, FRIX_OPT_RHO, FRIX_
                                       FRIX_OPT_HYBRID_SWEEPS, FRIX_OPT_WATCHDOG, (frix_option_key)0};
 
 // The watchdog (kWatchdogTrigger) with 5 steps for Alart-Curnier and Fischer-Burmeister; not
-// for the natural map, where it solves the mass-ratio hard cases but loses spheres-in-a-box
-// (converged after 801 iterations without it, stagnated at 2.0e-7 with it).
+// for the natural map, where it solves four of the five mass-ratio hard cases but loses
+// spheres-in-a-box (converged after 801 iterations without it, stagnated at 2.0e-7 with it).
 const OptionDefault kAcDefaults[] = {{FRIX_OPT_MAX_ITER, 2000},
                                      {FRIX_OPT_RHO_STRATEGY, FRIX_RHO_SPECTRAL},
                                      {FRIX_OPT_WATCHDOG, 5},
