@@ -264,6 +264,15 @@ double Engine::merit_along(const double *r, const double *u, const double *d, co
     return 0.5 * dot(phi, phi, m_);
 }
 
+double Engine::full_step_error(const double *r, const double *u, const double *d, const double *du,
+                               double norm_q, double *rt, double *ut) const {
+    for (int64_t i = 0; i < m_; ++i) {
+        rt[i] = r[i] + d[i];
+        ut[i] = u[i] + du[i];
+    }
+    return selected_error(measures_from_ru(rt, ut, mu_, nc_, norm_q), s_.measure);
+}
+
 frix_error Engine::run(double *r, const double *q, double shift, double tol, Limits &lim,
                        RunResult &res, double scale_q) {
     const int64_t m = m_;
@@ -391,16 +400,10 @@ frix_error Engine::run(double *r, const double *q, double shift, double tol, Lim
                 double lo = 0.0, hi = INFINITY;
                 t = 1.0;
                 double best_t = 0.0, best_psi = psi;
-                const bool watch =
-                    s_.watchdog > 0 && !full_step_on_failure && !excursion.active && !excursion.spent;
-                double full_step_err = INFINITY;
                 for (int k = 0; k < s_.ls_max_iter; ++k) {
                     const double pt = merit_along(r, u.data(), d.data(), du.data(), t, rt.data(),
                                                   ut.data(), phit.data());
                     if (pt < best_psi) best_psi = pt, best_t = t;
-                    if (k == 0 && watch)  // the first trial is the full step
-                        full_step_err = selected_error(
-                            measures_from_ru(rt.data(), ut.data(), mu_, nc_, norm_q), s_.measure);
                     if (s_.line_search == FRIX_LINE_SEARCH_GOLDSTEIN_PRICE) {
                         if (pt > psi + kM1 * t * slope || !std::isfinite(pt)) {
                             hi = t;
@@ -419,8 +422,12 @@ frix_error Engine::run(double *r, const double *q, double shift, double tol, Lim
                         t *= 0.5;
                     }
                 }
-                if (watch && (!accepted || t < kWatchdogShortStep) &&
-                    full_step_err <= kWatchdogTrigger * best_err) {
+                // The full step's error is measured only where the line search stalled.
+                const bool may_watch =
+                    s_.watchdog > 0 && !full_step_on_failure && !excursion.active && !excursion.spent;
+                if (may_watch && (!accepted || t < kWatchdogShortStep) &&
+                    full_step_error(r, u.data(), d.data(), du.data(), norm_q, rt.data(), ut.data()) <=
+                        kWatchdogTrigger * best_err) {
                     excursion.active = true;
                     excursion.steps = 0;
                     excursion.r.assign(r, r + m);

@@ -111,6 +111,9 @@ class Engine {
     void assemble(double shift);
     double merit_along(const double *r, const double *u, const double *d, const double *du,
                        double t, double *rt, double *ut, double *phi);
+    // The error measure at r + d (u + du), formed in rt and ut; norm_q as in run().
+    double full_step_error(const double *r, const double *u, const double *d, const double *du,
+                           double norm_q, double *rt, double *ut) const;
 
     const frix_matrix &W_;
     const double *mu_;
