@@ -67,15 +67,7 @@ void build_blocks(frix_matrix &A, int64_t nentries, const int64_t *rows, const i
             A.block_val[9 * b + 3 * (cols[e] % 3) + rows[e] % 3] += vals[e];
         }
     }
-    A.diag_index.assign(A.block_rows, -1);
-    if (A.block_rows == A.block_cols) {
-        for (int64_t br = 0; br < A.block_rows; ++br) {
-            auto first = A.block_col.begin() + A.row_ptr[br];
-            auto last = A.block_col.begin() + A.row_ptr[br + 1];
-            auto it = std::lower_bound(first, last, br);
-            if (it != last && *it == br) A.diag_index[br] = it - A.block_col.begin();
-        }
-    }
+    frix::index_diagonal_blocks(A);
 }
 
 // Builds CSC storage (rows sorted per column, duplicates summed) from checked entries.
@@ -159,6 +151,17 @@ frix_error expand_pointers(const char *where, int64_t nouter, const int64_t *ptr
 }  // namespace
 
 namespace frix {
+
+void index_diagonal_blocks(frix_matrix &A) {
+    A.diag_index.assign((size_t)A.block_rows, -1);
+    if (A.block_rows != A.block_cols) return;
+    for (int64_t br = 0; br < A.block_rows; ++br) {
+        const auto first = A.block_col.begin() + A.row_ptr[(size_t)br];
+        const auto last = A.block_col.begin() + A.row_ptr[(size_t)br + 1];
+        const auto it = std::lower_bound(first, last, br);
+        if (it != last && *it == br) A.diag_index[(size_t)br] = it - A.block_col.begin();
+    }
+}
 
 void matrix_gemv(const frix_matrix &A, double alpha, const double *x, double beta, double *y) {
     if (A.block) {

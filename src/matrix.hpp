@@ -101,6 +101,9 @@ class BlockMatrixFromColumns {
     std::vector<int64_t> slot_;  // per block row: its block in the pending column, or -1
 };
 
+// diag_index of a block-CSR matrix from its rows (sorted block columns); all -1 unless square.
+void index_diagonal_blocks(frix_matrix &A);
+
 // y = alpha*A*x + beta*y for either storage; no argument checks (internal callers).
 void matrix_gemv(const frix_matrix &A, double alpha, const double *x, double beta, double *y);
 void matrix_gemv_transposed(const frix_matrix &A, double alpha, const double *x, double beta,

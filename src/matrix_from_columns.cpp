@@ -112,12 +112,7 @@ frix_error BlockMatrixFromColumns::finish(std::unique_ptr<frix_matrix> &out) {
         std::vector<double>().swap(values_);
         std::vector<int64_t>().swap(block_row_);
     }
-    A->diag_index.assign((size_t)nb_, -1);
-    for (int64_t r = 0; r < nb_; ++r) {
-        const auto first = A->block_col.begin() + A->row_ptr[(size_t)r], last = A->block_col.begin() + A->row_ptr[(size_t)r + 1];
-        const auto it = std::lower_bound(first, last, r);
-        if (it != last && *it == r) A->diag_index[(size_t)r] = it - A->block_col.begin();
-    }
+    index_diagonal_blocks(*A);
     out = std::move(A);
     return FRIX_OK;
 }
