@@ -59,9 +59,15 @@ namespace {
 constexpr double kNsgsPatience = 3.0;
 // ... and is not judged before this many sweeps (early sweeps are erratic), nor before it
 // has done this much work (sweeps x W blocks): on small problems NSGS costs next to nothing
-// and often wins after a slow start.
+// and often wins after a slow start. Judged too early, it hands a problem it was about to
+// solve to Newton: LMGC_100_PR_PerioBox (60 contacts) converges in 35 sweeps with 4e4 or
+// more, and takes 0.03 s instead of 0.2 ms with 3e4 or less; judged late, it wastes at most
+// this much work. 1e5, a margin of 2.5 over that edge: OneObject-i100000 489 iterations
+// instead of 972 with 2e5 (0.94 ms instead of 1.74), the other ../shared/fclib problems in
+// as many or fewer iterations but RockPile_tob1 (its long NSGS chain moves with any change:
+// 527800 instead of 457901), and every hard case in as many or fewer (see docs/auto.md).
 constexpr int64_t kNsgsMinSweeps = 30;
-constexpr double kNsgsMinWork = 2e5;
+constexpr double kNsgsMinWork = 1e5;
 // The first NSGS stage's sweep limit (the NSGS default).
 constexpr int64_t kFirstNsgsSweeps = 20000;
 // A stage is stopped when its best error has not fallen tenfold within half its iterations
