@@ -512,6 +512,43 @@ START_TEST(test_rockpile_by_the_nsgs_chain) {
 }
 END_TEST
 
+/* The sweeps of the first NSGS stage from r = 0 on a problem, read from the trace's first
+ * "nsgs-v: " line (-1 without one), and whether that stage converged. */
+static int64_t first_nsgs_sweeps(const char *trace, int *converged) {
+    const char *line = strstr(trace, "nsgs-v: ");
+    long long sweeps = -1;
+    if (line) {
+        const char *after = strstr(line, " after ");
+        if (after) sscanf(after + 7, "%lld", &sweeps);
+        *converged = strncmp(line + 8, "converged", 9) == 0;
+    }
+    return (int64_t)sweeps;
+}
+
+/* The first NSGS stage is judged by its rate once it has done 1e5 block operations (sweeps x
+ * W blocks): on OneObject-i100000 (25 contacts, 207 blocks) it is slow and is stopped after
+ * 483 sweeps, where Newton finishes in a few steps (966 sweeps with 2e5); on
+ * LMGC_100_PR_PerioBox (60 contacts) it converges after 35 sweeps, which a judgement after 3e4
+ * operations or less would cut short, handing the problem to the costlier stages. */
+START_TEST(test_first_nsgs_judged_after_its_work) {
+    file_run f;
+    if (!file_run_open(&f, "converted/OneObject-i100000-316.from_dat.hdf5", 1e-8)) return;
+    file_run_solve(&f);
+    int converged = 0;
+    int64_t sweeps = first_nsgs_sweeps(frix_info_trace(f.info), &converged);
+    ck_assert_msg(frix_info_status(f.info) == FRIX_STATUS_CONVERGED && !converged && sweeps >= 30 &&
+                      sweeps <= 600,
+                  "%s\n", frix_info_trace(f.info));
+    file_run_close(&f);
+    if (!file_run_open(&f, "local/LMGC_100_PR_PerioBox-i00361-60-03000.hdf5", 1e-8)) return;
+    file_run_solve(&f);
+    sweeps = first_nsgs_sweeps(frix_info_trace(f.info), &converged);
+    ck_assert_msg(frix_info_status(f.info) == FRIX_STATUS_CONVERGED && converged && sweeps > 0,
+                  "%s\n", frix_info_trace(f.info));
+    file_run_close(&f);
+}
+END_TEST
+
 /* Contacts in units that differ by decades (OneObject-i100000 rescaled per contact by
  * 10^[-2, 2]): auto sees the spread of |W_aa| and gives ADMM per-contact penalties; it
  * converges in 1277 iterations where, with one penalty for all contacts, it needed 18386. */
@@ -630,6 +667,7 @@ int main(void) {
     tcase_add_test(tc, test_contacts_in_different_units);
     tcase_add_test(tc, test_newton_from_stalled_interior_point);
     tcase_add_test(tc, test_rockpile_by_the_nsgs_chain);
+    tcase_add_test(tc, test_first_nsgs_judged_after_its_work);
     tcase_add_loop_test(tc, test_every_local_fclib_problem, 0, FRIX_FCLIB_LOCAL_COUNT);
     tcase_add_loop_test(tc, test_global_fclib_problems, 0, (int)(sizeof kGlobalFiles / sizeof kGlobalFiles[0]));
     suite_add_tcase(s, tc);
