@@ -517,6 +517,7 @@ END_TEST
 static int64_t first_nsgs_sweeps(const char *trace, int *converged) {
     const char *line = strstr(trace, "nsgs-v: ");
     long long sweeps = -1;
+    *converged = 0;
     if (line) {
         const char *after = strstr(line, " after ");
         if (after) sscanf(after + 7, "%lld", &sweeps);
