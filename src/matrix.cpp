@@ -148,6 +148,16 @@ frix_error expand_pointers(const char *where, int64_t nouter, const int64_t *ptr
     return FRIX_OK;
 }
 
+// The export's arrays: colptr always (it has cols + 1 >= 1 entries); rowind and values may be
+// NULL when there are no entries, as a caller's empty std::vector hands out NULL.
+frix_error check_csc_arrays(int64_t nnz, const int64_t *colptr, const int64_t *rowind,
+                            const double *values) {
+    if (colptr && ((rowind && values) || nnz == 0)) return FRIX_OK;
+    return fail(FRIX_ERR_INVALID_ARGUMENT,
+                "frix_matrix_to_csc: give colptr, rowind and values (rowind and values may be NULL "
+                "when the matrix has no entries), or all three NULL to learn nnz");
+}
+
 }  // namespace
 
 namespace frix {
@@ -358,8 +368,7 @@ FRIX_API frix_error frix_matrix_to_csc(const frix_matrix *m, int64_t *nnz, int64
         if (!m->block) {
             *nnz = (int64_t)m->val.size();
             if (!colptr && !rowind && !values) return FRIX_OK;
-            if (!colptr || !rowind || !values)
-                return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_matrix_to_csc: give all three arrays or none");
+            if (frix_error e = check_csc_arrays(*nnz, colptr, rowind, values)) return e;
             std::copy(m->col_ptr.begin(), m->col_ptr.end(), colptr);
             std::copy(m->row_ind.begin(), m->row_ind.end(), rowind);
             std::copy(m->val.begin(), m->val.end(), values);
@@ -375,8 +384,7 @@ FRIX_API frix_error frix_matrix_to_csc(const frix_matrix *m, int64_t *nnz, int64
         std::partial_sum(start.begin(), start.end(), start.begin());
         *nnz = start[m->cols];
         if (!colptr && !rowind && !values) return FRIX_OK;
-        if (!colptr || !rowind || !values)
-            return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_matrix_to_csc: give all three arrays or none");
+        if (frix_error e = check_csc_arrays(*nnz, colptr, rowind, values)) return e;
         std::copy(start.begin(), start.end(), colptr);
         for (int64_t k = 0; k < m->block_rows; ++k)
             for (int i = 0; i < 3; ++i)

@@ -624,6 +624,9 @@ START_TEST(test_null_arguments) {
     ck_assert_int_eq(frix_matrix_diagonal_block(A, 1, y) < 0, 1); /* out of range */
     ck_assert_int_eq(frix_matrix_diagonal_block(A, -1, y) < 0, 1);
     ck_assert_int_eq(frix_matrix_to_csc(A, NULL, NULL, NULL, NULL), FRIX_ERR_INVALID_ARGUMENT);
+    int64_t cp[4];
+    ck_assert_int_eq(frix_matrix_to_csc(A, &i64, cp, NULL, x), FRIX_ERR_INVALID_ARGUMENT); /* 3 entries */
+    ck_assert_int_eq(frix_matrix_to_csc(A, &i64, cp, (int64_t *)cp, NULL), FRIX_ERR_INVALID_ARGUMENT);
     double q[3] = {-1, 0, 0}, mu = 0.3, r[3] = {0}, u[3];
     frix_problem *p = NULL;
     ck_assert_int_eq(frix_problem_local(A, q, &mu, 1, NULL), FRIX_ERR_INVALID_ARGUMENT);

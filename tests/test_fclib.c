@@ -493,6 +493,103 @@ START_TEST(test_read_storage_variants) {
 }
 END_TEST
 
+/* nzmax is a capacity: a file declaring more than its arrays hold reads by the arrays'
+ * real sizes (CSR, CSC and triplets), and so does a file with no contacts and nzmax > 0. */
+START_TEST(test_nzmax_is_a_capacity) {
+    const char *path = tmp_path("nzmax_capacity.hdf5");
+    crafted c = crafted_base();
+    write_crafted(path, &c);
+    frix_problem *base = read_ok(path);
+
+    c.nzmax = 1000; /* CSR with 7 entries */
+    write_crafted(path, &c);
+    frix_problem *p = read_ok(path);
+    assert_same_problem(base, p);
+    frix_problem_free(p);
+
+    static const long long csc_p[] = {0, 1, 2, 3, 5, 6, 7};
+    static const long long csc_i[] = {0, 1, 2, 0, 3, 4, 5};
+    static const double csc_x[] = {2, 3, 4, 0.5, 5, 6, 7};
+    c = crafted_base();
+    c.nz = -1;
+    c.nzmax = 50;
+    c.p = csc_p, c.i = csc_i, c.x = csc_x;
+    write_crafted(path, &c);
+    p = read_ok(path);
+    assert_same_problem(base, p);
+    frix_problem_free(p);
+
+    static const long long t_i[] = {0, 1, 2, 3, 4, 5, 0};
+    static const long long t_p[] = {0, 1, 2, 3, 4, 5, 3};
+    c = crafted_base();
+    c.nz = 7;
+    c.nzmax = 64;
+    static const double t_x[] = {2, 3, 4, 5, 6, 7, 0.5};
+    c.i = t_i, c.p = t_p, c.x = t_x;
+    write_crafted(path, &c);
+    p = read_ok(path);
+    assert_same_problem(base, p);
+    frix_problem_free(p);
+    frix_problem_free(base);
+
+    /* No contacts: empty arrays, a p of one zero, nzmax 8. */
+    static const long long zero[] = {0};
+    c = crafted_base();
+    c.m = c.n = 0;
+    c.nzmax = 8;
+    c.p = zero, c.np = 1;
+    c.ni = c.nx = c.nq = c.nmu = 0;
+    write_crafted(path, &c);
+    p = read_ok(path);
+    ck_assert_int_eq(frix_problem_contacts(p), 0);
+    double r[1], u[1];
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_solve(p, NULL, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    frix_info_free(info);
+    frix_problem_free(p);
+}
+END_TEST
+
+/* A W stored as triplets with duplicates (and nzmax above nz) goes all the way: read,
+ * solved, written with its solution (as CSC), read back with the same matrix and answer. */
+START_TEST(test_triplets_with_duplicates_round_trip) {
+    const char *path = tmp_path("triplets_dup.hdf5");
+    const char *out = tmp_path("triplets_dup_solved.hdf5");
+    crafted c = crafted_base();
+    c.nz = 9;
+    c.nzmax = 12;
+    static const long long rows[] = {0, 1, 2, 3, 4, 5, 0, 0, 3};
+    static const long long cols[] = {0, 1, 2, 3, 4, 5, 0, 3, 0};
+    static const double vals[] = {1.5, 3, 4, 5, 6, 7, 0.5, 0.25, 0.25};
+    c.i = rows, c.p = cols, c.x = vals;
+    c.ni = c.np = c.nx = 9;
+    write_crafted(path, &c);
+    frix_problem *p = read_ok(path);
+    double r[6] = {0}, u[6];
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_solve(p, NULL, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    frix_info_free(info);
+    ck_assert_int_eq(frix_fclib_write(out, p, r, u, NULL, 0, NULL, NULL, NULL), FRIX_OK);
+    frix_problem *back = read_ok(out);
+    assert_same_problem(p, back);
+    double r2[6], u2[6];
+    ck_assert_int_eq(frix_fclib_read_solution(out, back, r2, u2, NULL), FRIX_OK);
+    ck_assert(memcmp(r, r2, sizeof r) == 0 && memcmp(u, u2, sizeof u) == 0);
+    /* W(0,0) = 1.5 + 0.5 and the symmetric pair 0.25 each way. */
+    csc W = to_csc(frix_problem_W(back));
+    ck_assert_double_eq(csc_entry(&W, 0, 0), 2.0);
+    ck_assert_double_eq(csc_entry(&W, 0, 3), 0.25);
+    ck_assert_double_eq(csc_entry(&W, 3, 0), 0.25);
+    csc_free(&W);
+    frix_problem_free(back);
+    frix_problem_free(p);
+}
+END_TEST
+
 START_TEST(test_roundtrip_local) {
     REQUIRE_SHARED();
     const char *path = tmp_path("roundtrip_local.hdf5");
@@ -941,6 +1038,8 @@ static Suite *fclib_suite(void) {
     tcase_add_test(write, test_roundtrip_local);
     tcase_add_test(write, test_roundtrip_global);
     tcase_add_test(write, test_roundtrip_empty);
+    tcase_add_test(write, test_nzmax_is_a_capacity);
+    tcase_add_test(write, test_triplets_with_duplicates_round_trip);
     tcase_add_test(write, test_solution_and_guesses_local);
     tcase_add_test(write, test_solution_and_guesses_global);
     suite_add_tcase(s, write);

@@ -40,7 +40,7 @@ program test_fortran
   integer(c_int), target :: calls
   integer(c_int) :: err, id, key, is_int
   logical :: found
-  type(c_ptr) :: W, Wb, p, back, opts, opts2, info
+  type(c_ptr) :: W, Wb, p, back, opts, opts2, info, shape, Ms, Hs
   character(len=:), allocatable :: path
 
   call check('version string', len(frix_fstr(frix_version_string())) > 0)
@@ -200,6 +200,48 @@ program test_fortran
   err = frix_read_problem(frix_cstr('no/such/file.hdf5'), back)
   call check('missing file', err == FRIX_ERR_IO .and. index(frix_last_error(), 'no/such') > 0)
 
+  ! Degenerate shapes, each written, read back, solved, written with its solution and read
+  ! back again: no contacts (local; global with dofs; global with nothing), one contact,
+  ! separating, mu = 0, a W with no entries, a W from triplets with duplicates.
+  err = frix_problem_local(c_null_ptr, dummy, dummy, 0_c_int64_t, shape)
+  call round_trip('no contacts', shape, [0d0], [0d0])
+  err = frix_matrix_from_dense(2_c_int64_t, 2_c_int64_t, [2d0, 0d0, 0d0, 4d0], 2_c_int64_t, Ms)
+  err = frix_matrix_from_triplets(2_c_int64_t, 0_c_int64_t, 0_c_int64_t, [0_c_int64_t], &
+       [0_c_int64_t], dummy, Hs)
+  err = frix_problem_global(Ms, Hs, [1d0, -2d0], dummy, dummy, 0_c_int64_t, shape)
+  call round_trip('global, dofs and no contacts', shape, [0d0], [0.5d0, -0.5d0])
+  call frix_matrix_free(Ms)
+  call frix_matrix_free(Hs)
+  err = frix_matrix_from_triplets(0_c_int64_t, 0_c_int64_t, 0_c_int64_t, [0_c_int64_t], &
+       [0_c_int64_t], dummy, Ms)
+  err = frix_matrix_from_triplets(0_c_int64_t, 0_c_int64_t, 0_c_int64_t, [0_c_int64_t], &
+       [0_c_int64_t], dummy, Hs)
+  err = frix_problem_global(Ms, Hs, dummy, dummy, dummy, 0_c_int64_t, shape)
+  call round_trip('global, nothing', shape, [0d0], [0d0])
+  call frix_matrix_free(Ms)
+  call frix_matrix_free(Hs)
+  err = frix_problem_local(W, [1d0, 0.5d0, 0d0], mu, 1_c_int64_t, shape)
+  call round_trip('separating', shape, [0d0, 0d0, 0d0], [0d0])
+  err = frix_problem_local(W, q, [0d0], 1_c_int64_t, shape)
+  call round_trip('mu = 0', shape, [0.5d0, 0d0, 0d0], [0d0])
+  err = frix_matrix_from_triplets(3_c_int64_t, 3_c_int64_t, 0_c_int64_t, [0_c_int64_t], &
+       [0_c_int64_t], dummy, Ms)
+  err = frix_problem_local(Ms, [0d0, 1d0, 0d0], mu, 1_c_int64_t, shape)
+  call round_trip('W with no entries', shape, [0d0, 0d0, 0d0], [0d0])
+  call frix_matrix_free(Ms)
+  ! diag(4, 4, 4) from 2 + 2 at (0,0): r = -q / 4 sticks (|r_T| = 0.13 < 0.4 r_N = 0.2).
+  err = frix_matrix_from_triplets(3_c_int64_t, 3_c_int64_t, 4_c_int64_t, &
+       [0_c_int64_t, 0_c_int64_t, 1_c_int64_t, 2_c_int64_t], &
+       [0_c_int64_t, 0_c_int64_t, 1_c_int64_t, 2_c_int64_t], [2d0, 2d0, 4d0, 4d0], Ms)
+  err = frix_problem_local(Ms, q, mu, 1_c_int64_t, shape)
+  call round_trip('W from triplets with duplicates', shape, [0.5d0, -0.125d0, -0.025d0], [0d0])
+  call frix_matrix_free(Ms)
+  ! One contact: the problem above (W dense), its answer known to the solver's tolerance.
+  r = 0
+  err = frix_solve(p, c_null_ptr, r, u, dummy, info)
+  err = frix_problem_local(W, q, mu, 1_c_int64_t, shape)
+  call round_trip('one contact', shape, r, [0d0])
+
   call frix_info_free(info)
   call frix_options_free(opts)
   call frix_problem_free(p)
@@ -211,6 +253,52 @@ program test_fortran
   if (failures > 0) error stop 1
 
 contains
+
+  ! Writes `prob` (then frees it), reads it back, solves it with the default solver (r from
+  ! 0), writes the answer and reads it back. r_exact and v_exact: the answer, to 1e-6.
+  subroutine round_trip(what, prob, r_exact, v_exact)
+    character(len=*), intent(in) :: what
+    type(c_ptr), intent(in) :: prob
+    real(c_double), intent(in) :: r_exact(:), v_exact(:)
+    type(c_ptr) :: read1, read2, inf
+    real(c_double), target :: rs(3), us(3), vs(2), rb(3), ub(3), vb(2)
+    real(c_double) :: e
+    integer(c_int) :: rc
+    integer(c_int64_t) :: m, n
+    character(len=*), parameter :: file1 = 'test_fortran_shape.hdf5', file2 = 'test_fortran_shape_sol.hdf5'
+    rc = frix_fclib_write(frix_cstr(file1), prob, c_null_ptr, c_null_ptr, c_null_ptr, 0_c_int64_t, &
+         c_null_ptr, c_null_ptr, c_null_ptr)
+    call check(what // ': write', rc == FRIX_OK)
+    rc = frix_read_problem(frix_cstr(file1), read1)
+    call check(what // ': read back', rc == FRIX_OK .and. &
+         frix_problem_contacts(read1) == frix_problem_contacts(prob) .and. &
+         frix_problem_dofs(read1) == frix_problem_dofs(prob))
+    call frix_problem_free(prob)
+    m = frix_problem_contact_dofs(read1)
+    n = frix_problem_dofs(read1)
+    rs = 0
+    vs = -1
+    rc = frix_info_create(inf)
+    rc = frix_solve(read1, c_null_ptr, rs, us, vs, inf)
+    call check(what // ': solve', rc == FRIX_OK .and. frix_info_status(inf) == FRIX_STATUS_CONVERGED)
+    call frix_info_free(inf)
+    rc = frix_problem_error(read1, rs, vs, e)
+    call check(what // ': error', rc == FRIX_OK .and. e <= 1d-8)
+    if (m > 0) call check(what // ': r', all(abs(rs(1:m) - r_exact(1:m)) <= 1d-6))
+    if (n > 0) call check(what // ': v', all(abs(vs(1:n) - v_exact(1:n)) <= 1d-6))
+    rc = frix_fclib_write(frix_cstr(file2), read1, c_loc(rs), c_loc(us), c_loc(vs), 0_c_int64_t, &
+         c_null_ptr, c_null_ptr, c_null_ptr)
+    call check(what // ': write the solution', rc == FRIX_OK)
+    rc = frix_fclib_read(frix_cstr(file2), read2)
+    rb = -7
+    ub = -7
+    vb = -7
+    rc = frix_fclib_read_solution(frix_cstr(file2), read2, c_loc(rb), c_loc(ub), c_loc(vb))
+    call check(what // ': read the solution back', rc == FRIX_OK .and. all(rb(1:m) == rs(1:m)) &
+         .and. all(ub(1:m) == us(1:m)) .and. all(vb(1:n) == vs(1:n)))
+    call frix_problem_free(read2)
+    call frix_problem_free(read1)
+  end subroutine
 
   subroutine check(what, ok)
     character(len=*), intent(in) :: what

@@ -349,7 +349,7 @@ END_TEST
 typedef struct {
     double v[6];      /* the cube's velocity after the step (translation, rotation) */
     double impulse[3];/* the total contact impulse, world frame */
-    double tol;       /* what "equal" means: tied to the reported error */
+    double error;     /* the reported error, floored at the rounding of these problems */
     double un_max;    /* max over contacts of |u_N| */
     run_result res;
 } slope_outcome;
@@ -379,9 +379,7 @@ static int solve_slope(const frix_scene *s, const frix_scene_problems *f, int gl
         frix_scene_world_impulse(s, a, r, w);
         for (int k = 0; k < 3; ++k) out->impulse[k] += w[k];
     }
-    /* The natural scale of the step is h g (velocities) and m g h (impulses); the answer is
-     * exact to within a multiple of the error the solver reports. */
-    out->tol = 1e3 * fmax(out->res.error, 1e-14);
+    out->error = fmax(out->res.error, 1e-14);
     return 1;
 }
 
@@ -423,10 +421,18 @@ static void check_slope(double mu, double ratio, double speed, int per_face, dou
             slope_outcome o;
             if (!solve_slope(&s, &f, global, solver, &o)) continue;
             if (solver == FRIX_SOLVER_NSGS) ++nsgs_converged;
-            const double vt = o.tol * hg, it = o.tol * mgh;
+            /* The answer is exact to within a multiple of the reported error, in the step's
+             * own scales: h g plus the initial speed (velocities), m times that (impulses).
+             * At rest at tan = mu the solution is not strictly complementary (friction on the
+             * cone's boundary, no slip): there the residual bounds the distance to it only as
+             * err + sqrt(err) (Mangasarian and Ren's bound for degenerate complementarity),
+             * and the rounding of a BLAS kernel is enough to show the difference. */
+            const int degenerate = ratio == 1.0 && speed == 0.0;
+            const double bound = 1e3 * (degenerate ? o.error + sqrt(o.error) : o.error);
+            const double vt = bound * (hg + fabs(speed)), it = bound * mass * (hg + fabs(speed));
             const char *who = frix_solver_name(solver);
             /* Along the slope: stays put, or slides with the exact speed. */
-            ck_assert_msg(fabs(dot3(o.v, d) - slide) <= vt + 1e-12 * fabs(slide),
+            ck_assert_msg(fabs(dot3(o.v, d) - slide) <= vt,
                           "%s (%s): tan = %g mu, speed %g: v_d = %.12g, exact %.12g (tol %g)", who,
                           global ? "global" : "local", ratio, speed, dot3(o.v, d), slide, vt);
             /* No lift-off, no sideways drift, no spin. */

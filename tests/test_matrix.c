@@ -266,10 +266,15 @@ START_TEST(test_empty_matrix) {
     ck_assert_int_eq(frix_matrix_from_triplets(0, 0, 0, NULL, NULL, NULL, &M), FRIX_OK);
     ck_assert_int_eq(frix_matrix_rows(M), 0);
     ck_assert_int_eq(frix_matrix_nnz(M), 0);
-    int64_t nnz = -1, cp[1];
-    ck_assert_int_eq(frix_matrix_to_csc(M, &nnz, cp, NULL, NULL), FRIX_ERR_INVALID_ARGUMENT);
+    int64_t nnz = -1, cp[1] = {-1};
     ck_assert_int_eq(frix_matrix_to_csc(M, &nnz, NULL, NULL, NULL), FRIX_OK);
     ck_assert_int_eq(nnz, 0);
+    /* No entries: the index and value arrays have length 0 and may be NULL; colptr may not. */
+    ck_assert_int_eq(frix_matrix_to_csc(M, &nnz, cp, NULL, NULL), FRIX_OK);
+    ck_assert_int_eq(cp[0], 0);
+    int64_t ri[1];
+    double x[1];
+    ck_assert_int_eq(frix_matrix_to_csc(M, &nnz, NULL, ri, x), FRIX_ERR_INVALID_ARGUMENT);
     frix_matrix_free(M);
 }
 END_TEST

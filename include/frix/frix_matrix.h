@@ -66,7 +66,8 @@ FRIX_API frix_error frix_matrix_gemv_transposed(const frix_matrix *m, double alp
 FRIX_API frix_error frix_matrix_diagonal_block(const frix_matrix *m, int64_t k, double *out);
 
 /* Export to CSC. Call with NULL arrays to learn *nnz; then with colptr (cols+1),
- * rowind and values (nnz each). Exact zeros inside stored blocks are not exported.
+ * rowind and values (nnz each; these two may be NULL when *nnz is 0). Exact zeros inside
+ * stored blocks are not exported.
  * Row indices are sorted within each column. */
 FRIX_API frix_error frix_matrix_to_csc(const frix_matrix *m, int64_t *nnz, int64_t *colptr,
                                        int64_t *rowind, double *values);
