@@ -40,10 +40,12 @@ void check_vectors(const char *what, const Vectors &s, int64_t m, int64_t n) {
     if (s.v != nullptr) check("v", s.v, n);
 }
 
-// A problem without contacts may have no W at all; FCLIB still wants a (0 x 0) matrix.
-Csc32 export_matrix(const frix_matrix *A, const char *name) {
+// A problem without contacts may have no W or H at all; FCLIB still wants the matrix, with
+// no columns (W 0 x 0, H n x 0: the reader checks H's rows against M).
+Csc32 export_matrix(const frix_matrix *A, const char *name, int64_t rows_if_absent) {
     if (A != nullptr) return to_csc32(*A, name);
     Csc32 empty;
+    empty.m = static_cast<int32_t>(rows_if_absent);
     empty.p.assign(1, 0);
     return empty;
 }
@@ -87,21 +89,25 @@ Extras check_arguments(const char *where, const frix_problem &problem, const dou
     const int64_t m = 3 * problem.nc, n = global ? problem.n : 0;
     Extras e;
     e.with_solution = sol_r != nullptr || sol_u != nullptr || (global && sol_v != nullptr);
-    // libfclib's readers take v from every solution and guess of a global problem, so a
-    // global file without v would not load there.
-    if (e.with_solution && (sol_r == nullptr || sol_u == nullptr || (global && sol_v == nullptr)))
+    // An array of no entries may be NULL (r and u without contacts, v without dofs), as
+    // frix_solve takes them; libfclib's readers take v from every solution and guess of a
+    // global problem, so a global file without v would not load there.
+    auto given = [](const double *x, int64_t count) { return x != nullptr || count == 0; };
+    if (e.with_solution && !(given(sol_r, m) && given(sol_u, m) && (!global || given(sol_v, n))))
         raise(FRIX_ERR_INVALID_ARGUMENT, "%s: a solution needs r and u%s (or all NULL for none)",
               where, global ? " and v" : "");
     if (n_guesses < 0 || n_guesses > kInt32Max)
         raise(FRIX_ERR_INVALID_ARGUMENT, "%s: n_guesses is %lld", where,
               static_cast<long long>(n_guesses));
-    if (n_guesses > 0 &&
-        (guess_r == nullptr || guess_u == nullptr || (global && guess_v == nullptr)))
+    if (n_guesses > 0 && !(given(guess_r, m) && given(guess_u, m) && (!global || given(guess_v, n))))
         raise(FRIX_ERR_INVALID_ARGUMENT, "%s: %lld guesses need guess_r and guess_u%s", where,
               static_cast<long long>(n_guesses), global ? " and guess_v" : "");
-    e.solution = Vectors{sol_r, sol_u, global ? sol_v : nullptr};
+    // From here on NULL in v means "local problem": an empty array gets a non-NULL pointer.
+    static const double kNoEntries[1] = {0.0};
+    auto array = [](const double *x) { return x != nullptr ? x : kNoEntries; };
+    e.solution = Vectors{array(sol_r), array(sol_u), global ? array(sol_v) : nullptr};
     e.n_guesses = n_guesses;
-    e.guesses = Vectors{guess_r, guess_u, global ? guess_v : nullptr};
+    e.guesses = Vectors{array(guess_r), array(guess_u), global ? array(guess_v) : nullptr};
     if (e.with_solution) check_vectors("solution", e.solution, m, n);
     for (int64_t k = 0; k < n_guesses; ++k)
         check_vectors(("guess " + std::to_string(k)).c_str(), guess(e, k, m, n), m, n);
@@ -116,10 +122,10 @@ std::vector<unsigned char> build_file(const char *path, const frix_problem &prob
     // The 32-bit conversion can still refuse the problem, so it also comes first.
     Csc32 W, M, H;
     if (global) {
-        M = export_matrix(problem.M, "M");
-        H = export_matrix(problem.H, "H");
+        M = export_matrix(problem.M, "M", 0);
+        H = export_matrix(problem.H, "H", M.m);
     } else {
-        W = export_matrix(problem.W, "W");
+        W = export_matrix(problem.W, "W", 0);
     }
 
     Session session;

@@ -35,7 +35,8 @@ FRIX_API frix_error frix_fclib_read_guess(const char *path, const frix_problem *
 
 /* Writes `problem`, and optionally a solution and guesses, to a new FCLIB file (an existing
  * file at `path` is replaced atomically). Pass sol_r = sol_u = sol_v = NULL for no /solution
- * (sol_v is ignored for local problems). n_guesses guesses are stored contiguously:
+ * (sol_v is ignored for local problems); an array with no entries may be NULL (r and u
+ * without contacts, v without dofs). n_guesses guesses are stored contiguously:
  * guess k is guess_r[k*3nc ...], guess_u[k*3nc ...], guess_v[k*n ...]. */
 FRIX_API frix_error frix_fclib_write(const char *path, const frix_problem *problem,
                                      const double *sol_r, const double *sol_u,
