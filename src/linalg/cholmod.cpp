@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <mutex>
 
 #include "error_state.hpp"
 #include "linalg.hpp"
@@ -92,7 +93,10 @@ frix_error SparseCholesky::factor(const CscView &A) {
                     (long long)A.rows, (long long)A.cols);
     const auto t0 = Clock::now();
     cholmod_sparse a = view_of(A, 1);
-    m.L = cholmod_l_analyze(&a, &m.c);
+    {
+        const std::lock_guard<std::mutex> lock(metis_mutex());  // may try METIS on large M
+        m.L = cholmod_l_analyze(&a, &m.c);
+    }
     if (m.L) ++stats_.symbolic;
     const bool ok = m.L && cholmod_l_factorize(&a, m.L, &m.c);
     stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();

@@ -12,9 +12,13 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 namespace frix::linalg {
+
+// Held around every call that may run METIS (UMFPACK's METIS ordering, cholmod_analyze).
+std::mutex &metis_mutex();
 
 struct CscView {
     int64_t rows = 0, cols = 0;

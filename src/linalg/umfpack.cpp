@@ -2,6 +2,7 @@
 #include <umfpack.h>
 
 #include <chrono>
+#include <mutex>
 #include <type_traits>
 
 #include "error_state.hpp"
@@ -37,6 +38,11 @@ inline const SuiteSparse_long *idx(const int64_t *p) {
 }
 
 }  // namespace
+
+std::mutex &metis_mutex() {
+    static std::mutex m;
+    return m;
+}
 
 SparseLU::SparseLU() : control_(UMFPACK_CONTROL) {
     umfpack_dl_defaults(control_.data());
@@ -74,6 +80,10 @@ frix_error SparseLU::analyze(const CscView &A) {
                     (long long)A.rows, (long long)A.cols);
     const auto t0 = Clock::now();
     double info[UMFPACK_INFO];
+    // METIS (Debian's 5.1.0) draws from libc's process-wide rand(), reseeded with srand(4321)
+    // at each call: two orderings at once interleave their draws and give other orderings.
+    std::unique_lock<std::mutex> lock(metis_mutex(), std::defer_lock);
+    if (control_[UMFPACK_ORDERING] == UMFPACK_ORDERING_METIS) lock.lock();
     const SuiteSparse_long st = umfpack_dl_symbolic(A.rows, A.cols, idx(A.colptr), idx(A.rowind),
                                                      A.values, &symbolic_, control_.data(), info);
     stats_.seconds += since(t0);
