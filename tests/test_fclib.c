@@ -209,6 +209,10 @@ static const long long base_i[] = {0, 3, 1, 2, 3, 4, 5};
 static const double base_x[] = {2, 0.5, 3, 4, 5, 6, 7};
 static const double base_q[] = {-1, 0, 0, -1, 0, 0};
 static const double base_mu[] = {0.3, 0.5};
+/* The base's W as CSC (column pointers, row indices). */
+static const long long csc_p[] = {0, 1, 2, 3, 5, 6, 7};
+static const long long csc_i[] = {0, 1, 2, 0, 3, 4, 5};
+static const double csc_x[] = {2, 3, 4, 0.5, 5, 6, 7};
 
 static crafted crafted_base(void) {
     crafted c;
@@ -470,9 +474,6 @@ START_TEST(test_read_storage_variants) {
     frix_problem_free(p);
 
     /* The same matrix as CSC (column pointers, row indices) and as the base CSR. */
-    static const long long csc_p[] = {0, 1, 2, 3, 5, 6, 7};
-    static const long long csc_i[] = {0, 1, 2, 0, 3, 4, 5};
-    static const double csc_x[] = {2, 3, 4, 0.5, 5, 6, 7};
     c = crafted_base();
     c.nz = -1;
     c.p = csc_p;
@@ -507,9 +508,6 @@ START_TEST(test_nzmax_is_a_capacity) {
     assert_same_problem(base, p);
     frix_problem_free(p);
 
-    static const long long csc_p[] = {0, 1, 2, 3, 5, 6, 7};
-    static const long long csc_i[] = {0, 1, 2, 0, 3, 4, 5};
-    static const double csc_x[] = {2, 3, 4, 0.5, 5, 6, 7};
     c = crafted_base();
     c.nz = -1;
     c.nzmax = 50;
