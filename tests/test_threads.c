@@ -182,8 +182,8 @@ static void run_concurrently(int only_solver, int rounds) {
                       "thread %d: %d failures, %d results differing from the serial run; first: %s", i,
                       w[i].failures, w[i].mismatches, w[i].first);
     }
-    printf("%d concurrent solves (%d problems x solvers, %d threads) bit-identical to serial\n", runs,
-           njobs, THREADS);
+    printf("%d concurrent solves (%s, %d threads) bit-identical to serial\n", runs,
+           only_solver ? frix_solver_name(only_solver) : "every problem x solver", THREADS);
     teardown();
 }
 
