@@ -20,6 +20,7 @@
 #include <unistd.h>
 
 #include "check_main.h"
+#include "cli_runner.h"
 
 #define FCLIB_DIR FRIX_SHARED_DIR "/fclib"
 #define LARGE_DIR FRIX_SHARED_DIR "/fclib-large"
@@ -136,7 +137,7 @@ static void assert_same_problem(const frix_problem *a, const frix_problem *b) {
 }
 
 /* Whole file content, for byte-identity checks. */
-static char *slurp(const char *path, long *size) {
+static char *slurp_sized(const char *path, long *size) {
     FILE *f = fopen(path, "rb");
     ck_assert_msg(f != NULL, "cannot open %s", path);
     fseek(f, 0, SEEK_END);
@@ -584,6 +585,36 @@ START_TEST(test_triplets_with_duplicates_round_trip) {
     ck_assert_double_eq(csc_entry(&W, 3, 0), 0.25);
     csc_free(&W);
     frix_problem_free(back);
+
+    /* The command line on the triplet file: info, solve --output, convert, bench. */
+    const char *cli_out = tmp_path("triplets_dup_cli.hdf5");
+    const char *info_args[] = {"info", path, NULL};
+    cli_run run = run_cli(info_args);
+    ck_assert_msg(run.code == 0 && strstr(run.out, "local"), "info: %d %s%s", run.code, run.out, run.err);
+    run_free(&run);
+    const char *solve_args[] = {"solve", path, "--output", cli_out, NULL};
+    run = run_cli(solve_args);
+    ck_assert_msg(run.code == 0 && strstr(run.out, "converged"), "solve: %d %s%s", run.code, run.out, run.err);
+    run_free(&run);
+    back = read_ok(cli_out);
+    assert_same_problem(p, back);
+    double err = -1;
+    ck_assert_int_eq(frix_fclib_read_solution(cli_out, back, r2, u2, NULL), FRIX_OK);
+    ck_assert_int_eq(frix_problem_error(back, r2, NULL, &err), FRIX_OK);
+    ck_assert_double_le(err, 1e-8);
+    frix_problem_free(back);
+    const char *convert_args[] = {"convert", path, cli_out, NULL};
+    run = run_cli(convert_args);
+    ck_assert_msg(run.code == 0, "convert: %d %s%s", run.code, run.out, run.err);
+    run_free(&run);
+    back = read_ok(cli_out);
+    assert_same_problem(p, back);
+    frix_problem_free(back);
+    const char *bench_dir = tmp_path("triplets_dup_bench");
+    const char *bench_args[] = {"bench", path, "--solvers", "auto,nsgs", "--out", bench_dir, NULL};
+    run = run_cli(bench_args);
+    ck_assert_msg(run.code == 0 && strstr(run.err, "2 runs"), "bench: %d %s%s", run.code, run.out, run.err);
+    run_free(&run);
     frix_problem_free(p);
 }
 END_TEST
@@ -756,7 +787,7 @@ START_TEST(test_unreadable_files) {
 
     if (have_shared()) {
         long size = 0;
-        char *data = slurp(LOCAL_TEST, &size);
+        char *data = slurp_sized(LOCAL_TEST, &size);
         const char *half = tmp_path("truncated.hdf5");
         spit(half, data, size / 2);
         free(data);
@@ -955,7 +986,7 @@ START_TEST(test_failed_write_keeps_existing_file) {
     ck_assert_int_eq(frix_fclib_write(target, s.p, NULL, NULL, NULL, 0, NULL, NULL, NULL),
                      FRIX_OK);
     long size0 = 0;
-    char *before = slurp(target, &size0);
+    char *before = slurp_sized(target, &size0);
 
     /* The write runs out of room half-way (a file size limit stands in for a full disk). */
     small_local big;
@@ -996,7 +1027,7 @@ START_TEST(test_failed_write_keeps_existing_file) {
                      FRIX_ERR_INVALID_ARGUMENT);
 
     long size1 = 0;
-    char *after = slurp(target, &size1);
+    char *after = slurp_sized(target, &size1);
     ck_assert_int_eq(size0, size1);
     ck_assert(memcmp(before, after, (size_t)size0) == 0);
     ck_assert_int_eq(count_prefixed(dir, "problem.hdf5.tmp."), 0);
