@@ -50,7 +50,7 @@ static outcome solve_global(const frix_problem *p, int solver, double *r, double
     return solve_global_into(p, solver, r, v, NULL);
 }
 
-/* An elastic grid (examples/scenes/elastic_grid.h) with zeroed r, u (3nc) and v (n). */
+/* An elastic grid (tests/support/elastic_grid.h) with zeroed r, u (3nc) and v (n). */
 typedef struct {
     frix_elastic_grid grid;
     const frix_problem *p;

@@ -1,4 +1,4 @@
-/* Hard cases, for every registered solver: the hard-case set of examples/scenes (mass ratios
+/* Hard cases, for every registered solver: the hard-case set of tests/support (mass ratios
  * up to 1e6, redundant contacts, mu from 0 to 2 and mixed, problems scaled by 1e+-8, nearly
  * singular W, all contacts separating, solutions on the cone boundary). Each run either
  * converges with its error verified independently, or says it did not with a finite r;

@@ -1,11 +1,11 @@
-// The frix_testing_* hooks of tests/frix_testing.h: thin wrappers over internal kernels,
-// hidden so that libfrix.so never exports them.
+// The frix_testing_* hooks of frix_testing.h: thin wrappers over internal kernels, built
+// into the tests only (the library they link), never into libfrix.
 #include <cstdint>
 #include <vector>
 
 #include "local3x3.hpp"
 
-#define FRIX_TESTING_HOOK extern "C" __attribute__((visibility("hidden")))
+#define FRIX_TESTING_HOOK extern "C"
 
 namespace {
 using frix::local::Outcome;
@@ -13,7 +13,7 @@ static_assert((int)Outcome::TakeOff == 1 && (int)Outcome::Stick == 2 && (int)Out
                   (int)Outcome::Iterated == 4 && (int)Outcome::NotConverged == 5 &&
                   (int)Outcome::NoSolution == 6 && (int)Outcome::Step == 7 &&
                   (int)Outcome::Newton == 8,
-              "tests/frix_testing.h mirrors these values");
+              "frix_testing.h mirrors these values");
 }  // namespace
 
 FRIX_TESTING_HOOK void frix_testing_project_on_cone(double r[3], double mu) {

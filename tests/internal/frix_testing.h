@@ -1,6 +1,7 @@
 /* Internal hooks that let the C tests reach kernels behind the public API. They are
- * defined in src/testing_hooks.cpp with hidden visibility: present in libfrix.a (which the
- * tests link), never exported from libfrix.so. Not an API: they change with the internals. */
+ * defined in testing_hooks.cpp beside this file, which is built into the tests alone and
+ * linked with the library's objects: libfrix.a and libfrix.so do not carry them. Not an API:
+ * they change with the internals. */
 #ifndef FRIX_TESTING_H
 #define FRIX_TESTING_H
 
@@ -27,8 +28,8 @@ enum {
 void frix_testing_project_on_cone(double r[3], double mu);
 void frix_testing_project_on_disk(double r[3], double radius);
 
-/* One contact: r is the warm start in, the result out. local_solver 552 or 553;
- * exact_slide = 0 makes 553 use projected iterations only (no sliding-angle root). */
+/* One contact: r is the warm start in, the result out; local_solver is one of the
+ * FRIX_LOCAL_* values of the option local_solver (frix_options.h). Returns an outcome. */
 int frix_testing_solve_contact(const double W[9], const double q[3], double mu, double r[3],
                                int local_solver, double tol, int max_iter);
 
