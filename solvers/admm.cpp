@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "error_state.hpp"
+#include "coulomb.hpp"
 #include "first_order.hpp"
 #include "linalg/linalg.hpp"
 #include "local3x3.hpp"
@@ -267,7 +268,7 @@ frix_error solve(SolveContext &ctx) {
         for (int64_t a = 0; a < nc; ++a) {
             double *za = &z[3 * a];
             for (int i = 0; i < 3; ++i) za[i] = x[3 * a + i] + yh[3 * a + i];
-            local::project_on_cone(za, p.mu[a]);
+            coulomb::project_on_cone(za, p.mu[a]);
             const double w = weight[(size_t)a];
             double ua[3];
             for (int i = 0; i < 3; ++i) {

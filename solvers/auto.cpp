@@ -39,8 +39,9 @@
 #include "auto_analysis.hpp"
 #include "error_state.hpp"
 #include "existence.hpp"
-#include "global.hpp"
+#include "global_newton.hpp"
 #include "measures.hpp"
+#include "reduction.hpp"
 #include "random.hpp"
 #include "solver_api.hpp"
 
@@ -813,7 +814,7 @@ frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage)
     run.analysis = ctx.info.analysis;
     const double t0 = ctx.clock.seconds();
     if (frix_error e = solve_global_problem(ctx.problem, o, kGlobalNsnAcEntry, ctx.r, ctx.u, ctx.v, run,
-                                            ctx.clock, solve_local_problem))
+                                            ctx.clock))
         return e;
     if (meets_global_tolerance(run, ctx.options.d(FRIX_OPT_TOLERANCE))) run.status = FRIX_STATUS_CONVERGED;
     stage.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
@@ -841,7 +842,7 @@ frix_error reduce_then_newton(SolveContext &ctx, int64_t max_iter, int64_t reduc
     reduced.contacts = info.contacts;
     reduced.tolerance = info.tolerance;
     if (frix_error e = solve_global_problem(p, reduction, kAutoReductionEntry, ctx.r, ctx.u, ctx.v, reduced,
-                                            ctx.clock, solve_local_problem))
+                                            ctx.clock))
         return e;
     info = std::move(reduced);
     info.analysis.dofs = global_analysis.dofs;

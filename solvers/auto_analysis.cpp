@@ -6,6 +6,7 @@
 #include <numeric>
 #include <utility>
 
+#include "disjoint_sets.hpp"
 #include "matrix.hpp"
 
 namespace frix {
@@ -13,30 +14,6 @@ namespace autosolve {
 
 namespace {
 
-// Union-find with path halving and union by size: islands in O(blocks · α(nc)).
-class DisjointSets {
-   public:
-    explicit DisjointSets(int64_t n) : parent_((size_t)n), size_((size_t)n, 1) {
-        std::iota(parent_.begin(), parent_.end(), 0);
-    }
-    int64_t find(int64_t a) {
-        while (parent_[(size_t)a] != a) {
-            parent_[(size_t)a] = parent_[(size_t)parent_[(size_t)a]];
-            a = parent_[(size_t)a];
-        }
-        return a;
-    }
-    void unite(int64_t a, int64_t b) {
-        a = find(a), b = find(b);
-        if (a == b) return;
-        if (size_[(size_t)a] < size_[(size_t)b]) std::swap(a, b);
-        parent_[(size_t)b] = a;
-        size_[(size_t)a] += size_[(size_t)b];
-    }
-
-   private:
-    std::vector<int64_t> parent_, size_;
-};
 
 }  // namespace
 
@@ -84,42 +61,6 @@ Analysis analyse_local(const frix_problem &p) {
         std::stable_sort(a.islands.begin(), a.islands.end(),
                          [](const std::vector<int64_t> &x, const std::vector<int64_t> &y) { return x.size() > y.size(); });
     return a;
-}
-
-ReductionSize reduction_size(const frix_problem &p) {
-    ReductionSize size;
-    DisjointSets components(p.n);
-    // Exact zeros (of a stored 3x3 block) couple nothing.
-    for_each_entry(*p.M, [&](int64_t i, int64_t j, double v) {
-        if (v == 0.0) return;
-        components.unite(i, j);
-        size.input_entries += 1.0;
-    });
-    // (component, column of H) pairs, each counted once.
-    std::vector<std::pair<int64_t, int64_t>> touches;
-    if (p.nc > 0)
-        for_each_entry(*p.H, [&](int64_t i, int64_t c, double v) {
-            if (v != 0.0) touches.emplace_back(components.find(i), c);
-        });
-    size.input_entries += (double)touches.size();
-    std::sort(touches.begin(), touches.end());
-    touches.erase(std::unique(touches.begin(), touches.end()), touches.end());
-    // Per component, the columns and the contacts (3 columns each, in order) touching it.
-    double bound = 0.0, block_bound = 0.0;
-    for (size_t k = 0; k < touches.size();) {
-        size_t end = k;
-        double contacts = 0.0;
-        for (int64_t last_contact = -1; end < touches.size() && touches[end].first == touches[k].first; ++end)
-            if (touches[end].second / 3 != last_contact) last_contact = touches[end].second / 3, contacts += 1.0;
-        const double columns = (double)(end - k);
-        bound += columns * columns;
-        block_bound += contacts * contacts;
-        k = end;
-    }
-    const double full = 3.0 * (double)p.nc;
-    size.w_entries = std::min(bound, full * full);
-    size.w_blocks = std::min(block_bound, (double)p.nc * (double)p.nc);
-    return size;
 }
 
 std::vector<std::vector<int64_t>> group_small_islands(std::vector<std::vector<int64_t>> islands, int64_t min_size) {

@@ -31,19 +31,6 @@ std::vector<std::vector<int64_t>> group_small_islands(std::vector<std::vector<in
 // Local problems only (W block-CSR). O(nc + blocks).
 Analysis analyse_local(const frix_problem &p);
 
-// Global problems: what the reduction W = H^T M^-1 H would cost, from the structure of M and H
-// alone, in O(n + nnz(M) + nnz(H) log nnz(H)). M^-1 couples any two dofs of a connected
-// component of M's graph (a rigid body: its 6 dofs; a deformable body: all of its nodes), so
-// W_ij can be non-zero only when columns i and j of H touch a common component: the bound is
-// the sum over components of (columns of H touching it)^2, at most (3nc)^2, exact but for
-// cancellations. A deformable body makes W dense among its contacts.
-struct ReductionSize {
-    double w_entries = 0.0;      // the bound on W's non-zero entries
-    double w_blocks = 0.0;       // the bound on its non-zero 3x3 blocks (contacts, squared)
-    double input_entries = 0.0;  // non-zero entries of M and H
-};
-ReductionSize reduction_size(const frix_problem &p);
-
 // The sub-problem of the contacts `island` (increasing order): W's blocks among them, their q
 // and mu. Owns its data.
 frix_error extract_island(const frix_problem &p, const std::vector<int64_t> &island,

@@ -4,6 +4,7 @@
 #include <cfloat>
 #include <cmath>
 
+#include "coulomb.hpp"
 #include "local3x3.hpp"
 #include "matrix.hpp"
 
@@ -26,7 +27,7 @@ void de_saxce_map(const frix_problem &p, const double *r, double *u, double *F) 
 }
 
 void project_on_cones(const frix_problem &p, double *r) {
-    for (int64_t a = 0; a < p.nc; ++a) local::project_on_cone(r + 3 * a, p.mu[a]);
+    for (int64_t a = 0; a < p.nc; ++a) coulomb::project_on_cone(r + 3 * a, p.mu[a]);
 }
 
 double contact_diagonal_norm(const frix_problem &p, int64_t a) {

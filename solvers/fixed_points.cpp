@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "error_state.hpp"
+#include "coulomb.hpp"
 #include "first_order.hpp"
 #include "local3x3.hpp"
 #include "matrix.hpp"
@@ -163,8 +164,8 @@ bool tresca_exact(const Contact &c, const double *q, double s, double *r, Outcom
 // s < 0, the Coulomb cone of c.mu. The inner problems' map is linear: no De Saxce term.
 Outcome projected(Contact &c, const double *q, double s, double *r, const local::Params &p) {
     auto project = [&](double *x) {
-        if (s >= 0.0) local::project_on_disk(x, s);
-        else local::project_on_cone(x, c.mu);
+        if (s >= 0.0) coulomb::project_on_disk(x, s);
+        else coulomb::project_on_cone(x, c.mu);
     };
     auto residual_ok = [&](const double *x, const double *u) {
         double z[3] = {x[0] - u[0], x[1] - u[1], x[2] - u[2]};
@@ -353,10 +354,10 @@ frix_error solve(SolveContext &ctx, Kind kind) {
             for (int i = 0; i < 3; ++i) ua[i] += p.q[3 * a + i];
             double z[3] = {xa[0] - ua[0], xa[1] - ua[1], xa[2] - ua[2]};
             if (kd == Kind::Tresca) {
-                local::project_on_disk(z, s[a]);
+                coulomb::project_on_disk(z, s[a]);
             } else {
                 z[0] -= p.mu[a] * s[a];
-                local::project_on_cone(z, p.mu[a]);
+                coulomb::project_on_cone(z, p.mu[a]);
             }
             for (int i = 0; i < 3; ++i) {
                 sum += (xa[i] - z[i]) * (xa[i] - z[i]);

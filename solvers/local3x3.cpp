@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "local_newton.hpp"
-#include "measures.hpp"
+#include "coulomb.hpp"
 #include "nsn_functions.hpp"
 
 namespace frix::local {
@@ -59,11 +59,6 @@ inline void de_saxce_map(const Contact &c, const double *q, const double *r, dou
     F[0] = u[0] + c.mu * norm2d(u[1], u[2]);
     F[1] = u[1];
     F[2] = u[2];
-}
-
-double relative_scale(const double *q, const double *r, const double *u) {
-    const double s = std::max({norm3(q), norm3(r), norm3(u)});
-    return s > DBL_EPSILON ? s : 1.0;
 }
 
 // The sliding solution r = r_N (1, mu t), |t| = 1, needs u_N = 0, i.e. r_N = -q_N / a_N with
@@ -188,7 +183,7 @@ Outcome projected_iterations(Contact &c, const double *q, double *r, const Param
     const double start[3] = {r[0], r[1], r[2]};
     double u[3], F[3];
     de_saxce_map(c, q, r, u, F);
-    if (std::sqrt(contact_residual_sq(r, u, c.mu)) <= p.tol * relative_scale(q, r, u))
+    if (std::sqrt(coulomb::residual_sq(r, u, c.mu)) <= p.tol * coulomb::relative_scale(q, r, u))
         return Outcome::Iterated;
     double rho = c.rho;
     const double rho_min = 1e-12 * c.rho0, rho_max = 1e12 * c.rho0;
@@ -197,7 +192,7 @@ Outcome projected_iterations(Contact &c, const double *q, double *r, const Param
         // Backtrack until the step is contracting enough (Khobotov-type rule).
         for (int ls = 0; ls < 10; ++ls) {
             for (int i = 0; i < 3; ++i) rn[i] = r[i] - rho * F[i];
-            project_on_cone(rn, c.mu);
+            coulomb::project_on_cone(rn, c.mu);
             de_saxce_map(c, q, rn, un, Fn);
             const double dr[3] = {rn[0] - r[0], rn[1] - r[1], rn[2] - r[2]};
             const double dF[3] = {Fn[0] - F[0], Fn[1] - F[1], Fn[2] - F[2]};
@@ -217,7 +212,7 @@ Outcome projected_iterations(Contact &c, const double *q, double *r, const Param
             u[i] = un[i];
             F[i] = Fn[i];
         }
-        if (std::sqrt(contact_residual_sq(r, u, c.mu)) <= p.tol * relative_scale(q, r, u)) {
+        if (std::sqrt(coulomb::residual_sq(r, u, c.mu)) <= p.tol * coulomb::relative_scale(q, r, u)) {
             c.rho = rho;
             return Outcome::Iterated;
         }
@@ -228,31 +223,6 @@ Outcome projected_iterations(Contact &c, const double *q, double *r, const Param
 }
 
 }  // namespace
-
-void project_on_cone(double *r, double mu) {
-    const double nT = norm2d(r[1], r[2]);
-    if (nT <= mu * r[0]) return;  // inside (this also keeps r_N >= 0 with r_T = 0 when mu = 0)
-    if (mu * nT <= -r[0]) {       // polar cone
-        r[0] = r[1] = r[2] = 0.0;
-        return;
-    }
-    const double rN = (mu * nT + r[0]) / (1.0 + mu * mu);
-    const double k = mu * rN / nT;  // nT > 0 here: nT = 0 is inside or polar
-    r[0] = rN;
-    r[1] *= k;
-    r[2] *= k;
-}
-
-void project_on_disk(double *r, double R) {
-    if (r[0] < 0.0) r[0] = 0.0;
-    R = std::max(R, 0.0);
-    const double nT = norm2d(r[1], r[2]);
-    if (nT > R) {
-        const double k = R / nT;
-        r[1] *= k;
-        r[2] *= k;
-    }
-}
 
 void contact_setup(const double *Waa, double mu, Contact &c) {
     std::copy(Waa, Waa + 9, c.W);
@@ -283,16 +253,6 @@ void contact_setup(const double *Waa, double mu, Contact &c) {
     c.has_dir = false;
     c.rho0 = n2 > 0.0 ? 1.0 / n2 : (c.degenerate ? 0.0 : 1.0 / frob);
     c.rho = c.rho0;
-}
-
-double contact_residual(const double *W, const double *q, double mu, const double *r,
-                        double *relative) {
-    double u[3];
-    gemv3(W, r, u);
-    for (int i = 0; i < 3; ++i) u[i] += q[i];
-    const double res = std::sqrt(contact_residual_sq(r, u, mu));
-    if (relative) *relative = res / relative_scale(q, r, u);
-    return res;
 }
 
 namespace {
@@ -391,7 +351,7 @@ Outcome solve_contact(Contact &c, const double *q, double *r, const Params &p) {
         double u[3], F[3];
         de_saxce_map(c, q, r, u, F);
         for (int i = 0; i < 3; ++i) r[i] -= c.rho0 * F[i];
-        project_on_cone(r, c.mu);
+        coulomb::project_on_cone(r, c.mu);
         return Outcome::Step;
     }
     Outcome out;
@@ -420,7 +380,7 @@ Outcome solve_contact(Contact &c, const double *q, double *r, const Params &p) {
             const Outcome proj = projected_iterations(c, q, r, p);
             if (proj == Outcome::Iterated) return proj;
             double rel = 0.0;
-            contact_residual(c.W, q, c.mu, r, &rel);
+            coulomb::contact_residual(c.W, q, c.mu, r, &rel);
             if (rel <= kHybridNewtonThreshold) return proj;
             return newton_contact(c, q, r, p, nsn::kAlartCurnier, true) ? Outcome::Newton : proj;
         }

@@ -1,5 +1,5 @@
-// One-contact kernels: projections on the Coulomb cone and on the Tresca disk, and the
-// one-contact solvers NSGS calls for each contact (ids 552, 553 and 562 of frix_options.h).
+// One-contact solvers, which NSGS calls for each contact (ids 552, 553 and 562 of
+// frix_options.h); the projections and the residual they use are the core's (coulomb.hpp).
 // Vectors are per contact, normal first; 3x3 matrices are column-major.
 #pragma once
 
@@ -7,12 +7,6 @@
 #include <cstdint>
 
 namespace frix::local {
-
-// r <- P_K(r), K = {|r_T| <= mu r_N}; mu = 0 is the half-line r_T = 0, r_N >= 0.
-void project_on_cone(double *r, double mu);
-
-// r <- the projection on {r_N >= 0, |r_T| <= R} (Tresca); R < 0 is taken as 0.
-void project_on_disk(double *r, double R);
 
 // Per-contact data computed once per solve from the diagonal block W_aa.
 struct Contact {
@@ -80,11 +74,6 @@ bool nearest_valid_root(const TrigPoly2 &g, const double *W, const double *q, do
 // r holds the current reaction on entry (warm start) and the new one on return; it is
 // unchanged when the outcome is NoSolution.
 Outcome solve_contact(Contact &c, const double *q, double *r, const Params &p);
-
-// The one-contact natural-map residual of r, |r - P_K(r - u^)| with u = W r + q, and the
-// same divided by max(|q|, |r|, |u|) (the measure of the local tolerance).
-double contact_residual(const double *W, const double *q, double mu, const double *r,
-                        double *relative = nullptr);
 
 // The sliding root alone (exposed for tests): true and r set if a valid sliding solution
 // was found. `hint` (3, may be null) selects among several roots.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "coulomb.hpp"
 #include "nsn_functions.hpp"
 
 namespace frix::local {
@@ -62,7 +63,7 @@ bool newton_contact(const Contact &c, const double *q, double *r, const Params &
     nsn::contact_rho(2, 1.0, c.W, &rn, &rt);
     double x[3] = {r[0], r[1], r[2]}, best[3] = {r[0], r[1], r[2]};
     double rel = 0.0;
-    contact_residual(c.W, q, c.mu, x, &rel);
+    coulomb::contact_residual(c.W, q, c.mu, x, &rel);
     double best_rel = rel;
     if (rel <= p.tol) return true;
     Eval e;
@@ -106,7 +107,7 @@ bool newton_contact(const Contact &c, const double *q, double *r, const Params &
         }
         for (int i = 0; i < 3; ++i) x[i] += t * d[i];
         evaluate(c, q, x, formulation, rn, rt, e, true);
-        contact_residual(c.W, q, c.mu, x, &rel);
+        coulomb::contact_residual(c.W, q, c.mu, x, &rel);
         if (!std::isfinite(rel)) break;
         if (rel < best_rel) {
             best_rel = rel;

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <utility>
 
+#include "coulomb.hpp"
 #include "error_state.hpp"
 #include "matrix.hpp"
 #include "measures.hpp"
@@ -63,7 +64,7 @@ bool Workspace::accept(int64_t a, double *ra, double *rn, SweepStats &st) {
     const double omega = s_.relaxation;
     if (omega != 1.0) {
         for (int i = 0; i < 3; ++i) rn[i] = omega * rn[i] + (1.0 - omega) * ra[i];
-        if (omega > 1.0) local::project_on_cone(rn, contacts_[(size_t)a].mu);
+        if (omega > 1.0) coulomb::project_on_cone(rn, contacts_[(size_t)a].mu);
     }
     if (!finite3(rn)) {
         ++st.rejected;
@@ -182,7 +183,7 @@ class DriftExtrapolation {
         if (!(t > 1.0) || !std::isfinite(t) || max_sweeps - it < 2 * window_) return false;
         t = std::min(t, kMaxDriftJump);
         for (size_t i = 0; i < m; ++i) r[i] += t * last_[i];
-        for (size_t a = 0; 3 * a < m; ++a) local::project_on_cone(r + 3 * a, mu[a]);
+        for (size_t a = 0; 3 * a < m; ++a) coulomb::project_on_cone(r + 3 * a, mu[a]);
         std::copy(r, r + m, start_.begin());
         have_last_ = false;  // a new window history from the new point
         ++jumps_;

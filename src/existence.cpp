@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "error_state.hpp"
-#include "local3x3.hpp"
+#include "coulomb.hpp"
 #include "matrix.hpp"
 #include "solver_api.hpp"
 
@@ -114,7 +114,7 @@ double cone_residual(const double *u, double t, const double *mu, int64_t nc, do
     double f = 0.0;
     for (int64_t a = 0; a < nc; ++a) {
         double x[3] = {t - u[3 * a], -u[3 * a + 1], -u[3 * a + 2]};
-        frix::local::project_on_cone(x, mu[a]);
+        frix::coulomb::project_on_cone(x, mu[a]);
         f += 0.5 * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
         if (y) std::copy(x, x + 3, y + 3 * a);
     }

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "error_state.hpp"
-#include "local3x3.hpp"
+#include "coulomb.hpp"
 
 namespace {
 
@@ -45,9 +45,9 @@ void residual_and_cone(const double *r, const double *u, const double *mu, int64
     for (int64_t a = 0; a < nc; ++a) {
         const double ra[3] = {r[3 * a] / divisor, r[3 * a + 1] / divisor, r[3 * a + 2] / divisor};
         const double ua[3] = {u[3 * a] / divisor, u[3 * a + 1] / divisor, u[3 * a + 2] / divisor};
-        sum += frix::contact_residual_sq(ra, ua, mu[a]);
+        sum += frix::coulomb::residual_sq(ra, ua, mu[a]);
         double p[3] = {ra[0], ra[1], ra[2]};
-        frix::local::project_on_cone(p, mu[a]);
+        frix::coulomb::project_on_cone(p, mu[a]);
         const double d0 = ra[0] - p[0], d1 = ra[1] - p[1], d2 = ra[2] - p[2];
         cone = std::max(cone, std::sqrt(d0 * d0 + d1 * d1 + d2 * d2));
     }
@@ -56,14 +56,6 @@ void residual_and_cone(const double *r, const double *u, const double *mu, int64
 }  // namespace
 
 namespace frix {
-
-double contact_residual_sq(const double *r, const double *u, double mu) {
-    const double ut = std::hypot(u[1], u[2]);
-    double z[3] = {r[0] - (u[0] + mu * ut), r[1] - u[1], r[2] - u[2]};
-    local::project_on_cone(z, mu);
-    const double d0 = r[0] - z[0], d1 = r[1] - z[1], d2 = r[2] - z[2];
-    return d0 * d0 + d1 * d1 + d2 * d2;
-}
 
 Measures measures_from_ru(const double *r, const double *u, const double *mu, int64_t nc,
                           double norm_q) {

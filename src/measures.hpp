@@ -19,9 +19,6 @@ struct Measures {
     double norm_q = 0, norm_r = 0, norm_u = 0;
 };
 
-// Squared natural-map residual of one contact: |r - P_K(r - (u + mu|u_T| e_N))|^2.
-double contact_residual_sq(const double *r, const double *u, double mu);
-
 // All measures of (r, u), with u = W r + q (or H^T v + w) already computed by the caller and
 // norm_q = |q|_2 (|w|_2 for a global problem).
 Measures measures_from_ru(const double *r, const double *u, const double *mu, int64_t nc,

@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "error_state.hpp"
-#include "global.hpp"
 #include "measures.hpp"
 #include "solver_api.hpp"
 
@@ -108,7 +107,7 @@ FRIX_API frix_error frix_solve(const frix_problem *problem, const frix_options *
             if (problem->n > 0 && !v)
                 return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_solve: v is required for a global problem (%lld entries)",
                             (long long)problem->n);
-            err = frix::solve_global_problem(*problem, *options, *entry, r, u, v, out, clock, frix::solve_local_problem);
+            err = frix::solve_global_problem(*problem, *options, *entry, r, u, v, out, clock);
         } else if (!entry->solves_local) {
             err = fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s solves global problems only", entry->name);
         } else {

@@ -1,5 +1,6 @@
-// The internal interface between the solve driver (src/solve.cpp), the registry
-// (src/registry.cpp) and the solver families (solvers/*.cpp).
+// The internal interface between the solve driver (src/solve.cpp, src/solve_global.cpp), the
+// registry (solvers/registry.cpp, which defines find_solver and its kin) and the solver
+// families (solvers/*.cpp). The core includes no solver: it finds them through the registry.
 #pragma once
 
 #include <frix/frix_solve.h>
@@ -79,6 +80,17 @@ const SolverEntry &solver_at(int64_t index);
 frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
                                const SolverEntry &entry, double *r, double *u, frix_info &info,
                                const Stopwatch &clock);
+
+// The driver's global path (src/solve_global.cpp): runs `entry` natively if it solves global
+// problems, through the reduction W = H^T M^-1 H otherwise. r, u (3nc) and v (n) as in
+// frix_solve.
+frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
+                                const SolverEntry &entry, double *r, double *u, double *v,
+                                frix_info &info, const Stopwatch &clock);
+
+// Whether a global solve's measures meet `tol`: the error and the equilibrium residual both
+// (the latter at least to 1e-12, which is rounding for M v = H r + f).
+bool meets_global_tolerance(const frix_info &info, double tol);
 
 // The default solver of frix_solve(problem, NULL, ...).
 constexpr int kDefaultSolver = FRIX_SOLVER_AUTO;

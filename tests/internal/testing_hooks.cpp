@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "coulomb.hpp"
 #include "local3x3.hpp"
 
 #define FRIX_TESTING_HOOK extern "C"
@@ -17,11 +18,11 @@ static_assert((int)Outcome::TakeOff == 1 && (int)Outcome::Stick == 2 && (int)Out
 }  // namespace
 
 FRIX_TESTING_HOOK void frix_testing_project_on_cone(double r[3], double mu) {
-    frix::local::project_on_cone(r, mu);
+    frix::coulomb::project_on_cone(r, mu);
 }
 
 FRIX_TESTING_HOOK void frix_testing_project_on_disk(double r[3], double radius) {
-    frix::local::project_on_disk(r, radius);
+    frix::coulomb::project_on_disk(r, radius);
 }
 
 FRIX_TESTING_HOOK int frix_testing_solve_contact(const double W[9], const double q[3], double mu,
@@ -46,7 +47,7 @@ FRIX_TESTING_HOOK int frix_testing_solve_slide(const double W[9], const double q
 FRIX_TESTING_HOOK double frix_testing_contact_residual(const double W[9], const double q[3],
                                                        double mu, const double r[3],
                                                        double *relative) {
-    return frix::local::contact_residual(W, q, mu, r, relative);
+    return frix::coulomb::contact_residual(W, q, mu, r, relative);
 }
 
 // ---- Semismooth functions (solvers/nsn_functions.hpp) and the linear algebra back-end.

@@ -7,7 +7,7 @@
 #include "auto.hpp"
 #include "error_state.hpp"
 #include "first_order.hpp"
-#include "global.hpp"
+#include "global_newton.hpp"
 #include "newton.hpp"
 #include "nsgs.hpp"
 #include "solver_api.hpp"

@@ -1,0 +1,149 @@
+// Global problems (M, H, f, w, mu) reduced to local ones: M's factorisation, W = H^T M^-1 H,
+// the recovery of v = M^-1 (H r + f), and what forming W would cost in memory.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "error_state.hpp"
+#include "linalg/linalg.hpp"
+#include "matrix.hpp"
+#include "problem.hpp"
+
+namespace frix {
+
+// A matrix in CSC with its own arrays.
+struct Csc {
+    int64_t rows = 0, cols = 0;
+    std::vector<int64_t> colptr, rowind;
+    std::vector<double> val;
+    linalg::CscView view() const { return {rows, cols, colptr.data(), rowind.data(), val.data()}; }
+};
+
+frix_error to_csc(const frix_matrix &A, Csc &out);
+
+// Whether M equals its transpose to round-off (CHOLMOD reads only the upper triangle).
+bool is_symmetric(const Csc &M);
+
+// A factorisation of M: CHOLMOD when M is symmetric positive definite, UMFPACK otherwise.
+class MassSolver {
+   public:
+    frix_error factor(const frix_matrix &M) {
+        empty_ = M.rows == 0;  // no dofs: M^-1 is the empty map, W = 0 and q = w
+        if (empty_) return FRIX_OK;
+        if (frix_error e = to_csc(M, csc_)) return e;
+        if (is_symmetric(csc_) && chol_.factor(csc_.view()) == FRIX_OK) {
+            use_chol_ = true;
+            return FRIX_OK;
+        }
+        use_chol_ = false;
+        if (frix_error e = lu_.analyze(csc_.view())) return e;
+        if (frix_error e = lu_.factor(csc_.view())) {
+            // A copy: fail() writes the buffer frix_last_error_message() points to.
+            const std::string why = frix_last_error_message();
+            return fail(e, "global problem: M cannot be factorised (%s)", why.c_str());
+        }
+        return FRIX_OK;
+    }
+    frix_error solve(const double *b, double *x) const {
+        if (empty_) return FRIX_OK;
+        return use_chol_ ? chol_.solve(b, x) : lu_.solve(b, x);
+    }
+    // W = H^T M^-1 H, block-CSR, assembled from its columns as they come (no CSC copy; see
+    // BlockMatrixFromColumns, told to expect up to expected_blocks blocks). stop is asked
+    // between blocks of columns (see SparseCholesky::inverse_congruence); when it answers
+    // true, stopped is set and W is null.
+    frix_error congruence(const frix_matrix &H, double expected_blocks, std::unique_ptr<frix_matrix> &W,
+                          const std::function<bool()> &stop, bool &stopped) {
+        stopped = false;
+        W.reset();
+        Csc h;
+        if (frix_error e = to_csc(H, h)) return e;
+        const int64_t n = H.rows, k = H.cols;
+        BlockMatrixFromColumns columns(k, "W = H^T M^-1 H", expected_blocks);
+        if (empty_) {
+            for (int64_t j = 0; j < k; ++j)
+                if (frix_error e = columns.add_column(0, nullptr, nullptr)) return e;
+        } else if (use_chol_) {
+            const linalg::SparseCholesky::ColumnSink sink = [&](int64_t count, const int64_t *rows,
+                                                                const double *values) {
+                return columns.add_column(count, rows, values);
+            };
+            if (frix_error e = chol_.inverse_congruence(h.view(), sink, stop, &stopped)) return e;
+            if (stopped) return FRIX_OK;
+        } else {
+            // LU: one solve per column of H; exact zeros (contacts M does not couple) are dropped.
+            std::vector<double> col(n), x(n), wcol(k), values;
+            std::vector<int64_t> rows;
+            for (int64_t j = 0; j < k; ++j) {
+                std::fill(col.begin(), col.end(), 0.0);
+                for (int64_t e = h.colptr[j]; e < h.colptr[j + 1]; ++e) col[h.rowind[e]] = h.val[e];
+                if (frix_error e = lu_.solve(col.data(), x.data())) return e;
+                matrix_gemv_transposed(H, 1.0, x.data(), 0.0, wcol.data());
+                rows.clear();
+                values.clear();
+                for (int64_t i = 0; i < k; ++i)
+                    if (wcol[i] != 0.0) {
+                        rows.push_back(i);
+                        values.push_back(wcol[i]);
+                    }
+                if (frix_error e = columns.add_column((int64_t)rows.size(), rows.data(), values.data())) return e;
+                if ((j + 1) % linalg::kCongruenceBlockColumns == 0 && j + 1 < k && stop && stop()) {
+                    stopped = true;
+                    return FRIX_OK;
+                }
+            }
+        }
+        return columns.finish(W);
+    }
+    const linalg::FactorStats &stats() const { return use_chol_ ? chol_.stats() : lu_.stats(); }
+
+   private:
+    Csc csc_;
+    linalg::SparseCholesky chol_;
+    linalg::SparseLU lu_;
+    bool use_chol_ = false;
+    bool empty_ = false;
+};
+
+// Global problems: what the reduction W = H^T M^-1 H would cost, from the structure of M and H
+// alone, in O(n + nnz(M) + nnz(H) log nnz(H)). M^-1 couples any two dofs of a connected
+// component of M's graph (a rigid body: its 6 dofs; a deformable body: all of its nodes), so
+// W_ij can be non-zero only when columns i and j of H touch a common component: the bound is
+// the sum over components of (columns of H touching it)^2, at most (3nc)^2, exact but for
+// cancellations. A deformable body makes W dense among its contacts.
+struct ReductionSize {
+    double w_entries = 0.0;      // the bound on W's non-zero entries
+    double w_blocks = 0.0;       // the bound on its non-zero 3x3 blocks (contacts, squared)
+    double input_entries = 0.0;  // non-zero entries of M and H
+};
+ReductionSize reduction_size(const frix_problem &p);
+
+// The bound the driver holds W to before forming it: nc^2 blocks, tightened by
+// reduction_size where W could take more than kStructureAbove bytes.
+ReductionSize reduction_bound(const frix_problem &p);
+
+// Whether W = H^T M^-1 H would fit in memory: its 3x3 blocks (the structural bound of
+// reduction_size) at 80 bytes each, against the memory this process may use (the machine's,
+// or its control group's limit where lower). A deformable body makes W dense: on a large mesh
+// it would not fit, and the system would kill the process part-way through forming it. A
+// floor: forming W also holds Z = L^-1 P H and its transpose for a while (the 80x80x3 elastic
+// grid: 3.3 GB by this count, 3.8 GB measured).
+struct ReductionMemory {
+    double needed = 0.0;     // bytes, at least
+    double available = 0.0;  // bytes; 0 when unknown (then it fits)
+    bool fits = true;
+};
+ReductionMemory reduction_memory(const ReductionSize &size);
+
+// The memory this process may use: the machine's, or its control group's limit where lower
+// (a container). 0 when unknown.
+double memory_available();
+
+// v = M^-1 (H r + f).
+frix_error recover_velocity(const frix_problem &p, const MassSolver &ms, const double *r, double *v);
+
+}  // namespace frix

@@ -1,0 +1,154 @@
+// The driver's global path: M factorised once; the all-separating case; a solver of global
+// problems run natively, any other through the reduction to W (route (a)); the final measures
+// of (r, v) and the status checked against them.
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "error_state.hpp"
+#include "measures.hpp"
+#include "reduction.hpp"
+#include "solver_api.hpp"
+
+namespace frix {
+
+namespace {
+
+// Route (a): reduce with the factorised M, solve the local problem with any local solver,
+// recover v. W has at most w_blocks blocks (room is reserved for them: memory only counts once
+// written).
+frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const SolverEntry &entry,
+                         MassSolver &ms, double w_blocks, const double *q0, double *r, double *u, double *v,
+                         frix_info &info, const Stopwatch &clock) {
+    const Stopwatch setup;
+    std::unique_ptr<frix_matrix> W;
+    // Where W is dense (a deformable body) forming it can take minutes: the time limit and
+    // the caller's callback (told iteration 0 and the start's error) can end it as they end
+    // an iteration, with the caller's start returned.
+    const double time_limit = opts.d(FRIX_OPT_TIME_LIMIT);
+    double start_error = NAN;
+    if (opts.callback) {
+        if (frix_error e = recover_velocity(p, ms, r, v)) return e;
+        start_error = selected_error(global_measures(p, r, v, u, nullptr), opts.i(FRIX_OPT_ERROR_MEASURE));
+    }
+    frix_status stop_status = FRIX_STATUS_NOT_RUN;
+    const std::function<bool()> stop = [&]() {
+        if (time_limit > 0.0 && clock.seconds() >= time_limit) stop_status = FRIX_STATUS_TIME_LIMIT;
+        else if (opts.callback && opts.callback(opts.callback_data, 0, start_error, clock.seconds()) != 0)
+            stop_status = FRIX_STATUS_STOPPED_BY_CALLBACK;
+        return stop_status != FRIX_STATUS_NOT_RUN;
+    };
+    bool stopped = false;
+    if (frix_error e = ms.congruence(*p.H, w_blocks, W, stop, stopped)) return e;
+    if (stopped) {
+        info.status = stop_status;
+        info.iterations = 0;
+        info.setup_time += setup.seconds();
+        return recover_velocity(p, ms, r, v);
+    }
+    std::vector<double> q(q0, q0 + 3 * p.nc);
+    frix_problem *local = nullptr;
+    if (frix_error e = make_local_problem(W.get(), q.data(), p.mu, p.nc, &local)) return e;
+    std::unique_ptr<frix_problem> local_owner(local);
+    const double setup_time = setup.seconds();
+    if (frix_error e = solve_local_problem(*local, opts, entry, r, u, info, clock)) return e;
+    info.setup_time += setup_time;
+    return recover_velocity(p, ms, r, v);
+}
+
+}  // namespace
+
+frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
+                                const SolverEntry &entry, double *r, double *u, double *v,
+                                frix_info &info, const Stopwatch &clock) {
+    const int64_t m = 3 * p.nc;
+    if (!entry.solves_global && !entry.solves_local)
+        return fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s solves no global problem", entry.name);
+    for (int64_t i = 0; i < m; ++i)
+        if (!std::isfinite(r[i])) r[i] = 0.0;
+    // v0 = M^-1 f and q = H^T v0 + w, the velocity without contact forces: if every contact
+    // separates there (q_N >= 0), r = 0 and v = v0 is the exact solution, for every solver.
+    const Stopwatch setup;
+    MassSolver ms;
+    if (frix_error e = ms.factor(*p.M)) return e;
+    std::vector<double> q(m);
+    if (frix_error e = ms.solve(p.f, v)) return e;
+    if (m > 0) matrix_gemv_transposed(*p.H, 1.0, v, 0.0, q.data());
+    bool separating = true;
+    for (int64_t i = 0; i < m; ++i) {
+        q[i] += p.w[i];
+        if (i % 3 == 0 && q[i] < 0.0) separating = false;
+    }
+    info.setup_time = setup.seconds();
+    info.factorizations = ms.stats().numeric;
+    info.symbolic_analyses = ms.stats().symbolic;
+    info.factorization_time = ms.stats().seconds;
+    if (separating) {
+        for (int64_t i = 0; i < m; ++i) r[i] = 0.0;
+        info.status = FRIX_STATUS_CONVERGED;
+        info.iterations = 0;
+    } else if (entry.solves_global) {
+        // Newton on (v, r) from the caller's r, with the velocity that r gives (not M^-1 f:
+        // a warm-started (v, r) must satisfy the equilibrium M v = H r + f to start with).
+        if (std::any_of(r, r + m, [](double x) { return x != 0.0; }))
+            if (frix_error e = recover_velocity(p, ms, r, v)) return e;
+        frix_info native = info;
+        const std::function<frix_error(const double *, double *)> solve_mass = [&ms](const double *b, double *x) {
+            return ms.solve(b, x);
+        };
+        SolveContext ctx{p, opts, r, u, v, native, clock, &solve_mass};
+        if (frix_error e = entry.solve(ctx)) return e;
+        native.setup_time = info.setup_time;
+        native.factorizations += info.factorizations;
+        native.symbolic_analyses += info.symbolic_analyses;
+        native.factorization_time += info.factorization_time;
+        info = native;
+    } else {
+        const ReductionSize size = reduction_bound(p);
+        const ReductionMemory memory = reduction_memory(size);
+        if (!memory.fits)
+            return fail(FRIX_ERR_OUT_OF_MEMORY,
+                        "frix_solve: %s reduces the global problem to W = H^T M^-1 H, which would have up to "
+                        "%.3g entries in %.3g blocks (at least %.3g GB, more than the %.3g GB of memory): a "
+                        "deformable body couples all its contacts; gnsn-ac (607) or auto solve it without W",
+                        entry.name, size.w_entries, size.w_blocks, memory.needed / 1e9, memory.available / 1e9);
+        const frix_info before = info;
+        info.factorizations = info.symbolic_analyses = 0;
+        info.factorization_time = info.setup_time = 0.0;
+        if (frix_error e = solve_reduced(p, opts, entry, ms, size.w_blocks, q.data(), r, u, v, info, clock))
+            return e;
+        // The local solver reported its own work: add the factorisation of M.
+        info.factorizations += before.factorizations;
+        info.symbolic_analyses += before.symbolic_analyses;
+        info.factorization_time += before.factorization_time;
+        info.setup_time += before.setup_time;
+    }
+    // The final measures of the global problem, from the (r, v) returned.
+    Measures meas = global_measures(p, r, v, u, &info.equilibrium);
+    bool finite = std::isfinite(meas.relative) && std::isfinite(meas.norm_u) &&
+                  std::isfinite(info.equilibrium);
+    for (int64_t i = 0; i < m && finite; ++i) finite = std::isfinite(r[i]);
+    for (int64_t j = 0; j < p.n && finite; ++j) finite = std::isfinite(v[j]);
+    if (!finite) {
+        // A diverged solve (a huge r whose H r or M^-1 H r overflows) falls back
+        // to the contact-free state, which is finite: the caller never gets NaN or Inf.
+        std::fill(r, r + m, 0.0);
+        if (frix_error e = recover_velocity(p, ms, r, v)) return e;
+        meas = global_measures(p, r, v, u, &info.equilibrium);
+        if (!std::isfinite(meas.relative) || !std::isfinite(info.equilibrium))
+            return fail(FRIX_ERR_NUMERICAL, "frix_solve: M^-1 f overflows: M is too ill-conditioned");
+        info.status = FRIX_STATUS_DIVERGED;
+    }
+    record_measures(info, meas, opts.i(FRIX_OPT_ERROR_MEASURE));
+    if (info.status == FRIX_STATUS_CONVERGED && !meets_global_tolerance(info, info.tolerance))
+        info.status = FRIX_STATUS_STAGNATED;
+    return FRIX_OK;
+}
+
+bool meets_global_tolerance(const frix_info &info, double tol) {
+    return info.error <= tol && info.equilibrium <= std::max(tol, 1e-12);
+}
+
+}  // namespace frix
