@@ -20,12 +20,12 @@
 #include <utility>
 #include <vector>
 
-#include "error_state.hpp"
-#include "coulomb.hpp"
-#include "first_order.hpp"
-#include "linalg/linalg.hpp"
-#include "local3x3.hpp"
-#include "matrix.hpp"
+#include "solvers/first_order.hpp"
+#include "solvers/local3x3.hpp"
+#include "src/coulomb.hpp"
+#include "src/error_state.hpp"
+#include "src/linalg/linalg.hpp"
+#include "src/matrix.hpp"
 
 namespace frix {
 namespace admm {

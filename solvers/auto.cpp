@@ -35,15 +35,15 @@
 #include <thread>
 #include <vector>
 
-#include "auto.hpp"
-#include "auto_analysis.hpp"
-#include "error_state.hpp"
-#include "existence.hpp"
-#include "global_newton.hpp"
-#include "measures.hpp"
-#include "reduction.hpp"
-#include "random.hpp"
-#include "solver_api.hpp"
+#include "solvers/auto.hpp"
+#include "solvers/auto_analysis.hpp"
+#include "solvers/global_newton.hpp"
+#include "src/error_state.hpp"
+#include "src/existence.hpp"
+#include "src/measures.hpp"
+#include "src/random.hpp"
+#include "src/reduction.hpp"
+#include "src/solver_api.hpp"
 
 namespace frix {
 namespace autosolve {

@@ -2,7 +2,7 @@
 // other solvers (auto.cpp, auto_analysis.cpp).
 #pragma once
 
-#include "solver_api.hpp"
+#include "src/solver_api.hpp"
 
 namespace frix {
 

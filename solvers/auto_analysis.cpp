@@ -1,13 +1,13 @@
 // Problem analysis and island extraction for the auto solver.
-#include "auto_analysis.hpp"
+#include "solvers/auto_analysis.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <utility>
 
-#include "disjoint_sets.hpp"
-#include "matrix.hpp"
+#include "src/disjoint_sets.hpp"
+#include "src/matrix.hpp"
 
 namespace frix {
 namespace autosolve {

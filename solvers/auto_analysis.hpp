@@ -7,7 +7,7 @@
 #include <memory>
 #include <vector>
 
-#include "problem.hpp"
+#include "src/problem.hpp"
 
 namespace frix {
 namespace autosolve {

@@ -1,12 +1,12 @@
-#include "first_order.hpp"
+#include "solvers/first_order.hpp"
 
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
 
-#include "coulomb.hpp"
-#include "local3x3.hpp"
-#include "matrix.hpp"
+#include "solvers/local3x3.hpp"
+#include "src/coulomb.hpp"
+#include "src/matrix.hpp"
 
 namespace frix::fo {
 

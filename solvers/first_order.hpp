@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <cstdio>
 
-#include "measures.hpp"
-#include "solver_api.hpp"
+#include "src/measures.hpp"
+#include "src/solver_api.hpp"
 
 namespace frix {
 

@@ -15,12 +15,12 @@
 #include <cstdio>
 #include <vector>
 
-#include "error_state.hpp"
-#include "coulomb.hpp"
-#include "first_order.hpp"
-#include "local3x3.hpp"
-#include "matrix.hpp"
-#include "nsgs.hpp"
+#include "solvers/first_order.hpp"
+#include "solvers/local3x3.hpp"
+#include "solvers/nsgs.hpp"
+#include "src/coulomb.hpp"
+#include "src/error_state.hpp"
+#include "src/matrix.hpp"
 
 namespace frix {
 namespace fixed_points {

@@ -1,5 +1,5 @@
 // Route (b) of global problems, solver 607: semismooth Newton on (v, r), W never formed.
-#include "global_newton.hpp"
+#include "solvers/global_newton.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,13 +9,13 @@
 #include <string>
 #include <vector>
 
-#include "error_state.hpp"
-#include "linalg/linalg.hpp"
-#include "matrix.hpp"
-#include "measures.hpp"
-#include "newton.hpp"
-#include "nsn_functions.hpp"
-#include "reduction.hpp"
+#include "solvers/newton.hpp"
+#include "solvers/nsn_functions.hpp"
+#include "src/error_state.hpp"
+#include "src/linalg/linalg.hpp"
+#include "src/matrix.hpp"
+#include "src/measures.hpp"
+#include "src/reduction.hpp"
 
 namespace frix {
 

@@ -2,7 +2,7 @@
 // with UMFPACK; W = H^T M^-1 H is never formed.
 #pragma once
 
-#include "solver_api.hpp"
+#include "src/solver_api.hpp"
 
 namespace frix {
 

@@ -23,12 +23,12 @@
 #include <numeric>
 #include <vector>
 
-#include "error_state.hpp"
-#include "linalg/linalg.hpp"
-#include "matrix.hpp"
-#include "measures.hpp"
-#include "newton.hpp"
-#include "nsn_functions.hpp"
+#include "solvers/newton.hpp"
+#include "solvers/nsn_functions.hpp"
+#include "src/error_state.hpp"
+#include "src/linalg/linalg.hpp"
+#include "src/matrix.hpp"
+#include "src/measures.hpp"
 
 namespace frix {
 namespace ipm {

@@ -1,12 +1,12 @@
-#include "local3x3.hpp"
+#include "solvers/local3x3.hpp"
 
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
 
-#include "local_newton.hpp"
-#include "coulomb.hpp"
-#include "nsn_functions.hpp"
+#include "solvers/local_newton.hpp"
+#include "solvers/nsn_functions.hpp"
+#include "src/coulomb.hpp"
 
 namespace frix::local {
 

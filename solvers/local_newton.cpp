@@ -1,10 +1,10 @@
-#include "local_newton.hpp"
+#include "solvers/local_newton.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "coulomb.hpp"
-#include "nsn_functions.hpp"
+#include "solvers/nsn_functions.hpp"
+#include "src/coulomb.hpp"
 
 namespace frix::local {
 

@@ -4,7 +4,7 @@
 // local::solve_contact (local3x3.cpp), which also runs 565's fallback to projections.
 #pragma once
 
-#include "local3x3.hpp"
+#include "solvers/local3x3.hpp"
 
 namespace frix::local {
 

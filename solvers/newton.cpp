@@ -1,14 +1,14 @@
-#include "newton.hpp"
+#include "solvers/newton.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-#include "error_state.hpp"
-#include "matrix.hpp"
-#include "measures.hpp"
-#include "nsgs.hpp"
-#include "nsn_functions.hpp"
+#include "solvers/nsgs.hpp"
+#include "solvers/nsn_functions.hpp"
+#include "src/error_state.hpp"
+#include "src/matrix.hpp"
+#include "src/measures.hpp"
 
 namespace frix {
 namespace newton {

@@ -7,9 +7,9 @@
 #include <memory>
 #include <vector>
 
-#include "linalg/linalg.hpp"
-#include "problem.hpp"
-#include "solver_api.hpp"
+#include "src/linalg/linalg.hpp"
+#include "src/problem.hpp"
+#include "src/solver_api.hpp"
 
 namespace frix {
 

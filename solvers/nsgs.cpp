@@ -1,15 +1,15 @@
-#include "nsgs.hpp"
+#include "solvers/nsgs.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <utility>
 
-#include "coulomb.hpp"
-#include "error_state.hpp"
-#include "matrix.hpp"
-#include "measures.hpp"
-#include "random.hpp"
+#include "src/coulomb.hpp"
+#include "src/error_state.hpp"
+#include "src/matrix.hpp"
+#include "src/measures.hpp"
+#include "src/random.hpp"
 
 namespace frix {
 namespace nsgs {

@@ -8,10 +8,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "local3x3.hpp"
-#include "matrix.hpp"
-#include "problem.hpp"
-#include "solver_api.hpp"
+#include "solvers/local3x3.hpp"
+#include "src/matrix.hpp"
+#include "src/problem.hpp"
+#include "src/solver_api.hpp"
 
 namespace frix {
 

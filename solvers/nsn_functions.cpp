@@ -1,9 +1,9 @@
-#include "nsn_functions.hpp"
+#include "solvers/nsn_functions.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "local3x3.hpp"
+#include "solvers/local3x3.hpp"
 
 namespace frix::nsn {
 

@@ -14,9 +14,9 @@
 #include <cstdio>
 #include <vector>
 
-#include "error_state.hpp"
-#include "measures.hpp"
-#include "newton.hpp"
+#include "solvers/newton.hpp"
+#include "src/error_state.hpp"
+#include "src/measures.hpp"
 
 namespace frix {
 namespace prox {

@@ -4,13 +4,13 @@
 #include <cstring>
 #include <string>
 
-#include "auto.hpp"
-#include "error_state.hpp"
-#include "first_order.hpp"
-#include "global_newton.hpp"
-#include "newton.hpp"
-#include "nsgs.hpp"
-#include "solver_api.hpp"
+#include "solvers/auto.hpp"
+#include "solvers/first_order.hpp"
+#include "solvers/global_newton.hpp"
+#include "solvers/newton.hpp"
+#include "solvers/nsgs.hpp"
+#include "src/error_state.hpp"
+#include "src/solver_api.hpp"
 
 namespace {
 

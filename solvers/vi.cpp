@@ -20,8 +20,8 @@
 #include <utility>
 #include <vector>
 
-#include "error_state.hpp"
-#include "first_order.hpp"
+#include "solvers/first_order.hpp"
+#include "src/error_state.hpp"
 
 namespace frix {
 namespace vi {

@@ -3,8 +3,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "coulomb.hpp"
-#include "local3x3.hpp"
+#include "solvers/local3x3.hpp"
+#include "src/coulomb.hpp"
 
 #define FRIX_TESTING_HOOK extern "C"
 
@@ -51,9 +51,9 @@ FRIX_TESTING_HOOK double frix_testing_contact_residual(const double W[9], const 
 }
 
 // ---- Semismooth functions (solvers/nsn_functions.hpp) and the linear algebra back-end.
-#include "linalg/linalg.hpp"
-#include "local_newton.hpp"
-#include "nsn_functions.hpp"
+#include "solvers/local_newton.hpp"
+#include "solvers/nsn_functions.hpp"
+#include "src/linalg/linalg.hpp"
 
 FRIX_TESTING_HOOK void frix_testing_contact_function(int formulation, const double r[3],
                                                      const double u[3], double mu, double rho_n,
@@ -136,7 +136,7 @@ FRIX_TESTING_HOOK int frix_testing_congruence_in_blocks(int64_t n, const int64_t
 
 // The n x n CSC matrix through BlockMatrixFromColumns (column by column), as a dense
 // column-major D; *blocks: its blocks; *in_place: whether it was found symmetric.
-#include "matrix.hpp"
+#include "src/matrix.hpp"
 
 FRIX_TESTING_HOOK int frix_testing_matrix_from_columns(int64_t n, const int64_t *colptr, const int64_t *rowind,
                                                        const double *values, double expected_blocks, double *D,

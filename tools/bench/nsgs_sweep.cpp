@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "matrix.hpp"
-#include "nsgs.hpp"
-#include "problem.hpp"
+#include "src/matrix.hpp"
+#include "solvers/nsgs.hpp"
+#include "src/problem.hpp"
 
 namespace {
 
