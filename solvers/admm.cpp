@@ -25,6 +25,7 @@
 #include "src/coulomb.hpp"
 #include "src/error_state.hpp"
 #include "src/linalg/linalg.hpp"
+#include "src/log.hpp"
 #include "src/matrix.hpp"
 
 namespace frix {
@@ -334,9 +335,9 @@ frix_error solve(SolveContext &ctx) {
             else if (light > 0.0) tol_light = light / err * L.tol;
         }
         if (L.verbosity >= 2 || (L.verbosity >= 1 && checked))
-            std::fprintf(stderr, "admm: iteration %lld rho %.3e primal %.3e dual %.3e%s%.3e\n",
-                         (long long)it, rho / wmean, prim, dual, checked ? " full " : " tol_light ",
-                         checked ? err : tol_light);
+            log_line(&L.o, "admm: iteration %lld rho %.3e primal %.3e dual %.3e%s%.3e",
+                     (long long)it, rho / wmean, prim, dual, checked ? " full " : " tol_light ",
+                     checked ? err : tol_light);
         if (status == FRIX_STATUS_NOT_RUN) status = L.limits(it, estimate);
         if (status != FRIX_STATUS_NOT_RUN) break;
 
@@ -376,9 +377,9 @@ frix_error solve(SolveContext &ctx) {
     info.symbolic_analyses = fs.symbolic;
     info.factorization_time = fs.seconds;
     if (L.verbosity >= 1)
-        std::fprintf(stderr, "admm: %s after %lld iterations (%s %s, %lld rho changes, %lld restarts)\n",
-                     frix_status_string(status), (long long)it, sys.dense() ? "dense" : "sparse",
-                     sys.kind(), (long long)changes, (long long)restarts);
+        log_line(&L.o, "admm: %s after %lld iterations (%s %s, %lld rho changes, %lld restarts)",
+                 frix_status_string(status), (long long)it, sys.dense() ? "dense" : "sparse",
+                 sys.kind(), (long long)changes, (long long)restarts);
     return FRIX_OK;
 }
 

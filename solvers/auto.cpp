@@ -40,6 +40,7 @@
 #include "solvers/global_newton.hpp"
 #include "src/error_state.hpp"
 #include "src/existence.hpp"
+#include "src/log.hpp"
 #include "src/measures.hpp"
 #include "src/random.hpp"
 #include "src/reduction.hpp"
@@ -178,6 +179,14 @@ struct Shared {
     }
     bool out_of_time() const { return clock.seconds() >= deadline(); }
     bool out_of_iterations() const { return iterations.load() >= user.i(FRIX_OPT_MAX_ITER); }
+
+    // The user's log sink, one line at a time: stages on several threads share it.
+    std::mutex log_lock;
+    static void log(void *data, const char *line) {
+        Shared *shared = static_cast<Shared *>(data);
+        std::lock_guard<std::mutex> guard(shared->log_lock);
+        log_line(&shared->user, "%s", line);
+    }
 };
 
 // The watchdog, installed as the progress callback of every stage.
@@ -318,9 +327,9 @@ class IslandSolver {
         events_.push_back(e);
         if (shared_.user.i(FRIX_OPT_VERBOSITY) >= 1) {
             frix_info none;
-            const std::string line = format_event(none, e);
-            std::lock_guard<std::mutex> guard(shared_.lock);
-            std::fprintf(stderr, "auto: %s", line.c_str());
+            std::string line = "auto: " + format_event(none, e);
+            while (!line.empty() && line.back() == '\n') line.pop_back();
+            Shared::log(&shared_, line.c_str());
         }
     }
 
@@ -508,6 +517,8 @@ class IslandSolver {
         o.dvalue[FRIX_OPT_TOLERANCE] = tolerance_;
         o.ivalue[FRIX_OPT_ERROR_MEASURE] = user.i(FRIX_OPT_ERROR_MEASURE);
         o.ivalue[FRIX_OPT_VERBOSITY] = std::max<int64_t>(0, user.i(FRIX_OPT_VERBOSITY) - 1);
+        o.log = &Shared::log;
+        o.log_data = &shared_;
         if (id == FRIX_SOLVER_ADMM && shared_.scaled_penalty) o.ivalue[FRIX_OPT_RHO_STRATEGY] = FRIX_RHO_SPECTRAL;
         if (id == FRIX_SOLVER_NSGS_VELOCITY) o.ivalue[FRIX_OPT_DRIFT_WINDOW] = kDriftWindow;
         // At most half of the caller's iterations left: under a tight limit the stages after
@@ -807,6 +818,8 @@ frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage)
     o.dvalue[FRIX_OPT_TIME_LIMIT] = ctx.options.d(FRIX_OPT_TIME_LIMIT);  // the same clock: the same deadline
     o.callback = ctx.options.callback;
     o.callback_data = ctx.options.callback_data;
+    o.log = ctx.options.log;
+    o.log_data = ctx.options.log_data;
     frix_info run;
     run.solver_id = ctx.info.solver_id;
     run.contacts = ctx.info.contacts;

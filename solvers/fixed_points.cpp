@@ -20,6 +20,7 @@
 #include "solvers/nsgs.hpp"
 #include "src/coulomb.hpp"
 #include "src/error_state.hpp"
+#include "src/log.hpp"
 #include "src/matrix.hpp"
 
 namespace frix {
@@ -415,8 +416,8 @@ frix_error solve(SolveContext &ctx, Kind kind) {
             if (!std::isfinite(st.r2)) break;
             const double light = st.r2 > 0.0 ? std::sqrt(st.dr2 / st.r2) : std::sqrt(st.dr2);
             if (L.verbosity >= 2)
-                std::fprintf(stderr, "%s:   sweep %lld light %.3e unsolved %lld rejected %lld\n", name,
-                             (long long)k, light, (long long)st.unsolved, (long long)st.rejected);
+                log_line(&L.o, "%s:   sweep %lld light %.3e unsolved %lld rejected %lld", name,
+                         (long long)k, light, (long long)st.unsolved, (long long)st.rejected);
             if (light <= light_tol) {
                 const double e_in = inner_error(kind, r);
                 if (e_in <= inner_tol) break;
@@ -430,8 +431,8 @@ frix_error solve(SolveContext &ctx, Kind kind) {
         }
         err = L.error(r, u.data());
         if (L.verbosity >= 1)
-            std::fprintf(stderr, "%s: outer %lld, %lld sweeps (inner tolerance %.2e), error %.3e\n",
-                         name, (long long)outer, (long long)k, inner_tol, err);
+            log_line(&L.o, "%s: outer %lld, %lld sweeps (inner tolerance %.2e), error %.3e",
+                     name, (long long)outer, (long long)k, inner_tol, err);
         if (err <= L.tol) status = FRIX_STATUS_CONVERGED;
         else if (!std::isfinite(err)) status = FRIX_STATUS_DIVERGED;
         else status = L.limits(outer, err);
@@ -441,8 +442,8 @@ frix_error solve(SolveContext &ctx, Kind kind) {
     info.iterations = outer;
     info.inner_iterations = sweeps;
     if (L.verbosity >= 1)
-        std::fprintf(stderr, "%s: %s after %lld outer iterations (%lld sweeps)\n", name,
-                     frix_status_string(status), (long long)outer, (long long)sweeps);
+        log_line(&L.o, "%s: %s after %lld outer iterations (%lld sweeps)", name,
+                 frix_status_string(status), (long long)outer, (long long)sweeps);
     return FRIX_OK;
 }
 

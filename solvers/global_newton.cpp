@@ -13,6 +13,7 @@
 #include "solvers/nsn_functions.hpp"
 #include "src/error_state.hpp"
 #include "src/linalg/linalg.hpp"
+#include "src/log.hpp"
 #include "src/matrix.hpp"
 #include "src/measures.hpp"
 #include "src/reduction.hpp"
@@ -208,8 +209,8 @@ frix_error solve(SolveContext &ctx) {
                                                               : 1.0;
     const double correction = underrate > kUnderrateToCorrect ? underrate : 1.0;
     if (s.verbosity >= 1 && underrate != 1.0)
-        std::fprintf(stderr, "global newton: the lumped blocks underrate W's by %.3g%s\n", underrate,
-                     correction != 1.0 ? ": rho corrected" : "");
+        log_line(&o, "global newton: the lumped blocks underrate W's by %.3g%s", underrate,
+                 correction != 1.0 ? ": rho corrected" : "");
     double wscale = 0.0;
     for (int64_t a = 0; a < nc; ++a) {
         double Wd[9];
@@ -369,8 +370,8 @@ frix_error solve(SolveContext &ctx) {
             }
         }
         if (s.verbosity >= 2)
-            std::fprintf(stderr, "global newton: step %lld t %.3g error %.3e equilibrium %.3e delta %.1e\n",
-                         (long long)it, t, err, equilibrium, delta);
+            log_line(&o, "global newton: step %lld t %.3g error %.3e equilibrium %.3e delta %.1e",
+                     (long long)it, t, err, equilibrium, delta);
         if (o.callback && o.callback(o.callback_data, it, err, ctx.clock.seconds()) != 0) {
             info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
             break;
@@ -399,8 +400,8 @@ frix_error solve(SolveContext &ctx) {
     info.symbolic_analyses = lu.stats().symbolic;
     info.factorization_time = lu.stats().seconds;
     if (s.verbosity >= 1)
-        std::fprintf(stderr, "global newton: %s after %lld steps\n", frix_status_string(info.status),
-                     (long long)it);
+        log_line(&o, "global newton: %s after %lld steps", frix_status_string(info.status),
+                 (long long)it);
     return FRIX_OK;
 }
 

@@ -27,6 +27,7 @@
 #include "solvers/nsn_functions.hpp"
 #include "src/error_state.hpp"
 #include "src/linalg/linalg.hpp"
+#include "src/log.hpp"
 #include "src/matrix.hpp"
 #include "src/measures.hpp"
 
@@ -427,9 +428,9 @@ frix_error Solver::run() {
         ++iterations;
         ++ipm_iterations;
         if (verbosity >= 2)
-            std::fprintf(stderr, "ipm: iteration %lld gap/nu %.3e |u - Wr - q| %.3e error %.3e step %.3g\n",
-                         (long long)ipm_iterations, tau, std::sqrt(std::inner_product(pres_.begin(), pres_.end(), pres_.begin(), 0.0)),
-                         err, alpha);
+            log_line(&o, "ipm: iteration %lld gap/nu %.3e |u - Wr - q| %.3e error %.3e step %.3g",
+                     (long long)ipm_iterations, tau, std::sqrt(std::inner_product(pres_.begin(), pres_.end(), pres_.begin(), 0.0)),
+                     err, alpha);
         if (!finite || alpha < kMinStep) {
             handed_over = true;
             break;
@@ -451,11 +452,12 @@ frix_error Solver::run() {
         s.rho_strategy = FRIX_RHO_SPECTRAL;
         s.measure = measure;
         s.verbosity = verbosity;
+        s.log = &o;
         newton::Engine engine(W, p_.mu, nc_, s);
         newton::RunResult res;
         if (verbosity >= 1)
-            std::fprintf(stderr, "ipm: %lld iterations, best error %.3e; Newton from there\n",
-                         (long long)ipm_iterations, best_err);
+            log_line(&o, "ipm: %lld iterations, best error %.3e; Newton from there",
+                     (long long)ipm_iterations, best_err);
         if (frix_error e = engine.run(ctx_.r, p_.q, 0.0, tol, lim, res)) return e;
         info.status = res.status;
         newton_steps = engine.counters.newton;
@@ -471,9 +473,9 @@ frix_error Solver::run() {
     info.symbolic_analyses = fs.symbolic;
     info.factorization_time = fs.seconds;
     if (verbosity >= 1)
-        std::fprintf(stderr, "ipm: %s after %lld iterations (%lld interior-point, %lld Newton)\n",
-                     frix_status_string(info.status), (long long)iterations,
-                     (long long)ipm_iterations, (long long)newton_steps);
+        log_line(&o, "ipm: %s after %lld iterations (%lld interior-point, %lld Newton)",
+                 frix_status_string(info.status), (long long)iterations,
+                 (long long)ipm_iterations, (long long)newton_steps);
     return FRIX_OK;
 }
 

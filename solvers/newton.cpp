@@ -7,6 +7,7 @@
 #include "solvers/nsgs.hpp"
 #include "solvers/nsn_functions.hpp"
 #include "src/error_state.hpp"
+#include "src/log.hpp"
 #include "src/matrix.hpp"
 #include "src/measures.hpp"
 
@@ -91,6 +92,7 @@ Settings settings_from(const frix_options &o, int solver_id) {
     s.watchdog = (int)o.i(FRIX_OPT_WATCHDOG);
     s.measure = o.i(FRIX_OPT_ERROR_MEASURE);
     s.verbosity = (int)o.i(FRIX_OPT_VERBOSITY);
+    s.log = &o;
     return s;
 }
 
@@ -485,13 +487,13 @@ frix_error Engine::run(double *r, const double *q, double shift, double tol, Lim
                 psi = 0.5 * dot(phi.data(), phi.data(), m);
                 err = error_of();
                 if (s_.verbosity >= 2)
-                    std::fprintf(stderr, "newton: watchdog: back to step %lld\n",
-                                 (long long)(counters.newton - s_.watchdog));
+                    log_line(s_.log, "newton: watchdog: back to step %lld",
+                             (long long)(counters.newton - s_.watchdog));
             }
         }
         if (s_.verbosity >= 2)
-            std::fprintf(stderr, "newton: step %lld t %.3g error %.3e merit %.3e delta %.1e\n",
-                         (long long)counters.newton, t, err, psi, delta);
+            log_line(s_.log, "newton: step %lld t %.3g error %.3e merit %.3e delta %.1e",
+                     (long long)counters.newton, t, err, psi, delta);
         // During an excursion the callback sees the error of the point it may return to.
         lim.report(excursion.active ? excursion.err : err);
         if (err < best_err) {
@@ -552,8 +554,8 @@ frix_error solve(SolveContext &ctx, int solver_id) {
         }
         const double after = selected_error(local_measures(p, ctx.r, ctx.u), s.measure);
         if (s.verbosity >= 1)
-            std::fprintf(stderr, "newton: stalled at %.3e, %lld NSGS sweeps -> %.3e\n", before,
-                         (long long)s.hybrid_sweeps, after);
+            log_line(s.log, "newton: stalled at %.3e, %lld NSGS sweeps -> %.3e", before,
+                     (long long)s.hybrid_sweeps, after);
         lim.report(after);
         if (!(after <= before)) std::copy(keep.begin(), keep.end(), ctx.r);
         if (after <= tol) {
@@ -586,9 +588,9 @@ frix_error solve(SolveContext &ctx, int solver_id) {
     info.symbolic_analyses = engine.factor_stats().symbolic;
     info.factorization_time = engine.factor_stats().seconds;
     if (s.verbosity >= 1)
-        std::fprintf(stderr, "newton: %s after %lld iterations (%lld Newton, %lld sweeps)\n",
-                     frix_status_string(info.status), (long long)iterations,
-                     (long long)engine.counters.newton, (long long)engine.counters.sweeps);
+        log_line(s.log, "newton: %s after %lld iterations (%lld Newton, %lld sweeps)",
+                 frix_status_string(info.status), (long long)iterations,
+                 (long long)engine.counters.newton, (long long)engine.counters.sweeps);
     return FRIX_OK;
 }
 

@@ -32,6 +32,7 @@ struct Settings {
     int watchdog = 0;           // steps of a full-step excursion (option watchdog; 0: none)
     int64_t measure = 0;        // frix_error_measure
     int verbosity = 0;
+    const frix_options *log = nullptr;  // where progress lines go (null: stderr)
 };
 
 // The Newton settings of options of solver 504/513/520 (formulation from the id).

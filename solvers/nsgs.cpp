@@ -7,6 +7,7 @@
 
 #include "src/coulomb.hpp"
 #include "src/error_state.hpp"
+#include "src/log.hpp"
 #include "src/matrix.hpp"
 #include "src/measures.hpp"
 #include "src/random.hpp"
@@ -274,8 +275,8 @@ frix_error run(SolveContext &ctx, bool velocity) {
             }
             ws.thaw();
             if (verbosity >= 1)
-                std::fprintf(stderr, "%s: sweep %lld: drift carried ahead (jump %lld)\n", name, (long long)it,
-                             (long long)drift.jumps());
+                log_line(&o, "%s: sweep %lld: drift carried ahead (jump %lld)", name, (long long)it,
+                         (long long)drift.jumps());
         }
         checked_last = false;
         double light = NAN;
@@ -302,11 +303,11 @@ frix_error run(SolveContext &ctx, bool velocity) {
             }
         }
         if (verbosity >= 2 || (verbosity >= 1 && checked_last))
-            std::fprintf(stderr,
-                         "%s: sweep %lld light %.3e%s%.3e rejected %lld unsolved %lld frozen %lld\n",
-                         name, (long long)it, light, checked_last ? " full " : " tol_light ",
-                         checked_last ? last_full : tol_light, (long long)st.rejected,
-                         (long long)st.unsolved, (long long)st.frozen);
+            log_line(&o,
+                     "%s: sweep %lld light %.3e%s%.3e rejected %lld unsolved %lld frozen %lld",
+                     name, (long long)it, light, checked_last ? " full " : " tol_light ",
+                     checked_last ? last_full : tol_light, (long long)st.rejected,
+                     (long long)st.unsolved, (long long)st.frozen);
         // The callback sees every sweep, the last one too; it can only stop a running solve.
         const bool stop =
             o.callback && o.callback(o.callback_data, it, estimate, ctx.clock.seconds()) != 0;
@@ -325,8 +326,8 @@ frix_error run(SolveContext &ctx, bool velocity) {
         info.status = FRIX_STATUS_CONVERGED;
     info.iterations = it;
     if (verbosity >= 1)
-        std::fprintf(stderr, "%s: %s after %lld sweeps\n", name, frix_status_string(info.status),
-                     (long long)it);
+        log_line(&o, "%s: %s after %lld sweeps", name, frix_status_string(info.status),
+                 (long long)it);
     return FRIX_OK;
 }
 

@@ -16,6 +16,7 @@
 
 #include "solvers/newton.hpp"
 #include "src/error_state.hpp"
+#include "src/log.hpp"
 #include "src/measures.hpp"
 
 namespace frix {
@@ -95,9 +96,9 @@ frix_error solve(SolveContext &ctx) {
         }
         const double e_new = selected_error(local_measures(p, r, ctx.u), s.measure);
         if (s.verbosity >= 1)
-            std::fprintf(stderr, "prox: step %lld alpha %.3e inner %s (%.2e) error %.3e\n",
-                         (long long)outer, alpha / scale, frix_status_string(res.status),
-                         res.error, e_new);
+            log_line(&o, "prox: step %lld alpha %.3e inner %s (%.2e) error %.3e",
+                     (long long)outer, alpha / scale, frix_status_string(res.status),
+                     res.error, e_new);
         const bool inner_ok = res.status == FRIX_STATUS_CONVERGED;
         if (e_new < err) {  // progress on the original problem: keep the step
             err = e_new;
@@ -123,9 +124,9 @@ frix_error solve(SolveContext &ctx) {
     info.symbolic_analyses = engine.factor_stats().symbolic;
     info.factorization_time = engine.factor_stats().seconds;
     if (s.verbosity >= 1)
-        std::fprintf(stderr, "prox: %s after %lld proximal steps (%lld Newton)\n",
-                     frix_status_string(info.status), (long long)outer,
-                     (long long)engine.counters.newton);
+        log_line(&o, "prox: %s after %lld proximal steps (%lld Newton)",
+                 frix_status_string(info.status), (long long)outer,
+                 (long long)engine.counters.newton);
     return FRIX_OK;
 }
 

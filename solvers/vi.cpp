@@ -22,6 +22,7 @@
 
 #include "solvers/first_order.hpp"
 #include "src/error_state.hpp"
+#include "src/log.hpp"
 
 namespace frix {
 namespace vi {
@@ -259,9 +260,9 @@ frix_error solve(SolveContext &ctx, Method method) {
             else if (light > 0.0) tol_light = light / e * L.tol;  // as NSGS recalibrates
         }
         if (L.verbosity >= 2 || (L.verbosity >= 1 && checked))
-            std::fprintf(stderr, "%s: iteration %lld rho %.3e light %.3e%s%.3e\n", name,
-                         (long long)it, rk * wmax, light, checked ? " full " : " tol_light ",
-                         checked ? estimate : tol_light);
+            log_line(&L.o, "%s: iteration %lld rho %.3e light %.3e%s%.3e", name,
+                     (long long)it, rk * wmax, light, checked ? " full " : " tol_light ",
+                     checked ? estimate : tol_light);
         const frix_status stop = L.limits(it, estimate);
         if (status == FRIX_STATUS_NOT_RUN) status = stop;
     }
@@ -269,9 +270,9 @@ frix_error solve(SolveContext &ctx, Method method) {
     info.status = status;
     info.iterations = it;
     if (L.verbosity >= 1)
-        std::fprintf(stderr, "%s: %s after %lld iterations (%lld backtracks, %lld projected steps)\n",
-                     name, frix_status_string(status), (long long)it, (long long)backtracks,
-                     (long long)fallbacks);
+        log_line(&L.o, "%s: %s after %lld iterations (%lld backtracks, %lld projected steps)",
+                 name, frix_status_string(status), (long long)it, (long long)backtracks,
+                 (long long)fallbacks);
     return FRIX_OK;
 }
 

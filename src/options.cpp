@@ -237,4 +237,11 @@ FRIX_API frix_error frix_options_set_callback(frix_options *opts, frix_progress_
     return FRIX_OK;
 }
 
+FRIX_API frix_error frix_options_set_log(frix_options *opts, frix_log_fn fn, void *user_data) {
+    if (!opts) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_options_set_log: options is NULL");
+    opts->log = fn;
+    opts->log_data = fn ? user_data : nullptr;
+    return FRIX_OK;
+}
+
 }  // extern "C"

@@ -17,6 +17,8 @@ struct frix_options {
     double dvalue[frix::kMaxOptionKey + 1] = {};
     frix_progress_fn callback = nullptr;
     void *callback_data = nullptr;
+    frix_log_fn log = nullptr;  // null: stderr
+    void *log_data = nullptr;
 
     // Typed reads for solvers (the key must be one the solver declared; no checks here).
     int64_t i(frix_option_key k) const { return ivalue[k]; }

@@ -85,6 +85,7 @@ const frix_plugin_table kTableV1 = {
     frix_info_trace,
     frix_problem_check_existence,
     frix_existence_describe,
+    frix_options_set_log,
 };
 
 }  // namespace

@@ -15,6 +15,14 @@ contains
     stop = 0
     if (iteration >= 2 .and. error >= 0d0 .and. elapsed_seconds >= 0d0) stop = 1
   end function
+
+  ! A log sink written in Fortran: counts the lines in the integer user_data points to.
+  subroutine count_lines(user_data, line) bind(C)
+    type(c_ptr), value :: user_data, line
+    integer(c_int), pointer :: lines
+    call c_f_pointer(user_data, lines)
+    if (c_associated(line)) lines = lines + 1
+  end subroutine
 end module test_fortran_callback
 
 ! The Fortran binding (include/frix/frix.f90) end to end: constants, strings both ways,
@@ -37,7 +45,7 @@ program test_fortran
   real(c_double), allocatable, target :: csc_values(:)
   integer(c_int64_t), allocatable, target :: csc_colptr(:), csc_rowind(:)
   integer(c_int64_t) :: n64, k
-  integer(c_int), target :: calls
+  integer(c_int), target :: calls, lines
   integer(c_int) :: err, id, key, is_int
   logical :: found
   type(c_ptr) :: W, Wb, p, back, opts, opts2, info, shape, Ms, Hs
@@ -142,6 +150,16 @@ program test_fortran
   err = frix_solve(p, opts, r, u, dummy, info)
   call check('callback removed', err == FRIX_OK .and. calls == 0 .and. &
        frix_info_status(info) /= FRIX_STATUS_STOPPED_BY_CALLBACK)
+
+  ! A Fortran log sink receives the progress lines of verbosity 1.
+  lines = 0
+  err = frix_options_set_log(opts, c_funloc(count_lines), c_loc(lines))
+  err = frix_options_set_int(opts, FRIX_OPT_VERBOSITY, 1_c_int64_t)
+  r = 0
+  err = frix_solve(p, opts, r, u, dummy, info)
+  call check('log sink', err == FRIX_OK .and. lines > 0)
+  err = frix_options_set_int(opts, FRIX_OPT_VERBOSITY, 0_c_int64_t)
+  err = frix_options_set_log(opts, c_null_funptr, c_null_ptr)
 
   ! Views of the problem's data, and the measures of a given r.
   call c_f_pointer(frix_problem_q(p), view, [3])

@@ -1,7 +1,10 @@
 /* Options by key (defaults, bounds, refusals), the solver registry, version and error strings. */
+#define _POSIX_C_SOURCE 200809L /* dup, dup2, fileno */
 #include <frix/frix.h>
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "check_main.h"
 
@@ -109,6 +112,93 @@ START_TEST(test_strings_and_version) {
 }
 END_TEST
 
+/* ---- The log sink: every solver's progress lines reach it, one line a call, and nothing
+ * goes to stderr; without a sink they go to stderr as before. */
+
+typedef struct {
+    int lines, bad;
+} line_count;
+
+static void count_line(void *data, const char *line) {
+    line_count *c = data;
+    ++c->lines;
+    if (line == NULL || line[0] == '\0' || strchr(line, '\n') != NULL) ++c->bad;
+}
+
+/* Solves p with `solver` at verbosity 2 into the sink (or stderr when count is NULL). */
+static void solve_logged(const frix_problem *p, int solver, line_count *count) {
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(solver, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 2), FRIX_OK);
+    if (count) ck_assert_int_eq(frix_options_set_log(o, count_line, count), FRIX_OK);
+    double r[6] = {0}, u[6], v[6];
+    const frix_error e = frix_solve(p, o, r, u, frix_problem_get_kind(p) == FRIX_PROBLEM_GLOBAL ? v : NULL, NULL);
+    ck_assert_msg(e == FRIX_OK || e == FRIX_ERR_UNSUPPORTED, "%s: %s", frix_solver_name(solver),
+                  frix_last_error_message());
+    frix_options_free(o);
+}
+
+static long file_size(const char *path) {
+    FILE *f = fopen(path, "rb");
+    ck_assert_ptr_nonnull(f);
+    fseek(f, 0, SEEK_END);
+    const long n = ftell(f);
+    fclose(f);
+    return n;
+}
+
+START_TEST(test_log_sink) {
+    /* Two coupled contacts, one sticking and one sliding; the same as a global problem with
+     * M = I, H = I (so W = I) and f = q. */
+    double W[36] = {0};
+    static const double d[6] = {4, 3, 3, 5, 3.5, 3.5};
+    for (int i = 0; i < 6; ++i) W[i + 6 * i] = d[i];
+    W[0 + 6 * 3] = W[3 + 6 * 0] = 1.0;
+    double q[6] = {-1, 0.7, -0.2, -2, 3, 0.4}, mu[2] = {0.5, 0.3}, I[36] = {0}, w[6] = {0};
+    for (int i = 0; i < 6; ++i) I[i + 6 * i] = 1.0;
+    frix_matrix *Wm = NULL, *Im = NULL;
+    frix_problem *local = NULL, *global = NULL;
+    ck_assert_int_eq(frix_matrix_from_dense(6, 6, W, 6, &Wm), FRIX_OK);
+    ck_assert_int_eq(frix_matrix_from_dense(6, 6, I, 6, &Im), FRIX_OK);
+    ck_assert_int_eq(frix_problem_local(Wm, q, mu, 2, &local), FRIX_OK);
+    ck_assert_int_eq(frix_problem_global(Im, Im, q, w, mu, 2, &global), FRIX_OK);
+
+    char path[512];
+    snprintf(path, sizeof path, "%s/log_sink_stderr.txt", FRIX_TEST_TMPDIR);
+    fflush(stderr);
+    const int saved = dup(fileno(stderr));
+    ck_assert(saved >= 0);
+    ck_assert_ptr_nonnull(freopen(path, "w", stderr));
+    int solvers = 0;
+    for (int64_t k = 0; k < frix_solver_count(); ++k) {
+        const int id = frix_solver_id_at(k);
+        line_count c = {0, 0};
+        solve_logged(local, id, &c);
+        solve_logged(global, id, &c);
+        ck_assert_msg(c.lines > 0 && c.bad == 0, "%s: %d lines to the sink, %d malformed", frix_solver_name(id),
+                      c.lines, c.bad);
+        ++solvers;
+    }
+    fflush(stderr);
+    const long quiet = file_size(path);
+    /* Without a sink: stderr, as before. */
+    solve_logged(local, FRIX_SOLVER_NSN_AC, NULL);
+    fflush(stderr);
+    const long loud = file_size(path);
+    ck_assert(dup2(saved, fileno(stderr)) >= 0);
+    close(saved);
+    ck_assert_msg(quiet == 0, "%ld bytes reached stderr with a log sink set", quiet);
+    ck_assert_msg(loud > 0, "nothing reached stderr without a log sink");
+    ck_assert_int_eq(solvers, (int)frix_solver_count());
+    ck_assert_int_eq(frix_options_set_log(NULL, count_line, NULL), FRIX_ERR_INVALID_ARGUMENT);
+
+    frix_problem_free(global);
+    frix_problem_free(local);
+    frix_matrix_free(Im);
+    frix_matrix_free(Wm);
+}
+END_TEST
+
 int main(void) {
     Suite *s = suite_create("options");
     TCase *tc = tcase_create("core");
@@ -116,6 +206,7 @@ int main(void) {
     tcase_add_test(tc, test_option_names);
     tcase_add_test(tc, test_registry);
     tcase_add_test(tc, test_strings_and_version);
+    tcase_add_test(tc, test_log_sink);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

@@ -98,6 +98,12 @@ module frix
       real(c_double), value :: error, elapsed_seconds
       integer(c_int) :: frix_progress_fn
     end function
+    ! The log sink (frix_options_set_log): one progress line, without its newline, as a C
+    ! string (frix_fstr copies it).
+    subroutine frix_log_fn(user_data, line) bind(C)
+      import :: c_ptr
+      type(c_ptr), value :: user_data, line
+    end subroutine
   end interface
 
   interface
@@ -405,6 +411,15 @@ module frix
       type(c_funptr), value :: fn
       type(c_ptr), value :: user_data
       integer(c_int) :: frix_options_set_callback
+    end function
+    ! fn: c_funloc of a subroutine with the interface frix_log_fn, or c_null_funptr for stderr
+    ! (the default); it receives the progress lines of the option verbosity.
+    function frix_options_set_log(opts, fn, user_data) bind(C, name='frix_options_set_log')
+      import :: c_ptr, c_funptr, c_int
+      type(c_ptr), value :: opts
+      type(c_funptr), value :: fn
+      type(c_ptr), value :: user_data
+      integer(c_int) :: frix_options_set_log
     end function
     function frix_solver_by_name(name, solver_id) bind(C, name='frix_solver_by_name')
       import :: c_int, c_char

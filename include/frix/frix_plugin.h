@@ -164,6 +164,9 @@ typedef struct frix_plugin_table {
                                           frix_info *info);
     const char *(*existence_describe)(frix_existence verdict);
 
+    /* ---- Appended in frix 0.1: the log sink (frix_options.h). Check with FRIX_PLUGIN_HAS. */
+    frix_error (*options_set_log)(frix_options *opts, frix_log_fn fn, void *user_data);
+
     /* New members go here, at the end, and nowhere else. */
 } frix_plugin_table;
 
