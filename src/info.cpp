@@ -71,6 +71,65 @@ FRIX_API const char *frix_info_trace(const frix_info *info) {
     return info->trace_text.c_str();
 }
 
+FRIX_API int64_t frix_info_stage_count(const frix_info *info) {
+    return info ? (int64_t)info->trace.size() : 0;
+}
+
+namespace {
+
+// The record `index` of info's trace into *out, or the error.
+frix_error stage_record(const frix_info *info, int64_t index, const void *value, const char *where,
+                        const frix::TraceEvent **out) {
+    if (!info || !value) return frix::fail(FRIX_ERR_INVALID_ARGUMENT, "%s: NULL argument", where);
+    if (index < 0 || index >= (int64_t)info->trace.size())
+        return frix::fail(FRIX_ERR_DIMENSION, "%s: record %lld of %lld", where, (long long)index,
+                          (long long)info->trace.size());
+    *out = &info->trace[(size_t)index];
+    return FRIX_OK;
+}
+
+}  // namespace
+
+FRIX_API frix_error frix_info_stage_get_int(const frix_info *info, int64_t index, frix_stage_key key,
+                                            int64_t *value) {
+    const frix::TraceEvent *e = nullptr;
+    if (frix_error err = stage_record(info, index, value, "frix_info_stage_get_int", &e)) return err;
+    const bool run = e->kind == frix::TraceEvent::kStage;
+    switch (key) {
+        case FRIX_STAGE_SOLVER_ID: *value = run ? e->solver_id : 0; return FRIX_OK;
+        case FRIX_STAGE_STATUS: *value = run ? e->status : FRIX_STATUS_NOT_RUN; return FRIX_OK;
+        case FRIX_STAGE_ITERATIONS: *value = run ? e->iterations : 0; return FRIX_OK;
+        case FRIX_STAGE_PART: *value = e->island; return FRIX_OK;
+        case FRIX_STAGE_PART_CONTACTS: *value = e->island_contacts; return FRIX_OK;
+        case FRIX_STAGE_RANDOM_STARTS: *value = run ? e->random_starts : 0; return FRIX_OK;
+        case FRIX_STAGE_STOPPED_BY_AUTO: *value = run && e->why != nullptr; return FRIX_OK;
+        default:
+            return frix::fail(FRIX_ERR_INVALID_ARGUMENT, "frix_info_stage_get_int: key %d is not an int key",
+                              (int)key);
+    }
+}
+
+FRIX_API frix_error frix_info_stage_get_double(const frix_info *info, int64_t index,
+                                               frix_stage_key key, double *value) {
+    const frix::TraceEvent *e = nullptr;
+    if (frix_error err = stage_record(info, index, value, "frix_info_stage_get_double", &e)) return err;
+    const bool run = e->kind == frix::TraceEvent::kStage;
+    switch (key) {
+        case FRIX_STAGE_ERROR: *value = run ? e->error : NAN; return FRIX_OK;
+        case FRIX_STAGE_SECONDS: *value = run ? e->seconds : 0.0; return FRIX_OK;
+        default:
+            return frix::fail(FRIX_ERR_INVALID_ARGUMENT,
+                              "frix_info_stage_get_double: key %d is not a double key", (int)key);
+    }
+}
+
+FRIX_API const char *frix_info_stage_note(const frix_info *info, int64_t index) {
+    if (!info || index < 0 || index >= (int64_t)info->trace.size()) return "";
+    info->stage_note = frix::format_event(*info, info->trace[(size_t)index]);
+    while (!info->stage_note.empty() && info->stage_note.back() == '\n') info->stage_note.pop_back();
+    return info->stage_note.c_str();
+}
+
 FRIX_API const char *frix_existence_describe(frix_existence verdict) {
     switch (verdict) {
         case FRIX_EXISTENCE_NOT_CHECKED: return "not checked";

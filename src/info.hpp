@@ -77,4 +77,5 @@ struct frix_info {
     frix::AnalysisSummary analysis;
     std::vector<frix::TraceEvent> trace;
     mutable std::string trace_text;  // formatted by frix_info_trace
+    mutable std::string stage_note;  // formatted by frix_info_stage_note
 };

@@ -86,6 +86,10 @@ const frix_plugin_table kTableV1 = {
     frix_problem_check_existence,
     frix_existence_describe,
     frix_options_set_log,
+    frix_info_stage_count,
+    frix_info_stage_get_int,
+    frix_info_stage_get_double,
+    frix_info_stage_note,
 };
 
 }  // namespace

@@ -87,6 +87,11 @@ module frix
        FRIX_INFO_FACTORIZATION_TIME = 122, FRIX_INFO_SETUP_TIME = 123, &
        FRIX_INFO_ISLANDS = 11, FRIX_INFO_SWITCHES = 12, FRIX_INFO_EXISTENCE = 13, &
        FRIX_INFO_EXISTENCE_MARGIN = 124
+  ! Keys of the stage records (frix_info_stage_get_int / _double).
+  integer(c_int), parameter :: FRIX_STAGE_SOLVER_ID = 1, FRIX_STAGE_STATUS = 2, &
+       FRIX_STAGE_ITERATIONS = 3, FRIX_STAGE_PART = 4, FRIX_STAGE_PART_CONTACTS = 5, &
+       FRIX_STAGE_RANDOM_STARTS = 6, FRIX_STAGE_STOPPED_BY_AUTO = 7, FRIX_STAGE_ERROR = 100, &
+       FRIX_STAGE_SECONDS = 101
 
   ! The progress callback (frix_options_set_callback): called after each iteration; a
   ! non-zero result stops the solve (FRIX_STATUS_STOPPED_BY_CALLBACK).
@@ -506,6 +511,36 @@ module frix
       import :: c_ptr
       type(c_ptr), value :: info
       type(c_ptr) :: frix_info_trace
+    end function
+    ! The lines of the trace as data: count, fields by key, and each line (frix_fstr copies it).
+    function frix_info_stage_count(info) bind(C, name='frix_info_stage_count')
+      import :: c_ptr, c_int64_t
+      type(c_ptr), value :: info
+      integer(c_int64_t) :: frix_info_stage_count
+    end function
+    function frix_info_stage_get_int(info, index, key, value) &
+         bind(C, name='frix_info_stage_get_int')
+      import :: c_ptr, c_int, c_int64_t
+      type(c_ptr), value :: info
+      integer(c_int64_t), value :: index
+      integer(c_int), value :: key
+      integer(c_int64_t), intent(out) :: value
+      integer(c_int) :: frix_info_stage_get_int
+    end function
+    function frix_info_stage_get_double(info, index, key, value) &
+         bind(C, name='frix_info_stage_get_double')
+      import :: c_ptr, c_int, c_int64_t, c_double
+      type(c_ptr), value :: info
+      integer(c_int64_t), value :: index
+      integer(c_int), value :: key
+      real(c_double), intent(out) :: value
+      integer(c_int) :: frix_info_stage_get_double
+    end function
+    function frix_info_stage_note(info, index) bind(C, name='frix_info_stage_note')
+      import :: c_ptr, c_int64_t
+      type(c_ptr), value :: info
+      integer(c_int64_t), value :: index
+      type(c_ptr) :: frix_info_stage_note
     end function
     function frix_problem_check_existence(problem, time_limit, info) &
          bind(C, name='frix_problem_check_existence')

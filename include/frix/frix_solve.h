@@ -136,6 +136,33 @@ FRIX_API double frix_info_solve_time(const frix_info *info);
  * string belongs to info and lives until the next solve with it or frix_info_free. */
 FRIX_API const char *frix_info_trace(const frix_info *info);
 
+/* Stage records: the lines of frix_info_trace as data, in the same order (none for a solver
+ * whose trace is empty). A record of a solver's run (auto's stages) has its solver id,
+ * status, iterations, error and time; the others (auto's analysis and decisions) have
+ * solver id 0, status FRIX_STATUS_NOT_RUN, 0 iterations and a NaN error. */
+typedef enum frix_stage_key FRIX_ENUM_BASE {
+    FRIX_STAGE_SOLVER_ID = 1,       /* int: the solver run, 0 for a record of another kind */
+    FRIX_STAGE_STATUS = 2,          /* int: the run's frix_status */
+    FRIX_STAGE_ITERATIONS = 3,      /* int */
+    FRIX_STAGE_PART = 4,            /* int: the part (island) solved, from 1; 0: the whole problem */
+    FRIX_STAGE_PART_CONTACTS = 5,   /* int: the part's contacts; 0 for the whole problem */
+    FRIX_STAGE_RANDOM_STARTS = 6,   /* int: > 0 when the run went from that many random starts */
+    FRIX_STAGE_STOPPED_BY_AUTO = 7, /* int: 1 when auto stopped the run for its slow progress */
+    FRIX_STAGE_ERROR = 100,         /* double: the run's error at its end */
+    FRIX_STAGE_SECONDS = 101        /* double: the run's time */
+} frix_stage_key;
+FRIX_API int64_t frix_info_stage_count(const frix_info *info);
+/* FRIX_ERR_DIMENSION for an index outside [0, count), FRIX_ERR_INVALID_ARGUMENT for a NULL
+ * argument or a key of the other type. */
+FRIX_API frix_error frix_info_stage_get_int(const frix_info *info, int64_t index, frix_stage_key key,
+                                            int64_t *value);
+FRIX_API frix_error frix_info_stage_get_double(const frix_info *info, int64_t index,
+                                               frix_stage_key key, double *value);
+/* The record's line of the trace, without its newline ("" for an index out of range); it
+ * belongs to info and lives until the next call of this function with info, the next solve
+ * with it or frix_info_free. */
+FRIX_API const char *frix_info_stage_note(const frix_info *info, int64_t index);
+
 /* ---- Solving.
  * r (3nc) is read as the initial guess (warm start) and holds the result; u (3nc) receives
  * W r + q (or H^T v + w); v (n) is used only for global problems (NULL for local ones).
