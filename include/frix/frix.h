@@ -28,6 +28,8 @@
 #include "frix_matrix.h"
 #include "frix_problem.h"
 #include "frix_options.h"
+#include "frix_registry.h"
+#include "frix_info.h"
 #include "frix_solve.h"
 #include "frix_fclib.h"
 #include "frix_read.h"

@@ -137,7 +137,7 @@ typedef enum frix_local_solver FRIX_ENUM_BASE {
 typedef int (*frix_progress_fn)(void *user_data, int64_t iteration, double error,
                                 double elapsed_seconds);
 
-/* solver_id: an id of the registry (frix_solvers.h). */
+/* solver_id: an id of the registry (frix_registry.h). */
 FRIX_API frix_error frix_options_create(int solver_id, frix_options **out);
 FRIX_API frix_error frix_options_copy(const frix_options *src, frix_options **out);
 FRIX_API void frix_options_free(frix_options *opts);
