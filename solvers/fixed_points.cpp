@@ -472,12 +472,12 @@ const SolverEntry kTfpEntry = {
     "The one-contact Tresca problem is solved exactly (interior, or on the circle through a "
     "one-dimensional equation on the Schur complement, for any W_aa with a positive definite "
     "tangential part), by projected steps with a self-adaptive step where that fails. The "
-    "update of s is relaxed by Aitken's factor (Irons-Tuck, in [1/64, 1]): where the plain "
-    "update oscillates (the Capsules problems, on which Siconos' TFP never settles) it "
-    "converges. The inner tolerance is inner_tolerance_ratio times the outer error (light "
+    "update of s is relaxed by Aitken's factor (Irons-Tuck, in [1/64, 1]): it damps the "
+    "oscillation of the plain update. The inner tolerance is inner_tolerance_ratio times the "
+    "outer error (light "
     "error confirmed by the inner problem's own residual). Iterations count outer steps; "
-    "FRIX_INFO_INNER_ITERATIONS the sweeps. Good for small mu and for scenes where the "
-    "normal forces settle early. Options: inner_max_iter (sweeps per outer step, default "
+    "FRIX_INFO_INNER_ITERATIONS the sweeps. Options: inner_max_iter (sweeps per outer step, "
+    "default "
     "100), inner_tolerance_ratio (0.1), local_tolerance and local_max_iter (the fallback "
     "projected steps).",
     fixed_points::solve_tfp, true, false, fixed_points::kExtraKeys, fixed_points::kDefaults};
@@ -493,8 +493,7 @@ const SolverEntry kAclmEntry = {
     "angle (Newton from the last angle, all roots bracketed otherwise); projected steps with "
     "a self-adaptive step only where no valid root exists. The inner tolerance is "
     "inner_tolerance_ratio times the outer error. Iterations count outer steps; "
-    "FRIX_INFO_INNER_ITERATIONS the sweeps. Robust where NSGS stalls (local_problem_test, "
-    "OneObject), fast at 1e-8 on rigid scenes. Options: inner_max_iter (default 100), "
+    "FRIX_INFO_INNER_ITERATIONS the sweeps. Options: inner_max_iter (default 100), "
     "inner_tolerance_ratio (0.1), local_tolerance and local_max_iter (the fallback projected "
     "steps).",
     fixed_points::solve_aclm, true, false, fixed_points::kExtraKeys, fixed_points::kDefaults};

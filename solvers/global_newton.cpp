@@ -419,15 +419,14 @@ const SolverEntry kGlobalNsnAcEntry = {
     "Semismooth Newton (Alart-Curnier) on the global problem itself: unknowns (v, r), "
     "equations M v - H r - f = 0 and Phi(r, H^T v + w) = 0, Jacobian [[M, -H], [B H^T, A]] "
     "factorised by UMFPACK with a nested-dissection (METIS) ordering (one symbolic analysis "
-    "per solve). W = H^T M^-1 H is never formed, which is what large FEM problems need; rho "
-    "comes from the lumped blocks H_a^T diag(M)^-1 H_a, scaled where they underrate W's "
-    "blocks (a stiff body: by orders of magnitude; measured on 8 contacts with M's "
-    "factorisation), and is cut tenfold, up to four times, while no step is accepted. "
+    "per solve). W = H^T M^-1 H is never formed; rho comes from the lumped blocks H_a^T "
+    "diag(M)^-1 H_a, scaled where they underrate W's "
+    "blocks (estimated on 8 contacts with M's factorisation), and is cut tenfold, up to four "
+    "times, while no step is accepted. "
     "Converged means both the error and the equilibrium residual are below the tolerance. "
     "Global problems only (local solvers reach global problems through "
     "the reduction W = H^T M^-1 H). Options: rho_strategy, rho, line_search (by default "
-    "non-monotone Armijo, against the largest of the last 8 merits: the monotone one stops "
-    "short at the merit's kinks on rigid stacks and packings; Goldstein-Price is taken as "
+    "non-monotone Armijo, against the largest of the last 8 merits; Goldstein-Price is taken as "
     "Armijo with m1 = 0.01), line_search_max_iter.",
     gnewton::solve, false, true, gnewton::kExtraKeys, gnewton::kDefaults};
 

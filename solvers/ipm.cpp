@@ -500,9 +500,8 @@ const SolverEntry kIpmEntry = {
     "Nesterov-Todd scaling, u and s eliminated per contact, one UMFPACK factorisation of "
     "W + D (D block diagonal) per iteration. When the interior iterates stop improving "
     "(interior points stay off the boundary) semismooth Newton (Alart-Curnier) continues from "
-    "the best one. Coulomb's law is not monotone: no convergence guarantee, but on large "
-    "granular scenes it reaches 1e-8 in tens of factorisations where first-order methods need "
-    "thousands of sweeps. The warm start only ends the solve at once when it meets the "
+    "the best one. Coulomb's law is not monotone: there is no convergence guarantee. The warm "
+    "start only ends the solve at once when it meets the "
     "tolerance (and is kept if nothing better is found). Iterations count interior-point "
     "iterations plus Newton steps.",
     ipm::solve, true, false, ipm::kExtraKeys, ipm::kDefaults};

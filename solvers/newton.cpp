@@ -640,8 +640,7 @@ const SolverEntry kNsnAcEntry = {
     FRIX_SOLVER_NSN_AC, "nsn-ac", "FRICTION_3D_NSN_AC",
     "Semismooth Newton on the Alart-Curnier formulation Phi(r) = 0 (per contact: "
     "r_N - max(0, r_N - rho_N u_N) and r_T minus the projection of r_T - rho_T u_T on the disk "
-    "of radius mu max(0, r_N - rho_N u_N)). Fast and quadratically convergent near the "
-    "solution; the method of choice for flexible (FEM) problems and tight tolerances." FRIX_NEWTON_COMMON_DOC,
+    "of radius mu max(0, r_N - rho_N u_N))." FRIX_NEWTON_COMMON_DOC,
     newton::solve_ac, true, false, newton::kExtraKeys, newton::kAcDefaults};
 
 const SolverEntry kNsnFbEntry = {

@@ -369,9 +369,8 @@ const SolverEntry kNsgsEntry = {
     "default one-contact solver (562) is exact for take-off, stick and, through the root "
     "of the sliding-angle equation, slide; projected steps with a self-adaptive step finish "
     "the rare contacts where that fails (553: those projected steps alone, after the exact "
-    "take-off and stick cases; 552: one projected step only). Cheap per sweep and "
-    "robust, it is the method of choice for rigid multibody scenes; convergence is linear and "
-    "slows on rank-deficient W at tight tolerances. Stops on the light error |dr|/|r| "
+    "take-off and stick cases; 552: one projected step only). Convergence is linear. Stops on the "
+    "light error |dr|/|r| "
     "confirmed by the full error (Siconos LIGHT_WITH_FULL_FINAL). Options: local_solver, "
     "local_tolerance, local_max_iter, relaxation (PSOR omega, projected back on the cone when "
     "> 1; omega = 0.9 breaks the limit cycles plain Gauss-Seidel falls into on some rigid "
@@ -399,10 +398,10 @@ const SolverEntry kNsgsVelocityEntry = {
     "so that a contact whose reaction does not change (separated, or frozen) costs O(1) "
     "instead of a pass over its block row, and the periodic full checks cost no product "
     "(u is recomputed exactly to confirm the end, which also removes the rounding drift). "
-    "Freezing is on by default (10 sweeps): two to three times faster than nsgs on the "
-    "Capsules and spheres-in-a-box problems. Best on scenes where many contacts separate or "
-    "settle early. Options: those of nsgs (local_solver, local_tolerance, local_max_iter, "
-    "relaxation, shuffle, seed, freezing, error_frequency, drift_window). Unlike Siconos 4.4's NSGSV "
+    "Freezing is on by default (10 sweeps). Options: those of nsgs (local_solver, "
+    "local_tolerance, local_max_iter, "
+    "relaxation, shuffle, seed, freezing, error_frequency, drift_window). Unlike Siconos 4.4's "
+    "NSGSV "
     "(dense W only, pseudo-inverse, prints), it takes any sparse W.",
     nsgs::solve_velocity,
     true,

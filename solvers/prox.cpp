@@ -151,7 +151,7 @@ const SolverEntry kProxEntry = {
     "the error (raised tenfold after a failed inner solve), or is fixed by prox_alpha; a step "
     "that does not lower the error is undone, and when alpha comes back to a value already "
     "tried from the same iterate the method stops (stagnated) rather than repeat itself. The "
-    "caller's W and q are only read. The robust choice for rigid scenes at tight tolerance. "
+    "caller's W and q are only read. "
     "Iterations count proximal steps; the Newton steps are reported separately.",
     prox::solve, true, false, prox::kExtraKeys, prox::kDefaults};
 

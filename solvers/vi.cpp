@@ -296,10 +296,7 @@ const SolverEntry kViFppEntry = {
     "r <- P_K(r - rho F(r)), F(r) = W r + q + mu |u_T| e_N, with the self-adaptive step of "
     "Siconos' VI_FPP (shrunk by 2/3 while rho |dF| > 0.9 |dr|, grown by 3/2 when rho |dF| < "
     "0.3 |dr|). One product with W per iteration (more while the step shrinks), no "
-    "factorisation, memory O(nnz): robust on any W, rank-deficient included, but linear and "
-    "often slow convergence. Made for tolerance 1e-4 (reached on all 28 FCLIB problems of "
-    "the benchmark, within 1.3 s) and cheap warm starts; it reaches 1e-8 on 25 of them (not "
-    "on the rank-deficient stacks RockPile, spheres-in-a-box, local_problem_test). Stops on "
+    "factorisation, memory O(nnz): any W, rank-deficient included; linear convergence. Stops on "
     "a light bound of the error taken from the step itself, confirmed by the full error. "
     "Options: rho (initial step, in units of 1 / max_a |W_aa|_2), rho_adaptive (0: keep rho "
     "fixed, Siconos' DSFP).",
@@ -311,9 +308,7 @@ const SolverEntry kViEgEntry = {
     "z = P_K(r - rho F(r)) with the self-adaptive step of vi-fpp, then the corrector "
     "r <- P_K(r - a rho F(z)) with He's step length a = 1.9 <r - z, d> / |d|^2, d = r - z - "
     "rho (F(r) - F(z)) (projection-contraction), which halves the iterations of Korpelevich's "
-    "plain corrector. Two products with W per iteration, about as many iterations as "
-    "vi-fpp: twice its time, but convergent for monotone F. Made for tolerance 1e-4 "
-    "(reached on all 28 FCLIB problems of the benchmark), 1e-8 on 25 of them, like vi-fpp. "
+    "plain corrector. Two products with W per iteration; convergent for monotone F. "
     "(Siconos 4.4's VI_EG takes two "
     "projected steps z = P(r - rho F(r)), r <- P(z - rho F(z)) instead.) Options: rho "
     "(initial step, in units of 1 / max_a |W_aa|_2), rho_adaptive.",
@@ -327,9 +322,8 @@ const SolverEntry kHpEntry = {
     "solutions (F monotone) but not r, and r moves to the projection on its intersection with "
     "the cones (a scalar root search, no product). Near a solution where F does not vanish "
     "the cut falls below rounding, and the projected step z is taken instead. At least two "
-    "products with W per iteration plus the root search: the slowest of the family (1e-8 on "
-    "23 of the 28 FCLIB problems, 1e-4 on 27), kept for comparison with Siconos' HP (which "
-    "projects on the hyperplane, then on the cones, and stalls). Options: rho (in units of 1 / max_a |W_aa|_2), rho_adaptive (grows rho "
+    "products with W per iteration plus the root search. (Siconos' HP projects on the hyperplane, "
+    "then on the cones.) Options: rho (in units of 1 / max_a |W_aa|_2), rho_adaptive (grows rho "
     "when the first trial passes, shrinks it after two halvings).",
     vi::solve_hp, true, false, vi::kExtraKeys, vi::kDefaults};
 
