@@ -51,7 +51,7 @@ namespace autosolve {
 
 namespace {
 
-// ---- Tuning (measured on ../shared/fclib, fclib-large and the hard cases; see docs/auto.md).
+// ---- Tuning. The measurements behind each constant: docs/notes/2026-11-25-auto-constants.md.
 // Every rule counts iterations, never seconds: without a time limit the result does not
 // depend on the machine's speed or load.
 
@@ -60,14 +60,8 @@ namespace {
 // constant share of the total) ...
 constexpr double kNsgsPatience = 3.0;
 // ... and is not judged before this many sweeps (early sweeps are erratic), nor before it
-// has done this much work (sweeps x W blocks): on small problems NSGS costs next to nothing
-// and often wins after a slow start. Judged too early, it hands a problem it was about to
-// solve to Newton: LMGC_100_PR_PerioBox (60 contacts) converges in 35 sweeps with 4e4 or
-// more, and takes 0.03 s instead of 0.2 ms with 3e4 or less; judged late, it wastes at most
-// this much work. 1e5, a margin of 2.5 over that edge: OneObject-i100000 489 iterations
-// instead of 972 with 2e5 (0.94 ms instead of 1.74), the other ../shared/fclib problems in
-// as many or fewer iterations but RockPile_tob1 (its long NSGS chain moves with any change:
-// 527800 instead of 457901), and every hard case in as many or fewer (see docs/auto.md).
+// has done this much work (sweeps x W blocks): NSGS judged too early hands a problem it was
+// about to solve to the costlier stages.
 constexpr int64_t kNsgsMinSweeps = 30;
 constexpr double kNsgsMinWork = 1e5;
 // The first NSGS stage's sweep limit (the NSGS default).
@@ -82,18 +76,12 @@ struct StageSpec {
 // Newton first (a few steps tell whether it converges), then NSGS again (velocity form,
 // freezing, drifts carried ahead), ADMM (the robust workhorse of large rigid problems), PROX
 // (regularised Newton). PROX's callback counts its inner Newton steps; its budget counts
-// proximal steps.
-// A sweep costs about a fifth of an ADMM iteration (no triangular solves): NSGS gets five
-// times ADMM's iterations, so that both get about the same time in a round (RockPile's
-// large island 14-18 us against 68-74 us, Spheres-n1000 0.2 ms against 1.1 ms).
-// NSGS's stages are one chain: each goes on from where the previous one stopped, not from the
-// best iterate, and runs its whole budget (patience = budget; with 5000, about half of it,
-// RockPile took 20.6 s instead of 13 s). Where NSGS makes progress, on rank-deficient piles,
-// it is by a drift of r at an error that does not fall (see kDriftWindow), which a restart
-// from the best iterate would undo every round. Before ADMM in the round: on RockPile the
-// chain is what converges, and the round's ADMM before it would cost as much again
-// (RockPile 12.8-14.1 s in five runs instead of 16.6-17.0 s; Spheres-n400 s140, solved by
-// PROX in the second round, 12.0-13.1 s instead of 9.9-10.3 s, OpenBLAS on one thread).
+// proximal steps. A sweep costs about a fifth of an ADMM iteration, so NSGS gets five times
+// ADMM's iterations: both get about the same time in a round. NSGS's stages are one chain,
+// each going on from where the previous one stopped and running its whole budget: on
+// rank-deficient piles its progress is a drift of r at an error that does not fall, which a
+// restart from the best iterate would undo; it runs before ADMM, which would otherwise cost
+// as much again where the chain is what converges.
 constexpr StageSpec kRound[] = {
     {FRIX_SOLVER_NSN_AC, 50, 100},  // its iterations count the hybrid NSGS sweeps too
     {FRIX_SOLVER_NSGS_VELOCITY, 10000, 10000},
@@ -101,37 +89,27 @@ constexpr StageSpec kRound[] = {
     {FRIX_SOLVER_PROX, 200, 3},
 };
 // NSGS's stages carry steady drifts of r ahead every this many sweeps (nsgs.cpp, option
-// drift_window): RockPile's large island, on which the plain sweeps need 6.5 million
-// sweeps (63 s) to 1e-8, crossing plateaus of the error on which two contacts hand load to
-// each other at a steady rate, takes 619048 with them on the whole problem (nsgs-v alone).
-// The window matters little between 1000 and 20000 sweeps (a prototype on the island: 0.53 to
-// 1.06 million sweeps), more above (2.7 million with 100000).
+// drift_window): on piles whose sweeps cross plateaus of the error, two contacts handing
+// load to each other at a steady rate, the jump saves most of the sweeps; the window matters
+// little between 1000 and 20000 sweeps.
 constexpr int64_t kDriftWindow = 1000;
 // Parts of at least this many contacts start their first round with the interior-point
 // method (524): where NSGS does not finish a large part, the IPM usually gets within reach
-// of Newton in tens of factorisations (granular and stacked scenes of fclib-large), while
-// Newton from NSGS's iterate needs hundreds of steps or stalls. It cannot start from the
-// best iterate (an interior point is needed), so it runs in the first round only. When it
-// stalls below the best error, one Newton stage runs from its iterate: near a solution Newton
-// often finishes what the IPM could not (Kapla-4x2x25-ball s100, OpenBLAS on one thread: the
-// IPM stops at 1.8e-7, Newton converges from there in 75 steps, 0.3 s, where the rounds from
-// NSGS's iterate took 10 s). The rounds start from the result only within kIpmKeepRatio of
-// the tolerance: there the next stages finish it in a few steps (the same problem, OpenBLAS
-// on two threads: the IPM stalls at 5.6e-7, Newton ends at 3.5e-8, auto takes 3.0 s instead
-// of 12-15 s), while a point far above it sends the rounds on a longer path than NSGS's
-// (Spheres-n400 s140: 3.5e-4 after Newton; started from, 41-49 s instead of 10 s). Such a
-// result is set aside, and returned if the rounds end above it (a time or iteration limit).
-// Patience and budget count its iterations (interior points and then Newton steps).
+// of Newton in tens of factorisations, while Newton from NSGS's iterate needs hundreds of
+// steps or stalls. It cannot start from the best iterate (an interior point is needed), so it
+// runs in the first round only. When it stalls below the best error, one Newton stage runs
+// from its iterate (near a solution Newton often finishes what the IPM could not). The rounds
+// start from the result only within kIpmKeepRatio of the tolerance, where the next stages
+// finish it in a few steps; a point far above sends them on a longer path than NSGS's, so
+// such a result is set aside, and returned if the rounds end above it (a time or iteration
+// limit). Patience and budget count its iterations (interior points and then Newton steps).
 constexpr int64_t kIpmMinContacts = 200;
 constexpr StageSpec kIpmStage = {FRIX_SOLVER_IPM, 50, 500};
 constexpr double kIpmKeepRatio = 100.0;
 // When max_a |W_aa| / min_a |W_aa| exceeds this, ADMM gives each contact a penalty scaled by
-// its |W_aa| (rho_strategy 1, i.e. ADMM on the problem scaled to equal diagonal blocks): with
-// one penalty it needs 40 times the iterations when contacts' stiffness spreads over four
-// decades (Kapla-3x3x20 s30 with contacts scaled by 10^[-1,1]: 2368 iterations instead of 59)
-// and does not converge over twelve, where the scaled penalties need 64 and 73. Below it the
-// one penalty stays (the spread of every problem in ../shared is 60 or less, and on RockPile's
-// hard island the one penalty is the better one).
+// its |W_aa| (rho_strategy 1, i.e. ADMM on the problem scaled to equal diagonal blocks): one
+// penalty needs many times the iterations when the contacts' stiffness spreads over decades.
+// Below it the one penalty stays.
 constexpr double kScaledPenaltySpread = 100.0;
 // The random restarts' seed (any fixed value: the results must not depend on the run).
 constexpr uint64_t kRestartSeed = 0x6672697872657374ull;
@@ -139,8 +117,7 @@ constexpr double kTwoPi = 6.283185307179586;  // M_PI is POSIX, not C++
 // Islands smaller than this are solved together (see solve_local).
 constexpr int64_t kMinIslandContacts = 16;
 // Random restarts of Newton (see IslandSolver::random_restarts) on parts up to this size: the
-// chance that a random start lands in the solution's basin falls with the size (RockPile's
-// 25-contact island: 21 of 40 starts; its 295-contact one: 0 of 12).
+// chance that a random start lands in the solution's basin falls with the size.
 constexpr int64_t kRestartMaxContacts = 64;
 // Polish (see IslandSolver::polish): islands up to this size, PROX steps, target ratio.
 constexpr int64_t kPolishMaxContacts = 64;
@@ -153,10 +130,8 @@ constexpr int kMaxTightenings = 4;
 // A global problem is reduced to W = H^T M^-1 H unless W would have more than this many
 // entries and more than kReductionMaxGrowth times those of M and H: a deformable body makes W
 // dense among its contacts (memory and every sweep then grow with their square), and Newton
-// on (v, r), which factorises the sparse (v, r) system, is the faster route there (an FEM-like
-// grid of 1600 contacts: 2.3 s and 0.20 GB against 12.3 s and 0.52 GB; of 6400: 10 s and
-// 0.60 GB against 7.2 GB and 270 s without a single iteration). Rigid bodies give W at most
-// 13 entries per entry of M and H on ../shared (see docs/auto.md).
+// on (v, r), which factorises the sparse (v, r) system, is the faster route there. Rigid
+// bodies give W a few entries per entry of M and H.
 constexpr double kReductionMaxEntries = 1e6;
 constexpr double kReductionMaxGrowth = 30.0;
 
