@@ -27,6 +27,7 @@
 #include "src/linalg/linalg.hpp"
 #include "src/log.hpp"
 #include "src/matrix.hpp"
+#include "src/monitor.hpp"
 
 namespace frix {
 namespace admm {
@@ -373,9 +374,7 @@ frix_error solve(SolveContext &ctx) {
     info.status = status;
     info.iterations = it;
     const linalg::FactorStats fs = sys.stats();
-    info.factorizations = fs.numeric;
-    info.symbolic_analyses = fs.symbolic;
-    info.factorization_time = fs.seconds;
+    Monitor::record_factorizations(info, fs);
     if (L.verbosity >= 1)
         log_line(&L.o, "admm: %s after %lld iterations (%s %s, %lld rho changes, %lld restarts)",
                  frix_status_string(status), (long long)it, sys.dense() ? "dense" : "sparse",

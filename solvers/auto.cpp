@@ -42,6 +42,7 @@
 #include "src/existence.hpp"
 #include "src/log.hpp"
 #include "src/measures.hpp"
+#include "src/monitor.hpp"
 #include "src/random.hpp"
 #include "src/reduction.hpp"
 #include "src/solver_api.hpp"
@@ -152,7 +153,7 @@ struct Shared {
         const double tl = user.d(FRIX_OPT_TIME_LIMIT);
         return tl > 0.0 ? tl : INFINITY;
     }
-    bool out_of_time() const { return clock.seconds() >= deadline(); }
+    bool out_of_time() const { return Monitor(user, clock).out_of_time(); }
     bool out_of_iterations() const { return iterations.load() >= user.i(FRIX_OPT_MAX_ITER); }
 
     // The user's log sink, one line at a time: stages on several threads share it.
@@ -197,8 +198,7 @@ struct Watchdog {
         if (shared->stop_requested) return 1;  // asked by the caller, seen in another island
         if (shared->user.callback) {
             std::lock_guard<std::mutex> guard(shared->lock);
-            if (shared->user.callback(shared->user.callback_data, shared->iterations.load(), error,
-                                      shared->clock.seconds()) != 0)
+            if (Monitor(shared->user, shared->clock).report(shared->iterations.load(), error))
                 shared->stop_requested = true;
         }
         if (shared->stop_requested) return 1;
@@ -238,11 +238,9 @@ struct Watchdog {
 void accumulate(frix_info &into, const frix_info &stage) {
     into.newton_iterations += stage.newton_iterations;
     into.line_search_steps += stage.line_search_steps;
-    into.factorizations += stage.factorizations;
-    into.symbolic_analyses += stage.symbolic_analyses;
+    Monitor::add_factorizations(into, stage);
     into.hybrid_sweeps += stage.hybrid_sweeps;
     into.inner_iterations += stage.inner_iterations;
-    into.factorization_time += stage.factorization_time;
 }
 
 // Solves one local problem (an island, or the whole problem) with the stage sequence.

@@ -61,7 +61,6 @@ Loop::Loop(SolveContext &c, const char *solver_name)
       name(solver_name),
       tol(c.options.d(FRIX_OPT_TOLERANCE)),
       max_iter(c.options.i(FRIX_OPT_MAX_ITER)),
-      time_limit(c.options.d(FRIX_OPT_TIME_LIMIT)),
       verbosity(c.options.i(FRIX_OPT_VERBOSITY)),
       measure(c.options.i(FRIX_OPT_ERROR_MEASURE)),
       norm_q(norm(c.problem.q, 3 * c.problem.nc)),

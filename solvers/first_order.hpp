@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "src/measures.hpp"
+#include "src/monitor.hpp"
 #include "src/solver_api.hpp"
 
 namespace frix {
@@ -55,7 +56,6 @@ class Loop {
     const char *name;
     double tol;
     int64_t max_iter;
-    double time_limit;
     int64_t verbosity;
     int64_t measure;
     double norm_q;
@@ -72,11 +72,9 @@ class Loop {
     // The scale the selected measure divides by: max(|q|, |r|, |u|) or |q| (at least
     // DBL_EPSILON's worth, as the measures module does).
     double scale(double norm_r, double norm_u) const;
-    bool out_of_time() const { return time_limit > 0.0 && ctx.clock.seconds() >= time_limit; }
+    bool out_of_time() const { return Monitor(ctx).out_of_time(); }
     // Calls the callback (if any) with iteration `it` and `estimate`; true if it asks to stop.
-    bool report(int64_t it, double estimate) const {
-        return o.callback && o.callback(o.callback_data, it, estimate, ctx.clock.seconds()) != 0;
-    }
+    bool report(int64_t it, double estimate) const { return Monitor(ctx).report(it, estimate); }
     // After iteration `it` (not converged): the status that stops the loop, or
     // FRIX_STATUS_NOT_RUN to go on (callback, time limit, iteration limit, in that order).
     frix_status limits(int64_t it, double estimate) const {

@@ -16,6 +16,7 @@
 #include "src/log.hpp"
 #include "src/matrix.hpp"
 #include "src/measures.hpp"
+#include "src/monitor.hpp"
 #include "src/reduction.hpp"
 
 namespace frix {
@@ -275,8 +276,7 @@ frix_error solve(SolveContext &ctx) {
             break;
         }
         if (it >= max_iter) break;
-        const double tl = o.d(FRIX_OPT_TIME_LIMIT);
-        if (tl > 0.0 && ctx.clock.seconds() >= tl) {
+        if (Monitor(ctx).out_of_time()) {
             info.status = FRIX_STATUS_TIME_LIMIT;
             break;
         }
@@ -372,7 +372,7 @@ frix_error solve(SolveContext &ctx) {
         if (s.verbosity >= 2)
             log_line(&o, "global newton: step %lld t %.3g error %.3e equilibrium %.3e delta %.1e",
                      (long long)it, t, err, equilibrium, delta);
-        if (o.callback && o.callback(o.callback_data, it, err, ctx.clock.seconds()) != 0) {
+        if (Monitor(ctx).report(it, err)) {
             info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
             break;
         }
@@ -396,9 +396,7 @@ frix_error solve(SolveContext &ctx) {
     info.iterations = it;
     info.newton_iterations = it;
     info.line_search_steps = ls_steps;
-    info.factorizations = lu.stats().numeric;
-    info.symbolic_analyses = lu.stats().symbolic;
-    info.factorization_time = lu.stats().seconds;
+    Monitor::record_factorizations(info, lu.stats());
     if (s.verbosity >= 1)
         log_line(&o, "global newton: %s after %lld steps", frix_status_string(info.status),
                  (long long)it);

@@ -30,6 +30,7 @@
 #include "src/log.hpp"
 #include "src/matrix.hpp"
 #include "src/measures.hpp"
+#include "src/monitor.hpp"
 
 namespace frix {
 namespace ipm {
@@ -469,9 +470,7 @@ frix_error Solver::run() {
     info.iterations = iterations;
     info.newton_iterations = newton_steps;
     info.line_search_steps = line_search;
-    info.factorizations = fs.numeric;
-    info.symbolic_analyses = fs.symbolic;
-    info.factorization_time = fs.seconds;
+    Monitor::record_factorizations(info, fs);
     if (verbosity >= 1)
         log_line(&o, "ipm: %s after %lld iterations (%lld interior-point, %lld Newton)",
                  frix_status_string(info.status), (long long)iterations,

@@ -10,6 +10,7 @@
 #include "src/log.hpp"
 #include "src/matrix.hpp"
 #include "src/measures.hpp"
+#include "src/monitor.hpp"
 
 namespace frix {
 namespace newton {
@@ -64,17 +65,12 @@ linalg::FactorStats Engine::factor_stats() const {
     return s;
 }
 
-bool Limits::out_of_time() const {
-    const double tl = options.d(FRIX_OPT_TIME_LIMIT);
-    return tl > 0.0 && clock.seconds() >= tl;
-}
+bool Limits::out_of_time() const { return Monitor(options, clock).out_of_time(); }
 
 bool Limits::report(double error) {
     // Once the callback asked to stop it is not called again, though the caller (PROX's outer
     // step after an inner solve) may still report before it gets to stop.
-    if (!stop_requested && options.callback &&
-        options.callback(options.callback_data, *iterations, error, clock.seconds()) != 0)
-        stop_requested = true;
+    if (!stop_requested && Monitor(options, clock).report(*iterations, error)) stop_requested = true;
     return stop_requested;
 }
 
@@ -584,9 +580,7 @@ frix_error solve(SolveContext &ctx, int solver_id) {
     info.newton_iterations = engine.counters.newton;
     info.line_search_steps = engine.counters.line_search;
     info.hybrid_sweeps = engine.counters.sweeps;
-    info.factorizations = engine.factor_stats().numeric;
-    info.symbolic_analyses = engine.factor_stats().symbolic;
-    info.factorization_time = engine.factor_stats().seconds;
+    Monitor::record_factorizations(info, engine.factor_stats());
     if (s.verbosity >= 1)
         log_line(s.log, "newton: %s after %lld iterations (%lld Newton, %lld sweeps)",
                  frix_status_string(info.status), (long long)iterations,

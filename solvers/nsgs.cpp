@@ -10,6 +10,7 @@
 #include "src/log.hpp"
 #include "src/matrix.hpp"
 #include "src/measures.hpp"
+#include "src/monitor.hpp"
 #include "src/random.hpp"
 
 namespace frix {
@@ -210,7 +211,6 @@ frix_error run(SolveContext &ctx, bool velocity) {
     const Settings s = settings_from(o);
     const double tol = o.d(FRIX_OPT_TOLERANCE);
     const int64_t max_iter = o.i(FRIX_OPT_MAX_ITER);
-    const double time_limit = o.d(FRIX_OPT_TIME_LIMIT);
     const int64_t verbosity = o.i(FRIX_OPT_VERBOSITY);
     const int64_t measure = o.i(FRIX_OPT_ERROR_MEASURE);
     const int64_t frequency = o.i(FRIX_OPT_ERROR_FREQUENCY);
@@ -309,14 +309,13 @@ frix_error run(SolveContext &ctx, bool velocity) {
                      checked_last ? last_full : tol_light, (long long)st.rejected,
                      (long long)st.unsolved, (long long)st.frozen);
         // The callback sees every sweep, the last one too; it can only stop a running solve.
-        const bool stop =
-            o.callback && o.callback(o.callback_data, it, estimate, ctx.clock.seconds()) != 0;
+        const bool stop = Monitor(ctx).report(it, estimate);
         if (info.status != FRIX_STATUS_MAX_ITER) break;
         if (stop) {
             info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
             break;
         }
-        if (time_limit > 0.0 && ctx.clock.seconds() >= time_limit) {
+        if (Monitor(ctx).out_of_time()) {
             info.status = FRIX_STATUS_TIME_LIMIT;
             break;
         }

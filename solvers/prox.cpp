@@ -18,6 +18,7 @@
 #include "src/error_state.hpp"
 #include "src/log.hpp"
 #include "src/measures.hpp"
+#include "src/monitor.hpp"
 
 namespace frix {
 namespace prox {
@@ -120,9 +121,7 @@ frix_error solve(SolveContext &ctx) {
     info.iterations = outer;
     info.newton_iterations = engine.counters.newton;
     info.line_search_steps = engine.counters.line_search;
-    info.factorizations = engine.factor_stats().numeric;
-    info.symbolic_analyses = engine.factor_stats().symbolic;
-    info.factorization_time = engine.factor_stats().seconds;
+    Monitor::record_factorizations(info, engine.factor_stats());
     if (s.verbosity >= 1)
         log_line(&o, "prox: %s after %lld proximal steps (%lld Newton)",
                  frix_status_string(info.status), (long long)outer,

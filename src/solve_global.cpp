@@ -9,6 +9,7 @@
 
 #include "error_state.hpp"
 #include "measures.hpp"
+#include "monitor.hpp"
 #include "reduction.hpp"
 #include "solver_api.hpp"
 
@@ -27,7 +28,6 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
     // Where W is dense (a deformable body) forming it can take minutes: the time limit and
     // the caller's callback (told iteration 0 and the start's error) can end it as they end
     // an iteration, with the caller's start returned.
-    const double time_limit = opts.d(FRIX_OPT_TIME_LIMIT);
     double start_error = NAN;
     if (opts.callback) {
         if (frix_error e = recover_velocity(p, ms, r, v)) return e;
@@ -35,8 +35,9 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
     }
     frix_status stop_status = FRIX_STATUS_NOT_RUN;
     const std::function<bool()> stop = [&]() {
-        if (time_limit > 0.0 && clock.seconds() >= time_limit) stop_status = FRIX_STATUS_TIME_LIMIT;
-        else if (opts.callback && opts.callback(opts.callback_data, 0, start_error, clock.seconds()) != 0)
+        const Monitor monitor(opts, clock);
+        if (monitor.out_of_time()) stop_status = FRIX_STATUS_TIME_LIMIT;
+        else if (monitor.report(0, start_error))
             stop_status = FRIX_STATUS_STOPPED_BY_CALLBACK;
         return stop_status != FRIX_STATUS_NOT_RUN;
     };
@@ -82,9 +83,7 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         if (i % 3 == 0 && q[i] < 0.0) separating = false;
     }
     info.setup_time = setup.seconds();
-    info.factorizations = ms.stats().numeric;
-    info.symbolic_analyses = ms.stats().symbolic;
-    info.factorization_time = ms.stats().seconds;
+    Monitor::record_factorizations(info, ms.stats());
     if (separating) {
         for (int64_t i = 0; i < m; ++i) r[i] = 0.0;
         info.status = FRIX_STATUS_CONVERGED;
@@ -101,9 +100,7 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         SolveContext ctx{p, opts, r, u, v, native, clock, &solve_mass};
         if (frix_error e = entry.solve(ctx)) return e;
         native.setup_time = info.setup_time;
-        native.factorizations += info.factorizations;
-        native.symbolic_analyses += info.symbolic_analyses;
-        native.factorization_time += info.factorization_time;
+        Monitor::add_factorizations(native, info);
         info = native;
     } else {
         const ReductionSize size = reduction_bound(p);
@@ -120,9 +117,7 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         if (frix_error e = solve_reduced(p, opts, entry, ms, size.w_blocks, q.data(), r, u, v, info, clock))
             return e;
         // The local solver reported its own work: add the factorisation of M.
-        info.factorizations += before.factorizations;
-        info.symbolic_analyses += before.symbolic_analyses;
-        info.factorization_time += before.factorization_time;
+        Monitor::add_factorizations(info, before);
         info.setup_time += before.setup_time;
     }
     // The final measures of the global problem, from the (r, v) returned.

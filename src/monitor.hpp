@@ -1,0 +1,54 @@
+// The solve contract in one place: every solver asks the Monitor for its limits (tolerance,
+// iterations, time), hands it each iteration's error for the user's callback, logs through
+// it, and records its factorisation counters with it, so that no solver writes these again.
+#pragma once
+
+#include <cstdint>
+
+#include "info.hpp"
+#include "linalg/linalg.hpp"
+#include "log.hpp"
+#include "options.hpp"
+#include "solver_api.hpp"
+
+namespace frix {
+
+class Monitor {
+   public:
+    Monitor(const frix_options &o, const Stopwatch &clock) : o_(o), clock_(clock) {}
+    explicit Monitor(const SolveContext &ctx) : Monitor(ctx.options, ctx.clock) {}
+
+    double tolerance() const { return o_.d(FRIX_OPT_TOLERANCE); }
+    int64_t max_iter() const { return o_.i(FRIX_OPT_MAX_ITER); }
+    int64_t verbosity() const { return o_.i(FRIX_OPT_VERBOSITY); }
+    double seconds() const { return clock_.seconds(); }
+    // The time limit (option time_limit > 0) is reached.
+    bool out_of_time() const {
+        const double tl = o_.d(FRIX_OPT_TIME_LIMIT);
+        return tl > 0.0 && clock_.seconds() >= tl;
+    }
+    // The user's callback after iteration `iteration` with the current error estimate: true
+    // if it asks to stop. Without a callback, false.
+    bool report(int64_t iteration, double error) const {
+        return o_.callback && o_.callback(o_.callback_data, iteration, error, clock_.seconds()) != 0;
+    }
+    const frix_options &options() const { return o_; }
+
+    // The factorisations of a solve: set into info, or added to what it already counts.
+    static void record_factorizations(frix_info &info, const linalg::FactorStats &fs) {
+        info.factorizations = fs.numeric;
+        info.symbolic_analyses = fs.symbolic;
+        info.factorization_time = fs.seconds;
+    }
+    static void add_factorizations(frix_info &into, const frix_info &from) {
+        into.factorizations += from.factorizations;
+        into.symbolic_analyses += from.symbolic_analyses;
+        into.factorization_time += from.factorization_time;
+    }
+
+   private:
+    const frix_options &o_;
+    const Stopwatch &clock_;
+};
+
+}  // namespace frix
