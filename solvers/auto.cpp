@@ -37,6 +37,7 @@
 
 #include "solvers/auto.hpp"
 #include "solvers/auto_analysis.hpp"
+#include "solvers/auto_trace.hpp"
 #include "solvers/global_newton.hpp"
 #include "src/error_state.hpp"
 #include "src/existence.hpp"
@@ -300,7 +301,7 @@ class IslandSolver {
         events_.push_back(e);
         if (shared_.user.i(FRIX_OPT_VERBOSITY) >= 1) {
             frix_info none;
-            std::string line = "auto: " + format_event(none, e);
+            std::string line = "auto: " + autosolve::format_event(none, e);
             while (!line.empty() && line.back() == '\n') line.pop_back();
             Shared::log(&shared_, line.c_str());
         }
@@ -386,7 +387,7 @@ class IslandSolver {
         // limit's doing: the status is then max_iter, not stagnated).
         idle_rounds_ = best_error_ < 0.5 * before ? 0 : idle_rounds_ + (cut_short_ ? 0 : 1);
         if (!std::isfinite(shared_.deadline()) && idle_rounds_ >= kMaxIdleRounds) {
-            TraceEvent e{TraceEvent::kGiveUp};
+            TraceEvent e = trace_event(kGiveUp);
             e.error = best_error_;
             note(e);
             finished_ = true;
@@ -408,12 +409,12 @@ class IslandSolver {
     // iterations and time, best error), so that the trace stays as short as the rounds.
     frix_error random_restarts(const StageSpec &spec, double *r) {
         const int64_t starts = int64_t{1} << std::min(round_, 40);
-        TraceEvent sum{TraceEvent::kStage};
+        TraceEvent sum = trace_event(kStage);
         sum.solver_id = spec.solver_id;
         sum.error = INFINITY;
         for (int64_t k = 0; k < starts && can_continue(); ++k) {
             draw_start(r);
-            TraceEvent ev{TraceEvent::kStage};
+            TraceEvent ev = trace_event(kStage);
             if (frix_error e = run_stage(spec.solver_id, Watch::Stall, spec.patience, spec.first_budget, r, ev))
                 return e;
             ++sum.random_starts;
@@ -468,7 +469,7 @@ class IslandSolver {
     // One stage: solver `id` from r, for at most `budget` of its iterations, half the
     // caller's remaining iterations and the caller's deadline; recorded in the trace.
     frix_error stage(int id, Watch kind, int64_t patience, int64_t budget, double *r) {
-        TraceEvent ev{TraceEvent::kStage};
+        TraceEvent ev = trace_event(kStage);
         if (frix_error e = run_stage(id, kind, patience, budget, r, ev)) return e;
         record(ev);
         return FRIX_OK;
@@ -589,7 +590,7 @@ frix_error solve_local(SolveContext &ctx) {
     info.analysis.largest_island = a.islands.empty() ? 0 : (int64_t)a.islands[0].size();
     info.analysis.diag_min = a.diag_min, info.analysis.diag_max = a.diag_max;
     info.analysis.mu_min = a.mu_min, info.analysis.mu_max = a.mu_max;
-    info.trace.push_back(TraceEvent{TraceEvent::kAnalysis});
+    info.trace.push_back(trace_event(kAnalysis));
     shared.scaled_penalty = !(a.diag_max <= kScaledPenaltySpread * a.diag_min);
 
     // The units of work: every island of at least kMinIslandContacts contacts on its own, the
@@ -679,7 +680,7 @@ frix_error solve_local(SolveContext &ctx) {
         // problem's by its own. Tighten by the observed ratio (and a margin).
         island_tol *= std::max(1e-3, 0.5 * tol / error);
         flush_events();
-        TraceEvent e{TraceEvent::kTighten};
+        TraceEvent e = trace_event(kTighten);
         e.error = error;
         e.value = island_tol;
         info.trace.push_back(e);
@@ -720,7 +721,7 @@ void check_existence_on_failure(SolveContext &ctx) {
     double margin = NAN;
     info.existence = check_existence(ctx.problem, left, &margin);
     info.existence_margin = margin;
-    info.trace.push_back(TraceEvent{TraceEvent::kExistence});
+    info.trace.push_back(trace_event(kExistence));
 }
 
 // The reduction route's local step: the strategy above, not registered on its own.
@@ -842,7 +843,7 @@ frix_error reduce_then_newton(SolveContext &ctx, int64_t max_iter, int64_t reduc
     const int64_t left = max_iter - info.iterations;
     if ((tl > 0.0 && ctx.clock.seconds() >= tl) || left <= 0) return FRIX_OK;
     std::vector<TraceEvent> trace = std::move(info.trace);
-    TraceEvent fallback{TraceEvent::kGlobalFallback};
+    TraceEvent fallback = trace_event(kGlobalFallback);
     fallback.status = info.status;
     fallback.error = info.error;
     fallback.value = info.equilibrium;
@@ -852,7 +853,7 @@ frix_error reduce_then_newton(SolveContext &ctx, int64_t max_iter, int64_t reduc
     const int64_t islands = info.islands, switches = info.switches + 1, iterations = info.iterations;
     const frix_info before = info;
     const GlobalAnswer reduced_answer(ctx, info);
-    TraceEvent stage{TraceEvent::kStage};
+    TraceEvent stage = trace_event(kStage);
     if (frix_error e = global_newton(ctx, left, stage)) return e;
     reduced_answer.restore_if_better(ctx, info);
     trace.push_back(stage);
@@ -895,9 +896,9 @@ frix_error solve(SolveContext &ctx) {
     // start: it costs W's memory but solves what Newton cannot (the docs' grid with k = 1e13:
     // Newton stagnates at an equilibrium residual of 5e-8; through W auto converges).
     const std::vector<double> start(ctx.r, ctx.r + 3 * p.nc);
-    TraceEvent stage{TraceEvent::kStage};
+    TraceEvent stage = trace_event(kStage);
     if (frix_error e = global_newton(ctx, max_iter, stage)) return e;
-    TraceEvent direct{TraceEvent::kGlobalDirect};
+    TraceEvent direct = trace_event(kGlobalDirect);
     direct.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
     std::vector<TraceEvent> trace{direct, stage};
     const int64_t left = max_iter - info.iterations;
@@ -911,7 +912,7 @@ frix_error solve(SolveContext &ctx) {
     // process part-way; Newton's answer is what there is.
     const ReductionMemory memory = reduction_memory(size);
     if (!memory.fits) {
-        TraceEvent skipped{TraceEvent::kReductionTooLarge};
+        TraceEvent skipped = trace_event(kReductionTooLarge);
         skipped.status = info.status;
         skipped.error = memory.needed;
         skipped.value = memory.available;
@@ -920,7 +921,7 @@ frix_error solve(SolveContext &ctx) {
         check_existence_on_failure(ctx);
         return FRIX_OK;
     }
-    TraceEvent after{TraceEvent::kReductionAfterAll};
+    TraceEvent after = trace_event(kReductionAfterAll);
     after.status = info.status;
     after.error = info.error;
     after.value = info.equilibrium;

@@ -94,7 +94,7 @@ FRIX_API frix_error frix_info_stage_get_int(const frix_info *info, int64_t index
                                             int64_t *value) {
     const frix::TraceEvent *e = nullptr;
     if (frix_error err = stage_record(info, index, value, "frix_info_stage_get_int", &e)) return err;
-    const bool run = e->kind == frix::TraceEvent::kStage;
+    const bool run = e->run;
     switch (key) {
         case FRIX_STAGE_SOLVER_ID: *value = run ? e->solver_id : 0; return FRIX_OK;
         case FRIX_STAGE_STATUS: *value = run ? e->status : FRIX_STATUS_NOT_RUN; return FRIX_OK;
@@ -113,7 +113,7 @@ FRIX_API frix_error frix_info_stage_get_double(const frix_info *info, int64_t in
                                                frix_stage_key key, double *value) {
     const frix::TraceEvent *e = nullptr;
     if (frix_error err = stage_record(info, index, value, "frix_info_stage_get_double", &e)) return err;
-    const bool run = e->kind == frix::TraceEvent::kStage;
+    const bool run = e->run;
     switch (key) {
         case FRIX_STAGE_ERROR: *value = run ? e->error : NAN; return FRIX_OK;
         case FRIX_STAGE_SECONDS: *value = run ? e->seconds : 0.0; return FRIX_OK;

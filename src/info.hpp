@@ -10,27 +10,29 @@
 
 namespace frix {
 
-// One line of the trace (frix_info_trace) of the auto solver, kept as data and formatted only
-// when asked for: formatting numbers costs more than solving a small problem.
+struct TraceEvent;
+// How a record becomes its line of the trace: the recording solver's own function.
+using TraceFormatter = std::string (*)(const frix_info &info, const TraceEvent &event);
+
+// One record of a solve's trace (frix_info_trace, the stage records): a solver's run, or a
+// note of the solver that recorded it. Kept as data and formatted only when asked for
+// (formatting numbers costs more than solving a small problem); only the recording solver,
+// through `format`, knows what `kind` and the numbers of a note mean.
 struct TraceEvent {
-    enum Kind {
-        kAnalysis, kStage, kGiveUp, kTighten, kGlobalFallback, kGlobalDirect, kReductionAfterAll,
-        kReductionTooLarge, kExistence
-    } kind;
+    int kind = 0;                 // the recording solver's vocabulary
+    bool run = false;             // a solver's run: solver_id .. seconds are its figures
+    TraceFormatter format = nullptr;
     int64_t island = 0;           // 1-based; 0 when the problem is solved as one island
     int64_t island_contacts = 0;
     int solver_id = 0;
     frix_status status = FRIX_STATUS_NOT_RUN;
-    const char *why = nullptr;    // a static string: why the watchdog stopped the stage
-    int64_t random_starts = 0;    // > 0: the stage ran from that many random starts (auto)
+    const char *why = nullptr;    // a static string: why the run was stopped by its caller
+    int64_t random_starts = 0;    // > 0: the run went from that many random starts
     int64_t iterations = 0;
-    double seconds = 0.0, error = 0.0, value = 0.0;  // value: kTighten's new tolerance; the equilibrium residual
-                                                     // for kGlobalFallback and kReductionAfterAll; for
-                                                     // kReductionTooLarge, error and value are the
-                                                     // bytes W needs and those available
+    double seconds = 0.0, error = 0.0, value = 0.0;  // a note's numbers mean what `format` says
 };
 
-// What the auto solver's analysis found (the kAnalysis line).
+// What a solver's analysis of the problem found (auto's: sizes, ranges, islands).
 struct AnalysisSummary {
     int64_t contacts = 0, blocks = 0, islands = 0, largest_island = 0, dofs = 0;
     double diag_min = 0.0, diag_max = 0.0, mu_min = 0.0, mu_max = 0.0, rank_ratio = 0.0;
@@ -38,7 +40,7 @@ struct AnalysisSummary {
     double reduced_entries = 0.0, input_entries = 0.0;
 };
 
-// The trace's text (src/trace.cpp): all of it, or one event's line.
+// The trace's text (src/trace.cpp): all of it, or one record's line.
 std::string format_trace(const frix_info &info);
 std::string format_event(const frix_info &info, const TraceEvent &event);
 
