@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the results of docs/benchmarks.md and docs/auto.md: three campaigns (every
+# Regenerates the results of docs/benchmarks.md: three campaigns (every
 # registered frix solver and Siconos 4.4's nine) over the shared FCLIB problems at tolerance
 # 1e-4 and 1e-8 and over the larger problems of fclib-large at 1e-8; their tables spliced
 # between the markers of docs/benchmarks.md, their plots and runs.csv copied to
@@ -28,7 +28,6 @@ jobs=${BENCH_JOBS:-1}
 campaigns=${BENCH_CAMPAIGNS:-1e-4 1e-8 large}
 frix="$build/tools/frix"
 doc=docs/benchmarks.md
-auto_doc=docs/auto.md
 
 [ -x "$frix" ] || { echo "bench_docs.sh: $frix not found: build first" >&2; exit 2; }
 [ -f "$doc" ] || { echo "bench_docs.sh: run from the repository root ($doc not found)" >&2; exit 2; }
@@ -95,6 +94,5 @@ if [ -f "$work/1e-8/runs.csv" ] && [ -f "$work/large/runs.csv" ]; then
     cp "$all"/plots/profile.png "$all"/plots/profile.svg docs/benchmarks/all-1e-8/
     tools/bench/auto_summary.py "$work/1e-8/runs.csv" "$work/large/runs.csv" > "$all/auto.md"
     splice "$doc" "bench auto" "$all/auto.md"
-    splice "$auto_doc" "auto figures" "$all/auto.md"
 fi
-echo "bench_docs.sh: $doc, $auto_doc and docs/benchmarks/ updated"
+echo "bench_docs.sh: $doc and docs/benchmarks/ updated"
