@@ -67,7 +67,11 @@ FRIX_API double frix_info_error(const frix_info *info) { return info ? info->err
 FRIX_API double frix_info_solve_time(const frix_info *info) { return info ? info->solve_time : 0.0; }
 FRIX_API const char *frix_info_trace(const frix_info *info) {
     if (!info) return "";
-    info->trace_text = frix::format_trace(*info);
+    try {  // no exception crosses the C API: without memory, the trace is empty
+        info->trace_text = frix::format_trace(*info);
+    } catch (...) {
+        info->trace_text.clear();
+    }
     return info->trace_text.c_str();
 }
 
@@ -125,7 +129,11 @@ FRIX_API frix_error frix_info_stage_get_double(const frix_info *info, int64_t in
 
 FRIX_API const char *frix_info_stage_note(const frix_info *info, int64_t index) {
     if (!info || index < 0 || index >= (int64_t)info->trace.size()) return "";
-    info->stage_note = frix::format_event(*info, info->trace[(size_t)index]);
+    try {  // no exception crosses the C API: without memory, the note is empty
+        info->stage_note = frix::format_event(*info, info->trace[(size_t)index]);
+    } catch (...) {
+        info->stage_note.clear();
+    }
     while (!info->stage_note.empty() && info->stage_note.back() == '\n') info->stage_note.pop_back();
     return info->stage_note.c_str();
 }

@@ -515,6 +515,10 @@ START_TEST(test_limits) {
     ck_assert_int_eq(frix_info_status(f.info), FRIX_STATUS_MAX_ITER);
     ck_assert_int_eq(frix_info_get_int(f.info, FRIX_INFO_EXISTENCE, &existence), FRIX_OK);
     ck_assert_int_eq(existence, FRIX_EXISTENCE_GUARANTEED);
+    /* The check is a record of the trace too (a note, not a run): the last one. */
+    const int64_t last = frix_info_stage_count(f.info) - 1;
+    ck_assert_int_eq(stage_int(f.info, last, FRIX_STAGE_SOLVER_ID), 0);
+    ck_assert_ptr_nonnull(strstr(frix_info_stage_note(f.info, last), "existence"));
     file_run_close(&f);
 }
 END_TEST

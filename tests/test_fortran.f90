@@ -39,6 +39,9 @@ program test_fortran
   real(c_double), target :: Bd(9) = [1d0, 2d0, 3d0, 4d0, 5d0, 6d0, 7d0, 8d0, 9d0]
   real(c_double), target :: q(3) = [-2d0, 0.5d0, 0.1d0], mu(1) = [0.4d0]
   real(c_double), target :: r(3), u(3), r2(3), dummy(1)
+  ! Data the shapes' problems borrow: named, so that it outlives them.
+  real(c_double), target :: f_two(2) = [1d0, -2d0], q_separating(3) = [1d0, 0.5d0, 0d0]
+  real(c_double), target :: q_touching(3) = [0d0, 1d0, 0d0], mu_zero(1) = [0d0]
   real(c_double) :: err_value, tol
   real(c_double) :: lower, upper, block(9), y(3)
   real(c_double), pointer :: view(:)
@@ -98,6 +101,16 @@ program test_fortran
   err = frix_info_get_int(info, FRIX_INFO_SOLVER_ID, n64)
   call check('default solver is auto', err == FRIX_OK .and. n64 == FRIX_SOLVER_AUTO)
   call check('auto trace', index(frix_fstr(frix_info_trace(info)), 'analysis:') == 1)
+  n64 = -1
+  err = frix_info_get_int(info, FRIX_INFO_SOLVER_ID, n64)
+  k = frix_info_stage_count(info)
+  err = frix_info_stage_get_int(info, k - 1_c_int64_t, FRIX_STAGE_SOLVER_ID, n64)
+  call check('stage records', k >= 2 .and. err == FRIX_OK .and. n64 > 0 .and. &
+       len(frix_fstr(frix_info_stage_note(info, 0_c_int64_t))) > 0)
+  err = frix_info_stage_get_double(info, k - 1_c_int64_t, FRIX_STAGE_ERROR, err_value)
+  call check('stage error', err == FRIX_OK .and. err_value <= 1d-8)
+  err = frix_info_stage_get_int(info, k, FRIX_STAGE_STATUS, n64)
+  call check('stage out of range', err == FRIX_ERR_DIMENSION)
   err = frix_problem_check_existence(p, 0d0, info)
   err = frix_info_get_int(info, FRIX_INFO_EXISTENCE, n64)
   call check('existence', err == FRIX_OK .and. n64 == FRIX_EXISTENCE_GUARANTEED .and. &
@@ -226,7 +239,7 @@ program test_fortran
   err = frix_matrix_from_dense(2_c_int64_t, 2_c_int64_t, [2d0, 0d0, 0d0, 4d0], 2_c_int64_t, Ms)
   err = frix_matrix_from_triplets(2_c_int64_t, 0_c_int64_t, 0_c_int64_t, [0_c_int64_t], &
        [0_c_int64_t], dummy, Hs)
-  err = frix_problem_global(Ms, Hs, [1d0, -2d0], dummy, dummy, 0_c_int64_t, shape)
+  err = frix_problem_global(Ms, Hs, f_two, dummy, dummy, 0_c_int64_t, shape)
   call round_trip('global, dofs and no contacts', shape, [0d0], [0.5d0, -0.5d0])
   call frix_matrix_free(Ms)
   call frix_matrix_free(Hs)
@@ -238,13 +251,13 @@ program test_fortran
   call round_trip('global, nothing', shape, [0d0], [0d0])
   call frix_matrix_free(Ms)
   call frix_matrix_free(Hs)
-  err = frix_problem_local(W, [1d0, 0.5d0, 0d0], mu, 1_c_int64_t, shape)
+  err = frix_problem_local(W, q_separating, mu, 1_c_int64_t, shape)
   call round_trip('separating', shape, [0d0, 0d0, 0d0], [0d0])
-  err = frix_problem_local(W, q, [0d0], 1_c_int64_t, shape)
+  err = frix_problem_local(W, q, mu_zero, 1_c_int64_t, shape)
   call round_trip('mu = 0', shape, [0.5d0, 0d0, 0d0], [0d0])
   err = frix_matrix_from_triplets(3_c_int64_t, 3_c_int64_t, 0_c_int64_t, [0_c_int64_t], &
        [0_c_int64_t], dummy, Ms)
-  err = frix_problem_local(Ms, [0d0, 1d0, 0d0], mu, 1_c_int64_t, shape)
+  err = frix_problem_local(Ms, q_touching, mu, 1_c_int64_t, shape)
   call round_trip('W with no entries', shape, [0d0, 0d0, 0d0], [0d0])
   call frix_matrix_free(Ms)
   ! diag(4, 4, 4) from 2 + 2 at (0,0): r = -q / 4 sticks (|r_T| = 0.13 < 0.4 r_N = 0.2).

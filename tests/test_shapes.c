@@ -1,6 +1,7 @@
-/* Degenerate shapes of a problem, end to end: no contacts (local; global with dofs and no
- * contacts; global with neither), one contact, every contact separating, mu = 0 everywhere,
- * a W with no stored entries, a W given as triplets with duplicates. Each shape is built,
+/* Degenerate shapes of a problem, end to end (SHAPE_COUNT of them): no contacts (local, with
+ * W absent or 0 x 0; global with dofs and no contacts, with H n x 0 or absent; global with
+ * neither), one contact, every contact separating, mu = 0 everywhere (local and global), a W
+ * with no stored entries, a W given as triplets with duplicates. Each shape is built,
  * written as FCLIB, read back (by frix_fclib_read and frix_read_problem), solved by every
  * registered solver that takes its kind, written with its solution and read back again.
  *

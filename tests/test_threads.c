@@ -182,6 +182,7 @@ static void run_concurrently(int only_solver, int rounds) {
                       "thread %d: %d failures, %d results differing from the serial run; first: %s", i,
                       w[i].failures, w[i].mismatches, w[i].first);
     }
+    ck_assert_int_ge(runs, THREADS);
     printf("%d concurrent solves (%s, %d threads) bit-identical to serial\n", runs,
            only_solver ? frix_solver_name(only_solver) : "every problem x solver", THREADS);
     teardown();

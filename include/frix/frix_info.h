@@ -111,7 +111,8 @@ typedef enum frix_stage_key FRIX_ENUM_BASE {
     FRIX_STAGE_PART = 4,            /* int: the part (island) solved, from 1; 0: the whole problem */
     FRIX_STAGE_PART_CONTACTS = 5,   /* int: the part's contacts; 0 for the whole problem */
     FRIX_STAGE_RANDOM_STARTS = 6,   /* int: > 0 when the run went from that many random starts */
-    FRIX_STAGE_STOPPED_BY_AUTO = 7, /* int: 1 when auto stopped the run for its slow progress */
+    FRIX_STAGE_STOPPED_BY_AUTO = 7, /* int: 1 when auto stopped the run (slow progress, its
+                                       share of max_iter, a non-finite error: the note says) */
     FRIX_STAGE_ERROR = 100,         /* double: the run's error at its end */
     FRIX_STAGE_SECONDS = 101        /* double: the run's time */
 } frix_stage_key;

@@ -164,8 +164,9 @@ FRIX_API frix_error frix_options_set_callback(frix_options *opts, frix_progress_
                                               void *user_data);
 
 /* Where the progress lines of the option verbosity (> 0) go: fn(user_data, line) once per
- * line, without its newline, from the solving thread. fn NULL (the default) writes them to
- * stderr. At verbosity 0 nothing is logged. The copy of frix_options_copy keeps the sink. */
+ * line, without its newline, from the solving thread or (auto with threads > 1) one of its
+ * workers, never two calls at once. fn NULL (the default) writes them to stderr. At
+ * verbosity 0 nothing is logged. The copy of frix_options_copy keeps the sink. */
 typedef void (*frix_log_fn)(void *user_data, const char *line);
 FRIX_API frix_error frix_options_set_log(frix_options *opts, frix_log_fn fn, void *user_data);
 

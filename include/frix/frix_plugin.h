@@ -166,7 +166,7 @@ typedef struct frix_plugin_table {
 
     /* ---- Appended in frix 0.1: the log sink (frix_options.h). Check with FRIX_PLUGIN_HAS. */
     frix_error (*options_set_log)(frix_options *opts, frix_log_fn fn, void *user_data);
-    /* ---- Appended in frix 0.1: the stage records (frix_solve.h). */
+    /* ---- Appended in frix 0.1: the stage records (frix_info.h). */
     int64_t (*info_stage_count)(const frix_info *info);
     frix_error (*info_stage_get_int)(const frix_info *info, int64_t index, frix_stage_key key,
                                      int64_t *value);
