@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "check_main.h"
+#include "stage_records.h"
 #include "shared_data.h"
 
 /* A local problem of `groups` independent chains of `size` contacts (each coupled to the
@@ -116,26 +117,6 @@ static void file_run_close(file_run *f) {
     free(f->u);
     free(f->v);
     frix_problem_free(f->p);
-}
-
-/* A field of stage record k of info (tests read records, never the trace's prose). */
-static int64_t stage_int(const frix_info *info, int64_t k, frix_stage_key key) {
-    int64_t value = -1;
-    ck_assert_int_eq(frix_info_stage_get_int(info, k, key, &value), FRIX_OK);
-    return value;
-}
-
-static double stage_double(const frix_info *info, int64_t k, frix_stage_key key) {
-    double value = NAN;
-    ck_assert_int_eq(frix_info_stage_get_double(info, k, key, &value), FRIX_OK);
-    return value;
-}
-
-/* The first record of a run of `solver` at or after record `from`, or -1. */
-static int64_t find_stage(const frix_info *info, int solver, int64_t from) {
-    for (int64_t k = from; k < frix_info_stage_count(info); ++k)
-        if (stage_int(info, k, FRIX_STAGE_SOLVER_ID) == solver) return k;
-    return -1;
 }
 
 START_TEST(test_registered_and_default) {
