@@ -1,13 +1,12 @@
-// The solve contract in one place: every solver asks the Monitor for its limits (tolerance,
-// iterations, time), hands it each iteration's error for the user's callback, logs through
-// it, and records its factorisation counters with it, so that no solver writes these again.
+// The solve contract in one place: every solver asks the Monitor whether its time is up,
+// hands it each iteration's error for the user's callback, and records its factorisation
+// counters with it, so that no solver writes these again.
 #pragma once
 
 #include <cstdint>
 
 #include "info.hpp"
 #include "linalg/linalg.hpp"
-#include "log.hpp"
 #include "options.hpp"
 #include "solver_api.hpp"
 
@@ -18,10 +17,6 @@ class Monitor {
     Monitor(const frix_options &o, const Stopwatch &clock) : o_(o), clock_(clock) {}
     explicit Monitor(const SolveContext &ctx) : Monitor(ctx.options, ctx.clock) {}
 
-    double tolerance() const { return o_.d(FRIX_OPT_TOLERANCE); }
-    int64_t max_iter() const { return o_.i(FRIX_OPT_MAX_ITER); }
-    int64_t verbosity() const { return o_.i(FRIX_OPT_VERBOSITY); }
-    double seconds() const { return clock_.seconds(); }
     // The time limit (option time_limit > 0) is reached.
     bool out_of_time() const {
         const double tl = o_.d(FRIX_OPT_TIME_LIMIT);
@@ -32,7 +27,6 @@ class Monitor {
     bool report(int64_t iteration, double error) const {
         return o_.callback && o_.callback(o_.callback_data, iteration, error, clock_.seconds()) != 0;
     }
-    const frix_options &options() const { return o_; }
 
     // The factorisations of a solve: set into info, or added to what it already counts.
     static void record_factorizations(frix_info &info, const linalg::FactorStats &fs) {

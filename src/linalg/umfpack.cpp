@@ -80,7 +80,7 @@ frix_error SparseLU::analyze(const CscView &A) {
                     (long long)A.rows, (long long)A.cols);
     const auto t0 = Clock::now();
     double info[UMFPACK_INFO];
-    // METIS (Debian's 5.1.0) draws from libc's process-wide rand(), reseeded with srand(4321)
+    // METIS (Debian's 5.1.0) draws from libc's process-wide generator, which it reseeds (4321)
     // at each call: two orderings at once interleave their draws and give other orderings.
     std::unique_lock<std::mutex> lock(metis_mutex(), std::defer_lock);
     if (control_[UMFPACK_ORDERING] == UMFPACK_ORDERING_METIS) lock.lock();
