@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <numeric>
 #include <utility>
 #include <vector>
@@ -51,7 +52,27 @@ constexpr int64_t kFullCheckPeriod = 32;
 // point, a contraction since |K| << rho); a larger K gets an LU of W + rho I.
 class ShiftedSystem {
    public:
-    explicit ShiftedSystem(const frix_matrix &W) : W_(W), m_(W.rows) {
+    explicit ShiftedSystem(const frix_matrix &W) { build(W); }
+
+    // W's next values (a persistent solver's next step): the analyses are kept when the
+    // pattern of the matrix factorised, and the kind of factorisation, stay.
+    void refill(const frix_matrix &W) {
+        const std::vector<int64_t> colptr = colptr_, rowind = rowind_;
+        const bool lu = lu_, skew = skew_, dense = dense_;
+        build(W);
+        if (lu != lu_ || skew != skew_ || dense != dense_ || colptr != colptr_ || rowind != rowind_)
+            analysed_ = false;
+    }
+
+   private:
+    void build(const frix_matrix &W) {
+        W_ = &W;
+        m_ = W.rows;
+        factored_ = false;
+        base_.clear();
+        colptr_.clear();
+        rowind_.clear();
+        diag_.clear();
         measure_asymmetry();
         lu_ = asym_ > kSkewMax;
         skew_ = !lu_ && asym_ > kSymmetryTol;
@@ -96,12 +117,27 @@ class ShiftedSystem {
         for (int64_t j = 0; j < m_; ++j) colptr_[(size_t)j + 1] += colptr_[(size_t)j];
     }
 
+   public:
     bool skew() const { return skew_; }
     bool dense() const { return dense_; }
     const char *kind() const { return lu_ ? "LU" : skew_ ? "Cholesky of the symmetric part" : "Cholesky"; }
 
     // Factorises W + rho R, R = diag(weight_a I_3) (contact a's penalty is rho weight_a).
     frix_error factor(double rho, const std::vector<double> &weight) {
+        // The factorisation held is of these values already (a persistent solver's next solve).
+        if (factored_ && rho == factored_rho_ && weight == factored_weight_) return FRIX_OK;
+        factored_ = false;
+        const frix_error e = factor_values(rho, weight);
+        if (e == FRIX_OK) {
+            factored_ = true;
+            factored_rho_ = rho;
+            factored_weight_ = weight;
+        }
+        return e;
+    }
+
+   private:
+    frix_error factor_values(double rho, const std::vector<double> &weight) {
         if (dense_) {
             work_ = base_;
             for (int64_t i = 0; i < m_; ++i) work_[(size_t)(i + i * m_)] += rho * weight[(size_t)(i / 3)];
@@ -118,6 +154,7 @@ class ShiftedSystem {
         return slu_.factor(A);
     }
 
+   public:
     frix_error solve(const double *b, double *x) const {
         if (dense_) return lu_ ? dlu_.solve(b, x) : dchol_.solve(b, x);
         return lu_ ? slu_.solve(b, x) : schol_.solve(b, x);
@@ -125,8 +162,8 @@ class ShiftedSystem {
 
     // kx = K x = (W x - W^T x) / 2; work (m) is scratch.
     void skew_product(const double *x, double *kx, double *work) const {
-        matrix_gemv(W_, 0.5, x, 0.0, kx);
-        matrix_gemv_transposed(W_, 0.5, x, 0.0, work);
+        matrix_gemv(*W_, 0.5, x, 0.0, kx);
+        matrix_gemv_transposed(*W_, 0.5, x, 0.0, work);
         for (int64_t i = 0; i < m_; ++i) kx[i] -= work[i];
     }
 
@@ -148,29 +185,32 @@ class ShiftedSystem {
     // max |W_ab - W_ba^T| / max |W_ij| over the blocks.
     void measure_asymmetry() {
         double wmax = 0.0;
-        for (double v : W_.block_val) wmax = std::max(wmax, std::fabs(v));
+        for (double v : W_->block_val) wmax = std::max(wmax, std::fabs(v));
         asym_ = 0.0;
         if (!(wmax > 0.0)) return;
-        for (int64_t a = 0; a < W_.block_rows; ++a)
-            for (int64_t k = W_.row_ptr[a]; k < W_.row_ptr[a + 1]; ++k) {
-                const int64_t b = W_.block_col[k];
-                const int64_t *beg = &W_.block_col[W_.row_ptr[b]], *end = &W_.block_col[W_.row_ptr[b + 1]];
+        for (int64_t a = 0; a < W_->block_rows; ++a)
+            for (int64_t k = W_->row_ptr[a]; k < W_->row_ptr[a + 1]; ++k) {
+                const int64_t b = W_->block_col[k];
+                const int64_t *beg = &W_->block_col[W_->row_ptr[b]], *end = &W_->block_col[W_->row_ptr[b + 1]];
                 const int64_t *f = std::lower_bound(beg, end, a);
-                const double *B = &W_.block_val[9 * k];
+                const double *B = &W_->block_val[9 * k];
                 if (f == end || *f != a) {
                     for (int i = 0; i < 9; ++i) asym_ = std::max(asym_, std::fabs(B[i]) / wmax);
                     continue;
                 }
-                const double *T = &W_.block_val[9 * (W_.row_ptr[b] + (f - beg))];
+                const double *T = &W_->block_val[9 * (W_->row_ptr[b] + (f - beg))];
                 for (int i = 0; i < 3; ++i)
                     for (int j = 0; j < 3; ++j)
                         asym_ = std::max(asym_, std::fabs(B[i + 3 * j] - T[j + 3 * i]) / wmax);
             }
     }
 
-    const frix_matrix &W_;
-    int64_t m_;
+    const frix_matrix *W_ = nullptr;
+    int64_t m_ = 0;
     double asym_ = 0.0;
+    bool factored_ = false;
+    double factored_rho_ = 0.0;
+    std::vector<double> factored_weight_;
     bool lu_ = false, skew_ = false, dense_ = false, analysed_ = false;
     std::vector<double> base_, work_, values_;  // dense: base_ m x m; sparse: base_ nnz
     std::vector<int64_t> colptr_, rowind_, diag_;
@@ -178,6 +218,12 @@ class ShiftedSystem {
     linalg::DenseLU dlu_;
     linalg::SparseCholesky schol_;
     linalg::SparseLU slu_;
+};
+
+struct KeptSystem : CachedState {
+    std::unique_ptr<ShiftedSystem> sys;
+    uint64_t w_values = 0;
+    int64_t nc = -1;
 };
 
 frix_error solve(SolveContext &ctx) {
@@ -190,6 +236,10 @@ frix_error solve(SolveContext &ctx) {
     double wmax, wmean;
     fo::diagonal_scales(p, &wmax, &wmean);
     double rho = L.o.d(FRIX_OPT_RHO) * wmean;
+    // A persistent solver keeps the system: its factorisation while W's values and rho stay,
+    // its analyses while the pattern does.
+    Kept<KeptSystem> kept(ctx.cache, FRIX_SOLVER_ADMM);
+    const uint64_t w_values = ctx.cache ? ctx.cache->w_values : 0;
     // Contact a's penalty is rho * weight[a]: 1 (FRIX_RHO_CONSTANT), or |W_aa|_2 / mean_a
     // |W_aa|_2 (per contact): the same as ADMM with one rho on the problem scaled so that
     // every |W_aa|_2 is equal, which is what keeps it working when contacts differ in
@@ -209,6 +259,7 @@ frix_error solve(SolveContext &ctx) {
     fo::project_on_cones(p, z.data());
     double err = L.error(z.data(), u.data());
     if (L.warm(r) && err <= L.tol) {
+        kept.keep();
         std::copy(z.begin(), z.end(), r);
         info.status = FRIX_STATUS_CONVERGED;
         info.iterations = 0;
@@ -222,7 +273,14 @@ frix_error solve(SolveContext &ctx) {
             y[3 * a + i] = warm ? -(ua[i] + (i == 0 ? p.mu[a] * s[a] : 0.0)) / (rho * weight[(size_t)a]) : 0.0;
     }
 
-    ShiftedSystem sys(*p.W);
+    if (!kept->sys || !ctx.cache || kept->nc != nc)
+        kept->sys = std::make_unique<ShiftedSystem>(*p.W);
+    else if (kept->w_values != w_values)
+        kept->sys->refill(*p.W);
+    kept->nc = nc;
+    kept->w_values = w_values;
+    ShiftedSystem &sys = *kept->sys;
+    const linalg::FactorStats stats_before = sys.stats();
     const bool skew = sys.skew();
     std::vector<double> kx, kx_prev, work;  // K x (previous x), K x_prev, scratch
     if (skew) {
@@ -373,12 +431,16 @@ frix_error solve(SolveContext &ctx) {
     if (finite) std::copy(z.begin(), z.end(), r);
     info.status = status;
     info.iterations = it;
-    const linalg::FactorStats fs = sys.stats();
+    linalg::FactorStats fs = sys.stats();
+    fs.symbolic -= stats_before.symbolic;
+    fs.numeric -= stats_before.numeric;
+    fs.seconds -= stats_before.seconds;
     Monitor::record_factorizations(info, fs);
     if (L.verbosity >= 1)
         log_line(&L.o, "admm: %s after %lld iterations (%s %s, %lld rho changes, %lld restarts)",
                  frix_status_string(status), (long long)it, sys.dense() ? "dense" : "sparse",
                  sys.kind(), (long long)changes, (long long)restarts);
+    kept.keep();
     return FRIX_OK;
 }
 

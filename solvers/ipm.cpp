@@ -147,9 +147,23 @@ struct SystemPattern {
     }
 };
 
+// What a persistent solver keeps (solve_cache.hpp): the system's pattern and its symbolic
+// analysis, valid while W's pattern and the set of frictionless contacts stay; and the Newton
+// engine that finishes a run.
+struct KeptState : CachedState {
+    SystemPattern pat;
+    linalg::SparseLU lu;
+    bool analysed = false;
+    uint64_t w_pattern = 0;
+    std::vector<char> frictionless;  // per contact, of the pattern
+    newton::KeptEngine polish;
+};
+
 class Solver {
    public:
-    Solver(SolveContext &ctx) : ctx_(ctx), p_(ctx.problem), nc_(p_.nc), m_(3 * p_.nc) {}
+    Solver(SolveContext &ctx, KeptState &kept)
+        : ctx_(ctx), p_(ctx.problem), nc_(p_.nc), m_(3 * p_.nc), pat_(kept.pat), lu_(kept.lu),
+          analysed_(kept.analysed), kept_(kept) {}
     frix_error run();
 
    private:
@@ -183,10 +197,11 @@ class Solver {
     // Per contact: G, G^-1, G^2 (row-major 3x3), G x, and D (row-major 3x3).
     std::vector<double> G_, Gi_, G2_, lambda_, D_;
     std::vector<double> dr_a_, du_a_, ds_a_, g_, rhs_;
-    SystemPattern pat_;
+    SystemPattern &pat_;
     std::vector<double> values_;
-    linalg::SparseLU lu_;
-    bool analysed_ = false;
+    linalg::SparseLU &lu_;
+    bool &analysed_;
+    KeptState &kept_;
 };
 
 void Solver::scalings() {
@@ -345,7 +360,16 @@ frix_error Solver::run() {
     g_.assign(m, 0.0);
     rhs_.assign(m, 0.0);
     std::vector<double> dr(m), du(m), ds(nc_), wr(m);
-    pat_.build(W, p_.mu, nc_);
+    std::vector<char> frictionless(nc_);
+    for (int64_t a = 0; a < nc_; ++a) frictionless[a] = !friction(a);
+    const uint64_t w_pattern = ctx_.cache ? ctx_.cache->w_pattern : 0;
+    if (!ctx_.cache || !analysed_ || kept_.w_pattern != w_pattern || kept_.frictionless != frictionless) {
+        pat_.build(W, p_.mu, nc_);
+        analysed_ = false;
+        kept_.w_pattern = w_pattern;
+        kept_.frictionless = std::move(frictionless);
+    }
+    const linalg::FactorStats stats_before = lu_.stats();
     values_.assign(pat_.rowind.size(), 0.0);
 
     // Interior start on the cones' axes, scaled like the problem: |q|_inf for velocities,
@@ -445,6 +469,9 @@ frix_error Solver::run() {
     if (best_err <= tol) info.status = FRIX_STATUS_CONVERGED;
     std::copy(best.begin(), best.end(), ctx_.r);
     linalg::FactorStats fs = lu_.stats();
+    fs.symbolic -= stats_before.symbolic;
+    fs.numeric -= stats_before.numeric;
+    fs.seconds -= stats_before.seconds;
     int64_t newton_steps = 0, line_search = 0;
     if (handed_over) {
         // Semismooth Newton (Alart-Curnier, spectral rho) from the best interior iterate.
@@ -454,7 +481,7 @@ frix_error Solver::run() {
         s.measure = measure;
         s.verbosity = verbosity;
         s.log = &o;
-        newton::Engine engine(W, p_.mu, nc_, s);
+        newton::Engine &engine = newton::engine_for(kept_.polish, ctx_.cache, W, p_.mu, nc_, s);
         newton::RunResult res;
         if (verbosity >= 1)
             log_line(&o, "ipm: %lld iterations, best error %.3e; Newton from there",
@@ -481,8 +508,11 @@ frix_error Solver::run() {
 frix_error solve(SolveContext &ctx) {
     if (!ctx.problem.W || !ctx.problem.W->block)
         return fail(FRIX_ERR_INTERNAL, "ipm: W is not stored as 3x3 blocks");
-    Solver solver(ctx);
-    return solver.run();
+    Kept<KeptState> kept(ctx.cache, FRIX_SOLVER_IPM);
+    Solver solver(ctx, *kept);
+    if (frix_error e = solver.run()) return e;
+    kept.keep();
+    return FRIX_OK;
 }
 
 const frix_option_key kExtraKeys[] = {(frix_option_key)0};

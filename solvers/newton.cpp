@@ -58,11 +58,31 @@ constexpr double kWatchdogShortStep = 1e-2, kWatchdogTrigger = 0.5, kWatchdogGai
 
 }  // namespace
 
-linalg::FactorStats Engine::factor_stats() const {
+linalg::FactorStats Engine::total_stats() const {
     linalg::FactorStats s = lu_.stats();
     s.numeric += dense_lu_.stats().numeric;
     s.seconds += dense_lu_.stats().seconds;
     return s;
+}
+
+linalg::FactorStats Engine::factor_stats() const {
+    linalg::FactorStats s = total_stats();
+    s.symbolic -= stats_before_.symbolic;
+    s.numeric -= stats_before_.numeric;
+    s.seconds -= stats_before_.seconds;
+    return s;
+}
+
+Engine &engine_for(KeptEngine &kept, const SolveCache *cache, const frix_matrix &W, const double *mu,
+                   int64_t nc, const Settings &s) {
+    if (kept.engine && cache && kept.w_pattern == cache->w_pattern && kept.nc == nc) {
+        kept.engine->rebind(W, mu, s);
+    } else {
+        kept.engine = std::make_unique<Engine>(W, mu, nc, s);
+        kept.nc = nc;
+    }
+    kept.w_pattern = cache ? cache->w_pattern : 0;
+    return *kept.engine;
 }
 
 bool Limits::out_of_time() const { return Monitor(options, clock).out_of_time(); }
@@ -93,10 +113,18 @@ Settings settings_from(const frix_options &o, int solver_id) {
 }
 
 Engine::Engine(const frix_matrix &W, const double *mu, int64_t nc, const Settings &s)
-    : W_(W), mu_(mu), nc_(nc), m_(3 * nc), s_(s), rho_n_(nc), rho_t_(nc), A_(9 * nc), B_(9 * nc) {
+    : W_(&W), nc_(nc), m_(3 * nc), rho_n_(nc), rho_t_(nc), A_(9 * nc), B_(9 * nc) {
+    index_.assign(nc, 0);
+    rebind(W, mu, s);
+}
+
+void Engine::rebind(const frix_matrix &W, const double *mu, const Settings &s) {
     static const double kZero[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    W_ = &W;
+    mu_ = mu;
+    s_ = s;
     double scale = 0.0;
-    for (int64_t a = 0; a < nc; ++a) {
+    for (int64_t a = 0; a < nc_; ++a) {
         const int64_t d = W.diag_index[a];
         const double *Waa = d >= 0 ? &W.block_val[9 * d] : kZero;
         nsn::contact_rho(s.rho_strategy, s.rho, Waa, &rho_n_[a], &rho_t_[a]);
@@ -104,8 +132,11 @@ Engine::Engine(const frix_matrix &W, const double *mu, int64_t nc, const Setting
         for (int i = 0; i < 9; ++i) fro += Waa[i] * Waa[i];
         scale += std::sqrt(fro);
     }
-    w_scale_ = nc > 0 && scale > 0.0 ? scale / (double)nc : 1.0;
-    index_.assign(nc, 0);
+    w_scale_ = nc_ > 0 && scale > 0.0 ? scale / (double)nc_ : 1.0;
+    counters = Counters();
+    full_step_on_failure = false;
+    analysed_ = false;  // the active set is found afresh, as by a new engine
+    stats_before_ = total_stats();
 }
 
 // Contacts whose Phi does not depend on u (B_a = 0, A_a = I: separating ones) have the
@@ -140,14 +171,14 @@ bool Engine::update_active() {
 }
 
 void Engine::build_pattern() {
-    const int64_t nb = W_.nblocks();
+    const int64_t nb = W_->nblocks();
     const int64_t na = n_active_;
     std::vector<int64_t> count(na, 0);  // blocks per active block column
     for (int64_t a = 0; a < nc_; ++a) {
         if (index_[a] < 0) continue;
-        if (W_.diag_index[a] < 0) ++count[index_[a]];
-        for (int64_t b = W_.row_ptr[a]; b < W_.row_ptr[a + 1]; ++b)
-            if (index_[W_.block_col[b]] >= 0) ++count[index_[W_.block_col[b]]];
+        if (W_->diag_index[a] < 0) ++count[index_[a]];
+        for (int64_t b = W_->row_ptr[a]; b < W_->row_ptr[a + 1]; ++b)
+            if (index_[W_->block_col[b]] >= 0) ++count[index_[W_->block_col[b]]];
     }
     std::vector<int64_t> start(na + 1, 0);
     for (int64_t c = 0; c < na; ++c) start[c + 1] = start[c] + 9 * count[c];
@@ -171,9 +202,9 @@ void Engine::build_pattern() {
     for (int64_t a = 0; a < nc_; ++a) {
         const int64_t ia = index_[a];
         if (ia < 0) continue;
-        bool placed_diag = W_.diag_index[a] >= 0;
-        for (int64_t b = W_.row_ptr[a]; b < W_.row_ptr[a + 1]; ++b) {
-            const int64_t c = W_.block_col[b], ic = index_[c];
+        bool placed_diag = W_->diag_index[a] >= 0;
+        for (int64_t b = W_->row_ptr[a]; b < W_->row_ptr[a + 1]; ++b) {
+            const int64_t c = W_->block_col[b], ic = index_[c];
             if (ic < 0) continue;
             if (!placed_diag && c > a) {
                 diag_pos_[a] = place(ia, ia);
@@ -205,16 +236,16 @@ void Engine::assemble(double shift) {
         // J_aa = A + shift B + B W_aa (the last term added with W's diagonal block below).
         double D[9];
         for (int i = 0; i < 9; ++i) D[i] = A[i] + shift * B[i];
-        if (W_.diag_index[a] < 0) {
+        if (W_->diag_index[a] < 0) {
             const int64_t pos = diag_pos_[a], st = diag_stride_[a];
             for (int j = 0; j < 3; ++j)
                 for (int i = 0; i < 3; ++i) val[pos + j * st + i] = D[i + 3 * j];
         }
-        for (int64_t b = W_.row_ptr[a]; b < W_.row_ptr[a + 1]; ++b) {
+        for (int64_t b = W_->row_ptr[a]; b < W_->row_ptr[a + 1]; ++b) {
             const int64_t pos = block_pos_[b], st = block_stride_[b];
             if (pos < 0) continue;  // column of a separating contact
-            const double *Wb = &W_.block_val[9 * b];
-            const bool diag = W_.block_col[b] == a;
+            const double *Wb = &W_->block_val[9 * b];
+            const bool diag = W_->block_col[b] == a;
             for (int j = 0; j < 3; ++j)
                 for (int i = 0; i < 3; ++i) {
                     double v = B[i] * Wb[3 * j] + B[i + 3] * Wb[3 * j + 1] + B[i + 6] * Wb[3 * j + 2];
@@ -236,9 +267,9 @@ frix_error Engine::step(const double *phi, double *d, double *rhs, double *x) {
         const int64_t ia = index_[a];
         if (ia < 0) continue;
         double t[3] = {0.0, 0.0, 0.0};
-        for (int64_t b = W_.row_ptr[a]; b < W_.row_ptr[a + 1]; ++b)
-            if (index_[W_.block_col[b]] < 0)
-                block_gemv_add(&W_.block_val[9 * b], &d[3 * W_.block_col[b]], t);
+        for (int64_t b = W_->row_ptr[a]; b < W_->row_ptr[a + 1]; ++b)
+            if (index_[W_->block_col[b]] < 0)
+                block_gemv_add(&W_->block_val[9 * b], &d[3 * W_->block_col[b]], t);
         const double *B = &B_[9 * a];
         for (int i = 0; i < 3; ++i)
             rhs[3 * ia + i] = -phi[3 * a + i] - (B[i] * t[0] + B[i + 3] * t[1] + B[i + 6] * t[2]);
@@ -277,7 +308,7 @@ frix_error Engine::run(double *r, const double *q, double shift, double tol, Lim
     std::vector<double> u(m), phi(m), d(m), du(m), rhs(m), x(m), rt(m), ut(m), phit(m), best(r, r + m);
     const double norm_q = scale_q >= 0.0 ? scale_q : std::sqrt(dot(q, q, m));
     auto product = [&](const double *z, double *y) {  // y = (W + shift I) z
-        matrix_gemv(W_, 1.0, z, 0.0, y);
+        matrix_gemv(*W_, 1.0, z, 0.0, y);
         if (shift != 0.0)
             for (int64_t i = 0; i < m; ++i) y[i] += shift * z[i];
     };
@@ -342,9 +373,13 @@ frix_error Engine::run(double *r, const double *q, double shift, double tol, Lim
         use_dense_ = ma <= kDenseMax;
         if (ma > 0) {
             linalg::CscView J{ma, ma, colptr_.data(), rowind_.data(), values_.data()};
-            if (new_pattern && !use_dense_) {
+            // A persistent solver's engine keeps the analysis of the active set it last
+            // analysed: when a later solve finds the same set, the analysis still holds.
+            if (new_pattern && !use_dense_ && index_ != analysed_index_) {
                 assemble(shift + delta * w_scale_);
+                analysed_index_.clear();
                 if (frix_error e = lu_.analyze(J)) return e;
+                analysed_index_ = index_;
             }
             bool factored = false;
             for (int attempt = 0; attempt < 12 && !factored; ++attempt) {
@@ -524,7 +559,8 @@ frix_error solve(SolveContext &ctx, int solver_id) {
     frix_info &info = ctx.info;
     int64_t iterations = 0;
     Limits lim{o, ctx.clock, &iterations, o.i(FRIX_OPT_MAX_ITER)};
-    Engine engine(*p.W, p.mu, p.nc, s);
+    Kept<KeptEngine> kept(ctx.cache, solver_id);
+    Engine &engine = engine_for(*kept, ctx.cache, *p.W, p.mu, p.nc, s);
     RunResult res;
     std::unique_ptr<nsgs::Workspace> gs;  // made on the first fallback only
     std::vector<double> keep;
@@ -585,6 +621,7 @@ frix_error solve(SolveContext &ctx, int solver_id) {
         log_line(s.log, "newton: %s after %lld iterations (%lld Newton, %lld sweeps)",
                  frix_status_string(info.status), (long long)iterations,
                  (long long)engine.counters.newton, (long long)engine.counters.sweeps);
+    kept.keep();
     return FRIX_OK;
 }
 

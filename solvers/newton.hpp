@@ -9,6 +9,7 @@
 
 #include "src/linalg/linalg.hpp"
 #include "src/problem.hpp"
+#include "src/solve_cache.hpp"
 #include "src/solver_api.hpp"
 
 namespace frix {
@@ -88,6 +89,11 @@ struct RunResult {
 class Engine {
    public:
     Engine(const frix_matrix &W, const double *mu, int64_t nc, const Settings &s);
+    // The next solve of a persistent solver: W with the pattern of the last one (new values),
+    // mu and settings. Finds the active set afresh, as a new engine would, and keeps the
+    // symbolic analysis of the last active set for when it comes back; restarts the counters
+    // and the factorisation statistics.
+    void rebind(const frix_matrix &W, const double *mu, const Settings &s);
     // Runs from r (updated in place; on return, the best iterate found), stopping when the
     // selected error of the problem (W + shift I, q) is <= tol. scale_q (if >= 0) replaces
     // |q| in the error's denominator: PROX measures its inner problems, whose q - alpha r_k
@@ -95,7 +101,7 @@ class Engine {
     frix_error run(double *r, const double *q, double shift, double tol, Limits &lim,
                    RunResult &res, double scale_q = -1.0);
 
-    // Sparse and dense factorisations together.
+    // Sparse and dense factorisations together, since construction or the last rebind.
     linalg::FactorStats factor_stats() const;
     Counters counters;
     // Take the full step when the line search finds no sufficient decrease (instead of the
@@ -116,8 +122,9 @@ class Engine {
     double full_step_error(const double *r, const double *u, const double *d, const double *du,
                            double norm_q, double *rt, double *ut) const;
 
-    const frix_matrix &W_;
-    const double *mu_;
+    linalg::FactorStats total_stats() const;
+    const frix_matrix *W_;
+    const double *mu_ = nullptr;
     int64_t nc_, m_;
     Settings s_;
     std::vector<double> rho_n_, rho_t_;
@@ -138,8 +145,22 @@ class Engine {
     std::vector<double> dense_;
     bool use_dense_ = false;
     bool analysed_ = false;
+    std::vector<int64_t> analysed_index_;  // index_ when lu_ was last analysed (empty: never)
     double w_scale_ = 1.0;
+    linalg::FactorStats stats_before_;
 };
+
+// An engine kept by a persistent solver (solve_cache.hpp), with the pattern version of the W
+// it was built on.
+struct KeptEngine : CachedState {
+    std::unique_ptr<Engine> engine;
+    uint64_t w_pattern = 0;
+    int64_t nc = -1;
+};
+// The engine of this solve: the kept one rebound to W when W's pattern is the one it was built
+// on, a new one otherwise (and always without a cache).
+Engine &engine_for(KeptEngine &kept, const SolveCache *cache, const frix_matrix &W, const double *mu,
+                   int64_t nc, const Settings &s);
 
 }  // namespace newton
 }  // namespace frix

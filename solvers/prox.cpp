@@ -44,7 +44,8 @@ frix_error solve(SolveContext &ctx) {
     const int64_t m = 3 * p.nc;
     frix_info &info = ctx.info;
 
-    newton::Engine engine(*p.W, p.mu, p.nc, s);
+    Kept<newton::KeptEngine> kept(ctx.cache, FRIX_SOLVER_PROX);
+    newton::Engine &engine = newton::engine_for(*kept, ctx.cache, *p.W, p.mu, p.nc, s);
     engine.full_step_on_failure = true;
     const double scale = engine.w_scale();
     auto adapted = [&](double err) {
@@ -126,6 +127,7 @@ frix_error solve(SolveContext &ctx) {
         log_line(&o, "prox: %s after %lld proximal steps (%lld Newton)",
                  frix_status_string(info.status), (long long)outer,
                  (long long)engine.counters.newton);
+    kept.keep();
     return FRIX_OK;
 }
 

@@ -31,7 +31,16 @@ bool is_symmetric(const Csc &M);
 // A factorisation of M: CHOLMOD when M is symmetric positive definite, UMFPACK otherwise.
 class MassSolver {
    public:
+    // The work of each factor() is in last_stats().
     frix_error factor(const frix_matrix &M) {
+        const linalg::FactorStats chol0 = chol_.stats(), lu0 = lu_.stats();
+        const frix_error e = factor_counted(M);
+        last_.symbolic = chol_.stats().symbolic - chol0.symbolic + lu_.stats().symbolic - lu0.symbolic;
+        last_.numeric = chol_.stats().numeric - chol0.numeric + lu_.stats().numeric - lu0.numeric;
+        last_.seconds = chol_.stats().seconds - chol0.seconds + lu_.stats().seconds - lu0.seconds;
+        return e;
+    }
+    frix_error factor_counted(const frix_matrix &M) {
         empty_ = M.rows == 0;  // no dofs: M^-1 is the empty map, W = 0 and q = w
         if (empty_) return FRIX_OK;
         if (frix_error e = to_csc(M, csc_)) return e;
@@ -99,9 +108,10 @@ class MassSolver {
         }
         return columns.finish(W);
     }
-    const linalg::FactorStats &stats() const { return use_chol_ ? chol_.stats() : lu_.stats(); }
+    const linalg::FactorStats &last_stats() const { return last_; }
 
    private:
+    linalg::FactorStats last_;
     Csc csc_;
     linalg::SparseCholesky chol_;
     linalg::SparseLU lu_;

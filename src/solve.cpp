@@ -16,7 +16,7 @@ namespace frix {
 
 frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
                                const SolverEntry &entry, double *r, double *u, frix_info &info,
-                               const Stopwatch &clock) {
+                               const Stopwatch &clock, SolveCache *cache) {
     const int64_t m = 3 * p.nc;
     bool separating = true;
     for (int64_t a = 0; a < p.nc && separating; ++a) separating = p.q[3 * a] >= 0.0;
@@ -35,7 +35,7 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
         if (!entry.solves_local)
             return fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s does not solve local problems", entry.name);
         warm_start.assign(r, r + m);
-        frix::SolveContext ctx{p, opts, r, u, nullptr, info, clock, nullptr};
+        frix::SolveContext ctx{p, opts, r, u, nullptr, info, clock, nullptr, cache};
         if (frix_error e = entry.solve(ctx)) return e;
         for (int64_t i = 0; i < m; ++i)
             if (!std::isfinite(r[i]))
@@ -62,6 +62,56 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
     return FRIX_OK;
 }
 
+frix_error solve_problem(const char *caller, const frix_problem *problem, const frix_options *options,
+                         double *r, double *u, double *v, frix_info *info, SolveCache *cache) {
+    Stopwatch clock;
+    if (!problem) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: problem is NULL", caller);
+    const int64_t m = 3 * problem->nc;
+    if (m > 0 && (!r || !u))
+        return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: r and u are required (%lld entries each)", caller,
+                    (long long)m);
+    std::unique_ptr<frix_options> default_options;
+    if (!options) {
+        frix_options *o = nullptr;
+        if (frix_error e = frix_options_create(kDefaultSolver, &o)) return e;
+        default_options.reset(o);
+        options = o;
+    }
+    const SolverEntry *entry = find_solver(options->solver_id);
+    if (!entry) return fail(FRIX_ERR_UNKNOWN_SOLVER, "%s: no solver has id %d", caller, options->solver_id);
+    if (frix_error e = check_problem_vectors(*problem)) return e;
+
+    frix_info local_info;
+    frix_info &out = info ? *info : local_info;
+    {   // A fresh info, but the trace's buffers kept: a caller solving every time step
+        // should not pay for their allocation each time.
+        std::vector<TraceEvent> trace = std::move(out.trace);
+        std::string text = std::move(out.trace_text);
+        trace.clear();
+        text.clear();
+        out = frix_info();
+        out.trace = std::move(trace);
+        out.trace_text = std::move(text);
+    }
+    out.solver_id = entry->id;
+    out.contacts = problem->nc;
+    out.tolerance = options->d(FRIX_OPT_TOLERANCE);
+
+    frix_error err;
+    if (problem->kind == FRIX_PROBLEM_GLOBAL) {
+        if (problem->n > 0 && !v)
+            return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: v is required for a global problem (%lld entries)", caller,
+                        (long long)problem->n);
+        err = solve_global_problem(*problem, *options, *entry, r, u, v, out, clock, cache);
+    } else if (!entry->solves_local) {
+        err = fail(FRIX_ERR_UNSUPPORTED, "%s: solver %s solves global problems only", caller, entry->name);
+    } else {
+        err = solve_local_problem(*problem, *options, *entry, r, u, out, clock, cache);
+    }
+    out.solve_time = clock.seconds();
+    return err;
+}
+
 }  // namespace frix
 
 extern "C" {
@@ -69,52 +119,7 @@ extern "C" {
 FRIX_API frix_error frix_solve(const frix_problem *problem, const frix_options *options, double *r,
                                double *u, double *v, frix_info *info) {
     return frix::guard("frix_solve", [&]() -> frix_error {
-        frix::Stopwatch clock;
-        if (!problem) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_solve: problem is NULL");
-        const int64_t m = 3 * problem->nc;
-        if (m > 0 && (!r || !u))
-            return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_solve: r and u are required (%lld entries each)",
-                        (long long)m);
-        std::unique_ptr<frix_options> default_options;
-        if (!options) {
-            frix_options *o = nullptr;
-            if (frix_error e = frix_options_create(frix::kDefaultSolver, &o)) return e;
-            default_options.reset(o);
-            options = o;
-        }
-        const frix::SolverEntry *entry = frix::find_solver(options->solver_id);
-        if (!entry) return fail(FRIX_ERR_UNKNOWN_SOLVER, "frix_solve: no solver has id %d", options->solver_id);
-        if (frix_error e = frix::check_problem_vectors(*problem)) return e;
-
-        frix_info local_info;
-        frix_info &out = info ? *info : local_info;
-        {   // A fresh info, but the trace's buffers kept: a caller solving every time step
-            // should not pay for their allocation each time.
-            std::vector<frix::TraceEvent> trace = std::move(out.trace);
-            std::string text = std::move(out.trace_text);
-            trace.clear();
-            text.clear();
-            out = frix_info();
-            out.trace = std::move(trace);
-            out.trace_text = std::move(text);
-        }
-        out.solver_id = entry->id;
-        out.contacts = problem->nc;
-        out.tolerance = options->d(FRIX_OPT_TOLERANCE);
-
-        frix_error err;
-        if (problem->kind == FRIX_PROBLEM_GLOBAL) {
-            if (problem->n > 0 && !v)
-                return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_solve: v is required for a global problem (%lld entries)",
-                            (long long)problem->n);
-            err = frix::solve_global_problem(*problem, *options, *entry, r, u, v, out, clock);
-        } else if (!entry->solves_local) {
-            err = fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s solves global problems only", entry->name);
-        } else {
-            err = frix::solve_local_problem(*problem, *options, *entry, r, u, out, clock);
-        }
-        out.solve_time = clock.seconds();
-        return err;
+        return frix::solve_problem("frix_solve", problem, options, r, u, v, info, nullptr);
     });
 }
 

@@ -17,14 +17,33 @@ namespace frix {
 
 namespace {
 
+// What a persistent solver keeps for a global problem: M's factorisation while M's values
+// stay, and W = H^T M^-1 H while M's and H's values stay, with the states of the local
+// solvers that run on that W (their own cache, whose W versions follow W's).
+struct GlobalState : CachedState {
+    uint64_t m_values = 0;  // the M of ms (0: none)
+    MassSolver ms;
+    uint64_t w_from_m = 0, w_from_h = 0;  // the M and H that W was formed from (0: none)
+    std::unique_ptr<frix_matrix> W;
+    SolveCache local;
+};
+constexpr int kGlobalStateKey = 0;  // no solver has id 0
+
+bool same_block_pattern(const frix_matrix &a, const frix_matrix &b) {
+    return a.rows == b.rows && a.block == b.block && a.row_ptr == b.row_ptr && a.block_col == b.block_col &&
+           a.col_ptr == b.col_ptr && a.row_ind == b.row_ind;
+}
+
 // Route (a): reduce with the factorised M, solve the local problem with any local solver,
 // recover v. W has at most w_blocks blocks (room is reserved for them: memory only counts once
 // written).
 frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const SolverEntry &entry,
                          MassSolver &ms, double w_blocks, const double *q0, double *r, double *u, double *v,
-                         frix_info &info, const Stopwatch &clock) {
+                         frix_info &info, const Stopwatch &clock, const SolveCache *cache, GlobalState *kept) {
     const Stopwatch setup;
     std::unique_ptr<frix_matrix> W;
+    const bool w_current = kept && kept->W && kept->w_from_m == cache->m_values && kept->w_from_h == cache->h_values;
+    if (w_current) W = std::move(kept->W);
     // Where W is dense (a deformable body) forming it can take minutes: the time limit and
     // the caller's callback (told iteration 0 and the start's error) can end it as they end
     // an iteration, with the caller's start returned.
@@ -42,7 +61,8 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
         return stop_status != FRIX_STATUS_NOT_RUN;
     };
     bool stopped = false;
-    if (frix_error e = ms.congruence(*p.H, w_blocks, W, stop, stopped)) return e;
+    if (!w_current)
+        if (frix_error e = ms.congruence(*p.H, w_blocks, W, stop, stopped)) return e;
     if (stopped) {
         info.status = stop_status;
         info.iterations = 0;
@@ -54,7 +74,23 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
     if (frix_error e = make_local_problem(W.get(), q.data(), p.mu, p.nc, &local)) return e;
     std::unique_ptr<frix_problem> local_owner(local);
     const double setup_time = setup.seconds();
-    if (frix_error e = solve_local_problem(*local, opts, entry, r, u, info, clock)) return e;
+    SolveCache *local_cache = nullptr;
+    if (kept) {
+        // The local solvers' states hold while W's pattern does; its values are new unless W
+        // was kept.
+        if (!w_current) {
+            ++kept->local.w_values;
+            if (!kept->W || !same_block_pattern(*kept->W, *W)) ++kept->local.w_pattern;
+        }
+        local_cache = &kept->local;
+    }
+    frix_error err = solve_local_problem(*local, opts, entry, r, u, info, clock, local_cache);
+    if (kept) {
+        kept->W = std::move(W);
+        kept->w_from_m = cache->m_values;
+        kept->w_from_h = cache->h_values;
+    }
+    if (err) return err;
     info.setup_time += setup_time;
     return recover_velocity(p, ms, r, v);
 }
@@ -63,7 +99,7 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
 
 frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
                                 const SolverEntry &entry, double *r, double *u, double *v,
-                                frix_info &info, const Stopwatch &clock) {
+                                frix_info &info, const Stopwatch &clock, SolveCache *cache) {
     const int64_t m = 3 * p.nc;
     if (!entry.solves_global && !entry.solves_local)
         return fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s solves no global problem", entry.name);
@@ -72,8 +108,14 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
     // v0 = M^-1 f and q = H^T v0 + w, the velocity without contact forces: if every contact
     // separates there (q_N >= 0), r = 0 and v = v0 is the exact solution, for every solver.
     const Stopwatch setup;
-    MassSolver ms;
-    if (frix_error e = ms.factor(*p.M)) return e;
+    Kept<GlobalState> state(cache, kGlobalStateKey);
+    MassSolver &ms = state->ms;
+    const bool m_current = cache && state->m_values == cache->m_values;
+    if (!m_current) {
+        state->m_values = 0;  // until factorised
+        if (frix_error e = ms.factor(*p.M)) return e;
+        state->m_values = cache ? cache->m_values : 0;
+    }
     std::vector<double> q(m);
     if (frix_error e = ms.solve(p.f, v)) return e;
     if (m > 0) matrix_gemv_transposed(*p.H, 1.0, v, 0.0, q.data());
@@ -83,7 +125,7 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         if (i % 3 == 0 && q[i] < 0.0) separating = false;
     }
     info.setup_time = setup.seconds();
-    Monitor::record_factorizations(info, ms.stats());
+    if (!m_current) Monitor::record_factorizations(info, ms.last_stats());
     if (separating) {
         for (int64_t i = 0; i < m; ++i) r[i] = 0.0;
         info.status = FRIX_STATUS_CONVERGED;
@@ -97,7 +139,7 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         const std::function<frix_error(const double *, double *)> solve_mass = [&ms](const double *b, double *x) {
             return ms.solve(b, x);
         };
-        SolveContext ctx{p, opts, r, u, v, native, clock, &solve_mass};
+        SolveContext ctx{p, opts, r, u, v, native, clock, &solve_mass, cache};
         if (frix_error e = entry.solve(ctx)) return e;
         native.setup_time = info.setup_time;
         Monitor::add_factorizations(native, info);
@@ -114,7 +156,8 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         const frix_info before = info;
         info.factorizations = info.symbolic_analyses = 0;
         info.factorization_time = info.setup_time = 0.0;
-        if (frix_error e = solve_reduced(p, opts, entry, ms, size.w_blocks, q.data(), r, u, v, info, clock))
+        if (frix_error e = solve_reduced(p, opts, entry, ms, size.w_blocks, q.data(), r, u, v, info, clock, cache,
+                                         cache ? &*state : nullptr))
             return e;
         // The local solver reported its own work: add the factorisation of M.
         Monitor::add_factorizations(info, before);
@@ -139,6 +182,7 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
     record_measures(info, meas, opts.i(FRIX_OPT_ERROR_MEASURE));
     if (info.status == FRIX_STATUS_CONVERGED && !meets_global_tolerance(info, info.tolerance))
         info.status = FRIX_STATUS_STAGNATED;
+    state.keep();
     return FRIX_OK;
 }
 

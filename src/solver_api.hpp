@@ -12,6 +12,7 @@
 #include "info.hpp"
 #include "options.hpp"
 #include "problem.hpp"
+#include "solve_cache.hpp"
 
 namespace frix {
 
@@ -45,6 +46,9 @@ struct SolveContext {
     // Global problems: x = M^-1 b with the driver's factorisation of M, for a solver that can
     // use it (607 calibrates its rho with it); null where there is none.
     const std::function<frix_error(const double *b, double *x)> *solve_mass;
+    // What a persistent solver keeps between solves (see solve_cache.hpp); null for a
+    // one-shot frix_solve.
+    SolveCache *cache;
 };
 
 using SolverFn = frix_error (*)(SolveContext &ctx);
@@ -79,14 +83,19 @@ const SolverEntry &solver_at(int64_t index);
 // step of the reduction route of global problems.
 frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
                                const SolverEntry &entry, double *r, double *u, frix_info &info,
-                               const Stopwatch &clock);
+                               const Stopwatch &clock, SolveCache *cache = nullptr);
 
 // The driver's global path (src/solve_global.cpp): runs `entry` natively if it solves global
 // problems, through the reduction W = H^T M^-1 H otherwise. r, u (3nc) and v (n) as in
 // frix_solve.
 frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
                                 const SolverEntry &entry, double *r, double *u, double *v,
-                                frix_info &info, const Stopwatch &clock);
+                                frix_info &info, const Stopwatch &clock, SolveCache *cache = nullptr);
+
+// frix_solve's whole contract (argument checks, the default solver, a fresh info), with the
+// states of a persistent solver when `cache` is given.
+frix_error solve_problem(const char *caller, const frix_problem *problem, const frix_options *options,
+                         double *r, double *u, double *v, frix_info *info, SolveCache *cache);
 
 // Whether a global solve's measures meet `tol`: the error and the equilibrium residual both
 // (the latter at least to 1e-12, which is rounding for M v = H r + f).

@@ -1,15 +1,23 @@
-/* Compiled, never run, by the abi_plugin_table test: every member of the frozen version-1
- * table (abi/frix_plugin_table_v1.h) keeps its offset and type in frix_plugin_table. */
+/* Compiled, never run, by the abi_plugin_table test: every member of each frozen table version
+ * (abi/frix_plugin_table_v1.h, _v2.h) keeps its offset and type in frix_plugin_table. */
 #include <stddef.h>
 
 #include "frix_plugin_table_v1.h"
+#include "frix_plugin_table_v2.h"
 
-#define FRIX_SAME_MEMBER(m)                                                                 \
-    _Static_assert(offsetof(frix_plugin_table, m) == offsetof(frix_plugin_table_v1, m),     \
+#define FRIX_SAME_MEMBER_OF(frozen, m)                                                     \
+    _Static_assert(offsetof(frix_plugin_table, m) == offsetof(frozen, m),                   \
                    "frix_plugin_table." #m " moved: members may only be appended");         \
     _Static_assert(__builtin_types_compatible_p(__typeof__(((frix_plugin_table *)0)->m),    \
-                                                __typeof__(((frix_plugin_table_v1 *)0)->m)), \
+                                                __typeof__(((frozen *)0)->m)),              \
                    "frix_plugin_table." #m " changed type (or the function it points to did)");
-FRIX_PLUGIN_TABLE_V1_MEMBERS(FRIX_SAME_MEMBER)
+#define FRIX_SAME_MEMBER_V1(m) FRIX_SAME_MEMBER_OF(frix_plugin_table_v1, m)
+#define FRIX_SAME_MEMBER_V2(m) FRIX_SAME_MEMBER_OF(frix_plugin_table_v2, m)
+FRIX_PLUGIN_TABLE_V1_MEMBERS(FRIX_SAME_MEMBER_V1)
+FRIX_PLUGIN_TABLE_V2_MEMBERS(FRIX_SAME_MEMBER_V2)
 
-_Static_assert(sizeof(frix_plugin_table) >= sizeof(frix_plugin_table_v1), "the table shrank");
+_Static_assert(sizeof(frix_plugin_table) >= sizeof(frix_plugin_table_v2), "the table shrank");
+/* Version 1 is a prefix of version 2: the library serves it as the table cut before the first
+ * member of version 2. */
+_Static_assert(offsetof(frix_plugin_table_v2, persistent_create) >= sizeof(frix_plugin_table_v1),
+               "version 2 does not extend version 1");

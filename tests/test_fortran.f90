@@ -42,6 +42,7 @@ program test_fortran
   ! Data the shapes' problems borrow: named, so that it outlives them.
   real(c_double), target :: f_two(2) = [1d0, -2d0], q_separating(3) = [1d0, 0.5d0, 0d0]
   real(c_double), target :: q_touching(3) = [0d0, 1d0, 0d0], mu_zero(1) = [0d0]
+  real(c_double), target :: q_next(3) = [-1d0, 0.2d0, 0d0]
   real(c_double) :: err_value, tol
   real(c_double) :: lower, upper, block(9), y(3)
   real(c_double), pointer :: view(:)
@@ -51,7 +52,7 @@ program test_fortran
   integer(c_int), target :: calls, lines
   integer(c_int) :: err, id, key, is_int
   logical :: found
-  type(c_ptr) :: W, Wb, p, back, opts, opts2, info, shape, Ms, Hs
+  type(c_ptr) :: W, Wb, p, back, opts, opts2, info, shape, Ms, Hs, ps
   character(len=:), allocatable :: path
 
   call check('version string', len(frix_fstr(frix_version_string())) > 0)
@@ -94,6 +95,22 @@ program test_fortran
   err = frix_info_get_int(info, FRIX_INFO_KEY_ITERATIONS, n64)
   call check('info by key', err == FRIX_OK .and. n64 == frix_info_iterations(info))
   call check('u = W r + q', abs(u(1) - (4d0 * r(1) + r(2) - 2d0)) < 1d-12)
+
+  ! The persistent solver: the same answer as frix_solve, then the next q.
+  err = frix_persistent_create(p, opts, ps)
+  call check('persistent create', err == FRIX_OK .and. c_associated(ps))
+  r2 = 0
+  err = frix_persistent_solve(ps, r2, u, dummy, info)
+  call check('persistent solve', err == FRIX_OK .and. frix_info_status(info) == FRIX_STATUS_CONVERGED &
+             .and. maxval(abs(r2 - r)) <= 1d-10 * maxval(abs(r)))
+  err = frix_persistent_update_local(ps, c_null_ptr, c_loc(q_next), c_null_ptr)
+  call check('persistent update', err == FRIX_OK)
+  err = frix_persistent_solve(ps, r2, u, dummy, info)
+  call check('persistent next step', err == FRIX_OK .and. frix_info_status(info) == FRIX_STATUS_CONVERGED &
+             .and. abs(u(1) - (4d0 * r2(1) + r2(2) - 1d0)) < 1d-12)
+  err = frix_persistent_update_global(ps, c_null_ptr, c_null_ptr, c_null_ptr, c_null_ptr, c_null_ptr)
+  call check('persistent: a local problem takes no global update', err == FRIX_ERR_INVALID_ARGUMENT)
+  call frix_persistent_free(ps)
 
   ! The default solver (auto): its trace, and the existence check.
   r = 0

@@ -506,6 +506,35 @@ module frix
       real(c_double), intent(out) :: u(*), v(*)
       integer(c_int) :: frix_solve
     end function
+    ! The persistent solver (frix_persistent.h): create once, then update and solve every step.
+    function frix_persistent_create(problem, options, out) bind(C, name='frix_persistent_create')
+      import :: c_ptr, c_int
+      type(c_ptr), value :: problem, options
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: frix_persistent_create
+    end function
+    subroutine frix_persistent_free(ps) bind(C, name='frix_persistent_free')
+      import :: c_ptr
+      type(c_ptr), value :: ps
+    end subroutine
+    function frix_persistent_solve(ps, r, u, v, info) bind(C, name='frix_persistent_solve')
+      import :: c_ptr, c_int, c_double
+      type(c_ptr), value :: ps, info
+      real(c_double), intent(inout) :: r(*)
+      real(c_double), intent(out) :: u(*), v(*)
+      integer(c_int) :: frix_persistent_solve
+    end function
+    ! Updates: pass c_loc(array) (a target array that stays valid) or c_null_ptr for unchanged.
+    function frix_persistent_update_local(ps, W, q, mu) bind(C, name='frix_persistent_update_local')
+      import :: c_ptr, c_int
+      type(c_ptr), value :: ps, W, q, mu
+      integer(c_int) :: frix_persistent_update_local
+    end function
+    function frix_persistent_update_global(ps, M, H, f, w, mu) bind(C, name='frix_persistent_update_global')
+      import :: c_ptr, c_int
+      type(c_ptr), value :: ps, M, H, f, w, mu
+      integer(c_int) :: frix_persistent_update_global
+    end function
     ! What auto did, one line per step (a C string owned by info: frix_fstr copies it).
     function frix_info_trace(info) bind(C, name='frix_info_trace')
       import :: c_ptr

@@ -32,6 +32,7 @@
 #include "frix_registry.h"
 #include "frix_info.h"
 #include "frix_solve.h"
+#include "frix_persistent.h"
 #include "frix_fclib.h"
 #include "frix_read.h"
 #include "frix_plugin.h"

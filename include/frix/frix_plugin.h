@@ -2,7 +2,8 @@
  *
  * A host looks up one symbol, frix_plugin_api, and calls it with the table ABI version it was
  * compiled against (FRIX_PLUGIN_ABI_VERSION). It gets a constant table of function pointers
- * to the C API, or NULL if the loaded library cannot serve that version:
+ * to the C API, or NULL if the loaded library cannot serve that version (an older library
+ * asked for a newer version):
  *
  *   void *lib = dlopen("libfrix.so.0", RTLD_NOW | RTLD_LOCAL);
  *   frix_plugin_api_fn entry = (frix_plugin_api_fn)dlsym(lib, "frix_plugin_api");
@@ -30,14 +31,18 @@
 #include "frix_problem.h"
 #include "frix_options.h"
 #include "frix_solve.h"
+#include "frix_persistent.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-/* The table layout this header describes. Raised only by an incompatible change, which
- * also changes the library's SONAME. */
-#define FRIX_PLUGIN_ABI_VERSION 1
+/* The table layout this header describes. A new version is a longer table: the members of
+ * the versions before it, in the same places, and a new group after them. The library serves
+ * every version it has had (version 1: up to info_stage_note; version 2: the persistent
+ * solver too), each with its own size and abi_version, so a host asks for the version its
+ * header has and gets nothing it does not know. */
+#define FRIX_PLUGIN_ABI_VERSION 2
 
 /* Non-zero if the loaded table has `member` (a table from an older library may end
  * before it). */
@@ -173,6 +178,18 @@ typedef struct frix_plugin_table {
     frix_error (*info_stage_get_double)(const frix_info *info, int64_t index, frix_stage_key key,
                                         double *value);
     const char *(*info_stage_note)(const frix_info *info, int64_t index);
+
+    /* ---- Table version 2: the persistent solver (frix_persistent.h). */
+    frix_error (*persistent_create)(const frix_problem *problem, const frix_options *options,
+                                    frix_persistent **out);
+    void (*persistent_free)(frix_persistent *ps);
+    frix_error (*persistent_solve)(frix_persistent *ps, double *r, double *u, double *v,
+                                   frix_info *info);
+    frix_error (*persistent_update_local)(frix_persistent *ps, const frix_matrix *W,
+                                          const double *q, const double *mu);
+    frix_error (*persistent_update_global)(frix_persistent *ps, const frix_matrix *M,
+                                           const frix_matrix *H, const double *f,
+                                           const double *w, const double *mu);
 
     /* New members go here, at the end, and nowhere else. */
 } frix_plugin_table;

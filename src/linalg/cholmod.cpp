@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <mutex>
+#include <vector>
 
 #include "error_state.hpp"
 #include "linalg.hpp"
@@ -61,6 +62,14 @@ void append_columns(const cholmod_sparse &S, std::vector<int64_t> &colptr, std::
 struct SparseCholesky::Impl {
     cholmod_common c;
     cholmod_factor *L = nullptr;
+    // The pattern L was analysed for: a matrix with the same one is factorised on that
+    // analysis (CHOLMOD's ordering depends on the pattern alone).
+    int64_t rows = -1;
+    std::vector<int64_t> colptr, rowind;
+    bool same_pattern(const CscView &A) const {
+        return L && A.rows == rows && std::equal(colptr.begin(), colptr.end(), A.colptr) &&
+               (int64_t)rowind.size() == A.nnz() && std::equal(rowind.begin(), rowind.end(), A.rowind);
+    }
     Impl() {
         cholmod_l_start(&c);
         c.print = 0;  // the library never prints
@@ -87,17 +96,26 @@ SparseCholesky::~SparseCholesky() = default;
 
 frix_error SparseCholesky::factor(const CscView &A) {
     Impl &m = *impl_;
-    if (m.L) cholmod_l_free_factor(&m.L, &m.c);
-    if (A.rows != A.cols || A.rows <= 0)
+    if (A.rows != A.cols || A.rows <= 0) {
+        if (m.L) cholmod_l_free_factor(&m.L, &m.c);
         return fail(FRIX_ERR_DIMENSION, "sparse Cholesky: the matrix is %lld x %lld, not square",
                     (long long)A.rows, (long long)A.cols);
+    }
     const auto t0 = Clock::now();
     cholmod_sparse a = view_of(A, 1);
-    {
-        const std::lock_guard<std::mutex> lock(metis_mutex());  // may try METIS on large M
-        m.L = cholmod_l_analyze(&a, &m.c);
+    if (!m.same_pattern(A)) {
+        if (m.L) cholmod_l_free_factor(&m.L, &m.c);
+        {
+            const std::lock_guard<std::mutex> lock(metis_mutex());  // may try METIS on large M
+            m.L = cholmod_l_analyze(&a, &m.c);
+        }
+        if (m.L) {
+            ++stats_.symbolic;
+            m.rows = A.rows;
+            m.colptr.assign(A.colptr, A.colptr + A.cols + 1);
+            m.rowind.assign(A.rowind, A.rowind + A.nnz());
+        }
     }
-    if (m.L) ++stats_.symbolic;
     const bool ok = m.L && cholmod_l_factorize(&a, m.L, &m.c);
     stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
     if (m.L) ++stats_.numeric;

@@ -92,6 +92,8 @@ class SparseCholesky {
     SparseCholesky(const SparseCholesky &) = delete;
     SparseCholesky &operator=(const SparseCholesky &) = delete;
 
+    // Analyses A's pattern (unless it is the one of the last successful factorisation: the
+    // ordering depends on the pattern alone) and factorises.
     frix_error factor(const CscView &A);
     // x = A^-1 b for one dense right-hand side.
     frix_error solve(const double *b, double *x) const;

@@ -1,0 +1,83 @@
+/* frix — the persistent solver, for codes that solve one problem per time step.
+ *
+ * frix_solve starts every call from nothing. A persistent solver is created once from a
+ * problem and options, then solves, is updated with the next step's data, solves again, and
+ * keeps between its solves what still holds:
+ *   - global problems: the factorisation of M while M is not replaced, and W = H^T M^-1 H
+ *     (for solvers of local problems) while neither M nor H is;
+ *   - the symbolic analyses of the Newton-type solvers' systems, and the factorisations of
+ *     W + rho I (admm) while W's values and rho stay, as long as W's sparsity pattern does;
+ *   - workspaces.
+ * Each solve gives the answer frix_solve would give from the same warm start, up to the
+ * rounding of a reused analysis (its pivot order was chosen on earlier values).
+ *
+ *   frix_persistent *ps;
+ *   frix_persistent_create(problem, options, &ps);
+ *   for (step = 0; step < steps; ++step) {
+ *       ... compute the step's q (or f, w), and W (or M, H) if they moved ...
+ *       frix_persistent_update_local(ps, W_step, q_step, NULL);   (NULL: unchanged)
+ *       frix_persistent_solve(ps, r, u, NULL, info);              (r: the warm start)
+ *   }
+ *   frix_persistent_free(ps);
+ *
+ * Data. The persistent solver borrows the problem's matrices and vectors, as a problem
+ * borrows its caller's: they must stay valid, unchanged, until an update replaces them or the
+ * persistent solver is freed (the frix_problem handle itself may be freed after create).
+ * Vectors (q, f, w, mu) may also be changed in place between solves; matrices are immutable,
+ * so a new W (or M, H) is given by an update. An update may change a matrix's sparsity
+ * pattern too: what was analysed for the old pattern is then analysed again.
+ * The number of contacts and of dofs is fixed: another size needs another persistent solver.
+ *
+ * Threads. One persistent solver is used by one thread at a time (solve and update change
+ * it); distinct persistent solvers may run in parallel, also on the same borrowed data,
+ * which they only read. The options are copied at create; the log sink and the callback
+ * given there are called from the solving thread (and from auto's workers, never two at once).
+ */
+#ifndef FRIX_PERSISTENT_H
+#define FRIX_PERSISTENT_H
+
+#include <stdint.h>
+#include "frix_export.h"
+#include "frix_errors.h"
+#include "frix_matrix.h"
+#include "frix_problem.h"
+#include "frix_options.h"
+#include "frix_info.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct frix_persistent frix_persistent;
+
+/* A persistent solver for `problem` (local or global) with a copy of `options` (NULL: the
+ * default solver with its defaults). FRIX_ERR_INVALID_ARGUMENT for a NULL problem or out,
+ * FRIX_ERR_UNKNOWN_SOLVER, FRIX_ERR_UNSUPPORTED for a solver that cannot solve the
+ * problem's kind; the problem's vectors are checked as by frix_solve. */
+FRIX_API frix_error frix_persistent_create(const frix_problem *problem, const frix_options *options,
+                                           frix_persistent **out);
+/* Frees it (NULL is accepted); never frees the borrowed data. */
+FRIX_API void frix_persistent_free(frix_persistent *ps);
+
+/* Solves the current problem: r, u, v and info exactly as for frix_solve (r is the warm
+ * start; v only for a global problem). */
+FRIX_API frix_error frix_persistent_solve(frix_persistent *ps, double *r, double *u, double *v,
+                                          frix_info *info);
+
+/* The next local problem: each non-NULL argument replaces the current one (W: 3nc x 3nc;
+ * q: 3nc; mu: nc, each >= 0; checked as by frix_problem_local). FRIX_ERR_INVALID_ARGUMENT
+ * on a global problem's solver; on any error nothing is replaced. */
+FRIX_API frix_error frix_persistent_update_local(frix_persistent *ps, const frix_matrix *W,
+                                                 const double *q, const double *mu);
+/* The next global problem: each non-NULL argument replaces the current one (M: n x n;
+ * H: n x 3nc; f: n; w: 3nc; mu: nc; checked as by frix_problem_global).
+ * FRIX_ERR_INVALID_ARGUMENT on a local problem's solver; on any error nothing is replaced. */
+FRIX_API frix_error frix_persistent_update_global(frix_persistent *ps, const frix_matrix *M,
+                                                  const frix_matrix *H, const double *f,
+                                                  const double *w, const double *mu);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* FRIX_PERSISTENT_H */

@@ -1,0 +1,180 @@
+// frix_persistent: the solve driver with a SolveCache kept between calls. The persistent
+// solver tells the cache which matrices changed (by version numbers, bumped by each update
+// that replaces one) and whether a sparsity pattern did (against a copy of the pattern it
+// keeps, since the old matrix may already be freed when the new one arrives).
+#include <frix/frix_persistent.h>
+#include <frix/frix_solve.h>
+
+#include <memory>
+#include <vector>
+
+#include "error_state.hpp"
+#include "options.hpp"
+#include "problem.hpp"
+#include "solver_api.hpp"
+
+namespace {
+
+using frix::fail;
+
+// The sparsity pattern of a matrix, in its own storage.
+struct Pattern {
+    int64_t rows = -1, cols = -1;
+    bool block = false;
+    std::vector<int64_t> ptr, index;
+
+    static Pattern of(const frix_matrix *A) {
+        Pattern p;
+        if (!A) return p;
+        p.rows = A->rows;
+        p.cols = A->cols;
+        p.block = A->block;
+        p.ptr = A->block ? A->row_ptr : A->col_ptr;
+        p.index = A->block ? A->block_col : A->row_ind;
+        return p;
+    }
+    bool operator==(const Pattern &o) const {
+        return rows == o.rows && cols == o.cols && block == o.block && ptr == o.ptr && index == o.index;
+    }
+};
+
+}  // namespace
+
+struct frix_persistent {
+    std::unique_ptr<frix_options> options;
+    frix_problem problem;  // views of the borrowed data, as last updated
+    Pattern W, M, H;
+    frix::SolveCache cache;
+};
+
+namespace {
+
+// A problem of the views given, validated as the public constructors validate them.
+frix_error validate(const frix_problem &p) {
+    frix_problem *check = nullptr;
+    const frix_error e = p.kind == FRIX_PROBLEM_LOCAL
+                             ? frix::make_local_problem(p.W, p.q, p.mu, p.nc, &check)
+                             : frix::make_global_problem(p.M, p.H, p.f, p.w, p.mu, p.nc, &check);
+    frix_problem_free(check);
+    return e;
+}
+
+void copy_views(const frix_problem &from, frix_problem &to) {
+    to.kind = from.kind;
+    to.nc = from.nc;
+    to.n = from.n;
+    to.W = from.W;
+    to.q = from.q;
+    to.M = from.M;
+    to.H = from.H;
+    to.f = from.f;
+    to.w = from.w;
+    to.mu = from.mu;
+}
+
+frix_error create(const frix_problem *problem, const frix_options *options, frix_persistent **out) {
+    if (!out) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_persistent_create: out is NULL");
+    *out = nullptr;
+    if (!problem) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_persistent_create: problem is NULL");
+    auto ps = std::make_unique<frix_persistent>();
+    frix_options *copy = nullptr;
+    const frix_error e = options ? frix_options_copy(options, &copy) : frix_options_create(frix::kDefaultSolver, &copy);
+    if (e) return e;
+    ps->options.reset(copy);
+    const frix::SolverEntry *entry = frix::find_solver(copy->solver_id);
+    if (!entry)
+        return fail(FRIX_ERR_UNKNOWN_SOLVER, "frix_persistent_create: no solver has id %d", copy->solver_id);
+    if (problem->kind == FRIX_PROBLEM_LOCAL && !entry->solves_local)
+        return fail(FRIX_ERR_UNSUPPORTED, "frix_persistent_create: solver %s solves global problems only",
+                    entry->name);
+    if (frix_error err = frix::check_problem_vectors(*problem)) return err;
+    copy_views(*problem, ps->problem);
+    ps->W = Pattern::of(problem->W);
+    ps->M = Pattern::of(problem->M);
+    ps->H = Pattern::of(problem->H);
+    *out = ps.release();
+    return FRIX_OK;
+}
+
+// Replaces matrix `current` by `next` (when given), bumping the versions that say so.
+void replace_matrix(const frix_matrix *&current, Pattern &pattern, const frix_matrix *next, uint64_t &values,
+                    uint64_t *pattern_version) {
+    if (!next) return;
+    current = next;
+    ++values;
+    Pattern p = Pattern::of(next);
+    if (!(p == pattern)) {
+        pattern = std::move(p);
+        if (pattern_version) ++*pattern_version;
+    }
+}
+
+}  // namespace
+
+extern "C" {
+
+FRIX_API frix_error frix_persistent_create(const frix_problem *problem, const frix_options *options,
+                                           frix_persistent **out) {
+    return frix::guard("frix_persistent_create", [&] { return create(problem, options, out); });
+}
+
+FRIX_API void frix_persistent_free(frix_persistent *ps) { delete ps; }
+
+FRIX_API frix_error frix_persistent_solve(frix_persistent *ps, double *r, double *u, double *v, frix_info *info) {
+    return frix::guard("frix_persistent_solve", [&]() -> frix_error {
+        if (!ps) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_persistent_solve: the persistent solver is NULL");
+        return frix::solve_problem("frix_persistent_solve", &ps->problem, ps->options.get(), r, u, v, info,
+                                   &ps->cache);
+    });
+}
+
+FRIX_API frix_error frix_persistent_update_local(frix_persistent *ps, const frix_matrix *W, const double *q,
+                                                 const double *mu) {
+    return frix::guard("frix_persistent_update_local", [&]() -> frix_error {
+        if (!ps) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_persistent_update_local: the persistent solver is NULL");
+        if (ps->problem.kind != FRIX_PROBLEM_LOCAL)
+            return fail(FRIX_ERR_INVALID_ARGUMENT,
+                        "frix_persistent_update_local: the problem is global (use frix_persistent_update_global)");
+        frix_problem next;
+        copy_views(ps->problem, next);
+        if (W) next.W = W;
+        if (q) next.q = q;
+        if (mu) next.mu = mu;
+        if (frix_error e = validate(next)) return e;
+        replace_matrix(ps->problem.W, ps->W, W, ps->cache.w_values, &ps->cache.w_pattern);
+        ps->problem.q = next.q;
+        ps->problem.mu = next.mu;
+        return FRIX_OK;
+    });
+}
+
+FRIX_API frix_error frix_persistent_update_global(frix_persistent *ps, const frix_matrix *M, const frix_matrix *H,
+                                                  const double *f, const double *w, const double *mu) {
+    return frix::guard("frix_persistent_update_global", [&]() -> frix_error {
+        if (!ps) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_persistent_update_global: the persistent solver is NULL");
+        if (ps->problem.kind != FRIX_PROBLEM_GLOBAL)
+            return fail(FRIX_ERR_INVALID_ARGUMENT,
+                        "frix_persistent_update_global: the problem is local (use frix_persistent_update_local)");
+        frix_problem next;
+        copy_views(ps->problem, next);
+        if (M) next.M = M;
+        if (H) next.H = H;
+        if (f) next.f = f;
+        if (w) next.w = w;
+        if (mu) next.mu = mu;
+        if (frix_error e = validate(next)) return e;
+        if (M && M->rows != ps->problem.n)
+            return fail(FRIX_ERR_DIMENSION, "frix_persistent_update_global: M is %lld x %lld, the problem has %lld dofs",
+                        (long long)M->rows, (long long)M->cols, (long long)ps->problem.n);
+        // The driver's states follow M's and H's values; a pattern change shows in the W
+        // it forms from them.
+        replace_matrix(ps->problem.M, ps->M, M, ps->cache.m_values, nullptr);
+        replace_matrix(ps->problem.H, ps->H, H, ps->cache.h_values, nullptr);
+        ps->problem.f = next.f;
+        ps->problem.w = next.w;
+        ps->problem.mu = next.mu;
+        return FRIX_OK;
+    });
+}
+
+}  // extern "C"

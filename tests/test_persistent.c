@@ -1,0 +1,332 @@
+/* The persistent solver (frix_persistent.h): bad input, the answers frix_solve gives on a
+ * sequence of steps, what it keeps between solves (read from the info's counters), updates
+ * of every kind, and the plugin table's versions. */
+#include <frix/frix.h>
+
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check_main.h"
+#include "scenes.h"
+
+/* A pyramid of spheres (redundant contacts, normals in every direction): step k turns the
+ * contact frames by 0.01 k and pushes every body sideways a little more. */
+typedef struct sequence {
+    int steps;
+    frix_scene scene[4];
+    frix_scene_problems forms[4];
+} sequence;
+
+static void make_sequence(sequence *s, int layers) {
+    s->steps = 4;
+    for (int k = 0; k < s->steps; ++k) {
+        frix_scene_params prm;
+        frix_scene_defaults(FRIX_SCENE_SPHERES, &prm);
+        prm.count = layers;
+        prm.frame_angle = 0.01 * k;
+        ck_assert_int_eq(frix_scene_build(&prm, &s->scene[k], NULL), FRIX_OK);
+        for (int64_t b = 0; b < s->scene[k].bodies; ++b)
+            s->scene[k].f[6 * b] += 0.02 * k * prm.step * FRIX_SCENE_GRAVITY / s->scene[k].minv[6 * b];
+        ck_assert_int_eq(frix_scene_problems_make(&s->scene[k], &s->forms[k]), FRIX_OK);
+    }
+}
+
+static void free_sequence(sequence *s) {
+    for (int k = 0; k < s->steps; ++k) {
+        frix_scene_problems_free(&s->forms[k]);
+        frix_scene_free(&s->scene[k]);
+    }
+}
+
+static int64_t info_int(const frix_info *info, frix_info_key key) {
+    int64_t x = -1;
+    ck_assert_int_eq(frix_info_get_int(info, key, &x), FRIX_OK);
+    return x;
+}
+
+START_TEST(test_bad_input) {
+    sequence s;
+    make_sequence(&s, 2);
+    frix_persistent *ps = (frix_persistent *)&s;  /* must be overwritten with NULL */
+    ck_assert_int_eq(frix_persistent_create(NULL, NULL, &ps), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_ptr_null(ps);
+    ck_assert_int_eq(frix_persistent_create(s.forms[0].local, NULL, NULL), FRIX_ERR_INVALID_ARGUMENT);
+    frix_options *global_only = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_GLOBAL_NSN_AC, &global_only), FRIX_OK);
+    ck_assert_int_eq(frix_persistent_create(s.forms[0].local, global_only, &ps), FRIX_ERR_UNSUPPORTED);
+    frix_options_free(global_only);
+    frix_persistent_free(NULL);
+
+    const int64_t nc = s.scene[0].nc, m = 3 * nc;
+    double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u);
+    ck_assert_int_eq(frix_persistent_solve(NULL, r, u, NULL, NULL), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(frix_persistent_create(s.forms[0].local, NULL, &ps), FRIX_OK);
+    ck_assert_int_eq(frix_persistent_update_local(NULL, NULL, NULL, NULL), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(frix_persistent_update_global(ps, NULL, NULL, NULL, NULL, NULL), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(frix_persistent_solve(ps, NULL, u, NULL, NULL), FRIX_ERR_INVALID_ARGUMENT);
+
+    /* A W of another size, a non-finite q and a negative mu are refused, and nothing of
+     * the update is taken: the next solve is that of the first problem. */
+    frix_scene_params prm;
+    frix_scene_defaults(FRIX_SCENE_SPHERES, &prm);
+    prm.count = 3;
+    frix_scene bigger;
+    frix_scene_problems bigger_forms;
+    ck_assert_int_eq(frix_scene_build(&prm, &bigger, NULL), FRIX_OK);
+    ck_assert_int_eq(frix_scene_problems_make(&bigger, &bigger_forms), FRIX_OK);
+    ck_assert_int_eq(frix_persistent_update_local(ps, bigger_forms.W, s.forms[1].q, NULL), FRIX_ERR_DIMENSION);
+    double *bad_q = malloc(sizeof *bad_q * (size_t)m), *bad_mu = malloc(sizeof *bad_mu * (size_t)nc);
+    memcpy(bad_q, s.forms[1].q, sizeof *bad_q * (size_t)m);
+    bad_q[1] = NAN;
+    ck_assert_int_eq(frix_persistent_update_local(ps, NULL, bad_q, NULL), FRIX_ERR_NOT_FINITE);
+    for (int64_t a = 0; a < nc; ++a) bad_mu[a] = 0.5;
+    bad_mu[0] = -1.0;
+    ck_assert_int_eq(frix_persistent_update_local(ps, s.forms[1].W, s.forms[1].q, bad_mu), FRIX_ERR_INVALID_ARGUMENT);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    double *r1 = calloc((size_t)m, sizeof *r1);
+    ck_assert_int_eq(frix_persistent_solve(ps, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_solve(s.forms[0].local, NULL, r1, u, NULL, NULL), FRIX_OK);
+    for (int64_t i = 0; i < m; ++i) ck_assert_double_eq_tol(r[i], r1[i], 1e-9 * (1.0 + fabs(r1[i])));
+
+    frix_persistent_free(ps);
+    frix_info_free(info);
+    frix_scene_problems_free(&bigger_forms);
+    frix_scene_free(&bigger);
+    free(bad_q);
+    free(bad_mu);
+    free(r);
+    free(r1);
+    free(u);
+    free_sequence(&s);
+}
+END_TEST
+
+/* Every solver of local problems, step after step from the previous answer: the persistent
+ * solver converges where frix_solve does, to the same answer within the tolerance, with no
+ * more factorisations. */
+static void same_answers(int solver, int global) {
+    sequence s;
+    make_sequence(&s, 3);
+    const int64_t nc = s.scene[0].nc, n = s.scene[0].n, m = 3 * nc;
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(solver, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
+    double *r1 = calloc((size_t)m, sizeof *r1), *rp = calloc((size_t)m, sizeof *rp);
+    double *u = calloc((size_t)m, sizeof *u), *v = calloc((size_t)n, sizeof *v);
+    frix_info *i1 = NULL, *ip = NULL;
+    ck_assert_int_eq(frix_info_create(&i1), FRIX_OK);
+    ck_assert_int_eq(frix_info_create(&ip), FRIX_OK);
+    frix_persistent *ps = NULL;
+    for (int k = 0; k < s.steps; ++k) {
+        frix_problem *p = global ? s.forms[k].global : s.forms[k].local;
+        if (k == 0) {
+            ck_assert_int_eq(frix_persistent_create(p, o, &ps), FRIX_OK);
+        } else if (global) {
+            ck_assert_int_eq(frix_persistent_update_global(ps, s.forms[k].M, s.forms[k].H, s.scene[k].f, s.scene[k].w,
+                                                           s.scene[k].mu),
+                             FRIX_OK);
+        } else {
+            ck_assert_int_eq(frix_persistent_update_local(ps, s.forms[k].W, s.forms[k].q, s.scene[k].mu), FRIX_OK);
+        }
+        memcpy(rp, r1, sizeof *r1 * (size_t)m);  /* both from the one-shot answer of step k-1 */
+        ck_assert_int_eq(frix_solve(p, o, r1, u, v, i1), FRIX_OK);
+        ck_assert_int_eq(frix_persistent_solve(ps, rp, u, v, ip), FRIX_OK);
+        ck_assert_int_eq(frix_info_status(ip), frix_info_status(i1));
+        ck_assert_int_le(info_int(ip, FRIX_INFO_FACTORIZATIONS), info_int(i1, FRIX_INFO_FACTORIZATIONS));
+        ck_assert_int_le(info_int(ip, FRIX_INFO_SYMBOLIC_ANALYSES), info_int(i1, FRIX_INFO_SYMBOLIC_ANALYSES));
+        if (frix_info_status(i1) == FRIX_STATUS_CONVERGED) {
+            ck_assert_double_le(frix_info_error(ip), 1e-8);
+            double scale = 0.0;
+            for (int64_t i = 0; i < m; ++i) scale = fmax(scale, fabs(r1[i]));
+            double diff = 0.0;
+            for (int64_t i = 0; i < m; ++i) diff = fmax(diff, fabs(rp[i] - r1[i]));
+            /* The answer is unique in u, not always in r (redundant contacts): compare the
+             * answers' errors on each other's problem instead where r differs. */
+            if (diff > 1e-5 * scale) {
+                double e = 0.0;
+                ck_assert_int_eq(frix_problem_error(p, rp, global ? v : NULL, &e), FRIX_OK);
+                ck_assert_double_le(e, 1e-8);
+            }
+        }
+    }
+    frix_persistent_free(ps);
+    frix_info_free(i1);
+    frix_info_free(ip);
+    frix_options_free(o);
+    free(r1);
+    free(rp);
+    free(u);
+    free(v);
+    free_sequence(&s);
+}
+
+static const int kSolvers[] = {FRIX_SOLVER_NSGS,  FRIX_SOLVER_NSN_AC, FRIX_SOLVER_PROX,
+                               FRIX_SOLVER_ADMM,  FRIX_SOLVER_IPM,    FRIX_SOLVER_AUTO};
+
+START_TEST(test_same_answers_local) { same_answers(kSolvers[_i], 0); }
+END_TEST
+
+START_TEST(test_same_answers_global) { same_answers(kSolvers[_i], 1); }
+END_TEST
+
+START_TEST(test_same_answers_native_global) { same_answers(FRIX_SOLVER_GLOBAL_NSN_AC, 1); }
+END_TEST
+
+/* A stack of 40 cubes on 4 contacts a face (160 contacts: sparse systems, above the dense
+ * sizes), its frames turned by `turn`. */
+static void make_stack(frix_scene *scene, frix_scene_problems *forms, double turn) {
+    frix_scene_params prm;
+    frix_scene_defaults(FRIX_SCENE_STACK, &prm);
+    prm.count = 40;
+    prm.per_face = 4;
+    prm.frame_angle = turn;
+    ck_assert_int_eq(frix_scene_build(&prm, scene, NULL), FRIX_OK);
+    ck_assert_int_eq(frix_scene_problems_make(scene, forms), FRIX_OK);
+}
+
+/* What is kept: solving the same problem twice, the second solve analyses nothing again
+ * (Newton: the same active set; admm: the same pattern), and a global problem whose M and H
+ * stay is neither factorised nor reduced again. */
+START_TEST(test_kept_between_solves) {
+    sequence s;
+    s.steps = 3;
+    for (int k = 0; k < s.steps; ++k) make_stack(&s.scene[k], &s.forms[k], 0.05 * k);
+    for (int64_t b = 0; b < s.scene[2].bodies; ++b) s.scene[2].f[6 * b + 1] *= 1.1;
+    const int64_t nc = s.scene[1].nc, n = s.scene[1].n, m = 3 * nc;
+    double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u), *v = calloc((size_t)n, sizeof *v);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    const int solvers[] = {FRIX_SOLVER_NSN_AC, FRIX_SOLVER_ADMM, FRIX_SOLVER_IPM};
+    double *q_next = malloc(sizeof *q_next * (size_t)m);  /* a load 5% heavier */
+    for (int64_t i = 0; i < m; ++i) q_next[i] = 1.05 * s.forms[1].q[i];
+    for (size_t j = 0; j < sizeof solvers / sizeof *solvers; ++j) {
+        frix_options *o = NULL;
+        ck_assert_int_eq(frix_options_create(solvers[j], &o), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-6), FRIX_OK);
+        frix_persistent *ps = NULL;
+        ck_assert_int_eq(frix_persistent_create(s.forms[1].local, o, &ps), FRIX_OK);
+        memset(r, 0, sizeof *r * (size_t)m);
+        ck_assert_int_eq(frix_persistent_solve(ps, r, u, NULL, info), FRIX_OK);
+        ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+        ck_assert_int_ge(info_int(info, FRIX_INFO_SYMBOLIC_ANALYSES), 1);
+        /* The next step (another q, the same W) from the last answer: Newton's active set is
+         * the last one's, ipm's and admm's systems have W's pattern. */
+        ck_assert_int_eq(frix_persistent_update_local(ps, NULL, q_next, NULL), FRIX_OK);
+        ck_assert_int_eq(frix_persistent_solve(ps, r, u, NULL, info), FRIX_OK);
+        ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+        ck_assert_int_gt(info_int(info, FRIX_INFO_ITERATIONS), 0);
+        ck_assert_int_eq(info_int(info, FRIX_INFO_SYMBOLIC_ANALYSES), 0);
+        ck_assert_int_ge(info_int(info, FRIX_INFO_FACTORIZATIONS), 1);
+        /* New values of W, same pattern: still no analysis for admm (the pattern of W + rho I
+         * is W's). */
+        if (solvers[j] == FRIX_SOLVER_ADMM) {
+            ck_assert_int_eq(frix_persistent_update_local(ps, s.forms[2].W, s.forms[2].q, NULL), FRIX_OK);
+            ck_assert_int_eq(frix_persistent_solve(ps, r, u, NULL, info), FRIX_OK);
+            ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+            ck_assert_int_eq(info_int(info, FRIX_INFO_SYMBOLIC_ANALYSES), 0);
+        }
+        frix_persistent_free(ps);
+        frix_options_free(o);
+    }
+    /* Global, nsgs through W = H^T M^-1 H: the first solve factorises M (rigid bodies: M is
+     * diagonal, one factorisation), the next ones with a new f only do not. */
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS, &o), FRIX_OK);
+    frix_persistent *ps = NULL;
+    ck_assert_int_eq(frix_persistent_create(s.forms[1].global, o, &ps), FRIX_OK);
+    ck_assert_int_eq(frix_persistent_solve(ps, r, u, v, info), FRIX_OK);
+    ck_assert_int_eq(info_int(info, FRIX_INFO_FACTORIZATIONS), 1);
+    ck_assert_int_eq(frix_persistent_update_global(ps, NULL, NULL, s.scene[2].f, NULL, NULL), FRIX_OK);
+    double *r1 = malloc(sizeof *r1 * (size_t)m), *v1 = malloc(sizeof *v1 * (size_t)n);
+    memcpy(r1, r, sizeof *r1 * (size_t)m);
+    ck_assert_int_eq(frix_persistent_solve(ps, r, u, v, info), FRIX_OK);
+    ck_assert_int_eq(info_int(info, FRIX_INFO_FACTORIZATIONS), 0);
+    /* The same answer as frix_solve on that problem, whose W is the same to the last bit. */
+    frix_problem *check = NULL;
+    ck_assert_int_eq(frix_problem_global(s.forms[1].M, s.forms[1].H, s.scene[2].f, s.scene[1].w, s.scene[1].mu,
+                                         nc, &check),
+                     FRIX_OK);
+    frix_info *one_shot = NULL;
+    ck_assert_int_eq(frix_info_create(&one_shot), FRIX_OK);
+    ck_assert_int_eq(frix_solve(check, o, r1, u, v1, one_shot), FRIX_OK);
+    ck_assert_int_eq(info_int(one_shot, FRIX_INFO_FACTORIZATIONS), 1);
+    ck_assert_int_eq(frix_info_status(info), frix_info_status(one_shot));
+    ck_assert_int_eq(frix_info_iterations(info), frix_info_iterations(one_shot));
+    for (int64_t i = 0; i < m; ++i) ck_assert_double_eq_tol(r[i], r1[i], 1e-12 * (1.0 + fabs(r1[i])));
+    frix_info_free(one_shot);
+    free(r1);
+    free(v1);
+    /* A new M is factorised again. */
+    ck_assert_int_eq(frix_persistent_update_global(ps, s.forms[1].M, NULL, NULL, NULL, NULL), FRIX_OK);
+    ck_assert_int_eq(frix_persistent_solve(ps, r, u, v, info), FRIX_OK);
+    ck_assert_int_eq(info_int(info, FRIX_INFO_FACTORIZATIONS), 1);
+    frix_problem_free(check);
+    frix_persistent_free(ps);
+    frix_options_free(o);
+    frix_info_free(info);
+    free(q_next);
+    free(r);
+    free(u);
+    free(v);
+    free_sequence(&s);
+}
+END_TEST
+
+/* The persistent solver borrows the data, not the problem handle. */
+START_TEST(test_problem_handle_freed) {
+    sequence s;
+    make_sequence(&s, 2);
+    const int64_t nc = s.scene[0].nc, m = 3 * nc;
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_problem_local(s.forms[0].W, s.forms[0].q, s.scene[0].mu, nc, &p), FRIX_OK);
+    frix_persistent *ps = NULL;
+    ck_assert_int_eq(frix_persistent_create(p, NULL, &ps), FRIX_OK);
+    frix_problem_free(p);
+    double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_persistent_solve(ps, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    frix_persistent_free(ps);
+    frix_info_free(info);
+    free(r);
+    free(u);
+    free_sequence(&s);
+}
+END_TEST
+
+START_TEST(test_plugin_table_versions) {
+    const frix_plugin_table *v1 = frix_plugin_api(1), *v2 = frix_plugin_api(2);
+    ck_assert_ptr_nonnull(v1);
+    ck_assert_ptr_nonnull(v2);
+    ck_assert_int_eq(v1->abi_version, 1);
+    ck_assert_int_eq(v2->abi_version, 2);
+    ck_assert_uint_eq(v1->size, offsetof(frix_plugin_table, persistent_create));
+    ck_assert_uint_eq(v2->size, sizeof(frix_plugin_table));
+    ck_assert(FRIX_PLUGIN_HAS(v1, info_stage_note));
+    ck_assert(!FRIX_PLUGIN_HAS(v1, persistent_create));
+    ck_assert(FRIX_PLUGIN_HAS(v2, persistent_update_global));
+    ck_assert_ptr_eq(v2->persistent_solve, frix_persistent_solve);
+    ck_assert_ptr_eq(v1->solve, v2->solve);
+    ck_assert_ptr_null(frix_plugin_api(3));
+    ck_assert_ptr_null(frix_plugin_api(0));
+}
+END_TEST
+
+int main(void) {
+    Suite *s = suite_create("persistent");
+    TCase *tc = tcase_create("persistent");
+    tcase_set_timeout(tc, 600);
+    tcase_add_test(tc, test_bad_input);
+    tcase_add_loop_test(tc, test_same_answers_local, 0, (int)(sizeof kSolvers / sizeof *kSolvers));
+    tcase_add_loop_test(tc, test_same_answers_global, 0, (int)(sizeof kSolvers / sizeof *kSolvers));
+    tcase_add_test(tc, test_same_answers_native_global);
+    tcase_add_test(tc, test_kept_between_solves);
+    tcase_add_test(tc, test_problem_handle_freed);
+    tcase_add_test(tc, test_plugin_table_versions);
+    suite_add_tcase(s, tc);
+    return frix_run_suite(s);
+}
