@@ -247,9 +247,10 @@ void accumulate(frix_info &into, const frix_info &stage) {
 // Solves one local problem (an island, or the whole problem) with the stage sequence.
 class IslandSolver {
    public:
-    IslandSolver(const frix_problem &p, Shared &shared, int64_t island)
-        : p_(p), shared_(shared), island_(island), m_(3 * p.nc), u_((size_t)m_), best_r_((size_t)m_),
-          rng_(kRestartSeed + (uint64_t)island) {}
+    // cache: the part's states kept by a persistent solver (null for a one-shot solve).
+    IslandSolver(const frix_problem &p, Shared &shared, int64_t island, SolveCache *cache)
+        : p_(p), shared_(shared), island_(island), cache_(cache), m_(3 * p.nc), u_((size_t)m_),
+          best_r_((size_t)m_), rng_(kRestartSeed + (uint64_t)island) {}
 
     // Phase kFirst runs the first NSGS stage, phase kRest one round of the others: every
     // part gets its cheap chance before any part gets a long one, and the parts take their
@@ -520,7 +521,7 @@ class IslandSolver {
         info.contacts = p_.nc;
         info.tolerance = tolerance_;
         const double t0 = shared_.clock.seconds();
-        if (frix_error e = solve_local_problem(p_, o, *entry, r, u_.data(), info, shared_.clock)) return e;
+        if (frix_error e = solve_local_problem(p_, o, *entry, r, u_.data(), info, shared_.clock, cache_)) return e;
         accumulate(counters_, info);
         // Iterations the callback did not see (solvers report at their own pace).
         if (info.iterations > dog.last_iteration) shared_.iterations += info.iterations - dog.last_iteration;
@@ -543,6 +544,7 @@ class IslandSolver {
     const frix_problem &p_;
     Shared &shared_;
     int64_t island_;
+    SolveCache *cache_;
     int64_t m_;
     std::vector<double> u_, best_r_;
     std::vector<double> nsgs_chain_;  // where the last NSGS stage of the rounds stopped
@@ -575,12 +577,39 @@ struct Island {
     std::string message;  // the error message of a failed solve, from its thread
 };
 
+// What a persistent solver keeps for auto (solve_cache.hpp): its parts' states (each part's
+// stages reuse their analyses and factorisations), while W's pattern, and so the parts, stay;
+// and for a global problem, the driver's states of the reduction auto runs (M's
+// factorisation, W).
+struct KeptAuto : CachedState {
+    uint64_t w_pattern = 0;
+    std::vector<std::vector<int64_t>> parts;
+    std::vector<std::unique_ptr<SolveCache>> part_caches;
+    SolveCache reduction;
+};
+
+// The cache of each part for this solve: the kept ones when the parts are those of the last
+// solve on the same pattern, new ones otherwise; their W versions are the problem's.
+void part_caches(KeptAuto &kept, const SolveCache &cache, const std::vector<std::vector<int64_t>> &parts) {
+    if (kept.w_pattern != cache.w_pattern || kept.parts != parts) {
+        kept.part_caches.clear();
+        for (size_t k = 0; k < parts.size(); ++k) kept.part_caches.push_back(std::make_unique<SolveCache>());
+        kept.parts = parts;
+        kept.w_pattern = cache.w_pattern;
+    }
+    for (std::unique_ptr<SolveCache> &c : kept.part_caches) {
+        c->w_values = cache.w_values;
+        c->w_pattern = cache.w_pattern;
+    }
+}
+
 frix_error solve_local(SolveContext &ctx) {
     const frix_problem &p = ctx.problem;
     const frix_options &user = ctx.options;
     frix_info &info = ctx.info;
     const double tol = user.d(FRIX_OPT_TOLERANCE);
     Shared shared(user, ctx.clock);
+    Kept<KeptAuto> kept(ctx.cache, FRIX_SOLVER_AUTO);
 
     Analysis a = analyse_local(p);
     info.islands = (int64_t)a.islands.size();
@@ -597,11 +626,12 @@ frix_error solve_local(SolveContext &ctx) {
     // smaller ones together (one sub-problem, still block-diagonal): a sub-problem per tiny
     // island would cost more in setup than its solve.
     std::vector<std::vector<int64_t>> units = group_small_islands(std::move(a.islands), kMinIslandContacts);
+    if (ctx.cache) part_caches(*kept, *ctx.cache, units);
     std::vector<Island> islands(units.size());
     const bool whole = islands.size() == 1;
     for (size_t k = 0; k < islands.size(); ++k) {
         Island &is = islands[k];
-        is.contacts = std::move(units[k]);
+        is.contacts = units[k];
         const frix_problem *sub = &p;
         if (!whole) {
             if (frix_error e = extract_island(p, is.contacts, is.sub)) return e;
@@ -610,7 +640,8 @@ frix_error solve_local(SolveContext &ctx) {
             for (size_t c = 0; c < is.contacts.size(); ++c)
                 for (int d = 0; d < 3; ++d) is.r[3 * c + (size_t)d] = ctx.r[3 * is.contacts[c] + d];
         }
-        is.solver = std::make_unique<IslandSolver>(*sub, shared, whole ? 0 : (int64_t)k + 1);
+        is.solver = std::make_unique<IslandSolver>(*sub, shared, whole ? 0 : (int64_t)k + 1,
+                                                   ctx.cache ? kept->part_caches[k].get() : nullptr);
     }
 
     // Solve every island to `island_tol`; several at once when threads allow.
@@ -703,7 +734,7 @@ frix_error solve_local(SolveContext &ctx) {
         info.status = FRIX_STATUS_MAX_ITER;
     else
         info.status = FRIX_STATUS_STAGNATED;
-
+    kept.keep();
     return FRIX_OK;
 }
 
@@ -783,7 +814,7 @@ struct GlobalAnswer {
 // limit), on the caller's clock, tolerance, measure and callback: ctx.info becomes its info
 // (status, counters, measures), `stage` its trace event. Converged is the driver's verdict on
 // the returned (r, v) (error and equilibrium), whatever Newton's own stopping test said.
-frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage) {
+frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage, SolveCache *reduction) {
     frix_options o;
     default_options(kGlobalNsnAcEntry, o);
     o.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, std::min(o.ivalue[FRIX_OPT_MAX_ITER], max_iter));
@@ -801,7 +832,7 @@ frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage)
     run.analysis = ctx.info.analysis;
     const double t0 = ctx.clock.seconds();
     if (frix_error e = solve_global_problem(ctx.problem, o, kGlobalNsnAcEntry, ctx.r, ctx.u, ctx.v, run,
-                                            ctx.clock))
+                                            ctx.clock, reduction))
         return e;
     if (meets_global_tolerance(run, ctx.options.d(FRIX_OPT_TOLERANCE))) run.status = FRIX_STATUS_CONVERGED;
     stage.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
@@ -817,7 +848,7 @@ frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage)
 // `reduction_iter` of the `max_iter` iterations, then, where the global measure (error and
 // equilibrium) is not met, Newton on (v, r) from its result with what is left. ctx.info
 // becomes the route's info; the existence check is the caller's.
-frix_error reduce_then_newton(SolveContext &ctx, int64_t max_iter, int64_t reduction_iter) {
+frix_error reduce_then_newton(SolveContext &ctx, int64_t max_iter, int64_t reduction_iter, SolveCache *cache) {
     const frix_problem &p = ctx.problem;
     frix_info &info = ctx.info;
     const double tol = ctx.options.d(FRIX_OPT_TOLERANCE), tl = ctx.options.d(FRIX_OPT_TIME_LIMIT);
@@ -829,7 +860,7 @@ frix_error reduce_then_newton(SolveContext &ctx, int64_t max_iter, int64_t reduc
     reduced.contacts = info.contacts;
     reduced.tolerance = info.tolerance;
     if (frix_error e = solve_global_problem(p, reduction, kAutoReductionEntry, ctx.r, ctx.u, ctx.v, reduced,
-                                            ctx.clock))
+                                            ctx.clock, cache))
         return e;
     info = std::move(reduced);
     info.analysis.dofs = global_analysis.dofs;
@@ -854,7 +885,7 @@ frix_error reduce_then_newton(SolveContext &ctx, int64_t max_iter, int64_t reduc
     const frix_info before = info;
     const GlobalAnswer reduced_answer(ctx, info);
     TraceEvent stage = trace_event(kStage);
-    if (frix_error e = global_newton(ctx, left, stage)) return e;
+    if (frix_error e = global_newton(ctx, left, stage, cache)) return e;
     reduced_answer.restore_if_better(ctx, info);
     trace.push_back(stage);
     accumulate(info, before);
@@ -879,6 +910,16 @@ frix_error solve(SolveContext &ctx) {
     // if it fails.
     const frix_problem &p = ctx.problem;
     frix_info &info = ctx.info;
+    // A persistent solver keeps the driver's states of the reductions below (their own
+    // cache, which follows the versions of the caller's M and H).
+    Kept<KeptAuto> kept(ctx.cache, FRIX_SOLVER_AUTO);
+    kept.keep();
+    SolveCache *reduction = nullptr;
+    if (ctx.cache) {
+        reduction = &kept->reduction;
+        reduction->m_values = ctx.cache->m_values;
+        reduction->h_values = ctx.cache->h_values;
+    }
     const ReductionSize size = reduction_size(p);
     info.analysis.dofs = p.n;
     info.analysis.contacts = p.nc;
@@ -888,7 +929,7 @@ frix_error solve(SolveContext &ctx) {
     const int64_t max_iter = ctx.options.i(FRIX_OPT_MAX_ITER);
     const double tl = ctx.options.d(FRIX_OPT_TIME_LIMIT);
     if (!(size.w_entries > kReductionMaxEntries && size.w_entries > kReductionMaxGrowth * size.input_entries)) {
-        if (frix_error e = reduce_then_newton(ctx, max_iter, max_iter / 2)) return e;
+        if (frix_error e = reduce_then_newton(ctx, max_iter, max_iter / 2, reduction)) return e;
         check_existence_on_failure(ctx);
         return FRIX_OK;
     }
@@ -897,7 +938,7 @@ frix_error solve(SolveContext &ctx) {
     // Newton stagnates at an equilibrium residual of 5e-8; through W auto converges).
     const std::vector<double> start(ctx.r, ctx.r + 3 * p.nc);
     TraceEvent stage = trace_event(kStage);
-    if (frix_error e = global_newton(ctx, max_iter, stage)) return e;
+    if (frix_error e = global_newton(ctx, max_iter, stage, reduction)) return e;
     TraceEvent direct = trace_event(kGlobalDirect);
     direct.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
     std::vector<TraceEvent> trace{direct, stage};
@@ -929,7 +970,7 @@ frix_error solve(SolveContext &ctx) {
     const frix_info newton = info;
     const GlobalAnswer newton_answer(ctx, info);
     std::copy(start.begin(), start.end(), ctx.r);
-    if (frix_error e = reduce_then_newton(ctx, left, left / 2)) return e;
+    if (frix_error e = reduce_then_newton(ctx, left, left / 2, reduction)) return e;
     newton_answer.restore_if_better(ctx, info);
     trace.insert(trace.end(), info.trace.begin(), info.trace.end());
     accumulate(info, newton);
