@@ -4,6 +4,7 @@
 #include <frix/frix.h>
 
 #include <math.h>
+#include <pthread.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
@@ -320,6 +321,67 @@ START_TEST(test_problem_handle_freed) {
 }
 END_TEST
 
+/* Two persistent solvers on the same borrowed data, in two threads at once: each gives what
+ * it gives alone (the data is only read; nothing else is shared). */
+typedef struct worker {
+    const sequence *s;
+    int solver;
+    double *r;  /* 3nc, the last step's answer */
+    int64_t iterations;
+    frix_error err;
+} worker;
+
+static void *run_steps(void *arg) {
+    worker *w = arg;
+    const sequence *s = w->s;
+    const int64_t m = 3 * s->scene[0].nc;
+    double *u = calloc((size_t)m, sizeof *u);
+    frix_options *o = NULL;
+    frix_info *info = NULL;
+    frix_persistent *ps = NULL;
+    w->err = frix_options_create(w->solver, &o);
+    if (!w->err) w->err = frix_info_create(&info);
+    if (!w->err) w->err = frix_persistent_create(s->forms[0].local, o, &ps);
+    memset(w->r, 0, sizeof *w->r * (size_t)m);
+    w->iterations = 0;
+    for (int k = 0; k < s->steps && !w->err; ++k) {
+        w->err = frix_persistent_update_local(ps, s->forms[k].W, s->forms[k].q, NULL);
+        if (!w->err) w->err = frix_persistent_solve(ps, w->r, u, NULL, info);
+        w->iterations += frix_info_iterations(info);
+    }
+    frix_persistent_free(ps);
+    frix_info_free(info);
+    frix_options_free(o);
+    free(u);
+    return NULL;
+}
+
+START_TEST(test_threads_share_data) {
+    sequence s;
+    make_sequence(&s, 3);
+    const int64_t m = 3 * s.scene[0].nc;
+    const int solvers[2] = {FRIX_SOLVER_NSN_AC, FRIX_SOLVER_ADMM};
+    worker alone[2], together[2];
+    for (int t = 0; t < 2; ++t) {
+        alone[t] = (worker){&s, solvers[t], malloc(sizeof(double) * (size_t)m), 0, FRIX_OK};
+        together[t] = (worker){&s, solvers[t], malloc(sizeof(double) * (size_t)m), 0, FRIX_OK};
+        run_steps(&alone[t]);
+        ck_assert_int_eq(alone[t].err, FRIX_OK);
+    }
+    pthread_t th[2];
+    for (int t = 0; t < 2; ++t) ck_assert_int_eq(pthread_create(&th[t], NULL, run_steps, &together[t]), 0);
+    for (int t = 0; t < 2; ++t) ck_assert_int_eq(pthread_join(th[t], NULL), 0);
+    for (int t = 0; t < 2; ++t) {
+        ck_assert_int_eq(together[t].err, FRIX_OK);
+        ck_assert_int_eq(together[t].iterations, alone[t].iterations);
+        ck_assert_mem_eq(together[t].r, alone[t].r, sizeof(double) * (size_t)m);
+        free(alone[t].r);
+        free(together[t].r);
+    }
+    free_sequence(&s);
+}
+END_TEST
+
 START_TEST(test_plugin_table_versions) {
     const frix_plugin_table *v1 = frix_plugin_api(1), *v2 = frix_plugin_api(2);
     ck_assert_ptr_nonnull(v1);
@@ -348,6 +410,7 @@ int main(void) {
     tcase_add_test(tc, test_same_answers_native_global);
     tcase_add_test(tc, test_kept_between_solves);
     tcase_add_test(tc, test_problem_handle_freed);
+    tcase_add_test(tc, test_threads_share_data);
     tcase_add_test(tc, test_plugin_table_versions);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
