@@ -167,14 +167,7 @@ class ShiftedSystem {
         for (int64_t i = 0; i < m_; ++i) kx[i] -= work[i];
     }
 
-    linalg::FactorStats stats() const {
-        const linalg::FactorStats a = dchol_.stats(), b = dlu_.stats(), c = schol_.stats(), d = slu_.stats();
-        linalg::FactorStats s;
-        s.symbolic = a.symbolic + b.symbolic + c.symbolic + d.symbolic;
-        s.numeric = a.numeric + b.numeric + c.numeric + d.numeric;
-        s.seconds = a.seconds + b.seconds + c.seconds + d.seconds;
-        return s;
-    }
+    linalg::FactorStats stats() const { return dchol_.stats() + dlu_.stats() + schol_.stats() + slu_.stats(); }
 
    private:
     struct Entry {
@@ -431,10 +424,7 @@ frix_error solve(SolveContext &ctx) {
     if (finite) std::copy(z.begin(), z.end(), r);
     info.status = status;
     info.iterations = it;
-    linalg::FactorStats fs = sys.stats();
-    fs.symbolic -= stats_before.symbolic;
-    fs.numeric -= stats_before.numeric;
-    fs.seconds -= stats_before.seconds;
+    const linalg::FactorStats fs = sys.stats() - stats_before;
     Monitor::record_factorizations(info, fs);
     if (L.verbosity >= 1)
         log_line(&L.o, "admm: %s after %lld iterations (%s %s, %lld rho changes, %lld restarts)",

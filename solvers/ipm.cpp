@@ -468,10 +468,7 @@ frix_error Solver::run() {
     }
     if (best_err <= tol) info.status = FRIX_STATUS_CONVERGED;
     std::copy(best.begin(), best.end(), ctx_.r);
-    linalg::FactorStats fs = lu_.stats();
-    fs.symbolic -= stats_before.symbolic;
-    fs.numeric -= stats_before.numeric;
-    fs.seconds -= stats_before.seconds;
+    linalg::FactorStats fs = lu_.stats() - stats_before;
     int64_t newton_steps = 0, line_search = 0;
     if (handed_over) {
         // Semismooth Newton (Alart-Curnier, spectral rho) from the best interior iterate.
@@ -490,9 +487,7 @@ frix_error Solver::run() {
         info.status = res.status;
         newton_steps = engine.counters.newton;
         line_search = engine.counters.line_search;
-        fs.numeric += engine.factor_stats().numeric;
-        fs.symbolic += engine.factor_stats().symbolic;
-        fs.seconds += engine.factor_stats().seconds;
+        fs = fs + engine.factor_stats();
     }
     info.iterations = iterations;
     info.newton_iterations = newton_steps;

@@ -65,13 +65,7 @@ linalg::FactorStats Engine::total_stats() const {
     return s;
 }
 
-linalg::FactorStats Engine::factor_stats() const {
-    linalg::FactorStats s = total_stats();
-    s.symbolic -= stats_before_.symbolic;
-    s.numeric -= stats_before_.numeric;
-    s.seconds -= stats_before_.seconds;
-    return s;
-}
+linalg::FactorStats Engine::factor_stats() const { return total_stats() - stats_before_; }
 
 Engine &engine_for(KeptEngine &kept, const SolveCache *cache, const frix_matrix &W, const double *mu,
                    int64_t nc, const Settings &s) {

@@ -35,9 +35,7 @@ class MassSolver {
     frix_error factor(const frix_matrix &M) {
         const linalg::FactorStats chol0 = chol_.stats(), lu0 = lu_.stats();
         const frix_error e = factor_counted(M);
-        last_.symbolic = chol_.stats().symbolic - chol0.symbolic + lu_.stats().symbolic - lu0.symbolic;
-        last_.numeric = chol_.stats().numeric - chol0.numeric + lu_.stats().numeric - lu0.numeric;
-        last_.seconds = chol_.stats().seconds - chol0.seconds + lu_.stats().seconds - lu0.seconds;
+        last_ = (chol_.stats() - chol0) + (lu_.stats() - lu0);
         return e;
     }
     frix_error factor_counted(const frix_matrix &M) {

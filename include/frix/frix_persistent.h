@@ -7,7 +7,7 @@
  *     (for solvers of local problems) while neither M nor H is;
  *   - the symbolic analyses of the Newton-type solvers' systems, and the factorisations of
  *     W + rho I (admm) while W's values and rho stay, as long as W's sparsity pattern does;
- *   - workspaces.
+ *   - the Newton solvers' workspaces; for auto, all of the above for each of its parts.
  * Each solve gives the answer frix_solve would give from the same warm start, up to the
  * rounding of a reused analysis (its pivot order was chosen on earlier values).
  *

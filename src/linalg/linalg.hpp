@@ -35,6 +35,15 @@ struct FactorStats {
     double seconds = 0.0;      // time in analysis + factorisation (not in solves)
 };
 
+// The work counted between two readings of the same counters (a kept factorisation object
+// counts over all the solves it served; a solve reports its own part).
+inline FactorStats operator-(const FactorStats &now, const FactorStats &before) {
+    return {now.symbolic - before.symbolic, now.numeric - before.numeric, now.seconds - before.seconds};
+}
+inline FactorStats operator+(const FactorStats &a, const FactorStats &b) {
+    return {a.symbolic + b.symbolic, a.numeric + b.numeric, a.seconds + b.seconds};
+}
+
 // Sparse LU of a square matrix with UMFPACK. The symbolic analysis (ordering, strategy) is
 // kept and reused by every factor() while the sparsity pattern is the one of the last
 // analyze(): Newton-type solvers assemble their Jacobian in a fixed pattern (explicit zeros
