@@ -298,6 +298,64 @@ START_TEST(test_kept_between_solves) {
 }
 END_TEST
 
+/* A W of another pattern (the same size) is analysed again: each solver then gives what
+ * frix_solve gives on the new problem. */
+START_TEST(test_new_pattern) {
+    frix_scene scene;
+    frix_scene_problems forms;
+    make_stack(&scene, &forms, 0.0);
+    const int64_t nc = scene.nc, m = 3 * nc;
+    /* W's diagonal blocks alone: contacts decoupled, another pattern. */
+    int64_t *idx = malloc(sizeof *idx * (size_t)nc);
+    double *blocks = malloc(sizeof *blocks * 9 * (size_t)nc);
+    for (int64_t a = 0; a < nc; ++a) {
+        idx[a] = a;
+        ck_assert_int_eq(frix_matrix_diagonal_block(forms.W, a, &blocks[9 * a]), FRIX_OK);
+    }
+    frix_matrix *D = NULL;
+    ck_assert_int_eq(frix_matrix_from_blocks(nc, nc, nc, idx, idx, blocks, &D), FRIX_OK);
+    frix_problem *pd = NULL;
+    ck_assert_int_eq(frix_problem_local(D, forms.q, scene.mu, nc, &pd), FRIX_OK);
+    double *r = calloc((size_t)m, sizeof *r), *r1 = calloc((size_t)m, sizeof *r1), *u = calloc((size_t)m, sizeof *u);
+    frix_info *info = NULL, *one = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_info_create(&one), FRIX_OK);
+    const int solvers[] = {FRIX_SOLVER_NSN_AC, FRIX_SOLVER_PROX, FRIX_SOLVER_ADMM, FRIX_SOLVER_IPM, FRIX_SOLVER_AUTO};
+    for (size_t j = 0; j < sizeof solvers / sizeof *solvers; ++j) {
+        frix_options *o = NULL;
+        ck_assert_int_eq(frix_options_create(solvers[j], &o), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-6), FRIX_OK);
+        frix_persistent *ps = NULL;
+        ck_assert_int_eq(frix_persistent_create(forms.local, o, &ps), FRIX_OK);
+        memset(r, 0, sizeof *r * (size_t)m);
+        ck_assert_int_eq(frix_persistent_solve(ps, r, u, NULL, info), FRIX_OK);
+        ck_assert_int_eq(frix_persistent_update_local(ps, D, NULL, NULL), FRIX_OK);
+        memset(r, 0, sizeof *r * (size_t)m);
+        memset(r1, 0, sizeof *r1 * (size_t)m);
+        ck_assert_int_eq(frix_persistent_solve(ps, r, u, NULL, info), FRIX_OK);
+        ck_assert_int_eq(frix_solve(pd, o, r1, u, NULL, one), FRIX_OK);
+        ck_assert_int_eq(frix_info_status(info), frix_info_status(one));
+        ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+        double e = 0.0;
+        ck_assert_int_eq(frix_problem_error(pd, r, NULL, &e), FRIX_OK);
+        ck_assert_double_le(e, 1e-6);
+        frix_persistent_free(ps);
+        frix_options_free(o);
+    }
+    frix_info_free(info);
+    frix_info_free(one);
+    frix_problem_free(pd);
+    frix_matrix_free(D);
+    free(idx);
+    free(blocks);
+    free(r);
+    free(r1);
+    free(u);
+    frix_scene_problems_free(&forms);
+    frix_scene_free(&scene);
+}
+END_TEST
+
 /* The persistent solver borrows the data, not the problem handle. */
 START_TEST(test_problem_handle_freed) {
     sequence s;
@@ -409,6 +467,7 @@ int main(void) {
     tcase_add_loop_test(tc, test_same_answers_global, 0, (int)(sizeof kSolvers / sizeof *kSolvers));
     tcase_add_test(tc, test_same_answers_native_global);
     tcase_add_test(tc, test_kept_between_solves);
+    tcase_add_test(tc, test_new_pattern);
     tcase_add_test(tc, test_problem_handle_freed);
     tcase_add_test(tc, test_threads_share_data);
     tcase_add_test(tc, test_plugin_table_versions);
