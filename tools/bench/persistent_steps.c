@@ -16,6 +16,7 @@
  * first step is solved from the answer of the step before it, which is not timed: every
  * timed solve is warm-started, as in a simulation. --global solves
  * the global form (M, H, f, w) instead of the local one (W, q).
+ * The two ways alternate within each step, the first of them changing from run to run.
  * Prints per solver and step the median time of R runs of each way, iterations and errors;
  * then per solver the total time of each way and their ratio.
  */
@@ -168,31 +169,31 @@ int main(int argc, char **argv) {
                 frix_problem *p = global ? seq[k].forms.global : seq[k].forms.local;
                 const frix_scene_problems *f = &seq[k].forms;
                 const size_t c = (size_t)run * (size_t)steps + (size_t)k;
-                /* One-shot. */
-                memcpy(r, warm[k], sizeof *r * 3 * (size_t)nc);
-                double t0 = now();
-                if (frix_solve(p, o, r, u, v, info)) die("frix_solve");
-                t1[c] = now() - t0;
-                it1[k] = frix_info_iterations(info);
-                e1[k] = frix_info_error(info);
-                frix_info_get_int(info, FRIX_INFO_FACTORIZATIONS, &fa1[k]);
-                if (frix_info_status(info) != FRIX_STATUS_CONVERGED) failed = 1;
-                /* Persistent: created at step 0, updated with each step's data after. */
-                memcpy(r, warm[k], sizeof *r * 3 * (size_t)nc);
-                t0 = now();
-                frix_error e = FRIX_OK;
-                if (k == 0) e = frix_persistent_create(p, o, &ps);
-                else if (global)
-                    e = frix_persistent_update_global(ps, NULL, turn != 0.0 ? f->H : NULL, seq[k].scene.f,
-                                                      seq[k].scene.w, NULL);
-                else e = frix_persistent_update_local(ps, turn != 0.0 ? f->W : NULL, f->q, NULL);
-                if (e) die("persistent update");
-                if (frix_persistent_solve(ps, r, u, v, info)) die("frix_persistent_solve");
-                tp[c] = now() - t0;
-                itp[k] = frix_info_iterations(info);
-                ep[k] = frix_info_error(info);
-                frix_info_get_int(info, FRIX_INFO_FACTORIZATIONS, &fap[k]);
-                if (frix_info_status(info) != FRIX_STATUS_CONVERGED) failed = 1;
+                /* The two ways in turn, the first of them alternating from run to run: a
+                 * solve can leave caches warm or cold for the next. */
+                for (int way = 0; way < 2; ++way) {
+                    const int persistent = (way + run) % 2;
+                    memcpy(r, warm[k], sizeof *r * 3 * (size_t)nc);
+                    const double t0 = now();
+                    if (!persistent) {
+                        if (frix_solve(p, o, r, u, v, info)) die("frix_solve");
+                    } else {
+                        /* Created at step 0, updated with each step's data after. */
+                        frix_error e = FRIX_OK;
+                        if (k == 0) e = frix_persistent_create(p, o, &ps);
+                        else if (global)
+                            e = frix_persistent_update_global(ps, NULL, turn != 0.0 ? f->H : NULL, seq[k].scene.f,
+                                                              seq[k].scene.w, NULL);
+                        else e = frix_persistent_update_local(ps, turn != 0.0 ? f->W : NULL, f->q, NULL);
+                        if (e) die("persistent update");
+                        if (frix_persistent_solve(ps, r, u, v, info)) die("frix_persistent_solve");
+                    }
+                    (persistent ? tp : t1)[c] = now() - t0;
+                    (persistent ? itp : it1)[k] = frix_info_iterations(info);
+                    (persistent ? ep : e1)[k] = frix_info_error(info);
+                    frix_info_get_int(info, FRIX_INFO_FACTORIZATIONS, persistent ? &fap[k] : &fa1[k]);
+                    if (frix_info_status(info) != FRIX_STATUS_CONVERGED) failed = 1;
+                }
             }
             frix_persistent_free(ps);
         }
