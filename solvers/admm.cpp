@@ -214,7 +214,8 @@ class ShiftedSystem {
 };
 
 struct KeptSystem : CachedState {
-    std::unique_ptr<ShiftedSystem> sys;
+    std::unique_ptr<ShiftedSystem> start, adapted;  // see solve()
+    bool adapted_stale = false;  // adapted holds an earlier W's values
     uint64_t w_values = 0;
     int64_t nc = -1;
 };
@@ -266,23 +267,31 @@ frix_error solve(SolveContext &ctx) {
             y[3 * a + i] = warm ? -(ua[i] + (i == 0 ? p.mu[a] * s[a] : 0.0)) / (rho * weight[(size_t)a]) : 0.0;
     }
 
-    if (!kept->sys || !ctx.cache || kept->nc != nc)
-        kept->sys = std::make_unique<ShiftedSystem>(*p.W);
-    else if (kept->w_values != w_values)
-        kept->sys->refill(*p.W);
+    // Two systems: every solve starts at the same rho, and a persistent solver keeps that
+    // factorisation in `start` apart from the one rho adapts to (the solve after would
+    // otherwise find the last solve's rho factorised, not the one it starts with).
+    const bool rebuild = !ctx.cache || kept->nc != nc, new_values = kept->w_values != w_values;
+    if (rebuild || !kept->start) {
+        kept->start = std::make_unique<ShiftedSystem>(*p.W);
+        kept->adapted.reset();
+    } else if (new_values) {
+        kept->start->refill(*p.W);
+        kept->adapted_stale = true;  // refilled when rho first changes
+    }
+    ShiftedSystem *sys = kept->start.get();
     kept->nc = nc;
     kept->w_values = w_values;
-    ShiftedSystem &sys = *kept->sys;
-    const linalg::FactorStats stats_before = sys.stats();
-    const bool skew = sys.skew();
+    const linalg::FactorStats start_before = kept->start->stats(),
+                              adapted_before = kept->adapted ? kept->adapted->stats() : linalg::FactorStats();
+    const bool skew = sys->skew();
     std::vector<double> kx, kx_prev, work;  // K x (previous x), K x_prev, scratch
     if (skew) {
         kx.assign(m, 0.0);
         kx_prev.assign(m, 0.0);
         work.assign(m, 0.0);
-        sys.skew_product(z.data(), kx.data(), work.data());  // x_prev ~ z for the first step
+        sys->skew_product(z.data(), kx.data(), work.data());  // x_prev ~ z for the first step
     }
-    if (frix_error e = sys.factor(rho, weight)) {
+    if (frix_error e = sys->factor(rho, weight)) {
         (void)e;
         info.status = FRIX_STATUS_NUMERICAL_FAILURE;
         info.iterations = 0;
@@ -306,7 +315,7 @@ frix_error solve(SolveContext &ctx) {
                 rhs[k] = -(p.q[k] + (i == 0 ? p.mu[a] * s[a] : 0.0)) + rho * weight[(size_t)a] * (zh[k] - yh[k]);
                 if (skew) rhs[k] -= kx[k];
             }
-        if (frix_error e = sys.solve(rhs.data(), x.data())) {
+        if (frix_error e = sys->solve(rhs.data(), x.data())) {
             (void)e;
             status = FRIX_STATUS_NUMERICAL_FAILURE;
             break;
@@ -314,7 +323,7 @@ frix_error solve(SolveContext &ctx) {
         // u = W x + q = -(mu s e_N) + rho (z^ - y^ - x) + K (x - x_prev).
         if (skew) {
             for (int64_t k = 0; k < m; ++k) kx_prev[k] = kx[k];
-            sys.skew_product(x.data(), kx.data(), work.data());
+            sys->skew_product(x.data(), kx.data(), work.data());
         }
         // z-update and dual update; u = W x + q = -(mu s e_N) + rho (z^ - y^ - x).
         double prim2 = 0.0, dual2 = 0.0, nz2 = 0.0, ny2 = 0.0, comb = 0.0;
@@ -410,7 +419,13 @@ frix_error solve(SolveContext &ctx) {
                 c_prev = INFINITY;
                 since_change = 0;
                 ++changes;
-                if (frix_error e = sys.factor(rho, weight)) {
+                if (ctx.cache) {  // the start's factorisation stays for the next solve
+                    if (!kept->adapted) kept->adapted = std::make_unique<ShiftedSystem>(*p.W);
+                    else if (kept->adapted_stale) kept->adapted->refill(*p.W);
+                    kept->adapted_stale = false;
+                    sys = kept->adapted.get();
+                }
+                if (frix_error e = sys->factor(rho, weight)) {
                     (void)e;
                     status = FRIX_STATUS_NUMERICAL_FAILURE;
                     break;
@@ -424,12 +439,13 @@ frix_error solve(SolveContext &ctx) {
     if (finite) std::copy(z.begin(), z.end(), r);
     info.status = status;
     info.iterations = it;
-    const linalg::FactorStats fs = sys.stats() - stats_before;
+    const linalg::FactorStats fs = (kept->start->stats() - start_before) +
+                                   (kept->adapted ? kept->adapted->stats() - adapted_before : linalg::FactorStats());
     Monitor::record_factorizations(info, fs);
     if (L.verbosity >= 1)
         log_line(&L.o, "admm: %s after %lld iterations (%s %s, %lld rho changes, %lld restarts)",
-                 frix_status_string(status), (long long)it, sys.dense() ? "dense" : "sparse",
-                 sys.kind(), (long long)changes, (long long)restarts);
+                 frix_status_string(status), (long long)it, sys->dense() ? "dense" : "sparse",
+                 sys->kind(), (long long)changes, (long long)restarts);
     kept.keep();
     return FRIX_OK;
 }
