@@ -5,8 +5,9 @@
  * keeps between its solves what still holds:
  *   - global problems: the factorisation of M while M is not replaced, and W = H^T M^-1 H
  *     (for solvers of local problems) while neither M nor H is;
- *   - the symbolic analyses of the Newton-type solvers' systems, and the factorisations of
- *     W + rho I (admm) while W's values and rho stay, as long as W's sparsity pattern does;
+ *   - the symbolic analyses of the Newton-type solvers' systems as long as W's sparsity
+ *     pattern stays; admm's factorisations of W + rho I (two: the starting rho's, and the
+ *     last one rho adapted to) while W's values stay, their analyses while its pattern does;
  *   - the Newton solvers' workspaces; for auto, all of the above for each of its parts.
  * Each solve gives the answer frix_solve would give from the same warm start, up to the
  * rounding of a reused analysis (its pivot order was chosen on earlier values).
