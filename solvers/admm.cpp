@@ -66,14 +66,13 @@ class ShiftedSystem {
 
    private:
     void build(const frix_matrix &W) {
-        W_ = &W;
         m_ = W.rows;
         factored_ = false;
         base_.clear();
         colptr_.clear();
         rowind_.clear();
         diag_.clear();
-        measure_asymmetry();
+        measure_asymmetry(W);
         lu_ = asym_ > kSkewMax;
         skew_ = !lu_ && asym_ > kSymmetryTol;
         dense_ = m_ <= kDenseMax;
@@ -160,10 +159,12 @@ class ShiftedSystem {
         return lu_ ? slu_.solve(b, x) : schol_.solve(b, x);
     }
 
-    // kx = K x = (W x - W^T x) / 2; work (m) is scratch.
-    void skew_product(const double *x, double *kx, double *work) const {
-        matrix_gemv(*W_, 0.5, x, 0.0, kx);
-        matrix_gemv_transposed(*W_, 0.5, x, 0.0, work);
+    // kx = K x = (W x - W^T x) / 2 for the W the system holds the values of (passed, not
+    // kept: a persistent solver's W may be another object with the same values); work (m) is
+    // scratch.
+    void skew_product(const frix_matrix &W, const double *x, double *kx, double *work) const {
+        matrix_gemv(W, 0.5, x, 0.0, kx);
+        matrix_gemv_transposed(W, 0.5, x, 0.0, work);
         for (int64_t i = 0; i < m_; ++i) kx[i] -= work[i];
     }
 
@@ -176,29 +177,28 @@ class ShiftedSystem {
     };
 
     // max |W_ab - W_ba^T| / max |W_ij| over the blocks.
-    void measure_asymmetry() {
+    void measure_asymmetry(const frix_matrix &W) {
         double wmax = 0.0;
-        for (double v : W_->block_val) wmax = std::max(wmax, std::fabs(v));
+        for (double v : W.block_val) wmax = std::max(wmax, std::fabs(v));
         asym_ = 0.0;
         if (!(wmax > 0.0)) return;
-        for (int64_t a = 0; a < W_->block_rows; ++a)
-            for (int64_t k = W_->row_ptr[a]; k < W_->row_ptr[a + 1]; ++k) {
-                const int64_t b = W_->block_col[k];
-                const int64_t *beg = &W_->block_col[W_->row_ptr[b]], *end = &W_->block_col[W_->row_ptr[b + 1]];
+        for (int64_t a = 0; a < W.block_rows; ++a)
+            for (int64_t k = W.row_ptr[a]; k < W.row_ptr[a + 1]; ++k) {
+                const int64_t b = W.block_col[k];
+                const int64_t *beg = &W.block_col[W.row_ptr[b]], *end = &W.block_col[W.row_ptr[b + 1]];
                 const int64_t *f = std::lower_bound(beg, end, a);
-                const double *B = &W_->block_val[9 * k];
+                const double *B = &W.block_val[9 * k];
                 if (f == end || *f != a) {
                     for (int i = 0; i < 9; ++i) asym_ = std::max(asym_, std::fabs(B[i]) / wmax);
                     continue;
                 }
-                const double *T = &W_->block_val[9 * (W_->row_ptr[b] + (f - beg))];
+                const double *T = &W.block_val[9 * (W.row_ptr[b] + (f - beg))];
                 for (int i = 0; i < 3; ++i)
                     for (int j = 0; j < 3; ++j)
                         asym_ = std::max(asym_, std::fabs(B[i + 3 * j] - T[j + 3 * i]) / wmax);
             }
     }
 
-    const frix_matrix *W_ = nullptr;
     int64_t m_ = 0;
     double asym_ = 0.0;
     bool factored_ = false;
@@ -213,10 +213,11 @@ class ShiftedSystem {
     linalg::SparseLU slu_;
 };
 
+// What a persistent solver keeps (see solve()): W + rho I at the starting rho and at the last
+// rho adapted to, each with the version of W's values it holds.
 struct KeptSystem : CachedState {
-    std::unique_ptr<ShiftedSystem> start, adapted;  // see solve()
-    bool adapted_stale = false;  // adapted holds an earlier W's values
-    uint64_t w_values = 0;
+    std::unique_ptr<ShiftedSystem> start, adapted;
+    uint64_t start_values = 0, adapted_values = 0;
     int64_t nc = -1;
 };
 
@@ -230,10 +231,7 @@ frix_error solve(SolveContext &ctx) {
     double wmax, wmean;
     fo::diagonal_scales(p, &wmax, &wmean);
     double rho = L.o.d(FRIX_OPT_RHO) * wmean;
-    // A persistent solver keeps the system: its factorisation while W's values and rho stay,
-    // its analyses while the pattern does.
     Kept<KeptSystem> kept(ctx.cache, FRIX_SOLVER_ADMM);
-    const uint64_t w_values = ctx.cache ? ctx.cache->w_values : 0;
     // Contact a's penalty is rho * weight[a]: 1 (FRIX_RHO_CONSTANT), or |W_aa|_2 / mean_a
     // |W_aa|_2 (per contact): the same as ADMM with one rho on the problem scaled so that
     // every |W_aa|_2 is equal, which is what keeps it working when contacts differ in
@@ -269,18 +267,21 @@ frix_error solve(SolveContext &ctx) {
 
     // Two systems: every solve starts at the same rho, and a persistent solver keeps that
     // factorisation in `start` apart from the one rho adapts to (the solve after would
-    // otherwise find the last solve's rho factorised, not the one it starts with).
-    const bool rebuild = !ctx.cache || kept->nc != nc, new_values = kept->w_values != w_values;
-    if (rebuild || !kept->start) {
-        kept->start = std::make_unique<ShiftedSystem>(*p.W);
+    // otherwise find the last solve's rho factorised, not the one it starts with). Each is
+    // refilled with W's values when they changed, its analyses kept while the pattern stays.
+    if (!ctx.cache || kept->nc != nc) {
+        kept->start.reset();
         kept->adapted.reset();
-    } else if (new_values) {
-        kept->start->refill(*p.W);
-        kept->adapted_stale = true;  // refilled when rho first changes
+        kept->nc = nc;
     }
-    ShiftedSystem *sys = kept->start.get();
-    kept->nc = nc;
-    kept->w_values = w_values;
+    const uint64_t w_values = ctx.cache ? ctx.cache->w_values : 0;
+    auto current = [&](std::unique_ptr<ShiftedSystem> &system, uint64_t &values) {
+        if (!system) system = std::make_unique<ShiftedSystem>(*p.W);
+        else if (values != w_values) system->refill(*p.W);
+        values = w_values;
+        return system.get();
+    };
+    ShiftedSystem *sys = current(kept->start, kept->start_values);
     const linalg::FactorStats start_before = kept->start->stats(),
                               adapted_before = kept->adapted ? kept->adapted->stats() : linalg::FactorStats();
     const bool skew = sys->skew();
@@ -289,7 +290,7 @@ frix_error solve(SolveContext &ctx) {
         kx.assign(m, 0.0);
         kx_prev.assign(m, 0.0);
         work.assign(m, 0.0);
-        sys->skew_product(z.data(), kx.data(), work.data());  // x_prev ~ z for the first step
+        sys->skew_product(*p.W, z.data(), kx.data(), work.data());  // x_prev ~ z for the first step
     }
     if (frix_error e = sys->factor(rho, weight)) {
         (void)e;
@@ -323,7 +324,7 @@ frix_error solve(SolveContext &ctx) {
         // u = W x + q = -(mu s e_N) + rho (z^ - y^ - x) + K (x - x_prev).
         if (skew) {
             for (int64_t k = 0; k < m; ++k) kx_prev[k] = kx[k];
-            sys->skew_product(x.data(), kx.data(), work.data());
+            sys->skew_product(*p.W, x.data(), kx.data(), work.data());
         }
         // z-update and dual update; u = W x + q = -(mu s e_N) + rho (z^ - y^ - x).
         double prim2 = 0.0, dual2 = 0.0, nz2 = 0.0, ny2 = 0.0, comb = 0.0;
@@ -419,12 +420,8 @@ frix_error solve(SolveContext &ctx) {
                 c_prev = INFINITY;
                 since_change = 0;
                 ++changes;
-                if (ctx.cache) {  // the start's factorisation stays for the next solve
-                    if (!kept->adapted) kept->adapted = std::make_unique<ShiftedSystem>(*p.W);
-                    else if (kept->adapted_stale) kept->adapted->refill(*p.W);
-                    kept->adapted_stale = false;
-                    sys = kept->adapted.get();
-                }
+                // The start's factorisation stays for the next solve.
+                if (ctx.cache) sys = current(kept->adapted, kept->adapted_values);
                 if (frix_error e = sys->factor(rho, weight)) {
                     (void)e;
                     status = FRIX_STATUS_NUMERICAL_FAILURE;
