@@ -162,6 +162,25 @@ frix_error check_csc_arrays(int64_t nnz, const int64_t *colptr, const int64_t *r
 
 namespace frix {
 
+bool same_pattern(const frix_matrix &a, const frix_matrix &b) {
+    return a.rows == b.rows && a.cols == b.cols && a.block == b.block && a.row_ptr == b.row_ptr &&
+           a.block_col == b.block_col && a.col_ptr == b.col_ptr && a.row_ind == b.row_ind;
+}
+
+frix_matrix pattern_of(const frix_matrix &A) {
+    frix_matrix p;
+    p.rows = A.rows;
+    p.cols = A.cols;
+    p.block = A.block;
+    p.block_rows = A.block_rows;
+    p.block_cols = A.block_cols;
+    p.row_ptr = A.row_ptr;
+    p.block_col = A.block_col;
+    p.col_ptr = A.col_ptr;
+    p.row_ind = A.row_ind;
+    return p;
+}
+
 void index_diagonal_blocks(frix_matrix &A) {
     A.diag_index.assign((size_t)A.block_rows, -1);
     if (A.block_rows != A.block_cols) return;

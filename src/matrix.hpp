@@ -101,6 +101,12 @@ class BlockMatrixFromColumns {
     std::vector<int64_t> slot_;  // per block row: its block in the pending column, or -1
 };
 
+// Whether a and b have the same shape, storage and sparsity pattern (values aside).
+bool same_pattern(const frix_matrix &a, const frix_matrix &b);
+// A's shape and pattern without its values: what same_pattern compares a later matrix with
+// once A itself may be gone.
+frix_matrix pattern_of(const frix_matrix &A);
+
 // diag_index of a block-CSR matrix from its rows (sorted block columns); all -1 unless square.
 void index_diagonal_blocks(frix_matrix &A);
 

@@ -6,48 +6,23 @@
 #include <frix/frix_solve.h>
 
 #include <memory>
-#include <vector>
 
 #include "error_state.hpp"
+#include "matrix.hpp"
 #include "options.hpp"
 #include "problem.hpp"
 #include "solver_api.hpp"
 
-namespace {
-
-using frix::fail;
-
-// The sparsity pattern of a matrix, in its own storage.
-struct Pattern {
-    int64_t rows = -1, cols = -1;
-    bool block = false;
-    std::vector<int64_t> ptr, index;
-
-    static Pattern of(const frix_matrix *A) {
-        Pattern p;
-        if (!A) return p;
-        p.rows = A->rows;
-        p.cols = A->cols;
-        p.block = A->block;
-        p.ptr = A->block ? A->row_ptr : A->col_ptr;
-        p.index = A->block ? A->block_col : A->row_ind;
-        return p;
-    }
-    bool operator==(const Pattern &o) const {
-        return rows == o.rows && cols == o.cols && block == o.block && ptr == o.ptr && index == o.index;
-    }
-};
-
-}  // namespace
-
 struct frix_persistent {
     std::unique_ptr<frix_options> options;
-    frix_problem problem;  // views of the borrowed data, as last updated
-    Pattern W, M, H;
+    frix_problem problem;    // views of the borrowed data, as last updated
+    frix_matrix W_pattern;   // local problems: W's pattern, to tell a new one from new values
     frix::SolveCache cache;
 };
 
 namespace {
+
+using frix::fail;
 
 // A problem of the views given, validated as the public constructors validate them.
 frix_error validate(const frix_problem &p) {
@@ -89,24 +64,9 @@ frix_error create(const frix_problem *problem, const frix_options *options, frix
                     entry->name);
     if (frix_error err = frix::check_problem_vectors(*problem)) return err;
     copy_views(*problem, ps->problem);
-    ps->W = Pattern::of(problem->W);
-    ps->M = Pattern::of(problem->M);
-    ps->H = Pattern::of(problem->H);
+    if (problem->W) ps->W_pattern = frix::pattern_of(*problem->W);
     *out = ps.release();
     return FRIX_OK;
-}
-
-// Replaces matrix `current` by `next` (when given), bumping the versions that say so.
-void replace_matrix(const frix_matrix *&current, Pattern &pattern, const frix_matrix *next, uint64_t &values,
-                    uint64_t *pattern_version) {
-    if (!next) return;
-    current = next;
-    ++values;
-    Pattern p = Pattern::of(next);
-    if (!(p == pattern)) {
-        pattern = std::move(p);
-        if (pattern_version) ++*pattern_version;
-    }
 }
 
 }  // namespace
@@ -141,7 +101,14 @@ FRIX_API frix_error frix_persistent_update_local(frix_persistent *ps, const frix
         if (q) next.q = q;
         if (mu) next.mu = mu;
         if (frix_error e = validate(next)) return e;
-        replace_matrix(ps->problem.W, ps->W, W, ps->cache.w_values, &ps->cache.w_pattern);
+        if (W) {
+            ps->problem.W = W;
+            ++ps->cache.w_values;
+            if (!frix::same_pattern(*W, ps->W_pattern)) {
+                ps->W_pattern = frix::pattern_of(*W);
+                ++ps->cache.w_pattern;
+            }
+        }
         ps->problem.q = next.q;
         ps->problem.mu = next.mu;
         return FRIX_OK;
@@ -166,10 +133,16 @@ FRIX_API frix_error frix_persistent_update_global(frix_persistent *ps, const fri
         if (M && M->rows != ps->problem.n)
             return fail(FRIX_ERR_DIMENSION, "frix_persistent_update_global: M is %lld x %lld, the problem has %lld dofs",
                         (long long)M->rows, (long long)M->cols, (long long)ps->problem.n);
-        // The driver's states follow M's and H's values; a pattern change shows in the W
-        // it forms from them.
-        replace_matrix(ps->problem.M, ps->M, M, ps->cache.m_values, nullptr);
-        replace_matrix(ps->problem.H, ps->H, H, ps->cache.h_values, nullptr);
+        // The driver's states follow M's and H's versions; a change of their patterns shows
+        // in the W it forms from them, and M's factorisation analyses its own.
+        if (M) {
+            ps->problem.M = M;
+            ++ps->cache.m_values;
+        }
+        if (H) {
+            ps->problem.H = H;
+            ++ps->cache.h_values;
+        }
         ps->problem.f = next.f;
         ps->problem.w = next.w;
         ps->problem.mu = next.mu;

@@ -29,11 +29,6 @@ struct GlobalState : CachedState {
 };
 constexpr int kGlobalStateKey = 0;  // no solver has id 0
 
-bool same_block_pattern(const frix_matrix &a, const frix_matrix &b) {
-    return a.rows == b.rows && a.block == b.block && a.row_ptr == b.row_ptr && a.block_col == b.block_col &&
-           a.col_ptr == b.col_ptr && a.row_ind == b.row_ind;
-}
-
 // Route (a): reduce with the factorised M, solve the local problem with any local solver,
 // recover v. W has at most w_blocks blocks (room is reserved for them: memory only counts once
 // written).
@@ -80,7 +75,7 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
         // was kept.
         if (!w_current) {
             ++kept->local.w_values;
-            if (!kept->W || !same_block_pattern(*kept->W, *W)) ++kept->local.w_pattern;
+            if (!kept->W || !same_pattern(*kept->W, *W)) ++kept->local.w_pattern;
         }
         local_cache = &kept->local;
     }
