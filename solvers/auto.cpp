@@ -631,7 +631,7 @@ frix_error solve_local(SolveContext &ctx) {
     const bool whole = islands.size() == 1;
     for (size_t k = 0; k < islands.size(); ++k) {
         Island &is = islands[k];
-        is.contacts = units[k];
+        is.contacts = std::move(units[k]);
         const frix_problem *sub = &p;
         if (!whole) {
             if (frix_error e = extract_island(p, is.contacts, is.sub)) return e;
