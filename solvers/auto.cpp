@@ -155,7 +155,7 @@ struct Shared {
         return tl > 0.0 ? tl : INFINITY;
     }
     bool out_of_time() const { return Monitor(user, clock).out_of_time(); }
-    bool out_of_iterations() const { return iterations.load() >= user.i(FRIX_OPT_MAX_ITER); }
+    bool out_of_iterations() const { return Monitor(user, clock).out_of_iterations(iterations.load()); }
 
     // The user's log sink, one line at a time: stages on several threads share it.
     std::mutex log_lock;
@@ -398,12 +398,8 @@ class IslandSolver {
 
     // Newton from random points of the cones, 2^k of them in round k. Where Newton from r = 0
     // and from the best iterate stalls on a small part, it has usually stopped at a stationary
-    // point of its merit function that is not a solution: on RockPile's 25-contact island, a
-    // point with error 5e-8 whose statuses differ from the solution's at 5 contacts, one of
-    // which separates there at u_N = 0.075, and where the least-squares Newton step is no
-    // descent direction. The problem is not convex and has other basins; from a random start
-    // Newton lands in the solution's about half of the time there (18 to 28 of 40 starts, for
-    // draws scaled from 0.07 to 7 times the one below), in tens of steps.
+    // point of its merit function that is not a solution; the problem is not convex, and a
+    // random start often lands in the solution's basin.
     // Each start gets the first round's budget and patience: a start that converges does so
     // within it, and the restarts' work doubles every round like the other stages', rather
     // than crowding them out. The round's starts make one trace event (their number, summed
@@ -497,9 +493,8 @@ class IslandSolver {
         if (id == FRIX_SOLVER_ADMM && shared_.scaled_penalty) o.ivalue[FRIX_OPT_RHO_STRATEGY] = FRIX_RHO_SPECTRAL;
         if (id == FRIX_SOLVER_NSGS_VELOCITY) o.ivalue[FRIX_OPT_DRIFT_WINDOW] = kDriftWindow;
         // At most half of the caller's iterations left: under a tight limit the stages after
-        // this one still get their turn (the hard cases capped at 2000 iterations: 32 of 33
-        // converge, against 26 when a stage could take all that was left).
-        const int64_t left = user.i(FRIX_OPT_MAX_ITER) - shared_.iterations.load();
+        // this one still get their turn.
+        const int64_t left = Monitor(user, shared_.clock).max_iterations() - shared_.iterations.load();
         o.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, std::min(left / 2, budget));
         if (left / 2 < budget) cut_short_ = true;
         // The stage runs on the shared clock (started by frix_solve): its limit is the
@@ -607,7 +602,7 @@ frix_error solve_local(SolveContext &ctx) {
     const frix_problem &p = ctx.problem;
     const frix_options &user = ctx.options;
     frix_info &info = ctx.info;
-    const double tol = user.d(FRIX_OPT_TOLERANCE);
+    const double tol = Monitor(ctx).tolerance();
     Shared shared(user, ctx.clock);
     Kept<KeptAuto> kept(ctx.cache, FRIX_SOLVER_AUTO);
 
@@ -818,7 +813,7 @@ frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage,
     frix_options o;
     default_options(kGlobalNsnAcEntry, o);
     o.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, std::min(o.ivalue[FRIX_OPT_MAX_ITER], max_iter));
-    o.dvalue[FRIX_OPT_TOLERANCE] = ctx.options.d(FRIX_OPT_TOLERANCE);
+    o.dvalue[FRIX_OPT_TOLERANCE] = Monitor(ctx).tolerance();
     o.ivalue[FRIX_OPT_ERROR_MEASURE] = ctx.options.i(FRIX_OPT_ERROR_MEASURE);
     o.dvalue[FRIX_OPT_TIME_LIMIT] = ctx.options.d(FRIX_OPT_TIME_LIMIT);  // the same clock: the same deadline
     o.callback = ctx.options.callback;
@@ -834,7 +829,7 @@ frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage,
     if (frix_error e = solve_global_problem(ctx.problem, o, kGlobalNsnAcEntry, ctx.r, ctx.u, ctx.v, run,
                                             ctx.clock, reduction))
         return e;
-    if (meets_global_tolerance(run, ctx.options.d(FRIX_OPT_TOLERANCE))) run.status = FRIX_STATUS_CONVERGED;
+    if (meets_global_tolerance(run, Monitor(ctx).tolerance())) run.status = FRIX_STATUS_CONVERGED;
     stage.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
     stage.status = run.status;
     stage.iterations = run.iterations;
@@ -851,7 +846,7 @@ frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage,
 frix_error reduce_then_newton(SolveContext &ctx, int64_t max_iter, int64_t reduction_iter, SolveCache *cache) {
     const frix_problem &p = ctx.problem;
     frix_info &info = ctx.info;
-    const double tol = ctx.options.d(FRIX_OPT_TOLERANCE), tl = ctx.options.d(FRIX_OPT_TIME_LIMIT);
+    const double tol = Monitor(ctx).tolerance(), tl = ctx.options.d(FRIX_OPT_TIME_LIMIT);
     frix_options reduction = ctx.options;
     reduction.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, reduction_iter);
     const AnalysisSummary global_analysis = info.analysis;
@@ -926,7 +921,7 @@ frix_error solve(SolveContext &ctx) {
     info.analysis.rank_ratio = p.n > 0 ? 3.0 * (double)p.nc / (double)p.n : 0.0;
     info.analysis.reduced_entries = size.w_entries;
     info.analysis.input_entries = size.input_entries;
-    const int64_t max_iter = ctx.options.i(FRIX_OPT_MAX_ITER);
+    const int64_t max_iter = Monitor(ctx).max_iterations();
     const double tl = ctx.options.d(FRIX_OPT_TIME_LIMIT);
     if (!(size.w_entries > kReductionMaxEntries && size.w_entries > kReductionMaxGrowth * size.input_entries)) {
         if (frix_error e = reduce_then_newton(ctx, max_iter, max_iter / 2, reduction)) return e;

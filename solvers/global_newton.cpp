@@ -168,8 +168,9 @@ frix_error solve(SolveContext &ctx) {
     const frix_options &o = ctx.options;
     frix_info &info = ctx.info;
     const newton::Settings s = newton::settings_from(o, FRIX_SOLVER_NSN_AC);
-    const double tol = o.d(FRIX_OPT_TOLERANCE);
-    const int64_t max_iter = o.i(FRIX_OPT_MAX_ITER);
+    const Monitor monitor(ctx);
+    const double tol = monitor.tolerance();
+    const int64_t max_iter = monitor.max_iterations();
     const int64_t n = p.n, nc = p.nc, m = 3 * nc, N = n + m;
     double *r = ctx.r, *u = ctx.u, *v = ctx.v;
 
@@ -276,7 +277,7 @@ frix_error solve(SolveContext &ctx) {
             break;
         }
         if (it >= max_iter) break;
-        if (Monitor(ctx).out_of_time()) {
+        if (monitor.out_of_time()) {
             info.status = FRIX_STATUS_TIME_LIMIT;
             break;
         }
@@ -372,7 +373,7 @@ frix_error solve(SolveContext &ctx) {
         if (s.verbosity >= 2)
             log_line(&o, "global newton: step %lld t %.3g error %.3e equilibrium %.3e delta %.1e",
                      (long long)it, t, err, equilibrium, delta);
-        if (Monitor(ctx).report(it, err)) {
+        if (monitor.report(it, err)) {
             info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
             break;
         }

@@ -341,8 +341,9 @@ frix_error Solver::run() {
     const frix_options &o = ctx_.options;
     const frix_matrix &W = *p_.W;
     frix_info &info = ctx_.info;
-    const double tol = o.d(FRIX_OPT_TOLERANCE);
-    const int64_t max_iter = o.i(FRIX_OPT_MAX_ITER), measure = o.i(FRIX_OPT_ERROR_MEASURE);
+    const Monitor monitor(ctx_);
+    const double tol = monitor.tolerance();
+    const int64_t max_iter = monitor.max_iterations(), measure = o.i(FRIX_OPT_ERROR_MEASURE);
     const int verbosity = (int)o.i(FRIX_OPT_VERBOSITY);
     const int64_t m = m_;
     r_.assign(m, 0.0);

@@ -549,10 +549,11 @@ frix_error solve(SolveContext &ctx, int solver_id) {
     const frix_options &o = ctx.options;
     if (!p.W || !p.W->block) return fail(FRIX_ERR_INTERNAL, "newton: W is not stored as 3x3 blocks");
     const Settings s = settings_from(o, solver_id);
-    const double tol = o.d(FRIX_OPT_TOLERANCE);
+    const Monitor monitor(ctx);
+    const double tol = monitor.tolerance();
     frix_info &info = ctx.info;
     int64_t iterations = 0;
-    Limits lim{o, ctx.clock, &iterations, o.i(FRIX_OPT_MAX_ITER)};
+    Limits lim{o, ctx.clock, &iterations, monitor.max_iterations()};
     Kept<KeptEngine> kept(ctx.cache, solver_id);
     Engine &engine = engine_for(*kept, ctx.cache, *p.W, p.mu, p.nc, s);
     RunResult res;
@@ -628,8 +629,7 @@ const frix_option_key kExtraKeys[] = {FRIX_OPT_RHO_STRATEGY, FRIX_OPT_RHO, FRIX_
                                       FRIX_OPT_HYBRID_SWEEPS, FRIX_OPT_WATCHDOG, (frix_option_key)0};
 
 // The watchdog (kWatchdogTrigger) with 5 steps for Alart-Curnier and Fischer-Burmeister; not
-// for the natural map, where it solves four of the five mass-ratio hard cases but loses
-// spheres-in-a-box (converged after 801 iterations without it, stagnated at 2.0e-7 with it).
+// for the natural map, whose full steps it cuts short on problems the natural map solves.
 const OptionDefault kAcDefaults[] = {{FRIX_OPT_MAX_ITER, 2000},
                                      {FRIX_OPT_RHO_STRATEGY, FRIX_RHO_SPECTRAL},
                                      {FRIX_OPT_WATCHDOG, 5},

@@ -144,16 +144,13 @@ constexpr double kMaxDriftJump = 1000.0;
 
 // On rank-deficient W, NSGS can sit for millions of sweeps on a plateau of the error while r
 // drifts at a steady rate along a nearly self-equilibrated transfer of load between contacts,
-// until one of them loses contact and the error falls (RockPile's 295-contact island: two
-// contacts exchange 0.2 of r_N per 100000 sweeps in one straight line, cosine 0.999 between
-// successive displacements, for about 1.5 million sweeps). The drift is carried ahead at
-// once: every `window` sweeps, the displacement d of r over the window is compared with the
+// until one of them loses contact and the error falls. The drift is carried ahead at once:
+// every `window` sweeps, the displacement d of r over the window is compared with the
 // previous window's; when both point the same way, r jumps along d to the first loss of contact
 // ahead (t = min r_aN / -d_aN over the contacts with d_aN < 0; when |d| shrank, at most to
 // the limit of the geometric series of displacements) and is projected on the cones. The
 // sweeps that follow restore what the straight line missed. A jump raises the error for a
-// while (up to 2.5e-3 from 4e-8 in a prototype's runs on RockPile, back on the plateau by the
-// end of the next window), so none is taken within two windows of the sweep limit.
+// while, so none is taken within two windows of the sweep limit.
 class DriftExtrapolation {
    public:
     // r: the start of the first window.
@@ -209,8 +206,9 @@ frix_error run(SolveContext &ctx, bool velocity) {
         return fail(FRIX_ERR_INTERNAL, "%s: W is not stored as 3x3 blocks", name);
 
     const Settings s = settings_from(o);
-    const double tol = o.d(FRIX_OPT_TOLERANCE);
-    const int64_t max_iter = o.i(FRIX_OPT_MAX_ITER);
+    const Monitor monitor(ctx);
+    const double tol = monitor.tolerance();
+    const int64_t max_iter = monitor.max_iterations();
     const int64_t verbosity = o.i(FRIX_OPT_VERBOSITY);
     const int64_t measure = o.i(FRIX_OPT_ERROR_MEASURE);
     const int64_t frequency = o.i(FRIX_OPT_ERROR_FREQUENCY);
@@ -309,13 +307,13 @@ frix_error run(SolveContext &ctx, bool velocity) {
                      checked_last ? last_full : tol_light, (long long)st.rejected,
                      (long long)st.unsolved, (long long)st.frozen);
         // The callback sees every sweep, the last one too; it can only stop a running solve.
-        const bool stop = Monitor(ctx).report(it, estimate);
+        const bool stop = monitor.report(it, estimate);
         if (info.status != FRIX_STATUS_MAX_ITER) break;
         if (stop) {
             info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
             break;
         }
-        if (Monitor(ctx).out_of_time()) {
+        if (monitor.out_of_time()) {
             info.status = FRIX_STATUS_TIME_LIMIT;
             break;
         }

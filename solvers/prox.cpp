@@ -37,8 +37,9 @@ frix_error solve(SolveContext &ctx) {
     if (!p.W || !p.W->block) return fail(FRIX_ERR_INTERNAL, "prox: W is not stored as 3x3 blocks");
     const int inner_id = (int)o.i(FRIX_OPT_INNER_SOLVER);
     const newton::Settings s = newton::settings_from(o, inner_id);
-    const double tol = o.d(FRIX_OPT_TOLERANCE);
-    const int64_t max_iter = o.i(FRIX_OPT_MAX_ITER);
+    const Monitor monitor(ctx);
+    const double tol = monitor.tolerance();
+    const int64_t max_iter = monitor.max_iterations();
     const double fixed_alpha = o.d(FRIX_OPT_PROX_ALPHA);
     const double sigma = o.d(FRIX_OPT_PROX_SIGMA), nu = o.d(FRIX_OPT_PROX_NU);
     const int64_t m = 3 * p.nc;

@@ -17,6 +17,12 @@ class Monitor {
     Monitor(const frix_options &o, const Stopwatch &clock) : o_(o), clock_(clock) {}
     explicit Monitor(const SolveContext &ctx) : Monitor(ctx.options, ctx.clock) {}
 
+    // The error the solve must reach (option tolerance, on the solve's error measure) and its
+    // iteration limit (option max_iter): read here, so that every solver stops on the same rule.
+    double tolerance() const { return o_.d(FRIX_OPT_TOLERANCE); }
+    int64_t max_iterations() const { return o_.i(FRIX_OPT_MAX_ITER); }
+    bool out_of_iterations(int64_t done) const { return done >= max_iterations(); }
+
     // The time limit (option time_limit > 0) is reached.
     bool out_of_time() const {
         const double tl = o_.d(FRIX_OPT_TIME_LIMIT);
