@@ -9,7 +9,8 @@
 //      together (at once on several threads when the caller allows them): a part that
 //      converges stops costing work;
 //   2. runs on each part, from the best iterate so far, NSGS while its convergence rate
-//      promises the tolerance soon, then rounds of Newton (Alart-Curnier; on a small part
+//      promises the tolerance soon (on a large part: for less than the next stage's price,
+//      StageCosts), on a large part ADMM and the interior-point method, then rounds of Newton (Alart-Curnier; on a small part
 //      also from random starts, the problem not being convex), NSGS (its stages one chain,
 //      steady drifts carried ahead), ADMM and PROX with budgets that double every round
 //      (each at most half of the iterations left); a watchdog on every stage's progress
@@ -41,6 +42,7 @@
 #include "solvers/global_newton.hpp"
 #include "src/error_state.hpp"
 #include "src/existence.hpp"
+#include "src/linalg/linalg.hpp"
 #include "src/log.hpp"
 #include "src/measures.hpp"
 #include "src/monitor.hpp"
@@ -108,6 +110,13 @@ constexpr int64_t kDriftWindow = 1000;
 constexpr int64_t kIpmMinContacts = 200;
 constexpr StageSpec kIpmStage = {FRIX_SOLVER_IPM, 50, 500};
 constexpr double kIpmKeepRatio = 100.0;
+// Before the IPM, ADMM under the rate watch (judged on its best error, from this many
+// iterations on), up to this many iterations.
+constexpr int64_t kAdmmMinIterations = 50;
+constexpr int64_t kAdmmRateBudget = 100000;
+// What NSGS is weighed against where ADMM comes next: ADMM's factorisation and this many of
+// its iterations.
+constexpr double kAdmmExpectedIterations = 300.0;
 // When max_a |W_aa| / min_a |W_aa| exceeds this, ADMM gives each contact a penalty scaled by
 // its |W_aa| (rho_strategy 1, i.e. ADMM on the problem scaled to equal diagonal blocks): one
 // penalty needs many times the iterations when the contacts' stiffness spreads over decades.
@@ -137,7 +146,75 @@ constexpr int kMaxTightenings = 4;
 constexpr double kReductionMaxEntries = 1e6;
 constexpr double kReductionMaxGrowth = 30.0;
 
-enum class Watch { NsgsRate, Stall };
+// Prices of the stages, in one unit: the work of one 3x3 block of W times a vector. They are
+// known before anything runs (sizes, and CHOLMOD's symbolic analysis of the block graph of
+// W), so that the choices they drive do not depend on the machine's speed or load.
+// One contact's local solve in an NSGS sweep or an ADMM projection, in that unit.
+constexpr double kContactWork = 4.0;
+// A scalar flop of a sparse factorisation or solve, in that unit: factorisations run at
+// many flops per memory access (dense kernels on supernodes), a block product at few.
+constexpr double kFactorFlopWork = 1.0 / 12.0;
+// Factorisations of W's size an interior-point stage makes on its way to a solution.
+constexpr double kIpmFactorizations = 50.0;
+// A first-order stage on a part whose alternative is a factorising stage goes on while its
+// rate predicts the tolerance at a cost below that alternative's (and kNsgsPatience times its
+// own work so far): giving up late then costs at most the alternative once more.
+// Nor is it judged before it has cost this share of the alternative: its early rate says
+// little, and an early judgement wastes at most this share.
+constexpr double kJudgeShare = 0.1;
+constexpr double kNearTolerance = 10.0;
+struct StageCosts {
+    double sweep = 0.0;           // one NSGS sweep
+    double admm_iteration = 0.0;  // one ADMM iteration: two triangular solves, products, projections
+    double admm_setup = 0.0;      // ADMM's factorisation of W + rho I
+    double ipm = 0.0;             // an interior-point stage to its end
+};
+
+// The block graph of W (nc x nc, upper triangle with the diagonal, pattern only).
+struct BlockGraph {
+    std::vector<int64_t> colptr, rowind;
+};
+BlockGraph block_graph(const frix_matrix &W) {
+    std::vector<std::pair<int64_t, int64_t>> e;  // (column, row), row <= column
+    e.reserve(W.block_col.size() + (size_t)W.block_rows);
+    for (int64_t br = 0; br < W.block_rows; ++br) {
+        e.emplace_back(br, br);
+        for (int64_t b = W.row_ptr[br]; b < W.row_ptr[br + 1]; ++b)
+            e.emplace_back(std::max(br, W.block_col[b]), std::min(br, W.block_col[b]));
+    }
+    std::sort(e.begin(), e.end());
+    e.erase(std::unique(e.begin(), e.end()), e.end());
+    BlockGraph g;
+    g.colptr.assign((size_t)W.block_rows + 1, 0);
+    g.rowind.reserve(e.size());
+    for (const auto &x : e) {
+        ++g.colptr[(size_t)x.first + 1];
+        g.rowind.push_back(x.second);
+    }
+    for (int64_t j = 0; j < W.block_rows; ++j) g.colptr[(size_t)j + 1] += g.colptr[(size_t)j];
+    return g;
+}
+
+// The prices of p's stages. A scalar factorisation of 3x3 blocks does 27 flops per block
+// flop and stores 9 entries per block entry; the IPM and Newton factorise an unsymmetric
+// matrix of W's pattern by LU (about twice Cholesky's flops).
+frix_error price_stages(const frix_problem &p, StageCosts *c) {
+    const frix_matrix &W = *p.W;
+    const double blocks = (double)W.nblocks(), contacts = (double)p.nc;
+    const BlockGraph g = block_graph(W);
+    const linalg::CscView view{p.nc, p.nc, g.colptr.data(), g.rowind.data(), nullptr};
+    linalg::FactorCost fc;
+    if (frix_error e = linalg::cholesky_cost(view, &fc)) return e;
+    const double cholesky = 27.0 * fc.flops * kFactorFlopWork;
+    const double solve = 2.0 * 2.0 * 9.0 * fc.factor_entries * kFactorFlopWork;
+    c->sweep = blocks + kContactWork * contacts;
+    c->admm_iteration = solve + 4.0 * blocks + kContactWork * contacts;
+    c->admm_setup = cholesky;
+    c->ipm = kIpmFactorizations * (2.0 * cholesky + solve + blocks);
+    return FRIX_OK;
+}
+
+enum class Watch { Rate, Stall };
 
 // Shared by the islands of one solve: the caller's callback (called under a lock, with the
 // iterations of all islands summed) and the stop it may request.
@@ -173,6 +250,10 @@ struct Watchdog {
     double tolerance = 0.0;
     int64_t patience = 0;
     int64_t min_sweeps = kNsgsMinSweeps;
+    // Watch::Rate: the price of one iteration and of the stage that would replace this one
+    // (0: none; the rate is then judged against the stage's own work alone).
+    double iteration_work = 0.0, alternative_work = 0.0;
+    const char *slow = "NSGS rate too slow";
     int64_t last_iteration = 0;  // the stage's iteration count at the previous call
     double best = INFINITY;      // best error of the stage
     double ref = INFINITY;       // the error that tenfold progress is measured from
@@ -211,13 +292,18 @@ struct Watchdog {
             ref = best;
             ref_iteration = iteration;
         }
-        if (kind == Watch::NsgsRate) return judge_nsgs(error, iteration);
+        if (kind == Watch::Rate) return judge_rate(kind_error(error), iteration);
         const int64_t idle = iteration - ref_iteration;
         if (idle >= patience && 2 * idle >= iteration) return stop("no tenfold progress");
         return 0;
     }
 
-    int judge_nsgs(double error, int64_t sweeps) {
+    // The error the rate is measured on: a stage whose error is not monotone (ADMM's restarts)
+    // is judged on its best.
+    bool on_best = false;
+    double kind_error(double error) const { return on_best ? best : error; }
+
+    int judge_rate(double error, int64_t sweeps) {
         if (!std::isfinite(error)) return stop("non-finite error");
         // Keep a sample near half the sweeps so far: the rate over the second half.
         if (std::isnan(mid_error) || 4 * mid_sweep < sweeps) {
@@ -230,7 +316,12 @@ struct Watchdog {
         const double needed = std::log(error / tolerance);
         if (needed <= 0.0) return 0;
         const double predicted = gained > 0.0 ? needed / gained * (double)(sweeps - mid_sweep) : INFINITY;
-        if (predicted > kNsgsPatience * (double)sweeps) return stop("NSGS rate too slow");
+        const double allowed = iteration_work > 0.0 ? alternative_work / iteration_work : 0.0;
+        // Within kNearTolerance of the tolerance it goes on while it has cost less than the
+        // alternative: there a plateau of the error misleads the rate, and riding it out costs
+        // at most the alternative once more.
+        if (error <= kNearTolerance * tolerance && (double)sweeps < allowed) return 0;
+        if (predicted > std::max(kNsgsPatience * (double)sweeps, allowed)) return stop(slow);
         return 0;
     }
 };
@@ -320,7 +411,7 @@ class IslandSolver {
     // the problem gets enough time while the others cost at most a constant factor (a
     // portfolio with restarts).
     frix_error first_stage(double *r) {
-        return stage(FRIX_SOLVER_NSGS_VELOCITY, Watch::NsgsRate, 0, kFirstNsgsSweeps, r);
+        return stage(FRIX_SOLVER_NSGS_VELOCITY, Watch::Rate, 0, kFirstNsgsSweeps, r);
     }
 
     // One round of the stages (the caller calls it again while `active()`): round k gives
@@ -328,6 +419,12 @@ class IslandSolver {
     frix_error run_round(double *r) {
         const double before = best_error_;
         cut_short_ = false;
+        if (round_ == 0 && p_.nc >= kIpmMinContacts && can_continue()) {
+            // ADMM first, while its rate predicts the tolerance for less than the IPM costs.
+            // From r = 0: its dual variable starts at 0, which fits an iterate of NSGS poorly.
+            std::fill(r, r + m_, 0.0);
+            if (frix_error e = stage(FRIX_SOLVER_ADMM, Watch::Rate, 0, kAdmmRateBudget, r)) return e;
+        }
         if (round_ == 0 && p_.nc >= kIpmMinContacts && can_continue()) {
             // The rounds start from its iterate only within kIpmKeepRatio of the tolerance.
             const std::vector<double> keep_r = best_r_;
@@ -508,6 +605,23 @@ class IslandSolver {
         dog.patience = patience;
         const double blocks = (double)std::max<int64_t>(1, p_.W->nblocks());
         dog.min_sweeps = std::max<int64_t>(kNsgsMinSweeps, (int64_t)(kNsgsMinWork / blocks));
+        if (kind == Watch::Rate) {
+            const bool admm = id == FRIX_SOLVER_ADMM;
+            if (admm) {
+                dog.on_best = true;
+                dog.slow = "ADMM rate too slow";
+                dog.min_sweeps = kAdmmMinIterations;
+            }
+            if (const StageCosts *c = prices()) {
+                dog.iteration_work = admm ? c->admm_iteration : c->sweep;
+                // NSGS's alternative is ADMM (priced at kAdmmExpectedIterations) or the IPM.
+                dog.alternative_work =
+                    admm ? c->ipm
+                         : std::min(c->ipm, c->admm_setup + kAdmmExpectedIterations * c->admm_iteration);
+                dog.min_sweeps =
+                    std::max(dog.min_sweeps, (int64_t)(kJudgeShare * dog.alternative_work / dog.iteration_work));
+            }
+        }
         o.callback = Watchdog::callback;
         o.callback_data = &dog;
 
@@ -536,6 +650,28 @@ class IslandSolver {
         return FRIX_OK;
     }
 
+    // The stages' prices on a part large enough for the interior-point stage (kIpmMinContacts),
+    // where they weigh a first-order stage against it; null on a smaller part (and where
+    // pricing failed: the rate is then judged on the stage's own work).
+    const StageCosts *prices() {
+        if (p_.nc < kIpmMinContacts) return nullptr;
+        if (!priced_) {
+            priced_ = true;
+            if (price_stages(p_, &costs_) != FRIX_OK) {
+                clear_error();
+                costs_ = StageCosts{};
+            }
+            if (shared_.user.i(FRIX_OPT_VERBOSITY) >= 1) {
+                char line[200];
+                std::snprintf(line, sizeof line,
+                              "auto: part %lld prices (block products): sweep %.3g, admm %.3g + %.3g an iteration, ipm %.3g",
+                              (long long)island_, costs_.sweep, costs_.admm_setup, costs_.admm_iteration, costs_.ipm);
+                Shared::log(&shared_, line);
+            }
+        }
+        return costs_.ipm > 0.0 ? &costs_ : nullptr;
+    }
+
     const frix_problem &p_;
     Shared &shared_;
     int64_t island_;
@@ -553,6 +689,8 @@ class IslandSolver {
     double start_scale_ = 0.0;   // of the random starts (draw_start); 0 until first needed
     int round_ = 0, idle_rounds_ = 0;
     bool cut_short_ = false;  // a stage of this round got less than its budget (max_iter)
+    StageCosts costs_;
+    bool priced_ = false;
     bool finished_ = false;
     std::vector<TraceEvent> events_;
     int64_t switches_ = 0, stages_run_ = 0;

@@ -11,6 +11,7 @@
 #include "check_main.h"
 #include "stage_records.h"
 #include "shared_data.h"
+#include "scenes.h"
 
 /* A local problem of `groups` independent chains of `size` contacts (each coupled to the
  * next: islands of `size`), plus `singles` contacts coupled to nothing. Every contact is
@@ -608,6 +609,45 @@ END_TEST
  * lowers the error further (converges, or ends within 100 x the tolerance, and its point is
  * kept), and auto converges in a few hundred iterations, where the rounds from NSGS's iterate
  * needed about 30000 (10 s). */
+/* At a loose tolerance on a large pile where NSGS stalls (the 8-layer pyramid of spheres, 960
+ * contacts), ADMM is weighed against the interior-point stage by their prices and comes
+ * first: auto converges by ADMM, and no factorising stage runs. */
+START_TEST(test_loose_tolerance_pile_solved_by_admm_first) {
+    frix_scene_params sp;
+    frix_scene_defaults(FRIX_SCENE_SPHERES, &sp);
+    sp.count = 8;
+    frix_scene scene;
+    ck_assert_int_eq(frix_scene_build(&sp, &scene, NULL), FRIX_OK);
+    frix_scene_problems pr;
+    ck_assert_int_eq(frix_scene_problems_make(&scene, &pr), FRIX_OK);
+    ck_assert_int_eq(scene.nc, 960);
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-4), FRIX_OK);
+    double *r = calloc((size_t)(3 * scene.nc), sizeof *r), *u = calloc((size_t)(3 * scene.nc), sizeof *u);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_solve(pr.local, o, r, u, NULL, info), FRIX_OK);
+    const char *trace = frix_info_trace(info);
+    ck_assert_msg(frix_info_status(info) == FRIX_STATUS_CONVERGED, "%s\n%s",
+                  frix_status_string(frix_info_status(info)), trace);
+    const int64_t admm = find_stage(info, FRIX_SOLVER_ADMM, 0);
+    ck_assert_msg(admm >= 0 && stage_int(info, admm, FRIX_STAGE_STATUS) == FRIX_STATUS_CONVERGED,
+                  "no converged ADMM stage:\n%s", trace);
+    ck_assert_msg(find_stage(info, FRIX_SOLVER_IPM, 0) < 0 && find_stage(info, FRIX_SOLVER_NSN_AC, 0) < 0,
+                  "a factorising stage ran:\n%s", trace);
+    double e = NAN;
+    ck_assert_int_eq(frix_problem_error(pr.local, r, NULL, &e), FRIX_OK);
+    ck_assert_double_le(e, 1e-4);
+    frix_info_free(info);
+    free(r);
+    free(u);
+    frix_options_free(o);
+    frix_scene_problems_free(&pr);
+    frix_scene_free(&scene);
+}
+END_TEST
+
 START_TEST(test_newton_from_stalled_interior_point) {
     file_run f;
     if (!file_run_open(&f, "../fclib-large/Kapla-4x2x25-ball-seed2-s00100-nc2895.hdf5", 1e-8)) return;
@@ -688,6 +728,7 @@ int main(void) {
     tcase_add_test(tc, test_newton_from_stalled_interior_point);
     tcase_add_test(tc, test_rockpile_by_the_nsgs_chain);
     tcase_add_test(tc, test_first_nsgs_judged_after_its_work);
+    tcase_add_test(tc, test_loose_tolerance_pile_solved_by_admm_first);
     tcase_add_loop_test(tc, test_every_local_fclib_problem, 0, FRIX_FCLIB_LOCAL_COUNT);
     tcase_add_loop_test(tc, test_global_fclib_problems, 0, (int)(sizeof kGlobalFiles / sizeof kGlobalFiles[0]));
     suite_add_tcase(s, tc);

@@ -87,6 +87,38 @@ static void build_congruence_case(int64_t ap[kN + 1], int64_t ai[3 * kN], double
     bp[kK] = 2 * kK;
 }
 
+/* The price of a factorisation before it is paid: L of a tridiagonal matrix of size 10 has
+ * 19 entries, of a dense one of size 6 has 21; the dense one costs more flops per entry. */
+START_TEST(cholesky_cost_from_the_pattern) {
+    int64_t tp[11], ti[30], e = 0;
+    for (int j = 0; j < 10; ++j) {
+        tp[j] = e;
+        for (int i = j - 1; i <= j + 1; ++i)
+            if (i >= 0 && i < 10) ti[e++] = i;
+    }
+    tp[10] = e;
+    double flops = 0.0, entries = 0.0;
+    ck_assert_int_eq(frix_testing_cholesky_cost(10, tp, ti, &flops, &entries), FRIX_OK);
+    ck_assert_double_eq(entries, 19.0);
+    ck_assert_double_gt(flops, 0.0);
+    const double tridiagonal_ratio = flops / entries;
+    int64_t dp[7], di[21];
+    e = 0;
+    for (int j = 0; j < 6; ++j) {  /* the upper triangle only */
+        dp[j] = e;
+        for (int i = 0; i <= j; ++i) di[e++] = i;
+    }
+    dp[6] = e;
+    ck_assert_int_eq(frix_testing_cholesky_cost(6, dp, di, &flops, &entries), FRIX_OK);
+    ck_assert_double_eq(entries, 21.0);
+    ck_assert_double_gt(flops / entries, tridiagonal_ratio);
+    /* No rows: nothing to pay. */
+    const int64_t zp[1] = {0};
+    ck_assert_int_eq(frix_testing_cholesky_cost(0, zp, NULL, &flops, &entries), FRIX_OK);
+    ck_assert_double_eq(flops, 0.0);
+}
+END_TEST
+
 START_TEST(congruence_in_blocks_is_the_same_and_stops_when_asked) {
     int64_t ap[kN + 1], ai[3 * kN], bp[kK + 1], bi[2 * kK], nnz = -1;
     double ax[3 * kN], bx[2 * kK], whole[kK * kK], blocked[kK * kK];
@@ -151,6 +183,7 @@ int main(void) {
     tcase_add_test(tc, sparse_cholesky_and_congruence);
     tcase_add_test(tc, congruence_in_blocks_is_the_same_and_stops_when_asked);
     tcase_add_test(tc, dense_lu_and_cholesky);
+    tcase_add_test(tc, cholesky_cost_from_the_pattern);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

@@ -132,6 +132,40 @@ frix_error SparseCholesky::factor(const CscView &A) {
     return FRIX_OK;
 }
 
+frix_error cholesky_cost(const CscView &A, FactorCost *cost) {
+    *cost = FactorCost{};
+    if (A.rows != A.cols)
+        return fail(FRIX_ERR_DIMENSION, "Cholesky cost: the matrix is %lld x %lld, not square", (long long)A.rows,
+                    (long long)A.cols);
+    if (A.rows == 0) return FRIX_OK;
+    cholmod_common c;
+    cholmod_l_start(&c);
+    c.print = 0;
+    c.error_handler = nullptr;
+    // AMD alone and a simplicial analysis: the counts need no supernodes, and the price must
+    // cost little next to what it prices.
+    c.supernodal = CHOLMOD_SIMPLICIAL;
+    c.nmethods = 1;
+    c.method[0].ordering = CHOLMOD_AMD;
+    c.postorder = 0;
+    cholmod_sparse a = view_of(A, 1);
+    a.xtype = CHOLMOD_PATTERN;
+    a.x = nullptr;
+    cholmod_factor *L = nullptr;
+    {
+        const std::lock_guard<std::mutex> lock(metis_mutex());
+        L = cholmod_l_analyze(&a, &c);
+    }
+    const bool ok = L != nullptr && c.status == CHOLMOD_OK;
+    if (ok) *cost = FactorCost{c.fl, c.lnz};
+    const int status = c.status;
+    if (L) cholmod_l_free_factor(&L, &c);
+    cholmod_l_finish(&c);
+    if (ok) return FRIX_OK;
+    if (status == CHOLMOD_OUT_OF_MEMORY) return fail(FRIX_ERR_OUT_OF_MEMORY, "Cholesky cost: out of memory");
+    return fail(FRIX_ERR_NUMERICAL, "Cholesky cost: symbolic analysis failed (CHOLMOD status %d)", status);
+}
+
 frix_error SparseCholesky::solve(const double *b, double *x) const {
     Impl &m = *impl_;
     if (!m.L) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: solve() without a factorisation");

@@ -133,6 +133,16 @@ class SparseCholesky {
     FactorStats stats_;
 };
 
+// What a Cholesky factorisation of a symmetric matrix with A's pattern would cost, from
+// CHOLMOD's symbolic analysis alone (the ordering it would pick; no numeric work): a stage
+// can be priced before it is paid. Only A's pattern is read (values may be null), and of it
+// the upper triangle.
+struct FactorCost {
+    double flops = 0.0;           // of the numeric factorisation
+    double factor_entries = 0.0;  // entries of L (each solve reads them twice)
+};
+frix_error cholesky_cost(const CscView &A, FactorCost *cost);
+
 // Dense LU with partial pivoting (LAPACK dgetrf/dgetrs), column-major n x n.
 class DenseLU {
    public:

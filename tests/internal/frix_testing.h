@@ -59,6 +59,10 @@ int frix_testing_sparse_cholesky(int64_t n, const int64_t *colptr, const int64_t
                                  const double *values, const double *b, double *x, int64_t k,
                                  const int64_t *bp, const int64_t *bi, const double *bx,
                                  double *C);
+/* The flops and entries of L of a Cholesky factorisation of A's pattern (upper triangle read,
+ * values not needed), from the symbolic analysis alone. */
+int frix_testing_cholesky_cost(int64_t n, const int64_t *colptr, const int64_t *rowind, double *flops,
+                               double *entries);
 /* C = B^T A^-1 B as frix_testing_sparse_cholesky, in blocks of block_cols columns; the work
  * is asked to stop at the stop_at-th question (never if stop_at <= 0). *questions: how many
  * were asked; *stopped: whether the work stopped; *nnz: the entries of C returned. */

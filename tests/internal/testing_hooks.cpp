@@ -112,6 +112,17 @@ FRIX_TESTING_HOOK int frix_testing_sparse_cholesky(int64_t n, const int64_t *col
     return FRIX_OK;
 }
 
+// The price of a Cholesky factorisation of A's pattern (upper triangle), from the symbolic
+// analysis alone.
+FRIX_TESTING_HOOK int frix_testing_cholesky_cost(int64_t n, const int64_t *colptr, const int64_t *rowind,
+                                                 double *flops, double *entries) {
+    frix::linalg::FactorCost c;
+    const int e = frix::linalg::cholesky_cost({n, n, colptr, rowind, nullptr}, &c);
+    *flops = c.flops;
+    *entries = c.factor_entries;
+    return e;
+}
+
 FRIX_TESTING_HOOK int frix_testing_congruence_in_blocks(int64_t n, const int64_t *colptr,
                                                         const int64_t *rowind, const double *values,
                                                         int64_t k, const int64_t *bp, const int64_t *bi,
