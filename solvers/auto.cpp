@@ -162,7 +162,6 @@ constexpr double kIpmFactorizations = 50.0;
 // Nor is it judged before it has cost this share of the alternative: its early rate says
 // little, and an early judgement wastes at most this share.
 constexpr double kJudgeShare = 0.1;
-constexpr double kNearTolerance = 10.0;
 struct StageCosts {
     double sweep = 0.0;           // one NSGS sweep
     double admm_iteration = 0.0;  // one ADMM iteration: two triangular solves, products, projections
@@ -258,9 +257,14 @@ struct Watchdog {
     double best = INFINITY;      // best error of the stage
     double ref = INFINITY;       // the error that tenfold progress is measured from
     int64_t ref_iteration = 0;   // when the best error last fell tenfold
-    // NSGS: the error near half the sweeps so far, to measure the recent rate.
+    // Watch::Rate on an unpriced part: the error near half the sweeps so far.
     double mid_error = NAN, last_error = NAN;
     int64_t mid_sweep = 0, last_sweep = 0;
+    // Watch::Rate on a priced part: the errors at iterations 1, 2, 4, 8, ... (the first call
+    // at or after each); the rate is measured from the last of them at or below half the
+    // iterations so far.
+    std::vector<std::pair<int64_t, double>> samples;
+    int64_t next_sample = 1;
     bool stopped_by_watchdog = false;
     const char *why = nullptr;
 
@@ -292,35 +296,47 @@ struct Watchdog {
             ref = best;
             ref_iteration = iteration;
         }
-        if (kind == Watch::Rate) return judge_rate(kind_error(error), iteration);
+        if (kind == Watch::Rate) return judge_rate(judged_error(error), iteration);
         const int64_t idle = iteration - ref_iteration;
         if (idle >= patience && 2 * idle >= iteration) return stop("no tenfold progress");
         return 0;
     }
 
-    // The error the rate is measured on: a stage whose error is not monotone (ADMM's restarts)
-    // is judged on its best.
+    // The error the rate is measured on: the stage's last, or its best (see run_stage).
     bool on_best = false;
-    double kind_error(double error) const { return on_best ? best : error; }
+    double judged_error(double error) const { return on_best ? best : error; }
 
     int judge_rate(double error, int64_t sweeps) {
         if (!std::isfinite(error)) return stop("non-finite error");
-        // Keep a sample near half the sweeps so far: the rate over the second half.
-        if (std::isnan(mid_error) || 4 * mid_sweep < sweeps) {
-            mid_error = std::isnan(last_error) ? error : last_error;
-            mid_sweep = std::isnan(last_error) ? sweeps : last_sweep;
+        double gained = 0.0;  // > 0 when converging
+        int64_t from = 0;     // over the sweeps from `from` on
+        if (iteration_work > 0.0) {
+            if (sweeps >= next_sample) {
+                samples.emplace_back(sweeps, error);
+                while (next_sample <= sweeps) next_sample *= 2;
+            }
+            if (sweeps < min_sweeps) return 0;
+            const std::pair<int64_t, double> *mid = nullptr;
+            for (const auto &x : samples)
+                if (2 * x.first <= sweeps) mid = &x;
+            if (!mid) return 0;
+            from = mid->first;
+            gained = std::log(mid->second / error);
+        } else {
+            // Keep a sample near half the sweeps so far: the rate over the second half.
+            if (std::isnan(mid_error) || 4 * mid_sweep < sweeps) {
+                mid_error = std::isnan(last_error) ? error : last_error;
+                mid_sweep = std::isnan(last_error) ? sweeps : last_sweep;
+            }
+            last_error = error, last_sweep = sweeps;
+            if (sweeps < min_sweeps || sweeps <= mid_sweep) return 0;
+            from = mid_sweep;
+            gained = std::log(mid_error / error);
         }
-        last_error = error, last_sweep = sweeps;
-        if (sweeps < min_sweeps || sweeps <= mid_sweep) return 0;
-        const double gained = std::log(mid_error / error);  // > 0 when converging
         const double needed = std::log(error / tolerance);
         if (needed <= 0.0) return 0;
-        const double predicted = gained > 0.0 ? needed / gained * (double)(sweeps - mid_sweep) : INFINITY;
+        const double predicted = gained > 0.0 ? needed / gained * (double)(sweeps - from) : INFINITY;
         const double allowed = iteration_work > 0.0 ? alternative_work / iteration_work : 0.0;
-        // Within kNearTolerance of the tolerance it goes on while it has cost less than the
-        // alternative: there a plateau of the error misleads the rate, and riding it out costs
-        // at most the alternative once more.
-        if (error <= kNearTolerance * tolerance && (double)sweeps < allowed) return 0;
         if (predicted > std::max(kNsgsPatience * (double)sweeps, allowed)) return stop(slow);
         return 0;
     }
@@ -607,12 +623,15 @@ class IslandSolver {
         dog.min_sweeps = std::max<int64_t>(kNsgsMinSweeps, (int64_t)(kNsgsMinWork / blocks));
         if (kind == Watch::Rate) {
             const bool admm = id == FRIX_SOLVER_ADMM;
+            // On a priced part the rate is measured on the best error: NSGS reports a light
+            // error between its full checks, which are lower, and ADMM's restarts are not
+            // monotone.
             if (admm) {
-                dog.on_best = true;
                 dog.slow = "ADMM rate too slow";
                 dog.min_sweeps = kAdmmMinIterations;
             }
             if (const StageCosts *c = prices()) {
+                dog.on_best = true;
                 dog.iteration_work = admm ? c->admm_iteration : c->sweep;
                 // NSGS's alternative is ADMM (priced at kAdmmExpectedIterations) or the IPM.
                 dog.alternative_work =
