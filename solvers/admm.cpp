@@ -93,9 +93,7 @@ class ShiftedSystem {
                         }
                     }
         for (int64_t i = 0; i < m_; ++i) e.push_back({i, i, 0.0});  // every diagonal entry
-        std::sort(e.begin(), e.end(), [](const Entry &x, const Entry &y) {
-            return x.col != y.col ? x.col < y.col : x.row < y.row;
-        });
+        sort_by_column(e, m_);
         if (dense_) {
             base_.assign((size_t)(m_ * m_), 0.0);
             for (const Entry &x : e) base_[(size_t)(x.row + x.col * m_)] += x.val;
@@ -119,6 +117,13 @@ class ShiftedSystem {
    public:
     bool skew() const { return skew_; }
     bool dense() const { return dense_; }
+    // Every sparse factorisation first asks the budget (the solve's time limit); refused():
+    // the last one was not started.
+    void set_budget(const linalg::FlopBudget &budget) {
+        schol_.set_budget(budget);
+        slu_.set_budget(budget);
+    }
+    bool refused() const { return !dense_ && (lu_ ? slu_.refused() : schol_.refused()); }
     const char *kind() const { return lu_ ? "LU" : skew_ ? "Cholesky of the symmetric part" : "Cholesky"; }
 
     // Factorises W + rho R, R = diag(weight_a I_3) (contact a's penalty is rho weight_a).
@@ -175,6 +180,21 @@ class ShiftedSystem {
         int64_t col, row;
         double val;
     };
+    // Orders e by (col, row): bucketed by column (a counting pass), then each column sorted
+    // on its own; columns hold tens of entries, so this is linear in practice where one sort
+    // of all entries is not.
+    static void sort_by_column(std::vector<Entry> &e, int64_t cols) {
+        std::vector<int64_t> start((size_t)cols + 1, 0);
+        for (const Entry &x : e) ++start[(size_t)x.col + 1];
+        for (int64_t j = 0; j < cols; ++j) start[(size_t)j + 1] += start[(size_t)j];
+        std::vector<Entry> out(e.size());
+        std::vector<int64_t> next(start.begin(), start.end() - 1);
+        for (const Entry &x : e) out[(size_t)next[(size_t)x.col]++] = x;
+        for (int64_t j = 0; j < cols; ++j)
+            std::sort(out.begin() + start[(size_t)j], out.begin() + start[(size_t)j + 1],
+                      [](const Entry &x, const Entry &y) { return x.row < y.row; });
+        e.swap(out);
+    }
 
     // max |W_ab - W_ba^T| / max |W_ij| over the blocks.
     void measure_asymmetry(const frix_matrix &W) {
@@ -281,6 +301,19 @@ frix_error solve(SolveContext &ctx) {
         values = w_values;
         return system.get();
     };
+    // Under a time limit the first factorisation is priced before W + rho I is even
+    // assembled (on a large W that and the ordering take long too): one that would overrun
+    // the limit is not started.
+    if (!kept->start && m > kDenseMax && Monitor(ctx).time_limited()) {
+        linalg::FactorCost cost;
+        if (block_cholesky_cost(*p.W, &cost) != FRIX_OK) {
+            clear_error();
+        } else if (!Monitor(ctx).affords(cost.flops)) {
+            info.status = FRIX_STATUS_TIME_LIMIT;
+            info.iterations = 0;
+            return FRIX_OK;
+        }
+    }
     ShiftedSystem *sys = current(kept->start, kept->start_values);
     const linalg::FactorStats start_before = kept->start->stats(),
                               adapted_before = kept->adapted ? kept->adapted->stats() : linalg::FactorStats();
@@ -292,9 +325,10 @@ frix_error solve(SolveContext &ctx) {
         work.assign(m, 0.0);
         sys->skew_product(*p.W, z.data(), kx.data(), work.data());  // x_prev ~ z for the first step
     }
+    sys->set_budget(Monitor(ctx).budget());
     if (frix_error e = sys->factor(rho, weight)) {
         (void)e;
-        info.status = FRIX_STATUS_NUMERICAL_FAILURE;
+        info.status = sys->refused() ? FRIX_STATUS_TIME_LIMIT : FRIX_STATUS_NUMERICAL_FAILURE;
         info.iterations = 0;
         return FRIX_OK;
     }
@@ -422,9 +456,10 @@ frix_error solve(SolveContext &ctx) {
                 ++changes;
                 // The start's factorisation stays for the next solve.
                 if (ctx.cache) sys = current(kept->adapted, kept->adapted_values);
+                sys->set_budget(Monitor(ctx).budget());
                 if (frix_error e = sys->factor(rho, weight)) {
                     (void)e;
-                    status = FRIX_STATUS_NUMERICAL_FAILURE;
+                    status = sys->refused() ? FRIX_STATUS_TIME_LIMIT : FRIX_STATUS_NUMERICAL_FAILURE;
                     break;
                 }
             }

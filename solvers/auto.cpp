@@ -169,43 +169,15 @@ struct StageCosts {
     double ipm = 0.0;             // an interior-point stage to its end
 };
 
-// The block graph of W (nc x nc, upper triangle with the diagonal, pattern only).
-struct BlockGraph {
-    std::vector<int64_t> colptr, rowind;
-};
-BlockGraph block_graph(const frix_matrix &W) {
-    std::vector<std::pair<int64_t, int64_t>> e;  // (column, row), row <= column
-    e.reserve(W.block_col.size() + (size_t)W.block_rows);
-    for (int64_t br = 0; br < W.block_rows; ++br) {
-        e.emplace_back(br, br);
-        for (int64_t b = W.row_ptr[br]; b < W.row_ptr[br + 1]; ++b)
-            e.emplace_back(std::max(br, W.block_col[b]), std::min(br, W.block_col[b]));
-    }
-    std::sort(e.begin(), e.end());
-    e.erase(std::unique(e.begin(), e.end()), e.end());
-    BlockGraph g;
-    g.colptr.assign((size_t)W.block_rows + 1, 0);
-    g.rowind.reserve(e.size());
-    for (const auto &x : e) {
-        ++g.colptr[(size_t)x.first + 1];
-        g.rowind.push_back(x.second);
-    }
-    for (int64_t j = 0; j < W.block_rows; ++j) g.colptr[(size_t)j + 1] += g.colptr[(size_t)j];
-    return g;
-}
-
-// The prices of p's stages. A scalar factorisation of 3x3 blocks does 27 flops per block
-// flop and stores 9 entries per block entry; the IPM and Newton factorise an unsymmetric
-// matrix of W's pattern by LU (about twice Cholesky's flops).
+// The prices of p's stages. The IPM and Newton factorise an unsymmetric matrix of W's
+// pattern by LU (about twice Cholesky's flops).
 frix_error price_stages(const frix_problem &p, StageCosts *c) {
     const frix_matrix &W = *p.W;
     const double blocks = (double)W.nblocks(), contacts = (double)p.nc;
-    const BlockGraph g = block_graph(W);
-    const linalg::CscView view{p.nc, p.nc, g.colptr.data(), g.rowind.data(), nullptr};
     linalg::FactorCost fc;
-    if (frix_error e = linalg::cholesky_cost(view, &fc)) return e;
-    const double cholesky = 27.0 * fc.flops * kFactorFlopWork;
-    const double solve = 2.0 * 2.0 * 9.0 * fc.factor_entries * kFactorFlopWork;
+    if (frix_error e = block_cholesky_cost(W, &fc)) return e;
+    const double cholesky = fc.flops * kFactorFlopWork;
+    const double solve = 2.0 * 2.0 * fc.factor_entries * kFactorFlopWork;
     c->sweep = blocks + kContactWork * contacts;
     c->admm_iteration = solve + 4.0 * blocks + kContactWork * contacts;
     c->admm_setup = cholesky;

@@ -231,6 +231,7 @@ frix_error solve(SolveContext &ctx) {
     // fill than AMD (an FEM-like grid of 1600 contacts: 4.3 s against 18.1 s, the same
     // steps); on the rigid global files of ../shared it is as fast or faster.
     lu.set_ordering(linalg::SparseLU::Ordering::kNestedDissection);
+    lu.set_budget(monitor.budget());
     std::vector<double> A(9 * nc), B(9 * nc), phi(m), res(n), F(N), dx(N), rhs(N);
     std::vector<double> Mdv(n), Hdr(n), Htdv(m), rt(m), ut(m), phit(m), rest(n);
     std::vector<double> best_r(r, r + m), best_v(n);
@@ -282,7 +283,7 @@ frix_error solve(SolveContext &ctx) {
             break;
         }
         bool factored = false;
-        for (int attempt = 0; attempt < 12 && !factored; ++attempt) {
+        for (int attempt = 0; attempt < 12 && !factored && !lu.refused(); ++attempt) {
             jac.assemble(A, B, delta * wscale);
             if (lu.stats().symbolic == 0)
                 if (frix_error e = lu.analyze(jac.J.view())) return e;
@@ -292,7 +293,7 @@ frix_error solve(SolveContext &ctx) {
             if (!factored) delta = delta == 0.0 ? kDeltaStart : delta * 100.0;
         }
         if (!factored) {
-            info.status = FRIX_STATUS_NUMERICAL_FAILURE;
+            info.status = lu.refused() ? FRIX_STATUS_TIME_LIMIT : FRIX_STATUS_NUMERICAL_FAILURE;
             break;
         }
         for (int64_t j = 0; j < n; ++j) rhs[j] = -res[j];

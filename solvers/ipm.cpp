@@ -371,6 +371,7 @@ frix_error Solver::run() {
         kept_.frictionless = std::move(frictionless);
     }
     const linalg::FactorStats stats_before = lu_.stats();
+    lu_.set_budget(monitor.budget());
     values_.assign(pat_.rowind.size(), 0.0);
 
     // Interior start on the cones' axes, scaled like the problem: |q|_inf for velocities,
@@ -440,6 +441,11 @@ frix_error Solver::run() {
         scalings();
         if (frix_error e = assemble_and_factor()) {
             if (e != FRIX_ERR_NUMERICAL) return e;
+            clear_error();
+            if (lu_.refused()) {  // it would overrun the time limit
+                info.status = FRIX_STATUS_TIME_LIMIT;
+                break;
+            }
             handed_over = true;  // a singular system: Newton takes over from the best point
             break;
         }

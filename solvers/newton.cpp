@@ -299,6 +299,7 @@ double Engine::full_step_error(const double *r, const double *u, const double *d
 frix_error Engine::run(double *r, const double *q, double shift, double tol, Limits &lim,
                        RunResult &res, double scale_q) {
     const int64_t m = m_;
+    lu_.set_budget(Monitor(lim.options, lim.clock).budget());  // this run's time limit
     std::vector<double> u(m), phi(m), d(m), du(m), rhs(m), x(m), rt(m), ut(m), phit(m), best(r, r + m);
     const double norm_q = scale_q >= 0.0 ? scale_q : std::sqrt(dot(q, q, m));
     auto product = [&](const double *z, double *y) {  // y = (W + shift I) z
@@ -375,8 +376,8 @@ frix_error Engine::run(double *r, const double *q, double shift, double tol, Lim
                 if (frix_error e = lu_.analyze(J)) return e;
                 analysed_index_ = index_;
             }
-            bool factored = false;
-            for (int attempt = 0; attempt < 12 && !factored; ++attempt) {
+            bool factored = false, refused = false;
+            for (int attempt = 0; attempt < 12 && !factored && !refused; ++attempt) {
                 assemble(shift + delta * w_scale_);
                 frix_error e;
                 if (use_dense_) {
@@ -389,13 +390,14 @@ frix_error Engine::run(double *r, const double *q, double shift, double tol, Lim
                 } else {
                     e = lu_.factor(J);
                     factored = e == FRIX_OK && lu_.rcond() > 1e-15;
+                    refused = lu_.refused();
                 }
                 if (e == FRIX_ERR_OUT_OF_MEMORY) return e;
                 if (!factored) delta = delta == 0.0 ? kDeltaStart : delta * 100.0;
                 if (delta > 1e6) break;
             }
             if (!factored) {
-                res.status = FRIX_STATUS_NUMERICAL_FAILURE;
+                res.status = refused ? FRIX_STATUS_TIME_LIMIT : FRIX_STATUS_NUMERICAL_FAILURE;
                 break;
             }
         }

@@ -162,6 +162,35 @@ frix_error check_csc_arrays(int64_t nnz, const int64_t *colptr, const int64_t *r
 
 namespace frix {
 
+void block_graph(const frix_matrix &W, std::vector<int64_t> &colptr, std::vector<int64_t> &rowind) {
+    std::vector<std::pair<int64_t, int64_t>> e;  // (column, row), row <= column
+    e.reserve(W.block_col.size() + (size_t)W.block_rows);
+    for (int64_t br = 0; br < W.block_rows; ++br) {
+        e.emplace_back(br, br);
+        for (int64_t b = W.row_ptr[br]; b < W.row_ptr[br + 1]; ++b)
+            e.emplace_back(std::max(br, W.block_col[b]), std::min(br, W.block_col[b]));
+    }
+    std::sort(e.begin(), e.end());
+    e.erase(std::unique(e.begin(), e.end()), e.end());
+    colptr.assign((size_t)W.block_rows + 1, 0);
+    rowind.clear();
+    rowind.reserve(e.size());
+    for (const auto &x : e) {
+        ++colptr[(size_t)x.first + 1];
+        rowind.push_back(x.second);
+    }
+    for (int64_t j = 0; j < W.block_rows; ++j) colptr[(size_t)j + 1] += colptr[(size_t)j];
+}
+
+frix_error block_cholesky_cost(const frix_matrix &W, linalg::FactorCost *cost) {
+    std::vector<int64_t> colptr, rowind;
+    block_graph(W, colptr, rowind);
+    linalg::FactorCost blocks;
+    const frix_error e = linalg::cholesky_cost({W.block_rows, W.block_rows, colptr.data(), rowind.data(), nullptr}, &blocks);
+    *cost = {27.0 * blocks.flops, 9.0 * blocks.factor_entries};
+    return e;
+}
+
 bool same_pattern(const frix_matrix &a, const frix_matrix &b) {
     return a.rows == b.rows && a.cols == b.cols && a.block == b.block && a.row_ptr == b.row_ptr &&
            a.block_col == b.block_col && a.col_ptr == b.col_ptr && a.row_ind == b.row_ind;

@@ -28,6 +28,20 @@ class Monitor {
         const double tl = o_.d(FRIX_OPT_TIME_LIMIT);
         return tl > 0.0 && clock_.seconds() >= tl;
     }
+    // Whether a factorisation of `flops` fits in what is left of the time limit (always,
+    // without one): a factorisation cannot be stopped once started, so one that would
+    // overrun the limit is not started.
+    bool time_limited() const { return o_.d(FRIX_OPT_TIME_LIMIT) > 0.0; }
+    bool affords(double flops) const {
+        const double tl = o_.d(FRIX_OPT_TIME_LIMIT);
+        if (!(tl > 0.0)) return true;
+        return flops <= kSparseFactorShare * clock_.factor_rate() * (tl - clock_.seconds());
+    }
+    // The budget to give a factorisation (linalg::FlopBudget), on this Monitor's limit.
+    linalg::FlopBudget budget() const {
+        return [o = &o_, c = &clock_](double flops) { return Monitor(*o, *c).affords(flops); };
+    }
+
     // The user's callback after iteration `iteration` with the current error estimate: true
     // if it asks to stop. Without a callback, false.
     bool report(int64_t iteration, double error) const {
@@ -47,6 +61,9 @@ class Monitor {
     }
 
    private:
+    // Sparse factorisations run at no less than this share of a dense LU's rate (supernodal
+    // and multifrontal kernels on small fronts): a price in seconds that errs long.
+    static constexpr double kSparseFactorShare = 0.1;
     const frix_options &o_;
     const Stopwatch &clock_;
 };

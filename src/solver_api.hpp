@@ -6,6 +6,7 @@
 #include <frix/frix_solve.h>
 
 #include <chrono>
+#include <mutex>
 #include <cstdint>
 #include <functional>
 
@@ -16,15 +17,22 @@
 
 namespace frix {
 
+// A solve's clock, shared by its stages (and their threads).
 class Stopwatch {
    public:
     Stopwatch() : start_(std::chrono::steady_clock::now()) {}
     double seconds() const {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     }
+    // Flops per second of a dense LU factorisation on this machine, measured on first use
+    // (a few milliseconds; never without a time limit): what a factorisation's flop count
+    // costs in seconds.
+    double factor_rate() const;
 
    private:
     std::chrono::steady_clock::time_point start_;
+    mutable std::once_flag rate_once_;
+    mutable double rate_ = 0.0;
 };
 
 // What a solver receives. The driver has already validated the problem and options, handled

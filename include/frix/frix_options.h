@@ -23,7 +23,9 @@ typedef enum frix_option_key FRIX_ENUM_BASE {
     FRIX_OPT_TOLERANCE = 1,       /* double: stop when the error measure <= this (default 1e-8) */
     FRIX_OPT_MAX_ITER = 2,        /* int: iteration limit (sweeps for NSGS) */
     FRIX_OPT_TIME_LIMIT = 3,      /* double: seconds of solve time, 0 = none; also ends the
-                                     forming of W = H^T M^-1 H for a global problem */
+                                     forming of W = H^T M^-1 H for a global problem; a
+                                     factorisation that would overrun it (priced from its
+                                     symbolic analysis) is not started */
     FRIX_OPT_VERBOSITY = 4,       /* int 0..3: 0 prints nothing; higher levels print to stderr */
     FRIX_OPT_ERROR_MEASURE = 5,   /* int, frix_error_measure: the measure compared with the tolerance */
     FRIX_OPT_LOCAL_SOLVER = 6,    /* int: one-contact solver id (FRIX_LOCAL_*) */

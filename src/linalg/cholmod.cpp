@@ -66,6 +66,8 @@ struct SparseCholesky::Impl {
     // analysis (CHOLMOD's ordering depends on the pattern alone).
     int64_t rows = -1;
     std::vector<int64_t> colptr, rowind;
+    double flops = 0.0;  // of a numeric factorisation on that analysis
+    bool numeric = false;  // L holds a numeric factorisation (not only the analysis)
     bool same_pattern(const CscView &A) const {
         return L && A.rows == rows && std::equal(colptr.begin(), colptr.end(), A.colptr) &&
                (int64_t)rowind.size() == A.nnz() && std::equal(rowind.begin(), rowind.end(), A.rowind);
@@ -114,9 +116,17 @@ frix_error SparseCholesky::factor(const CscView &A) {
             m.rows = A.rows;
             m.colptr.assign(A.colptr, A.colptr + A.cols + 1);
             m.rowind.assign(A.rowind, A.rowind + A.nnz());
+            m.flops = m.c.fl;
         }
     }
+    m.numeric = false;
+    refused_ = m.L && budget_ && !budget_(m.flops);
+    if (refused_) {
+        stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+        return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: not started: it would overrun the time limit");
+    }
     const bool ok = m.L && cholmod_l_factorize(&a, m.L, &m.c);
+    m.numeric = ok && m.c.status == CHOLMOD_OK;
     stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
     if (m.L) ++stats_.numeric;
     if (!ok || m.c.status != CHOLMOD_OK) {
@@ -168,7 +178,7 @@ frix_error cholesky_cost(const CscView &A, FactorCost *cost) {
 
 frix_error SparseCholesky::solve(const double *b, double *x) const {
     Impl &m = *impl_;
-    if (!m.L) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: solve() without a factorisation");
+    if (!m.L || !m.numeric) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: solve() without a factorisation");
     const size_t n = m.L->n;
     cholmod_dense B{};
     B.nrow = n;
@@ -213,7 +223,7 @@ frix_error SparseCholesky::inverse_congruence(const CscView &B, const ColumnSink
                                               int64_t block_cols) {
     Impl &m = *impl_;
     if (stopped) *stopped = false;
-    if (!m.L) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: no factorisation");
+    if (!m.L || !m.numeric) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: no factorisation");
     if ((size_t)B.rows != m.L->n)
         return fail(FRIX_ERR_DIMENSION, "sparse Cholesky: B has %lld rows, the factor %lld",
                     (long long)B.rows, (long long)m.L->n);

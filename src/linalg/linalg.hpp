@@ -13,6 +13,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <utility>
 #include <vector>
 
 namespace frix::linalg {
@@ -43,6 +44,11 @@ inline FactorStats operator-(const FactorStats &now, const FactorStats &before) 
 inline FactorStats operator+(const FactorStats &a, const FactorStats &b) {
     return {a.symbolic + b.symbolic, a.numeric + b.numeric, a.seconds + b.seconds};
 }
+
+// Asked before a numeric factorisation with its flop count (from the symbolic analysis):
+// false refuses it (a caller's time limit it would overrun); the factorisation then fails
+// with refused() true, having done no numeric work.
+using FlopBudget = std::function<bool(double flops)>;
 
 // Sparse LU of a square matrix with UMFPACK. The symbolic analysis (ordering, strategy) is
 // kept and reused by every factor() while the sparsity pattern is the one of the last
@@ -75,6 +81,10 @@ class SparseLU {
     double rcond() const { return rcond_; }
     bool factored() const { return numeric_ != nullptr; }
     const FactorStats &stats() const { return stats_; }
+    // Every factor() first asks the budget (none: always factorise).
+    void set_budget(FlopBudget budget) { budget_ = std::move(budget); }
+    // The last factor() was refused by the budget.
+    bool refused() const { return refused_; }
 
    private:
     void free_numeric();
@@ -83,6 +93,9 @@ class SparseLU {
     void *symbolic_ = nullptr;
     void *numeric_ = nullptr;
     double rcond_ = 0.0;
+    double flops_ = 0.0;  // of a numeric factorisation, UMFPACK's estimate from the analysis
+    FlopBudget budget_;
+    bool refused_ = false;
     FactorStats stats_;
     std::vector<double> control_;
 };
@@ -126,11 +139,17 @@ class SparseCholesky {
                                   int64_t block_cols = kCongruenceBlockColumns);
 
     const FactorStats &stats() const { return stats_; }
+    // Every factor() first asks the budget (none: always factorise).
+    void set_budget(FlopBudget budget) { budget_ = std::move(budget); }
+    // The last factor() was refused by the budget.
+    bool refused() const { return refused_; }
 
    private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
     FactorStats stats_;
+    FlopBudget budget_;
+    bool refused_ = false;
 };
 
 // What a Cholesky factorisation of a symmetric matrix with A's pattern would cost, from

@@ -96,6 +96,7 @@ frix_error SparseLU::analyze(const CscView &A) {
     }
     ++stats_.symbolic;
     A_ = A;
+    flops_ = info[UMFPACK_FLOPS_ESTIMATE];
     return FRIX_OK;
 }
 
@@ -104,6 +105,8 @@ frix_error SparseLU::factor(const CscView &A) {
     if (!symbolic_) return fail(FRIX_ERR_NUMERICAL, "sparse LU: factor() before analyze()");
     if (A.rows != A_.rows || A.nnz() != A_.nnz())
         return fail(FRIX_ERR_INTERNAL, "sparse LU: the pattern changed since the analysis");
+    refused_ = budget_ && !budget_(flops_);
+    if (refused_) return fail(FRIX_ERR_NUMERICAL, "sparse LU: not started: it would overrun the time limit");
     const auto t0 = Clock::now();
     double info[UMFPACK_INFO];
     const SuiteSparse_long st = umfpack_dl_numeric(idx(A.colptr), idx(A.rowind), A.values,

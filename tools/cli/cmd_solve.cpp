@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <chrono>
 #include <string>
 #include <vector>
 
@@ -216,9 +217,12 @@ void fill_from_info(Report &r, const frix_info *info) {
 // A failed solve says whether the problem has a solution at all: the solver's verdict when
 // it checked (auto does), otherwise the library's check with its default budget. A check
 // that cannot run leaves "not checked": the solve's own report matters more.
-void check_existence_after_failure(Report &r, const frix_problem *problem, frix_info *info) {
+// left: seconds left of the command's time limit (infinite without one); none left: no check.
+void check_existence_after_failure(Report &r, const frix_problem *problem, frix_info *info, double left) {
     if (r.status == FRIX_STATUS_CONVERGED || r.existence != FRIX_EXISTENCE_NOT_CHECKED) return;
-    if (frix_problem_check_existence(problem, 0.0, info) == FRIX_OK) read_existence(r, info);
+    if (!(left > 0.0)) return;
+    if (frix_problem_check_existence(problem, std::isfinite(left) ? left : 0.0, info) == FRIX_OK)
+        read_existence(r, info);
 }
 
 // The existence line of a failed solve: the verdict and what it means for the failure.
@@ -337,9 +341,17 @@ int cmd_solve(int argc, char **argv) {
         print_solve_help(stdout);
         return kExitConverged;
     }
+    // The time limit holds for the whole command: reading the file, the solve, and the
+    // existence check after a failure each get what is left of it.
+    const auto start = std::chrono::steady_clock::now();
+    auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
     // Options first: a usage mistake is reported before any file is touched.
     OptionsPtr opts = make_options(a);
     ProblemPtr problem = read_problem(a.file);
+    double limit = 0.0;
+    if (frix_options_get_double(opts.get(), FRIX_OPT_TIME_LIMIT, &limit) != FRIX_OK) limit = 0.0;
+    if (limit > 0.0)  // at least a moment for the solve, which then returns at once
+        frix_options_set_double(opts.get(), FRIX_OPT_TIME_LIMIT, std::max(limit - elapsed(), 1e-6));
 
     Report rep;
     rep.file = a.file;
@@ -369,7 +381,7 @@ int cmd_solve(int argc, char **argv) {
     progress.end();
     if (err != FRIX_OK) fail("cannot solve " + a.file + ": " + library_message(err));
     fill_from_info(rep, info.get());
-    check_existence_after_failure(rep, problem.get(), info.get());
+    check_existence_after_failure(rep, problem.get(), info.get(), limit > 0.0 ? limit - elapsed() : INFINITY);
 
     // Written whatever the status: a non-converged iterate is still worth inspecting.
     std::string write_error;
