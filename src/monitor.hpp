@@ -3,6 +3,7 @@
 // counters with it, so that no solver writes these again.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "info.hpp"
@@ -32,14 +33,17 @@ class Monitor {
     // without one): a factorisation cannot be stopped once started, so one that would
     // overrun the limit is not started.
     bool time_limited() const { return o_.d(FRIX_OPT_TIME_LIMIT) > 0.0; }
-    bool affords(double flops) const {
+    // seconds: what the same factorisation took last time (NaN if unknown), the better price.
+    bool affords(double flops, double seconds = NAN) const {
         const double tl = o_.d(FRIX_OPT_TIME_LIMIT);
         if (!(tl > 0.0)) return true;
-        return flops <= kSparseFactorShare * clock_.factor_rate() * (tl - clock_.seconds());
+        const double left = tl - clock_.seconds();
+        if (std::isfinite(seconds)) return kRepeatMargin * seconds <= left;
+        return flops <= kSparseFactorShare * clock_.factor_rate() * left;
     }
     // The budget to give a factorisation (linalg::FlopBudget), on this Monitor's limit.
     linalg::FlopBudget budget() const {
-        return [o = &o_, c = &clock_](double flops) { return Monitor(*o, *c).affords(flops); };
+        return [o = &o_, c = &clock_](double flops, double seconds) { return Monitor(*o, *c).affords(flops, seconds); };
     }
 
     // The user's callback after iteration `iteration` with the current error estimate: true
@@ -61,9 +65,12 @@ class Monitor {
     }
 
    private:
-    // Sparse factorisations run at no less than this share of a dense LU's rate (supernodal
-    // and multifrontal kernels on small fronts): a price in seconds that errs long.
-    static constexpr double kSparseFactorShare = 0.1;
+    // A first factorisation is priced at this share of a dense LU's rate: sparse kernels run
+    // on small fronts, more slowly, but UMFPACK's flop count is an upper bound that overstates
+    // the real one several times; the price errs long.
+    static constexpr double kSparseFactorShare = 0.25;
+    // A factorisation repeated on the same analysis is priced at its last time, with this margin.
+    static constexpr double kRepeatMargin = 1.5;
     const frix_options &o_;
     const Stopwatch &clock_;
 };

@@ -68,6 +68,7 @@ struct SparseCholesky::Impl {
     std::vector<int64_t> colptr, rowind;
     double flops = 0.0;  // of a numeric factorisation on that analysis
     bool numeric = false;  // L holds a numeric factorisation (not only the analysis)
+    double last_seconds = NAN;  // of the last numeric factorisation on that analysis
     bool same_pattern(const CscView &A) const {
         return L && A.rows == rows && std::equal(colptr.begin(), colptr.end(), A.colptr) &&
                (int64_t)rowind.size() == A.nnz() && std::equal(rowind.begin(), rowind.end(), A.rowind);
@@ -117,16 +118,19 @@ frix_error SparseCholesky::factor(const CscView &A) {
             m.colptr.assign(A.colptr, A.colptr + A.cols + 1);
             m.rowind.assign(A.rowind, A.rowind + A.nnz());
             m.flops = m.c.fl;
+            m.last_seconds = NAN;
         }
     }
     m.numeric = false;
-    refused_ = m.L && budget_ && !budget_(m.flops);
+    refused_ = m.L && budget_ && !budget_(m.flops, m.last_seconds);
     if (refused_) {
         stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
         return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: not started: it would overrun the time limit");
     }
+    const auto t1 = Clock::now();
     const bool ok = m.L && cholmod_l_factorize(&a, m.L, &m.c);
     m.numeric = ok && m.c.status == CHOLMOD_OK;
+    m.last_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
     stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
     if (m.L) ++stats_.numeric;
     if (!ok || m.c.status != CHOLMOD_OK) {

@@ -9,6 +9,7 @@
 
 #include <frix/frix_errors.h>
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -45,10 +46,12 @@ inline FactorStats operator+(const FactorStats &a, const FactorStats &b) {
     return {a.symbolic + b.symbolic, a.numeric + b.numeric, a.seconds + b.seconds};
 }
 
-// Asked before a numeric factorisation with its flop count (from the symbolic analysis):
-// false refuses it (a caller's time limit it would overrun); the factorisation then fails
-// with refused() true, having done no numeric work.
-using FlopBudget = std::function<bool(double flops)>;
+// Asked before a numeric factorisation with its price: the flop count of the symbolic
+// analysis, and the seconds the last numeric factorisation on the same analysis took (NaN
+// before the first; the flop counts are upper bounds that can be loose by orders of
+// magnitude, a measured time is not). false refuses it (a caller's time limit it would
+// overrun); the factorisation then fails with refused() true, having done no numeric work.
+using FlopBudget = std::function<bool(double flops, double seconds)>;
 
 // Sparse LU of a square matrix with UMFPACK. The symbolic analysis (ordering, strategy) is
 // kept and reused by every factor() while the sparsity pattern is the one of the last
@@ -94,6 +97,7 @@ class SparseLU {
     void *numeric_ = nullptr;
     double rcond_ = 0.0;
     double flops_ = 0.0;  // of a numeric factorisation, UMFPACK's estimate from the analysis
+    double last_seconds_ = NAN;  // of the last numeric factorisation on this analysis
     FlopBudget budget_;
     bool refused_ = false;
     FactorStats stats_;

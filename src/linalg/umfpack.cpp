@@ -97,6 +97,7 @@ frix_error SparseLU::analyze(const CscView &A) {
     ++stats_.symbolic;
     A_ = A;
     flops_ = info[UMFPACK_FLOPS_ESTIMATE];
+    last_seconds_ = NAN;
     return FRIX_OK;
 }
 
@@ -105,13 +106,14 @@ frix_error SparseLU::factor(const CscView &A) {
     if (!symbolic_) return fail(FRIX_ERR_NUMERICAL, "sparse LU: factor() before analyze()");
     if (A.rows != A_.rows || A.nnz() != A_.nnz())
         return fail(FRIX_ERR_INTERNAL, "sparse LU: the pattern changed since the analysis");
-    refused_ = budget_ && !budget_(flops_);
+    refused_ = budget_ && !budget_(flops_, last_seconds_);
     if (refused_) return fail(FRIX_ERR_NUMERICAL, "sparse LU: not started: it would overrun the time limit");
     const auto t0 = Clock::now();
     double info[UMFPACK_INFO];
     const SuiteSparse_long st = umfpack_dl_numeric(idx(A.colptr), idx(A.rowind), A.values,
                                                     symbolic_, &numeric_, control_.data(), info);
-    stats_.seconds += since(t0);
+    last_seconds_ = since(t0);
+    stats_.seconds += last_seconds_;
     ++stats_.numeric;
     A_ = A;
     rcond_ = info[UMFPACK_RCOND];
