@@ -295,20 +295,24 @@ frix_error solve(SolveContext &ctx) {
         kept->nc = nc;
     }
     const uint64_t w_values = ctx.cache ? ctx.cache->w_values : 0;
+    const Monitor monitor(ctx);
+    // The system for this solve: W's values, and this solve's time limit as the budget of
+    // its factorisations.
     auto current = [&](std::unique_ptr<ShiftedSystem> &system, uint64_t &values) {
         if (!system) system = std::make_unique<ShiftedSystem>(*p.W);
         else if (values != w_values) system->refill(*p.W);
         values = w_values;
+        system->set_budget(monitor.budget());
         return system.get();
     };
     // Under a time limit the first factorisation is priced before W + rho I is even
     // assembled (on a large W that and the ordering take long too): one that would overrun
     // the limit is not started.
-    if (!kept->start && m > kDenseMax && Monitor(ctx).time_limited()) {
+    if (!kept->start && m > kDenseMax && monitor.time_limited()) {
         linalg::FactorCost cost;
         if (block_cholesky_cost(*p.W, &cost) != FRIX_OK) {
             clear_error();
-        } else if (!Monitor(ctx).affords(cost.flops)) {
+        } else if (!monitor.affords(cost.flops)) {
             info.status = FRIX_STATUS_TIME_LIMIT;
             info.iterations = 0;
             return FRIX_OK;
@@ -325,7 +329,6 @@ frix_error solve(SolveContext &ctx) {
         work.assign(m, 0.0);
         sys->skew_product(*p.W, z.data(), kx.data(), work.data());  // x_prev ~ z for the first step
     }
-    sys->set_budget(Monitor(ctx).budget());
     if (frix_error e = sys->factor(rho, weight)) {
         (void)e;
         info.status = sys->refused() ? FRIX_STATUS_TIME_LIMIT : FRIX_STATUS_NUMERICAL_FAILURE;
@@ -456,7 +459,6 @@ frix_error solve(SolveContext &ctx) {
                 ++changes;
                 // The start's factorisation stays for the next solve.
                 if (ctx.cache) sys = current(kept->adapted, kept->adapted_values);
-                sys->set_budget(Monitor(ctx).budget());
                 if (frix_error e = sys->factor(rho, weight)) {
                     (void)e;
                     status = sys->refused() ? FRIX_STATUS_TIME_LIMIT : FRIX_STATUS_NUMERICAL_FAILURE;

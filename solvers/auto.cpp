@@ -274,9 +274,10 @@ struct Watchdog {
         return 0;
     }
 
-    // The error the rate is measured on: the stage's last, or its best (see run_stage).
-    bool on_best = false;
-    double judged_error(double error) const { return on_best ? best : error; }
+    // The error the rate is measured on: on a priced part the stage's best (NSGS reports a
+    // light error between its full checks, which differ from it by a factor of about 2, and
+    // ADMM's restarts are not monotone), elsewhere its last.
+    double judged_error(double error) const { return iteration_work > 0.0 ? best : error; }
 
     int judge_rate(double error, int64_t sweeps) {
         if (!std::isfinite(error)) return stop("non-finite error");
@@ -595,15 +596,11 @@ class IslandSolver {
         dog.min_sweeps = std::max<int64_t>(kNsgsMinSweeps, (int64_t)(kNsgsMinWork / blocks));
         if (kind == Watch::Rate) {
             const bool admm = id == FRIX_SOLVER_ADMM;
-            // On a priced part the rate is measured on the best error: NSGS reports a light
-            // error between its full checks, which are lower, and ADMM's restarts are not
-            // monotone.
             if (admm) {
                 dog.slow = "ADMM rate too slow";
                 dog.min_sweeps = kAdmmMinIterations;
             }
             if (const StageCosts *c = prices()) {
-                dog.on_best = true;
                 dog.iteration_work = admm ? c->admm_iteration : c->sweep;
                 // NSGS's alternative is ADMM (priced at kAdmmExpectedIterations) or the IPM.
                 dog.alternative_work =

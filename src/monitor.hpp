@@ -29,11 +29,11 @@ class Monitor {
         const double tl = o_.d(FRIX_OPT_TIME_LIMIT);
         return tl > 0.0 && clock_.seconds() >= tl;
     }
+    bool time_limited() const { return o_.d(FRIX_OPT_TIME_LIMIT) > 0.0; }
     // Whether a factorisation of `flops` fits in what is left of the time limit (always,
     // without one): a factorisation cannot be stopped once started, so one that would
-    // overrun the limit is not started.
-    bool time_limited() const { return o_.d(FRIX_OPT_TIME_LIMIT) > 0.0; }
-    // seconds: what the same factorisation took last time (NaN if unknown), the better price.
+    // overrun the limit is not started. seconds: what the same factorisation took last time
+    // (NaN if unknown), the better price.
     bool affords(double flops, double seconds = NAN) const {
         const double tl = o_.d(FRIX_OPT_TIME_LIMIT);
         if (!(tl > 0.0)) return true;

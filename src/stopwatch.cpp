@@ -1,5 +1,4 @@
 // Stopwatch::factor_rate: a dense LU timed once per solve that needs it.
-#include <algorithm>
 #include <chrono>
 #include <vector>
 
