@@ -42,6 +42,7 @@ constexpr double kRestartEta = 0.999;     // Nesterov restart threshold
 constexpr int64_t kBalancePeriod = 25;
 constexpr double kBalanceFactor = 5.0;    // rho changes only by this factor or more
 constexpr double kRhoMin = 1e-6, kRhoMax = 1e6;  // relative to mean |W_aa|
+constexpr double kZeroPrimalStep = 100.0;  // rho's fall where the primal residual is 0
 constexpr int64_t kFullCheckPeriod = 32;
 
 // W + rho I and its factorisation through the linear-algebra interface. W = S + K with S
@@ -117,13 +118,15 @@ class ShiftedSystem {
    public:
     bool skew() const { return skew_; }
     bool dense() const { return dense_; }
-    // Every sparse factorisation first asks the budget (the solve's time limit); refused():
-    // the last one was not started.
-    void set_budget(const linalg::FlopBudget &budget) {
+    // Every sparse factorisation first asks the budget (the solve's time and memory limits);
+    // refused(): the limit the last one would have overrun (FRIX_STATUS_NOT_RUN: none).
+    void set_budget(const linalg::FactorBudget &budget) {
         schol_.set_budget(budget);
         slu_.set_budget(budget);
     }
-    bool refused() const { return !dense_ && (lu_ ? slu_.refused() : schol_.refused()); }
+    frix_status refused() const {
+        return dense_ ? FRIX_STATUS_NOT_RUN : lu_ ? slu_.refused() : schol_.refused();
+    }
     const char *kind() const { return lu_ ? "LU" : skew_ ? "Cholesky of the symmetric part" : "Cholesky"; }
 
     // Factorises W + rho R, R = diag(weight_a I_3) (contact a's penalty is rho weight_a).
@@ -305,15 +308,15 @@ frix_error solve(SolveContext &ctx) {
         system->set_budget(monitor.budget());
         return system.get();
     };
-    // Under a time limit the first factorisation is priced before W + rho I is even
-    // assembled (on a large W that and the ordering take long too): one that would overrun
-    // the limit is not started.
-    if (!kept->start && m > kDenseMax && monitor.time_limited()) {
+    // Under a time or memory limit the first factorisation is priced before W + rho I is
+    // even assembled (on a large W that and the ordering take long too): one that would
+    // overrun a limit is not started.
+    if (!kept->start && m > kDenseMax && (monitor.time_limited() || monitor.memory_limited())) {
         linalg::FactorCost cost;
         if (block_cholesky_cost(*p.W, &cost) != FRIX_OK) {
             clear_error();
-        } else if (!monitor.affords(cost.flops)) {
-            info.status = FRIX_STATUS_TIME_LIMIT;
+        } else if (const frix_status over = monitor.affords({cost.flops, NAN, cost.bytes})) {
+            info.status = over;
             info.iterations = 0;
             return FRIX_OK;
         }
@@ -331,7 +334,7 @@ frix_error solve(SolveContext &ctx) {
     }
     if (frix_error e = sys->factor(rho, weight)) {
         (void)e;
-        info.status = sys->refused() ? FRIX_STATUS_TIME_LIMIT : FRIX_STATUS_NUMERICAL_FAILURE;
+        info.status = sys->refused() ? sys->refused() : FRIX_STATUS_NUMERICAL_FAILURE;
         info.iterations = 0;
         return FRIX_OK;
     }
@@ -440,9 +443,12 @@ frix_error solve(SolveContext &ctx) {
         if (status == FRIX_STATUS_NOT_RUN) status = L.limits(it, estimate);
         if (status != FRIX_STATUS_NOT_RUN) break;
 
-        // Residual balancing: rho <- rho sqrt(primal / dual) when that changes it 5-fold.
-        if (adaptive && since_change >= kBalancePeriod && prim > 0.0 && dual > 0.0) {
-            const double target = std::clamp(rho * std::sqrt(prim / dual), kRhoMin * wmean, kRhoMax * wmean);
+        // Residual balancing: rho <- rho sqrt(primal / dual) when that changes it 5-fold. A
+        // primal residual of exactly 0 (x inside the cones, y = 0: the iteration is a plain
+        // proximal step, as slow as rho is large) lowers rho by kZeroPrimalStep.
+        if (adaptive && since_change >= kBalancePeriod && dual > 0.0) {
+            const double balanced = prim > 0.0 ? rho * std::sqrt(prim / dual) : rho / kZeroPrimalStep;
+            const double target = std::clamp(balanced, kRhoMin * wmean, kRhoMax * wmean);
             if (target > kBalanceFactor * rho || target * kBalanceFactor < rho) {
                 const double ratio = rho / target;
                 for (int64_t k = 0; k < m; ++k) {  // the unscaled dual rho y stays
@@ -461,7 +467,7 @@ frix_error solve(SolveContext &ctx) {
                 if (ctx.cache) sys = current(kept->adapted, kept->adapted_values);
                 if (frix_error e = sys->factor(rho, weight)) {
                     (void)e;
-                    status = sys->refused() ? FRIX_STATUS_TIME_LIMIT : FRIX_STATUS_NUMERICAL_FAILURE;
+                    status = sys->refused() ? sys->refused() : FRIX_STATUS_NUMERICAL_FAILURE;
                     break;
                 }
             }

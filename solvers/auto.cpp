@@ -117,6 +117,8 @@ constexpr int64_t kAdmmRateBudget = 100000;
 // What NSGS is weighed against where ADMM comes next: ADMM's factorisation and this many of
 // its iterations.
 constexpr double kAdmmExpectedIterations = 300.0;
+// The iterations of ADMM's probe that NSGS is first weighed against (first_stage).
+constexpr double kAdmmProbeIterations = 100.0;
 // When max_a |W_aa| / min_a |W_aa| exceeds this, ADMM gives each contact a penalty scaled by
 // its |W_aa| (rho_strategy 1, i.e. ADMM on the problem scaled to equal diagonal blocks): one
 // penalty needs many times the iterations when the contacts' stiffness spreads over decades.
@@ -167,6 +169,8 @@ struct StageCosts {
     double admm_iteration = 0.0;  // one ADMM iteration: two triangular solves, products, projections
     double admm_setup = 0.0;      // ADMM's factorisation of W + rho I
     double ipm = 0.0;             // an interior-point stage to its end
+    double admm_bytes = 0.0;      // peak memory of ADMM's factorisation (Cholesky of W's pattern)
+    double ipm_bytes = 0.0;       // of the IPM's (LU, priced at twice Cholesky's)
 };
 
 // The prices of p's stages. The IPM and Newton factorise an unsymmetric matrix of W's
@@ -182,6 +186,8 @@ frix_error price_stages(const frix_problem &p, StageCosts *c) {
     c->admm_iteration = solve + 4.0 * blocks + kContactWork * contacts;
     c->admm_setup = cholesky;
     c->ipm = kIpmFactorizations * (2.0 * cholesky + solve + blocks);
+    c->admm_bytes = fc.bytes;
+    c->ipm_bytes = 2.0 * fc.bytes;
     return FRIX_OK;
 }
 
@@ -224,6 +230,11 @@ struct Watchdog {
     // Watch::Rate: the price of one iteration and of the stage that would replace this one
     // (0: none; the rate is then judged against the stage's own work alone).
     double iteration_work = 0.0, alternative_work = 0.0;
+    // Whether the rate may also go on for kNsgsPatience times the iterations done (a stage
+    // weighed against a whole alternative), or only within alternative_work (a stage weighed
+    // against a probe of the alternative, which costs little if it fails).
+    bool patient = true;
+    double predicted = NAN;  // iterations the rate last predicted to the tolerance
     const char *slow = "NSGS rate too slow";
     int64_t last_iteration = 0;  // the stage's iteration count at the previous call
     double best = INFINITY;      // best error of the stage
@@ -308,9 +319,15 @@ struct Watchdog {
         }
         const double needed = std::log(error / tolerance);
         if (needed <= 0.0) return 0;
-        const double predicted = gained > 0.0 ? needed / gained * (double)(sweeps - from) : INFINITY;
+        predicted = gained > 0.0 ? needed / gained * (double)(sweeps - from) : INFINITY;
         const double allowed = iteration_work > 0.0 ? alternative_work / iteration_work : 0.0;
-        if (predicted > std::max(kNsgsPatience * (double)sweeps, allowed)) return stop(slow);
+        if (shared->user.i(FRIX_OPT_VERBOSITY) >= 3 && !samples.empty() && samples.back().first == sweeps) {
+            char line[200];
+            std::snprintf(line, sizeof line, "auto: rate watch at %lld: error %.3e, predicts %.4g more, allowed %.4g",
+                          (long long)sweeps, error, predicted, patient ? std::max(kNsgsPatience * (double)sweeps, allowed) : allowed);
+            Shared::log(shared, line);
+        }
+        if (predicted > (patient ? std::max(kNsgsPatience * (double)sweeps, allowed) : allowed)) return stop(slow);
         return 0;
     }
 };
@@ -399,7 +416,29 @@ class IslandSolver {
     // the stall watch and a budget that doubles every round, so that the method that suits
     // the problem gets enough time while the others cost at most a constant factor (a
     // portfolio with restarts).
+    //
+    // On a priced part NSGS is first weighed against a probe of ADMM (its factorisation and
+    // kAdmmProbeIterations iterations): where its rate predicts more than that, ADMM runs from
+    // r = 0, weighed against what NSGS's rate predicted; where ADMM is the slower, NSGS goes on
+    // from where it stopped under its usual watch. Which of the two reaches the tolerance
+    // first depends on the tolerance and the problem (ADMM's iterations range from tens on
+    // towers of blocks to thousands on piles of spheres), which a few iterations of each tell.
     frix_error first_stage(double *r) {
+        const StageCosts *c = prices();
+        if (!c || !fits_memory(&StageCosts::admm_bytes))
+            return stage(FRIX_SOLVER_NSGS_VELOCITY, Watch::Rate, 0, kFirstNsgsSweeps, r);
+        probe_alternative_ = c->admm_setup + kAdmmProbeIterations * c->admm_iteration;
+        frix_error e = stage(FRIX_SOLVER_NSGS_VELOCITY, Watch::Rate, 0, kFirstNsgsSweeps, r);
+        probe_alternative_ = NAN;
+        if (e || !last_slow_ || !can_continue()) return e;
+        const std::vector<double> nsgs_r(r, r + m_);
+        probe_alternative_ = last_predicted_work_;
+        std::fill(r, r + m_, 0.0);
+        e = stage(FRIX_SOLVER_ADMM, Watch::Rate, 0, kAdmmRateBudget, r);
+        probe_alternative_ = NAN;
+        admm_probed_ = true;
+        if (e || !can_continue()) return e;
+        std::copy(nsgs_r.begin(), nsgs_r.end(), r);
         return stage(FRIX_SOLVER_NSGS_VELOCITY, Watch::Rate, 0, kFirstNsgsSweeps, r);
     }
 
@@ -408,13 +447,14 @@ class IslandSolver {
     frix_error run_round(double *r) {
         const double before = best_error_;
         cut_short_ = false;
-        if (round_ == 0 && p_.nc >= kIpmMinContacts && can_continue()) {
+        if (round_ == 0 && p_.nc >= kIpmMinContacts && !admm_probed_ && can_continue() &&
+            fits_memory(&StageCosts::admm_bytes)) {
             // ADMM first, while its rate predicts the tolerance for less than the IPM costs.
             // From r = 0: its dual variable starts at 0, which fits an iterate of NSGS poorly.
             std::fill(r, r + m_, 0.0);
             if (frix_error e = stage(FRIX_SOLVER_ADMM, Watch::Rate, 0, kAdmmRateBudget, r)) return e;
         }
-        if (round_ == 0 && p_.nc >= kIpmMinContacts && can_continue()) {
+        if (round_ == 0 && p_.nc >= kIpmMinContacts && can_continue() && fits_memory(&StageCosts::ipm_bytes)) {
             // The rounds start from its iterate only within kIpmKeepRatio of the tolerance.
             const std::vector<double> keep_r = best_r_;
             const double keep_error = best_error_;
@@ -587,6 +627,7 @@ class IslandSolver {
         // caller's deadline itself.
         const double deadline = shared_.deadline();
         o.dvalue[FRIX_OPT_TIME_LIMIT] = std::isfinite(deadline) ? deadline : 0.0;
+        o.dvalue[FRIX_OPT_MEMORY_LIMIT] = user.d(FRIX_OPT_MEMORY_LIMIT);
         Watchdog dog;
         dog.shared = &shared_;
         dog.kind = kind;
@@ -606,6 +647,10 @@ class IslandSolver {
                 dog.alternative_work =
                     admm ? c->ipm
                          : std::min(c->ipm, c->admm_setup + kAdmmExpectedIterations * c->admm_iteration);
+                if (std::isfinite(probe_alternative_)) {
+                    dog.alternative_work = probe_alternative_;
+                    dog.patient = false;
+                }
                 dog.min_sweeps =
                     std::max(dog.min_sweeps, (int64_t)(kJudgeShare * dog.alternative_work / dog.iteration_work));
             }
@@ -626,6 +671,8 @@ class IslandSolver {
         ev.solver_id = id;
         ev.status = info.status;
         ev.why = dog.stopped_by_watchdog ? dog.why : nullptr;
+        last_slow_ = dog.stopped_by_watchdog && dog.why == dog.slow;
+        last_predicted_work_ = dog.predicted * dog.iteration_work;
         ev.iterations = info.iterations;
         ev.seconds = shared_.clock.seconds() - t0;
         ev.error = err;
@@ -636,6 +683,14 @@ class IslandSolver {
             std::copy(r, r + m_, best_r_.begin());
         }
         return FRIX_OK;
+    }
+
+    // Whether a priced stage's factorisation (its field of StageCosts) fits in the memory the
+    // solve may still take: one that does not is left out rather than started and refused
+    // (its solver's setup alone costs). Unpriced: its solver's own check decides.
+    bool fits_memory(double StageCosts::*bytes) {
+        const StageCosts *c = prices();
+        return !c || Monitor(shared_.user, shared_.clock).fits_memory(c->*bytes);
     }
 
     // The stages' prices on a part large enough for the interior-point stage (kIpmMinContacts),
@@ -676,9 +731,16 @@ class IslandSolver {
     uint64_t rng_;               // random restarts: seeded by the part, so threads do not matter
     double start_scale_ = 0.0;   // of the random starts (draw_start); 0 until first needed
     int round_ = 0, idle_rounds_ = 0;
+    bool admm_probed_ = false;  // first_stage ran ADMM: round 0 does not run it again
     bool cut_short_ = false;  // a stage of this round got less than its budget (max_iter)
     StageCosts costs_;
     bool priced_ = false;
+    // The probe (first_stage): the work a Watch::Rate stage is weighed against instead of its
+    // usual alternative (NaN: none); whether the last stage was stopped for its rate, and the
+    // work its rate then predicted to the tolerance.
+    double probe_alternative_ = NAN;
+    bool last_slow_ = false;
+    double last_predicted_work_ = NAN;
     bool finished_ = false;
     std::vector<TraceEvent> events_;
     int64_t switches_ = 0, stages_run_ = 0;
@@ -942,6 +1004,7 @@ frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage,
     o.dvalue[FRIX_OPT_TOLERANCE] = Monitor(ctx).tolerance();
     o.ivalue[FRIX_OPT_ERROR_MEASURE] = ctx.options.i(FRIX_OPT_ERROR_MEASURE);
     o.dvalue[FRIX_OPT_TIME_LIMIT] = ctx.options.d(FRIX_OPT_TIME_LIMIT);  // the same clock: the same deadline
+    o.dvalue[FRIX_OPT_MEMORY_LIMIT] = ctx.options.d(FRIX_OPT_MEMORY_LIMIT);
     o.callback = ctx.options.callback;
     o.callback_data = ctx.options.callback_data;
     o.log = ctx.options.log;
@@ -1072,7 +1135,7 @@ frix_error solve(SolveContext &ctx) {
     }
     // Not where W would not even fit in memory (a large mesh): the system would kill the
     // process part-way; Newton's answer is what there is.
-    const ReductionMemory memory = reduction_memory(size);
+    const ReductionMemory memory = reduction_memory(size, Monitor(ctx));
     if (!memory.fits) {
         TraceEvent skipped = trace_event(kReductionTooLarge);
         skipped.status = info.status;

@@ -293,7 +293,7 @@ frix_error solve(SolveContext &ctx) {
             if (!factored) delta = delta == 0.0 ? kDeltaStart : delta * 100.0;
         }
         if (!factored) {
-            info.status = lu.refused() ? FRIX_STATUS_TIME_LIMIT : FRIX_STATUS_NUMERICAL_FAILURE;
+            info.status = lu.refused() ? lu.refused() : FRIX_STATUS_NUMERICAL_FAILURE;
             break;
         }
         for (int64_t j = 0; j < n; ++j) rhs[j] = -res[j];

@@ -442,8 +442,8 @@ frix_error Solver::run() {
         if (frix_error e = assemble_and_factor()) {
             if (e != FRIX_ERR_NUMERICAL) return e;
             clear_error();
-            if (lu_.refused()) {  // it would overrun the time limit
-                info.status = FRIX_STATUS_TIME_LIMIT;
+            if (lu_.refused()) {  // it would overrun the time or memory limit
+                info.status = lu_.refused();
                 break;
             }
             handed_over = true;  // a singular system: Newton takes over from the best point

@@ -376,7 +376,8 @@ frix_error Engine::run(double *r, const double *q, double shift, double tol, Lim
                 if (frix_error e = lu_.analyze(J)) return e;
                 analysed_index_ = index_;
             }
-            bool factored = false, refused = false;
+            bool factored = false;
+            frix_status refused = FRIX_STATUS_NOT_RUN;
             for (int attempt = 0; attempt < 12 && !factored && !refused; ++attempt) {
                 assemble(shift + delta * w_scale_);
                 frix_error e;
@@ -397,7 +398,7 @@ frix_error Engine::run(double *r, const double *q, double shift, double tol, Lim
                 if (delta > 1e6) break;
             }
             if (!factored) {
-                res.status = refused ? FRIX_STATUS_TIME_LIMIT : FRIX_STATUS_NUMERICAL_FAILURE;
+                res.status = refused ? refused : FRIX_STATUS_NUMERICAL_FAILURE;
                 break;
             }
         }

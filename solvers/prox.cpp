@@ -92,7 +92,8 @@ frix_error solve(SolveContext &ctx) {
         // steps on a problem about to change, looser slows the outer convergence.
         const double inner_tol = 0.1 * std::max(err, tol);
         if (frix_error e = engine.run(r, qk.data(), alpha, inner_tol, lim, res, norm_q)) return e;
-        if (res.status == FRIX_STATUS_TIME_LIMIT || res.status == FRIX_STATUS_STOPPED_BY_CALLBACK) {
+        if (res.status == FRIX_STATUS_TIME_LIMIT || res.status == FRIX_STATUS_MEMORY_LIMIT ||
+            res.status == FRIX_STATUS_STOPPED_BY_CALLBACK) {
             std::copy(rk.begin(), rk.end(), r);
             info.status = res.status;
             break;

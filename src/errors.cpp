@@ -54,6 +54,7 @@ FRIX_API const char *frix_status_string(frix_status status) {
         case FRIX_STATUS_DIVERGED: return "diverged";
         case FRIX_STATUS_NUMERICAL_FAILURE: return "numerical failure";
         case FRIX_STATUS_STOPPED_BY_CALLBACK: return "stopped by callback";
+        case FRIX_STATUS_MEMORY_LIMIT: return "memory limit reached";
     }
     return "unknown status";
 }

@@ -187,7 +187,7 @@ frix_error block_cholesky_cost(const frix_matrix &W, linalg::FactorCost *cost) {
     block_graph(W, colptr, rowind);
     linalg::FactorCost blocks;
     const frix_error e = linalg::cholesky_cost({W.block_rows, W.block_rows, colptr.data(), rowind.data(), nullptr}, &blocks);
-    *cost = {27.0 * blocks.flops, 9.0 * blocks.factor_entries};
+    *cost = {27.0 * blocks.flops, 9.0 * blocks.factor_entries, 9.0 * blocks.bytes};
     return e;
 }
 

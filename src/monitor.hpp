@@ -30,20 +30,32 @@ class Monitor {
         return tl > 0.0 && clock_.seconds() >= tl;
     }
     bool time_limited() const { return o_.d(FRIX_OPT_TIME_LIMIT) > 0.0; }
-    // Whether a factorisation of `flops` fits in what is left of the time limit (always,
-    // without one): a factorisation cannot be stopped once started, so one that would
-    // overrun the limit is not started. seconds: what the same factorisation took last time
-    // (NaN if unknown), the better price.
-    bool affords(double flops, double seconds = NAN) const {
+    // Whether a factorisation fits in what is left of the time and memory limits:
+    // FRIX_STATUS_NOT_RUN if it does, else the limit it would overrun. A factorisation cannot
+    // be stopped once started, so one that would overrun is not started. Time: without a time
+    // limit it always fits; a repeat is priced at its last time (price.seconds), a first one
+    // at its flop count. Memory: its peak (price.bytes) against memory_left(); below
+    // kMemoryAskedAbove and without the option memory_limit the system is not asked.
+    frix_status affords(const linalg::FactorPrice &price) const {
+        if (!fits_memory(price.bytes)) return FRIX_STATUS_MEMORY_LIMIT;
         const double tl = o_.d(FRIX_OPT_TIME_LIMIT);
-        if (!(tl > 0.0)) return true;
+        if (!(tl > 0.0)) return FRIX_STATUS_NOT_RUN;
         const double left = tl - clock_.seconds();
-        if (std::isfinite(seconds)) return kRepeatMargin * seconds <= left;
-        return flops <= kSparseFactorShare * clock_.factor_rate() * left;
+        const bool fits = std::isfinite(price.seconds) ? kRepeatMargin * price.seconds <= left
+                                                       : price.flops <= kSparseFactorShare * clock_.factor_rate() * left;
+        return fits ? FRIX_STATUS_NOT_RUN : FRIX_STATUS_TIME_LIMIT;
     }
-    // The budget to give a factorisation (linalg::FlopBudget), on this Monitor's limit.
-    linalg::FlopBudget budget() const {
-        return [o = &o_, c = &clock_](double flops, double seconds) { return Monitor(*o, *c).affords(flops, seconds); };
+    // The budget to give a factorisation (linalg::FactorBudget), on this Monitor's limits.
+    linalg::FactorBudget budget() const {
+        return [o = &o_, c = &clock_](const linalg::FactorPrice &price) { return Monitor(*o, *c).affords(price); };
+    }
+    // The memory the solve may still take, in bytes (Stopwatch::memory_left on the option
+    // memory_limit), and whether that option is set.
+    double memory_left() const { return clock_.memory_left(o_.d(FRIX_OPT_MEMORY_LIMIT)); }
+    bool memory_limited() const { return o_.d(FRIX_OPT_MEMORY_LIMIT) > 0.0; }
+    // Whether `bytes` more fit in memory_left() (asked only as affords() says).
+    bool fits_memory(double bytes) const {
+        return !(bytes > 0.0) || !(memory_limited() || bytes >= kMemoryAskedAbove) || bytes <= memory_left();
     }
 
     // The user's callback after iteration `iteration` with the current error estimate: true
@@ -71,6 +83,9 @@ class Monitor {
     static constexpr double kSparseFactorShare = 0.25;
     // A factorisation repeated on the same analysis is priced at its last time, with this margin.
     static constexpr double kRepeatMargin = 1.5;
+    // Without the option memory_limit, a factorisation smaller than this is not checked (the
+    // check reads the system's counters; no machine we run on lacks 64 MB).
+    static constexpr double kMemoryAskedAbove = 64e6;
     const frix_options &o_;
     const Stopwatch &clock_;
 };

@@ -6,7 +6,7 @@
 #include <cstdint>
 
 namespace frix {
-constexpr int kMaxOptionKey = 31;  // highest frix_option_key value
+constexpr int kMaxOptionKey = 32;  // highest frix_option_key value
 struct SolverEntry;
 }
 

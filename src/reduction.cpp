@@ -1,12 +1,11 @@
 #include "reduction.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 #include "disjoint_sets.hpp"
+#include "monitor.hpp"
 
 namespace frix {
 
@@ -92,26 +91,13 @@ ReductionSize reduction_bound(const frix_problem &p) {
     return size;
 }
 
-ReductionMemory reduction_memory(const ReductionSize &size) {
+ReductionMemory reduction_memory(const ReductionSize &size, const Monitor &monitor) {
     ReductionMemory m;
     m.needed = kBytesPerReducedBlock * size.w_blocks;
-    if (m.needed < kMemoryCheckedAbove) return m;
-    m.available = memory_available();
-    m.fits = !(m.available > 0.0 && m.needed > m.available);
+    if (m.needed < kMemoryCheckedAbove && !monitor.memory_limited()) return m;
+    m.available = monitor.memory_left();
+    m.fits = !(m.needed > m.available);
     return m;
-}
-
-double memory_available() {
-    double bytes = 0.0;
-    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
-    if (pages > 0 && page > 0) bytes = (double)pages * (double)page;
-    for (const char *path : {"/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"})
-        if (std::FILE *f = std::fopen(path, "r")) {
-            double limit = 0.0;  // "max" (no limit) does not parse
-            if (std::fscanf(f, "%lf", &limit) == 1 && limit > 0.0 && (bytes == 0.0 || limit < bytes)) bytes = limit;
-            std::fclose(f);
-        }
-    return bytes;
 }
 
 frix_error recover_velocity(const frix_problem &p, const MassSolver &ms, const double *r, double *v) {

@@ -2,6 +2,7 @@
 // the recovery of v = M^-1 (H r + f), and what forming W would cost in memory.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -135,21 +136,19 @@ ReductionSize reduction_size(const frix_problem &p);
 ReductionSize reduction_bound(const frix_problem &p);
 
 // Whether W = H^T M^-1 H would fit in memory: its 3x3 blocks (the structural bound of
-// reduction_size) at 80 bytes each, against the memory this process may use (the machine's,
-// or its control group's limit where lower). A deformable body makes W dense: on a large mesh
-// it would not fit, and the system would kill the process part-way through forming it. A
-// floor: forming W also holds Z = L^-1 P H and its transpose for a while (the 80x80x3 elastic
-// grid: 3.3 GB by this count, 3.8 GB measured).
+// reduction_size) at 80 bytes each, against the memory the solve may still take (the
+// Monitor's memory_left: the option memory_limit, or the machine's or control group's memory
+// less what the process holds). A deformable body makes W dense: on a large mesh it would not
+// fit, and the system would kill the process part-way through forming it. A floor: forming W
+// also holds Z = L^-1 P H and its transpose for a while (the 80x80x3 elastic grid: 3.3 GB by
+// this count, 3.8 GB measured).
 struct ReductionMemory {
-    double needed = 0.0;     // bytes, at least
-    double available = 0.0;  // bytes; 0 when unknown (then it fits)
+    double needed = 0.0;          // bytes, at least
+    double available = INFINITY;  // bytes the solve may still take
     bool fits = true;
 };
-ReductionMemory reduction_memory(const ReductionSize &size);
-
-// The memory this process may use: the machine's, or its control group's limit where lower
-// (a container). 0 when unknown.
-double memory_available();
+class Monitor;
+ReductionMemory reduction_memory(const ReductionSize &size, const Monitor &monitor);
 
 // v = M^-1 (H r + f).
 frix_error recover_velocity(const frix_problem &p, const MassSolver &ms, const double *r, double *v);

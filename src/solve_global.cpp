@@ -141,11 +141,11 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         info = native;
     } else {
         const ReductionSize size = reduction_bound(p);
-        const ReductionMemory memory = reduction_memory(size);
+        const ReductionMemory memory = reduction_memory(size, Monitor(opts, clock));
         if (!memory.fits)
             return fail(FRIX_ERR_OUT_OF_MEMORY,
                         "frix_solve: %s reduces the global problem to W = H^T M^-1 H, which would have up to "
-                        "%.3g entries in %.3g blocks (at least %.3g GB, more than the %.3g GB of memory): a "
+                        "%.3g entries in %.3g blocks (at least %.3g GB, more than the %.3g GB of memory it may take): a "
                         "deformable body couples all its contacts; gnsn-ac (607) or auto solve it without W",
                         entry.name, size.w_entries, size.w_blocks, memory.needed / 1e9, memory.available / 1e9);
         const frix_info before = info;

@@ -28,11 +28,17 @@ class Stopwatch {
     // (a few milliseconds; never without a time limit): what a factorisation's flop count
     // costs in seconds.
     double factor_rate() const;
+    // Bytes the solve may still take: `limit` (the option memory_limit; when 0, the memory the
+    // process may use less what it held when first asked) less what the process has grown by
+    // since that first question. INFINITY when the system does not say.
+    double memory_left(double limit) const;
 
    private:
     std::chrono::steady_clock::time_point start_;
     mutable std::once_flag rate_once_;
     mutable double rate_ = 0.0;
+    mutable std::once_flag memory_once_;
+    mutable double resident_at_start_ = 0.0, available_ = 0.0;
 };
 
 // What a solver receives. The driver has already validated the problem and options, handled

@@ -1,9 +1,12 @@
-// Stopwatch::factor_rate: a dense LU timed once per solve that needs it.
+// Stopwatch::factor_rate: a dense LU timed once per solve that needs it; memory_left.
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <vector>
 
 #include "error_state.hpp"
 #include "linalg/linalg.hpp"
+#include "memory.hpp"
 #include "solver_api.hpp"
 
 namespace frix {
@@ -31,6 +34,17 @@ double Stopwatch::factor_rate() const {
         if (e != FRIX_OK) clear_error();
     });
     return rate_;
+}
+
+double Stopwatch::memory_left(double limit) const {
+    std::call_once(memory_once_, [this] {
+        resident_at_start_ = resident_memory();
+        available_ = memory_available();
+    });
+    const double grown = resident_at_start_ > 0.0 ? std::max(0.0, resident_memory() - resident_at_start_) : 0.0;
+    if (limit > 0.0) return limit - grown;
+    if (!(available_ > 0.0)) return INFINITY;
+    return available_ - resident_at_start_ - grown;
 }
 
 }  // namespace frix

@@ -174,6 +174,8 @@ START_TEST(test_csv_files) {
     ck_assert_double_gt(atof(csv_get(runs, 1, "time")), 0);
     ck_assert_int_gt(atoi(csv_get(runs, 1, "iterations")), 0);
     ck_assert_str_eq(csv_get(runs, 1, "tolerance"), "1e-10");
+    /* The run's process held the problem, the library and its buffers: megabytes, not none. */
+    ck_assert_double_gt(atof(csv_get(runs, 1, "peak_memory_mb")), 1.0);
     csv_free(runs);
 
     csv *tr = csv_read(TMP "/csv/out/traces.csv");
@@ -258,6 +260,52 @@ static double rho_at(const csv *p, const char *scope, const char *solver, double
     ck_assert_msg(rho >= 0, "no profile step for %s %s at %g", scope, solver, tau);
     return rho;
 }
+
+/* auto against the best other frix solver and the best Siconos solver, per problem:
+ *          P1     P2          P3
+ *   auto   2      4           -
+ *   nsgs   1      -           3
+ *   admm   4      2           -
+ *   S:NSGS 8      -           -
+ * Per problem: best frix nsgs 1 (ratio 2.00), admm 2 (2.00), nsgs 3 (auto unsolved);
+ * Siconos NSGS 8 (0.25), none, none. Geometric means with a limit of 10:
+ * auto (2*4*10)^(1/3), best frix (1*2*3)^(1/3), Siconos (8*10*10)^(1/3). Peak memory of
+ * nsgs: 10, 30 and 20 MB, median 20; its times 1 (P1, which all solved), 10 (P2, max_iter:
+ * counted at the limit) and 3: geometric mean 30^(1/3) = 3.11. */
+static const char kBestRuns[] =
+    "problem,family,contacts,dofs,solver,status,iterations,error,time,solver_id,tolerance,time_limit,max_iter,reported_error,note,peak_memory_mb\n"
+    "P1,F1,7,3,auto,converged,5,1e-9,2.0,900,1e-8,10,1000,1e-9,,5\n"
+    "P1,F1,7,3,nsgs,converged,5,1e-9,1.0,500,1e-8,10,1000,1e-9,,10\n"
+    "P1,F1,7,3,admm,converged,5,1e-9,4.0,523,1e-8,10,1000,1e-9,,50\n"
+    "P1,F1,7,3,siconos:NSGS,converged,5,1e-9,8.0,500,1e-8,10,1000,1e-9,,40\n"
+    "P2,F1,9,3,auto,converged,5,1e-9,4.0,900,1e-8,10,1000,1e-9,,5\n"
+    "P2,F1,9,3,nsgs,max_iter,5,1e-3,10.0,500,1e-8,10,1000,1e-3,,30\n"
+    "P2,F1,9,3,admm,converged,5,1e-9,2.0,523,1e-8,10,1000,1e-9,,50\n"
+    "P2,F1,9,3,siconos:NSGS,failed,5,1e-2,1.0,500,1e-8,10,1000,1e-2,,40\n"
+    "P3,F1,11,3,auto,time_limit,5,1e-3,10.0,900,1e-8,10,1000,1e-3,,5\n"
+    "P3,F1,11,3,nsgs,converged,5,1e-9,3.0,500,1e-8,10,1000,1e-9,,20\n"
+    "P3,F1,11,3,admm,max_iter,5,1e-4,9.0,523,1e-8,10,1000,1e-4,,50\n"
+    "P3,F1,11,3,siconos:NSGS,timeout,5,1e-4,12.0,500,1e-8,10,1000,,,\n";
+
+START_TEST(test_best_per_problem) {
+    fresh_dir(TMP "/best");
+    write_text(TMP "/best/runs.csv", kBestRuns);
+    const char *args[] = {"bench", "--report", TMP "/best", "--no-plots", NULL};
+    ck_assert_int_eq(cli_exit_code(args), 0);
+    char *md = slurp(TMP "/best/summary.md");
+    const char *rows[] = {"| P1 | 7 | 2 | nsgs 1 | 2.00 | siconos:NSGS 8 | 0.25 |",
+                          "| P2 | 9 | 4 | admm 2 | 2.00 | none | - |",
+                          "| P3 | 11 | unsolved | nsgs 3 | - | none | - |",
+                          "| nsgs | 2/3 | 0 | 0 | 1 | 1 | 3.11 | 20 / 30 |"};
+    for (size_t k = 0; k < sizeof rows / sizeof rows[0]; ++k)
+        ck_assert_msg(strstr(md, rows[k]) != NULL, "no row '%s' in: %s", rows[k], md);
+    char means[256];
+    snprintf(means, sizeof means, "auto %.3g s; best other frix solver %.3g s (auto / it %.2f); best Siconos solver %.3g s",
+             cbrt(80.0), cbrt(6.0), cbrt(80.0) / cbrt(6.0), cbrt(800.0));
+    ck_assert_msg(strstr(md, means) != NULL, "no '%s' in: %s", means, md);
+    free(md);
+}
+END_TEST
 
 START_TEST(test_profile_known_values) {
     fresh_dir(TMP "/profile");
@@ -398,6 +446,7 @@ int main(void) {
     tcase_add_test(tc, test_csv_files);
     tcase_add_test(tc, test_usage_errors);
     tcase_add_test(tc, test_profile_known_values);
+    tcase_add_test(tc, test_best_per_problem);
     tcase_add_test(tc, test_isolation);
     tcase_add_test(tc, test_siconos_comparator);
     suite_add_tcase(s, tc);

@@ -34,7 +34,7 @@ module frix
   integer(c_int), parameter :: FRIX_STATUS_NOT_RUN = 0, FRIX_STATUS_CONVERGED = 1, &
        FRIX_STATUS_MAX_ITER = 2, FRIX_STATUS_TIME_LIMIT = 3, FRIX_STATUS_STAGNATED = 4, &
        FRIX_STATUS_DIVERGED = 5, FRIX_STATUS_NUMERICAL_FAILURE = 6, &
-       FRIX_STATUS_STOPPED_BY_CALLBACK = 7
+       FRIX_STATUS_STOPPED_BY_CALLBACK = 7, FRIX_STATUS_MEMORY_LIMIT = 8
   ! ---- frix_problem_kind
   integer(c_int), parameter :: FRIX_PROBLEM_KIND_LOCAL = 1, FRIX_PROBLEM_KIND_GLOBAL = 2
   ! ---- frix_option_key
@@ -49,7 +49,7 @@ module frix
        FRIX_OPT_RHO_ADAPTIVE = 24, FRIX_OPT_INNER_MAX_ITER = 25, &
        FRIX_OPT_INNER_TOLERANCE_RATIO = 26, FRIX_OPT_ACCELERATION = 27, &
        FRIX_OPT_THREADS = 28, FRIX_OPT_EXISTENCE_CHECK = 29, FRIX_OPT_DRIFT_WINDOW = 30, &
-       FRIX_OPT_WATCHDOG = 31
+       FRIX_OPT_WATCHDOG = 31, FRIX_OPT_MEMORY_LIMIT = 32
   ! ---- option values: frix_rho_strategy, frix_line_search, frix_hybrid,
   !      frix_error_measure, frix_shuffle, frix_local_solver
   integer(c_int), parameter :: FRIX_RHO_CONSTANT = 0, FRIX_RHO_SPECTRAL = 1, &

@@ -68,11 +68,18 @@ typedef enum frix_option_key FRIX_ENUM_BASE {
     FRIX_OPT_DRIFT_WINDOW = 30,   /* int >= 0: every k sweeps, a steady drift of r is carried
                                      ahead to the next loss of contact; 0 = never (default) */
     /* Semismooth Newton (504, 513, 520) */
-    FRIX_OPT_WATCHDOG = 31        /* int >= 0: where the line search stalls but the full step
+    FRIX_OPT_WATCHDOG = 31,       /* int >= 0: where the line search stalls but the full step
                                      halves the best error, take it and k - 1 more steps (full
                                      where the line search would cut them short), and go back
                                      unless the error fell tenfold; 0 = never. Default 5 for
                                      504 and 513, 0 for 520 */
+    FRIX_OPT_MEMORY_LIMIT = 32    /* double: bytes the solve may add to the process's memory;
+                                     0 = what the process may use (the machine's or its
+                                     control group's memory) less what it holds (default). A
+                                     factorisation whose peak (priced from its symbolic
+                                     analysis) would exceed what is left is not started:
+                                     status FRIX_STATUS_MEMORY_LIMIT; auto leaves out the
+                                     stages that would */
 } frix_option_key;
 
 typedef enum frix_rho_strategy FRIX_ENUM_BASE {

@@ -57,6 +57,15 @@ void append_columns(const cholmod_sparse &S, std::vector<int64_t> &colptr, std::
     for (size_t j = 1; j <= S.ncol; ++j) colptr.push_back(base + p[j]);
 }
 
+// The memory a numeric factorisation on analysis L will hold: its values (supernodal: the
+// dense supernodes, padding included) and indices, and CHOLMOD's workspace of a few vectors.
+double factor_bytes(const cholmod_factor &L, const cholmod_common &c) {
+    const double n = (double)L.n;
+    const double values = L.is_super ? (double)L.xsize : c.lnz;
+    const double indices = L.is_super ? (double)L.ssize : c.lnz;
+    return 8.0 * (values + indices) + 8.0 * 8.0 * n;
+}
+
 }  // namespace
 
 struct SparseCholesky::Impl {
@@ -67,6 +76,7 @@ struct SparseCholesky::Impl {
     int64_t rows = -1;
     std::vector<int64_t> colptr, rowind;
     double flops = 0.0;  // of a numeric factorisation on that analysis
+    double bytes = 0.0;  // of L's values and indices on that analysis
     bool numeric = false;  // L holds a numeric factorisation (not only the analysis)
     double last_seconds = NAN;  // of the last numeric factorisation on that analysis
     bool same_pattern(const CscView &A) const {
@@ -118,14 +128,16 @@ frix_error SparseCholesky::factor(const CscView &A) {
             m.colptr.assign(A.colptr, A.colptr + A.cols + 1);
             m.rowind.assign(A.rowind, A.rowind + A.nnz());
             m.flops = m.c.fl;
+            m.bytes = factor_bytes(*m.L, m.c);
             m.last_seconds = NAN;
         }
     }
     m.numeric = false;
-    refused_ = m.L && budget_ && !budget_(m.flops, m.last_seconds);
+    refused_ = m.L && budget_ ? budget_(FactorPrice{m.flops, m.last_seconds, m.bytes}) : FRIX_STATUS_NOT_RUN;
     if (refused_) {
         stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
-        return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: not started: it would overrun the time limit");
+        return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: not started: it would overrun the %s limit",
+                    refused_ == FRIX_STATUS_MEMORY_LIMIT ? "memory" : "time");
     }
     const auto t1 = Clock::now();
     const bool ok = m.L && cholmod_l_factorize(&a, m.L, &m.c);
@@ -171,7 +183,7 @@ frix_error cholesky_cost(const CscView &A, FactorCost *cost) {
         L = cholmod_l_analyze(&a, &c);
     }
     const bool ok = L != nullptr && c.status == CHOLMOD_OK;
-    if (ok) *cost = FactorCost{c.fl, c.lnz};
+    if (ok) *cost = FactorCost{c.fl, c.lnz, factor_bytes(*L, c)};
     const int status = c.status;
     if (L) cholmod_l_free_factor(&L, &c);
     cholmod_l_finish(&c);

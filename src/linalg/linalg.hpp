@@ -46,12 +46,21 @@ inline FactorStats operator+(const FactorStats &a, const FactorStats &b) {
     return {a.symbolic + b.symbolic, a.numeric + b.numeric, a.seconds + b.seconds};
 }
 
-// Asked before a numeric factorisation with its price: the flop count of the symbolic
-// analysis, and the seconds the last numeric factorisation on the same analysis took (NaN
-// before the first; the flop counts are upper bounds that can be loose by orders of
-// magnitude, a measured time is not). false refuses it (a caller's time limit it would
-// overrun); the factorisation then fails with refused() true, having done no numeric work.
-using FlopBudget = std::function<bool(double flops, double seconds)>;
+// What a numeric factorisation will cost, known before it starts: the flop count and peak
+// memory of its symbolic analysis, and the seconds the last numeric factorisation on the
+// same analysis took (NaN before the first). The analyses' counts are upper bounds that can
+// be loose by orders of magnitude; a measured time is not, and a repeat is priced at the
+// memory the last one used.
+struct FactorPrice {
+    double flops = 0.0;
+    double seconds = NAN;
+    double bytes = 0.0;
+};
+// Asked before each numeric factorisation: FRIX_STATUS_NOT_RUN lets it start; any other status
+// (FRIX_STATUS_TIME_LIMIT, FRIX_STATUS_MEMORY_LIMIT: a caller's limit it would overrun) refuses
+// it, and the factorisation then fails with refused() giving that status, having done no
+// numeric work.
+using FactorBudget = std::function<frix_status(const FactorPrice &price)>;
 
 // Sparse LU of a square matrix with UMFPACK. The symbolic analysis (ordering, strategy) is
 // kept and reused by every factor() while the sparsity pattern is the one of the last
@@ -85,9 +94,9 @@ class SparseLU {
     bool factored() const { return numeric_ != nullptr; }
     const FactorStats &stats() const { return stats_; }
     // Every factor() first asks the budget (none: always factorise).
-    void set_budget(FlopBudget budget) { budget_ = std::move(budget); }
-    // The last factor() was refused by the budget.
-    bool refused() const { return refused_; }
+    void set_budget(FactorBudget budget) { budget_ = std::move(budget); }
+    // Why the budget refused the last factor(): FRIX_STATUS_NOT_RUN if it did not.
+    frix_status refused() const { return refused_; }
 
    private:
     void free_numeric();
@@ -98,8 +107,9 @@ class SparseLU {
     double rcond_ = 0.0;
     double flops_ = 0.0;  // of a numeric factorisation, UMFPACK's estimate from the analysis
     double last_seconds_ = NAN;  // of the last numeric factorisation on this analysis
-    FlopBudget budget_;
-    bool refused_ = false;
+    double bytes_ = 0.0;  // peak memory of a numeric factorisation: estimated, then the last one's
+    FactorBudget budget_;
+    frix_status refused_ = FRIX_STATUS_NOT_RUN;
     FactorStats stats_;
     std::vector<double> control_;
 };
@@ -144,16 +154,16 @@ class SparseCholesky {
 
     const FactorStats &stats() const { return stats_; }
     // Every factor() first asks the budget (none: always factorise).
-    void set_budget(FlopBudget budget) { budget_ = std::move(budget); }
-    // The last factor() was refused by the budget.
-    bool refused() const { return refused_; }
+    void set_budget(FactorBudget budget) { budget_ = std::move(budget); }
+    // Why the budget refused the last factor(): FRIX_STATUS_NOT_RUN if it did not.
+    frix_status refused() const { return refused_; }
 
    private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
     FactorStats stats_;
-    FlopBudget budget_;
-    bool refused_ = false;
+    FactorBudget budget_;
+    frix_status refused_ = FRIX_STATUS_NOT_RUN;
 };
 
 // What a Cholesky factorisation of a symmetric matrix with A's pattern would cost, from
@@ -163,6 +173,7 @@ class SparseCholesky {
 struct FactorCost {
     double flops = 0.0;           // of the numeric factorisation
     double factor_entries = 0.0;  // entries of L (each solve reads them twice)
+    double bytes = 0.0;           // L's values and indices, and the workspace
 };
 frix_error cholesky_cost(const CscView &A, FactorCost *cost);
 

@@ -97,6 +97,7 @@ frix_error SparseLU::analyze(const CscView &A) {
     ++stats_.symbolic;
     A_ = A;
     flops_ = info[UMFPACK_FLOPS_ESTIMATE];
+    bytes_ = info[UMFPACK_PEAK_MEMORY_ESTIMATE] * info[UMFPACK_SIZE_OF_UNIT];
     last_seconds_ = NAN;
     return FRIX_OK;
 }
@@ -106,8 +107,10 @@ frix_error SparseLU::factor(const CscView &A) {
     if (!symbolic_) return fail(FRIX_ERR_NUMERICAL, "sparse LU: factor() before analyze()");
     if (A.rows != A_.rows || A.nnz() != A_.nnz())
         return fail(FRIX_ERR_INTERNAL, "sparse LU: the pattern changed since the analysis");
-    refused_ = budget_ && !budget_(flops_, last_seconds_);
-    if (refused_) return fail(FRIX_ERR_NUMERICAL, "sparse LU: not started: it would overrun the time limit");
+    refused_ = budget_ ? budget_(FactorPrice{flops_, last_seconds_, bytes_}) : FRIX_STATUS_NOT_RUN;
+    if (refused_)
+        return fail(FRIX_ERR_NUMERICAL, "sparse LU: not started: it would overrun the %s limit",
+                    refused_ == FRIX_STATUS_MEMORY_LIMIT ? "memory" : "time");
     const auto t0 = Clock::now();
     double info[UMFPACK_INFO];
     const SuiteSparse_long st = umfpack_dl_numeric(idx(A.colptr), idx(A.rowind), A.values,
@@ -117,6 +120,7 @@ frix_error SparseLU::factor(const CscView &A) {
     ++stats_.numeric;
     A_ = A;
     rcond_ = info[UMFPACK_RCOND];
+    if (info[UMFPACK_PEAK_MEMORY] > 0.0) bytes_ = info[UMFPACK_PEAK_MEMORY] * info[UMFPACK_SIZE_OF_UNIT];
     if (st == UMFPACK_OK && rcond_ > 0.0) return FRIX_OK;
     free_numeric();
     if (st == UMFPACK_ERROR_out_of_memory)

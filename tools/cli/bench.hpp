@@ -1,6 +1,7 @@
 // `frix bench`: declarations shared by its parts (campaign, child runs, report).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -24,6 +25,7 @@ struct RunRecord {
     std::int64_t max_iter = 0;
     double reported_error = 0;        // the solver's own final error (Siconos's differs)
     std::string note;
+    double peak_memory_mb = NAN;  // the run's peak resident memory, problem read included (NaN: not known)
     bool converged() const { return status == "converged"; }
 };
 

@@ -51,6 +51,7 @@ std::vector<RunRecord> read_runs(const std::string &path) {
         r.max_iter = std::atoll(t.get(k, "max_iter").c_str());
         r.reported_error = to_number(t.get(k, "reported_error"));
         r.note = t.get(k, "note");
+        r.peak_memory_mb = to_number(t.get(k, "peak_memory_mb"));  // absent from older campaigns
         if (r.problem.empty() || r.solver.empty()) fail(path + ": row " + std::to_string(k + 2) + " lacks a problem or solver");
         out.push_back(r);
     }
@@ -193,6 +194,70 @@ std::string work_precision_csv(const Campaign &c, const TraceMap &traces) {
 bool is_limit(const std::string &status) { return status == "time_limit" || status == "timeout"; }
 bool is_crash(const std::string &status) { return status.compare(0, 5, "crash") == 0; }
 
+// The default solver (auto) against the best of frix's other solvers and the best of
+// Siconos's on each problem (the fastest that converged), and the geometric means of the three
+// with an unsolved problem counted at the time limit. Empty unless auto ran beside another solver.
+std::string best_per_problem_md(const Campaign &c) {
+    const bool have_auto = std::find(c.solvers.begin(), c.solvers.end(), "auto") != c.solvers.end();
+    if (!have_auto || c.solvers.size() < 2) return "";
+    bool have_frix = false, have_siconos = false;
+    for (const std::string &s : c.solvers) {
+        const bool siconos = s.compare(0, 8, "siconos:") == 0;
+        have_siconos = have_siconos || siconos;
+        have_frix = have_frix || (!siconos && s != "auto");
+    }
+    struct Best {
+        std::string solver = "none";
+        double time = INFINITY;
+    };
+    std::string rows;
+    std::vector<double> g_auto, g_frix, g_siconos;
+    char buf[512];
+    for (const std::string &p : c.problems) {
+        Best frix, siconos;
+        double t_auto = INFINITY;
+        std::int64_t contacts = 0;
+        for (const std::string &s : c.solvers) {
+            auto it = c.at.find({p, s});
+            if (it == c.at.end()) continue;
+            contacts = it->second->contacts;
+            if (!it->second->converged()) continue;
+            const double t = floored(it->second->time);
+            Best &b = s.compare(0, 8, "siconos:") == 0 ? siconos : frix;
+            if (s == "auto") t_auto = t;
+            else if (t < b.time) b = {s, t};
+        }
+        auto cell = [](const Best &b) { return b.solver == "none" ? std::string("none") : b.solver + " " + fmt("%.3g", b.time); };
+        auto ratio = [&](const Best &b) {
+            return std::isfinite(t_auto) && std::isfinite(b.time) ? fmt("%.2f", t_auto / b.time) : std::string("-");
+        };
+        const auto penal = [&](double t) { return std::isfinite(t) ? t : c.time_limit; };
+        g_auto.push_back(penal(t_auto));
+        g_frix.push_back(penal(frix.time));
+        g_siconos.push_back(penal(siconos.time));
+        std::snprintf(buf, sizeof buf, "| %s | %lld | %s |", p.c_str(), static_cast<long long>(contacts),
+                      std::isfinite(t_auto) ? fmt("%.3g", t_auto).c_str() : "unsolved");
+        rows += buf;
+        if (have_frix) rows += " " + cell(frix) + " | " + ratio(frix) + " |";
+        if (have_siconos) rows += " " + cell(siconos) + " | " + ratio(siconos) + " |";
+        rows += "\n";
+    }
+    std::string md = "\nThe default (auto) against the fastest other solver that converged, per problem; ratio = "
+                     "auto / that time:\n\n| problem | contacts | auto |";
+    std::string rule = "|---|---:|---:|";
+    if (have_frix) md += " best other frix solver | ratio |", rule += "---|---:|";
+    if (have_siconos) md += " best Siconos solver | ratio |", rule += "---|---:|";
+    md += "\n" + rule + "\n" + rows;
+    const double ga = geomean(g_auto);
+    std::snprintf(buf, sizeof buf, "\nGeometric means, an unsolved problem counted at the time limit: auto %s s",
+                  fmt("%.3g", ga).c_str());
+    md += buf;
+    if (have_frix) md += "; best other frix solver " + fmt("%.3g", geomean(g_frix)) + " s (auto / it " + fmt("%.2f", ga / geomean(g_frix)) + ")";
+    if (have_siconos) md += "; best Siconos solver " + fmt("%.3g", geomean(g_siconos)) + " s (auto / it " + fmt("%.2f", ga / geomean(g_siconos)) + ")";
+    md += ".\n";
+    return md;
+}
+
 std::string summary_md(const Campaign &c) {
     std::string md;
     char buf[512];
@@ -217,17 +282,19 @@ std::string summary_md(const Campaign &c) {
     }
     std::snprintf(buf, sizeof buf,
                   "| solver | solved | time limit | crash | other failure | geomean time, the %zu "
-                  "problems all solved | geomean time, unsolved = time limit |\n",
+                  "problems all solved | geomean time, unsolved = time limit | peak memory (MB), "
+                  "median / max |\n",
                   common.size());
     md += buf;
-    md += "|---|---:|---:|---:|---:|---:|---:|\n";
+    md += "|---|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const std::string &s : c.solvers) {
         int solved = 0, limit = 0, crash = 0, other = 0;
-        std::vector<double> on_common, penalized;
+        std::vector<double> on_common, penalized, peaks;
         for (const std::string &p : c.problems) {
             auto it = c.at.find({p, s});
             if (it == c.at.end()) continue;
             const RunRecord &r = *it->second;
+            if (std::isfinite(r.peak_memory_mb)) peaks.push_back(r.peak_memory_mb);
             if (r.converged()) ++solved;
             else if (is_limit(r.status)) ++limit;
             else if (is_crash(r.status)) ++crash;
@@ -235,11 +302,15 @@ std::string summary_md(const Campaign &c) {
             if (std::find(common.begin(), common.end(), p) != common.end()) on_common.push_back(r.time);
             penalized.push_back(r.converged() ? r.time : c.time_limit);
         }
-        std::snprintf(buf, sizeof buf, "| %s | %d/%zu | %d | %d | %d | %s | %s |\n", s.c_str(), solved,
+        std::sort(peaks.begin(), peaks.end());
+        const std::string peak = peaks.empty() ? "-"
+                                               : fmt("%.3g", peaks[peaks.size() / 2]) + " / " + fmt("%.3g", peaks.back());
+        std::snprintf(buf, sizeof buf, "| %s | %d/%zu | %d | %d | %d | %s | %s | %s |\n", s.c_str(), solved,
                       c.problems.size(), limit, crash, other, fmt("%.3g", geomean(on_common)).c_str(),
-                      fmt("%.3g", geomean(penalized)).c_str());
+                      fmt("%.3g", geomean(penalized)).c_str(), peak.c_str());
         md += buf;
     }
+    md += best_per_problem_md(c);
 
     // frix and Siconos side by side: the solvers that share an id are the same algorithm.
     std::string pairs;

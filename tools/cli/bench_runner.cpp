@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -236,7 +237,9 @@ std::vector<RunOutcome> Runner::poll(double timeout) {
             if (::waitid(P_PID, static_cast<id_t>(c.pid), &si, WEXITED | WNOHANG | WNOWAIT) == 0 &&
                 si.si_pid == c.pid) {
                 ::kill(-c.pid, SIGKILL);
-                ::waitpid(c.pid, &c.wait_status, 0);
+                struct rusage usage {};
+                if (::wait4(c.pid, &c.wait_status, 0, &usage) == c.pid && usage.ru_maxrss > 0)
+                    c.out.peak_memory = 1024.0 * static_cast<double>(usage.ru_maxrss);  // kB on Linux
                 c.exited = true;
             }
         }

@@ -8,6 +8,7 @@
 
 #include <sys/types.h>
 
+#include <cmath>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -27,6 +28,7 @@ struct RunOutcome {
     std::int64_t iterations = 0;
     double error = 0, time = 0, reported_error = 0;
     double wall = 0;     // seconds from start to end, as seen from here
+    double peak_memory = NAN;  // bytes: the child's peak resident memory (problem read included)
     std::string note;
     std::vector<TracePoint> trace;
 };

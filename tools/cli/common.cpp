@@ -56,6 +56,7 @@ const char *status_token(frix_status status) {
         case FRIX_STATUS_DIVERGED: return "diverged";
         case FRIX_STATUS_NUMERICAL_FAILURE: return "numerical_failure";
         case FRIX_STATUS_STOPPED_BY_CALLBACK: return "stopped_by_callback";
+        case FRIX_STATUS_MEMORY_LIMIT: return "memory_limit";
     }
     return "unknown";
 }
