@@ -420,7 +420,8 @@ class IslandSolver {
     // On a priced part NSGS is first weighed against a probe of ADMM (its factorisation and
     // kAdmmProbeIterations iterations): where its rate predicts more than that, ADMM runs from
     // r = 0, weighed against what NSGS's rate predicted; where ADMM is the slower, NSGS goes on
-    // from where it stopped under its usual watch. Which of the two reaches the tolerance
+    // from where it stopped under its usual watch (and ADMM runs again in round 0, weighed
+    // against the IPM, which may cost far more than NSGS's prediction). Which of the two reaches the tolerance
     // first depends on the tolerance and the problem (ADMM's iterations range from tens on
     // towers of blocks to thousands on piles of spheres), which a few iterations of each tell.
     frix_error first_stage(double *r) {
@@ -436,7 +437,6 @@ class IslandSolver {
         std::fill(r, r + m_, 0.0);
         e = stage(FRIX_SOLVER_ADMM, Watch::Rate, 0, kAdmmRateBudget, r);
         probe_alternative_ = NAN;
-        admm_probed_ = true;
         if (e || !can_continue()) return e;
         std::copy(nsgs_r.begin(), nsgs_r.end(), r);
         return stage(FRIX_SOLVER_NSGS_VELOCITY, Watch::Rate, 0, kFirstNsgsSweeps, r);
@@ -447,8 +447,7 @@ class IslandSolver {
     frix_error run_round(double *r) {
         const double before = best_error_;
         cut_short_ = false;
-        if (round_ == 0 && p_.nc >= kIpmMinContacts && !admm_probed_ && can_continue() &&
-            fits_memory(&StageCosts::admm_bytes)) {
+        if (round_ == 0 && p_.nc >= kIpmMinContacts && can_continue() && fits_memory(&StageCosts::admm_bytes)) {
             // ADMM first, while its rate predicts the tolerance for less than the IPM costs.
             // From r = 0: its dual variable starts at 0, which fits an iterate of NSGS poorly.
             std::fill(r, r + m_, 0.0);
@@ -731,7 +730,6 @@ class IslandSolver {
     uint64_t rng_;               // random restarts: seeded by the part, so threads do not matter
     double start_scale_ = 0.0;   // of the random starts (draw_start); 0 until first needed
     int round_ = 0, idle_rounds_ = 0;
-    bool admm_probed_ = false;  // first_stage ran ADMM: round 0 does not run it again
     bool cut_short_ = false;  // a stage of this round got less than its budget (max_iter)
     StageCosts costs_;
     bool priced_ = false;

@@ -604,11 +604,6 @@ START_TEST(test_contacts_in_different_units) {
 }
 END_TEST
 
-/* Kapla-4x2x25-ball s100 (fclib-large): the interior-point run on its 941-contact island
- * stalls (at 1.8e-7 with OpenBLAS on one thread, 5.6e-7 on two), Newton from that iterate
- * lowers the error further (converges, or ends within 100 x the tolerance, and its point is
- * kept), and auto converges in a few hundred iterations, where the rounds from NSGS's iterate
- * needed about 30000 (10 s). */
 /* At a loose tolerance on a large pile where NSGS stalls (the 8-layer pyramid of spheres, 960
  * contacts), ADMM is weighed against the interior-point stage by their prices and comes
  * first: auto converges by ADMM, and no factorising stage runs. */
@@ -648,6 +643,11 @@ START_TEST(test_loose_tolerance_pile_solved_by_admm_first) {
 }
 END_TEST
 
+/* Kapla-4x2x25-ball s100 (fclib-large): the interior-point run on its 941-contact island
+ * stalls (at 1.8e-7 with OpenBLAS on one thread, 5.6e-7 on two), Newton from that iterate
+ * lowers the error further (converges, or ends within 100 x the tolerance, and its point is
+ * kept), and auto converges in a few hundred iterations, where the rounds from NSGS's iterate
+ * needed about 30000 (10 s). */
 START_TEST(test_newton_from_stalled_interior_point) {
     file_run f;
     if (!file_run_open(&f, "../fclib-large/Kapla-4x2x25-ball-seed2-s00100-nc2895.hdf5", 1e-8)) return;
@@ -705,6 +705,45 @@ START_TEST(test_set_aside_interior_point_returned) {
 }
 END_TEST
 
+/* Kapla-3x3x20 s30 (fclib-large, nine towers of blocks of about 311 contacts) at 1e-6: on each
+ * tower NSGS's rate predicts more than ADMM's probe costs, ADMM from r = 0 then converges
+ * within the probe (about 50 iterations, where NSGS alone sweeps about 3500 times: its
+ * primal residual is exactly 0 at first, the contacts inside their cones, and rho must fall
+ * for it to converge), and no other stage runs. */
+START_TEST(test_towers_at_simulation_tolerance_by_admm_probe) {
+    file_run f;
+    if (!file_run_open(&f, "../fclib-large/Kapla-3x3x20-seed1-s00030-nc2799.hdf5", 1e-6)) return;
+    file_run_solve(&f);
+    const char *trace = frix_info_trace(f.info);
+    ck_assert_msg(frix_info_status(f.info) == FRIX_STATUS_CONVERGED, "%s\n%s",
+                  frix_status_string(frix_info_status(f.info)), trace);
+    int64_t parts = 0;
+    ck_assert_int_eq(frix_info_get_int(f.info, FRIX_INFO_ISLANDS, &parts), FRIX_OK);
+    ck_assert_int_eq(parts, 9);
+    for (int64_t part = 1; part <= parts; ++part) {
+        int64_t nsgs = -1, admm = -1, stages = 0;
+        for (int64_t k = 0; k < frix_info_stage_count(f.info); ++k) {
+            if (stage_int(f.info, k, FRIX_STAGE_PART) != part || stage_int(f.info, k, FRIX_STAGE_SOLVER_ID) == 0) continue;
+            ++stages;
+            if (stage_int(f.info, k, FRIX_STAGE_SOLVER_ID) == FRIX_SOLVER_NSGS_VELOCITY) nsgs = k;
+            if (stage_int(f.info, k, FRIX_STAGE_SOLVER_ID) == FRIX_SOLVER_ADMM) admm = k;
+        }
+        ck_assert_msg(stages == 2 && nsgs >= 0 && admm == nsgs + 1, "part %lld: not NSGS then ADMM:\n%s",
+                      (long long)part, trace);
+        ck_assert_msg(stage_int(f.info, nsgs, FRIX_STAGE_STOPPED_BY_AUTO) == 1 &&
+                          stage_int(f.info, nsgs, FRIX_STAGE_ITERATIONS) < 1000,
+                      "part %lld: NSGS not stopped early:\n%s", (long long)part, trace);
+        ck_assert_msg(stage_int(f.info, admm, FRIX_STAGE_STATUS) == FRIX_STATUS_CONVERGED &&
+                          stage_int(f.info, admm, FRIX_STAGE_ITERATIONS) <= 100,
+                      "part %lld: ADMM did not converge within its probe:\n%s", (long long)part, trace);
+    }
+    double e = NAN;
+    ck_assert_int_eq(frix_problem_error(f.p, f.r, NULL, &e), FRIX_OK);
+    ck_assert_double_le(e, 1e-6);
+    file_run_close(&f);
+}
+END_TEST
+
 static const char *const kGlobalFiles[] = {
     "global/Box_Stacks-i0035-31-0.hdf5",
     "global/CubeH8.hdf5",
@@ -728,6 +767,7 @@ int main(void) {
     tcase_add_test(tc, test_random_restarts_solve_rockpile_small_island);
     tcase_add_test(tc, test_random_restarts_one_trace_line_per_round);
     tcase_add_test(tc, test_set_aside_interior_point_returned);
+    tcase_add_test(tc, test_towers_at_simulation_tolerance_by_admm_probe);
     tcase_add_test(tc, test_contacts_in_different_units);
     tcase_add_test(tc, test_newton_from_stalled_interior_point);
     tcase_add_test(tc, test_rockpile_by_the_nsgs_chain);
