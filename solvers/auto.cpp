@@ -754,9 +754,23 @@ struct Island {
     std::unique_ptr<IslandSolver> solver;
     std::vector<double> r;
     double error = INFINITY;
+    double loosening = 1.0;  // its tolerance over the whole problem's (part_loosening)
     frix_error status = FRIX_OK;
     std::string message;  // the error message of a failed solve, from its thread
 };
+
+// How much looser than the whole problem's tolerance a part's may be: the whole problem's
+// residual is the parts' in quadrature, and each part's error is relative to its own size,
+// so a part whose |q_part| is small next to |q| may stop at a larger error of its own:
+// |q| / (|q_part| sqrt(2 parts)) (the parts below that share give at most half of the whole
+// residual's square), never below 1 and at most kMaxPartLoosening. The whole problem is
+// measured after the parts, and they are solved again tighter where it misses.
+constexpr double kMaxPartLoosening = 100.0;
+double part_loosening(double norm_q, double part_norm_q, size_t parts) {
+    const double share = part_norm_q * std::sqrt(2.0 * (double)parts);
+    if (!(share > 0.0)) return kMaxPartLoosening;
+    return std::clamp(norm_q / share, 1.0, kMaxPartLoosening);
+}
 
 // What a persistent solver keeps for auto (solve_cache.hpp): its parts' states (each part's
 // stages reuse their analyses and factorisations), while W's pattern, and so the parts, stay;
@@ -824,6 +838,16 @@ frix_error solve_local(SolveContext &ctx) {
         is.solver = std::make_unique<IslandSolver>(*sub, shared, whole ? 0 : (int64_t)k + 1,
                                                    ctx.cache ? kept->part_caches[k].get() : nullptr);
     }
+    if (!whole) {
+        double norm_q2 = 0.0;
+        std::vector<double> part_q2(islands.size(), 0.0);
+        for (size_t k = 0; k < islands.size(); ++k) {
+            for (int64_t i = 0; i < 3 * islands[k].sub->nc; ++i) part_q2[k] += islands[k].sub->q[i] * islands[k].sub->q[i];
+            norm_q2 += part_q2[k];
+        }
+        for (size_t k = 0; k < islands.size(); ++k)
+            islands[k].loosening = part_loosening(std::sqrt(norm_q2), std::sqrt(part_q2[k]), islands.size());
+    }
 
     // Solve every island to `island_tol`; several at once when threads allow.
     auto solve_all = [&](double island_tol) {
@@ -838,8 +862,9 @@ frix_error solve_local(SolveContext &ctx) {
                 for (size_t k = next++; k < islands.size(); k = next++) {
                     Island &is = islands[k];
                     double *r = whole ? ctx.r : is.r.data();
-                    is.status = guard("frix_solve (auto)",
-                                      [&] { return is.solver->solve(phase, r, island_tol, &is.error); });
+                    is.status = guard("frix_solve (auto)", [&] {
+                        return is.solver->solve(phase, r, island_tol * is.loosening, &is.error);
+                    });
                     // The message lives in this thread's error state: keep it for the caller's.
                     if (is.status != FRIX_OK) is.message = frix_last_error_message();
                 }
@@ -886,7 +911,7 @@ frix_error solve_local(SolveContext &ctx) {
             shared.stop_requested.load())
             break;
         bool all_met = true;
-        for (const Island &is : islands) all_met = all_met && is.error <= island_tol;
+        for (const Island &is : islands) all_met = all_met && is.error <= island_tol * is.loosening;
         if (!all_met) break;  // an island failed: tightening the others would not help
         // The islands' relative errors are normalised by their own sizes; the whole
         // problem's by its own. Tighten by the observed ratio (and a margin).

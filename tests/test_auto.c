@@ -744,6 +744,33 @@ START_TEST(test_towers_at_simulation_tolerance_by_admm_probe) {
 }
 END_TEST
 
+/* Capsules-i125 (36 islands, the largest 57 contacts) at 1e-4: the small parts, whose |q| is
+ * a small share of the whole problem's, stop at errors of their own up to 100 x the
+ * tolerance, and the whole problem still meets it: one NSGS stage per part, no Newton (which
+ * a part of 17 contacts needed when held to 1e-4 of its own size). */
+START_TEST(test_small_parts_held_to_their_share) {
+    file_run f;
+    if (!file_run_open(&f, "local/Capsules-i125-1213.hdf5", 1e-4)) return;
+    file_run_solve(&f);
+    const char *trace = frix_info_trace(f.info);
+    ck_assert_msg(frix_info_status(f.info) == FRIX_STATUS_CONVERGED, "%s\n%s",
+                  frix_status_string(frix_info_status(f.info)), trace);
+    int loosened = 0;
+    for (int64_t k = 0; k < frix_info_stage_count(f.info); ++k) {
+        if (stage_int(f.info, k, FRIX_STAGE_SOLVER_ID) == 0) continue;
+        ck_assert_msg(stage_int(f.info, k, FRIX_STAGE_SOLVER_ID) == FRIX_SOLVER_NSGS_VELOCITY &&
+                          stage_int(f.info, k, FRIX_STAGE_STATUS) == FRIX_STATUS_CONVERGED,
+                      "a stage other than one converged NSGS per part:\n%s", trace);
+        loosened += stage_double(f.info, k, FRIX_STAGE_ERROR) > 1e-4;
+    }
+    ck_assert_msg(loosened > 0, "no part stopped above the tolerance:\n%s", trace);
+    double e = NAN;
+    ck_assert_int_eq(frix_problem_error(f.p, f.r, NULL, &e), FRIX_OK);
+    ck_assert_double_le(e, 1e-4);
+    file_run_close(&f);
+}
+END_TEST
+
 static const char *const kGlobalFiles[] = {
     "global/Box_Stacks-i0035-31-0.hdf5",
     "global/CubeH8.hdf5",
@@ -768,6 +795,7 @@ int main(void) {
     tcase_add_test(tc, test_random_restarts_one_trace_line_per_round);
     tcase_add_test(tc, test_set_aside_interior_point_returned);
     tcase_add_test(tc, test_towers_at_simulation_tolerance_by_admm_probe);
+    tcase_add_test(tc, test_small_parts_held_to_their_share);
     tcase_add_test(tc, test_contacts_in_different_units);
     tcase_add_test(tc, test_newton_from_stalled_interior_point);
     tcase_add_test(tc, test_rockpile_by_the_nsgs_chain);
