@@ -138,8 +138,9 @@ constexpr int64_t kPolishSteps = 10;
 constexpr double kPolishRatio = 1e-3;
 // Without a deadline, this many rounds in a row without halving the error end the sequence.
 constexpr int kMaxIdleRounds = 3;
-// Tightenings of the islands' tolerance when their combined error misses the tolerance.
-constexpr int kMaxTightenings = 4;
+// Passes over the islands again when their combined error misses the tolerance (the first
+// drops the loosening of part_loosening, the others tighten).
+constexpr int kMaxTightenings = 5;
 // A global problem is reduced to W = H^T M^-1 H unless W would have more than this many
 // entries and more than kReductionMaxGrowth times those of M and H: a deformable body makes W
 // dense among its contacts (memory and every sweep then grow with their square), and Newton
@@ -764,7 +765,8 @@ struct Island {
 // so a part whose |q_part| is small next to |q| may stop at a larger error of its own:
 // |q| / (|q_part| sqrt(2 parts)) (the parts below that share give at most half of the whole
 // residual's square), never below 1 and at most kMaxPartLoosening. The whole problem is
-// measured after the parts, and they are solved again tighter where it misses.
+// measured after the parts; where it misses, the parts are solved again to the tolerance
+// itself, and then tighter.
 constexpr double kMaxPartLoosening = 100.0;
 double part_loosening(double norm_q, double part_norm_q, size_t parts) {
     const double share = part_norm_q * std::sqrt(2.0 * (double)parts);
@@ -910,12 +912,22 @@ frix_error solve_local(SolveContext &ctx) {
         if (whole || error <= tol || tightening >= kMaxTightenings || shared.out_of_time() ||
             shared.stop_requested.load())
             break;
-        bool all_met = true;
-        for (const Island &is : islands) all_met = all_met && is.error <= island_tol * is.loosening;
+        bool all_met = true, loosened = false;
+        for (const Island &is : islands) {
+            all_met = all_met && is.error <= island_tol * is.loosening;
+            loosened = loosened || is.loosening > 1.0;
+        }
         if (!all_met) break;  // an island failed: tightening the others would not help
-        // The islands' relative errors are normalised by their own sizes; the whole
-        // problem's by its own. Tighten by the observed ratio (and a margin).
-        island_tol *= std::max(1e-3, 0.5 * tol / error);
+        if (loosened) {
+            // The parts' shares misjudged the whole (their errors are relative to |r| and
+            // |u| too, which |q| does not tell): first every part to the tolerance itself,
+            // each going on from where it stopped.
+            for (Island &is : islands) is.loosening = 1.0;
+        } else {
+            // The islands' relative errors are normalised by their own sizes; the whole
+            // problem's by its own. Tighten by the observed ratio (and a margin).
+            island_tol *= std::max(1e-3, 0.5 * tol / error);
+        }
         flush_events();
         TraceEvent e = trace_event(kTighten);
         e.error = error;

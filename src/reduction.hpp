@@ -43,9 +43,12 @@ class MassSolver {
         empty_ = M.rows == 0;  // no dofs: M^-1 is the empty map, W = 0 and q = w
         if (empty_) return FRIX_OK;
         if (frix_error e = to_csc(M, csc_)) return e;
-        if (is_symmetric(csc_) && chol_.factor(csc_.view()) == FRIX_OK) {
-            use_chol_ = true;
-            return FRIX_OK;
+        if (is_symmetric(csc_)) {
+            const frix_error e = chol_.factor(csc_.view());
+            if (e == FRIX_OK || chol_.refused()) {
+                use_chol_ = e == FRIX_OK;
+                return e;
+            }
         }
         use_chol_ = false;
         if (frix_error e = lu_.analyze(csc_.view())) return e;
@@ -56,6 +59,13 @@ class MassSolver {
         }
         return FRIX_OK;
     }
+    // Every factorisation first asks the budget (the solve's limits); refused(): the limit
+    // the last factor() would have overrun (FRIX_STATUS_NOT_RUN: none).
+    void set_budget(const linalg::FactorBudget &budget) {
+        chol_.set_budget(budget);
+        lu_.set_budget(budget);
+    }
+    frix_status refused() const { return chol_.refused() ? chol_.refused() : lu_.refused(); }
     frix_error solve(const double *b, double *x) const {
         if (empty_) return FRIX_OK;
         return use_chol_ ? chol_.solve(b, x) : lu_.solve(b, x);

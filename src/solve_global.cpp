@@ -108,7 +108,24 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
     const bool m_current = cache && state->m_values == cache->m_values;
     if (!m_current) {
         state->m_values = 0;  // until factorised
-        if (frix_error e = ms.factor(*p.M)) return e;
+        // Priced against the memory limit only: every answer's velocity needs M^-1, and the
+        // start returned at a time limit must come with its own (M v = H r + f).
+        ms.set_budget([monitor = Monitor(opts, clock)](const linalg::FactorPrice &price) {
+            return monitor.fits_memory(price.bytes) ? FRIX_STATUS_NOT_RUN : FRIX_STATUS_MEMORY_LIMIT;
+        });
+        if (frix_error e = ms.factor(*p.M)) {
+            // One that would exceed the memory limit is not started: nothing is solved, r
+            // stays as given and v = 0.
+            const frix_status over = ms.refused();
+            if (!over) return e;
+            clear_error();
+            Monitor::record_factorizations(info, ms.last_stats());
+            std::fill(v, v + p.n, 0.0);
+            info.status = over;
+            info.iterations = 0;
+            record_measures(info, global_measures(p, r, v, u, &info.equilibrium), opts.i(FRIX_OPT_ERROR_MEASURE));
+            return FRIX_OK;
+        }
         state->m_values = cache ? cache->m_values : 0;
     }
     std::vector<double> q(m);
