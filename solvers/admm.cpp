@@ -447,7 +447,7 @@ frix_error solve(SolveContext &ctx) {
         // primal residual of exactly 0 (x inside the cones, y = 0: the iteration is a plain
         // proximal step, as slow as rho is large) lowers rho by kZeroPrimalStep.
         if (adaptive && since_change >= kBalancePeriod && dual > 0.0) {
-            const double balanced = prim > 0.0 ? rho * std::sqrt(prim / dual) : rho / kZeroPrimalStep;
+            const double balanced = prim == 0.0 ? rho / kZeroPrimalStep : rho * std::sqrt(prim / dual);
             const double target = std::clamp(balanced, kRhoMin * wmean, kRhoMax * wmean);
             if (target > kBalanceFactor * rho || target * kBalanceFactor < rho) {
                 const double ratio = rho / target;

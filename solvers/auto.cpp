@@ -138,9 +138,9 @@ constexpr int64_t kPolishSteps = 10;
 constexpr double kPolishRatio = 1e-3;
 // Without a deadline, this many rounds in a row without halving the error end the sequence.
 constexpr int kMaxIdleRounds = 3;
-// Passes over the islands again when their combined error misses the tolerance (the first
-// drops the loosening of part_loosening, the others tighten).
-constexpr int kMaxTightenings = 5;
+// Tightenings of the islands' tolerance when their combined error misses the tolerance
+// (after a pass that only drops the loosening of part_loosening, which is not counted).
+constexpr int kMaxTightenings = 4;
 // A global problem is reduced to W = H^T M^-1 H unless W would have more than this many
 // entries and more than kReductionMaxGrowth times those of M and H: a deformable body makes W
 // dense among its contacts (memory and every sweep then grow with their square), and Newton
@@ -432,7 +432,8 @@ class IslandSolver {
         probe_alternative_ = c->admm_setup + kAdmmProbeIterations * c->admm_iteration;
         frix_error e = stage(FRIX_SOLVER_NSGS_VELOCITY, Watch::Rate, 0, kFirstNsgsSweeps, r);
         probe_alternative_ = NAN;
-        if (e || !last_slow_ || !can_continue()) return e;
+        // NSGS that gained nothing predicts nothing to weigh ADMM against: the rounds decide.
+        if (e || !last_slow_ || !std::isfinite(last_predicted_work_) || !can_continue()) return e;
         const std::vector<double> nsgs_r(r, r + m_);
         probe_alternative_ = last_predicted_work_;
         std::fill(r, r + m_, 0.0);
@@ -481,6 +482,9 @@ class IslandSolver {
         }
         for (const StageSpec &spec : kRound) {
             if (!can_continue()) break;
+            if (!fits_memory(spec.solver_id == FRIX_SOLVER_ADMM ? &StageCosts::admm_bytes : &StageCosts::ipm_bytes) &&
+                spec.solver_id != FRIX_SOLVER_NSGS_VELOCITY)
+                continue;
             const bool chain = spec.solver_id == FRIX_SOLVER_NSGS_VELOCITY && !nsgs_chain_.empty();
             if (chain)
                 std::copy(nsgs_chain_.begin(), nsgs_chain_.end(), r);
@@ -685,9 +689,10 @@ class IslandSolver {
         return FRIX_OK;
     }
 
-    // Whether a priced stage's factorisation (its field of StageCosts) fits in the memory the
-    // solve may still take: one that does not is left out rather than started and refused
-    // (its solver's setup alone costs). Unpriced: its solver's own check decides.
+    // Whether a priced stage's factorisation (its field of StageCosts; Newton's and PROX's
+    // are priced as the IPM's, an LU of W's pattern) fits in the memory the solve may still
+    // take: one that does not is left out rather than started and refused (its solver's
+    // setup alone costs). Unpriced: its solver's own check decides.
     bool fits_memory(double StageCosts::*bytes) {
         const StageCosts *c = prices();
         return !c || Monitor(shared_.user, shared_.clock).fits_memory(c->*bytes);
@@ -897,7 +902,7 @@ frix_error solve_local(SolveContext &ctx) {
     double island_tol = tol;
     Measures whole_measures;
     double error = INFINITY;
-    for (int tightening = 0;; ++tightening) {
+    for (int tightening = 0;;) {
         if (frix_error e = solve_all(island_tol)) return e;
         if (!whole)
             for (const Island &is : islands)
@@ -927,6 +932,7 @@ frix_error solve_local(SolveContext &ctx) {
             // The islands' relative errors are normalised by their own sizes; the whole
             // problem's by its own. Tighten by the observed ratio (and a margin).
             island_tol *= std::max(1e-3, 0.5 * tol / error);
+            ++tightening;
         }
         flush_events();
         TraceEvent e = trace_event(kTighten);

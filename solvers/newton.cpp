@@ -299,7 +299,7 @@ double Engine::full_step_error(const double *r, const double *u, const double *d
 frix_error Engine::run(double *r, const double *q, double shift, double tol, Limits &lim,
                        RunResult &res, double scale_q) {
     const int64_t m = m_;
-    lu_.set_budget(Monitor(lim.options, lim.clock).budget());  // this run's time limit
+    lu_.set_budget(Monitor(lim.options, lim.clock).budget());  // this run's time and memory limits
     std::vector<double> u(m), phi(m), d(m), du(m), rhs(m), x(m), rt(m), ut(m), phit(m), best(r, r + m);
     const double norm_q = scale_q >= 0.0 ? scale_q : std::sqrt(dot(q, q, m));
     auto product = [&](const double *z, double *y) {  // y = (W + shift I) z

@@ -41,13 +41,20 @@ class Monitor {
         const double tl = o_.d(FRIX_OPT_TIME_LIMIT);
         if (!(tl > 0.0)) return FRIX_STATUS_NOT_RUN;
         const double left = tl - clock_.seconds();
+        const double share = price.flops_upper_bound ? kUpperBoundShare : kExactCountShare;
         const bool fits = std::isfinite(price.seconds) ? kRepeatMargin * price.seconds <= left
-                                                       : price.flops <= kSparseFactorShare * clock_.factor_rate() * left;
+                                                       : price.flops <= share * clock_.factor_rate() * left;
         return fits ? FRIX_STATUS_NOT_RUN : FRIX_STATUS_TIME_LIMIT;
     }
     // The budget to give a factorisation (linalg::FactorBudget), on this Monitor's limits.
     linalg::FactorBudget budget() const {
         return [o = &o_, c = &clock_](const linalg::FactorPrice &price) { return Monitor(*o, *c).affords(price); };
+    }
+    // The same, on the memory limit alone: for the factorisations a time limit must not stop.
+    linalg::FactorBudget memory_budget() const {
+        return [o = &o_, c = &clock_](const linalg::FactorPrice &price) {
+            return Monitor(*o, *c).fits_memory(price.bytes) ? FRIX_STATUS_NOT_RUN : FRIX_STATUS_MEMORY_LIMIT;
+        };
     }
     // The memory the solve may still take, in bytes (Stopwatch::memory_left on the option
     // memory_limit), and whether that option is set.
@@ -77,10 +84,11 @@ class Monitor {
     }
 
    private:
-    // A first factorisation is priced at this share of a dense LU's rate: sparse kernels run
-    // on small fronts, more slowly, but UMFPACK's flop count is an upper bound that overstates
-    // the real one several times; the price errs long.
-    static constexpr double kSparseFactorShare = 0.25;
+    // A first factorisation is priced at a share of a dense LU's rate: CHOLMOD's flop count
+    // is exact and its supernodes run dense kernels, at about the dense rate (a smaller share
+    // refused factorisations that fitted); UMFPACK's is an upper bound that overstates the
+    // real one several times, on smaller fronts: a quarter, the price errs long.
+    static constexpr double kExactCountShare = 1.0, kUpperBoundShare = 0.25;
     // A factorisation repeated on the same analysis is priced at its last time, with this margin.
     static constexpr double kRepeatMargin = 1.5;
     // Without the option memory_limit, a factorisation smaller than this is not checked (the

@@ -12,9 +12,9 @@ namespace frix {
 namespace {
 
 // W's 3x3 blocks: 9 values and a column index each (BlockMatrixFromColumns keeps no other copy).
-// Below 1 GB the system is not asked. Where W could take more than kStructureAbove, its
-// structure is looked at for a tighter bound (forming W reserves that much address space).
-constexpr double kBytesPerReducedBlock = 80.0, kMemoryCheckedAbove = 1e9, kStructureAbove = 256e6;
+// Where W could take more than kStructureAbove, its structure is looked at for a tighter
+// bound (forming W reserves that much address space).
+constexpr double kBytesPerReducedBlock = 80.0, kStructureAbove = 256e6;
 
 }  // namespace
 
@@ -94,9 +94,8 @@ ReductionSize reduction_bound(const frix_problem &p) {
 ReductionMemory reduction_memory(const ReductionSize &size, const Monitor &monitor) {
     ReductionMemory m;
     m.needed = kBytesPerReducedBlock * size.w_blocks;
-    if (m.needed < kMemoryCheckedAbove && !monitor.memory_limited()) return m;
-    m.available = monitor.memory_left();
-    m.fits = !(m.needed > m.available);
+    m.fits = monitor.fits_memory(m.needed);
+    if (!m.fits) m.available = monitor.memory_left();
     return m;
 }
 

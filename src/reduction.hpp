@@ -43,9 +43,11 @@ class MassSolver {
         empty_ = M.rows == 0;  // no dofs: M^-1 is the empty map, W = 0 and q = w
         if (empty_) return FRIX_OK;
         if (frix_error e = to_csc(M, csc_)) return e;
+        refused_ = FRIX_STATUS_NOT_RUN;
         if (is_symmetric(csc_)) {
             const frix_error e = chol_.factor(csc_.view());
-            if (e == FRIX_OK || chol_.refused()) {
+            refused_ = chol_.refused();
+            if (e == FRIX_OK || refused_) {
                 use_chol_ = e == FRIX_OK;
                 return e;
             }
@@ -53,6 +55,8 @@ class MassSolver {
         use_chol_ = false;
         if (frix_error e = lu_.analyze(csc_.view())) return e;
         if (frix_error e = lu_.factor(csc_.view())) {
+            refused_ = lu_.refused();
+            if (refused_) return e;
             // A copy: fail() writes the buffer frix_last_error_message() points to.
             const std::string why = frix_last_error_message();
             return fail(e, "global problem: M cannot be factorised (%s)", why.c_str());
@@ -65,7 +69,7 @@ class MassSolver {
         chol_.set_budget(budget);
         lu_.set_budget(budget);
     }
-    frix_status refused() const { return chol_.refused() ? chol_.refused() : lu_.refused(); }
+    frix_status refused() const { return refused_; }
     frix_error solve(const double *b, double *x) const {
         if (empty_) return FRIX_OK;
         return use_chol_ ? chol_.solve(b, x) : lu_.solve(b, x);
@@ -125,6 +129,7 @@ class MassSolver {
     linalg::SparseCholesky chol_;
     linalg::SparseLU lu_;
     bool use_chol_ = false;
+    frix_status refused_ = FRIX_STATUS_NOT_RUN;  // why the last factor() was not started
     bool empty_ = false;
 };
 

@@ -110,10 +110,10 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         state->m_values = 0;  // until factorised
         // Priced against the memory limit only: every answer's velocity needs M^-1, and the
         // start returned at a time limit must come with its own (M v = H r + f).
-        ms.set_budget([monitor = Monitor(opts, clock)](const linalg::FactorPrice &price) {
-            return monitor.fits_memory(price.bytes) ? FRIX_STATUS_NOT_RUN : FRIX_STATUS_MEMORY_LIMIT;
-        });
-        if (frix_error e = ms.factor(*p.M)) {
+        ms.set_budget(Monitor(opts, clock).memory_budget());
+        const frix_error factored = ms.factor(*p.M);
+        ms.set_budget(nullptr);  // it refers to this solve's options and clock
+        if (frix_error e = factored) {
             // One that would exceed the memory limit is not started: nothing is solved, r
             // stays as given and v = 0.
             const frix_status over = ms.refused();

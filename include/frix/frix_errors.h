@@ -42,7 +42,9 @@ typedef enum frix_status FRIX_ENUM_BASE {
     FRIX_STATUS_NUMERICAL_FAILURE = 6,
     FRIX_STATUS_STOPPED_BY_CALLBACK = 7,
     FRIX_STATUS_MEMORY_LIMIT = 8     /* a factorisation would have exceeded the memory limit
-                                        (option memory_limit); r is the best iterate found */
+                                        (option memory_limit); r is the best iterate found (a
+                                        global problem whose M itself did not fit: the start,
+                                        with v = 0) */
 } frix_status;
 
 /* Static, never NULL: "unknown error code" for values frix does not define. */

@@ -132,8 +132,11 @@ frix_error SparseCholesky::factor(const CscView &A) {
             m.last_seconds = NAN;
         }
     }
+    // A factorisation on an analysis whose L already holds values refactorises in place: it
+    // takes no memory the process does not hold already.
+    const double bytes = m.L && m.L->xtype != CHOLMOD_PATTERN ? 0.0 : m.bytes;
     m.numeric = false;
-    refused_ = m.L && budget_ ? budget_(FactorPrice{m.flops, m.last_seconds, m.bytes}) : FRIX_STATUS_NOT_RUN;
+    refused_ = m.L && budget_ ? budget_(FactorPrice{m.flops, m.last_seconds, bytes}) : FRIX_STATUS_NOT_RUN;
     if (refused_) {
         stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
         return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: not started: it would overrun the %s limit",

@@ -49,12 +49,14 @@ inline FactorStats operator+(const FactorStats &a, const FactorStats &b) {
 // What a numeric factorisation will cost, known before it starts: the flop count and peak
 // memory of its symbolic analysis, and the seconds the last numeric factorisation on the
 // same analysis took (NaN before the first). The analyses' counts are upper bounds that can
-// be loose by orders of magnitude; a measured time is not, and a repeat is priced at the
-// memory the last one used.
+// be loose by orders of magnitude; a measured time is not. bytes is what it adds to the
+// process: a repeat on the same analysis adds less (UMFPACK: its last measured peak less the
+// factorisation it replaces; CHOLMOD: nothing, it refactorises in place).
 struct FactorPrice {
     double flops = 0.0;
     double seconds = NAN;
     double bytes = 0.0;
+    bool flops_upper_bound = false;  // UMFPACK's count (an upper bound), not CHOLMOD's (exact)
 };
 // Asked before each numeric factorisation: FRIX_STATUS_NOT_RUN lets it start; any other status
 // (FRIX_STATUS_TIME_LIMIT, FRIX_STATUS_MEMORY_LIMIT: a caller's limit it would overrun) refuses
@@ -108,6 +110,7 @@ class SparseLU {
     double flops_ = 0.0;  // of a numeric factorisation, UMFPACK's estimate from the analysis
     double last_seconds_ = NAN;  // of the last numeric factorisation on this analysis
     double bytes_ = 0.0;  // peak memory of a numeric factorisation: estimated, then the last one's
+    double numeric_bytes_ = 0.0;  // the size of the last numeric factorisation
     FactorBudget budget_;
     frix_status refused_ = FRIX_STATUS_NOT_RUN;
     FactorStats stats_;

@@ -1,6 +1,7 @@
 // SparseLU on UMFPACK (the SuiteSparse_long "dl" interface, whose index type is int64_t here).
 #include <umfpack.h>
 
+#include <algorithm>
 #include <chrono>
 #include <mutex>
 #include <type_traits>
@@ -103,11 +104,13 @@ frix_error SparseLU::analyze(const CscView &A) {
 }
 
 frix_error SparseLU::factor(const CscView &A) {
+    // The factorisation it replaces is freed first: the process holds that memory already.
+    const double held = numeric_ ? numeric_bytes_ : 0.0;
     free_numeric();
     if (!symbolic_) return fail(FRIX_ERR_NUMERICAL, "sparse LU: factor() before analyze()");
     if (A.rows != A_.rows || A.nnz() != A_.nnz())
         return fail(FRIX_ERR_INTERNAL, "sparse LU: the pattern changed since the analysis");
-    refused_ = budget_ ? budget_(FactorPrice{flops_, last_seconds_, bytes_}) : FRIX_STATUS_NOT_RUN;
+    refused_ = budget_ ? budget_(FactorPrice{flops_, last_seconds_, std::max(0.0, bytes_ - held), true}) : FRIX_STATUS_NOT_RUN;
     if (refused_)
         return fail(FRIX_ERR_NUMERICAL, "sparse LU: not started: it would overrun the %s limit",
                     refused_ == FRIX_STATUS_MEMORY_LIMIT ? "memory" : "time");
@@ -121,6 +124,7 @@ frix_error SparseLU::factor(const CscView &A) {
     A_ = A;
     rcond_ = info[UMFPACK_RCOND];
     if (info[UMFPACK_PEAK_MEMORY] > 0.0) bytes_ = info[UMFPACK_PEAK_MEMORY] * info[UMFPACK_SIZE_OF_UNIT];
+    numeric_bytes_ = info[UMFPACK_NUMERIC_SIZE] > 0.0 ? info[UMFPACK_NUMERIC_SIZE] * info[UMFPACK_SIZE_OF_UNIT] : 0.0;
     if (st == UMFPACK_OK && rcond_ > 0.0) return FRIX_OK;
     free_numeric();
     if (st == UMFPACK_ERROR_out_of_memory)

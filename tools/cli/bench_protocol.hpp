@@ -4,6 +4,8 @@
 //   T <iteration> <elapsed s> <error>     one point of the trace (thinned, see TraceThinner)
 //   R <status> <iterations> <error> <time s> <reported error>   the result, once
 //   N <text>                              a note (one line), e.g. a library message
+//   M <bytes>                             the run's peak resident memory, after R (VmHWM:
+//                                         the program's own, from its exec)
 //
 // Fields are tab-separated; numbers are written so that they read back exactly. Header-only
 // because two executables speak it: `frix bench-run` (frix's solvers) and `frix-siconos`
@@ -71,6 +73,24 @@ inline std::string one_line(std::string s) {
 inline std::string trace_line(std::int64_t iteration, double elapsed, double error) {
     return "T\t" + std::to_string(iteration) + "\t" + exact(elapsed) + "\t" + exact(error) + "\n";
 }
+
+// The process's peak resident memory in bytes (Linux: VmHWM of /proc/self/status), NaN
+// where the system does not say.
+inline double peak_resident_bytes() {
+    double bytes = NAN;
+    if (std::FILE *f = std::fopen("/proc/self/status", "r")) {
+        char line[256];
+        while (std::fgets(line, sizeof line, f))
+            if (std::sscanf(line, "VmHWM: %lf kB", &bytes) == 1) {
+                bytes *= 1024.0;
+                break;
+            }
+        std::fclose(f);
+    }
+    return bytes;
+}
+
+inline std::string peak_memory_line() { return "M\t" + exact(peak_resident_bytes()) + "\n"; }
 
 inline std::string result_line(const std::string &status, std::int64_t iterations, double error,
                                double time, double reported_error) {

@@ -160,6 +160,8 @@ void Runner::consume(Child &c, bool eof) {
             c.out.reported_error = frix_bench::to_double(f[4]);
         } else if (line.kind == 'N' && !f.empty()) {
             c.out.note = f[0];
+        } else if (line.kind == 'M' && !f.empty()) {
+            c.out.peak_memory = frix_bench::to_double(f[0]);
         }
         if (nl >= c.buffer.size()) break;
     }
@@ -237,8 +239,11 @@ std::vector<RunOutcome> Runner::poll(double timeout) {
             if (::waitid(P_PID, static_cast<id_t>(c.pid), &si, WEXITED | WNOHANG | WNOWAIT) == 0 &&
                 si.si_pid == c.pid) {
                 ::kill(-c.pid, SIGKILL);
+                // A run that did not say its peak (killed, crashed): the system's, which
+                // counts the bench's own image at the fork too (Linux keeps it over exec).
                 struct rusage usage {};
-                if (::wait4(c.pid, &c.wait_status, 0, &usage) == c.pid && usage.ru_maxrss > 0)
+                if (::wait4(c.pid, &c.wait_status, 0, &usage) == c.pid && usage.ru_maxrss > 0 &&
+                    !std::isfinite(c.out.peak_memory))
                     c.out.peak_memory = 1024.0 * static_cast<double>(usage.ru_maxrss);  // kB on Linux
                 c.exited = true;
             }

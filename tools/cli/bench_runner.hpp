@@ -29,6 +29,7 @@ struct RunOutcome {
     double error = 0, time = 0, reported_error = 0;
     double wall = 0;     // seconds from start to end, as seen from here
     double peak_memory = NAN;  // bytes: the child's peak resident memory (problem read included)
+                               // as it said it, or the system's for a run that did not
     std::string note;
     std::vector<TracePoint> trace;
 };

@@ -127,6 +127,7 @@ int cmd_bench_run(int argc, char **argv) {
         frix_bench::write_line(fd, frix_bench::note_line(library_message(err)));
         frix_bench::write_line(fd, frix_bench::result_line(unsupported ? "unsupported" : "error",
                                                            0, NAN, NAN, NAN));
+        frix_bench::write_line(fd, frix_bench::peak_memory_line());
         return kExitUsage;
     }
     // The error column is always the relative measure (Siconos's too); the solver's own
@@ -148,6 +149,7 @@ int cmd_bench_run(int argc, char **argv) {
     }
     frix_bench::write_line(fd, frix_bench::result_line(status_token(status), iterations, error,
                                                        timer.median(), reported));
+    frix_bench::write_line(fd, frix_bench::peak_memory_line());
     return status == FRIX_STATUS_CONVERGED ? kExitConverged : kExitNotConverged;
 }
 

@@ -179,6 +179,7 @@ int run(int argc, char **argv) {
         if (!note.empty()) frix_bench::write_line(a.fd, frix_bench::note_line(note));
         frix_bench::write_line(a.fd, frix_bench::result_line(status, res.iterations, res.error,
                                                              res.time, res.siconos_error));
+        frix_bench::write_line(a.fd, frix_bench::peak_memory_line());
     } else if (a.json) {
         JsonWriter w;
         w.begin_object();
