@@ -58,7 +58,17 @@ FileReader::FileReader(const char *path) : path_(path) {
     if (S_ISDIR(st.st_mode)) raise(FRIX_ERR_IO, "cannot open '%s': it is a directory", path);
     std::FILE *probe = std::fopen(path, "rb");
     if (probe == nullptr) raise(FRIX_ERR_IO, "cannot open '%s': %s", path, std::strerror(errno));
+    unsigned char head[16];
+    const size_t got = std::fread(head, 1, sizeof head, probe);
     std::fclose(probe);
+    // A version 0 or 1 superblock at the start must have its reserved bytes zero and its
+    // sizes of offsets and lengths among 2, 4, 8, 16, 32 (the HDF5 format): HDF5 1.10 reads
+    // a corrupt one's fields as sizes and asks for gigabytes before it fails.
+    static const unsigned char kSignature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+    auto size_ok = [](unsigned char v) { return v == 2 || v == 4 || v == 8 || v == 16 || v == 32; };
+    if (got == sizeof head && std::memcmp(head, kSignature, sizeof kSignature) == 0 && head[8] <= 1 &&
+        (head[11] != 0 || head[15] != 0 || !size_ok(head[13]) || !size_ok(head[14])))
+        raise(FRIX_ERR_FORMAT, "cannot read '%s': a corrupt HDF5 superblock (version %u)", path, (unsigned)head[8]);
 
 #if H5_VERSION_GE(1, 12, 0)
     const htri_t is_hdf5 = H5Fis_accessible(path, H5P_DEFAULT);

@@ -41,6 +41,8 @@ class Monitor {
         const double tl = o_.d(FRIX_OPT_TIME_LIMIT);
         if (!(tl > 0.0)) return FRIX_STATUS_NOT_RUN;
         const double left = tl - clock_.seconds();
+        // One that fits even at the slowest rate is afforded without timing the machine.
+        if (price.flops <= kSlowestRate * left) return FRIX_STATUS_NOT_RUN;
         const double share = price.flops_upper_bound ? kUpperBoundShare : kExactCountShare;
         const bool fits = std::isfinite(price.seconds) ? kRepeatMargin * price.seconds <= left
                                                        : price.flops <= share * clock_.factor_rate() * left;
@@ -89,6 +91,9 @@ class Monitor {
     // refused factorisations that fitted); UMFPACK's is an upper bound that overstates the
     // real one several times, on smaller fronts: a quarter, the price errs long.
     static constexpr double kExactCountShare = 1.0, kUpperBoundShare = 0.25;
+    // Flops per second no machine we run on is slower than, sparse kernels included: below
+    // it the rate (a timed dense LU of a few milliseconds, once per solve) is not needed.
+    static constexpr double kSlowestRate = 1e8;
     // A factorisation repeated on the same analysis is priced at its last time, with this margin.
     static constexpr double kRepeatMargin = 1.5;
     // Without the option memory_limit, a factorisation smaller than this is not checked (the

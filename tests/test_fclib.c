@@ -778,6 +778,16 @@ START_TEST(test_unreadable_files) {
     spit(text, "this is not HDF5\n", 17);
     expect_read_error(text, FRIX_ERR_IO, "not an HDF5 file");
 
+    /* A version 0 superblock with a reserved byte set (found by fuzz_read_problem): HDF5
+     * 1.10 reads it as a size and asks for gigabytes before failing; refused before HDF5 opens it. */
+    static const unsigned char corrupt[49] = {
+        0x89, 0x48, 0x44, 0x46, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x00, 0x00, 0x08, 0x08, 0xb8, 0xf5,
+        0xff, 0xff, 0xff, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xff, 0xff,
+        0x09, 0x00, 0x00, 0xff, 0xff, 0xff, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x08};
+    const char *bad = tmp_path("corrupt_superblock.hdf5");
+    spit(bad, (const char *)corrupt, (long)sizeof corrupt);
+    expect_read_error(bad, FRIX_ERR_FORMAT, "corrupt HDF5 superblock");
+
     frix_problem *p = (frix_problem *)0x1;
     ck_assert_int_eq(frix_fclib_read(NULL, &p), FRIX_ERR_INVALID_ARGUMENT);
     ck_assert_int_eq(frix_fclib_read(text, NULL), FRIX_ERR_INVALID_ARGUMENT);
