@@ -422,9 +422,10 @@ class IslandSolver {
     // kAdmmProbeIterations iterations): where its rate predicts more than that, ADMM runs from
     // r = 0, weighed against what NSGS's rate predicted; where ADMM is the slower, NSGS goes on
     // from where it stopped under its usual watch (and ADMM runs again in round 0, weighed
-    // against the IPM, which may cost far more than NSGS's prediction). Which of the two reaches the tolerance
-    // first depends on the tolerance and the problem (ADMM's iterations range from tens on
-    // towers of blocks to thousands on piles of spheres), which a few iterations of each tell.
+    // against the IPM, which may cost far more than NSGS's prediction). Which of the two
+    // reaches the tolerance first depends on the tolerance and the problem (ADMM's iterations
+    // range from tens on towers of blocks to thousands on piles of spheres), which a few
+    // iterations of each tell.
     frix_error first_stage(double *r) {
         const StageCosts *c = prices();
         if (!c || !fits_memory(&StageCosts::admm_bytes))
@@ -482,8 +483,8 @@ class IslandSolver {
         }
         for (const StageSpec &spec : kRound) {
             if (!can_continue()) break;
-            if (!fits_memory(spec.solver_id == FRIX_SOLVER_ADMM ? &StageCosts::admm_bytes : &StageCosts::ipm_bytes) &&
-                spec.solver_id != FRIX_SOLVER_NSGS_VELOCITY)
+            if (spec.solver_id != FRIX_SOLVER_NSGS_VELOCITY &&
+                !fits_memory(spec.solver_id == FRIX_SOLVER_ADMM ? &StageCosts::admm_bytes : &StageCosts::ipm_bytes))
                 continue;
             const bool chain = spec.solver_id == FRIX_SOLVER_NSGS_VELOCITY && !nsgs_chain_.empty();
             if (chain)
@@ -846,14 +847,9 @@ frix_error solve_local(SolveContext &ctx) {
                                                    ctx.cache ? kept->part_caches[k].get() : nullptr);
     }
     if (!whole) {
-        double norm_q2 = 0.0;
-        std::vector<double> part_q2(islands.size(), 0.0);
-        for (size_t k = 0; k < islands.size(); ++k) {
-            for (int64_t i = 0; i < 3 * islands[k].sub->nc; ++i) part_q2[k] += islands[k].sub->q[i] * islands[k].sub->q[i];
-            norm_q2 += part_q2[k];
-        }
-        for (size_t k = 0; k < islands.size(); ++k)
-            islands[k].loosening = part_loosening(std::sqrt(norm_q2), std::sqrt(part_q2[k]), islands.size());
+        const double norm_q = norm2(p.q, 3 * p.nc);
+        for (Island &is : islands)
+            is.loosening = part_loosening(norm_q, norm2(is.sub->q, 3 * is.sub->nc), islands.size());
     }
 
     // Solve every island to `island_tol`; several at once when threads allow.

@@ -23,17 +23,6 @@ double max_abs(const double *x, int64_t n) {
     return a;
 }
 
-double norm2(const double *x, int64_t n) {
-    double s = 0.0;
-    for (int64_t i = 0; i < n; ++i) s += x[i] * x[i];
-    if (s > kSafeSumMin && s < kSafeSumMax) return std::sqrt(s);
-    const double a = max_abs(x, n);
-    if (a == 0.0) return 0.0;
-    s = 0.0;
-    for (int64_t i = 0; i < n; ++i) s += (x[i] / a) * (x[i] / a);
-    return a * std::sqrt(s);
-}
-
 // Sum over contacts of the squared natural-map residual and the largest distance of r_a to
 // its cone, for (r, u) divided by `divisor` (both are positively homogeneous, so the caller
 // multiplies the results back). Dividing, not multiplying by 1/divisor, which overflows
@@ -56,6 +45,17 @@ void residual_and_cone(const double *r, const double *u, const double *mu, int64
 }  // namespace
 
 namespace frix {
+
+double norm2(const double *x, int64_t n) {
+    double s = 0.0;
+    for (int64_t i = 0; i < n; ++i) s += x[i] * x[i];
+    if (s > kSafeSumMin && s < kSafeSumMax) return std::sqrt(s);
+    const double a = max_abs(x, n);
+    if (a == 0.0) return 0.0;
+    s = 0.0;
+    for (int64_t i = 0; i < n; ++i) s += (x[i] / a) * (x[i] / a);
+    return a * std::sqrt(s);
+}
 
 Measures measures_from_ru(const double *r, const double *u, const double *mu, int64_t nc,
                           double norm_q) {
@@ -128,7 +128,7 @@ double equilibrium_residual(const frix_problem &p, const double *r, const double
         const double d = mv[i] - hr[i] - p.f[i];
         res += d * d;
     }
-    const double scale = std::max({norm2(p.f, n), norm2(mv.data(), n), norm2(hr.data(), n)});
+    const double scale = std::max({frix::norm2(p.f, n), frix::norm2(mv.data(), n), frix::norm2(hr.data(), n)});
     res = std::sqrt(res);
     return scale > DBL_EPSILON ? res / scale : res;
 }

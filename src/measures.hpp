@@ -19,6 +19,9 @@ struct Measures {
     double norm_q = 0, norm_r = 0, norm_u = 0;
 };
 
+// |x|_2, without overflow or underflow for values far from 1 (problems scaled by 1e+-200).
+double norm2(const double *x, int64_t n);
+
 // All measures of (r, u), with u = W r + q (or H^T v + w) already computed by the caller and
 // norm_q = |q|_2 (|w|_2 for a global problem).
 Measures measures_from_ru(const double *r, const double *u, const double *mu, int64_t nc,
