@@ -70,6 +70,11 @@ constexpr int64_t kNsgsMinSweeps = 30;
 constexpr double kNsgsMinWork = 1e5;
 // The first NSGS stage's sweep limit (the NSGS default).
 constexpr int64_t kFirstNsgsSweeps = 20000;
+// On a part of fewer contacts than this, the first stage is plain NSGS (500) without
+// freezing: over the few sweeps such a part needs, the velocity form's setup (W's block
+// columns) costs more than it saves, and freezing at a loose tolerance can trap the sweeps in
+// a cycle that plain NSGS does not enter.
+constexpr int64_t kPlainNsgsMaxContacts = 64;
 // A stage is stopped when its best error has not fallen tenfold within half its iterations
 // so far, and at least within `patience` of them.
 struct StageSpec {
@@ -379,7 +384,17 @@ class IslandSolver {
         const bool held = held_error_ < best_error_;
         std::copy(held ? held_r_.begin() : best_r_.begin(), held ? held_r_.end() : best_r_.end(), r);
         *best_error = held ? held_error_ : best_error_;
+        returned_best_ = !held;
         return FRIX_OK;
+    }
+
+    // The measures of the r that solve() last returned, with u = W r + q copied into `u`,
+    // when they are at hand (the stage that found it was the last to use the part's u).
+    bool final_measures(Measures *m, double *u) const {
+        if (!returned_best_ || !u_at_best_) return false;
+        *m = best_measures_;
+        std::copy(u_.begin(), u_.end(), u);
+        return true;
     }
 
     const std::vector<TraceEvent> &events() const { return events_; }
@@ -390,6 +405,7 @@ class IslandSolver {
    private:
     // The part's error at r (a non-finite one counts as infinite).
     double measure(const double *r) {
+        u_at_best_ = false;
         const double e = selected_error(local_measures(p_, r, u_.data()), shared_.user.i(FRIX_OPT_ERROR_MEASURE));
         return std::isfinite(e) ? e : INFINITY;
     }
@@ -411,8 +427,8 @@ class IslandSolver {
                !shared_.stop_requested.load();
     }
 
-    // The sequence. First NSGS (velocity form, freezing) under its rate watch: it finishes
-    // the easy problems at once. Then rounds of Newton, NSGS again, ADMM and PROX, each from
+    // The sequence. First NSGS (velocity form, freezing; plain on a small part) under its
+    // rate watch: it finishes the easy problems at once. Then rounds of Newton, NSGS again, ADMM and PROX, each from
     // the best iterate so far (NSGS from where its previous stage stopped, see kRound) under
     // the stall watch and a budget that doubles every round, so that the method that suits
     // the problem gets enough time while the others cost at most a constant factor (a
@@ -427,6 +443,7 @@ class IslandSolver {
     // range from tens on towers of blocks to thousands on piles of spheres), which a few
     // iterations of each tell.
     frix_error first_stage(double *r) {
+        if (p_.nc < kPlainNsgsMaxContacts) return stage(FRIX_SOLVER_NSGS, Watch::Rate, 0, kFirstNsgsSweeps, r);
         const StageCosts *c = prices();
         if (!c || !fits_memory(&StageCosts::admm_bytes))
             return stage(FRIX_SOLVER_NSGS_VELOCITY, Watch::Rate, 0, kFirstNsgsSweeps, r);
@@ -622,7 +639,7 @@ class IslandSolver {
         o.log = &Shared::log;
         o.log_data = &shared_;
         if (id == FRIX_SOLVER_ADMM && shared_.scaled_penalty) o.ivalue[FRIX_OPT_RHO_STRATEGY] = FRIX_RHO_SPECTRAL;
-        if (id == FRIX_SOLVER_NSGS_VELOCITY) o.ivalue[FRIX_OPT_DRIFT_WINDOW] = kDriftWindow;
+        if (id == FRIX_SOLVER_NSGS_VELOCITY || id == FRIX_SOLVER_NSGS) o.ivalue[FRIX_OPT_DRIFT_WINDOW] = kDriftWindow;
         // At most half of the caller's iterations left: under a tight limit the stages after
         // this one still get their turn.
         const int64_t left = Monitor(user, shared_.clock).max_iterations() - shared_.iterations.load();
@@ -668,7 +685,10 @@ class IslandSolver {
         info.contacts = p_.nc;
         info.tolerance = tolerance_;
         const double t0 = shared_.clock.seconds();
-        if (frix_error e = solve_local_problem(p_, o, *entry, r, u_.data(), info, shared_.clock, cache_)) return e;
+        Measures measures;
+        u_at_best_ = false;
+        if (frix_error e = solve_local_problem(p_, o, *entry, r, u_.data(), info, shared_.clock, cache_, &measures))
+            return e;
         accumulate(counters_, info);
         // Iterations the callback did not see (solvers report at their own pace).
         if (info.iterations > dog.last_iteration) shared_.iterations += info.iterations - dog.last_iteration;
@@ -686,6 +706,8 @@ class IslandSolver {
             best_error_ = err;
             best_solver_ = id;
             std::copy(r, r + m_, best_r_.begin());
+            best_measures_ = measures;
+            u_at_best_ = true;
         }
         return FRIX_OK;
     }
@@ -733,6 +755,10 @@ class IslandSolver {
     std::vector<double> held_r_;
     double held_error_ = INFINITY;
     double tolerance_ = 0.0, best_error_ = INFINITY;
+    // The measures of best_r_, and whether u_ is still W best_r_ + q; whether solve() last
+    // returned best_r_ (not the held result).
+    Measures best_measures_;
+    bool u_at_best_ = false, returned_best_ = false;
     int best_solver_ = 0;  // the stage that found the best iterate
     uint64_t rng_;               // random restarts: seeded by the part, so threads do not matter
     double start_scale_ = 0.0;   // of the random starts (draw_start); 0 until first needed
@@ -815,11 +841,11 @@ frix_error solve_local(SolveContext &ctx) {
     Kept<KeptAuto> kept(ctx.cache, FRIX_SOLVER_AUTO);
 
     Analysis a = analyse_local(p);
-    info.islands = (int64_t)a.islands.size();
+    info.islands = (int64_t)a.island_size.size();
     info.analysis.contacts = a.contacts;
     info.analysis.blocks = a.blocks;
-    info.analysis.islands = (int64_t)a.islands.size();
-    info.analysis.largest_island = a.islands.empty() ? 0 : (int64_t)a.islands[0].size();
+    info.analysis.islands = (int64_t)a.island_size.size();
+    info.analysis.largest_island = a.largest_island;
     info.analysis.diag_min = a.diag_min, info.analysis.diag_max = a.diag_max;
     info.analysis.mu_min = a.mu_min, info.analysis.mu_max = a.mu_max;
     info.trace.push_back(trace_event(kAnalysis));
@@ -828,7 +854,7 @@ frix_error solve_local(SolveContext &ctx) {
     // The units of work: every island of at least kMinIslandContacts contacts on its own, the
     // smaller ones together (one sub-problem, still block-diagonal): a sub-problem per tiny
     // island would cost more in setup than its solve.
-    std::vector<std::vector<int64_t>> units = group_small_islands(std::move(a.islands), kMinIslandContacts);
+    std::vector<std::vector<int64_t>> units = solve_units(a, kMinIslandContacts);
     if (ctx.cache) part_caches(*kept, *ctx.cache, units);
     std::vector<Island> islands(units.size());
     const bool whole = islands.size() == 1;
@@ -904,8 +930,9 @@ frix_error solve_local(SolveContext &ctx) {
             for (const Island &is : islands)
                 for (size_t c = 0; c < is.contacts.size(); ++c)
                     for (int d = 0; d < 3; ++d) ctx.r[3 * is.contacts[c] + d] = is.r[3 * c + (size_t)d];
-        if (whole) {  // the part's own measure is the whole problem's (the driver measures r again)
+        if (whole) {  // the part's own measure is the whole problem's
             error = islands[0].error;
+            ctx.has_measured = islands[0].solver->final_measures(&ctx.measured, ctx.u);
             break;
         }
         whole_measures = local_measures(p, ctx.r, ctx.u);

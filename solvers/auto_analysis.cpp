@@ -12,11 +12,6 @@
 namespace frix {
 namespace autosolve {
 
-namespace {
-
-
-}  // namespace
-
 Analysis analyse_local(const frix_problem &p) {
     Analysis a;
     const frix_matrix &W = *p.W;
@@ -46,38 +41,50 @@ Analysis analyse_local(const frix_problem &p) {
         a.mu_max = std::max(a.mu_max, p.mu[i]);
     }
     if (nc == 0) a.diag_min = a.mu_min = 0.0;
-    // Islands numbered by their first contact, then sorted largest first (stable: the order
-    // is deterministic).
-    std::vector<int64_t> index_of_root((size_t)nc, -1);
+    // Islands numbered by their first contact (a deterministic order). A root's entry holds
+    // its island's number from the island's first contact on; a root is a contact of its own
+    // island, so its entry ends with that same number.
+    a.island_of.assign((size_t)nc, -1);
     for (int64_t i = 0; i < nc; ++i) {
-        const int64_t root = sets.find(i);
-        if (index_of_root[(size_t)root] < 0) {
-            index_of_root[(size_t)root] = (int64_t)a.islands.size();
-            a.islands.emplace_back();
+        int64_t &number = a.island_of[(size_t)sets.find(i)];
+        if (number < 0) {
+            number = (int64_t)a.island_size.size();
+            a.island_size.push_back(0);
         }
-        a.islands[(size_t)index_of_root[(size_t)root]].push_back(i);
+        a.island_of[(size_t)i] = number;
+        ++a.island_size[(size_t)number];
     }
-    if (a.islands.size() > 1)  // (a sort allocates a buffer even for one element)
-        std::stable_sort(a.islands.begin(), a.islands.end(),
-                         [](const std::vector<int64_t> &x, const std::vector<int64_t> &y) { return x.size() > y.size(); });
+    for (int64_t size : a.island_size) a.largest_island = std::max(a.largest_island, size);
     return a;
 }
 
-std::vector<std::vector<int64_t>> group_small_islands(std::vector<std::vector<int64_t>> islands, int64_t min_size) {
-    // One island (the usual small problem): it is the one unit as it stands.
-    if (islands.size() <= 1) return islands;
-    std::vector<std::vector<int64_t>> units;
-    std::vector<int64_t> small;
-    for (std::vector<int64_t> &island : islands) {
-        if ((int64_t)island.size() >= min_size)
-            units.push_back(std::move(island));
+std::vector<std::vector<int64_t>> solve_units(const Analysis &a, int64_t min_size) {
+    const int64_t nc = a.contacts;
+    std::vector<int64_t> large;  // islands of at least min_size contacts, largest first
+    int64_t small_contacts = 0;
+    for (int64_t k = 0; k < (int64_t)a.island_size.size(); ++k) {
+        if (a.island_size[(size_t)k] >= min_size)
+            large.push_back(k);
         else
-            small.insert(small.end(), island.begin(), island.end());
+            small_contacts += a.island_size[(size_t)k];
     }
-    if (!small.empty()) {
-        std::sort(small.begin(), small.end());
-        units.push_back(std::move(small));
+    std::vector<std::vector<int64_t>> units;
+    if (large.size() + (small_contacts > 0 ? 1 : 0) <= 1) {
+        units.emplace_back((size_t)nc);
+        std::iota(units[0].begin(), units[0].end(), int64_t{0});
+        return units;
     }
+    std::stable_sort(large.begin(), large.end(),
+                     [&](int64_t x, int64_t y) { return a.island_size[(size_t)x] > a.island_size[(size_t)y]; });
+    // Each island's unit: its rank among the large ones, or the last unit for the small.
+    std::vector<int64_t> unit_of(a.island_size.size(), (int64_t)large.size());
+    units.resize(large.size() + (small_contacts > 0 ? 1 : 0));
+    for (size_t u = 0; u < large.size(); ++u) {
+        unit_of[(size_t)large[u]] = (int64_t)u;
+        units[u].reserve((size_t)a.island_size[(size_t)large[u]]);
+    }
+    if (small_contacts > 0) units.back().reserve((size_t)small_contacts);
+    for (int64_t i = 0; i < nc; ++i) units[(size_t)unit_of[(size_t)a.island_of[(size_t)i]]].push_back(i);
     return units;
 }
 

@@ -19,14 +19,17 @@ struct Analysis {
     double diag_max = 0.0;
     double mu_min = 0.0, mu_max = 0.0;
     int64_t blocks = 0;         // stored 3x3 blocks of W
-    // Islands, largest first; each lists its contacts in increasing order.
-    std::vector<std::vector<int64_t>> islands;
+    // Islands, numbered in the order of their first contact: each contact's island, and each
+    // island's size. Lists of contacts are made only for the units that need them (solve_units).
+    std::vector<int64_t> island_of;
+    std::vector<int64_t> island_size;
+    int64_t largest_island = 0;
 };
 
 // The units auto solves separately: each island of at least min_size contacts, largest
-// first, then the smaller ones merged into one unit (contacts in increasing order). Takes
-// the islands over (moved, not copied).
-std::vector<std::vector<int64_t>> group_small_islands(std::vector<std::vector<int64_t>> islands, int64_t min_size);
+// first (ties in island order), then the smaller ones merged into one unit; contacts in
+// increasing order. A problem that is one unit gets the one list 0 .. nc-1.
+std::vector<std::vector<int64_t>> solve_units(const Analysis &a, int64_t min_size);
 
 // Local problems only (W block-CSR). O(nc + blocks).
 Analysis analyse_local(const frix_problem &p);

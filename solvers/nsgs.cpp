@@ -223,7 +223,18 @@ frix_error run(SolveContext &ctx, bool velocity) {
     norm_q = std::sqrt(norm_q);
     // The exact error: u recomputed as W r + q (which also resynchronises the velocity
     // sweeps' u, drifting by rounding).
-    auto exact_error = [&]() { return selected_error(local_measures(p, r, u), measure); };
+    // The last exact measures, handed to the driver when r has not moved since (at_r).
+    Measures last;
+    bool at_r = false;
+    auto exact_error = [&]() {
+        last = local_measures(p, r, u);
+        at_r = true;
+        return selected_error(last, measure);
+    };
+    auto hand_over = [&]() {
+        ctx.has_measured = at_r;
+        ctx.measured = last;
+    };
     // A periodic check: the velocity sweeps keep u = W r + q, so it costs no product there;
     // a passing check is confirmed by the exact error.
     auto full_error = [&]() {
@@ -240,6 +251,7 @@ frix_error run(SolveContext &ctx, bool velocity) {
         if (e <= tol) {
             info.status = FRIX_STATUS_CONVERGED;
             info.iterations = 0;
+            hand_over();
             return FRIX_OK;
         }
     } else if (velocity) {
@@ -259,6 +271,7 @@ frix_error run(SolveContext &ctx, bool velocity) {
                                         ? tol_light * tol_light * last_r2 / (10.0 * (double)p.nc)
                                         : -1.0);
         const SweepStats st = velocity ? ws.sweep_velocity(r, u) : ws.sweep(r);
+        at_r = false;
         ++it;
         last_r2 = st.r2;
         if (!std::isfinite(st.r2)) {
@@ -322,6 +335,7 @@ frix_error run(SolveContext &ctx, bool velocity) {
     if (info.status == FRIX_STATUS_MAX_ITER && !checked_last && exact_error() <= tol)
         info.status = FRIX_STATUS_CONVERGED;
     info.iterations = it;
+    hand_over();
     if (verbosity >= 1)
         log_line(&o, "%s: %s after %lld sweeps", name, frix_status_string(info.status),
                  (long long)it);

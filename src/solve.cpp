@@ -16,13 +16,15 @@ namespace frix {
 
 frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
                                const SolverEntry &entry, double *r, double *u, frix_info &info,
-                               const Stopwatch &clock, SolveCache *cache) {
+                               const Stopwatch &clock, SolveCache *cache, Measures *measures) {
     const int64_t m = 3 * p.nc;
     bool separating = true;
     for (int64_t a = 0; a < p.nc && separating; ++a) separating = p.q[3 * a] >= 0.0;
     // Kept to fall back on if the solver diverges: a finite but huge r can make W r + q
     // overflow, and the caller must never get a non-finite u or error back.
     std::vector<double> warm_start;
+    bool has_measured = false;
+    frix::Measures measured;
     if (p.nc == 0 || separating) {
         // r = 0 is then the exact solution: u = q has u_N >= 0, so u^ lies in K*.
         for (int64_t i = 0; i < m; ++i) r[i] = 0.0;
@@ -41,11 +43,13 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
             if (!std::isfinite(r[i]))
                 return fail(FRIX_ERR_INTERNAL, "frix_solve: solver %s returned a non-finite r[%lld]",
                             entry.name, (long long)i);
+        has_measured = ctx.has_measured;
+        measured = ctx.measured;
     }
     // |u| is part of the test: an overflowed u can leave the relative error finite (it
     // divides by |u| = Inf).
     auto finite = [](const frix::Measures &x) { return std::isfinite(x.relative) && std::isfinite(x.norm_u); };
-    frix::Measures meas = frix::local_measures(p, r, u);
+    frix::Measures meas = has_measured ? measured : frix::local_measures(p, r, u);
     if (!finite(meas) && !warm_start.empty()) {
         std::copy(warm_start.begin(), warm_start.end(), r);
         meas = frix::local_measures(p, r, u);
@@ -56,6 +60,7 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
         info.status = FRIX_STATUS_DIVERGED;
     }
     frix::record_measures(info, meas, opts.i(FRIX_OPT_ERROR_MEASURE));
+    if (measures) *measures = meas;
     // The status must agree with the final, independent measure.
     if (info.status == FRIX_STATUS_CONVERGED && !(info.error <= info.tolerance))
         info.status = FRIX_STATUS_STAGNATED;

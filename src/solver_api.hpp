@@ -11,6 +11,7 @@
 #include <functional>
 
 #include "info.hpp"
+#include "measures.hpp"
 #include "options.hpp"
 #include "problem.hpp"
 #include "solve_cache.hpp"
@@ -47,7 +48,9 @@ class Stopwatch {
 //   - leave r finite (reject a non-finite local update rather than store it),
 //   - set info->status and info->iterations (the driver computes the final measures from r
 //     with the measures module and sets info->error; a solver must not claim CONVERGED
-//     unless its own full-error check passed),
+//     unless its own full-error check passed; a solver whose last local_measures call was
+//     at the r it returns may hand those measures over in `measured`, and u then holds
+//     W r + q: the driver does not pay for the same measures twice),
 //   - honour tolerance, max_iter, time_limit (against `clock`) and the callback.
 struct SolveContext {
     const frix_problem &problem;
@@ -63,6 +66,10 @@ struct SolveContext {
     // What a persistent solver keeps between solves (see solve_cache.hpp); null for a
     // one-shot frix_solve.
     SolveCache *cache;
+    // Local problems: local_measures(problem, r, u) at the returned r, when the solver's last
+    // call was there (see above); the driver measures r itself when it is not set.
+    bool has_measured = false;
+    Measures measured{};
 };
 
 using SolverFn = frix_error (*)(SolveContext &ctx);
@@ -94,10 +101,12 @@ const SolverEntry &solver_at(int64_t index);
 
 // The driver's local path (src/solve.cpp): the all-separating case, a finite warm start,
 // `entry`'s solve, the final measures of r and the status check against them. Also the local
-// step of the reduction route of global problems.
+// step of the reduction route of global problems. `measures`, when given, receives the final
+// measures (u then holds W r + q).
 frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
                                const SolverEntry &entry, double *r, double *u, frix_info &info,
-                               const Stopwatch &clock, SolveCache *cache = nullptr);
+                               const Stopwatch &clock, SolveCache *cache = nullptr,
+                               Measures *measures = nullptr);
 
 // The driver's global path (src/solve_global.cpp): runs `entry` natively if it solves global
 // problems, through the reduction W = H^T M^-1 H otherwise. r, u (3nc) and v (n) as in

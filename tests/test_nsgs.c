@@ -39,8 +39,15 @@ static outcome solve(const frix_problem *p, const frix_options *o, double *r) {
     outcome out = {frix_info_status(info), frix_info_iterations(info), NAN};
     assert_finite(r, m);
     ck_assert_int_eq(frix_problem_error(p, r, NULL, &out.error), FRIX_OK);
-    /* The measure is also what the info reports. */
+    /* The measure is also what the info reports, and u is W r + q. */
     ck_assert_double_eq_tol(out.error, frix_info_error(info), 1e-12 + 1e-6 * out.error);
+    double *w_r_q = malloc((size_t)(m > 0 ? m : 1) * sizeof *w_r_q);
+    frix_info *measured = NULL;
+    ck_assert_int_eq(frix_info_create(&measured), FRIX_OK);
+    ck_assert_int_eq(frix_problem_measure(p, r, NULL, w_r_q, measured), FRIX_OK);
+    for (int64_t i = 0; i < m; ++i) ck_assert_double_eq_tol(u[i], w_r_q[i], 1e-12 * (1.0 + fabs(w_r_q[i])));
+    frix_info_free(measured);
+    free(w_r_q);
     frix_info_free(info);
     free(u);
     return out;
