@@ -21,9 +21,10 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
     bool separating = true;
     for (int64_t a = 0; a < p.nc && separating; ++a) separating = p.q[3 * a] >= 0.0;
     // Kept to fall back on if the solver diverges: a finite but huge r can make W r + q
-    // overflow, and the caller must never get a non-finite u or error back.
+    // overflow, and the caller must never get a non-finite u or error back. Not copied when
+    // it is r = 0 (the usual cold start: no allocation for it).
     std::vector<double> warm_start;
-    bool has_measured = false;
+    bool ran = false, has_measured = false;
     frix::Measures measured;
     if (p.nc == 0 || separating) {
         // r = 0 is then the exact solution: u = q has u_N >= 0, so u^ lies in K*.
@@ -36,7 +37,8 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
             if (!std::isfinite(r[i])) r[i] = 0.0;
         if (!entry.solves_local)
             return fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s does not solve local problems", entry.name);
-        warm_start.assign(r, r + m);
+        if (std::any_of(r, r + m, [](double x) { return x != 0.0; })) warm_start.assign(r, r + m);
+        ran = true;
         frix::SolveContext ctx{p, opts, r, u, nullptr, info, clock, nullptr, cache};
         if (frix_error e = entry.solve(ctx)) return e;
         for (int64_t i = 0; i < m; ++i)
@@ -50,8 +52,11 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
     // divides by |u| = Inf).
     auto finite = [](const frix::Measures &x) { return std::isfinite(x.relative) && std::isfinite(x.norm_u); };
     frix::Measures meas = has_measured ? measured : frix::local_measures(p, r, u);
-    if (!finite(meas) && !warm_start.empty()) {
-        std::copy(warm_start.begin(), warm_start.end(), r);
+    if (!finite(meas) && ran) {
+        if (warm_start.empty())
+            std::fill(r, r + m, 0.0);
+        else
+            std::copy(warm_start.begin(), warm_start.end(), r);
         meas = frix::local_measures(p, r, u);
         if (!finite(meas)) {
             std::fill(r, r + m, 0.0);  // u = q then: finite, since q was checked
