@@ -1,0 +1,854 @@
+"""frix: discrete 3D frictional contact problems with Coulomb friction.
+
+Local form, per contact a 3-vector (normal first): u = W r + q, K* ∋ u + mu |u_T| e_N ⟂ r ∈ K,
+K the Coulomb cone |r_T| <= mu r_N. Global form: M v = H r + f, u = H^T v + w.
+
+    import frix
+    result = frix.solve(frix.load("problem.hdf5"), tol=1e-6)
+    result.status, result.r, result.error
+
+docs/python.md describes the package; every function and class has a docstring.
+"""
+import ctypes
+import enum
+import threading
+import warnings
+import weakref
+from collections import namedtuple
+
+import numpy as np
+
+from . import _lib
+from ._lib import lib, text
+
+__all__ = [
+    "Problem", "Solver", "Result", "Stage", "Status", "Existence", "SolverInfo",
+    "solve", "load", "load_solution", "solvers", "version",
+    "Error", "InvalidArgumentError", "DimensionError", "NotFiniteError", "OutOfMemoryError",
+    "FileError", "FormatError", "UnknownSolverError", "UnknownOptionError", "OptionRangeError",
+    "UnsupportedError", "NumericalError", "InternalError", "ConversionWarning",
+]
+
+__version__ = text(lib.frix_version_string()).split()[0]
+
+
+def version():
+    """The library's version string (frix_version_string)."""
+    return text(lib.frix_version_string())
+
+
+# ---- Errors: one class per frix_error code, all subclasses of frix.Error.
+
+class Error(Exception):
+    """A call the library refused or could not do; `code` is the frix_error value and the
+    message the library's own (frix_last_error_message)."""
+
+    def __init__(self, code, message):
+        super().__init__(message)
+        self.code = code
+
+
+class InvalidArgumentError(Error, ValueError):
+    """FRIX_ERR_INVALID_ARGUMENT: a missing or bad value."""
+
+
+class DimensionError(Error, ValueError):
+    """FRIX_ERR_DIMENSION: sizes that do not match."""
+
+
+class NotFiniteError(Error, ValueError):
+    """FRIX_ERR_NOT_FINITE: NaN or Inf in the data."""
+
+
+class OutOfMemoryError(Error, MemoryError):
+    """FRIX_ERR_OUT_OF_MEMORY."""
+
+
+class FileError(Error, OSError):
+    """FRIX_ERR_IO: a file cannot be opened, read or written."""
+
+
+class FormatError(Error, ValueError):
+    """FRIX_ERR_FORMAT: a readable file whose content is malformed."""
+
+
+class UnknownSolverError(Error, ValueError):
+    """FRIX_ERR_UNKNOWN_SOLVER."""
+
+
+class UnknownOptionError(Error, KeyError):
+    """FRIX_ERR_UNKNOWN_OPTION: no such option, or the solver does not use it."""
+
+    def __str__(self):  # (KeyError would quote the message)
+        return self.args[0] if self.args else ""
+
+
+class OptionRangeError(Error, ValueError):
+    """FRIX_ERR_OPTION_RANGE: an option's value outside its bounds."""
+
+
+class UnsupportedError(Error):
+    """FRIX_ERR_UNSUPPORTED: a valid request this build or solver cannot do."""
+
+
+class NumericalError(Error, ArithmeticError):
+    """FRIX_ERR_NUMERICAL: e.g. a factorisation failed."""
+
+
+class InternalError(Error):
+    """FRIX_ERR_INTERNAL: a bug in frix."""
+
+
+class ConversionWarning(UserWarning):
+    """An input was converted (copied) to float64 or made contiguous."""
+
+
+_ERRORS = {
+    -1: InvalidArgumentError, -2: DimensionError, -3: NotFiniteError, -4: OutOfMemoryError,
+    -5: FileError, -6: FormatError, -7: UnknownSolverError, -8: UnknownOptionError,
+    -9: OptionRangeError, -10: UnsupportedError, -11: NumericalError, -12: InternalError,
+}
+
+
+def _check(code):
+    """Raises the frix.Error subclass of a failed call, with the library's message."""
+    if code != 0:
+        message = text(lib.frix_last_error_message()) or text(lib.frix_error_string(code))
+        raise _ERRORS.get(code, Error)(code, message)
+
+
+# ---- Enumerations of the C header, by value.
+
+def _library_text(fn):
+    """describe() and str() of an enumeration: the library's text for the value."""
+    def describe(self):
+        return text(fn(int(self)))
+    return describe
+
+
+class Status(enum.IntEnum):
+    """How a solve ended (frix_status); str() gives the library's text ("converged")."""
+    NOT_RUN = 0
+    CONVERGED = 1
+    MAX_ITER = 2
+    TIME_LIMIT = 3
+    STAGNATED = 4
+    DIVERGED = 5
+    NUMERICAL_FAILURE = 6
+    STOPPED_BY_CALLBACK = 7
+    MEMORY_LIMIT = 8
+    describe = __str__ = _library_text(lib.frix_status_string)
+
+
+class Existence(enum.IntEnum):
+    """The existence check's verdict (frix_existence); str() gives the library's text."""
+    NOT_CHECKED = 0
+    GUARANTEED = 1
+    DOUBTFUL = 2
+    UNDETERMINED = 3
+    describe = __str__ = _library_text(lib.frix_existence_describe)
+
+
+_STATUSES = tuple(Status)  # by value (0 .. 8): faster than Status(value) per solve
+
+_INFO_INT = {"iterations": 2, "newton_iterations": 5, "line_search_steps": 6,
+             "factorizations": 7, "symbolic_analyses": 8, "hybrid_sweeps": 9,
+             "inner_iterations": 10, "islands": 11, "switches": 12}
+_MEASURES = {"error_relative": 101, "error_q_relative": 102, "residual_absolute": 103,
+             "cone_violation": 104, "penetration": 105, "complementarity": 106,
+             "equilibrium": 107}
+_INFO_ERROR, _INFO_SOLVE_TIME, _INFO_STATUS, _INFO_SOLVER_ID = 100, 120, 1, 3
+_INFO_EXISTENCE, _INFO_EXISTENCE_MARGIN = 13, 124
+_FRIX_PROBLEM_LOCAL = 1
+
+# ---- Inputs: vectors borrowed as they are, matrices handed to the library's constructors.
+
+
+def _vector(x, n, name):
+    """x as a float64 C-contiguous 1-D array of n entries: x itself when it is one (the
+    library borrows it), else one converted copy, with a ConversionWarning."""
+    a = np.asarray(x)
+    if a.ndim != 1:
+        a = a.reshape(-1)
+    if a.dtype != np.float64 or not a.flags.c_contiguous:
+        warnings.warn(f"frix: {name} converted to a contiguous float64 array (a copy)",
+                      ConversionWarning, stacklevel=3)
+        a = np.ascontiguousarray(a, dtype=np.float64)
+    if a.shape[0] != n:
+        raise DimensionError(-2, f"frix: {name} has {a.shape[0]} entries, {n} expected")
+    return a
+
+
+def _indices(x):
+    """Index arrays as int64 (the C API's type): as they are when int64, widened otherwise."""
+    return np.ascontiguousarray(x, dtype=np.int64)
+
+
+def _values(x, name):
+    a = np.asarray(x)
+    if a.dtype != np.float64 or not a.flags.c_contiguous:
+        warnings.warn(f"frix: the values of {name} converted to contiguous float64 (a copy)",
+                      ConversionWarning, stacklevel=4)
+        a = np.ascontiguousarray(a, dtype=np.float64)
+    return a
+
+
+def _ptr(a, ctype=ctypes.c_double):
+    return None if a is None else a.ctypes.data_as(ctypes.POINTER(ctype))
+
+
+def _is_sparse(A):
+    try:
+        import scipy.sparse as sp
+    except ImportError:  # scipy is optional for dense inputs
+        return False
+    return sp.issparse(A)
+
+
+def _matrix(A, name):
+    """A frix_matrix handle built from a numpy array or any scipy.sparse matrix or array
+    (csr, csc, coo directly; bsr and the other formats through csr). The library copies the
+    values into its own storage (its constructors convert as they copy)."""
+    out = ctypes.c_void_p()
+    if _is_sparse(A):
+        fmt = A.format
+        if fmt not in ("csr", "csc", "coo"):
+            A = A.tocsr()
+            fmt = "csr"
+        rows, cols = A.shape
+        data = _values(A.data, name)
+        if fmt == "coo":
+            r, c = _indices(A.row), _indices(A.col)
+            _check(lib.frix_matrix_from_triplets(rows, cols, data.shape[0], _ptr(r, ctypes.c_int64),
+                                                 _ptr(c, ctypes.c_int64), _ptr(data), ctypes.byref(out)))
+        else:
+            indptr, indices = _indices(A.indptr), _indices(A.indices)
+            build = lib.frix_matrix_from_csr if fmt == "csr" else lib.frix_matrix_from_csc
+            _check(build(rows, cols, _ptr(indptr, ctypes.c_int64), _ptr(indices, ctypes.c_int64),
+                         _ptr(data), ctypes.byref(out)))
+    else:
+        a = np.asarray(A)
+        if a.ndim != 2:
+            raise DimensionError(-2, f"frix: {name} must be 2-D, it has {a.ndim} dimensions")
+        if a.dtype != np.float64:
+            warnings.warn(f"frix: {name} converted to float64 (a copy)", ConversionWarning,
+                          stacklevel=3)
+        a = np.asfortranarray(a, dtype=np.float64)  # column-major, as frix_matrix_from_dense reads it
+        _check(lib.frix_matrix_from_dense(a.shape[0], a.shape[1], _ptr(a), max(1, a.shape[0]),
+                                          ctypes.byref(out)))
+    return out.value
+
+
+class Problem:
+    """A local problem, Problem(W, q, mu): u = W r + q with W of 3nc x 3nc (a numpy array or
+    any scipy.sparse matrix or array), q of 3nc and mu of nc entries. A global one:
+    Problem.from_global(M, H, f, w, mu). Read from a file: frix.load(path).
+
+    q, mu (and f, w) are borrowed, not copied, when they are float64 and contiguous: the
+    problem keeps them alive and reads them at every solve, so a time-stepping script may
+    change them in place between solves. W, M and H are copied into the library's storage.
+    """
+
+    def __init__(self, W, q, mu):
+        mu_a = np.asarray(mu)
+        nc = mu_a.reshape(-1).shape[0]
+        self._handle = None
+        self._matrices = []
+        self._matrices.append(_matrix(W, "W"))
+        self._q = _vector(q, 3 * nc, "q")
+        self._mu = _vector(mu_a, nc, "mu")
+        self._f = self._w = None
+        self._pattern = W if _is_sparse(W) else None
+        self._solvers = 0
+        handle = ctypes.c_void_p()
+        _check(lib.frix_problem_local(self._matrices[0], _ptr(self._q), _ptr(self._mu), nc,
+                                      ctypes.byref(handle)))
+        self._handle = handle.value
+
+    @classmethod
+    def from_global(cls, M, H, f, w, mu):
+        """A global problem: M v = H r + f, u = H^T v + w (M: n x n, H: n x 3nc, f: n, w: 3nc,
+        mu: nc)."""
+        self = cls.__new__(cls)
+        self._handle = None
+        self._matrices = []
+        mu_a = np.asarray(mu)
+        nc = mu_a.reshape(-1).shape[0]
+        self._matrices.append(_matrix(M, "M"))
+        self._matrices.append(_matrix(H, "H"))
+        n = lib.frix_matrix_rows(self._matrices[0])
+        self._f = _vector(f, n, "f")
+        self._w = _vector(w, 3 * nc, "w")
+        self._mu = _vector(mu_a, nc, "mu")
+        self._q = None
+        self._pattern = None
+        self._solvers = 0
+        handle = ctypes.c_void_p()
+        _check(lib.frix_problem_global(self._matrices[0], self._matrices[1], _ptr(self._f),
+                                       _ptr(self._w), _ptr(self._mu), nc, ctypes.byref(handle)))
+        self._handle = handle.value
+        return self
+
+    @classmethod
+    def _owning(cls, handle):
+        """A problem that owns its data (read from a file)."""
+        self = cls.__new__(cls)
+        self._handle = handle
+        self._matrices = []
+        self._q = self._mu = self._f = self._w = None
+        self._pattern = None
+        self._solvers = 0
+        return self
+
+    def close(self):
+        """Frees the library's problem now (also done when the object is collected). Refused
+        while a frix.Solver made from it is open (it reads the problem's data)."""
+        if getattr(self, "_solvers", 0) > 0:
+            raise InvalidArgumentError(-1, "frix: close the Solvers of this problem first")
+        if getattr(self, "_handle", None):
+            lib.frix_problem_free(self._handle)
+            self._handle = None
+        for m in getattr(self, "_matrices", []):
+            lib.frix_matrix_free(m)
+        self._matrices = []
+
+    def __del__(self):
+        self.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def _live(self):
+        if not self._handle:
+            raise InvalidArgumentError(-1, "frix: the problem was closed")
+        return self._handle
+
+    @property
+    def kind(self):
+        """'local' or 'global'."""
+        return "local" if lib.frix_problem_get_kind(self._live()) == _FRIX_PROBLEM_LOCAL else "global"
+
+    @property
+    def contacts(self):
+        """Number of contacts nc."""
+        return lib.frix_problem_contacts(self._live())
+
+    @property
+    def contact_dofs(self):
+        """Size of r and u: 3 nc."""
+        return lib.frix_problem_contact_dofs(self._live())
+
+    @property
+    def dofs(self):
+        """Size of v: n for a global problem, 0 for a local one."""
+        return lib.frix_problem_dofs(self._live())
+
+    @property
+    def title(self):
+        """The problem's free-text title (FCLIB files carry one)."""
+        return text(lib.frix_problem_title(self._live()))
+
+    @title.setter
+    def title(self, value):
+        _check(lib.frix_problem_set_title(self._live(), str(value).encode()))
+
+    def _view(self, getter, n):
+        """A read-only numpy view of one of the problem's vectors (kept alive with it)."""
+        p = getter(self._live())
+        if not p or n == 0:
+            return None if not p else np.zeros(0)
+        a = np.ctypeslib.as_array(p, shape=(n,))
+        a.flags.writeable = False
+        return _Keep(a, self)
+
+    @property
+    def q(self):
+        """q (local problems): the array given, or a read-only view of the library's."""
+        return self._q if self._q is not None else self._view(lib.frix_problem_q, self.contact_dofs)
+
+    @property
+    def mu(self):
+        """mu, one per contact."""
+        return self._mu if self._mu is not None else self._view(lib.frix_problem_mu, self.contacts)
+
+    @property
+    def f(self):
+        """f (global problems)."""
+        return self._f if self._f is not None else self._view(lib.frix_problem_f, self.dofs)
+
+    @property
+    def w(self):
+        """w (global problems)."""
+        return self._w if self._w is not None else self._view(lib.frix_problem_w, self.contact_dofs)
+
+    def _sparse(self, getter):
+        import scipy.sparse as sp
+        m = getter(self._live())
+        if not m:
+            return None
+        nnz = ctypes.c_int64(0)
+        _check(lib.frix_matrix_to_csc(m, ctypes.byref(nnz), None, None, None))
+        cols = lib.frix_matrix_cols(m)
+        colptr = np.zeros(cols + 1, dtype=np.int64)
+        rowind = np.zeros(max(nnz.value, 1), dtype=np.int64)
+        values = np.zeros(max(nnz.value, 1))
+        _check(lib.frix_matrix_to_csc(m, ctypes.byref(nnz), _ptr(colptr, ctypes.c_int64),
+                                      _ptr(rowind, ctypes.c_int64), _ptr(values)))
+        return sp.csc_matrix((values[:nnz.value], rowind[:nnz.value], colptr),
+                             shape=(lib.frix_matrix_rows(m), cols))
+
+    @property
+    def W(self):
+        """W as a scipy.sparse CSC matrix (a copy; local problems)."""
+        return self._sparse(lib.frix_problem_W)
+
+    @property
+    def M(self):
+        """M as a scipy.sparse CSC matrix (a copy; global problems)."""
+        return self._sparse(lib.frix_problem_M)
+
+    @property
+    def H(self):
+        """H as a scipy.sparse CSC matrix (a copy; global problems)."""
+        return self._sparse(lib.frix_problem_H)
+
+    def save(self, path, solution=None):
+        """Writes the problem to a new FCLIB file at path, with a solution when given (a
+        Result, or anything with r, u and, for a global problem, v)."""
+        r = u = v = None
+        if solution is not None:
+            m = self.contact_dofs
+            r = _vector(solution.r, m, "solution.r")
+            u = _vector(solution.u, m, "solution.u")
+            if self.kind == "global" and getattr(solution, "v", None) is not None:
+                v = _vector(solution.v, self.dofs, "solution.v")
+        _check(lib.frix_fclib_write(str(path).encode(), self._live(), _ptr(r), _ptr(u), _ptr(v),
+                                    0, None, None, None))
+
+    def __repr__(self):
+        if not self._handle:
+            return "<frix.Problem (closed)>"
+        extra = f", {self.dofs} dofs" if self.kind == "global" else ""
+        return f"<frix.Problem {self.kind}, {self.contacts} contacts{extra}>"
+
+
+class _Keep(np.ndarray):
+    """A numpy view that keeps the object owning its memory alive."""
+
+    def __new__(cls, a, owner):
+        obj = a.view(cls)
+        obj._owner = owner
+        return obj
+
+    def __array_finalize__(self, obj):
+        self._owner = getattr(obj, "_owner", None)
+
+
+def load(path):
+    """Reads a problem from an FCLIB file (.hdf5, local or global) or a Siconos .dat file."""
+    handle = ctypes.c_void_p()
+    _check(lib.frix_read_problem(str(path).encode(), ctypes.byref(handle)))
+    return Problem._owning(handle.value)
+
+
+def load_solution(path, problem):
+    """The solution stored in an FCLIB file (as `problem.save(path, solution=...)` or `frix solve
+    --output` writes it): (r, u, v), v None for a local problem."""
+    r, u, v = _start(problem, None)
+    _check(lib.frix_fclib_read_solution(str(path).encode(), problem._live(), _ptr(r), _ptr(u), _ptr(v)))
+    return r, u, v
+
+
+# ---- Solvers and options.
+
+SolverInfo = namedtuple("SolverInfo", "id name description")
+
+
+def solvers():
+    """The registered solvers, as `frix solvers` lists them: (id, name, description)."""
+    out = []
+    for k in range(lib.frix_solver_count()):
+        sid = lib.frix_solver_id_at(k)
+        out.append(SolverInfo(sid, text(lib.frix_solver_name(sid)), text(lib.frix_solver_describe(sid))))
+    return out
+
+
+def _solver_id(solver):
+    if isinstance(solver, (int, np.integer)):
+        return int(solver)
+    sid = ctypes.c_int(0)
+    _check(lib.frix_solver_by_name(str(solver).encode(), ctypes.byref(sid)))
+    return sid.value
+
+
+class _Options:
+    """A frix_options handle built from keyword options (validated by the library)."""
+
+    def __init__(self, solver, settings, callback):
+        handle = ctypes.c_void_p()
+        _check(lib.frix_options_create(_solver_id(solver), ctypes.byref(handle)))
+        self.handle = handle.value
+        self.callback = callback
+        self.exception = None
+        self._fn = None
+        try:
+            for name, value in settings.items():
+                if value is not None:
+                    self.set(name, value)
+            if callback is not None:
+                self._fn = _lib.PROGRESS_FN(self._on_progress)
+                _check(lib.frix_options_set_callback(self.handle, self._fn, None))
+        except BaseException:
+            self.close()
+            raise
+
+    def set(self, name, value):
+        key = ctypes.c_int(0)
+        _check(lib.frix_option_by_name(str(name).encode(), ctypes.byref(key)))
+        lower, upper, is_int = ctypes.c_double(), ctypes.c_double(), ctypes.c_int()
+        _check(lib.frix_options_bounds(self.handle, key.value, ctypes.byref(lower), ctypes.byref(upper),
+                                       ctypes.byref(is_int)))
+        if is_int.value:
+            if isinstance(value, bool) or not float(value).is_integer():
+                raise OptionRangeError(-9, f"frix: option '{name}' takes an integer, not {value!r}")
+            _check(lib.frix_options_set_int(self.handle, key.value, int(value)))
+        else:
+            _check(lib.frix_options_set_double(self.handle, key.value, float(value)))
+
+    def _on_progress(self, _data, iteration, error, elapsed):
+        # Called from the solving thread with the GIL taken back by ctypes; an exception stops
+        # the solve and is raised again once it has returned.
+        try:
+            return 1 if self.callback(iteration, error, elapsed) else 0
+        except BaseException as e:  # noqa: BLE001 (re-raised after the solve)
+            self.exception = e
+            return 1
+
+    def close(self):
+        if getattr(self, "handle", None):
+            lib.frix_options_free(self.handle)
+            self.handle = None
+
+    def __del__(self):
+        self.close()
+
+
+# ---- Results.
+
+Stage = namedtuple("Stage", "solver status iterations part part_contacts random_starts "
+                            "stopped_by_auto error seconds note")
+Stage.__doc__ = "One record of a solve's trace: a run of a solver (solver None for another kind of record)."
+
+
+class Result:
+    """What a solve returns: r, u (and v for a global problem), status (a frix.Status),
+    converged, iterations, error (the measure compared with the tolerance) and time (seconds);
+    measures (the other error measures by name), counters (Newton steps, factorisations, ...),
+    trace (auto's text) and stages (its records), solver (the name of the solver run), and
+    existence / existence_margin (checked when the solve did not converge, if asked). The
+    fields but r, u and v are read from the library's record of the solve when used."""
+
+    __slots__ = ("r", "u", "v", "_info", "_pool")
+
+    def __init__(self, info, r, u, v, pool=None):
+        self._info = info  # this result's own frix_info
+        self._pool = pool  # a weak reference to the Solver's spare infos, where it came from
+        self.r, self.u, self.v = r, u, v
+
+    def __del__(self):
+        pool = self._pool() if self._pool is not None else None
+        if pool is not None and len(pool.items) < _Pool.size:
+            pool.items.append(self._info)  # reused by the Solver's next solve
+
+    @property
+    def status(self):
+        return _STATUSES[lib.frix_info_status(self._info.handle)]
+
+    @property
+    def converged(self):
+        return lib.frix_info_status(self._info.handle) == Status.CONVERGED
+
+    @property
+    def iterations(self):
+        return lib.frix_info_iterations(self._info.handle)
+
+    @property
+    def error(self):
+        return lib.frix_info_error(self._info.handle)
+
+    @property
+    def time(self):
+        return lib.frix_info_solve_time(self._info.handle)
+
+    @property
+    def solver(self):
+        return text(lib.frix_solver_name(_info_int(self._info.handle, _INFO_SOLVER_ID)))
+
+    @property
+    def measures(self):
+        return {name: _info_double(self._info.handle, key) for name, key in _MEASURES.items()}
+
+    @property
+    def counters(self):
+        return {name: _info_int(self._info.handle, key) for name, key in _INFO_INT.items()
+                if name != "iterations"}
+
+    @property
+    def trace(self):
+        return text(lib.frix_info_trace(self._info.handle))
+
+    @property
+    def stages(self):
+        return _stages(self._info.handle)
+
+    @property
+    def existence(self):
+        return Existence(_info_int(self._info.handle, _INFO_EXISTENCE))
+
+    @property
+    def existence_margin(self):
+        return _info_double(self._info.handle, _INFO_EXISTENCE_MARGIN)
+
+    def __repr__(self):
+        return (f"<frix.Result {self.status.name}, {self.iterations} iterations, "
+                f"error {self.error:.3e}, {self.time:.3g} s>")
+
+
+def _info_double(info, key):
+    x = ctypes.c_double(np.nan)
+    lib.frix_info_get_double(info, key, ctypes.byref(x))
+    return x.value
+
+
+def _info_int(info, key):
+    x = ctypes.c_int64(0)
+    lib.frix_info_get_int(info, key, ctypes.byref(x))
+    return x.value
+
+
+def _stages(info):
+    out = []
+    for k in range(lib.frix_info_stage_count(info)):
+        def geti(key):
+            x = ctypes.c_int64(0)
+            _check(lib.frix_info_stage_get_int(info, k, key, ctypes.byref(x)))
+            return x.value
+
+        def getd(key):
+            x = ctypes.c_double(np.nan)
+            _check(lib.frix_info_stage_get_double(info, k, key, ctypes.byref(x)))
+            return x.value
+        sid = geti(1)
+        out.append(Stage(text(lib.frix_solver_name(sid)) if sid else None, Status(geti(2)), geti(3),
+                         geti(4), geti(5), geti(6), bool(geti(7)), getd(100), getd(101),
+                         text(lib.frix_info_stage_note(info, k))))
+    return out
+
+
+def _result(problem, info, r, u, v, check_existence, pool=None):
+    if check_existence and lib.frix_info_status(info.handle) != Status.CONVERGED:
+        _check(lib.frix_problem_check_existence(problem, 0.0, info.handle))
+    return Result(info, r, u, v, pool)
+
+
+class _Pool:
+    """A Solver's spare frix_info records: a solve takes one, its Result gives it back when it
+    is collected (creating one per solve would cost more than a one-contact solve)."""
+    size = 4
+    __slots__ = ("items", "__weakref__")
+
+    def __init__(self):
+        self.items = []
+
+    def take(self):
+        return self.items.pop() if self.items else _Info()
+
+
+class _Info:
+    def __init__(self):
+        handle = ctypes.c_void_p()
+        _check(lib.frix_info_create(ctypes.byref(handle)))
+        self.handle = handle.value
+
+    def __del__(self):
+        if getattr(self, "handle", None):
+            lib.frix_info_free(self.handle)
+
+
+def _start(problem, r0):
+    m, n = problem.contact_dofs, problem.dofs
+    r = np.zeros(m) if r0 is None else np.array(r0, dtype=np.float64, copy=True).reshape(-1)
+    if r.shape[0] != m:
+        raise DimensionError(-2, f"frix: r0 has {r.shape[0]} entries, {m} expected")
+    u = np.zeros(m)
+    v = np.zeros(n) if problem.kind == "global" else None
+    return r, u, v
+
+
+def _settings(tol, max_iter, time_limit, solver_options):
+    settings = {"tolerance": tol, "max_iter": max_iter, "time_limit": time_limit}
+    settings.update(solver_options)
+    return settings
+
+
+def solve(problem, solver="auto", tol=None, max_iter=None, time_limit=None, r0=None,
+          callback=None, check_existence=True, **solver_options):
+    """Solves `problem` and returns a Result.
+
+    solver: a name or id of frix.solvers() (or Siconos's spelling); tol, max_iter, time_limit
+    and any option of that solver by name (see frix.solvers() and `frix solvers NAME`): the
+    library validates each one and raises UnknownOptionError or OptionRangeError with its
+    message. r0: the warm start (copied; default 0). callback(iteration, error, elapsed): called
+    after each iteration; a true return stops the solve (status STOPPED_BY_CALLBACK), an
+    exception stops it and is raised again. The GIL is released while the library runs.
+    check_existence: when the solve does not converge, whether to run the existence check
+    (at most about 2 s) for Result.existence.
+    """
+    handle = problem._live()
+    opts = _Options(solver, _settings(tol, max_iter, time_limit, solver_options), callback)
+    try:
+        r, u, v = _start(problem, r0)
+        info = _Info()
+        code = lib.frix_solve(handle, opts.handle, r.ctypes.data, u.ctypes.data,
+                              None if v is None else v.ctypes.data, info.handle)
+        if opts.exception is not None:
+            raise opts.exception
+        _check(code)
+        return _result(handle, info, r, u, v, check_existence)
+    finally:
+        opts.close()
+
+
+class Solver:
+    """A persistent solver for time stepping: created once from a problem and options (those of
+    frix.solve), it solves, is updated with the next step's data and solves again, keeping
+    between its solves what still holds (factorisations of M, W, analyses; see
+    frix_persistent.h). One thread at a time uses it; distinct Solvers may run at once.
+
+        s = frix.Solver(problem, tol=1e-6)
+        for step in range(steps):
+            s.update(q=q_step)
+            res = s.solve()          # warm: from the last r
+    """
+
+    def __init__(self, problem, solver="auto", tol=None, max_iter=None, time_limit=None,
+                 callback=None, check_existence=False, **solver_options):
+        self._problem = problem
+        self._lock = threading.Lock()
+        self._handle = None
+        self._kept = {}  # the arrays and matrices the persistent solver borrows
+        self._counted = False
+        self._check_existence = check_existence
+        self._opts = _Options(solver, _settings(tol, max_iter, time_limit, solver_options), callback)
+        handle = ctypes.c_void_p()
+        _check(lib.frix_persistent_create(problem._live(), self._opts.handle, ctypes.byref(handle)))
+        self._handle = handle.value
+        problem._solvers += 1
+        self._counted = True
+        # The solve's buffers, made once: r carries the warm start from one solve to the next.
+        self._r, self._u, self._v = _start(problem, None)
+        self._addresses = (self._r.ctypes.data, self._u.ctypes.data,
+                           None if self._v is None else self._v.ctypes.data)
+        self._pool = _Pool()
+        self._pool_ref = weakref.ref(self._pool)
+
+    def solve(self, r0=None):
+        """Solves the current problem from r0, or from the last solve's r (0 at first)."""
+        with self._lock:
+            if r0 is not None:
+                if not (isinstance(r0, np.ndarray) and r0.shape == self._r.shape):
+                    r0 = np.asarray(r0, dtype=np.float64).reshape(-1)
+                    if r0.shape != self._r.shape:
+                        raise DimensionError(-2, f"frix: r0 has {r0.shape[0]} entries, "
+                                                 f"{self._r.shape[0]} expected")
+                self._r[:] = r0
+            info = self._pool.take()
+            code = lib.frix_persistent_solve(self._handle, *self._addresses, info.handle)
+            if self._opts.exception is not None:
+                e, self._opts.exception = self._opts.exception, None
+                raise e
+            _check(code)
+            return _result(self._problem._live(), info, self._r.copy(), self._u.copy(),
+                           None if self._v is None else self._v.copy(), self._check_existence,
+                           self._pool_ref)
+
+    def update(self, q=None, mu=None, W=None, W_values=None, f=None, w=None, M=None, H=None):
+        """The next step's data; what is not given stays. Local problems: q, mu, and W (a new
+        matrix, any format) or W_values (new values on the pattern of the scipy.sparse W the
+        problem was built from, in its own order). Global problems: f, w, mu, M, H. Vectors
+        are borrowed as by Problem (a float64 contiguous array is used in place)."""
+        p = self._problem
+        nc, m = p.contacts, p.contact_dofs
+        new = {}
+        if W_values is not None:
+            if W is not None or p._pattern is None:
+                raise InvalidArgumentError(-1, "frix: W_values needs a problem built from a "
+                                           "scipy.sparse W, and no W")
+            W = p._pattern.copy()
+            W.data = np.asarray(W_values).reshape(W.data.shape)
+        with self._lock:
+            try:
+                if p.kind == "local":
+                    if any(x is not None for x in (f, w, M, H)):
+                        raise InvalidArgumentError(-1, "frix: f, w, M, H belong to global problems")
+                    if W is not None:
+                        new["W"] = _matrix(W, "W")
+                    if q is not None:
+                        new["q"] = _vector(q, m, "q")
+                    if mu is not None:
+                        new["mu"] = _vector(mu, nc, "mu")
+                    _check(lib.frix_persistent_update_local(self._handle, new.get("W"),
+                                                            _ptr(new.get("q")), _ptr(new.get("mu"))))
+                else:
+                    if any(x is not None for x in (q, W)):
+                        raise InvalidArgumentError(-1, "frix: q and W belong to local problems")
+                    if M is not None:
+                        new["M"] = _matrix(M, "M")
+                    if H is not None:
+                        new["H"] = _matrix(H, "H")
+                    if f is not None:
+                        new["f"] = _vector(f, p.dofs, "f")
+                    if w is not None:
+                        new["w"] = _vector(w, m, "w")
+                    if mu is not None:
+                        new["mu"] = _vector(mu, nc, "mu")
+                    _check(lib.frix_persistent_update_global(
+                        self._handle, new.get("M"), new.get("H"), _ptr(new.get("f")),
+                        _ptr(new.get("w")), _ptr(new.get("mu"))))
+            except BaseException:
+                for key in ("W", "M", "H"):
+                    if key in new:
+                        lib.frix_matrix_free(new[key])
+                raise
+            for key, value in new.items():
+                old = self._kept.get(key)
+                if key in ("W", "M", "H") and old is not None:
+                    lib.frix_matrix_free(old)
+                self._kept[key] = value
+
+    def close(self):
+        """Frees the persistent solver now (also done when the object is collected)."""
+        if getattr(self, "_handle", None):
+            lib.frix_persistent_free(self._handle)
+            self._handle = None
+        for key in ("W", "M", "H"):
+            m = getattr(self, "_kept", {}).pop(key, None)
+            if m is not None:
+                lib.frix_matrix_free(m)
+        if getattr(self, "_opts", None) is not None:
+            self._opts.close()
+        if getattr(self, "_counted", False):
+            self._problem._solvers -= 1
+            self._counted = False
+
+    def __del__(self):
+        self.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
