@@ -239,6 +239,15 @@ def _matrix(A, name):
     return out.value
 
 
+def _vector_property(attr, getter, size, doc):
+    """One of a problem's vectors: the array it was given (attr), else a read-only view of the
+    library's (getter) of `size` entries."""
+    def get(self):
+        given = getattr(self, attr)
+        return given if given is not None else self._view(getter, getattr(self, size))
+    return property(get, doc=doc)
+
+
 class Problem:
     """A local problem, Problem(W, q, mu): u = W r + q with W of 3nc x 3nc (a numpy array or
     any scipy.sparse matrix or array), q of 3nc and mu of nc entries. A global one:
@@ -364,25 +373,11 @@ class Problem:
         a.flags.writeable = False
         return _Keep(a, self)
 
-    @property
-    def q(self):
-        """q (local problems): the array given, or a read-only view of the library's."""
-        return self._q if self._q is not None else self._view(lib.frix_problem_q, self.contact_dofs)
-
-    @property
-    def mu(self):
-        """mu, one per contact."""
-        return self._mu if self._mu is not None else self._view(lib.frix_problem_mu, self.contacts)
-
-    @property
-    def f(self):
-        """f (global problems)."""
-        return self._f if self._f is not None else self._view(lib.frix_problem_f, self.dofs)
-
-    @property
-    def w(self):
-        """w (global problems)."""
-        return self._w if self._w is not None else self._view(lib.frix_problem_w, self.contact_dofs)
+    q = _vector_property("_q", lib.frix_problem_q, "contact_dofs",
+                         "q (local problems): the array given, or a read-only view of the library's.")
+    mu = _vector_property("_mu", lib.frix_problem_mu, "contacts", "mu, one per contact.")
+    f = _vector_property("_f", lib.frix_problem_f, "dofs", "f (global problems).")
+    w = _vector_property("_w", lib.frix_problem_w, "contact_dofs", "w (global problems).")
 
     def _sparse(self, getter):
         import scipy.sparse as sp
