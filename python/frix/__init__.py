@@ -11,6 +11,7 @@ docs/python.md describes the package; every function and class has a docstring.
 """
 import ctypes
 import enum
+import os
 import threading
 import warnings
 import weakref
@@ -151,6 +152,16 @@ class Existence(enum.IntEnum):
 
 _STATUSES = tuple(Status)  # by value (0 .. 8): faster than Status(value) per solve
 
+
+def _status(code):
+    """A frix.Status, or the plain code of a status newer than this package."""
+    return _STATUSES[code] if 0 <= code < len(_STATUSES) else code
+
+
+# The trace's text and the stages' notes are made in buffers of the frix_info: one reader at
+# a time.
+_info_text_lock = threading.Lock()
+
 _INFO_INT = {"iterations": 2, "newton_iterations": 5, "line_search_steps": 6,
              "factorizations": 7, "symbolic_analyses": 8, "hybrid_sweeps": 9,
              "inner_iterations": 10, "islands": 11, "switches": 12}
@@ -167,10 +178,9 @@ _FRIX_PROBLEM_LOCAL = 1
 def _vector(x, n, name):
     """x as a float64 C-contiguous 1-D array of n entries: x itself when it is one (the
     library borrows it), else one converted copy, with a ConversionWarning."""
-    a = np.asarray(x)
-    if a.ndim != 1:
-        a = a.reshape(-1)
-    if a.dtype != np.float64 or not a.flags.c_contiguous:
+    given = np.asarray(x)
+    a = given.reshape(-1) if given.ndim != 1 else given
+    if a.dtype != np.float64 or not a.flags.c_contiguous or not np.shares_memory(a, given):
         warnings.warn(f"frix: {name} converted to a contiguous float64 array (a copy)",
                       ConversionWarning, stacklevel=3)
         a = np.ascontiguousarray(a, dtype=np.float64)
@@ -239,12 +249,35 @@ def _matrix(A, name):
     return out.value
 
 
+def _pattern_of(A):
+    """The sparsity structure of a scipy.sparse A (copied: later changes to A do not move it),
+    for new values on it (Solver.update(W_values=)); None for a dense A."""
+    if not _is_sparse(A):
+        return None
+    if A.format not in ("csr", "csc", "coo"):
+        A = A.tocsr()
+    if A.format == "coo":
+        return ("coo", A.shape, A.row.copy(), A.col.copy(), A.data.shape[0])
+    return (A.format, A.shape, A.indptr.copy(), A.indices.copy(), A.data.shape[0])
+
+
+def _with_values(pattern, values):
+    import scipy.sparse as sp
+    fmt, shape, a, b, n = pattern
+    v = np.asarray(values, dtype=np.float64).reshape(-1)
+    if v.shape[0] != n:
+        raise DimensionError(-2, f"frix: W_values has {v.shape[0]} entries, {n} expected")
+    if fmt == "coo":
+        return sp.coo_matrix((v, (a, b)), shape=shape)
+    return (sp.csr_matrix if fmt == "csr" else sp.csc_matrix)((v, b, a), shape=shape)
+
+
 def _vector_property(attr, getter, size, doc):
-    """One of a problem's vectors: the array it was given (attr), else a read-only view of the
+    """One of a problem's vectors: the array it was given (attr), else a read-only copy of the
     library's (getter) of `size` entries."""
     def get(self):
         given = getattr(self, attr)
-        return given if given is not None else self._view(getter, getattr(self, size))
+        return given if given is not None else self._copy_of(getter, getattr(self, size))
     return property(get, doc=doc)
 
 
@@ -259,16 +292,13 @@ class Problem:
     """
 
     def __init__(self, W, q, mu):
+        self._init_state()
         mu_a = np.asarray(mu)
         nc = mu_a.reshape(-1).shape[0]
-        self._handle = None
-        self._matrices = []
         self._matrices.append(_matrix(W, "W"))
         self._q = _vector(q, 3 * nc, "q")
         self._mu = _vector(mu_a, nc, "mu")
-        self._f = self._w = None
-        self._pattern = W if _is_sparse(W) else None
-        self._solvers = 0
+        self._pattern = _pattern_of(W)
         handle = ctypes.c_void_p()
         _check(lib.frix_problem_local(self._matrices[0], _ptr(self._q), _ptr(self._mu), nc,
                                       ctypes.byref(handle)))
@@ -279,8 +309,7 @@ class Problem:
         """A global problem: M v = H r + f, u = H^T v + w (M: n x n, H: n x 3nc, f: n, w: 3nc,
         mu: nc)."""
         self = cls.__new__(cls)
-        self._handle = None
-        self._matrices = []
+        self._init_state()
         mu_a = np.asarray(mu)
         nc = mu_a.reshape(-1).shape[0]
         self._matrices.append(_matrix(M, "M"))
@@ -289,9 +318,6 @@ class Problem:
         self._f = _vector(f, n, "f")
         self._w = _vector(w, 3 * nc, "w")
         self._mu = _vector(mu_a, nc, "mu")
-        self._q = None
-        self._pattern = None
-        self._solvers = 0
         handle = ctypes.c_void_p()
         _check(lib.frix_problem_global(self._matrices[0], self._matrices[1], _ptr(self._f),
                                        _ptr(self._w), _ptr(self._mu), nc, ctypes.byref(handle)))
@@ -302,27 +328,60 @@ class Problem:
     def _owning(cls, handle):
         """A problem that owns its data (read from a file)."""
         self = cls.__new__(cls)
+        self._init_state()
         self._handle = handle
+        return self
+
+    def _init_state(self):
+        self._handle = None
         self._matrices = []
         self._q = self._mu = self._f = self._w = None
         self._pattern = None
-        self._solvers = 0
-        return self
+        # Solves in progress and open Solvers read the problem: it is freed only without them.
+        self._users = 0
+        self._users_lock = threading.Lock()
+        self._close_pending = False
+
+    def _use(self):
+        """The handle, for a solve or a Solver that reads the problem until _release()."""
+        with self._users_lock:
+            handle = self._live()
+            self._users += 1
+        return handle
+
+    def _release(self):
+        with self._users_lock:
+            self._users -= 1
+            free = self._close_pending and self._users == 0
+        if free:
+            self._free()
 
     def close(self):
         """Frees the library's problem now (also done when the object is collected). Refused
-        while a frix.Solver made from it is open (it reads the problem's data)."""
-        if getattr(self, "_solvers", 0) > 0:
-            raise InvalidArgumentError(-1, "frix: close the Solvers of this problem first")
-        if getattr(self, "_handle", None):
+        while a solve of it runs or a frix.Solver made from it is open."""
+        with self._users_lock:
+            if self._users > 0:
+                raise InvalidArgumentError(-1, "frix: the problem is in use (a solve, or an open Solver)")
+        self._free()
+
+    def _free(self):
+        if self._handle:
             lib.frix_problem_free(self._handle)
             self._handle = None
-        for m in getattr(self, "_matrices", []):
+        for m in self._matrices:
             lib.frix_matrix_free(m)
         self._matrices = []
 
     def __del__(self):
-        self.close()
+        if not hasattr(self, "_users_lock"):
+            return
+        if self._users > 0:
+            self._close_pending = True  # (a collected cycle): freed by its last user
+        else:
+            self._free()
+
+    def __reduce__(self):
+        raise TypeError("a frix.Problem cannot be copied or pickled (it holds the library's handle)")
 
     def __enter__(self):
         return self
@@ -364,17 +423,17 @@ class Problem:
     def title(self, value):
         _check(lib.frix_problem_set_title(self._live(), str(value).encode()))
 
-    def _view(self, getter, n):
-        """A read-only numpy view of one of the problem's vectors (kept alive with it)."""
+    def _copy_of(self, getter, n):
+        """A read-only copy of one of the library's vectors (None where the kind has none)."""
         p = getter(self._live())
-        if not p or n == 0:
-            return None if not p else np.zeros(0)
-        a = np.ctypeslib.as_array(p, shape=(n,))
+        if not p:
+            return None
+        a = np.ctypeslib.as_array(p, shape=(n,)).copy() if n else np.zeros(0)
         a.flags.writeable = False
-        return _Keep(a, self)
+        return a
 
     q = _vector_property("_q", lib.frix_problem_q, "contact_dofs",
-                         "q (local problems): the array given, or a read-only view of the library's.")
+                         "q (local problems): the array given, or a read-only copy of the library's.")
     mu = _vector_property("_mu", lib.frix_problem_mu, "contacts", "mu, one per contact.")
     f = _vector_property("_f", lib.frix_problem_f, "dofs", "f (global problems).")
     w = _vector_property("_w", lib.frix_problem_w, "contact_dofs", "w (global problems).")
@@ -420,7 +479,7 @@ class Problem:
             u = _vector(solution.u, m, "solution.u")
             if self.kind == "global" and getattr(solution, "v", None) is not None:
                 v = _vector(solution.v, self.dofs, "solution.v")
-        _check(lib.frix_fclib_write(str(path).encode(), self._live(), _ptr(r), _ptr(u), _ptr(v),
+        _check(lib.frix_fclib_write(os.fsencode(path), self._live(), _ptr(r), _ptr(u), _ptr(v),
                                     0, None, None, None))
 
     def __repr__(self):
@@ -430,22 +489,10 @@ class Problem:
         return f"<frix.Problem {self.kind}, {self.contacts} contacts{extra}>"
 
 
-class _Keep(np.ndarray):
-    """A numpy view that keeps the object owning its memory alive."""
-
-    def __new__(cls, a, owner):
-        obj = a.view(cls)
-        obj._owner = owner
-        return obj
-
-    def __array_finalize__(self, obj):
-        self._owner = getattr(obj, "_owner", None)
-
-
 def load(path):
     """Reads a problem from an FCLIB file (.hdf5, local or global) or a Siconos .dat file."""
     handle = ctypes.c_void_p()
-    _check(lib.frix_read_problem(str(path).encode(), ctypes.byref(handle)))
+    _check(lib.frix_read_problem(os.fsencode(path), ctypes.byref(handle)))
     return Problem._owning(handle.value)
 
 
@@ -453,7 +500,7 @@ def load_solution(path, problem):
     """The solution stored in an FCLIB file (as `problem.save(path, solution=...)` or `frix solve
     --output` writes it): (r, u, v), v None for a local problem."""
     r, u, v = _start(problem, None)
-    _check(lib.frix_fclib_read_solution(str(path).encode(), problem._live(), _ptr(r), _ptr(u), _ptr(v)))
+    _check(lib.frix_fclib_read_solution(os.fsencode(path), problem._live(), _ptr(r), _ptr(u), _ptr(v)))
     return r, u, v
 
 
@@ -477,6 +524,11 @@ def _solver_id(solver):
     sid = ctypes.c_int(0)
     _check(lib.frix_solver_by_name(str(solver).encode(), ctypes.byref(sid)))
     return sid.value
+
+
+# Set while a progress callback runs on this thread: a Solver refuses to be re-entered from
+# its own callback (its lock would wait for itself).
+_in_callback = threading.local()
 
 
 class _Options:
@@ -507,20 +559,23 @@ class _Options:
         _check(lib.frix_options_bounds(self.handle, key.value, ctypes.byref(lower), ctypes.byref(upper),
                                        ctypes.byref(is_int)))
         if is_int.value:
-            if isinstance(value, bool) or not float(value).is_integer():
+            if not float(value).is_integer():  # (True and False are 1 and 0)
                 raise OptionRangeError(-9, f"frix: option '{name}' takes an integer, not {value!r}")
             _check(lib.frix_options_set_int(self.handle, key.value, int(value)))
         else:
             _check(lib.frix_options_set_double(self.handle, key.value, float(value)))
 
     def _on_progress(self, _data, iteration, error, elapsed):
-        # Called from the solving thread with the GIL taken back by ctypes; an exception stops
-        # the solve and is raised again once it has returned.
+        # Called from the solving thread (or auto's workers) with the GIL taken back by ctypes;
+        # an exception stops the solve and is raised again once it has returned.
+        _in_callback.active = True
         try:
             return 1 if self.callback(iteration, error, elapsed) else 0
         except BaseException as e:  # noqa: BLE001 (re-raised after the solve)
             self.exception = e
             return 1
+        finally:
+            _in_callback.active = False
 
     def close(self):
         if getattr(self, "handle", None):
@@ -529,6 +584,9 @@ class _Options:
 
     def __del__(self):
         self.close()
+
+    def __reduce__(self):
+        raise TypeError("frix options cannot be copied or pickled")
 
 
 # ---- Results.
@@ -554,13 +612,16 @@ class Result:
         self.r, self.u, self.v = r, u, v
 
     def __del__(self):
-        pool = self._pool() if self._pool is not None else None
+        pool = self._pool() if getattr(self, "_pool", None) is not None else None
         if pool is not None and len(pool.items) < _Pool.size:
             pool.items.append(self._info)  # reused by the Solver's next solve
 
+    def __reduce__(self):
+        raise TypeError("a frix.Result cannot be copied or pickled: copy its arrays")
+
     @property
     def status(self):
-        return _STATUSES[lib.frix_info_status(self._info.handle)]
+        return _status(lib.frix_info_status(self._info.handle))
 
     @property
     def converged(self):
@@ -593,11 +654,13 @@ class Result:
 
     @property
     def trace(self):
-        return text(lib.frix_info_trace(self._info.handle))
+        with _info_text_lock:
+            return text(lib.frix_info_trace(self._info.handle))
 
     @property
     def stages(self):
-        return _stages(self._info.handle)
+        with _info_text_lock:
+            return _stages(self._info.handle)
 
     @property
     def existence(self):
@@ -637,16 +700,23 @@ def _stages(info):
             _check(lib.frix_info_stage_get_double(info, k, key, ctypes.byref(x)))
             return x.value
         sid = geti(1)
-        out.append(Stage(text(lib.frix_solver_name(sid)) if sid else None, Status(geti(2)), geti(3),
+        out.append(Stage(text(lib.frix_solver_name(sid)) if sid else None, _status(geti(2)), geti(3),
                          geti(4), geti(5), geti(6), bool(geti(7)), getd(100), getd(101),
                          text(lib.frix_info_stage_note(info, k))))
     return out
 
 
-def _result(problem, info, r, u, v, check_existence, pool=None):
-    if check_existence and lib.frix_info_status(info.handle) != Status.CONVERGED:
-        _check(lib.frix_problem_check_existence(problem, 0.0, info.handle))
-    return Result(info, r, u, v, pool)
+# Statuses after which the existence check does not run: a solution, the caller's stop, or
+# the caller's time limit (which the check would overrun; auto skips it there too).
+_NO_EXISTENCE_CHECK = (Status.CONVERGED, Status.STOPPED_BY_CALLBACK, Status.TIME_LIMIT)
+
+
+def _result(problem, info, r, u, v, check_existence):
+    h = info.handle
+    if (check_existence and lib.frix_info_status(h) not in _NO_EXISTENCE_CHECK
+            and _info_int(h, _INFO_EXISTENCE) == Existence.NOT_CHECKED):
+        _check(lib.frix_problem_check_existence(problem, 0.0, h))
+    return Result(info, r, u, v)
 
 
 class _Pool:
@@ -663,6 +733,11 @@ class _Pool:
 
 
 class _Info:
+    """One frix_info record, freed with the object."""
+
+    def __reduce__(self):
+        raise TypeError("a frix_info record cannot be copied or pickled")
+
     def __init__(self):
         handle = ctypes.c_void_p()
         _check(lib.frix_info_create(ctypes.byref(handle)))
@@ -699,11 +774,12 @@ def solve(problem, solver="auto", tol=None, max_iter=None, time_limit=None, r0=N
     message. r0: the warm start (copied; default 0). callback(iteration, error, elapsed): called
     after each iteration; a true return stops the solve (status STOPPED_BY_CALLBACK), an
     exception stops it and is raised again. The GIL is released while the library runs.
-    check_existence: when the solve does not converge, whether to run the existence check
-    (at most about 2 s) for Result.existence.
+    check_existence: when the solve ends without a solution (not stopped by the callback or
+    the time limit) and no check ran yet (auto runs its own), whether to check whether a
+    solution exists at all (at most about 2 s) for Result.existence.
     """
-    handle = problem._live()
     opts = _Options(solver, _settings(tol, max_iter, time_limit, solver_options), callback)
+    handle = problem._use()
     try:
         r, u, v = _start(problem, r0)
         info = _Info()
@@ -714,6 +790,7 @@ def solve(problem, solver="auto", tol=None, max_iter=None, time_limit=None, r0=N
         _check(code)
         return _result(handle, info, r, u, v, check_existence)
     finally:
+        problem._release()
         opts.close()
 
 
@@ -721,7 +798,8 @@ class Solver:
     """A persistent solver for time stepping: created once from a problem and options (those of
     frix.solve), it solves, is updated with the next step's data and solves again, keeping
     between its solves what still holds (factorisations of M, W, analyses; see
-    frix_persistent.h). One thread at a time uses it; distinct Solvers may run at once.
+    frix_persistent.h). Its calls are serialised (one at a time, from any thread); distinct
+    Solvers run at once. Its own progress callback cannot call it.
 
         s = frix.Solver(problem, tol=1e-6)
         for step in range(steps):
@@ -730,19 +808,22 @@ class Solver:
     """
 
     def __init__(self, problem, solver="auto", tol=None, max_iter=None, time_limit=None,
-                 callback=None, check_existence=False, **solver_options):
+                 callback=None, **solver_options):
         self._problem = problem
         self._lock = threading.Lock()
+        self._busy = False  # a call is in progress (its callback may run)
         self._handle = None
         self._kept = {}  # the arrays and matrices the persistent solver borrows
-        self._counted = False
-        self._check_existence = check_existence
         self._opts = _Options(solver, _settings(tol, max_iter, time_limit, solver_options), callback)
         handle = ctypes.c_void_p()
-        _check(lib.frix_persistent_create(problem._live(), self._opts.handle, ctypes.byref(handle)))
+        problem_handle = problem._use()
+        try:
+            _check(lib.frix_persistent_create(problem_handle, self._opts.handle, ctypes.byref(handle)))
+        except BaseException:
+            problem._release()
+            self._opts.close()
+            raise
         self._handle = handle.value
-        problem._solvers += 1
-        self._counted = True
         # The solve's buffers, made once: r carries the warm start from one solve to the next.
         self._r, self._u, self._v = _start(problem, None)
         self._addresses = (self._r.ctypes.data, self._u.ctypes.data,
@@ -750,9 +831,23 @@ class Solver:
         self._pool = _Pool()
         self._pool_ref = weakref.ref(self._pool)
 
+    def _enter(self):
+        if self._busy and getattr(_in_callback, "active", False):
+            raise InvalidArgumentError(-1, "frix: a Solver cannot be called from its own callback")
+        self._lock.acquire()
+        if not self._handle:
+            self._lock.release()
+            raise InvalidArgumentError(-1, "frix: the Solver was closed")
+        self._busy = True
+
+    def _exit(self):
+        self._busy = False
+        self._lock.release()
+
     def solve(self, r0=None):
         """Solves the current problem from r0, or from the last solve's r (0 at first)."""
-        with self._lock:
+        self._enter()
+        try:
             if r0 is not None:
                 if not (isinstance(r0, np.ndarray) and r0.shape == self._r.shape):
                     r0 = np.asarray(r0, dtype=np.float64).reshape(-1)
@@ -766,81 +861,95 @@ class Solver:
                 e, self._opts.exception = self._opts.exception, None
                 raise e
             _check(code)
-            return _result(self._problem._live(), info, self._r.copy(), self._u.copy(),
-                           None if self._v is None else self._v.copy(), self._check_existence,
-                           self._pool_ref)
+            # (No existence check here: after an update the problem handle's data is not the
+            # solver's; auto runs its own when it fails.)
+            return Result(info, self._r.copy(), self._u.copy(),
+                          None if self._v is None else self._v.copy(), self._pool_ref)
+        finally:
+            self._exit()
 
     def update(self, q=None, mu=None, W=None, W_values=None, f=None, w=None, M=None, H=None):
         """The next step's data; what is not given stays. Local problems: q, mu, and W (a new
-        matrix, any format) or W_values (new values on the pattern of the scipy.sparse W the
-        problem was built from, in its own order). Global problems: f, w, mu, M, H. Vectors
-        are borrowed as by Problem (a float64 contiguous array is used in place)."""
+        matrix, any format) or W_values (new values on the structure of the scipy.sparse W
+        the problem was built from, as it was then: in its data's order for csr, csc and coo,
+        in W.tocsr()'s for the other formats). Global problems: f, w, mu, M, H. Vectors are
+        borrowed as by Problem (a float64 contiguous array is used in place)."""
         p = self._problem
         nc, m = p.contacts, p.contact_dofs
-        new = {}
         if W_values is not None:
             if W is not None or p._pattern is None:
                 raise InvalidArgumentError(-1, "frix: W_values needs a problem built from a "
                                            "scipy.sparse W, and no W")
-            W = p._pattern.copy()
-            W.data = np.asarray(W_values).reshape(W.data.shape)
-        with self._lock:
-            try:
-                if p.kind == "local":
-                    if any(x is not None for x in (f, w, M, H)):
-                        raise InvalidArgumentError(-1, "frix: f, w, M, H belong to global problems")
-                    if W is not None:
-                        new["W"] = _matrix(W, "W")
-                    if q is not None:
-                        new["q"] = _vector(q, m, "q")
-                    if mu is not None:
-                        new["mu"] = _vector(mu, nc, "mu")
-                    _check(lib.frix_persistent_update_local(self._handle, new.get("W"),
-                                                            _ptr(new.get("q")), _ptr(new.get("mu"))))
-                else:
-                    if any(x is not None for x in (q, W)):
-                        raise InvalidArgumentError(-1, "frix: q and W belong to local problems")
-                    if M is not None:
-                        new["M"] = _matrix(M, "M")
-                    if H is not None:
-                        new["H"] = _matrix(H, "H")
-                    if f is not None:
-                        new["f"] = _vector(f, p.dofs, "f")
-                    if w is not None:
-                        new["w"] = _vector(w, m, "w")
-                    if mu is not None:
-                        new["mu"] = _vector(mu, nc, "mu")
-                    _check(lib.frix_persistent_update_global(
-                        self._handle, new.get("M"), new.get("H"), _ptr(new.get("f")),
-                        _ptr(new.get("w")), _ptr(new.get("mu"))))
-            except BaseException:
-                for key in ("W", "M", "H"):
-                    if key in new:
-                        lib.frix_matrix_free(new[key])
-                raise
+            W = _with_values(p._pattern, W_values)
+        new = {}
+        self._enter()
+        try:
+            if p.kind == "local":
+                if any(x is not None for x in (f, w, M, H)):
+                    raise InvalidArgumentError(-1, "frix: f, w, M, H belong to global problems")
+                if W is not None:
+                    new["W"] = _matrix(W, "W")
+                if q is not None:
+                    new["q"] = _vector(q, m, "q")
+                if mu is not None:
+                    new["mu"] = _vector(mu, nc, "mu")
+                _check(lib.frix_persistent_update_local(self._handle, new.get("W"),
+                                                        _ptr(new.get("q")), _ptr(new.get("mu"))))
+            else:
+                if any(x is not None for x in (q, W)):
+                    raise InvalidArgumentError(-1, "frix: q and W belong to local problems")
+                if M is not None:
+                    new["M"] = _matrix(M, "M")
+                if H is not None:
+                    new["H"] = _matrix(H, "H")
+                if f is not None:
+                    new["f"] = _vector(f, p.dofs, "f")
+                if w is not None:
+                    new["w"] = _vector(w, m, "w")
+                if mu is not None:
+                    new["mu"] = _vector(mu, nc, "mu")
+                _check(lib.frix_persistent_update_global(
+                    self._handle, new.get("M"), new.get("H"), _ptr(new.get("f")),
+                    _ptr(new.get("w")), _ptr(new.get("mu"))))
+        except BaseException:
+            for key in ("W", "M", "H"):
+                if key in new:
+                    lib.frix_matrix_free(new[key])
+            raise
+        else:
             for key, value in new.items():
                 old = self._kept.get(key)
                 if key in ("W", "M", "H") and old is not None:
                     lib.frix_matrix_free(old)
                 self._kept[key] = value
+        finally:
+            self._exit()
 
     def close(self):
-        """Frees the persistent solver now (also done when the object is collected)."""
-        if getattr(self, "_handle", None):
+        """Frees the persistent solver now (also done when the object is collected); waits for
+        a call in progress on another thread."""
+        if not getattr(self, "_handle", None):
+            return
+        if self._busy and getattr(_in_callback, "active", False):
+            raise InvalidArgumentError(-1, "frix: a Solver cannot be closed from its own callback")
+        with self._lock:
+            if not self._handle:
+                return
             lib.frix_persistent_free(self._handle)
             self._handle = None
-        for key in ("W", "M", "H"):
-            m = getattr(self, "_kept", {}).pop(key, None)
-            if m is not None:
-                lib.frix_matrix_free(m)
-        if getattr(self, "_opts", None) is not None:
+            for key in ("W", "M", "H"):
+                m = self._kept.pop(key, None)
+                if m is not None:
+                    lib.frix_matrix_free(m)
             self._opts.close()
-        if getattr(self, "_counted", False):
-            self._problem._solvers -= 1
-            self._counted = False
+        self._problem._release()
 
     def __del__(self):
-        self.close()
+        if getattr(self, "_handle", None) and hasattr(self, "_lock"):
+            self.close()
+
+    def __reduce__(self):
+        raise TypeError("a frix.Solver cannot be copied or pickled (it holds the library's handle)")
 
     def __enter__(self):
         return self

@@ -139,8 +139,7 @@ def solve(problem: Problem, solver: Union[str, int] = ..., tol: Optional[float] 
 class Solver:
     def __init__(self, problem: Problem, solver: Union[str, int] = ..., tol: Optional[float] = ...,
                  max_iter: Optional[int] = ..., time_limit: Optional[float] = ...,
-                 callback: Optional[Callback] = ..., check_existence: bool = ...,
-                 **solver_options: Any) -> None: ...
+                 callback: Optional[Callback] = ..., **solver_options: Any) -> None: ...
     def solve(self, r0: Optional[ArrayLike] = ...) -> Result: ...
     def update(self, q: Optional[ArrayLike] = ..., mu: Optional[ArrayLike] = ...,
                W: Optional[MatrixLike] = ..., W_values: Optional[ArrayLike] = ...,

@@ -8,10 +8,11 @@ import ctypes
 import os
 from ctypes import POINTER, c_char_p, c_double, c_int, c_int64, c_void_p
 
-from . import _where
-
-# The library this package was configured with, or the one FRIX_LIBRARY names.
-_path = os.environ.get("FRIX_LIBRARY") or _where.LIBRARY
+# The library FRIX_LIBRARY names, or the one this package was configured with.
+_path = os.environ.get("FRIX_LIBRARY")
+if not _path:
+    from . import _where
+    _path = _where.LIBRARY
 lib = ctypes.CDLL(_path)
 
 c_double_p = POINTER(c_double)

@@ -269,3 +269,76 @@ def test_type_stubs_cover_the_public_names():
     names = {n.name for n in tree.body if isinstance(n, (ast.ClassDef, ast.FunctionDef))}
     names |= {t.id for n in tree.body if isinstance(n, ast.AnnAssign) for t in [n.target]}
     assert set(frix.__all__) <= names, set(frix.__all__) - names
+
+
+def test_in_use_problems_and_solvers_refuse_to_close_or_reenter():
+    """A problem is not freed under a running solve, nor a Solver called from its callback."""
+    p = frix.Problem(*two_contacts())
+    started, tried = threading.Event(), threading.Event()
+
+    def hold(iteration, error, elapsed):
+        started.set()
+        tried.wait(10)
+        return True
+
+    t = threading.Thread(target=lambda: frix.solve(p, solver="nsgs", tol=1e-300, callback=hold))
+    t.start()
+    assert started.wait(10)
+    with pytest.raises(frix.InvalidArgumentError, match="in use"):
+        p.close()
+    tried.set()
+    t.join()
+    s = frix.Solver(p, solver="nsgs", tol=1e-300, max_iter=5, callback=lambda *a: s.solve())
+    with pytest.raises(frix.InvalidArgumentError, match="own callback"):
+        s.solve()
+    with pytest.raises(frix.InvalidArgumentError, match="in use"):
+        p.close()
+    s.close()
+    s.close()  # (twice is harmless)
+    with pytest.raises(frix.InvalidArgumentError, match="closed"):
+        s.solve()
+    p.close()
+
+
+def test_handles_are_not_copied():
+    import copy
+    import pickle
+    p = frix.Problem(*two_contacts())
+    res = frix.solve(p)
+    for obj in (p, res, frix.Solver(p)):
+        with pytest.raises(TypeError):
+            copy.copy(obj)
+        with pytest.raises(TypeError):
+            pickle.dumps(obj)
+
+
+def test_w_values_on_the_structure_as_it_was_built():
+    W, q, mu = two_contacts()
+    A = sp.csr_matrix(W)
+    p = frix.Problem(A, q, mu)
+    values = A.data.copy()
+    A.data[:] = 0.0  # later changes to the caller's matrix do not move the structure
+    with frix.Solver(p, tol=1e-10) as s:
+        s.update(W_values=3.0 * values)
+        res = s.solve()
+        np.testing.assert_allclose(res.u, 3.0 * W @ res.r + q, atol=1e-9)
+        with pytest.raises(frix.DimensionError):
+            s.update(W_values=values[:-1])
+
+
+def test_bool_options_and_warned_copies():
+    W, q, mu = two_contacts()
+    assert frix.solve(frix.Problem(W, q, mu), solver="admm", tol=1e-9, acceleration=False).converged
+    Q = np.stack([q, q], axis=1)  # q as a column of a 2-D array: not contiguous
+    with pytest.warns(frix.ConversionWarning):
+        p = frix.Problem(W, Q[:, 0], mu)
+    assert not np.shares_memory(p.q, Q)
+
+
+def test_no_existence_check_after_a_callback_stop():
+    p = frix.Problem(*two_contacts())
+    res = frix.solve(p, solver="nsgs", tol=1e-300, callback=lambda *a: True)
+    assert res.status == frix.Status.STOPPED_BY_CALLBACK
+    assert res.existence == frix.Existence.NOT_CHECKED
+    res = frix.solve(p, solver="nsgs", tol=1e-300, max_iter=3)
+    assert res.status == frix.Status.MAX_ITER and res.existence != frix.Existence.NOT_CHECKED
