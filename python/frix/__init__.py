@@ -281,7 +281,28 @@ def _vector_property(attr, getter, size, doc):
     return property(get, doc=doc)
 
 
-class Problem:
+class _Handle:
+    """An object holding a handle of the library: it cannot be copied or pickled (two owners
+    would free the handle twice, and a pointer means nothing in another process)."""
+    __slots__ = ()
+
+    def __reduce__(self):
+        raise TypeError(f"a frix {type(self).__name__} cannot be copied or pickled "
+                        "(it holds a handle of the library; copy the arrays you need)")
+
+
+class _Closing(_Handle):
+    """A handle freed by close(), which `with` calls at the block's end."""
+    __slots__ = ()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+class Problem(_Closing):
     """A local problem, Problem(W, q, mu): u = W r + q with W of 3nc x 3nc (a numpy array or
     any scipy.sparse matrix or array), q of 3nc and mu of nc entries. A global one:
     Problem.from_global(M, H, f, w, mu). Read from a file: frix.load(path).
@@ -379,15 +400,6 @@ class Problem:
             self._close_pending = True  # (a collected cycle): freed by its last user
         else:
             self._free()
-
-    def __reduce__(self):
-        raise TypeError("a frix.Problem cannot be copied or pickled (it holds the library's handle)")
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     def _live(self):
         if not self._handle:
@@ -531,7 +543,7 @@ def _solver_id(solver):
 _in_callback = threading.local()
 
 
-class _Options:
+class _Options(_Handle):
     """A frix_options handle built from keyword options (validated by the library)."""
 
     def __init__(self, solver, settings, callback):
@@ -585,9 +597,6 @@ class _Options:
     def __del__(self):
         self.close()
 
-    def __reduce__(self):
-        raise TypeError("frix options cannot be copied or pickled")
-
 
 # ---- Results.
 
@@ -596,7 +605,7 @@ Stage = namedtuple("Stage", "solver status iterations part part_contacts random_
 Stage.__doc__ = "One record of a solve's trace: a run of a solver (solver None for another kind of record)."
 
 
-class Result:
+class Result(_Handle):
     """What a solve returns: r, u (and v for a global problem), status (a frix.Status),
     converged, iterations, error (the measure compared with the tolerance) and time (seconds);
     measures (the other error measures by name), counters (Newton steps, factorisations, ...),
@@ -615,9 +624,6 @@ class Result:
         pool = self._pool() if getattr(self, "_pool", None) is not None else None
         if pool is not None and len(pool.items) < _Pool.size:
             pool.items.append(self._info)  # reused by the Solver's next solve
-
-    def __reduce__(self):
-        raise TypeError("a frix.Result cannot be copied or pickled: copy its arrays")
 
     @property
     def status(self):
@@ -732,11 +738,8 @@ class _Pool:
         return self.items.pop() if self.items else _Info()
 
 
-class _Info:
+class _Info(_Handle):
     """One frix_info record, freed with the object."""
-
-    def __reduce__(self):
-        raise TypeError("a frix_info record cannot be copied or pickled")
 
     def __init__(self):
         handle = ctypes.c_void_p()
@@ -794,7 +797,7 @@ def solve(problem, solver="auto", tol=None, max_iter=None, time_limit=None, r0=N
         opts.close()
 
 
-class Solver:
+class Solver(_Closing):
     """A persistent solver for time stepping: created once from a problem and options (those of
     frix.solve), it solves, is updated with the next step's data and solves again, keeping
     between its solves what still holds (factorisations of M, W, analyses; see
@@ -947,12 +950,3 @@ class Solver:
     def __del__(self):
         if getattr(self, "_handle", None) and hasattr(self, "_lock"):
             self.close()
-
-    def __reduce__(self):
-        raise TypeError("a frix.Solver cannot be copied or pickled (it holds the library's handle)")
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
