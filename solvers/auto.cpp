@@ -428,11 +428,11 @@ class IslandSolver {
     }
 
     // The sequence. First NSGS (velocity form, freezing; plain on a small part) under its
-    // rate watch: it finishes the easy problems at once. Then rounds of Newton, NSGS again, ADMM and PROX, each from
-    // the best iterate so far (NSGS from where its previous stage stopped, see kRound) under
-    // the stall watch and a budget that doubles every round, so that the method that suits
-    // the problem gets enough time while the others cost at most a constant factor (a
-    // portfolio with restarts).
+    // rate watch: it finishes the easy problems at once. Then rounds of Newton, NSGS again,
+    // ADMM and PROX, each from the best iterate so far (NSGS from where its previous stage
+    // stopped, see kRound) under the stall watch and a budget that doubles every round, so
+    // that the method that suits the problem gets enough time while the others cost at most a
+    // constant factor (a portfolio with restarts).
     //
     // On a priced part NSGS is first weighed against a probe of ADMM (its factorisation and
     // kAdmmProbeIterations iterations): where its rate predicts more than that, ADMM runs from
