@@ -1080,7 +1080,7 @@ frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage,
     run.analysis = ctx.info.analysis;
     const double t0 = ctx.clock.seconds();
     if (frix_error e = solve_global_problem(ctx.problem, o, kGlobalNsnAcEntry, ctx.r, ctx.u, ctx.v, run,
-                                            ctx.clock, reduction))
+                                            ctx.clock, reduction, ctx.mass))
         return e;
     if (meets_global_tolerance(run, Monitor(ctx).tolerance())) run.status = FRIX_STATUS_CONVERGED;
     stage.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
@@ -1108,7 +1108,7 @@ frix_error reduce_then_newton(SolveContext &ctx, int64_t max_iter, int64_t reduc
     reduced.contacts = info.contacts;
     reduced.tolerance = info.tolerance;
     if (frix_error e = solve_global_problem(p, reduction, kAutoReductionEntry, ctx.r, ctx.u, ctx.v, reduced,
-                                            ctx.clock, cache))
+                                            ctx.clock, cache, ctx.mass))
         return e;
     info = std::move(reduced);
     info.analysis.dofs = global_analysis.dofs;

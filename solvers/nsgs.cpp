@@ -107,25 +107,30 @@ void Workspace::build_columns() {
 }
 
 SweepStats Workspace::sweep_velocity(double *r, double *u) {
-    if (col_ptr_.empty()) build_columns();
+    // A symmetric W's column a is its row a transposed: read in order, in place of the column
+    // index (whose blocks lie a row apart in memory).
+    if (col_ptr_.empty() && !W_.symmetric) build_columns();
     const double *val = W_.block_val.data();
     const local::Params lp = s_.local;
-    return sweep_loop(
-        r,
-        [r, u](int64_t a, const local::Contact &c, double *ql) {
-            // q_a + sum_{b != a} W_ab r_b = u_a - W_aa r_a.
-            const double *Wd = c.W, *ra = r + 3 * a;
-            ql[0] = u[3 * a] - (Wd[0] * ra[0] + Wd[3] * ra[1] + Wd[6] * ra[2]);
-            ql[1] = u[3 * a + 1] - (Wd[1] * ra[0] + Wd[4] * ra[1] + Wd[7] * ra[2]);
-            ql[2] = u[3 * a + 2] - (Wd[2] * ra[0] + Wd[5] * ra[1] + Wd[8] * ra[2]);
-        },
-        [&lp](int64_t, local::Contact &c, const double *ql, double *rn) {
-            return local::solve_contact(c, ql, rn, lp);
-        },
-        [this, u, val](int64_t a, const double *dr) {
-            for (int64_t e = col_ptr_[a]; e < col_ptr_[a + 1]; ++e)
-                block_gemv_add(val + 9 * col_block_[e], dr, u + 3 * col_row_[e]);
+    const auto local_q = [r, u](int64_t a, const local::Contact &c, double *ql) {
+        // q_a + sum_{b != a} W_ab r_b = u_a - W_aa r_a.
+        const double *Wd = c.W, *ra = r + 3 * a;
+        ql[0] = u[3 * a] - (Wd[0] * ra[0] + Wd[3] * ra[1] + Wd[6] * ra[2]);
+        ql[1] = u[3 * a + 1] - (Wd[1] * ra[0] + Wd[4] * ra[1] + Wd[7] * ra[2]);
+        ql[2] = u[3 * a + 2] - (Wd[2] * ra[0] + Wd[5] * ra[1] + Wd[8] * ra[2]);
+    };
+    const auto step = [&lp](int64_t, local::Contact &c, const double *ql, double *rn) {
+        return local::solve_contact(c, ql, rn, lp);
+    };
+    if (W_.symmetric)
+        return sweep_loop(r, local_q, step, [this, u, val](int64_t a, const double *dr) {
+            for (int64_t e = W_.row_ptr[a]; e < W_.row_ptr[a + 1]; ++e)
+                block_gemv_transposed_add(val + 9 * e, dr, u + 3 * W_.block_col[e]);
         });
+    return sweep_loop(r, local_q, step, [this, u, val](int64_t a, const double *dr) {
+        for (int64_t e = col_ptr_[a]; e < col_ptr_[a + 1]; ++e)
+            block_gemv_add(val + 9 * col_block_[e], dr, u + 3 * col_row_[e]);
+    });
 }
 
 namespace {

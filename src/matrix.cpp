@@ -183,6 +183,12 @@ void block_graph(const frix_matrix &W, std::vector<int64_t> &colptr, std::vector
 }
 
 frix_error block_cholesky_cost(const frix_matrix &W, linalg::FactorCost *cost) {
+    const double nb = (double)W.block_rows;
+    if ((double)W.nblocks() == nb * nb) {  // every block stored (a deformable body's W): dense
+        const linalg::FactorCost dense = linalg::dense_cholesky_cost(W.block_rows);
+        *cost = {27.0 * dense.flops, 9.0 * dense.factor_entries, 9.0 * dense.bytes};
+        return FRIX_OK;
+    }
     std::vector<int64_t> colptr, rowind;
     block_graph(W, colptr, rowind);
     linalg::FactorCost blocks;

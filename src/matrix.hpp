@@ -21,6 +21,9 @@ struct frix_matrix {
     std::vector<int64_t> block_col;      // per block: its block column, sorted within a row
     std::vector<double> block_val;       // 9 per block, column-major
     std::vector<int64_t> diag_index;     // per block row: index of its diagonal block, -1 if none
+    // Symmetric to the last bit, as its builder knows (W from the reduction): block row a,
+    // each block transposed, is block column a, and a solver may read columns from the rows.
+    bool symmetric = false;
 
     // ---- general CSC
     std::vector<int64_t> col_ptr;        // cols + 1
@@ -37,6 +40,13 @@ inline void block_gemv_add(const double *B, const double *x, double *y) {
     y[0] += B[0] * x[0] + B[3] * x[1] + B[6] * x[2];
     y[1] += B[1] * x[0] + B[4] * x[1] + B[7] * x[2];
     y[2] += B[2] * x[0] + B[5] * x[1] + B[8] * x[2];
+}
+
+// y(3) += B^T x(3), B 3x3 column-major.
+inline void block_gemv_transposed_add(const double *B, const double *x, double *y) {
+    y[0] += B[0] * x[0] + B[1] * x[1] + B[2] * x[2];
+    y[1] += B[3] * x[0] + B[4] * x[1] + B[5] * x[2];
+    y[2] += B[6] * x[0] + B[7] * x[1] + B[8] * x[2];
 }
 
 // y_k = sum over the blocks of block row k of A_kj x_j (y_k overwritten). Block matrix only.
@@ -103,6 +113,25 @@ class BlockMatrixFromColumns {
     std::vector<int64_t> slot_;  // per block row: its block in the pending column, or -1
 };
 
+// Builds a square 3x3 block-CSR matrix, symmetric, from a sum of dense symmetric terms (a
+// linalg::CongruenceSink): W = H^T M^-1 H as SparseCholesky::inverse_congruence forms it,
+// straight into its final storage (a dense W is large: no other copy). Its blocks: every pair
+// of contacts sharing one of the sink's groups, zeros included. The terms are added to the
+// blocks on and above the diagonal; finish() mirrors them, so W is symmetric to the bit.
+class BlockMatrixFromTerms : public linalg::CongruenceSink {
+   public:
+    // n x n, n a multiple of 3; `what` names the matrix in error messages.
+    BlockMatrixFromTerms(int64_t n, const char *what);
+    frix_error pattern(const std::vector<std::vector<int64_t>> &groups) override;
+    frix_error add(int64_t count, const int64_t *cols, int64_t width, const double *T, int64_t ld) override;
+    // After the last term.
+    frix_error finish(std::unique_ptr<frix_matrix> &out);
+
+   private:
+    std::unique_ptr<frix_matrix> A_;
+    const char *what_;
+};
+
 // Whether a and b have the same shape, storage and sparsity pattern (values aside).
 bool same_pattern(const frix_matrix &a, const frix_matrix &b);
 // A's shape and pattern without its values: what same_pattern compares a later matrix with
@@ -114,7 +143,8 @@ frix_matrix pattern_of(const frix_matrix &A);
 // W's pattern fills in is priced on it (linalg::cholesky_cost).
 void block_graph(const frix_matrix &W, std::vector<int64_t> &colptr, std::vector<int64_t> &rowind);
 // The price of a scalar Cholesky of a matrix with W's block pattern (W + rho I, say), from the
-// symbolic analysis of its block graph: 27 flops per block flop, 9 entries per block entry.
+// symbolic analysis of its block graph (in closed form where W stores every block): 27 flops
+// per block flop, 9 entries per block entry.
 frix_error block_cholesky_cost(const frix_matrix &W, linalg::FactorCost *cost);
 
 // diag_index of a block-CSR matrix from its rows (sorted block columns); all -1 unless square.

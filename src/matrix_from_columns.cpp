@@ -113,6 +113,7 @@ frix_error BlockMatrixFromColumns::finish(std::unique_ptr<frix_matrix> &out) {
         std::vector<int64_t>().swap(block_row_);
     }
     index_diagonal_blocks(*A);
+    A->symmetric = in_place_;
     out = std::move(A);
     return FRIX_OK;
 }

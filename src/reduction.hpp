@@ -74,10 +74,11 @@ class MassSolver {
         if (empty_) return FRIX_OK;
         return use_chol_ ? chol_.solve(b, x) : lu_.solve(b, x);
     }
-    // W = H^T M^-1 H, block-CSR, assembled from its columns as they come (no CSC copy; see
-    // BlockMatrixFromColumns, told to expect up to expected_blocks blocks). stop is asked
-    // between blocks of columns (see SparseCholesky::inverse_congruence); when it answers
-    // true, stopped is set and W is null.
+    // W = H^T M^-1 H, block-CSR. From CHOLMOD's factor it is summed supernode by supernode
+    // into its final storage (BlockMatrixFromTerms; see SparseCholesky::inverse_congruence);
+    // from UMFPACK's, assembled from its columns (BlockMatrixFromColumns, told to expect up to
+    // expected_blocks blocks). stop is asked every few milliseconds of that work; when it
+    // answers true, stopped is set and W is null.
     frix_error congruence(const frix_matrix &H, double expected_blocks, std::unique_ptr<frix_matrix> &W,
                           const std::function<bool()> &stop, bool &stopped) {
         stopped = false;
@@ -85,17 +86,16 @@ class MassSolver {
         Csc h;
         if (frix_error e = to_csc(H, h)) return e;
         const int64_t n = H.rows, k = H.cols;
+        if (use_chol_ && !empty_) {
+            BlockMatrixFromTerms terms(k, "W = H^T M^-1 H");
+            if (frix_error e = chol_.inverse_congruence(h.view(), terms, stop, &stopped)) return e;
+            if (stopped) return FRIX_OK;
+            return terms.finish(W);
+        }
         BlockMatrixFromColumns columns(k, "W = H^T M^-1 H", expected_blocks);
         if (empty_) {
             for (int64_t j = 0; j < k; ++j)
                 if (frix_error e = columns.add_column(0, nullptr, nullptr)) return e;
-        } else if (use_chol_) {
-            const linalg::SparseCholesky::ColumnSink sink = [&](int64_t count, const int64_t *rows,
-                                                                const double *values) {
-                return columns.add_column(count, rows, values);
-            };
-            if (frix_error e = chol_.inverse_congruence(h.view(), sink, stop, &stopped)) return e;
-            if (stopped) return FRIX_OK;
         } else {
             // LU: one solve per column of H; exact zeros (contacts M does not couple) are dropped.
             std::vector<double> col(n), x(n), wcol(k), values;
@@ -155,8 +155,8 @@ ReductionSize reduction_bound(const frix_problem &p);
 // Monitor's memory_left: the option memory_limit, or the machine's or control group's memory
 // less what the process holds). A deformable body makes W dense: on a large mesh it would not
 // fit, and the system would kill the process part-way through forming it. A floor: forming W
-// also holds Z = L^-1 P H and its transpose for a while (the 80x80x3 elastic grid: 3.3 GB by
-// this count, 3.8 GB measured).
+// also holds, for a while, the rows of L^-1 P H of one supernode of M's factor and the updates
+// its children hand it (see SparseCholesky::inverse_congruence).
 struct ReductionMemory {
     double needed = 0.0;          // bytes, at least
     double available = INFINITY;  // bytes the solve may still take

@@ -39,7 +39,7 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
             return fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s does not solve local problems", entry.name);
         if (std::any_of(r, r + m, [](double x) { return x != 0.0; })) warm_start.assign(r, r + m);
         ran = true;
-        frix::SolveContext ctx{p, opts, r, u, nullptr, info, clock, nullptr, cache};
+        frix::SolveContext ctx{p, opts, r, u, nullptr, info, clock, nullptr, nullptr, cache};
         if (frix_error e = entry.solve(ctx)) return e;
         for (int64_t i = 0; i < m; ++i)
             if (!std::isfinite(r[i]))

@@ -94,7 +94,8 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
 
 frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
                                 const SolverEntry &entry, double *r, double *u, double *v,
-                                frix_info &info, const Stopwatch &clock, SolveCache *cache) {
+                                frix_info &info, const Stopwatch &clock, SolveCache *cache,
+                                MassSolver *enclosing) {
     const int64_t m = 3 * p.nc;
     if (!entry.solves_global && !entry.solves_local)
         return fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s solves no global problem", entry.name);
@@ -104,8 +105,8 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
     // separates there (q_N >= 0), r = 0 and v = v0 is the exact solution, for every solver.
     const Stopwatch setup;
     Kept<GlobalState> state(cache, kGlobalStateKey);
-    MassSolver &ms = state->ms;
-    const bool m_current = cache && state->m_values == cache->m_values;
+    MassSolver &ms = enclosing ? *enclosing : state->ms;
+    const bool m_current = enclosing || (cache && state->m_values == cache->m_values);
     if (!m_current) {
         state->m_values = 0;  // until factorised
         // Priced against the memory limit only: every answer's velocity needs M^-1, and the
@@ -151,7 +152,7 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         const std::function<frix_error(const double *, double *)> solve_mass = [&ms](const double *b, double *x) {
             return ms.solve(b, x);
         };
-        SolveContext ctx{p, opts, r, u, v, native, clock, &solve_mass, cache};
+        SolveContext ctx{p, opts, r, u, v, native, clock, &solve_mass, &ms, cache};
         if (frix_error e = entry.solve(ctx)) return e;
         native.setup_time = info.setup_time;
         Monitor::add_factorizations(native, info);

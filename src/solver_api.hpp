@@ -18,6 +18,8 @@
 
 namespace frix {
 
+class MassSolver;
+
 // A solve's clock, shared by its stages (and their threads).
 class Stopwatch {
    public:
@@ -63,6 +65,9 @@ struct SolveContext {
     // Global problems: x = M^-1 b with the driver's factorisation of M, for a solver that can
     // use it (607 calibrates its rho with it); null where there is none.
     const std::function<frix_error(const double *b, double *x)> *solve_mass;
+    // Global problems: that factorisation itself, for a solver that runs the driver again on
+    // the same problem (auto's reduction route), which then does not factorise M again.
+    MassSolver *mass = nullptr;
     // What a persistent solver keeps between solves (see solve_cache.hpp); null for a
     // one-shot frix_solve.
     SolveCache *cache;
@@ -110,10 +115,12 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
 
 // The driver's global path (src/solve_global.cpp): runs `entry` natively if it solves global
 // problems, through the reduction W = H^T M^-1 H otherwise. r, u (3nc) and v (n) as in
-// frix_solve.
+// frix_solve. `enclosing`, when given, is M's factorisation made by an enclosing driver on the
+// same problem (SolveContext::mass): used instead of one of its own.
 frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
                                 const SolverEntry &entry, double *r, double *u, double *v,
-                                frix_info &info, const Stopwatch &clock, SolveCache *cache = nullptr);
+                                frix_info &info, const Stopwatch &clock, SolveCache *cache = nullptr,
+                                MassSolver *enclosing = nullptr);
 
 // frix_solve's whole contract (argument checks, the default solver, a fresh info), with the
 // states of a persistent solver when `cache` is given.

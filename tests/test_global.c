@@ -417,10 +417,10 @@ START_TEST(auto_keeps_the_better_route_when_stopped) {
 }
 END_TEST
 
-/* An explicit local solver on a deformable body forms the dense W, which can take minutes
- * (6400 contacts: 270 s, 7.2 GB): the time limit and the callback end that too, with the
- * caller's start returned, its velocity and its measures. Forming W goes by blocks of 128
- * contacts (this grid: 8 blocks), and the limit here is over before the first block ends. */
+/* An explicit local solver on a deformable body forms the dense W, which takes long on a
+ * large mesh: the time limit and the callback end that too, with the
+ * caller's start returned, its velocity and its measures. Forming W asks the clock and the
+ * callback about 32 times over its work, and the limit here is over before the first time. */
 START_TEST(time_limit_and_callback_end_the_forming_of_w) {
     grid_case c = grid_case_make(30, 30, 2, 0.5, 1e4);
     const frix_problem *p = c.p;

@@ -62,29 +62,94 @@ START_TEST(sparse_cholesky_and_congruence) {
 }
 END_TEST
 
-/* A = tridiag(-1, 4, -1) of size 16, CSC (both triangles); B (16 x 13) with column j holding
- * j + 1 at row j and 1 at row j + 3. */
-enum { kN = 16, kK = 13 };
-static void build_congruence_case(int64_t ap[kN + 1], int64_t ai[3 * kN], double ax[3 * kN],
-                                  int64_t bp[kK + 1], int64_t bi[2 * kK], double bx[2 * kK]) {
+/* A: two components, a 12 x 12 grid (5-point Laplacian plus 0.5 I, whose factor is a tree of
+ * several supernodes) and a chain of 20 (tridiag(-1, 4, -1)); CSC, both triangles. B (164 x 12,
+ * 4 contacts of 3 columns): contact 0 on the grid, contact 1 on the chain, contact 2 on both,
+ * contact 3 on the grid but for its middle column, which is zero. */
+enum { kGrid = 12, kChain = 20, kN = kGrid * kGrid + kChain, kK = 12 };
+typedef struct {
+    int64_t ap[kN + 1], ai[5 * kN];
+    double ax[5 * kN];
+    int64_t bp[kK + 1], bi[2 * kK];
+    double bx[2 * kK];
+} CongruenceCase;
+
+static void build_congruence_case(CongruenceCase *c) {
     int64_t e = 0;
     for (int j = 0; j < kN; ++j) {
-        ap[j] = e;
-        for (int i = j - 1; i <= j + 1; ++i)
-            if (i >= 0 && i < kN) {
-                ai[e] = i;
-                ax[e++] = i == j ? 4.0 : -1.0;
-            }
+        c->ap[j] = e;
+        int neighbours[5], count = 0;
+        if (j < kGrid * kGrid) {
+            const int x = j % kGrid, y = j / kGrid;
+            if (y > 0) neighbours[count++] = j - kGrid;
+            if (x > 0) neighbours[count++] = j - 1;
+            neighbours[count++] = j;
+            if (x + 1 < kGrid) neighbours[count++] = j + 1;
+            if (y + 1 < kGrid) neighbours[count++] = j + kGrid;
+        } else {
+            if (j > kGrid * kGrid) neighbours[count++] = j - 1;
+            neighbours[count++] = j;
+            if (j + 1 < kN) neighbours[count++] = j + 1;
+        }
+        for (int t = 0; t < count; ++t) {
+            c->ai[e] = neighbours[t];
+            c->ax[e++] = neighbours[t] == j ? 4.5 : -1.0;
+        }
     }
-    ap[kN] = e;
+    c->ap[kN] = e;
+    /* Rows of each column's two entries (-1: none). */
+    const int chain = kGrid * kGrid;
+    const int rows[kK][2] = {{0, 13}, {40, 41}, {77, 90},            /* contact 0: grid */
+                             {chain, chain + 1}, {chain + 7, -1}, {chain + 19, -1}, /* 1: chain */
+                             {5, chain + 3}, {143, -1}, {chain + 12, -1},     /* 2: both */
+                             {60, 61}, {-1, -1}, {130, 100}};                 /* 3: grid, zero column */
+    e = 0;
     for (int j = 0; j < kK; ++j) {
-        bp[j] = 2 * j;
-        bi[2 * j] = j;
-        bx[2 * j] = j + 1.0;
-        bi[2 * j + 1] = j + 3;
-        bx[2 * j + 1] = 1.0;
+        c->bp[j] = e;
+        int r0 = rows[j][0], r1 = rows[j][1];
+        if (r1 >= 0 && r1 < r0) { const int t = r0; r0 = r1; r1 = t; }
+        if (r0 >= 0) { c->bi[e] = r0; c->bx[e++] = 1.0 + 0.25 * j; }
+        if (r1 >= 0) { c->bi[e] = r1; c->bx[e++] = -0.5 + 0.125 * j; }
     }
-    bp[kK] = 2 * kK;
+    c->bp[kK] = e;
+}
+
+/* C = B^T A^-1 B by dense solves, column-major. */
+static void dense_congruence(const CongruenceCase *c, double *C) {
+    static double A[kN * kN], b[kN], x[kN];
+    memset(A, 0, sizeof A);
+    for (int j = 0; j < kN; ++j)
+        for (int64_t e = c->ap[j]; e < c->ap[j + 1]; ++e) A[c->ai[e] + kN * j] = c->ax[e];
+    for (int j = 0; j < kK; ++j) {
+        memset(b, 0, sizeof b);
+        for (int64_t e = c->bp[j]; e < c->bp[j + 1]; ++e) b[c->bi[e]] = c->bx[e];
+        ck_assert_int_eq(frix_testing_dense_solve(1, kN, A, b, x), FRIX_OK);
+        for (int i = 0; i < kK; ++i) {
+            double s = 0.0;
+            for (int64_t e = c->bp[i]; e < c->bp[i + 1]; ++e) s += c->bx[e] * x[c->bi[e]];
+            C[i + kK * j] = s;
+        }
+    }
+}
+
+/* Columns i and j share a component of A (the zero column shares none). */
+static int coupled(int i, int j) {
+    static const int on_grid[kK] = {1, 1, 1, 0, 0, 0, 1, 1, 0, 1, 0, 1};
+    static const int on_chain[kK] = {0, 0, 0, 1, 1, 1, 1, 0, 1, 0, 0, 0};
+    return (on_grid[i] && on_grid[j]) || (on_chain[i] && on_chain[j]);
+}
+
+static void check_congruence(const double *C, const double *want) {
+    double scale = 0.0;
+    for (int i = 0; i < kK * kK; ++i) scale = fmax(scale, fabs(want[i]));
+    ck_assert(scale > 0.0);
+    for (int i = 0; i < kK; ++i)
+        for (int j = 0; j < kK; ++j) {
+            ck_assert_double_eq_tol(C[i + kK * j], want[i + kK * j], 1e-13 * scale);
+            /* symmetric to the bit; nothing between columns no component couples */
+            ck_assert(memcmp(&C[i + kK * j], &C[j + kK * i], sizeof(double)) == 0);
+            if (!coupled(i, j)) ck_assert(C[i + kK * j] == 0.0);
+        }
 }
 
 /* The price of a factorisation before it is paid: L of a tridiagonal matrix of size 10 has
@@ -112,6 +177,23 @@ START_TEST(cholesky_cost_from_the_pattern) {
     ck_assert_int_eq(frix_testing_cholesky_cost(6, dp, di, &flops, &entries), FRIX_OK);
     ck_assert_double_eq(entries, 21.0);
     ck_assert_double_gt(flops / entries, tridiagonal_ratio);
+    /* W with every 3x3 block of 6 contacts, priced in closed form: 27 times the flops and 9
+     * times the entries of the analysis of the dense 6 x 6 pattern just above. */
+    const double dense_flops = flops;
+    static int64_t wp[19], wi[18 * 18];
+    static double wx[18 * 18];
+    e = 0;
+    for (int j = 0; j < 18; ++j) {
+        wp[j] = e;
+        for (int i = 0; i < 18; ++i) {
+            wi[e] = i;
+            wx[e++] = i == j ? 10.0 : 1.0;
+        }
+    }
+    wp[18] = e;
+    ck_assert_int_eq(frix_testing_block_cholesky_cost(18, wp, wi, wx, &flops, &entries), FRIX_OK);
+    ck_assert_double_eq(flops, 27.0 * dense_flops);
+    ck_assert_double_eq(entries, 9.0 * 21.0);
     /* No rows: nothing to pay. */
     const int64_t zp[1] = {0};
     ck_assert_int_eq(frix_testing_cholesky_cost(0, zp, NULL, &flops, &entries), FRIX_OK);
@@ -119,46 +201,43 @@ START_TEST(cholesky_cost_from_the_pattern) {
 }
 END_TEST
 
-START_TEST(congruence_in_blocks_is_the_same_and_stops_when_asked) {
-    int64_t ap[kN + 1], ai[3 * kN], bp[kK + 1], bi[2 * kK], nnz = -1;
-    double ax[3 * kN], bx[2 * kK], whole[kK * kK], blocked[kK * kK];
-    build_congruence_case(ap, ai, ax, bp, bi, bx);
+START_TEST(congruence_up_the_supernodal_tree) {
+    static CongruenceCase c;
+    build_congruence_case(&c);
+    static double want[kK * kK], C[kK * kK], again[kK * kK];
+    dense_congruence(&c, want);
     int questions = -1, stopped = -1;
-    /* One block of 16 columns: asked once, after Z (not after C's last block). */
-    ck_assert_int_eq(frix_testing_congruence_in_blocks(kN, ap, ai, ax, kK, bp, bi, bx, 16, 0, whole,
+    int64_t nnz = -1;
+    /* Asked at the default pace: this small case is done before the first question. */
+    ck_assert_int_eq(frix_testing_congruence_questions(kN, c.ap, c.ai, c.ax, kK, c.bp, c.bi, c.bx, 32, 2e7, 0, C,
+                                                       &questions, &stopped, &nnz),
+                     FRIX_OK);
+    check_congruence(C, want);
+    ck_assert_int_eq(questions, 0);
+    ck_assert_int_eq(stopped, 0);
+    /* C's pattern: the grid's 7 columns with each other, the chain's 5 (one of them shared). */
+    ck_assert_int_eq(nnz, 7 * 7 + 5 * 5 - 1);
+    /* Asked after every supernode with work: the same bits, and at least the question
+     * between the two components. */
+    ck_assert_int_eq(frix_testing_congruence_questions(kN, c.ap, c.ai, c.ax, kK, c.bp, c.bi, c.bx, 1e9, 0.0, 0, again,
+                                                       &questions, &stopped, &nnz),
+                     FRIX_OK);
+    ck_assert(questions >= 1);
+    ck_assert_int_eq(stopped, 0);
+    ck_assert(memcmp(C, again, sizeof C) == 0);
+    /* Told to stop at the first question: it stops there, with nothing returned. */
+    ck_assert_int_eq(frix_testing_congruence_questions(kN, c.ap, c.ai, c.ax, kK, c.bp, c.bi, c.bx, 1e9, 0.0, 1, again,
                                                        &questions, &stopped, &nnz),
                      FRIX_OK);
     ck_assert_int_eq(questions, 1);
-    ck_assert_int_eq(stopped, 0);
-    ck_assert_int_eq(nnz, kK * kK); /* A^-1 is dense: so is C */
-    /* C = B^T A^-1 B: symmetric to the bit (the reduction hands W's columns over as its rows
-     * when it is), positive diagonal. */
-    for (int i = 0; i < kK; ++i) {
-        ck_assert(whole[i + kK * i] > 0.0);
-        for (int j = 0; j < kK; ++j) ck_assert(memcmp(&whole[i + kK * j], &whole[j + kK * i], sizeof(double)) == 0);
-    }
-    /* Blocks of 8 and of 4 columns (1 is taken as 4): the same bits, one question per block of
-     * Z and per block of C but the last. */
-    const int cols[3] = {8, 4, 1}, blocks[3] = {2, 4, 4};
-    for (int t = 0; t < 3; ++t) {
-        ck_assert_int_eq(frix_testing_congruence_in_blocks(kN, ap, ai, ax, kK, bp, bi, bx, cols[t], 0,
-                                                           blocked, &questions, &stopped, &nnz),
-                         FRIX_OK);
-        ck_assert_int_eq(questions, 2 * blocks[t] - 1);
-        ck_assert_int_eq(stopped, 0);
-        ck_assert(memcmp(whole, blocked, sizeof whole) == 0);
-    }
-    /* Told to stop while forming Z (2nd question of 4) and while forming C (6th): it stops
-     * there, with nothing returned. */
-    const int stop_at[2] = {2, 6};
-    for (int t = 0; t < 2; ++t) {
-        ck_assert_int_eq(frix_testing_congruence_in_blocks(kN, ap, ai, ax, kK, bp, bi, bx, 4, stop_at[t],
-                                                           blocked, &questions, &stopped, &nnz),
-                         FRIX_OK);
-        ck_assert_int_eq(questions, stop_at[t]);
-        ck_assert_int_eq(stopped, 1);
-        ck_assert_int_eq(nnz, 0);
-    }
+    ck_assert_int_eq(stopped, 1);
+    ck_assert_int_eq(nnz, 0);
+    /* The reduction's W, summed into 3x3 blocks: the same values, and the blocks of contacts
+     * sharing a component: {0, 2, 3} on the grid, {1, 2} on the chain. */
+    int64_t blocks = -1;
+    ck_assert_int_eq(frix_testing_reduction(kN, c.ap, c.ai, c.ax, kK, c.bp, c.bi, c.bx, again, &blocks), FRIX_OK);
+    check_congruence(again, want);
+    ck_assert_int_eq(blocks, 3 * 3 + 2 * 2 - 1);
 }
 END_TEST
 
@@ -181,7 +260,7 @@ int main(void) {
     tcase_add_test(tc, sparse_lu_reuses_symbolic);
     tcase_add_test(tc, sparse_lu_singular_is_an_error);
     tcase_add_test(tc, sparse_cholesky_and_congruence);
-    tcase_add_test(tc, congruence_in_blocks_is_the_same_and_stops_when_asked);
+    tcase_add_test(tc, congruence_up_the_supernodal_tree);
     tcase_add_test(tc, dense_lu_and_cholesky);
     tcase_add_test(tc, cholesky_cost_from_the_pattern);
     suite_add_tcase(s, tc);

@@ -10,11 +10,31 @@
 #include "error_state.hpp"
 #include "linalg.hpp"
 
+extern "C" {
+void dtrsm_(const char *side, const char *uplo, const char *transa, const char *diag, const int *m, const int *n,
+            const double *alpha, const double *a, const int *lda, double *b, const int *ldb, size_t, size_t, size_t,
+            size_t);
+void dgemm_(const char *transa, const char *transb, const int *m, const int *n, const int *k, const double *alpha,
+            const double *a, const int *lda, const double *b, const int *ldb, const double *beta, double *c,
+            const int *ldc, size_t, size_t);
+}
+
 namespace frix::linalg {
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// Columns of C per term handed to a CongruenceSink: a tile of X^T X the size of a few
+// megabytes, not the whole of it.
+constexpr int64_t kTermColumns = 256;
+
+// The flops of a supernode's share of B^T A^-1 B: for its nk columns, the triangular solve
+// with its ncol x ncol diagonal block and the update of its nbelow rows below, then its
+// term X^T X.
+double supernode_flops(double nk, double ncol, double nbelow) {
+    return nk * (ncol * ncol + 2.0 * nbelow * ncol) + nk * nk * ncol;
+}
 
 // A non-owning cholmod_sparse header over a CscView (CHOLMOD only reads it).
 cholmod_sparse view_of(const CscView &A, int stype) {
@@ -34,27 +54,6 @@ cholmod_sparse view_of(const CscView &A, int stype) {
     s.sorted = 1;
     s.packed = 1;
     return s;
-}
-
-// Columns [first, last) of A, as a view whose column pointers (kept in ptr) start at 0.
-CscView column_block(const CscView &A, int64_t first, int64_t last, std::vector<int64_t> &ptr) {
-    const int64_t base = A.colptr[first];
-    ptr.resize((size_t)(last - first + 1));
-    for (int64_t j = first; j <= last; ++j) ptr[(size_t)(j - first)] = A.colptr[j] - base;
-    return {A.rows, last - first, ptr.data(), A.rowind + base, A.values + base};
-}
-
-// Appends the columns of the packed CHOLMOD matrix S to the CSC arrays (colptr holds at least
-// its leading 0).
-void append_columns(const cholmod_sparse &S, std::vector<int64_t> &colptr, std::vector<int64_t> &rowind,
-                    std::vector<double> &values) {
-    const int64_t *p = static_cast<const int64_t *>(S.p);
-    const int64_t *i = static_cast<const int64_t *>(S.i);
-    const double *x = static_cast<const double *>(S.x);
-    const int64_t base = colptr.back(), nnz = p[S.ncol];
-    rowind.insert(rowind.end(), i, i + nnz);
-    values.insert(values.end(), x, x + nnz);
-    for (size_t j = 1; j <= S.ncol; ++j) colptr.push_back(base + p[j]);
 }
 
 // The memory a numeric factorisation on analysis L will hold: its values (supernodal: the
@@ -94,14 +93,6 @@ struct SparseCholesky::Impl {
         if (L) cholmod_l_free_factor(&L, &c);
         cholmod_l_finish(&c);
     }
-    // Frees a CHOLMOD sparse result whatever happens.
-    struct Sparse {
-        cholmod_sparse *s = nullptr;
-        cholmod_common *c = nullptr;
-        ~Sparse() {
-            if (s) cholmod_l_free_sparse(&s, c);
-        }
-    };
 };
 
 SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {}
@@ -161,6 +152,12 @@ frix_error SparseCholesky::factor(const CscView &A) {
     return FRIX_OK;
 }
 
+FactorCost dense_cholesky_cost(int64_t n) {
+    // Column j of L (from 0) holds n - j entries; CHOLMOD counts the sum of their squares.
+    const double N = (double)n, entries = N * (N + 1.0) / 2.0;
+    return FactorCost{N * (N + 1.0) * (2.0 * N + 1.0) / 6.0, entries, 8.0 * 2.0 * entries + 8.0 * 8.0 * N};
+}
+
 frix_error cholesky_cost(const CscView &A, FactorCost *cost) {
     *cost = FactorCost{};
     if (A.rows != A.cols)
@@ -215,21 +212,59 @@ frix_error SparseCholesky::solve(const double *b, double *x) const {
     return FRIX_OK;
 }
 
+namespace {
+
+// C as CSC: the pattern from the groups, the terms added where their entries fall.
+class CscCongruence : public CongruenceSink {
+   public:
+    CscCongruence(int64_t k, std::vector<int64_t> &colptr, std::vector<int64_t> &rowind, std::vector<double> &values)
+        : k_(k), colptr_(colptr), rowind_(rowind), values_(values) {}
+    frix_error pattern(const std::vector<std::vector<int64_t>> &groups) override {
+        std::vector<std::vector<int64_t>> rows((size_t)k_);
+        for (const auto &g : groups)
+            for (int64_t j : g) rows[(size_t)j].insert(rows[(size_t)j].end(), g.begin(), g.end());
+        colptr_.assign(1, 0);
+        rowind_.clear();
+        for (auto &r : rows) {
+            std::sort(r.begin(), r.end());
+            r.erase(std::unique(r.begin(), r.end()), r.end());
+            rowind_.insert(rowind_.end(), r.begin(), r.end());
+            colptr_.push_back((int64_t)rowind_.size());
+        }
+        values_.assign(rowind_.size(), 0.0);
+        return FRIX_OK;
+    }
+    frix_error add(int64_t count, const int64_t *cols, int64_t width, const double *T, int64_t ld) override {
+        for (int64_t b = 0; b < width; ++b)
+            for (int64_t a = b; a < count; ++a) {
+                const double t = T[a + ld * b];
+                at(cols[a], cols[b]) += t;
+                if (a != b) at(cols[b], cols[a]) += t;
+            }
+        return FRIX_OK;
+    }
+
+   private:
+    double &at(int64_t i, int64_t j) {
+        const auto first = rowind_.begin() + colptr_[(size_t)j], last = rowind_.begin() + colptr_[(size_t)j + 1];
+        return values_[(size_t)(std::lower_bound(first, last, i) - rowind_.begin())];
+    }
+    int64_t k_;
+    std::vector<int64_t> &colptr_, &rowind_;
+    std::vector<double> &values_;
+};
+
+}  // namespace
+
 frix_error SparseCholesky::inverse_congruence(const CscView &B, std::vector<int64_t> &colptr,
                                               std::vector<int64_t> &rowind, std::vector<double> &values,
-                                              const std::function<bool()> &stop, bool *stopped,
-                                              int64_t block_cols) {
-    colptr.assign(1, 0);
-    rowind.clear();
-    values.clear();
-    const ColumnSink append = [&](int64_t count, const int64_t *rows, const double *vals) {
-        rowind.insert(rowind.end(), rows, rows + count);
-        values.insert(values.end(), vals, vals + count);
-        colptr.push_back((int64_t)rowind.size());
-        return FRIX_OK;
-    };
-    const frix_error e = inverse_congruence(B, append, stop, stopped, block_cols);
-    if (e != FRIX_OK || (stopped && *stopped)) {
+                                              const std::function<bool()> &stop, bool *stopped, double questions,
+                                              double min_flops_per_question) {
+    CscCongruence sink(B.cols, colptr, rowind, values);
+    bool was_stopped = false;
+    const frix_error e = inverse_congruence(B, sink, stop, &was_stopped, questions, min_flops_per_question);
+    if (stopped) *stopped = was_stopped;
+    if (e != FRIX_OK || was_stopped) {
         colptr.clear();
         rowind.clear();
         values.clear();
@@ -237,66 +272,170 @@ frix_error SparseCholesky::inverse_congruence(const CscView &B, std::vector<int6
     return e;
 }
 
-frix_error SparseCholesky::inverse_congruence(const CscView &B, const ColumnSink &sink,
-                                              const std::function<bool()> &stop, bool *stopped,
-                                              int64_t block_cols) {
+frix_error SparseCholesky::inverse_congruence(const CscView &B, CongruenceSink &sink,
+                                              const std::function<bool()> &stop, bool *stopped, double questions,
+                                              double min_flops_per_question) {
     Impl &m = *impl_;
     if (stopped) *stopped = false;
     if (!m.L || !m.numeric) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: no factorisation");
-    if ((size_t)B.rows != m.L->n)
-        return fail(FRIX_ERR_DIMENSION, "sparse Cholesky: B has %lld rows, the factor %lld",
-                    (long long)B.rows, (long long)m.L->n);
-    // CHOLMOD's spsolve solves 4 columns at a time: blocks of a multiple of 4 group the
-    // columns as one call would, which keeps C's bits.
-    block_cols = block_cols <= 0 ? kCongruenceBlockColumns : (block_cols + 3) / 4 * 4;
+    const cholmod_factor &L = *m.L;
+    if ((size_t)B.rows != L.n)
+        return fail(FRIX_ERR_DIMENSION, "sparse Cholesky: B has %lld rows, the factor %lld", (long long)B.rows,
+                    (long long)L.n);
+    if (!L.is_super || !L.is_ll)
+        return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: B^T A^-1 B needs a supernodal L L^T factor");
     const auto t0 = Clock::now();
-    const int64_t k = B.cols;
-    auto failed = [&](const char *what) {
-        stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
-        if (m.c.status == CHOLMOD_OUT_OF_MEMORY)
-            return fail(FRIX_ERR_OUT_OF_MEMORY, "sparse Cholesky: out of memory forming %s", what);
-        return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: forming %s failed (CHOLMOD status %d)", what,
-                    m.c.status);
-    };
-    auto interrupted = [&]() {
-        if (!stop || !stop()) return false;
-        stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
-        if (stopped) *stopped = true;
-        return true;
-    };
-    // Z = L^-1 P B, a block of columns at a time.
-    std::vector<int64_t> zp{0}, zi, ptr;
-    std::vector<double> zx;
-    for (int64_t first = 0; first < k; first += block_cols) {
-        const int64_t last = std::min(k, first + block_cols);
-        cholmod_sparse b = view_of(column_block(B, first, last, ptr), 0);
-        Impl::Sparse pb{cholmod_l_spsolve(CHOLMOD_P, m.L, &b, &m.c), &m.c};
-        Impl::Sparse z{pb.s ? cholmod_l_spsolve(CHOLMOD_L, m.L, pb.s, &m.c) : nullptr, &m.c};
-        if (!z.s) return failed("L^-1 P B");
-        append_columns(*z.s, zp, zi, zx);
-        if (interrupted()) return FRIX_OK;
+    struct Seconds {  // the time of this work goes to the statistics whichever way it ends
+        FactorStats &stats;
+        std::chrono::steady_clock::time_point t0;
+        ~Seconds() { stats.seconds += std::chrono::duration<double>(Clock::now() - t0).count(); }
+    } seconds{stats_, t0};
+    const int64_t n = (int64_t)L.n, k = B.cols, nsuper = (int64_t)L.nsuper;
+    const int64_t *super = static_cast<const int64_t *>(L.super), *pi = static_cast<const int64_t *>(L.pi),
+                  *px = static_cast<const int64_t *>(L.px), *Ls = static_cast<const int64_t *>(L.s),
+                  *perm = static_cast<const int64_t *>(L.Perm);
+    const double *Lx = static_cast<const double *>(L.x);
+    auto nscol = [&](int64_t s) { return super[s + 1] - super[s]; };
+    auto nsrow = [&](int64_t s) { return pi[s + 1] - pi[s]; };
+    // The tree: each supernode's parent (the one holding its first row below), children
+    // before parents in the numbering; each one's root.
+    std::vector<int64_t> col_super((size_t)n), parent((size_t)nsuper, -1), root((size_t)nsuper);
+    for (int64_t s = 0; s < nsuper; ++s)
+        for (int64_t c = super[s]; c < super[s + 1]; ++c) col_super[(size_t)c] = s;
+    for (int64_t s = nsuper - 1; s >= 0; --s) {
+        if (nsrow(s) > nscol(s)) parent[(size_t)s] = col_super[(size_t)Ls[pi[s] + nscol(s)]];
+        root[(size_t)s] = parent[(size_t)s] < 0 ? s : root[(size_t)parent[(size_t)s]];
     }
-    const CscView Z{B.rows, k, zp.data(), zi.data(), zx.data()};
-    cholmod_sparse z = view_of(Z, 0);
-    Impl::Sparse zt{cholmod_l_transpose(&z, 1, &m.c), &m.c};
-    if (!zt.s) return failed("Z^T");
-    // C = Z^T Z, a block of its columns at a time. (C_ij sums Z_ri Z_rj over r in increasing
-    // order, as CHOLMOD's ssmult goes down column j of Z: C_ji has the same bits.)
-    for (int64_t first = 0; first < k; first += block_cols) {
-        const int64_t last = std::min(k, first + block_cols);
-        cholmod_sparse zj = view_of(column_block(Z, first, last, ptr), 0);
-        Impl::Sparse c{cholmod_l_ssmult(zt.s, &zj, 0, 1, 1, &m.c), &m.c};
-        if (!c.s) return failed("B^T A^-1 B");
-        const int64_t *cp = static_cast<const int64_t *>(c.s->p), *ci = static_cast<const int64_t *>(c.s->i);
-        const double *cx = static_cast<const double *>(c.s->x);
-        for (size_t j = 0; j < c.s->ncol; ++j)
-            if (frix_error e = sink(cp[j + 1] - cp[j], ci + cp[j], cx + cp[j])) {
-                stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
-                return e;
+    std::vector<int64_t> child_ptr((size_t)nsuper + 1, 0), children((size_t)nsuper);
+    for (int64_t s = 0; s < nsuper; ++s)
+        if (parent[(size_t)s] >= 0) ++child_ptr[(size_t)parent[(size_t)s] + 1];
+    for (int64_t s = 0; s < nsuper; ++s) child_ptr[(size_t)s + 1] += child_ptr[(size_t)s];
+    {
+        std::vector<int64_t> next(child_ptr.begin(), child_ptr.end() - 1);
+        for (int64_t s = 0; s < nsuper; ++s)
+            if (parent[(size_t)s] >= 0) children[(size_t)next[(size_t)parent[(size_t)s]]++] = s;
+    }
+    // B's non-zero entries, as rows of P B, by supernode (and by column within one).
+    std::vector<int64_t> inverse((size_t)n);
+    for (int64_t i = 0; i < n; ++i) inverse[(size_t)(perm ? perm[i] : i)] = i;
+    struct Entry {
+        int64_t col, row;  // B's column; the row of P B
+        double value;
+    };
+    std::vector<int64_t> own_ptr((size_t)nsuper + 1, 0);
+    for (int64_t j = 0; j < k; ++j)
+        for (int64_t e = B.colptr[j]; e < B.colptr[j + 1]; ++e)
+            if (B.values[e] != 0.0) ++own_ptr[(size_t)col_super[(size_t)inverse[(size_t)B.rowind[e]]] + 1];
+    for (int64_t s = 0; s < nsuper; ++s) own_ptr[(size_t)s + 1] += own_ptr[(size_t)s];
+    std::vector<Entry> own((size_t)own_ptr[(size_t)nsuper]);
+    {
+        std::vector<int64_t> next(own_ptr.begin(), own_ptr.end() - 1);
+        for (int64_t j = 0; j < k; ++j)
+            for (int64_t e = B.colptr[j]; e < B.colptr[j + 1]; ++e)
+                if (B.values[e] != 0.0) {
+                    const int64_t row = inverse[(size_t)B.rowind[e]];
+                    own[(size_t)next[(size_t)col_super[(size_t)row]]++] = {j, row, B.values[e]};
+                }
+    }
+    // C's pattern: the columns reaching each root.
+    {
+        std::vector<std::pair<int64_t, int64_t>> reach;  // (root, column)
+        reach.reserve(own.size());
+        for (int64_t s = 0; s < nsuper; ++s)
+            for (int64_t e = own_ptr[(size_t)s]; e < own_ptr[(size_t)s + 1]; ++e)
+                reach.emplace_back(root[(size_t)s], own[(size_t)e].col);
+        std::sort(reach.begin(), reach.end());
+        reach.erase(std::unique(reach.begin(), reach.end()), reach.end());
+        std::vector<std::vector<int64_t>> groups;
+        for (size_t e = 0; e < reach.size(); ++e) {
+            if (e == 0 || reach[e].first != reach[e - 1].first) groups.emplace_back();
+            groups.back().push_back(reach[e].second);
+        }
+        if (frix_error e = sink.pattern(groups)) return e;
+    }
+    // Per supernode s, the columns reaching it (cols[s], increasing): its own and its
+    // children's. The work each costs paces the questions.
+    std::vector<std::vector<int64_t>> cols((size_t)nsuper);
+    std::vector<int64_t> mark((size_t)k, -1);
+    double total = 0.0;
+    for (int64_t s = 0; s < nsuper; ++s) {
+        std::vector<int64_t> &K = cols[(size_t)s];
+        for (int64_t e = own_ptr[(size_t)s]; e < own_ptr[(size_t)s + 1]; ++e)
+            if (mark[(size_t)own[(size_t)e].col] != s) mark[(size_t)own[(size_t)e].col] = s, K.push_back(own[(size_t)e].col);
+        for (int64_t c = child_ptr[(size_t)s]; c < child_ptr[(size_t)s + 1]; ++c)
+            for (int64_t j : cols[(size_t)children[(size_t)c]])
+                if (mark[(size_t)j] != s) mark[(size_t)j] = s, K.push_back(j);
+        std::sort(K.begin(), K.end());
+        total += supernode_flops((double)K.size(), (double)nscol(s), (double)(nsrow(s) - nscol(s)));
+    }
+    const double pace = std::max(total / questions, min_flops_per_question);
+    // Up the tree: per supernode, the dense block F of its rows of Z (the first nscol rows,
+    // then the update of the rows below, kept in below[s] for the parent).
+    std::vector<std::vector<double>> below((size_t)nsuper);
+    std::vector<int64_t> position((size_t)k), local_row((size_t)n);
+    std::vector<double> F, T;
+    double flops = 0.0;
+    for (int64_t s = 0; s < nsuper; ++s) {
+        const std::vector<int64_t> &K = cols[(size_t)s];
+        if (K.empty()) continue;
+        const int64_t nk = (int64_t)K.size(), ncol = nscol(s), nrow = nsrow(s), nbelow = nrow - ncol;
+        for (int64_t a = 0; a < nk; ++a) position[(size_t)K[(size_t)a]] = a;
+        for (int64_t r = 0; r < nrow; ++r) local_row[(size_t)Ls[pi[s] + r]] = r;
+        F.assign((size_t)(nrow * nk), 0.0);
+        for (int64_t e = own_ptr[(size_t)s]; e < own_ptr[(size_t)s + 1]; ++e) {
+            const Entry &x = own[(size_t)e];
+            F[(size_t)((x.row - super[s]) + nrow * position[(size_t)x.col])] += x.value;
+        }
+        // The children's updates, added where their rows and columns fall in F.
+        for (int64_t c = child_ptr[(size_t)s]; c < child_ptr[(size_t)s + 1]; ++c) {
+            const int64_t ch = children[(size_t)c];
+            const std::vector<int64_t> &Kc = cols[(size_t)ch];
+            if (Kc.empty()) continue;
+            const int64_t first = pi[ch] + nscol(ch), cb = nsrow(ch) - nscol(ch);
+            const std::vector<double> &U = below[(size_t)ch];
+            for (size_t jj = 0; jj < Kc.size(); ++jj) {
+                double *f = &F[(size_t)(nrow * position[(size_t)Kc[jj]])];
+                const double *u = &U[(size_t)cb * jj];
+                for (int64_t t = 0; t < cb; ++t) f[local_row[(size_t)Ls[first + t]]] += u[t];
             }
-        if (last < k && interrupted()) return FRIX_OK;
+            std::vector<int64_t>().swap(cols[(size_t)ch]);
+            std::vector<double>().swap(below[(size_t)ch]);
+        }
+        // X = L_ss^-1 F(0:ncol, :); F(ncol:, :) -= L_below X.
+        const double *Ld = Lx + px[s];
+        {
+            const int m_ = (int)ncol, n_ = (int)nk, ld = (int)nrow;
+            const double one = 1.0;
+            dtrsm_("L", "L", "N", "N", &m_, &n_, &one, Ld, &ld, F.data(), &ld, 1, 1, 1, 1);
+        }
+        if (nbelow > 0) {
+            const int m_ = (int)nbelow, n_ = (int)nk, kk = (int)ncol, ld = (int)nrow;
+            const double minus = -1.0, one = 1.0;
+            dgemm_("N", "N", &m_, &n_, &kk, &minus, Ld + ncol, &ld, F.data(), &ld, &one, F.data() + ncol, &ld, 1, 1);
+            std::vector<double> &U = below[(size_t)s];
+            U.resize((size_t)(nbelow * nk));
+            for (int64_t j = 0; j < nk; ++j)
+                std::copy(&F[(size_t)(ncol + nrow * j)], &F[(size_t)(nrow + nrow * j)], &U[(size_t)(nbelow * j)]);
+        }
+        // C += X^T X, by tiles of columns: the lower part of each, from its diagonal down.
+        for (int64_t b0 = 0; b0 < nk; b0 += kTermColumns) {
+            const int64_t width = std::min(kTermColumns, nk - b0), count = nk - b0;
+            T.resize((size_t)(count * width));
+            const int m_ = (int)count, n_ = (int)width, kk = (int)ncol, ld = (int)nrow, ldt = (int)count;
+            const double one = 1.0, zero = 0.0;
+            dgemm_("T", "N", &m_, &n_, &kk, &one, F.data() + nrow * b0, &ld, F.data() + nrow * b0, &ld, &zero,
+                   T.data(), &ldt, 1, 1);
+            if (frix_error e = sink.add(count, K.data() + b0, width, T.data(), count)) return e;
+        }
+        flops += supernode_flops((double)nk, (double)ncol, (double)nbelow);
+        if (stop && flops >= pace && s + 1 < nsuper) {
+            flops = 0.0;
+            if (stop()) {
+                if (stopped) *stopped = true;
+                return FRIX_OK;
+            }
+        }
     }
-    stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
     return FRIX_OK;
 }
 

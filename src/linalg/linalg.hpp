@@ -117,13 +117,31 @@ class SparseLU {
     std::vector<double> control_;
 };
 
-// Columns per block of the work that forming B^T A^-1 B does between two questions to its
-// caller (see SparseCholesky::inverse_congruence): 128 contacts.
+// Columns of B per block of the work that forming B^T A^-1 B by LU does between two
+// questions to its caller: 128 contacts.
 constexpr int64_t kCongruenceBlockColumns = 384;
 
-// Sparse Cholesky A = P^T L L^T P of a symmetric positive definite matrix with CHOLMOD
-// (supernodal). Only the upper triangle of A is read. FRIX_ERR_NUMERICAL if A is not
-// positive definite (the caller may then use SparseLU).
+// Forming B^T A^-1 B by Cholesky asks its caller whether to stop about this many times
+// over its work (see SparseCholesky::inverse_congruence), and not after less than a
+// millisecond or so of dense work.
+constexpr double kCongruenceQuestions = 32, kCongruenceMinFlopsPerQuestion = 2e7;
+
+// Receives C = B^T A^-1 B (k x k, symmetric) as SparseCholesky::inverse_congruence forms it:
+// first its pattern, then a sum of dense symmetric terms. The receiver stores C as it needs
+// (a dense C is large: no other copy is made).
+class CongruenceSink {
+   public:
+    virtual ~CongruenceSink() = default;
+    // Once, first: groups of B's columns, each sorted; C_ij can be non-zero only where
+    // columns i and j share a group (a column may be in several, or in none: C_jj = 0).
+    virtual frix_error pattern(const std::vector<std::vector<int64_t>> &groups) = 0;
+    // Then any number of times: C(cols[a], cols[b]) += T[a + ld * b] and, for a > b, the same
+    // to C(cols[b], cols[a]), for b < width and b <= a < count; cols is increasing and T's
+    // entries above its diagonal (a < b) are not read. Every entry of C gets its terms in the
+    // same order as its mirror: C is symmetric to the last bit.
+    virtual frix_error add(int64_t count, const int64_t *cols, int64_t width, const double *T, int64_t ld) = 0;
+};
+
 class SparseCholesky {
    public:
     SparseCholesky();
@@ -136,24 +154,26 @@ class SparseCholesky {
     frix_error factor(const CscView &A);
     // x = A^-1 b for one dense right-hand side.
     frix_error solve(const double *b, double *x) const;
-    // C = B^T A^-1 B for a sparse B (n x k), as CSC (k x k, rows sorted). Computed as Z^T Z
-    // with Z = L^-1 P B sparse: no dense n x k block is ever formed. The work goes by blocks
-    // of block_cols columns (of Z, then of C), and stop, when given, is asked after each:
-    // where C is dense (a deformable body couples all its contacts) forming it takes minutes,
-    // and a caller's time limit must be able to end it. When stop answers true, *stopped is
-    // set and the outputs are left empty. block_cols is rounded up to a multiple of 4, which
-    // keeps C's bits those of a single block.
-    frix_error inverse_congruence(const CscView &B, std::vector<int64_t> &colptr,
-                                  std::vector<int64_t> &rowind, std::vector<double> &values,
-                                  const std::function<bool()> &stop = nullptr, bool *stopped = nullptr,
-                                  int64_t block_cols = kCongruenceBlockColumns);
-    // The same, C handed over a column at a time, in order (its entries' rows increasing),
-    // instead of kept: the caller stores it as it needs (a dense C is large). A sink's error
-    // ends the work and is returned.
-    using ColumnSink = std::function<frix_error(int64_t count, const int64_t *rows, const double *values)>;
-    frix_error inverse_congruence(const CscView &B, const ColumnSink &sink,
-                                  const std::function<bool()> &stop = nullptr, bool *stopped = nullptr,
-                                  int64_t block_cols = kCongruenceBlockColumns);
+    // C = B^T A^-1 B for a sparse B (n x k), handed to sink. With L L^T = P A P^T (supernodal)
+    // and Z = L^-1 P B, C = Z^T Z = sum over L's supernodes s of Z_s^T Z_s, Z_s the rows of Z
+    // in s and only the columns of B whose elimination paths pass through s (B's column j
+    // reaches the supernodes from its rows' ones up to the root). Z_s comes from a forward
+    // solve that goes up L's supernodal tree, each supernode handing its parent the update of
+    // its rows below (multifrontal): dense BLAS-3 work on blocks that hold only the columns
+    // that reach them, and nothing for the subtrees no column of B reaches. Where C is dense (a
+    // deformable body couples all its contacts) this is minutes of work less than a sparse solve
+    // per column. stop, when given, is asked between supernodes, about `questions` times
+    // over the work (counted in flops before it starts) but not more often than every
+    // min_flops_per_question flops: when it answers true, *stopped is set and the work ends,
+    // with the sink holding part of the sum.
+    frix_error inverse_congruence(const CscView &B, CongruenceSink &sink, const std::function<bool()> &stop = nullptr,
+                                  bool *stopped = nullptr, double questions = kCongruenceQuestions,
+                                  double min_flops_per_question = kCongruenceMinFlopsPerQuestion);
+    // The same, C as CSC (k x k, rows sorted); left empty when stopped.
+    frix_error inverse_congruence(const CscView &B, std::vector<int64_t> &colptr, std::vector<int64_t> &rowind,
+                                  std::vector<double> &values, const std::function<bool()> &stop = nullptr,
+                                  bool *stopped = nullptr, double questions = kCongruenceQuestions,
+                                  double min_flops_per_question = kCongruenceMinFlopsPerQuestion);
 
     const FactorStats &stats() const { return stats_; }
     // Every factor() first asks the budget (none: always factorise).
@@ -179,6 +199,9 @@ struct FactorCost {
     double bytes = 0.0;           // L's values and indices, and the workspace
 };
 frix_error cholesky_cost(const CscView &A, FactorCost *cost);
+// What cholesky_cost gives for a dense matrix of size n, in closed form: the analysis of a
+// complete graph would cost more than pricing is worth.
+FactorCost dense_cholesky_cost(int64_t n);
 
 // Dense LU with partial pivoting (LAPACK dgetrf/dgetrs), column-major n x n.
 class DenseLU {

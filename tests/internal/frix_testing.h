@@ -63,14 +63,26 @@ int frix_testing_sparse_cholesky(int64_t n, const int64_t *colptr, const int64_t
  * values not needed), from the symbolic analysis alone. */
 int frix_testing_cholesky_cost(int64_t n, const int64_t *colptr, const int64_t *rowind, double *flops,
                                double *entries);
-/* C = B^T A^-1 B as frix_testing_sparse_cholesky, in blocks of block_cols columns; the work
- * is asked to stop at the stop_at-th question (never if stop_at <= 0). *questions: how many
- * were asked; *stopped: whether the work stopped; *nnz: the entries of C returned. */
-int frix_testing_congruence_in_blocks(int64_t n, const int64_t *colptr, const int64_t *rowind,
+/* C = B^T A^-1 B as frix_testing_sparse_cholesky, asked whether to stop about questions_asked
+ * times over the work, at most every min_flops flops (0: as often as asked, at most after
+ * every supernode with work); the work is told
+ * to stop at the stop_at-th question (never if stop_at <= 0). *questions: how many were asked;
+ * *stopped: whether the work stopped; *nnz: the entries of C returned. */
+int frix_testing_congruence_questions(int64_t n, const int64_t *colptr, const int64_t *rowind,
                                       const double *values, int64_t k, const int64_t *bp,
-                                      const int64_t *bi, const double *bx, int64_t block_cols,
+                                      const int64_t *bi, const double *bx, double questions_asked, double min_flops,
                                       int stop_at, double *C, int *questions, int *stopped,
                                       int64_t *nnz);
+/* The flops and entries of L of a Cholesky of a matrix with the 3x3 block pattern of W (n x n
+ * CSC, n a multiple of 3, stored as blocks), as auto prices it. */
+int frix_testing_block_cholesky_cost(int64_t n, const int64_t *colptr, const int64_t *rowind,
+                                     const double *values, double *flops, double *entries);
+/* W = H^T M^-1 H (M n x n symmetric positive definite, H n x k, k a multiple of 3, both CSC)
+ * as the reduction of a global problem forms it, as a dense column-major D (k x k); *blocks:
+ * the 3x3 blocks W stores. */
+int frix_testing_reduction(int64_t n, const int64_t *mp, const int64_t *mi, const double *mx, int64_t k,
+                           const int64_t *hp, const int64_t *hi, const double *hx, double *D,
+                           int64_t *blocks);
 /* The n x n CSC matrix (n a multiple of 3) assembled column by column as the reduction
  * assembles W (room reserved for expected_blocks blocks), as a dense column-major D; *blocks:
  * its 3x3 blocks; *in_place: 1 when it was found symmetric to the bit (its columns' storage

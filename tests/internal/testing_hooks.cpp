@@ -123,10 +123,10 @@ FRIX_TESTING_HOOK int frix_testing_cholesky_cost(int64_t n, const int64_t *colpt
     return e;
 }
 
-FRIX_TESTING_HOOK int frix_testing_congruence_in_blocks(int64_t n, const int64_t *colptr,
+FRIX_TESTING_HOOK int frix_testing_congruence_questions(int64_t n, const int64_t *colptr,
                                                         const int64_t *rowind, const double *values,
                                                         int64_t k, const int64_t *bp, const int64_t *bi,
-                                                        const double *bx, int64_t block_cols, int stop_at,
+                                                        const double *bx, double questions_asked, double min_flops, int stop_at,
                                                         double *C, int *questions, int *stopped,
                                                         int64_t *nnz) {
     frix::linalg::SparseCholesky ch;
@@ -137,7 +137,7 @@ FRIX_TESTING_HOOK int frix_testing_congruence_in_blocks(int64_t n, const int64_t
     *questions = 0;
     auto stop = [&]() { return ++*questions == stop_at; };
     bool was_stopped = false;
-    e = ch.inverse_congruence({n, k, bp, bi, bx}, cp, ci, cx, stop, &was_stopped, block_cols);
+    e = ch.inverse_congruence({n, k, bp, bi, bx}, cp, ci, cx, stop, &was_stopped, questions_asked, min_flops);
     *stopped = was_stopped ? 1 : 0;
     *nnz = (int64_t)cx.size();
     if (e != FRIX_OK || was_stopped) return e;
@@ -161,6 +161,46 @@ FRIX_TESTING_HOOK int frix_testing_matrix_from_columns(int64_t n, const int64_t 
     frix::for_each_entry(*A, [&](int64_t i, int64_t j, double v) { D[i + n * j] = v; });
     *blocks = A->nblocks();
     *in_place = columns.in_place() ? 1 : 0;
+    return FRIX_OK;
+}
+
+// The price of a Cholesky of a matrix with the block pattern of W (n x n CSC, n a multiple
+// of 3, stored as 3x3 blocks).
+FRIX_TESTING_HOOK int frix_testing_block_cholesky_cost(int64_t n, const int64_t *colptr, const int64_t *rowind,
+                                                       const double *values, double *flops, double *entries) {
+    frix_matrix *W = nullptr;
+    int e = frix_matrix_from_csc(n, n, colptr, rowind, values, &W);
+    frix::linalg::FactorCost c;
+    if (e == FRIX_OK) e = frix::block_cholesky_cost(*W, &c);
+    frix_matrix_free(W);
+    *flops = c.flops;
+    *entries = c.factor_entries;
+    return e;
+}
+
+// W = H^T M^-1 H as the reduction forms it (M factorised, W summed into block-CSR), as a
+// dense column-major D (k x k); *blocks: W's 3x3 blocks.
+#include "src/reduction.hpp"
+
+FRIX_TESTING_HOOK int frix_testing_reduction(int64_t n, const int64_t *mp, const int64_t *mi, const double *mx,
+                                             int64_t k, const int64_t *hp, const int64_t *hi, const double *hx,
+                                             double *D, int64_t *blocks) {
+    frix_matrix *M = nullptr, *H = nullptr;
+    int e = frix_matrix_from_csc(n, n, mp, mi, mx, &M);
+    if (e == FRIX_OK) e = frix_matrix_from_csc(n, k, hp, hi, hx, &H);
+    std::unique_ptr<frix_matrix> W;
+    if (e == FRIX_OK) {
+        frix::MassSolver ms;
+        bool stopped = false;
+        e = ms.factor(*M);
+        if (e == FRIX_OK) e = ms.congruence(*H, 0.0, W, nullptr, stopped);
+    }
+    frix_matrix_free(M);
+    frix_matrix_free(H);
+    if (e != FRIX_OK) return e;
+    for (int64_t i = 0; i < k * k; ++i) D[i] = 0.0;
+    frix::for_each_entry(*W, [&](int64_t i, int64_t j, double v) { D[i + k * j] = v; });
+    *blocks = W->nblocks();
     return FRIX_OK;
 }
 
