@@ -21,8 +21,8 @@
 //   4. when it fails, checks whether a solution exists at all (frix_problem_check_existence)
 //      and says so.
 // Global problems go through the reduction W = H^T M^-1 H with the same strategy, and fall
-// back on Newton on (v, r) (607) when the reduced solve misses the tolerance; where W would be
-// dense (a deformable body), the other way round: Newton on (v, r) first.
+// back on Newton on (v, r) (607) when the reduced solve misses the tolerance; where forming a
+// dense W (a deformable body) would overrun the time or memory limit, Newton on (v, r) alone.
 // docs/auto.md describes the strategy for users.
 #include <algorithm>
 #include <atomic>
@@ -146,11 +146,12 @@ constexpr int kMaxIdleRounds = 3;
 // Tightenings of the islands' tolerance when their combined error misses the tolerance
 // (after a pass that only drops the loosening of part_loosening, which is not counted).
 constexpr int kMaxTightenings = 4;
-// A global problem is reduced to W = H^T M^-1 H unless W would have more than this many
-// entries and more than kReductionMaxGrowth times those of M and H: a deformable body makes W
-// dense among its contacts (memory and every sweep then grow with their square), and Newton
-// on (v, r), which factorises the sparse (v, r) system, is the faster route there. Rigid
-// bodies give W a few entries per entry of M and H.
+// A global problem is reduced to W = H^T M^-1 H. Where W would have more than this many
+// entries and more than kReductionMaxGrowth times those of M and H (a deformable body makes W
+// dense among its contacts), forming it is priced first from M's factor (its flops, and W's
+// memory): when it would overrun the time or memory limit, Newton on (v, r), which factorises
+// the sparse (v, r) system instead, goes first. Rigid bodies give W a few entries per entry
+// of M and H.
 constexpr double kReductionMaxEntries = 1e6;
 constexpr double kReductionMaxGrowth = 30.0;
 
@@ -345,6 +346,8 @@ void accumulate(frix_info &into, const frix_info &stage) {
     Monitor::add_factorizations(into, stage);
     into.hybrid_sweeps += stage.hybrid_sweeps;
     into.inner_iterations += stage.inner_iterations;
+    into.setup_time += stage.setup_time;
+    into.reduction_time += stage.reduction_time;
 }
 
 // Solves one local problem (an island, or the whole problem) with the stage sequence.
@@ -1023,7 +1026,8 @@ const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 1e9}, {(frix_option_key)0
     "iterations left) and a watchdog "                                                            \
     "stopping any stage that stalls; deterministic (iteration counts, " \
     "not seconds). Global problems are reduced to W = H^T M^-1 H, with Newton on (v, r) as the "   \
-    "fallback (tried first where W would be dense: deformable bodies). Every stage is in "          \
+    "fallback (alone where forming a dense W would overrun the time or memory limit). Every "      \
+    "stage is in "                                                                                 \
     "frix_info_trace; on failure an existence check says whether a solution may not exist. "      \
     "Options: threads, existence_check (and the common ones). See docs/auto.md."
 
@@ -1154,8 +1158,8 @@ frix_error solve(SolveContext &ctx) {
     // Global: the reduction route with the local strategy, then, if that fails, Newton on
     // (v, r) from its result. The two share the caller's max_iter: the reduction route gets
     // half (as every stage of the local strategy, see run_stage), Newton on (v, r) the rest.
-    // Where W would be dense (deformable bodies), Newton on (v, r) first and that route only
-    // if it fails.
+    // Where forming a dense W (deformable bodies) would overrun the time or memory limit,
+    // Newton on (v, r) alone.
     const frix_problem &p = ctx.problem;
     frix_info &info = ctx.info;
     // A persistent solver keeps the driver's states of the reductions below (their own
@@ -1175,56 +1179,29 @@ frix_error solve(SolveContext &ctx) {
     info.analysis.reduced_entries = size.w_entries;
     info.analysis.input_entries = size.input_entries;
     const int64_t max_iter = Monitor(ctx).max_iterations();
-    const double tl = ctx.options.d(FRIX_OPT_TIME_LIMIT);
-    if (!(size.w_entries > kReductionMaxEntries && size.w_entries > kReductionMaxGrowth * size.input_entries)) {
+    frix_status reduction_refused = FRIX_STATUS_NOT_RUN;  // the limit forming W would overrun
+    if (size.w_entries > kReductionMaxEntries && size.w_entries > kReductionMaxGrowth * size.input_entries) {
+        linalg::FactorPrice price;
+        if (ctx.mass && ctx.mass->congruence_price(*p.H, &price)) {
+            reduction_refused = Monitor(ctx).affords(price);
+        } else {
+            // Not priced (M factorised by LU): W's blocks against the memory alone.
+            if (!reduction_memory(size, Monitor(ctx)).fits) reduction_refused = FRIX_STATUS_MEMORY_LIMIT;
+        }
+    }
+    if (!reduction_refused) {
         if (frix_error e = reduce_then_newton(ctx, max_iter, max_iter / 2, reduction)) return e;
         check_existence_on_failure(ctx);
         return FRIX_OK;
     }
-    // Newton on (v, r) first. Where it fails, the reduction route after all, from the caller's
-    // start: it costs W's memory but solves what Newton cannot (the docs' grid with k = 1e13:
-    // Newton stagnates at an equilibrium residual of 5e-8; through W auto converges).
-    const std::vector<double> start(ctx.r, ctx.r + 3 * p.nc);
+    // Forming W would overrun a limit: Newton on (v, r) alone, whose answer is what there is
+    // (after it, less time is left for W, and no more memory).
     TraceEvent stage = trace_event(kStage);
     if (frix_error e = global_newton(ctx, max_iter, stage, reduction)) return e;
     TraceEvent direct = trace_event(kGlobalDirect);
     direct.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
-    std::vector<TraceEvent> trace{direct, stage};
-    const int64_t left = max_iter - info.iterations;
-    if (info.status == FRIX_STATUS_CONVERGED || info.status == FRIX_STATUS_STOPPED_BY_CALLBACK || left <= 0 ||
-        (tl > 0.0 && ctx.clock.seconds() >= tl)) {
-        info.trace = std::move(trace);
-        check_existence_on_failure(ctx);
-        return FRIX_OK;
-    }
-    // Not where W would not even fit in memory (a large mesh): the system would kill the
-    // process part-way; Newton's answer is what there is.
-    const ReductionMemory memory = reduction_memory(size, Monitor(ctx));
-    if (!memory.fits) {
-        TraceEvent skipped = trace_event(kReductionTooLarge);
-        skipped.status = info.status;
-        skipped.error = memory.needed;
-        skipped.value = memory.available;
-        trace.push_back(skipped);
-        info.trace = std::move(trace);
-        check_existence_on_failure(ctx);
-        return FRIX_OK;
-    }
-    TraceEvent after = trace_event(kReductionAfterAll);
-    after.status = info.status;
-    after.error = info.error;
-    after.value = info.equilibrium;
-    trace.push_back(after);
-    const frix_info newton = info;
-    const GlobalAnswer newton_answer(ctx, info);
-    std::copy(start.begin(), start.end(), ctx.r);
-    if (frix_error e = reduce_then_newton(ctx, left, left / 2, reduction)) return e;
-    newton_answer.restore_if_better(ctx, info);
-    trace.insert(trace.end(), info.trace.begin(), info.trace.end());
-    accumulate(info, newton);
-    info.iterations += newton.iterations;
-    info.switches += 1;
-    info.trace = std::move(trace);
+    direct.status = reduction_refused;
+    info.trace = {direct, stage};
     check_existence_on_failure(ctx);
     return FRIX_OK;
 }

@@ -51,6 +51,8 @@ std::string format_event(const frix_info &info, const TraceEvent &e) {
                                 "(%.3g per entry of M and H)",
                            (long long)a.dofs, a.rank_ratio, a.reduced_entries,
                            a.reduced_entries / std::max(1.0, a.input_entries));
+                if (a.dofs > 0 && info.setup_time > 0.0)
+                    append(out, "; setup %.3g s (W = H^T M^-1 H %.3g s)", info.setup_time, info.reduction_time);
                 out += "\n";
                 break;
             }
@@ -77,21 +79,13 @@ std::string format_event(const frix_info &info, const TraceEvent &e) {
             case kGlobalDirect: {
                 const AnalysisSummary &a = info.analysis;
                 append(out, "analysis: global, %lld dofs, %lld contacts; W = H^T M^-1 H would have up to %.3g "
-                            "entries (%.3g per entry of M and H: a deformable body couples all its contacts): "
-                            "%s on (v, r) without it\n",
+                            "entries (%.3g per entry of M and H: a deformable body couples all its contacts), "
+                            "and forming it would overrun the %s limit: %s on (v, r) without it\n",
                        (long long)a.dofs, (long long)a.contacts, a.reduced_entries,
-                       a.reduced_entries / std::max(1.0, a.input_entries), name_of(e.solver_id));
+                       a.reduced_entries / std::max(1.0, a.input_entries),
+                       e.status == FRIX_STATUS_MEMORY_LIMIT ? "memory" : "time", name_of(e.solver_id));
                 break;
             }
-            case kReductionAfterAll:
-                append(out, "Newton on (v, r) %s (error %.3e, equilibrium %.3e): the reduction W = H^T M^-1 H "
-                            "after all, from the start\n", frix_status_string(e.status), e.error, e.value);
-                break;
-            case kReductionTooLarge:
-                append(out, "Newton on (v, r) %s; the reduction W = H^T M^-1 H would need at least %.3g GB, "
-                            "more than the %.3g GB of memory: not tried\n", frix_status_string(e.status),
-                       e.error / 1e9, e.value / 1e9);
-                break;
             case kExistence:
                 append(out, "existence check: %s\n", frix_existence_describe(info.existence));
                 break;

@@ -53,6 +53,7 @@ FRIX_API frix_error frix_info_get_double(const frix_info *info, frix_info_key ke
         case FRIX_INFO_TOLERANCE: *value = info->tolerance; return FRIX_OK;
         case FRIX_INFO_FACTORIZATION_TIME: *value = info->factorization_time; return FRIX_OK;
         case FRIX_INFO_SETUP_TIME: *value = info->setup_time; return FRIX_OK;
+        case FRIX_INFO_REDUCTION_TIME: *value = info->reduction_time; return FRIX_OK;
         case FRIX_INFO_EXISTENCE_MARGIN: *value = info->existence_margin; return FRIX_OK;
         default: break;
     }

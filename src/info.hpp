@@ -71,6 +71,7 @@ struct frix_info {
     int64_t inner_iterations = 0;
     double factorization_time = 0.0;
     double setup_time = 0.0;
+    double reduction_time = 0.0;  // the part of setup_time forming W = H^T M^-1 H
 
     int64_t islands = 0;
     int64_t switches = 0;

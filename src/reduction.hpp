@@ -121,9 +121,25 @@ class MassSolver {
         }
         return columns.finish(W);
     }
+    // What congruence(H) will cost, priced as a factorisation is (linalg::FactorPrice): from
+    // CHOLMOD's factor, its exact flops, and in bytes W's blocks and the dense blocks formed
+    // besides; false where it is not known (UMFPACK's factor: one solve per column of H).
+    bool congruence_price(const frix_matrix &H, linalg::FactorPrice *price) const {
+        if (!use_chol_ || empty_) return false;
+        Csc h;
+        linalg::SparseCholesky::CongruenceCost cost;
+        if (to_csc(H, h) != FRIX_OK || chol_.congruence_cost(h.view(), &cost) != FRIX_OK) {
+            clear_error();
+            return false;
+        }
+        *price = linalg::FactorPrice{cost.flops, NAN, cost.workspace_bytes + kBytesPerEntryOfW * cost.entries, false};
+        return true;
+    }
     const linalg::FactorStats &last_stats() const { return last_; }
 
    private:
+    // W's 3x3 blocks: 9 values and a column index each, 80 bytes for 9 entries.
+    static constexpr double kBytesPerEntryOfW = 80.0 / 9.0;
     linalg::FactorStats last_;
     Csc csc_;
     linalg::SparseCholesky chol_;

@@ -46,10 +46,13 @@ typedef enum frix_info_key FRIX_ENUM_BASE {
     FRIX_INFO_FACTORIZATION_TIME = 122, /* seconds in symbolic analyses and factorisations */
     FRIX_INFO_SETUP_TIME = 123,     /* global problems: seconds factorising M and forming q,
                                        and W = H^T M^-1 H on the reduction route; 0 for local */
-    FRIX_INFO_EXISTENCE_MARGIN = 124 /* existence check: the best margin t* / |q|_rms, bounded
+    FRIX_INFO_EXISTENCE_MARGIN = 124, /* existence check: the best margin t* / |q|_rms, bounded
                                         from below (> 0, a solution exists) or from above
                                         (<= 0, no solution may exist); NaN when not checked
                                         or undetermined. See frix_existence */
+    FRIX_INFO_REDUCTION_TIME = 125  /* global problems: of the setup time, the seconds forming
+                                       W = H^T M^-1 H (0 when not formed, or kept by a
+                                       persistent solver from an earlier solve) */
 } frix_info_key;
 
 /* Verdict of the existence check (frix_problem_check_existence). A solution exists when

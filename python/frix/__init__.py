@@ -168,6 +168,7 @@ _INFO_INT = {"iterations": 2, "newton_iterations": 5, "line_search_steps": 6,
 _MEASURES = {"error_relative": 101, "error_q_relative": 102, "residual_absolute": 103,
              "cone_violation": 104, "penetration": 105, "complementarity": 106,
              "equilibrium": 107}
+_TIMES = {"factorization": 122, "setup": 123, "reduction": 125}
 _INFO_ERROR, _INFO_SOLVE_TIME, _INFO_STATUS, _INFO_SOLVER_ID = 100, 120, 1, 3
 _INFO_EXISTENCE, _INFO_EXISTENCE_MARGIN = 13, 124
 _FRIX_PROBLEM_LOCAL = 1
@@ -644,6 +645,10 @@ class Result(_Handle):
     @property
     def time(self):
         return lib.frix_info_solve_time(self._info.handle)
+
+    @property
+    def times(self):
+        return {name: _info_double(self._info.handle, key) for name, key in _TIMES.items()}
 
     @property
     def solver(self):

@@ -167,6 +167,10 @@ def test_global_problem(fclib):
     assert p.kind == "global" and p.dofs > 0
     res = frix.solve(p, tol=1e-8)
     assert res.converged and res.v.shape == (p.dofs,)
+    # The times of the setup (auto reduces to W here), of it W's, within the whole solve.
+    t = res.times
+    assert 0.0 < t["reduction"] < t["setup"] <= res.time
+    assert frix.solve(p, solver="gnsn-ac", tol=1e-8).times["reduction"] == 0.0
     # The same problem rebuilt from its own arrays.
     again = frix.Problem.from_global(p.M, p.H, np.array(p.f), np.array(p.w), np.array(p.mu))
     np.testing.assert_allclose(frix.solve(again, tol=1e-8).r, res.r, atol=1e-12)

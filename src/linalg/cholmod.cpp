@@ -256,6 +256,127 @@ class CscCongruence : public CongruenceSink {
 
 }  // namespace
 
+namespace {
+
+// What forming B^T A^-1 B on a supernodal factor L involves, from L's and B's patterns
+// alone (see SparseCholesky::inverse_congruence): L's supernodal tree, B's entries by
+// supernode, and the columns of B reaching each supernode, with the flops of their work.
+struct CongruencePlan {
+    struct Entry {
+        int64_t col, row;  // B's column; the row of P B
+        double value;
+    };
+    int64_t n, k, nsuper;
+    const int64_t *super, *pi, *px, *Ls;
+    std::vector<int64_t> col_super, parent, root, child_ptr, children, own_ptr;
+    std::vector<Entry> own;
+    std::vector<std::vector<int64_t>> cols;  // per supernode, increasing
+    double flops = 0.0;
+    // The most entries held at once besides C: a supernode's dense block and term tile, with
+    // the updates its children and the supernodes still waiting for their parent hand on.
+    double workspace = 0.0;
+
+    int64_t nscol(int64_t s) const { return super[s + 1] - super[s]; }
+    int64_t nsrow(int64_t s) const { return pi[s + 1] - pi[s]; }
+
+    CongruencePlan(const cholmod_factor &L, const CscView &B)
+        : n((int64_t)L.n), k(B.cols), nsuper((int64_t)L.nsuper), super(static_cast<const int64_t *>(L.super)),
+          pi(static_cast<const int64_t *>(L.pi)), px(static_cast<const int64_t *>(L.px)),
+          Ls(static_cast<const int64_t *>(L.s)) {
+        const int64_t *perm = static_cast<const int64_t *>(L.Perm);
+        // The tree: each supernode's parent (the one holding its first row below), children
+        // before parents in the numbering; each one's root.
+        col_super.resize((size_t)n);
+        parent.assign((size_t)nsuper, -1);
+        root.resize((size_t)nsuper);
+        for (int64_t s = 0; s < nsuper; ++s)
+            for (int64_t c = super[s]; c < super[s + 1]; ++c) col_super[(size_t)c] = s;
+        for (int64_t s = nsuper - 1; s >= 0; --s) {
+            if (nsrow(s) > nscol(s)) parent[(size_t)s] = col_super[(size_t)Ls[pi[s] + nscol(s)]];
+            root[(size_t)s] = parent[(size_t)s] < 0 ? s : root[(size_t)parent[(size_t)s]];
+        }
+        child_ptr.assign((size_t)nsuper + 1, 0);
+        children.resize((size_t)nsuper);
+        for (int64_t s = 0; s < nsuper; ++s)
+            if (parent[(size_t)s] >= 0) ++child_ptr[(size_t)parent[(size_t)s] + 1];
+        for (int64_t s = 0; s < nsuper; ++s) child_ptr[(size_t)s + 1] += child_ptr[(size_t)s];
+        {
+            std::vector<int64_t> next(child_ptr.begin(), child_ptr.end() - 1);
+            for (int64_t s = 0; s < nsuper; ++s)
+                if (parent[(size_t)s] >= 0) children[(size_t)next[(size_t)parent[(size_t)s]]++] = s;
+        }
+        // B's non-zero entries, as rows of P B, by supernode (and by column within one).
+        std::vector<int64_t> inverse((size_t)n);
+        for (int64_t i = 0; i < n; ++i) inverse[(size_t)(perm ? perm[i] : i)] = i;
+        own_ptr.assign((size_t)nsuper + 1, 0);
+        for (int64_t j = 0; j < k; ++j)
+            for (int64_t e = B.colptr[j]; e < B.colptr[j + 1]; ++e)
+                if (B.values[e] != 0.0) ++own_ptr[(size_t)col_super[(size_t)inverse[(size_t)B.rowind[e]]] + 1];
+        for (int64_t s = 0; s < nsuper; ++s) own_ptr[(size_t)s + 1] += own_ptr[(size_t)s];
+        own.resize((size_t)own_ptr[(size_t)nsuper]);
+        {
+            std::vector<int64_t> next(own_ptr.begin(), own_ptr.end() - 1);
+            for (int64_t j = 0; j < k; ++j)
+                for (int64_t e = B.colptr[j]; e < B.colptr[j + 1]; ++e)
+                    if (B.values[e] != 0.0) {
+                        const int64_t row = inverse[(size_t)B.rowind[e]];
+                        own[(size_t)next[(size_t)col_super[(size_t)row]]++] = {j, row, B.values[e]};
+                    }
+        }
+        // Per supernode s, the columns reaching it: its own and its children's.
+        cols.resize((size_t)nsuper);
+        std::vector<int64_t> mark((size_t)k, -1);
+        double pending = 0.0;  // the updates handed on and not yet taken
+        for (int64_t s = 0; s < nsuper; ++s) {
+            std::vector<int64_t> &K = cols[(size_t)s];
+            for (int64_t e = own_ptr[(size_t)s]; e < own_ptr[(size_t)s + 1]; ++e)
+                if (mark[(size_t)own[(size_t)e].col] != s) mark[(size_t)own[(size_t)e].col] = s, K.push_back(own[(size_t)e].col);
+            for (int64_t c = child_ptr[(size_t)s]; c < child_ptr[(size_t)s + 1]; ++c)
+                for (int64_t j : cols[(size_t)children[(size_t)c]])
+                    if (mark[(size_t)j] != s) mark[(size_t)j] = s, K.push_back(j);
+            std::sort(K.begin(), K.end());
+            const double nk = (double)K.size(), nbelow = (double)(nsrow(s) - nscol(s));
+            flops += supernode_flops(nk, (double)nscol(s), nbelow);
+            workspace = std::max(workspace, pending + nk * ((double)nsrow(s) + (double)kTermColumns));
+            for (int64_t c = child_ptr[(size_t)s]; c < child_ptr[(size_t)s + 1]; ++c) {
+                const int64_t ch = children[(size_t)c];
+                pending -= (double)cols[(size_t)ch].size() * (double)(nsrow(ch) - nscol(ch));
+            }
+            pending += nk * nbelow;
+        }
+    }
+};
+
+}  // namespace
+
+frix_error SparseCholesky::congruence_cost(const CscView &B, CongruenceCost *cost) const {
+    Impl &m = *impl_;
+    *cost = CongruenceCost{};
+    if (!m.L || !m.numeric) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: no factorisation");
+    if ((size_t)B.rows != m.L->n)
+        return fail(FRIX_ERR_DIMENSION, "sparse Cholesky: B has %lld rows, the factor %lld", (long long)B.rows,
+                    (long long)m.L->n);
+    if (!m.L->is_super) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: B^T A^-1 B needs a supernodal factor");
+    const CongruencePlan plan(*m.L, B);
+    // C's entries, stored as 3x3 blocks: per root, the blocks of the columns reaching it,
+    // squared, each set of blocks counted once (components of A that the same columns reach,
+    // as the x, y and z dofs of a body decoupled in A); at most that where sets overlap.
+    std::vector<std::vector<int64_t>> block_sets;
+    for (int64_t s = 0; s < plan.nsuper; ++s)
+        if (plan.parent[(size_t)s] < 0 && !plan.cols[(size_t)s].empty()) {
+            std::vector<int64_t> blocks;
+            for (int64_t j : plan.cols[(size_t)s])
+                if (blocks.empty() || blocks.back() != j / 3) blocks.push_back(j / 3);
+            block_sets.push_back(std::move(blocks));
+        }
+    std::sort(block_sets.begin(), block_sets.end());
+    block_sets.erase(std::unique(block_sets.begin(), block_sets.end()), block_sets.end());
+    double entries = 0.0;
+    for (const auto &b : block_sets) entries += 9.0 * (double)b.size() * (double)b.size();
+    *cost = CongruenceCost{plan.flops, entries, 8.0 * plan.workspace};
+    return FRIX_OK;
+}
+
 frix_error SparseCholesky::inverse_congruence(const CscView &B, std::vector<int64_t> &colptr,
                                               std::vector<int64_t> &rowind, std::vector<double> &values,
                                               const std::function<bool()> &stop, bool *stopped, double questions,
@@ -284,59 +405,17 @@ frix_error SparseCholesky::inverse_congruence(const CscView &B, CongruenceSink &
                     (long long)L.n);
     if (!L.is_super || !L.is_ll)
         return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: B^T A^-1 B needs a supernodal L L^T factor");
-    const auto t0 = Clock::now();
-    struct Seconds {  // the time of this work goes to the statistics whichever way it ends
-        FactorStats &stats;
-        std::chrono::steady_clock::time_point t0;
-        ~Seconds() { stats.seconds += std::chrono::duration<double>(Clock::now() - t0).count(); }
-    } seconds{stats_, t0};
-    const int64_t n = (int64_t)L.n, k = B.cols, nsuper = (int64_t)L.nsuper;
-    const int64_t *super = static_cast<const int64_t *>(L.super), *pi = static_cast<const int64_t *>(L.pi),
-                  *px = static_cast<const int64_t *>(L.px), *Ls = static_cast<const int64_t *>(L.s),
-                  *perm = static_cast<const int64_t *>(L.Perm);
+    CongruencePlan plan(L, B);
+    const int64_t n = plan.n, k = plan.k, nsuper = plan.nsuper;
+    const int64_t *super = plan.super, *pi = plan.pi, *px = plan.px, *Ls = plan.Ls;
     const double *Lx = static_cast<const double *>(L.x);
-    auto nscol = [&](int64_t s) { return super[s + 1] - super[s]; };
-    auto nsrow = [&](int64_t s) { return pi[s + 1] - pi[s]; };
-    // The tree: each supernode's parent (the one holding its first row below), children
-    // before parents in the numbering; each one's root.
-    std::vector<int64_t> col_super((size_t)n), parent((size_t)nsuper, -1), root((size_t)nsuper);
-    for (int64_t s = 0; s < nsuper; ++s)
-        for (int64_t c = super[s]; c < super[s + 1]; ++c) col_super[(size_t)c] = s;
-    for (int64_t s = nsuper - 1; s >= 0; --s) {
-        if (nsrow(s) > nscol(s)) parent[(size_t)s] = col_super[(size_t)Ls[pi[s] + nscol(s)]];
-        root[(size_t)s] = parent[(size_t)s] < 0 ? s : root[(size_t)parent[(size_t)s]];
-    }
-    std::vector<int64_t> child_ptr((size_t)nsuper + 1, 0), children((size_t)nsuper);
-    for (int64_t s = 0; s < nsuper; ++s)
-        if (parent[(size_t)s] >= 0) ++child_ptr[(size_t)parent[(size_t)s] + 1];
-    for (int64_t s = 0; s < nsuper; ++s) child_ptr[(size_t)s + 1] += child_ptr[(size_t)s];
-    {
-        std::vector<int64_t> next(child_ptr.begin(), child_ptr.end() - 1);
-        for (int64_t s = 0; s < nsuper; ++s)
-            if (parent[(size_t)s] >= 0) children[(size_t)next[(size_t)parent[(size_t)s]]++] = s;
-    }
-    // B's non-zero entries, as rows of P B, by supernode (and by column within one).
-    std::vector<int64_t> inverse((size_t)n);
-    for (int64_t i = 0; i < n; ++i) inverse[(size_t)(perm ? perm[i] : i)] = i;
-    struct Entry {
-        int64_t col, row;  // B's column; the row of P B
-        double value;
-    };
-    std::vector<int64_t> own_ptr((size_t)nsuper + 1, 0);
-    for (int64_t j = 0; j < k; ++j)
-        for (int64_t e = B.colptr[j]; e < B.colptr[j + 1]; ++e)
-            if (B.values[e] != 0.0) ++own_ptr[(size_t)col_super[(size_t)inverse[(size_t)B.rowind[e]]] + 1];
-    for (int64_t s = 0; s < nsuper; ++s) own_ptr[(size_t)s + 1] += own_ptr[(size_t)s];
-    std::vector<Entry> own((size_t)own_ptr[(size_t)nsuper]);
-    {
-        std::vector<int64_t> next(own_ptr.begin(), own_ptr.end() - 1);
-        for (int64_t j = 0; j < k; ++j)
-            for (int64_t e = B.colptr[j]; e < B.colptr[j + 1]; ++e)
-                if (B.values[e] != 0.0) {
-                    const int64_t row = inverse[(size_t)B.rowind[e]];
-                    own[(size_t)next[(size_t)col_super[(size_t)row]]++] = {j, row, B.values[e]};
-                }
-    }
+    auto nscol = [&](int64_t s) { return plan.nscol(s); };
+    auto nsrow = [&](int64_t s) { return plan.nsrow(s); };
+    const std::vector<int64_t> &root = plan.root, &child_ptr = plan.child_ptr, &children = plan.children,
+                               &own_ptr = plan.own_ptr;
+    const std::vector<CongruencePlan::Entry> &own = plan.own;
+    std::vector<std::vector<int64_t>> &cols = plan.cols;
+    using Entry = CongruencePlan::Entry;
     // C's pattern: the columns reaching each root.
     {
         std::vector<std::pair<int64_t, int64_t>> reach;  // (root, column)
@@ -353,22 +432,7 @@ frix_error SparseCholesky::inverse_congruence(const CscView &B, CongruenceSink &
         }
         if (frix_error e = sink.pattern(groups)) return e;
     }
-    // Per supernode s, the columns reaching it (cols[s], increasing): its own and its
-    // children's. The work each costs paces the questions.
-    std::vector<std::vector<int64_t>> cols((size_t)nsuper);
-    std::vector<int64_t> mark((size_t)k, -1);
-    double total = 0.0;
-    for (int64_t s = 0; s < nsuper; ++s) {
-        std::vector<int64_t> &K = cols[(size_t)s];
-        for (int64_t e = own_ptr[(size_t)s]; e < own_ptr[(size_t)s + 1]; ++e)
-            if (mark[(size_t)own[(size_t)e].col] != s) mark[(size_t)own[(size_t)e].col] = s, K.push_back(own[(size_t)e].col);
-        for (int64_t c = child_ptr[(size_t)s]; c < child_ptr[(size_t)s + 1]; ++c)
-            for (int64_t j : cols[(size_t)children[(size_t)c]])
-                if (mark[(size_t)j] != s) mark[(size_t)j] = s, K.push_back(j);
-        std::sort(K.begin(), K.end());
-        total += supernode_flops((double)K.size(), (double)nscol(s), (double)(nsrow(s) - nscol(s)));
-    }
-    const double pace = std::max(total / questions, min_flops_per_question);
+    const double pace = std::max(plan.flops / questions, min_flops_per_question);
     // Up the tree: per supernode, the dense block F of its rows of Z (the first nscol rows,
     // then the update of the rows below, kept in below[s] for the parent).
     std::vector<std::vector<double>> below((size_t)nsuper);

@@ -169,6 +169,12 @@ class SparseCholesky {
     frix_error inverse_congruence(const CscView &B, CongruenceSink &sink, const std::function<bool()> &stop = nullptr,
                                   bool *stopped = nullptr, double questions = kCongruenceQuestions,
                                   double min_flops_per_question = kCongruenceMinFlopsPerQuestion);
+    // What inverse_congruence(B) will cost, from the patterns of L and B alone: its flops, the
+    // entries of C stored as 3x3 blocks (at most) and the bytes of its dense blocks besides C.
+    struct CongruenceCost {
+        double flops = 0.0, entries = 0.0, workspace_bytes = 0.0;
+    };
+    frix_error congruence_cost(const CscView &B, CongruenceCost *cost) const;
     // The same, C as CSC (k x k, rows sorted); left empty when stopped.
     frix_error inverse_congruence(const CscView &B, std::vector<int64_t> &colptr, std::vector<int64_t> &rowind,
                                   std::vector<double> &values, const std::function<bool()> &stop = nullptr,
