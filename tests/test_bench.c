@@ -69,6 +69,35 @@ static void make_problem(const char *path) {
     frix_matrix_free(W);
 }
 
+/* The same forces as a global problem: two points (masses 1 and 2, n = 6) on their contacts,
+ * H = I, pushed in by f; the first, 0.1 off its contact (w_N), sticks (r = (0.9, -0.1, 0)),
+ * the second slides (r = (2, 0, -0.6), u = (0, 0, 1.2)). f and w both matter: a sign of
+ * either taken the other way fails the error or the equilibrium. */
+static void make_global_problem(const char *path) {
+    static const int64_t idx[6] = {0, 1, 2, 3, 4, 5};
+    static const double mass[6] = {1, 1, 1, 2, 2, 2}, ones[6] = {1, 1, 1, 1, 1, 1};
+    static const double f[6] = {-1, 0.1, 0, -2, 0, 3}, w[6] = {0.1, 0, 0, 0, 0, 0};
+    static const double mu[2] = {0.5, 0.3};
+    frix_matrix *M = NULL, *H = NULL;
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_matrix_from_triplets(6, 6, 6, idx, idx, mass, &M), FRIX_OK);
+    ck_assert_int_eq(frix_matrix_from_triplets(6, 6, 6, idx, idx, ones, &H), FRIX_OK);
+    ck_assert_int_eq(frix_problem_global(M, H, f, w, mu, 2, &p), FRIX_OK);
+    unlink(path);
+    ck_assert_int_eq(frix_fclib_write(path, p, NULL, NULL, NULL, 0, NULL, NULL, NULL), FRIX_OK);
+    frix_problem_free(p);
+    frix_matrix_free(H);
+    frix_matrix_free(M);
+}
+
+/* The number after "key": in a one-line JSON object, NaN if absent. */
+static double json_number_at(const char *json, const char *key) {
+    char pattern[64];
+    snprintf(pattern, sizeof pattern, "\"%s\":", key);
+    const char *at = strstr(json, pattern);
+    return at ? strtod(at + strlen(pattern), NULL) : NAN;
+}
+
 /* ---- A small RFC 4180 reader, independent of frix's -------------------------------------- */
 
 typedef struct {
@@ -436,6 +465,54 @@ START_TEST(test_siconos_comparator) {
     char *md = slurp(TMP "/sic/out/summary.md");
     ck_assert_msg(strstr(md, "| 500 | nsgs | 1 | siconos:NSGS | 1 | 1 |") != NULL, "summary: %s", md);
     free(md);
+
+    /* A global problem: a GFC3D solver (gfc3d_driver) solves it, frix measures (r, v). */
+    fresh_dir(TMP "/sicg/problems");
+    make_problem(TMP "/sicg/problems/tiny.hdf5");
+    make_global_problem(TMP "/sicg/problems/tiny-global.hdf5");
+    const char *global[] = {TMP "/sicg/problems/tiny-global.hdf5", "--solver", "GLOBAL_FRICTION_3D_NSN_AC",
+                            "--tol", "1e-10", "--json", NULL};
+    sic = run_program(adapter, global);
+    ck_assert_msg(sic.code == 0, "frix-siconos: exit %d: %s%s", sic.code, sic.out, sic.err);
+    ck_assert_msg(strstr(sic.out, "\"kind\":\"global\"") && strstr(sic.out, "\"solver\":\"siconos:GFC3D_NSN_AC\"") &&
+                      strstr(sic.out, "\"status\":\"converged\""),
+                  "frix-siconos: %s", sic.out);
+    ck_assert_double_le(json_number_at(sic.out, "error"), 1e-10); /* frix's measure of Siconos's (r, v) */
+    ck_assert_double_le(json_number_at(sic.out, "equilibrium"), 1e-10);
+    ck_assert_msg(strchr(sic.out, '\n') == sic.out + strlen(sic.out) - 1, "one JSON line: %s", sic.out);
+    run_free(&sic);
+
+    /* A solver for the other kind of problem is refused, with exit status 2. */
+    const char *local_on_global[] = {TMP "/sicg/problems/tiny-global.hdf5", "--solver", "NSGS", NULL};
+    sic = run_program(adapter, local_on_global);
+    ck_assert_int_eq(sic.code, 2);
+    ck_assert_msg(strstr(sic.err, "is a local solver") != NULL, "stderr: %s", sic.err);
+    run_free(&sic);
+    const char *global_on_local[] = {TMP "/sicg/problems/tiny.hdf5", "--solver", "607", NULL};
+    sic = run_program(adapter, global_on_local);
+    ck_assert_int_eq(sic.code, 2);
+    ck_assert_msg(strstr(sic.err, "is a global solver") != NULL, "stderr: %s", sic.err);
+    run_free(&sic);
+
+    /* The bench runs each solver on each problem: the mismatched pairs are unsupported. */
+    const char *mixed[] = {"bench", TMP "/sicg/problems", "--solvers", "siconos:NSGS,siconos:GFC3D_NSN_AC",
+                           "--tol", "1e-10", "--time-limit", "5", "--out", TMP "/sicg/out", "--no-plots", NULL};
+    ck_assert_int_eq(cli_exit_code(mixed), 0);
+    runs = csv_read(TMP "/sicg/out/runs.csv");
+    ck_assert_int_eq(runs->rows, 5);
+    r = csv_find(runs, "problem", "tiny-global.hdf5", "solver", "siconos:GFC3D_NSN_AC");
+    ck_assert_int_gt(r, 0);
+    ck_assert_str_eq(csv_get(runs, r, "status"), "converged");
+    ck_assert_str_eq(csv_get(runs, r, "solver_id"), "607");
+    ck_assert_double_le(atof(csv_get(runs, r, "error")), 1e-10);
+    ck_assert_int_gt(csv_find(runs, "problem", "tiny.hdf5", "solver", "siconos:GFC3D_NSN_AC"), 0);
+    ck_assert_str_eq(csv_get(runs, csv_find(runs, "problem", "tiny.hdf5", "solver", "siconos:GFC3D_NSN_AC"), "status"),
+                     "unsupported");
+    ck_assert_str_eq(csv_get(runs, csv_find(runs, "problem", "tiny-global.hdf5", "solver", "siconos:NSGS"), "status"),
+                     "unsupported");
+    ck_assert_str_eq(csv_get(runs, csv_find(runs, "problem", "tiny.hdf5", "solver", "siconos:NSGS"), "status"),
+                     "converged");
+    csv_free(runs);
 }
 END_TEST
 

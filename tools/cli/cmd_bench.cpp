@@ -143,10 +143,13 @@ std::vector<Solver> resolve_solvers(const std::string &list, const std::string &
             }
             if (!catalogue_read) catalogue = siconos_catalogue(adapter);
             catalogue_read = true;
+            // The catalogue's names: local solvers short (NSGS), global ones as GFC3D_NSN_AC.
             std::string want = upper(item.substr(8));
             for (const char *prefix : {"SICONOS_", "FRICTION_3D_", "FC3D_"})
                 if (want.compare(0, std::string(prefix).size(), prefix) == 0)
                     want.erase(0, std::string(prefix).size());
+            const std::string global = "GLOBAL_FRICTION_3D_";
+            if (want.compare(0, global.size(), global) == 0) want.replace(0, global.size(), "GFC3D_");
             std::vector<std::string> wanted = {want};
             if (want == "ALL") wanted.assign(std::begin(kSiconosAll), std::end(kSiconosAll));
             bool found = false;

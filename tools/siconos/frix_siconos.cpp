@@ -1,5 +1,6 @@
-// `frix-siconos`: solve an FCLIB problem read by frix with a Siconos 4.4 FC3D solver and
-// report it as `frix solve` does, the error being frix's measure of Siconos's r.
+// `frix-siconos`: solve an FCLIB problem read by frix with a Siconos 4.4 solver (FC3D for a
+// local problem, GFC3D for a global one) and report it as `frix solve` does, the error being
+// frix's measure of Siconos's r (and v).
 //
 //   frix-siconos FILE.hdf5 --solver NAME|ID [--tol T] [--max-iter N] [--json] [--trace]
 //   frix-siconos --list [--json]
@@ -13,8 +14,12 @@
 #include "cli.hpp"
 #include "json.hpp"
 
-#include <csignal>
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
+#include <csignal>
+#include <cstdio>
 #include <vector>
 
 namespace frix_cli {
@@ -34,23 +39,29 @@ void print_help() {
         "                   [--trace]\n"
         "       frix-siconos --list [--json]\n"
         "\n"
-        "Solves the local FCLIB problem in FILE (read by frix) from r = 0 with a Siconos 4.4\n"
-        "FC3D solver (fc3d_driver), and reports it like 'frix solve': the error is frix's\n"
-        "relative measure of the r Siconos returned; Siconos's own error is shown beside\n"
-        "it. The time is that of fc3d_driver alone.\n"
+        "Solves the FCLIB problem in FILE (read by frix) from r = 0 (and v = 0) with a\n"
+        "Siconos 4.4 solver: a local problem with an FC3D solver (fc3d_driver), a global one\n"
+        "with a GFC3D solver (gfc3d_driver). Reports it like 'frix solve': the error is\n"
+        "frix's relative measure of the r (and v) Siconos returned, and for a global problem\n"
+        "the equilibrium |M v - H r - f| / max(|f|, |M v|, |H r|) beside it; Siconos's own\n"
+        "error is shown too. The time is that of the driver alone.\n"
         "\n"
         "Options:\n"
-        "  --solver NAME|ID   NSGS, NSN_AC, NSN_FB, NSN_NM, PROX, VI_FPP, VI_EG, TFP, ADMM,\n"
-        "                     ... (see --list), FC3D_ or FRICTION_3D_ spellings, or the id\n"
+        "  --solver NAME|ID   local: NSGS, NSN_AC, NSN_FB, NSN_NM, PROX, VI_FPP, VI_EG, TFP,\n"
+        "                     ADMM, ... with FC3D_ or FRICTION_3D_ spellings; global:\n"
+        "                     GFC3D_NSN_AC, GFC3D_NSGS_WR, GFC3D_ADMM, GFC3D_IPM, ... with\n"
+        "                     GLOBAL_FRICTION_3D_ spellings; or the id (see --list)\n"
         "  --tol T            Siconos's dparam[TOL] (default 1e-8)\n"
         "  --max-iter N       Siconos's iparam[MAX_ITER] (default: the solver's own)\n"
         "  --json             one JSON object instead of text\n"
         "  --trace            with --json: the per-iteration errors, for the solvers that\n"
         "                     call Siconos's iteration callback\n"
-        "  --list             the solvers offered (id and name)\n"
+        "  --list             the solvers offered (id and name; the GFC3D_ ones are global)\n"
         "\n"
-        "Exit status: 0 converged (frix's error <= T), 1 not converged, 2 usage error or\n"
-        "unreadable input, or Siconos refused the problem.\n",
+        "Exit status: 0 converged (frix's error <= T, and for a global problem the\n"
+        "equilibrium <= max(T, 1e-12), frix's rule), 1 not converged, 2 usage error,\n"
+        "unreadable input, a solver for the other kind of problem (local / global), or\n"
+        "Siconos refused the problem.\n",
         stdout);
 }
 
@@ -96,10 +107,13 @@ int list(bool json) {
     w.begin_array();
     for (int k = 0; k < frix_siconos_solver_count(); ++k) {
         int id = frix_siconos_solver_id_at(k);
+        // Text: "id name" and nothing else on a line, which `frix bench` reads; the GFC3D_
+        // prefix of the name marks a global solver.
         if (json) {
             w.begin_object();
             w.integer("id", id);
             w.string("name", frix_siconos_solver_name(id));
+            w.string("kind", frix_siconos_solver_is_global(id) ? "global" : "local");
             w.end_object();
         } else {
             std::printf("%5d  %s\n", id, frix_siconos_solver_name(id));
@@ -124,12 +138,41 @@ void on_iteration(void *data, int64_t iteration, double elapsed, double error) {
     sink->points.insert(sink->points.end(), {static_cast<double>(iteration), elapsed, error});
 }
 
-// frix's measure decides convergence, as for frix's own solvers.
+// Siconos prints some solvers' progress on stdout whatever its verbosity (GFC3D_IPM's
+// iteration table): while Siconos runs, stdout goes to stderr, so that stdout holds the
+// report alone (one JSON object with --json).
+class SiconosOutputToStderr {
+public:
+    SiconosOutputToStderr() {
+        std::fflush(stdout);
+        saved_ = ::dup(1);
+        if (saved_ >= 0 && ::dup2(2, 1) < 0) {
+            ::close(saved_);
+            saved_ = -1;
+        }
+    }
+    ~SiconosOutputToStderr() {
+        std::fflush(stdout);
+        if (saved_ >= 0) {
+            ::dup2(saved_, 1);
+            ::close(saved_);
+        }
+    }
+    SiconosOutputToStderr(const SiconosOutputToStderr &) = delete;
+    SiconosOutputToStderr &operator=(const SiconosOutputToStderr &) = delete;
+
+private:
+    int saved_ = -1;
+};
+
+// frix's measure decides convergence, as for frix's own solvers: for a global problem the
+// error and the equilibrium both, the latter at least to 1e-12 (rounding for M v = H r + f).
 const char *status_of(const frix_siconos_result &res, double tol, std::int64_t max_iter,
-                      bool local) {
-    if (!local) return "unsupported";  // fc3d_driver solves local problems only
+                      bool global) {
+    if (res.refused_kind) return "unsupported";  // a solver for the other kind of problem
     if (!res.ran) return "error";
-    if (res.error <= tol) return "converged";
+    if (res.error <= tol && (!global || res.equilibrium <= std::max(tol, 1e-12)))
+        return "converged";
     if (res.info == 0) return "inaccurate";  // Siconos says converged, frix's measure does not
     if (max_iter > 0 && res.iterations >= max_iter) return "max_iter";
     return "failed";
@@ -147,44 +190,80 @@ int run(int argc, char **argv) {
     if (a.fd >= 0) std::signal(SIGPIPE, SIG_IGN);
 
     ProblemPtr problem = read_problem(a.file);
+    const bool global = frix_problem_get_kind(problem.get()) == FRIX_PROBLEM_GLOBAL;
     const int64_t nc = frix_problem_contacts(problem.get());
+    const int64_t n = global ? frix_problem_dofs(problem.get()) : 0;
+    const std::string name = std::string("siconos:") + frix_siconos_solver_name(id);
+    // A solver for the other kind of problem is a usage error, found before anything runs;
+    // the bench, which runs every solver on every problem, records it as unsupported.
+    if (frix_siconos_solver_is_global(id) != (global ? 1 : 0)) {
+        const std::string why =
+            global ? name + " is a local solver (fc3d_driver) and " + a.file +
+                         " is a global problem: use a GFC3D_ solver (see 'frix-siconos --list')"
+                   : name + " is a global solver (gfc3d_driver) and " + a.file +
+                         " is a local problem: use an FC3D solver (see 'frix-siconos --list')";
+        if (a.fd >= 0) {
+            frix_bench::write_line(a.fd, frix_bench::note_line(why));
+            frix_bench::write_line(a.fd, frix_bench::result_line("unsupported", 0, NAN, NAN, NAN));
+            frix_bench::write_line(a.fd, frix_bench::peak_memory_line());
+            return kExitUsage;
+        }
+        fail(why);
+    }
     std::vector<double> r(static_cast<std::size_t>(std::max<int64_t>(3 * nc, 1)), 0.0);
     std::vector<double> u(r.size(), 0.0);
+    std::vector<double> v(static_cast<std::size_t>(std::max<int64_t>(n, 1)), 0.0);
+    double *vp = global ? v.data() : nullptr;
     TraceSink sink;
     sink.fd = a.fd;
     frix_siconos_result res;
-    frix_siconos_solve(problem.get(), id, a.tol, a.max_iter, r.data(), u.data(), on_iteration,
-                       &sink, &res);
-    // Short solves again from r = 0, without the trace, for the median time (RepeatTimer,
-    // the same rule as frix's side).
     frix_bench::RepeatTimer timer;
-    timer.add(res.time);
-    while (res.ran && timer.again()) {
-        std::vector<double> r2(r.size(), 0.0), u2(u.size(), 0.0);
-        frix_siconos_result again;
-        frix_siconos_solve(problem.get(), id, a.tol, a.max_iter, r2.data(), u2.data(), nullptr, nullptr,
-                           &again);
-        if (!again.ran) break;
-        timer.add(again.time);
+    {
+        SiconosOutputToStderr quiet_stdout;
+        frix_siconos_solve(problem.get(), id, a.tol, a.max_iter, r.data(), u.data(), vp,
+                           on_iteration, &sink, &res);
+        // Short solves again from r = 0 (and v = 0), without the trace, for the median time
+        // (RepeatTimer, the same rule as frix's side).
+        timer.add(res.time);
+        while (res.ran && timer.again()) {
+            std::vector<double> r2(r.size(), 0.0), u2(u.size(), 0.0), v2(v.size(), 0.0);
+            frix_siconos_result again;
+            frix_siconos_solve(problem.get(), id, a.tol, a.max_iter, r2.data(), u2.data(),
+                               global ? v2.data() : nullptr, nullptr, nullptr, &again);
+            if (!again.ran) break;
+            timer.add(again.time);
+        }
     }
     res.time = timer.median();
-    const char *status = status_of(res, a.tol, a.max_iter,
-                                   frix_problem_get_kind(problem.get()) == FRIX_PROBLEM_LOCAL);
-    const std::string name = std::string("siconos:") + frix_siconos_solver_name(id);
+    const char *status = status_of(res, a.tol, a.max_iter, global);
     std::string note = res.message;
     if (res.ran && res.callbacks == 0)
         note = "no per-iteration trace (this solver does not call Siconos's iteration callback)";
 
     if (a.fd >= 0) {
+        // The result line has one error field, from which the bench ranks every run whatever
+        // its status: for a global problem the larger of the error and the equilibrium, else
+        // a solver that gives up with r = 0 and v = 0 (u = w = 0: no contact error) would
+        // count as exact. Both are in the note, which runs.csv keeps.
+        double error = res.error;
+        if (global && res.ran) {
+            char eq[96];
+            std::snprintf(eq, sizeof eq, "error %.3e, equilibrium %.3e (error column: the larger)",
+                          res.error, res.equilibrium);
+            note = note.empty() ? std::string(eq) : note + "; " + eq;
+            error = std::isnan(res.equilibrium) ? NAN : std::max(res.error, res.equilibrium);
+        }
         if (!note.empty()) frix_bench::write_line(a.fd, frix_bench::note_line(note));
-        frix_bench::write_line(a.fd, frix_bench::result_line(status, res.iterations, res.error,
+        frix_bench::write_line(a.fd, frix_bench::result_line(status, res.iterations, error,
                                                              res.time, res.siconos_error));
         frix_bench::write_line(a.fd, frix_bench::peak_memory_line());
     } else if (a.json) {
         JsonWriter w;
         w.begin_object();
         w.string("file", a.file);
+        w.string("kind", global ? "global" : "local");
         w.integer("contacts", nc);
+        if (global) w.integer("dofs", n);
         w.string("solver", name);
         w.integer("solver_id", id);
         w.string("status", status);
@@ -196,6 +275,12 @@ int run(int argc, char **argv) {
         w.number("time", res.time);
         w.integer("siconos_info", res.info);
         w.number("siconos_error", res.siconos_error);
+        if (global) {  // where `frix solve --json` has it
+            w.begin_object("measures");
+            w.number("error_relative", res.error);
+            w.number("equilibrium", res.equilibrium);
+            w.end_object();
+        }
         if (note.empty())
             w.null("note");
         else
@@ -215,14 +300,20 @@ int run(int argc, char **argv) {
         std::printf("%s\n", w.text().c_str());
     } else {
         std::printf("%-16s %s\n", "file", a.file.c_str());
-        std::printf("%-16s local, %lld contacts\n", "problem", static_cast<long long>(nc));
+        if (global)
+            std::printf("%-16s global, %lld contacts, %lld dofs\n", "problem",
+                        static_cast<long long>(nc), static_cast<long long>(n));
+        else
+            std::printf("%-16s local, %lld contacts\n", "problem", static_cast<long long>(nc));
         std::printf("%-16s %s (id %d)\n", "solver", name.c_str(), id);
         std::printf("%-16s %s\n", "status", status);
         std::printf("%-16s %lld\n", "iterations", static_cast<long long>(res.iterations));
         std::printf("%-16s %.3e (frix's relative measure, tolerance %.1e)\n", "error", res.error,
                     a.tol);
+        if (global) std::printf("%-16s %.3e\n", "equilibrium", res.equilibrium);
         std::printf("%-16s %.3e (info %d)\n", "siconos error", res.siconos_error, res.info);
-        std::printf("%-16s %.3g s (fc3d_driver)\n", "time", res.time);
+        std::printf("%-16s %.3g s (%s)\n", "time", res.time,
+                    global ? "gfc3d_driver" : "fc3d_driver");
         if (!note.empty()) std::printf("%-16s %s\n", "note", note.c_str());
     }
     if (!res.ran && a.fd < 0) fail(a.file + ": " + res.message);

@@ -16,25 +16,38 @@
 #include <cs.h> /* struct cs_dl_sparse, the layout of Siconos's CSparseMatrix (CS_INT long) */
 
 #include "FrictionContactProblem.h"
+#include "Friction_cst.h"
+#include "GlobalFrictionContactProblem.h"
 #include "NonSmoothDrivers.h"
 #include "NumericsMatrix.h"
+#include "NumericsSparseMatrix.h"
 #include "NumericsVerbose.h"
 #include "SolverOptions.h"
 #include "SparseBlockMatrix.h"
 #include "sn_error_handling.h"
 
-/* The local FC3D solvers of Siconos 4.4 (Friction_cst.h) that need nothing beyond
- * Debian's build (no GAMS). */
+/* The FC3D local and GFC3D global solvers of Siconos 4.4 (Friction_cst.h) that need
+ * nothing beyond Debian's build (no GAMS); not GFC3D_NSGSV_WR either, whose inner solver
+ * exits on the sparse W its reformulation builds. A global one is named as Siconos names
+ * it (SICONOS_GLOBAL_FRICTION_3D_*_STR), so that its name alone says which kind it solves. */
 static const struct {
     int id;
     const char *name;
+    int global;
 } kSolvers[] = {
-    {500, "NSGS"},   {501, "NSGSV"},  {502, "PROX"},  {503, "TFP"},    {504, "NSN_AC"},
-    {505, "DSFP"},   {506, "VI_FPP"}, {507, "VI_EG"}, {508, "HP"},     {511, "FPP"},
-    {512, "EG"},     {513, "NSN_FB"}, {516, "ACLMFP"}, {517, "SOCLCP"}, {520, "NSN_NM"},
-    {521, "NSN_AC_TEST"}, {522, "PFP"}, {523, "ADMM"},
+    {500, "NSGS", 0},   {501, "NSGSV", 0},  {502, "PROX", 0},   {503, "TFP", 0},
+    {504, "NSN_AC", 0}, {505, "DSFP", 0},   {506, "VI_FPP", 0}, {507, "VI_EG", 0},
+    {508, "HP", 0},     {511, "FPP", 0},    {512, "EG", 0},     {513, "NSN_FB", 0},
+    {516, "ACLMFP", 0}, {517, "SOCLCP", 0}, {520, "NSN_NM", 0}, {521, "NSN_AC_TEST", 0},
+    {522, "PFP", 0},    {523, "ADMM", 0},
+    {600, "GFC3D_NSGS_WR", 1},   {602, "GFC3D_PROX_WR", 1}, {603, "GFC3D_DSFP_WR", 1},
+    {604, "GFC3D_TFP_WR", 1},    {605, "GFC3D_NSGS", 1},    {606, "GFC3D_NSN_AC_WR", 1},
+    {607, "GFC3D_NSN_AC", 1},    {610, "GFC3D_VI_FPP", 1},  {611, "GFC3D_VI_EG", 1},
+    {612, "GFC3D_ACLMFP", 1},    {613, "GFC3D_ADMM", 1},    {614, "GFC3D_ADMM_WR", 1},
+    {615, "GFC3D_IPM", 1},
 };
 enum { kSolverCount = (int)(sizeof kSolvers / sizeof kSolvers[0]) };
+static const char kGlobalPrefix[] = "GFC3D_";
 
 int frix_siconos_solver_count(void) { return kSolverCount; }
 
@@ -46,6 +59,12 @@ const char *frix_siconos_solver_name(int id) {
     for (int k = 0; k < kSolverCount; ++k)
         if (kSolvers[k].id == id) return kSolvers[k].name;
     return NULL;
+}
+
+int frix_siconos_solver_is_global(int id) {
+    for (int k = 0; k < kSolverCount; ++k)
+        if (kSolvers[k].id == id) return kSolvers[k].global;
+    return -1;
 }
 
 static int same_name(const char *a, const char *b) {
@@ -67,10 +86,18 @@ int frix_siconos_solver_by_name(const char *name) {
     long id = strtol(name, &end, 10);
     if (end && *end == '\0') return frix_siconos_solver_name((int)id) ? (int)id : -1;
     const char *s = strip_prefix(name, "SICONOS_");
+    const char *g = strip_prefix(s, "GLOBAL_FRICTION_3D_");
+    if (g == s) g = strip_prefix(s, kGlobalPrefix);
+    if (g != s) { /* a global solver's spelling: its short name after GFC3D_ */
+        for (int k = 0; k < kSolverCount; ++k)
+            if (kSolvers[k].global && same_name(g, kSolvers[k].name + strlen(kGlobalPrefix)))
+                return kSolvers[k].id;
+        return -1;
+    }
     s = strip_prefix(s, "FRICTION_3D_");
     s = strip_prefix(s, "FC3D_");
     for (int k = 0; k < kSolverCount; ++k)
-        if (same_name(s, kSolvers[k].name)) return kSolvers[k].id;
+        if (!kSolvers[k].global && same_name(s, kSolvers[k].name)) return kSolvers[k].id;
     return -1;
 }
 
@@ -102,40 +129,85 @@ static void collect(void *env, int size, double *reaction, double *velocity, dou
 
 /* ---- Building Siconos's problem from frix's --------------------------------------------- */
 
-/* W as Siconos's sparse-block matrix (3x3 blocks), through CSC as its FCLIB reader does. */
-static NumericsMatrix *block_matrix(const frix_matrix *W, char *msg, size_t msg_len) {
-    int64_t n = frix_matrix_rows(W), nnz = 0;
-    if (frix_matrix_to_csc(W, &nnz, NULL, NULL, NULL) != FRIX_OK) {
+/* A frix matrix as compressed sparse columns in CSparse's index type (cs_dl, the layout of
+ * Siconos's CSparseMatrix); p, i and x are the caller's to free, also on failure. */
+typedef struct {
+    int64_t rows, cols, nnz;
+    cs_long_t *p, *i;
+    double *x;
+} csc_copy;
+
+static int export_csc(const frix_matrix *A, csc_copy *c, char *msg, size_t msg_len) {
+    memset(c, 0, sizeof *c);
+    c->rows = frix_matrix_rows(A);
+    c->cols = frix_matrix_cols(A);
+    if (frix_matrix_to_csc(A, &c->nnz, NULL, NULL, NULL) != FRIX_OK) {
         snprintf(msg, msg_len, "frix_matrix_to_csc: %s", frix_last_error_message());
-        return NULL;
+        return 0;
     }
-    int64_t *colptr = malloc(sizeof(int64_t) * (size_t)(n + 1));
-    int64_t *rowind = malloc(sizeof(int64_t) * (size_t)(nnz > 0 ? nnz : 1));
-    double *values = malloc(sizeof(double) * (size_t)(nnz > 0 ? nnz : 1));
-    cs_long_t *p = malloc(sizeof(cs_long_t) * (size_t)(n + 1));
-    cs_long_t *i = malloc(sizeof(cs_long_t) * (size_t)(nnz > 0 ? nnz : 1));
-    NumericsMatrix *M = NULL;
-    if (!colptr || !rowind || !values || !p || !i) {
+    const size_t cols1 = (size_t)(c->cols + 1), nz = (size_t)(c->nnz > 0 ? c->nnz : 1);
+    int64_t *colptr = malloc(sizeof(int64_t) * cols1);
+    int64_t *rowind = malloc(sizeof(int64_t) * nz);
+    c->x = malloc(sizeof(double) * nz);
+    c->p = malloc(sizeof(cs_long_t) * cols1);
+    c->i = malloc(sizeof(cs_long_t) * nz);
+    int ok = 0;
+    if (!colptr || !rowind || !c->x || !c->p || !c->i) {
         snprintf(msg, msg_len, "out of memory");
-    } else if (frix_matrix_to_csc(W, &nnz, colptr, rowind, values) != FRIX_OK) {
+    } else if (frix_matrix_to_csc(A, &c->nnz, colptr, rowind, c->x) != FRIX_OK) {
         snprintf(msg, msg_len, "frix_matrix_to_csc: %s", frix_last_error_message());
     } else {
-        for (int64_t k = 0; k <= n; ++k) p[k] = (cs_long_t)colptr[k];
-        for (int64_t k = 0; k < nnz; ++k) i[k] = (cs_long_t)rowind[k];
-        cs_dl csc = {(cs_long_t)(nnz > 0 ? nnz : 1), (cs_long_t)n, (cs_long_t)n, p, i, values,
-                     -1};
-        M = NM_create(NM_SPARSE_BLOCK, (int)n, (int)n);
+        for (int64_t k = 0; k <= c->cols; ++k) c->p[k] = (cs_long_t)colptr[k];
+        for (int64_t k = 0; k < c->nnz; ++k) c->i[k] = (cs_long_t)rowind[k];
+        ok = 1;
+    }
+    free(colptr);
+    free(rowind);
+    return ok;
+}
+
+static void free_csc(csc_copy *c) {
+    free(c->p);
+    free(c->i);
+    free(c->x);
+}
+
+/* W as Siconos's sparse-block matrix (3x3 blocks), through CSC as its FCLIB reader does. */
+static NumericsMatrix *block_matrix(const frix_matrix *W, char *msg, size_t msg_len) {
+    csc_copy c;
+    NumericsMatrix *M = NULL;
+    if (export_csc(W, &c, msg, msg_len)) {
+        cs_dl csc = {(cs_long_t)(c.nnz > 0 ? c.nnz : 1), (cs_long_t)c.rows, (cs_long_t)c.cols,
+                     c.p, c.i, c.x, -1};
+        M = NM_create(NM_SPARSE_BLOCK, (int)c.rows, (int)c.cols);
         if (SBM_from_csparse(3, (const CSparseMatrix *)&csc, M->matrix1) != 0) {
             snprintf(msg, msg_len, "SBM_from_csparse refused W");
             M = NM_free(M); /* clears and releases M, returns NULL */
         }
     }
-    free(colptr);
-    free(rowind);
-    free(values);
-    free(p);
-    free(i);
+    free_csc(&c);
     return M;
+}
+
+/* M or H as Siconos's sparse matrix with its CSC storage as the origin, what its FCLIB
+ * reader builds for a global problem: the global solvers factorise and multiply that. */
+static NumericsMatrix *sparse_matrix(const frix_matrix *A, char *msg, size_t msg_len) {
+    csc_copy c;
+    NumericsMatrix *S = NULL;
+    if (export_csc(A, &c, msg, msg_len)) {
+        S = NM_create(NM_SPARSE, (int)c.rows, (int)c.cols);
+        NumericsSparseMatrix *sp = numericsSparseMatrix(S);
+        NM_csc_alloc(S, (CS_INT)(c.nnz > 0 ? c.nnz : 1));
+        memcpy(sp->csc->p, c.p, sizeof(cs_long_t) * (size_t)(c.cols + 1));
+        if (c.nnz > 0) {
+            memcpy(sp->csc->i, c.i, sizeof(cs_long_t) * (size_t)c.nnz);
+            memcpy(sp->csc->x, c.x, sizeof(double) * (size_t)c.nnz);
+        }
+        sp->origin = NSM_CSC;
+        NSM_inc_version(sp, NSM_CSC); /* the CSC storage is the current one */
+    }
+    free_csc(&c);
+    return S;
 }
 
 static double *copy_of(const double *x, int64_t n) {
@@ -156,24 +228,96 @@ static int guarded_driver(FrictionContactProblem *fc, double *r, double *u, Solv
     return info;
 }
 
+/* gfc3d_driver, the same way. */
+static int guarded_global_driver(GlobalFrictionContactProblem *gfc, double *r, double *u,
+                                 double *v, SolverOptions *o, int *ran) {
+    *ran = 0;
+    if (setjmp(*sn_get_jmp_buf()) != 0) return -1;
+    int info = gfc3d_driver(gfc, r, u, v, o);
+    sn_release_jmp_buf();
+    *ran = 1;
+    return info;
+}
+
+static double norm2(const double *x, int64_t n) {
+    double s = 0.0;
+    for (int64_t k = 0; k < n; ++k) s += x[k] * x[k];
+    return sqrt(s);
+}
+
+/* Siconos's global problem from frix's: copies of M, H, f (its q), w (its b) and mu, which
+ * globalFrictionContact_free releases. NULL with msg set if a matrix is refused. */
+static GlobalFrictionContactProblem *global_problem(const frix_problem *problem, char *msg,
+                                                    size_t msg_len) {
+    const int64_t nc = frix_problem_contacts(problem), m = 3 * nc, n = frix_problem_dofs(problem);
+    NumericsMatrix *M = sparse_matrix(frix_problem_M(problem), msg, msg_len);
+    NumericsMatrix *H = M ? sparse_matrix(frix_problem_H(problem), msg, msg_len) : NULL;
+    if (!H) {
+        if (M) NM_free(M);
+        return NULL;
+    }
+    GlobalFrictionContactProblem *gfc = globalFrictionContactProblem_new();
+    gfc->dimension = 3;
+    gfc->numberOfContacts = (int)nc;
+    gfc->M = M;
+    gfc->H = H;
+    gfc->q = copy_of(frix_problem_f(problem), n);
+    gfc->b = copy_of(frix_problem_w(problem), m);
+    gfc->mu = copy_of(frix_problem_mu(problem), nc);
+    gfc->norm_q = norm2(gfc->q, n);
+    gfc->norm_b = norm2(gfc->b, m);
+    gfc->env = NULL;
+    return gfc;
+}
+
+/* frix's measures of a global answer: the relative error of (r, u = H^T v + w), written to
+ * u, and the equilibrium residual of (r, v). NaN where frix cannot measure it (r or v not
+ * finite). */
+static void measure_global(const frix_problem *problem, const double *r, const double *v,
+                           double *u, frix_siconos_result *res) {
+    frix_info *info = NULL;
+    if (frix_info_create(&info) != FRIX_OK) return;
+    if (frix_problem_measure(problem, r, v, u, info) == FRIX_OK) {
+        if (frix_info_get_double(info, FRIX_INFO_ERROR_RELATIVE, &res->error) != FRIX_OK)
+            res->error = NAN;
+        if (frix_info_get_double(info, FRIX_INFO_EQUILIBRIUM, &res->equilibrium) != FRIX_OK)
+            res->equilibrium = NAN;
+    }
+    frix_info_free(info);
+}
+
 int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolerance,
-                       int64_t max_iter, double *r, double *u, frix_siconos_trace_fn trace,
-                       void *trace_data, frix_siconos_result *res) {
+                       int64_t max_iter, double *r, double *u, double *v,
+                       frix_siconos_trace_fn trace, void *trace_data, frix_siconos_result *res) {
     memset(res, 0, sizeof *res);
     res->siconos_error = NAN;
     res->error = NAN;
+    res->equilibrium = NAN;
     res->time = NAN;
-    if (!frix_siconos_solver_name(solver_id)) {
+    const int global_solver = frix_siconos_solver_is_global(solver_id);
+    if (global_solver < 0) {
         snprintf(res->message, sizeof res->message, "unknown Siconos solver id %d", solver_id);
         return -1;
     }
-    if (frix_problem_get_kind(problem) != FRIX_PROBLEM_LOCAL) {
+    const int global = frix_problem_get_kind(problem) == FRIX_PROBLEM_GLOBAL;
+    /* Each driver takes one kind: fc3d_driver a W, gfc3d_driver an M and an H. */
+    if (global != global_solver) {
+        res->refused_kind = 1;
         snprintf(res->message, sizeof res->message,
-                 "the Siconos comparator takes local problems only (fc3d_driver)");
+                 global ? "%s is a local solver (fc3d_driver, u = W r + q) and the problem is "
+                          "global: use a GFC3D_ solver (see --list)"
+                        : "%s is a global solver (gfc3d_driver, M v = H r + f) and the problem "
+                          "is local: use an FC3D solver (see --list)",
+                 frix_siconos_solver_name(solver_id));
         return -1;
     }
     const int64_t nc = frix_problem_contacts(problem), m = 3 * nc;
-    if (m > INT_MAX) {
+    const int64_t n = global ? frix_problem_dofs(problem) : 0;
+    if (global && !v) {
+        snprintf(res->message, sizeof res->message, "a global problem needs v");
+        return -1;
+    }
+    if (m > INT_MAX || n > INT_MAX) {
         snprintf(res->message, sizeof res->message, "too large for Siconos's int sizes");
         return -1;
     }
@@ -181,17 +325,48 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
     if (nc == 0) { /* nothing to solve; Siconos's structures do not expect it */
         res->ran = 1;
         res->error = res->siconos_error = res->time = 0;
+        if (global) { /* v = M^-1 f, a linear solve that frix does: no contact problem here */
+            if (frix_solve(problem, NULL, r, u, v, NULL) != FRIX_OK) {
+                res->ran = 0;
+                snprintf(res->message, sizeof res->message, "v = M^-1 f: %s",
+                         frix_last_error_message());
+                return -1;
+            }
+            measure_global(problem, r, v, u, res);
+        }
         return 0;
     }
 
     numerics_set_verbose(0);
-    NumericsMatrix *M = block_matrix(frix_problem_W(problem), res->message, sizeof res->message);
-    if (!M) return -1;
-    /* Copies: the problem frees them, and PROX modifies W and q in place. */
-    FrictionContactProblem *fc = frictionContactProblem_new_with_data(
-        3, (int)nc, M, copy_of(frix_problem_q(problem), m), copy_of(frix_problem_mu(problem), nc));
+    FrictionContactProblem *fc = NULL;
+    GlobalFrictionContactProblem *gfc = NULL;
+    if (global) {
+        gfc = global_problem(problem, res->message, sizeof res->message);
+        if (!gfc) return -1;
+    } else {
+        NumericsMatrix *W = block_matrix(frix_problem_W(problem), res->message,
+                                         sizeof res->message);
+        if (!W) return -1;
+        /* Copies: the problem frees them, and PROX modifies W and q in place. */
+        fc = frictionContactProblem_new_with_data(3, (int)nc, W,
+                                                  copy_of(frix_problem_q(problem), m),
+                                                  copy_of(frix_problem_mu(problem), nc));
+    }
     SolverOptions *opts = solver_options_create(solver_id);
+    if (!opts) {
+        snprintf(res->message, sizeof res->message, "Siconos has no options for solver id %d",
+                 solver_id);
+        if (gfc) globalFrictionContact_free(gfc);
+        if (fc) frictionContactProblem_free(fc);
+        return -1;
+    }
     opts->dparam[SICONOS_DPARAM_TOL] = tolerance;
+    /* GFC3D_IPM solves by default the convex relaxation (u_N without the De Saxce term
+     * mu |u_T|), whose solution is not the Coulomb one that frix measures; told to update
+     * that term, as GFC3D_ADMM does by default, it solves the problem the others solve. */
+    if (solver_id == SICONOS_GLOBAL_FRICTION_3D_IPM)
+        opts->iparam[SICONOS_FRICTION_3D_ADMM_IPARAM_UPDATE_S] =
+            SICONOS_FRICTION_3D_ADMM_UPDATE_S_YES;
     if (max_iter > 0) opts->iparam[SICONOS_IPARAM_MAX_ITER] = max_iter > INT_MAX ? INT_MAX : (int)max_iter;
 
     /* The callback only when a trace is asked for: Siconos does extra work per iteration for
@@ -209,7 +384,8 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
     clock_gettime(CLOCK_MONOTONIC, &start);
     env.start = start;
     int ran = 0;
-    int info = guarded_driver(fc, r, u, opts, &ran);
+    int info = global ? guarded_global_driver(gfc, r, u, v, opts, &ran)
+                      : guarded_driver(fc, r, u, opts, &ran);
     res->time = seconds_since(&start);
 
     res->ran = ran;
@@ -225,10 +401,20 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
     opts->callback = NULL; /* ours, not Siconos's to free */
     free(cb);
     solver_options_delete(opts);
-    frictionContactProblem_free(fc);
+    if (gfc) {
+        /* globalFrictionContact_free asserts that env is empty (Debian's Siconos keeps its
+         * asserts); ours is, so whatever a solver left there leaks instead of aborting. */
+        gfc->env = NULL;
+        globalFrictionContact_free(gfc);
+    } else {
+        frictionContactProblem_free(fc);
+    }
 
-    /* One measure for both: frix's, of the r Siconos returned (u recomputed as W r + q). */
-    if (ran) {
+    /* One measure for both: frix's, of the r (and v) Siconos returned; u recomputed as
+     * W r + q, or H^T v + w. */
+    if (ran && global) {
+        measure_global(problem, r, v, u, res);
+    } else if (ran) {
         if (frix_problem_error(problem, r, NULL, &res->error) != FRIX_OK) res->error = NAN;
         if (frix_matrix_gemv(frix_problem_W(problem), 1.0, r, 0.0, u) == FRIX_OK)
             for (int64_t k = 0; k < m; ++k) u[k] += frix_problem_q(problem)[k];
