@@ -17,26 +17,34 @@ BlockMatrixFromTerms::BlockMatrixFromTerms(int64_t n, const char *what) : A_(std
 frix_error BlockMatrixFromTerms::pattern(const std::vector<std::vector<int64_t>> &groups) {
     frix_matrix &A = *A_;
     const int64_t nb = A.block_rows;
-    // Each group's contacts (its columns, 3 to a contact), every one's row taking them all.
+    // Each group's contacts (its columns, 3 to a contact), every one's row taking them all;
+    // groups with the same contacts (a body's x, y and z dofs, uncoupled in M) once.
     std::vector<std::vector<int64_t>> contacts(groups.size());
-    for (size_t g = 0; g < groups.size(); ++g) {
+    for (size_t g = 0; g < groups.size(); ++g)
         for (int64_t j : groups[g]) {
             if (j < 0 || j >= A.cols)
                 return fail(FRIX_ERR_INTERNAL, "%s: column %lld outside the %lld", what_, (long long)j, (long long)A.cols);
             if (contacts[g].empty() || contacts[g].back() != j / 3) contacts[g].push_back(j / 3);
         }
-        for (int64_t b : contacts[g]) A.row_ptr[(size_t)b + 1] += (int64_t)contacts[g].size();
-    }
+    std::sort(contacts.begin(), contacts.end());
+    contacts.erase(std::unique(contacts.begin(), contacts.end()), contacts.end());
+    std::vector<int64_t> groups_of((size_t)nb, 0);  // how many groups each contact is in
+    for (const auto &c : contacts)
+        for (int64_t b : c) {
+            A.row_ptr[(size_t)b + 1] += (int64_t)c.size();
+            ++groups_of[(size_t)b];
+        }
     for (int64_t b = 0; b < nb; ++b) A.row_ptr[(size_t)b + 1] += A.row_ptr[(size_t)b];
     A.block_col.resize((size_t)A.row_ptr[(size_t)nb]);
     std::vector<int64_t> next(A.row_ptr.begin(), A.row_ptr.end() - 1);
     for (const auto &c : contacts)
         for (int64_t b : c) next[(size_t)b] = std::copy(c.begin(), c.end(), A.block_col.begin() + next[(size_t)b]) - A.block_col.begin();
-    // A contact in several groups (a contact between two bodies) has their union.
+    // A contact in several groups (a contact between two bodies) has their union; one in a
+    // single group has that group's contacts, in order already.
     int64_t kept = 0;
     for (int64_t b = 0; b < nb; ++b) {
         const auto first = A.block_col.begin() + A.row_ptr[(size_t)b], last = A.block_col.begin() + A.row_ptr[(size_t)b + 1];
-        std::sort(first, last);
+        if (groups_of[(size_t)b] > 1) std::sort(first, last);
         const auto end = std::unique(first, last);
         A.row_ptr[(size_t)b] = kept;
         kept = std::copy(first, end, A.block_col.begin() + kept) - A.block_col.begin();
@@ -70,6 +78,9 @@ frix_error BlockMatrixFromTerms::add(int64_t count, const int64_t *cols, int64_t
 
 frix_error BlockMatrixFromTerms::finish(std::unique_ptr<frix_matrix> &out) {
     frix_matrix &A = *A_;
+    // Block (c, r) of row c, for the rows r in increasing order: each row's cursor only
+    // moves forward.
+    std::vector<int64_t> cursor(A.row_ptr.begin(), A.row_ptr.end() - 1);
     for (int64_t r = 0; r < A.block_rows; ++r)
         for (int64_t p = A.row_ptr[(size_t)r]; p < A.row_ptr[(size_t)r + 1]; ++p) {
             const int64_t c = A.block_col[(size_t)p];
@@ -86,11 +97,12 @@ frix_error BlockMatrixFromTerms::finish(std::unique_ptr<frix_matrix> &out) {
                 continue;
             }
             // Block (c, r) is block (r, c) transposed.
-            const auto first = A.block_col.begin() + A.row_ptr[(size_t)c], last = A.block_col.begin() + A.row_ptr[(size_t)c + 1];
-            const auto it = std::lower_bound(first, last, r);
-            if (it == last || *it != r)
+            int64_t &q = cursor[(size_t)c];
+            const int64_t end = A.row_ptr[(size_t)c + 1];
+            while (q < end && A.block_col[(size_t)q] < r) ++q;
+            if (q == end || A.block_col[(size_t)q] != r)
                 return fail(FRIX_ERR_INTERNAL, "%s: block (%lld, %lld) without its mirror", what_, (long long)r, (long long)c);
-            double *lower = &A.block_val[9 * (size_t)(it - A.block_col.begin())];
+            double *lower = &A.block_val[9 * (size_t)q];
             for (int i = 0; i < 3; ++i)
                 for (int k = 0; k < 3; ++k) lower[i + 3 * k] = upper[k + 3 * i];
         }
