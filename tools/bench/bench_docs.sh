@@ -3,7 +3,9 @@
 # registered frix solver and Siconos 4.4's nine) over the shared FCLIB problems at tolerance
 # 1e-4 and 1e-8 and over the larger problems of fclib-large at 1e-8, and two at simulation
 # tolerances (1e-4 and 1e-6) over fclib-large and generated pyramids of spheres (960, 3312
-# and 15600 contacts) with the solvers that can be the best there; their tables spliced
+# and 15600 contacts) with the solvers that can be the best there, and one of global problems
+# (the shared FCLIB global ones and generated elastic grids of 1200 to 99825 dofs, frix's
+# solvers for them and Siconos 4.4's global ones) at 1e-8; their tables spliced
 # between the markers of docs/benchmarks.md, their plots and runs.csv copied to
 # docs/benchmarks/<campaign>/; then auto against the best solver of each library, problem by
 # problem, over the two 1e-8 campaigns (tools/bench/auto_summary.py), with the performance
@@ -14,9 +16,10 @@
 #
 # Environment: FRIX_SHARED_DIR (default ../shared), BENCH_WORK (default BUILD_DIR/bench-docs),
 # BENCH_TIME_LIMIT (default 20 s per run), BENCH_LARGE_TIME_LIMIT (default 30 s per run on
-# fclib-large), BENCH_MAX_ITER (iterations per run, default 1000000000: the time limit is what
+# fclib-large), BENCH_GLOBAL_TIME_LIMIT (default 60 s per run on the global ones), BENCH_MAX_ITER (iterations per run, default 1000000000: the time limit is what
 # ends a run, so that a solver that needs millions of fast sweeps, NSGS on RockPile_tob1,
-# is judged by the clock), BENCH_JOBS (default 1), BENCH_CAMPAIGNS (default "1e-4 1e-8 large"),
+# is judged by the clock), BENCH_JOBS (default 1), BENCH_CAMPAIGNS (default "1e-4 1e-8 large
+# large-1e-4 large-1e-6 global"),
 # BENCH_REUSE=1 (redo the report of a campaign whose BENCH_WORK/<campaign>/runs.csv exists,
 # e.g. after rows were added to it by hand, instead of running it again).
 set -euo pipefail
@@ -25,9 +28,10 @@ shared=${FRIX_SHARED_DIR:-../shared}
 work=${BENCH_WORK:-$build/bench-docs}
 limit=${BENCH_TIME_LIMIT:-20}
 large_limit=${BENCH_LARGE_TIME_LIMIT:-30}
+global_limit=${BENCH_GLOBAL_TIME_LIMIT:-60}
 max_iter=${BENCH_MAX_ITER:-1000000000}
 jobs=${BENCH_JOBS:-1}
-campaigns=${BENCH_CAMPAIGNS:-1e-4 1e-8 large large-1e-4 large-1e-6}
+campaigns=${BENCH_CAMPAIGNS:-1e-4 1e-8 large large-1e-4 large-1e-6 global}
 frix="$build/tools/frix"
 doc=docs/benchmarks.md
 
@@ -62,6 +66,17 @@ pyramids() {
     done
 }
 
+# Elastic grids, a deformable body in global form (frix_scene elastic-grid): 1200, 12000,
+# 48000 and 99825 dofs, 100 to 3025 contacts, written once into the work directory.
+grids() {
+    mkdir -p "$work/grids"
+    for size in "10 10 4" "20 20 10" "40 40 10" "55 55 11"; do
+        set -- $size
+        [ -f "$work/grids/elastic-grid-$1x$2x$3.hdf5" ] ||
+            "$build/examples/frix_scene" elastic-grid "$work/grids/elastic-grid-$1x$2x$3.hdf5" "$1" "$2" "$3" >/dev/null
+    done
+}
+
 for campaign in $campaigns; do
     # Every frix solver and every Siconos solver, but at simulation tolerances: the ones that
     # were the fastest on some problem of these families (Siconos's NSN_AC reached neither
@@ -73,6 +88,10 @@ for campaign in $campaigns; do
             pyramids
             dirs=("$shared/fclib-large" "$work/scenes"); tol=${campaign#large-}; tl=$limit
             solvers=auto,nsgs,nsgs-v,admm,ipm,prox,siconos:NSGS,siconos:ADMM,siconos:PROX ;;
+        global)
+            grids
+            dirs=("$shared/fclib/global" "$work/grids"); tol=1e-8; tl=$global_limit
+            solvers=auto,gnsn-ac,nsgs,nsgs-v,admm,ipm,siconos:GFC3D_NSN_AC,siconos:GFC3D_NSN_AC_WR,siconos:GFC3D_NSGS_WR,siconos:GFC3D_PROX_WR,siconos:GFC3D_ADMM,siconos:GFC3D_IPM ;;
         *) dirs=("$shared/fclib/local" "$shared/fclib/converted"); tol=$campaign; tl=$limit ;;
     esac
     out="$work/$campaign"
