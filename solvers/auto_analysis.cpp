@@ -118,6 +118,7 @@ frix_error extract_island(const frix_problem &p, const std::vector<int64_t> &isl
         for (int c = 0; c < 3; ++c) q[(size_t)(3 * k + c)] = p.q[3 * i + c];
         mu[(size_t)k] = p.mu[i];
     }
+    sub->symmetric = W.symmetric;  // a principal submatrix of W
     frix_problem *raw = nullptr;
     if (frix_error e = make_owned_local_problem(std::move(sub), std::move(q), std::move(mu), &raw)) return e;
     out.reset(raw);
