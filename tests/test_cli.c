@@ -507,8 +507,17 @@ START_TEST(test_solve_global_shared) {
     ck_assert_msg(strstr(r.out, "\"kind\":\"global\"") && strstr(r.out, "\"equilibrium\":") &&
                       strstr(r.out, "\"trace\":[\"analysis: 31 contacts") && strstr(r.out, "\"nsgs: converged"),
                   "%s", r.out);
+    /* The setup's time and, of it, W's, both given. */
+    ck_assert_msg(strstr(r.out, "\"setup_time\":") && strstr(r.out, "\"reduction_time\":"), "%s", r.out);
     run_free(&r);
     ck_assert_double_le(stored_solution_error(out, 31), 1e-8);
+    /* The text says what the setup was: M and q, then W, then the solver. */
+    const char *a2[] = {"solve", BOX_STACKS, NULL};
+    r = run_cli(a2);
+    ck_assert_msg(r.code == 0 && strstr(r.out, "then the solver") && strstr(r.out, "M factorised and q") &&
+                      strstr(r.out, "W = H^T M^-1 H"),
+                  "%s%s", r.out, r.err);
+    run_free(&r);
 }
 END_TEST
 
