@@ -11,10 +11,9 @@ namespace frix {
 
 namespace {
 
-// W's 3x3 blocks: 9 values and a column index each (BlockMatrixFromColumns keeps no other copy).
 // Where W could take more than kStructureAbove, its structure is looked at for a tighter
 // bound (forming W reserves that much address space).
-constexpr double kBytesPerReducedBlock = 80.0, kStructureAbove = 256e6;
+constexpr double kStructureAbove = 256e6;
 
 }  // namespace
 

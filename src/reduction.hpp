@@ -16,6 +16,9 @@
 
 namespace frix {
 
+// W's 3x3 blocks: 9 values and a column index each (its builders keep no other copy).
+constexpr double kBytesPerReducedBlock = 80.0;
+
 // A matrix in CSC with its own arrays.
 struct Csc {
     int64_t rows = 0, cols = 0;
@@ -132,14 +135,13 @@ class MassSolver {
             clear_error();
             return false;
         }
-        *price = linalg::FactorPrice{cost.flops, NAN, cost.workspace_bytes + kBytesPerEntryOfW * cost.entries, false};
+        *price = linalg::FactorPrice{cost.flops, NAN, cost.workspace_bytes + kBytesPerReducedBlock / 9.0 * cost.entries,
+                                     false};
         return true;
     }
     const linalg::FactorStats &last_stats() const { return last_; }
 
    private:
-    // W's 3x3 blocks: 9 values and a column index each, 80 bytes for 9 entries.
-    static constexpr double kBytesPerEntryOfW = 80.0 / 9.0;
     linalg::FactorStats last_;
     Csc csc_;
     linalg::SparseCholesky chol_;
