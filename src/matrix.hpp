@@ -113,6 +113,11 @@ class BlockMatrixFromColumns {
     std::vector<int64_t> slot_;  // per block row: its block in the pending column, or -1
 };
 
+// The contacts (3 columns to a contact) of each group of columns of W, each list increasing,
+// groups with the same contacts once (a body's x, y and z dofs, uncoupled in M, reach the
+// same contacts): the cliques of W's block pattern (see linalg::CongruenceSink::pattern).
+std::vector<std::vector<int64_t>> contact_sets(const std::vector<std::vector<int64_t>> &groups);
+
 // Builds a square 3x3 block-CSR matrix, symmetric, from a sum of dense symmetric terms (a
 // linalg::CongruenceSink): W = H^T M^-1 H as SparseCholesky::inverse_congruence forms it,
 // straight into its final storage (a dense W is large: no other copy). Its blocks: every pair

@@ -14,20 +14,25 @@ BlockMatrixFromTerms::BlockMatrixFromTerms(int64_t n, const char *what) : A_(std
     A_->row_ptr.assign((size_t)(n / 3) + 1, 0);
 }
 
+std::vector<std::vector<int64_t>> contact_sets(const std::vector<std::vector<int64_t>> &groups) {
+    std::vector<std::vector<int64_t>> contacts(groups.size());
+    for (size_t g = 0; g < groups.size(); ++g)
+        for (int64_t j : groups[g])
+            if (contacts[g].empty() || contacts[g].back() != j / 3) contacts[g].push_back(j / 3);
+    std::sort(contacts.begin(), contacts.end());
+    contacts.erase(std::unique(contacts.begin(), contacts.end()), contacts.end());
+    return contacts;
+}
+
 frix_error BlockMatrixFromTerms::pattern(const std::vector<std::vector<int64_t>> &groups) {
     frix_matrix &A = *A_;
     const int64_t nb = A.block_rows;
-    // Each group's contacts (its columns, 3 to a contact), every one's row taking them all;
-    // groups with the same contacts (a body's x, y and z dofs, uncoupled in M) once.
-    std::vector<std::vector<int64_t>> contacts(groups.size());
-    for (size_t g = 0; g < groups.size(); ++g)
-        for (int64_t j : groups[g]) {
+    for (const auto &g : groups)
+        for (int64_t j : g)
             if (j < 0 || j >= A.cols)
                 return fail(FRIX_ERR_INTERNAL, "%s: column %lld outside the %lld", what_, (long long)j, (long long)A.cols);
-            if (contacts[g].empty() || contacts[g].back() != j / 3) contacts[g].push_back(j / 3);
-        }
-    std::sort(contacts.begin(), contacts.end());
-    contacts.erase(std::unique(contacts.begin(), contacts.end()), contacts.end());
+    // Every contact's row takes all the contacts of its sets.
+    const std::vector<std::vector<int64_t>> contacts = contact_sets(groups);
     std::vector<int64_t> groups_of((size_t)nb, 0);  // how many groups each contact is in
     for (const auto &c : contacts)
         for (int64_t b : c) {

@@ -135,8 +135,9 @@ class MassSolver {
             clear_error();
             return false;
         }
-        *price = linalg::FactorPrice{cost.flops, NAN, cost.workspace_bytes + kBytesPerReducedBlock / 9.0 * cost.entries,
-                                     false};
+        double blocks = 0.0;  // at most: sets may overlap
+        for (const auto &c : contact_sets(cost.groups)) blocks += (double)c.size() * (double)c.size();
+        *price = linalg::FactorPrice{cost.flops, NAN, cost.workspace_bytes + kBytesPerReducedBlock * blocks, false};
         return true;
     }
     const linalg::FactorStats &last_stats() const { return last_; }

@@ -268,7 +268,7 @@ struct CongruencePlan {
     };
     int64_t n, k, nsuper;
     const int64_t *super, *pi, *px, *Ls;
-    std::vector<int64_t> col_super, parent, root, child_ptr, children, own_ptr;
+    std::vector<int64_t> col_super, parent, child_ptr, children, own_ptr;
     std::vector<Entry> own;
     std::vector<std::vector<int64_t>> cols;  // per supernode, increasing
     double flops = 0.0;
@@ -278,6 +278,13 @@ struct CongruencePlan {
 
     int64_t nscol(int64_t s) const { return super[s + 1] - super[s]; }
     int64_t nsrow(int64_t s) const { return pi[s + 1] - pi[s]; }
+    // C's pattern: the columns reaching each root (a root's columns are all its subtree's).
+    std::vector<std::vector<int64_t>> groups() const {
+        std::vector<std::vector<int64_t>> g;
+        for (int64_t s = 0; s < nsuper; ++s)
+            if (parent[(size_t)s] < 0 && !cols[(size_t)s].empty()) g.push_back(cols[(size_t)s]);
+        return g;
+    }
 
     CongruencePlan(const cholmod_factor &L, const CscView &B)
         : n((int64_t)L.n), k(B.cols), nsuper((int64_t)L.nsuper), super(static_cast<const int64_t *>(L.super)),
@@ -285,16 +292,13 @@ struct CongruencePlan {
           Ls(static_cast<const int64_t *>(L.s)) {
         const int64_t *perm = static_cast<const int64_t *>(L.Perm);
         // The tree: each supernode's parent (the one holding its first row below), children
-        // before parents in the numbering; each one's root.
+        // before parents in the numbering.
         col_super.resize((size_t)n);
         parent.assign((size_t)nsuper, -1);
-        root.resize((size_t)nsuper);
         for (int64_t s = 0; s < nsuper; ++s)
             for (int64_t c = super[s]; c < super[s + 1]; ++c) col_super[(size_t)c] = s;
-        for (int64_t s = nsuper - 1; s >= 0; --s) {
+        for (int64_t s = 0; s < nsuper; ++s)
             if (nsrow(s) > nscol(s)) parent[(size_t)s] = col_super[(size_t)Ls[pi[s] + nscol(s)]];
-            root[(size_t)s] = parent[(size_t)s] < 0 ? s : root[(size_t)parent[(size_t)s]];
-        }
         child_ptr.assign((size_t)nsuper + 1, 0);
         children.resize((size_t)nsuper);
         for (int64_t s = 0; s < nsuper; ++s)
@@ -358,22 +362,7 @@ frix_error SparseCholesky::congruence_cost(const CscView &B, CongruenceCost *cos
                     (long long)m.L->n);
     if (!m.L->is_super) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: B^T A^-1 B needs a supernodal factor");
     const CongruencePlan plan(*m.L, B);
-    // C's entries, stored as 3x3 blocks: per root, the blocks of the columns reaching it,
-    // squared, each set of blocks counted once (components of A that the same columns reach,
-    // as the x, y and z dofs of a body decoupled in A); at most that where sets overlap.
-    std::vector<std::vector<int64_t>> block_sets;
-    for (int64_t s = 0; s < plan.nsuper; ++s)
-        if (plan.parent[(size_t)s] < 0 && !plan.cols[(size_t)s].empty()) {
-            std::vector<int64_t> blocks;
-            for (int64_t j : plan.cols[(size_t)s])
-                if (blocks.empty() || blocks.back() != j / 3) blocks.push_back(j / 3);
-            block_sets.push_back(std::move(blocks));
-        }
-    std::sort(block_sets.begin(), block_sets.end());
-    block_sets.erase(std::unique(block_sets.begin(), block_sets.end()), block_sets.end());
-    double entries = 0.0;
-    for (const auto &b : block_sets) entries += 9.0 * (double)b.size() * (double)b.size();
-    *cost = CongruenceCost{plan.flops, entries, 8.0 * plan.workspace};
+    *cost = CongruenceCost{plan.flops, 8.0 * plan.workspace, plan.groups()};
     return FRIX_OK;
 }
 
@@ -409,29 +398,10 @@ frix_error SparseCholesky::inverse_congruence(const CscView &B, CongruenceSink &
     const int64_t n = plan.n, k = plan.k, nsuper = plan.nsuper;
     const int64_t *super = plan.super, *pi = plan.pi, *px = plan.px, *Ls = plan.Ls;
     const double *Lx = static_cast<const double *>(L.x);
-    auto nscol = [&](int64_t s) { return plan.nscol(s); };
-    auto nsrow = [&](int64_t s) { return plan.nsrow(s); };
-    const std::vector<int64_t> &root = plan.root, &child_ptr = plan.child_ptr, &children = plan.children,
-                               &own_ptr = plan.own_ptr;
-    const std::vector<CongruencePlan::Entry> &own = plan.own;
+    const std::vector<int64_t> &child_ptr = plan.child_ptr, &children = plan.children, &own_ptr = plan.own_ptr;
     std::vector<std::vector<int64_t>> &cols = plan.cols;
     using Entry = CongruencePlan::Entry;
-    // C's pattern: the columns reaching each root.
-    {
-        std::vector<std::pair<int64_t, int64_t>> reach;  // (root, column)
-        reach.reserve(own.size());
-        for (int64_t s = 0; s < nsuper; ++s)
-            for (int64_t e = own_ptr[(size_t)s]; e < own_ptr[(size_t)s + 1]; ++e)
-                reach.emplace_back(root[(size_t)s], own[(size_t)e].col);
-        std::sort(reach.begin(), reach.end());
-        reach.erase(std::unique(reach.begin(), reach.end()), reach.end());
-        std::vector<std::vector<int64_t>> groups;
-        for (size_t e = 0; e < reach.size(); ++e) {
-            if (e == 0 || reach[e].first != reach[e - 1].first) groups.emplace_back();
-            groups.back().push_back(reach[e].second);
-        }
-        if (frix_error e = sink.pattern(groups)) return e;
-    }
+    if (frix_error e = sink.pattern(plan.groups())) return e;
     const double pace = std::max(plan.flops / questions, min_flops_per_question);
     // Up the tree: per supernode, the dense block F of its rows of Z (the first nscol rows,
     // then the update of the rows below, kept in below[s] for the parent).
@@ -442,12 +412,12 @@ frix_error SparseCholesky::inverse_congruence(const CscView &B, CongruenceSink &
     for (int64_t s = 0; s < nsuper; ++s) {
         const std::vector<int64_t> &K = cols[(size_t)s];
         if (K.empty()) continue;
-        const int64_t nk = (int64_t)K.size(), ncol = nscol(s), nrow = nsrow(s), nbelow = nrow - ncol;
+        const int64_t nk = (int64_t)K.size(), ncol = plan.nscol(s), nrow = plan.nsrow(s), nbelow = nrow - ncol;
         for (int64_t a = 0; a < nk; ++a) position[(size_t)K[(size_t)a]] = a;
         for (int64_t r = 0; r < nrow; ++r) local_row[(size_t)Ls[pi[s] + r]] = r;
         F.assign((size_t)(nrow * nk), 0.0);
         for (int64_t e = own_ptr[(size_t)s]; e < own_ptr[(size_t)s + 1]; ++e) {
-            const Entry &x = own[(size_t)e];
+            const Entry &x = plan.own[(size_t)e];
             F[(size_t)((x.row - super[s]) + nrow * position[(size_t)x.col])] += x.value;
         }
         // The children's updates, added where their rows and columns fall in F.
@@ -455,7 +425,7 @@ frix_error SparseCholesky::inverse_congruence(const CscView &B, CongruenceSink &
             const int64_t ch = children[(size_t)c];
             const std::vector<int64_t> &Kc = cols[(size_t)ch];
             if (Kc.empty()) continue;
-            const int64_t first = pi[ch] + nscol(ch), cb = nsrow(ch) - nscol(ch);
+            const int64_t first = pi[ch] + plan.nscol(ch), cb = plan.nsrow(ch) - plan.nscol(ch);
             const std::vector<double> &U = below[(size_t)ch];
             for (size_t jj = 0; jj < Kc.size(); ++jj) {
                 double *f = &F[(size_t)(nrow * position[(size_t)Kc[jj]])];

@@ -170,9 +170,10 @@ class SparseCholesky {
                                   bool *stopped = nullptr, double questions = kCongruenceQuestions,
                                   double min_flops_per_question = kCongruenceMinFlopsPerQuestion);
     // What inverse_congruence(B) will cost, from the patterns of L and B alone: its flops, the
-    // entries of C stored as 3x3 blocks (at most) and the bytes of its dense blocks besides C.
+    // bytes of its dense blocks besides C, and C's pattern (the groups it hands its sink).
     struct CongruenceCost {
-        double flops = 0.0, entries = 0.0, workspace_bytes = 0.0;
+        double flops = 0.0, workspace_bytes = 0.0;
+        std::vector<std::vector<int64_t>> groups;
     };
     frix_error congruence_cost(const CscView &B, CongruenceCost *cost) const;
     // The same, C as CSC (k x k, rows sorted); left empty when stopped.
