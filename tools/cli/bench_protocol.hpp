@@ -100,6 +100,13 @@ inline std::string result_line(const std::string &status, std::int64_t iteration
 
 inline std::string note_line(const std::string &text) { return "N\t" + one_line(text) + "\n"; }
 
+// The error field of a global problem's run, frix's and Siconos's alike: the larger of the
+// relative error and the equilibrium residual (an answer that breaks M v = H r + f is not
+// accurate, whatever its contact error; r = v = 0 has none).
+inline double global_error(double error, double equilibrium) {
+    return std::isnan(equilibrium) ? NAN : std::max(error, equilibrium);
+}
+
 // Writes the whole line or gives up silently: a parent that went away must not turn into
 // a crash of the child (SIGPIPE is ignored by the children for the same reason).
 inline void write_line(int fd, const std::string &line) {

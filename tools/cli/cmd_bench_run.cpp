@@ -130,10 +130,9 @@ int cmd_bench_run(int argc, char **argv) {
         frix_bench::write_line(fd, frix_bench::peak_memory_line());
         return kExitUsage;
     }
-    // The error column is always the relative measure (Siconos's too), and for a global
-    // problem the larger of it and the equilibrium, as frix-siconos writes it: an answer that
-    // breaks M v = H r + f is not accurate whatever its contact error. The solver's own
-    // stopping measure, which an option may change, is the reported one.
+    // The error column is always the relative measure (Siconos's too), for a global problem
+    // frix_bench::global_error. The solver's own stopping measure, which an option may
+    // change, is the reported one.
     const frix_status status = frix_info_status(info.get());
     const int64_t iterations = frix_info_iterations(info.get());
     const double reported = frix_info_error(info.get());
@@ -142,7 +141,7 @@ int cmd_bench_run(int argc, char **argv) {
     if (frix_problem_get_kind(problem.get()) == FRIX_PROBLEM_GLOBAL) {
         double equilibrium = NAN;
         if (frix_info_get_double(info.get(), FRIX_INFO_EQUILIBRIUM, &equilibrium) != FRIX_OK) equilibrium = NAN;
-        error = std::isnan(equilibrium) ? NAN : std::max(error, equilibrium);
+        error = frix_bench::global_error(error, equilibrium);
     }
     // Short solves again, without the trace, for the median time (RepeatTimer).
     frix_bench::RepeatTimer timer;

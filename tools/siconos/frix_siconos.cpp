@@ -242,16 +242,15 @@ int run(int argc, char **argv) {
 
     if (a.fd >= 0) {
         // The result line has one error field, from which the bench ranks every run whatever
-        // its status: for a global problem the larger of the error and the equilibrium, else
-        // a solver that gives up with r = 0 and v = 0 (u = w = 0: no contact error) would
-        // count as exact. Both are in the note, which runs.csv keeps.
+        // its status: for a global problem frix_bench::global_error. Both measures are in the
+        // note, which runs.csv keeps.
         double error = res.error;
         if (global && res.ran) {
             char eq[96];
             std::snprintf(eq, sizeof eq, "error %.3e, equilibrium %.3e (error column: the larger)",
                           res.error, res.equilibrium);
             note = note.empty() ? std::string(eq) : note + "; " + eq;
-            error = std::isnan(res.equilibrium) ? NAN : std::max(res.error, res.equilibrium);
+            error = frix_bench::global_error(res.error, res.equilibrium);
         }
         if (!note.empty()) frix_bench::write_line(a.fd, frix_bench::note_line(note));
         frix_bench::write_line(a.fd, frix_bench::result_line(status, res.iterations, error,
