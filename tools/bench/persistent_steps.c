@@ -26,25 +26,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "scenes.h"
-
-static double now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b) {
-    const double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-static double median(double *x, int n) {
-    qsort(x, (size_t)n, sizeof *x, cmp_double);
-    return n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]);
-}
+#include "step_timing.h"
 
 /* One step of the sequence: its scene and both forms. */
 typedef struct step {
@@ -199,10 +183,8 @@ int main(int argc, char **argv) {
         }
         double total1 = 0, totalp = 0, worst = 0;
         for (int k = 0; k < steps; ++k) {
-            for (int run = 0; run < runs; ++run) col[run] = t1[(size_t)run * (size_t)steps + (size_t)k];
-            const double m1 = median(col, runs);
-            for (int run = 0; run < runs; ++run) col[run] = tp[(size_t)run * (size_t)steps + (size_t)k];
-            const double mp = median(col, runs);
+            const double m1 = step_median(t1, runs, steps, k, col);
+            const double mp = step_median(tp, runs, steps, k, col);
             total1 += m1;
             totalp += mp;
             if (mp / m1 > worst) worst = mp / m1;
