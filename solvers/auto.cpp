@@ -21,8 +21,9 @@
 //   4. when it fails, checks whether a solution exists at all (frix_problem_check_existence)
 //      and says so.
 // Global problems go through the reduction W = H^T M^-1 H with the same strategy, and fall
-// back on Newton on (v, r) (607) when the reduced solve misses the tolerance; where forming a
-// dense W (a deformable body) would overrun the time or memory limit, Newton on (v, r) alone.
+// back on Newton on (v, r) (607) when the reduced solve misses the tolerance; where a dense W
+// (a deformable body) is priced above the route without it, or would overrun the time or
+// memory limit, that route (613, then 901; 607 where M has no Cholesky factor).
 // docs/auto.md describes the strategy for users.
 #include <algorithm>
 #include <atomic>
@@ -40,6 +41,7 @@
 #include "solvers/auto_analysis.hpp"
 #include "solvers/auto_trace.hpp"
 #include "solvers/global_newton.hpp"
+#include "solvers/mass_plus_contacts.hpp"
 #include "src/error_state.hpp"
 #include "src/existence.hpp"
 #include "src/linalg/linalg.hpp"
@@ -154,6 +156,17 @@ constexpr int kMaxTightenings = 4;
 // of M and H.
 constexpr double kReductionMaxEntries = 1e6;
 constexpr double kReductionMaxGrowth = 30.0;
+// There, the route without W (ADMM on (v, r), then Newton on v; see RoutePrices) is taken
+// when it is priced below forming W. Memory-bound flops (sweeps, triangular solves) count
+// kMemoryBoundWork times a factorisation's; kSweepsOnW sweeps over W and kWFreeIterations of
+// ADMM are what either takes to a tight tolerance on elastic bodies.
+constexpr double kMemoryBoundWork = 3.0;
+constexpr double kSweepsOnW = 30.0;
+constexpr double kWFreeIterations = 50.0;
+// The route's stages stop at these counts (ADMM iterations, outer steps of the augmented
+// Lagrangian Newton), far past what they take where they work, so that where they do not the
+// reduction still gets its turn.
+constexpr int64_t kWFreeAdmmIterations = 1000, kWFreeNewtonSteps = 50;
 
 // Prices of the stages, in one unit: the work of one 3x3 block of W times a vector. They are
 // known before anything runs (sizes, and CHOLMOD's symbolic analysis of the block graph of
@@ -1026,8 +1039,8 @@ const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 1e9}, {(frix_option_key)0
     "iterations left) and a watchdog "                                                            \
     "stopping any stage that stalls; deterministic (iteration counts, " \
     "not seconds). Global problems are reduced to W = H^T M^-1 H, with Newton on (v, r) as the "   \
-    "fallback (alone where forming a dense W would overrun the time or memory limit). Every "      \
-    "stage is in "                                                                                 \
+    "fallback; where a dense W is priced above the route without it (or would overrun the time "  \
+    "or memory limit), gadmm then gnsn-al, which never form W. Every stage is in "                 \
     "frix_info_trace; on failure an existence check says whether a solution may not exist. "      \
     "Options: threads, existence_check (and the common ones). See docs/auto.md."
 
@@ -1049,6 +1062,11 @@ struct GlobalAnswer {
         const double s = std::max(error, equilibrium);
         return std::isfinite(s) ? s : INFINITY;
     }
+    // Puts the set-aside (r, v) back, whatever the caller holds.
+    void put_back(SolveContext &ctx) const {
+        std::copy(r.begin(), r.end(), ctx.r);
+        std::copy(v.begin(), v.end(), ctx.v);
+    }
     // Puts the set-aside answer back where it is better than the one the route left, with its
     // error and equilibrium (the driver measures the answer returned again in full).
     void restore_if_better(SolveContext &ctx, frix_info &info) const {
@@ -1061,13 +1079,15 @@ struct GlobalAnswer {
     }
 };
 
-// Newton on (v, r) (607) from ctx's (r, v), for at most max_iter iterations (and its own
-// limit), on the caller's clock, tolerance, measure and callback: ctx.info becomes its info
-// (status, counters, measures), `stage` its trace event. Converged is the driver's verdict on
-// the returned (r, v) (error and equilibrium), whatever Newton's own stopping test said.
-frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage, SolveCache *reduction) {
+// A solver of global problems (`entry`: 607, 613, 901) from ctx's (r, v), for at most
+// max_iter iterations (and its own limit), on the caller's clock, tolerance, measure and
+// callback: ctx.info becomes its info (status, counters, measures), `stage` its trace event.
+// Converged is the driver's verdict on the returned (r, v) (error and equilibrium), whatever
+// the solver's own stopping test said.
+frix_error run_global(SolveContext &ctx, const SolverEntry &entry, int64_t max_iter, TraceEvent &stage,
+                      SolveCache *reduction) {
     frix_options o;
-    default_options(kGlobalNsnAcEntry, o);
+    default_options(entry, o);
     o.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, std::min(o.ivalue[FRIX_OPT_MAX_ITER], max_iter));
     o.dvalue[FRIX_OPT_TOLERANCE] = Monitor(ctx).tolerance();
     o.ivalue[FRIX_OPT_ERROR_MEASURE] = ctx.options.i(FRIX_OPT_ERROR_MEASURE);
@@ -1083,16 +1103,72 @@ frix_error global_newton(SolveContext &ctx, int64_t max_iter, TraceEvent &stage,
     run.tolerance = ctx.info.tolerance;
     run.analysis = ctx.info.analysis;
     const double t0 = ctx.clock.seconds();
-    if (frix_error e = solve_global_problem(ctx.problem, o, kGlobalNsnAcEntry, ctx.r, ctx.u, ctx.v, run,
-                                            ctx.clock, reduction, ctx.mass))
+    if (frix_error e = solve_global_problem(ctx.problem, o, entry, ctx.r, ctx.u, ctx.v, run, ctx.clock, reduction,
+                                            ctx.mass))
         return e;
     if (meets_global_tolerance(run, Monitor(ctx).tolerance())) run.status = FRIX_STATUS_CONVERGED;
-    stage.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
+    stage.solver_id = entry.id;
     stage.status = run.status;
     stage.iterations = run.iterations;
     stage.seconds = ctx.clock.seconds() - t0;
     stage.error = run.error;
     ctx.info = std::move(run);
+    return FRIX_OK;
+}
+
+// Where W would be dense: what the two routes are priced at, in flops of a factorisation.
+// Forming W: its exact flops (SparseCholesky::congruence_cost), then kSweepsOnW sweeps over
+// its blocks (18 flops each), memory-bound. Without W: one factorisation of M + rho H H^T
+// (CHOLMOD's analysis of its pattern), then kWFreeIterations of ADMM, each two triangular
+// solves with that factor (4 flops per entry of L), memory-bound too.
+struct RoutePrices {
+    double with_w = NAN, without_w = NAN, without_w_bytes = NAN;
+};
+bool price_w_free_route(const frix_problem &p, const linalg::FactorPrice &forming_w, double w_blocks,
+                        RoutePrices *prices) {
+    Csc M, H;
+    MassPlusContacts system;
+    linalg::FactorCost cost;
+    if (to_csc(*p.M, M) || to_csc(*p.H, H) || system.build(M, H, p.nc, "auto") || system.cost(&cost)) {
+        clear_error();
+        return false;
+    }
+    prices->with_w = forming_w.flops + kMemoryBoundWork * kSweepsOnW * 18.0 * w_blocks;
+    prices->without_w = cost.flops + kMemoryBoundWork * kWFreeIterations * 4.0 * cost.factor_entries;
+    prices->without_w_bytes = cost.bytes;
+    return true;
+}
+
+// The route without W: ADMM on (v, r) (613) with at most kWFreeAdmmShare of max_iter, then,
+// where it misses the tolerance, the augmented Lagrangian Newton (901) from its result with
+// the rest. ctx.info becomes the route's info, `trace` gets its stages.
+frix_error w_free_route(SolveContext &ctx, int64_t max_iter, SolveCache *reduction, std::vector<TraceEvent> &trace) {
+    frix_info &info = ctx.info;
+    const AnalysisSummary analysis = info.analysis;
+    TraceEvent admm = trace_event(kStage);
+    if (frix_error e = run_global(ctx, kGlobalAdmmEntry, std::clamp<int64_t>(max_iter / 2, 1, kWFreeAdmmIterations),
+                                  admm, reduction))
+        return e;
+    trace.push_back(admm);
+    const double tl = ctx.options.d(FRIX_OPT_TIME_LIMIT);
+    const int64_t left = max_iter - info.iterations;
+    if (info.status == FRIX_STATUS_CONVERGED || info.status == FRIX_STATUS_STOPPED_BY_CALLBACK ||
+        (tl > 0.0 && ctx.clock.seconds() >= tl) || left <= 0) {
+        info.analysis = analysis;
+        return FRIX_OK;
+    }
+    const frix_info before = info;
+    const int64_t iterations = info.iterations;
+    const GlobalAnswer admm_answer(ctx, info);
+    TraceEvent newton = trace_event(kStage);
+    if (frix_error e = run_global(ctx, kGlobalAlNewtonEntry, std::min(left, kWFreeNewtonSteps), newton, reduction))
+        return e;
+    admm_answer.restore_if_better(ctx, info);
+    trace.push_back(newton);
+    accumulate(info, before);
+    info.analysis = analysis;
+    info.iterations += iterations;
+    info.switches += 1;
     return FRIX_OK;
 }
 
@@ -1137,7 +1213,7 @@ frix_error reduce_then_newton(SolveContext &ctx, int64_t max_iter, int64_t reduc
     const frix_info before = info;
     const GlobalAnswer reduced_answer(ctx, info);
     TraceEvent stage = trace_event(kStage);
-    if (frix_error e = global_newton(ctx, left, stage, cache)) return e;
+    if (frix_error e = run_global(ctx, kGlobalNsnAcEntry, left, stage, cache)) return e;
     reduced_answer.restore_if_better(ctx, info);
     trace.push_back(stage);
     accumulate(info, before);
@@ -1180,28 +1256,71 @@ frix_error solve(SolveContext &ctx) {
     info.analysis.input_entries = size.input_entries;
     const int64_t max_iter = Monitor(ctx).max_iterations();
     frix_status reduction_refused = FRIX_STATUS_NOT_RUN;  // the limit forming W would overrun
+    RoutePrices prices;
+    bool w_free = false;  // the route without W is priced below forming W, and fits
     if (size.w_entries > kReductionMaxEntries && size.w_entries > kReductionMaxGrowth * size.input_entries) {
         linalg::FactorPrice price;
         if (ctx.mass && ctx.mass->congruence_price(*p.H, &price)) {
             reduction_refused = Monitor(ctx).affords(price);
+            w_free = price_w_free_route(p, price, size.w_blocks, &prices) &&
+                     Monitor(ctx).fits_memory(prices.without_w_bytes) &&
+                     (reduction_refused || prices.without_w < prices.with_w);
+            if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1)
+                log_line(&ctx.options, "auto: forming W priced %.3g flops, the route without W %.3g", prices.with_w,
+                         prices.without_w);
         } else {
             // Not priced (M factorised by LU): W's blocks against the memory alone.
             if (!reduction_memory(size, Monitor(ctx)).fits) reduction_refused = FRIX_STATUS_MEMORY_LIMIT;
         }
     }
-    if (!reduction_refused) {
+    if (!reduction_refused && !w_free) {
         if (frix_error e = reduce_then_newton(ctx, max_iter, max_iter / 2, reduction)) return e;
         check_existence_on_failure(ctx);
         return FRIX_OK;
     }
-    // Forming W would overrun a limit: Newton on (v, r) alone, whose answer is what there is
-    // (after it, less time is left for W, and no more memory).
-    TraceEvent stage = trace_event(kStage);
-    if (frix_error e = global_newton(ctx, max_iter, stage, reduction)) return e;
     TraceEvent direct = trace_event(kGlobalDirect);
-    direct.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
     direct.status = reduction_refused;
-    info.trace = {direct, stage};
+    direct.value = prices.with_w / prices.without_w;
+    std::vector<TraceEvent> trace;
+    if (w_free) {
+        // W is not formed: ADMM on (v, r), then Newton on v, both on M + H S H^T. Where they
+        // miss the tolerance (a body so stiff that M's rounding bounds the equilibrium of their
+        // answer) and forming W fits the limits, the reduction from their answer.
+        direct.solver_id = FRIX_SOLVER_GLOBAL_ADMM;
+        const GlobalAnswer start(ctx, info);
+        if (frix_error e = w_free_route(ctx, max_iter, reduction, trace)) return e;
+        const double tl = ctx.options.d(FRIX_OPT_TIME_LIMIT);
+        const int64_t left = max_iter - info.iterations;
+        if (info.status != FRIX_STATUS_CONVERGED && info.status != FRIX_STATUS_STOPPED_BY_CALLBACK &&
+            !reduction_refused && !(tl > 0.0 && ctx.clock.seconds() >= tl) && left > 0) {
+            TraceEvent after = trace_event(kGlobalReduceAfter);
+            after.status = info.status;
+            after.error = info.error;
+            after.value = info.equilibrium;
+            trace.push_back(after);
+            const frix_info before = info;
+            const GlobalAnswer w_free_answer(ctx, info);
+            // From the caller's start, not from that answer: on such a body r is far from
+            // unique, and the reduction's own path leads where the equilibrium's rounding is
+            // smaller relative to H r.
+            start.put_back(ctx);
+            if (frix_error e = reduce_then_newton(ctx, left, left / 2, reduction)) return e;
+            w_free_answer.restore_if_better(ctx, info);
+            trace.insert(trace.end(), info.trace.begin(), info.trace.end());
+            accumulate(info, before);
+            info.iterations += before.iterations;
+            info.switches += before.switches + 1;
+        }
+    } else {
+        // Forming W would overrun a limit, and M + H H^T has no Cholesky factor or would not
+        // fit either: Newton on (v, r) alone, whose answer is what there is.
+        direct.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
+        TraceEvent stage = trace_event(kStage);
+        if (frix_error e = run_global(ctx, kGlobalNsnAcEntry, max_iter, stage, reduction)) return e;
+        trace.push_back(stage);
+    }
+    trace.insert(trace.begin(), direct);
+    info.trace = std::move(trace);
     check_existence_on_failure(ctx);
     return FRIX_OK;
 }

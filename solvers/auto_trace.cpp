@@ -77,15 +77,30 @@ std::string format_event(const frix_info &info, const TraceEvent &e) {
                        frix_status_string(e.status), e.error, e.value, name_of(e.solver_id));
                 break;
             case kGlobalDirect: {
+                // status: the limit forming W would overrun (FRIX_STATUS_NOT_RUN: none); value:
+                // forming W's price over the route without it; solver_id: the route's first solver.
                 const AnalysisSummary &a = info.analysis;
                 append(out, "analysis: global, %lld dofs, %lld contacts; W = H^T M^-1 H would have up to %.3g "
-                            "entries (%.3g per entry of M and H: a deformable body couples all its contacts), "
-                            "and forming it would overrun the %s limit: %s on (v, r) without it\n",
+                            "entries (%.3g per entry of M and H: a deformable body couples all its contacts), ",
                        (long long)a.dofs, (long long)a.contacts, a.reduced_entries,
-                       a.reduced_entries / std::max(1.0, a.input_entries),
-                       e.status == FRIX_STATUS_MEMORY_LIMIT ? "memory" : "time", name_of(e.solver_id));
+                       a.reduced_entries / std::max(1.0, a.input_entries));
+                if (e.status)
+                    append(out, "and forming it would overrun the %s limit",
+                           e.status == FRIX_STATUS_MEMORY_LIMIT ? "memory" : "time");
+                else
+                    append(out, "and forming it is priced %.3g times the route without it", e.value);
+                if (e.solver_id == FRIX_SOLVER_GLOBAL_ADMM)
+                    append(out, ": %s on (v, r) without it, then %s if needed\n", name_of(e.solver_id),
+                           name_of(FRIX_SOLVER_GLOBAL_AL_NEWTON));
+                else
+                    append(out, ": %s on (v, r) without it\n", name_of(e.solver_id));
                 break;
             }
+            case kGlobalReduceAfter:
+                append(out, "without W: %s (error %.3e, equilibrium %.3e): W = H^T M^-1 H formed after all, the "
+                            "reduced solve from the start\n",
+                       frix_status_string(e.status), e.error, e.value);
+                break;
             case kExistence:
                 append(out, "existence check: %s\n", frix_existence_describe(info.existence));
                 break;

@@ -8,7 +8,7 @@
 namespace frix::autosolve {
 
 enum TraceKind {
-    kAnalysis, kStage, kGiveUp, kTighten, kGlobalFallback, kGlobalDirect, kExistence
+    kAnalysis, kStage, kGiveUp, kTighten, kGlobalFallback, kGlobalDirect, kGlobalReduceAfter, kExistence
 };
 
 // A record of `kind` (a run for kStage) that reads as format_event says.

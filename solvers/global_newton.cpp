@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "solvers/mass_plus_contacts.hpp"
 #include "solvers/newton.hpp"
 #include "solvers/nsn_functions.hpp"
 #include "src/error_state.hpp"
@@ -139,21 +140,10 @@ constexpr int kRhoSamples = 8;
 double lumped_underrate(const frix_problem &p, const Csc &H,
                         const std::function<frix_error(const double *, double *)> &solve_mass,
                         const std::vector<double> &lumped_trace) {
-    const int64_t nc = p.nc, n = p.n;
-    if (nc == 0) return 1.0;
-    const int samples = (int)std::min<int64_t>(kRhoSamples, nc);
-    std::vector<double> b(n), x(n), ratios;
-    for (int k = 0; k < samples; ++k) {
-        const int64_t a = (int64_t)k * nc / samples;
-        double exact = 0.0;
-        for (int c = 0; c < 3; ++c) {
-            const int64_t col = 3 * a + c;
-            std::fill(b.begin(), b.end(), 0.0);
-            for (int64_t e = H.colptr[col]; e < H.colptr[col + 1]; ++e) b[H.rowind[e]] = H.val[e];
-            if (solve_mass(b.data(), x.data()) != FRIX_OK) return 1.0;
-            for (int64_t e = H.colptr[col]; e < H.colptr[col + 1]; ++e) exact += H.val[e] * x[H.rowind[e]];
-        }
-        if (lumped_trace[a] > 0.0 && std::isfinite(exact)) ratios.push_back(exact / lumped_trace[a]);
+    std::vector<double> ratios;
+    for (const auto &sample : sampled_delassus_diagonals(p, H, solve_mass, kRhoSamples, 3)) {
+        const double lumped = lumped_trace[sample.first], exact = sample.second;
+        if (lumped > 0.0 && std::isfinite(exact)) ratios.push_back(exact / lumped);
     }
     if (ratios.empty()) return 1.0;
     std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());

@@ -18,41 +18,6 @@ inline void mul3(const double *X, const double *Y, double *C) {
             C[i + 3 * j] = X[i] * Y[3 * j] + X[i + 3] * Y[3 * j + 1] + X[i + 6] * Y[3 * j + 2];
 }
 
-// P = P_K(z) on K_mu = {|z_T| <= mu z_N} and J = dP/dz (an element of the B-subdifferential
-// on the kinks).
-void project_with_jacobian(const double *z, double mu, double *P, double *J) {
-    zero9(J);
-    const double n = std::sqrt(z[1] * z[1] + z[2] * z[2]);
-    if (n <= mu * z[0]) {  // inside
-        P[0] = z[0], P[1] = z[1], P[2] = z[2];
-        J[0] = J[4] = J[8] = 1.0;
-        return;
-    }
-    if (mu * n <= -z[0]) {  // polar cone
-        P[0] = P[1] = P[2] = 0.0;
-        return;
-    }
-    if (mu == 0.0) {  // K is the half-line: P = (z_N, 0, 0) with z_N > 0 here
-        P[0] = z[0], P[1] = P[2] = 0.0;
-        J[0] = 1.0;
-        return;
-    }
-    // Boundary: P = s (1, mu t), s = (z_N + mu n) / (1 + mu^2), t = z_T / n (n > 0 here).
-    const double k = 1.0 / (1.0 + mu * mu);
-    const double s = (z[0] + mu * n) * k;
-    const double t1 = z[1] / n, t2 = z[2] / n;
-    P[0] = s, P[1] = mu * s * t1, P[2] = mu * s * t2;
-    J[0] = k;
-    J[3] = mu * k * t1;  // dP_N / dz_1
-    J[6] = mu * k * t2;
-    J[1] = mu * k * t1;  // dP_1 / dz_N
-    J[2] = mu * k * t2;
-    const double a = mu * mu * k, b = mu * s / n;
-    J[4] = a * t1 * t1 + b * (1.0 - t1 * t1);
-    J[8] = a * t2 * t2 + b * (1.0 - t2 * t2);
-    J[7] = J[5] = a * t1 * t2 - b * t1 * t2;
-}
-
 // d u^ / d u with u^ = u + mu |u_T| e_N.
 void de_saxce_jacobian(const double *u, double mu, double *D) {
     zero9(D);
@@ -213,6 +178,40 @@ double tangential_norm(const double *W) {
 }
 
 }  // namespace
+
+void project_with_jacobian(const double *z, double mu, double *P, double *J) {
+    zero9(J);
+    const double n = std::sqrt(z[1] * z[1] + z[2] * z[2]);
+    if (n <= mu * z[0]) {  // inside
+        P[0] = z[0], P[1] = z[1], P[2] = z[2];
+        J[0] = J[4] = J[8] = 1.0;
+        return;
+    }
+    if (mu * n <= -z[0]) {  // polar cone
+        P[0] = P[1] = P[2] = 0.0;
+        return;
+    }
+    if (mu == 0.0) {  // K is the half-line: P = (z_N, 0, 0) with z_N > 0 here
+        P[0] = z[0], P[1] = P[2] = 0.0;
+        J[0] = 1.0;
+        return;
+    }
+    // Boundary: P = s (1, mu t), s = (z_N + mu n) / (1 + mu^2), t = z_T / n (n > 0 here).
+    const double k = 1.0 / (1.0 + mu * mu);
+    const double s = (z[0] + mu * n) * k;
+    const double t1 = z[1] / n, t2 = z[2] / n;
+    P[0] = s, P[1] = mu * s * t1, P[2] = mu * s * t2;
+    J[0] = k;
+    J[3] = mu * k * t1;  // dP_N / dz_1
+    J[6] = mu * k * t2;
+    J[1] = mu * k * t1;  // dP_1 / dz_N
+    J[2] = mu * k * t2;
+    const double a = mu * mu * k, b = mu * s / n;
+    J[4] = a * t1 * t1 + b * (1.0 - t1 * t1);
+    J[8] = a * t2 * t2 + b * (1.0 - t2 * t2);
+    J[7] = J[5] = a * t1 * t2 - b * t1 * t2;
+}
+
 
 void contact_function(int formulation, const double *r, const double *u, double mu,
                       double rho_n, double rho_t, double *phi, double *A, double *B) {

@@ -26,6 +26,10 @@ enum Formulation : int {
 void contact_function(int formulation, const double *r, const double *u, double mu,
                       double rho_n, double rho_t, double *phi, double *A, double *B);
 
+// P = P_K(z) on K_mu = {|z_T| <= mu z_N} and J = dP/dz (3x3, column-major; an element of the
+// B-subdifferential on the kinks; symmetric, 0 <= J <= I).
+void project_with_jacobian(const double *z, double mu, double *P, double *J);
+
 // The per-contact rho of the strategies of frix_rho_strategy, from the diagonal block W_aa.
 void contact_rho(int strategy, double constant, const double *Waa, double *rho_n, double *rho_t);
 

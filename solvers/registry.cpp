@@ -32,6 +32,8 @@ const frix::SolverEntry *const kSolvers[] = {
     &frix::kAdmmEntry,
     &frix::kAutoEntry,
     &frix::kIpmEntry,
+    &frix::kGlobalAdmmEntry,
+    &frix::kGlobalAlNewtonEntry,
 };
 constexpr int64_t kSolverCount = sizeof kSolvers / sizeof kSolvers[0];
 

@@ -141,6 +141,8 @@ class MassSolver {
         return true;
     }
     const linalg::FactorStats &last_stats() const { return last_; }
+    // Whether M was factorised by Cholesky (symmetric positive definite, with dofs).
+    bool cholesky() const { return use_chol_ && !empty_; }
 
    private:
     linalg::FactorStats last_;

@@ -62,10 +62,15 @@ static limited_run solve_pile(int id, const frix_problem *p, const frix_options 
     return run;
 }
 
+/* The solvers of global problems only: they run on the global pile. */
+static int global_only(int id) {
+    return id == FRIX_SOLVER_GLOBAL_NSN_AC || id == FRIX_SOLVER_GLOBAL_ADMM || id == FRIX_SOLVER_GLOBAL_AL_NEWTON;
+}
+
 START_TEST(test_no_factorisation_past_the_limit) {
     const int id = frix_solver_id_at(_i);
     ck_assert_int_ge(id, 0);
-    const int global = id == FRIX_SOLVER_GLOBAL_NSN_AC;
+    const int global = global_only(id);
     frix_options *o = NULL;
     ck_assert_int_eq(frix_options_create(id, &o), FRIX_OK);
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TIME_LIMIT, 1e-3), FRIX_OK);
@@ -85,7 +90,8 @@ END_TEST
 
 /* The solvers that factorise: a memory limit below any factor's size stops them before their first. */
 static int factorises(const char *name) {
-    static const char *const names[] = {"prox", "nsn-ac", "nsn-fb", "nsn-nm", "gnsn-ac", "admm", "ipm"};
+    static const char *const names[] = {"prox", "nsn-ac", "nsn-fb", "nsn-nm", "gnsn-ac", "admm", "ipm",
+                                        "gadmm", "gnsn-al"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k)
         if (strcmp(name, names[k]) == 0) return 1;
     return 0;
@@ -94,7 +100,7 @@ static int factorises(const char *name) {
 START_TEST(test_no_factorisation_past_the_memory_limit) {
     const int id = frix_solver_id_at(_i);
     ck_assert_int_ge(id, 0);
-    const int global = id == FRIX_SOLVER_GLOBAL_NSN_AC;
+    const int global = global_only(id);
     frix_options *o = NULL;
     ck_assert_int_eq(frix_options_create(id, &o), FRIX_OK);
     /* 64 kB: the smallest factor here (ADMM's Cholesky of W + rho I) takes megabytes. The

@@ -28,9 +28,12 @@ enum {
     FRIX_SOLVER_ADMM = 523,        /* ADMM on r = xi, W + rho I factorised */
     FRIX_SOLVER_IPM = 524,         /* interior-point method, then Newton from its best point */
     FRIX_SOLVER_GLOBAL_NSN_AC = 607, /* global (M, H) problems: Newton on (v, r), W never formed */
-    FRIX_SOLVER_AUTO = 900         /* the default: analyses the problem, splits it into
+    FRIX_SOLVER_GLOBAL_ADMM = 613,   /* global problems: ADMM, M + rho H H^T factorised, no W */
+    FRIX_SOLVER_AUTO = 900,        /* the default: analyses the problem, splits it into
                                       independent islands and runs a watched sequence of the
                                       solvers above on each (see docs/auto.md) */
+    FRIX_SOLVER_GLOBAL_AL_NEWTON = 901 /* global problems: augmented Lagrangian, Newton on v,
+                                          M + rho H J H^T factorised, no W */
 };
 
 FRIX_API int64_t frix_solver_count(void);

@@ -91,7 +91,7 @@ for campaign in $campaigns; do
         global)
             grids
             dirs=("$shared/fclib/global" "$work/grids"); tol=1e-8; tl=$global_limit
-            solvers=auto,gnsn-ac,nsgs,nsgs-v,admm,ipm,siconos:GFC3D_NSN_AC,siconos:GFC3D_NSN_AC_WR,siconos:GFC3D_NSGS_WR,siconos:GFC3D_PROX_WR,siconos:GFC3D_ADMM,siconos:GFC3D_IPM ;;
+            solvers=auto,gnsn-ac,gadmm,gnsn-al,nsgs,nsgs-v,admm,ipm,siconos:GFC3D_NSN_AC,siconos:GFC3D_NSN_AC_WR,siconos:GFC3D_NSGS_WR,siconos:GFC3D_PROX_WR,siconos:GFC3D_ADMM,siconos:GFC3D_IPM ;;
         *) dirs=("$shared/fclib/local" "$shared/fclib/converted"); tol=$campaign; tl=$limit ;;
     esac
     out="$work/$campaign"
