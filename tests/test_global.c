@@ -182,6 +182,49 @@ START_TEST(solvers_without_w) {
 }
 END_TEST
 
+/* A FEM host's steps with M and H unchanged and the load swinging: a persistent gadmm, and auto
+ * (which takes the route without W here), factorise M + rho H H^T at the first step only, and
+ * each step's answer meets the tolerance. */
+START_TEST(persistent_without_w_factorises_once) {
+    grid_case c = grid_case_make(30, 30, 2, 0.5, 1e4);
+    const int64_t n = c.n;
+    double *f0 = malloc(sizeof *f0 * (size_t)n), *fk = malloc(sizeof *fk * (size_t)n);
+    memcpy(f0, c.grid.f, sizeof *f0 * (size_t)n);
+    const int solvers[] = {FRIX_SOLVER_GLOBAL_ADMM, FRIX_SOLVER_AUTO};
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    for (int k = 0; k < 2; ++k) {
+        frix_options *o = NULL;
+        frix_persistent *ps = NULL;
+        ck_assert_int_eq(frix_options_create(solvers[k], &o), FRIX_OK);
+        ck_assert_int_eq(frix_persistent_create(c.p, o, &ps), FRIX_OK);
+        memset(c.r, 0, sizeof *c.r * (size_t)c.m);
+        for (int step = 0; step < 4; ++step) {
+            for (int64_t j = 0; j < n; ++j) fk[j] = f0[j] * (1.0 + 0.2 * sin(0.8 * step));
+            if (step > 0) ck_assert_int_eq(frix_persistent_update_global(ps, NULL, NULL, fk, NULL, NULL), FRIX_OK);
+            ck_assert_msg(frix_persistent_solve(ps, c.r, c.u, c.v, info) == FRIX_OK, "%s", frix_last_error_message());
+            double equilibrium = NAN;
+            ck_assert_int_eq(frix_info_get_double(info, FRIX_INFO_EQUILIBRIUM, &equilibrium), FRIX_OK);
+            ck_assert_msg(frix_info_status(info) == FRIX_STATUS_CONVERGED && frix_info_error(info) <= 1e-8 &&
+                              equilibrium <= 1e-8,
+                          "%d, step %d: %s, error %g, equilibrium %g\n%s", solvers[k], step,
+                          frix_status_string(frix_info_status(info)), frix_info_error(info), equilibrium,
+                          frix_info_trace(info));
+            int64_t factorizations = -1;
+            ck_assert_int_eq(frix_info_get_int(info, FRIX_INFO_FACTORIZATIONS, &factorizations), FRIX_OK);
+            /* M's (the driver's) and M + rho H H^T's at the first step; none after. */
+            ck_assert_msg(factorizations == (step == 0 ? 2 : 0), "%d, step %d: %lld factorisations", solvers[k],
+                          step, (long long)factorizations);
+        }
+        frix_persistent_free(ps);
+        frix_options_free(o);
+    }
+    frix_info_free(info);
+    free(f0), free(fk);
+    grid_case_free(&c);
+}
+END_TEST
+
 /* The rigid spheres (rank-deficient: 768 contact dofs on 588), by the reduction (nsn-ac) and
  * by Newton on (v, r). The latter stagnates near 4e-7 with a monotone Armijo line search (the
  * merit's kinks stop every step short); the non-monotone search, its default, lets full
@@ -609,6 +652,7 @@ int main(void) {
     tcase_add_test(tc, no_contacts);
     tcase_add_test(tc, auto_prices_the_reduction_of_a_deformable_body);
     tcase_add_test(tc, solvers_without_w);
+    tcase_add_test(tc, persistent_without_w_factorises_once);
     tcase_add_test(tc, elastic_grid_arguments);
     tcase_add_test(tc, newton_corrects_the_lumped_rho);
     tcase_add_test(tc, newton_cuts_a_rho_too_large);
