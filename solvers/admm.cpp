@@ -171,9 +171,7 @@ class ShiftedSystem {
     // kept: a persistent solver's W may be another object with the same values); work (m) is
     // scratch.
     void skew_product(const frix_matrix &W, const double *x, double *kx, double *work) const {
-        matrix_gemv(W, 0.5, x, 0.0, kx);
-        matrix_gemv_transposed(W, 0.5, x, 0.0, work);
-        for (int64_t i = 0; i < m_; ++i) kx[i] -= work[i];
+        matrix_skew_gemv(W, x, kx, work);
     }
 
     linalg::FactorStats stats() const { return dchol_.stats() + dlu_.stats() + schol_.stats() + slu_.stats(); }

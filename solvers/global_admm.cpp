@@ -92,7 +92,7 @@ frix_error solve(SolveContext &ctx) {
     kept.keep();
 
     std::vector<double> shift(m, 0.0), xi(m), rh(r, r + m), xih(m), r_old(r, r + m), xi_old(m);
-    std::vector<double> rhs(n), Hx(m), dxi(m), Hdxi(n), Hr(n);
+    std::vector<double> rhs(n), Hx(m), dxi(m), Hdxi(n), Hr(n), kv(n), work(n);
     auto update_shift = [&]() {
         for (int64_t a = 0; a < nc; ++a) shift[3 * a] = p.mu[a] * std::hypot(u[3 * a + 1], u[3 * a + 2]);
     };
@@ -123,6 +123,11 @@ frix_error solve(SolveContext &ctx) {
         for (int64_t i = 0; i < m; ++i) Hx[i] = rh[i] + rho * (xih[i] - p.w[i] - shift[i]);
         std::copy(p.f, p.f + n, rhs.begin());
         if (m > 0) matrix_gemv(*p.H, 1.0, Hx.data(), 1.0, rhs.data());
+        // M's skew part K, if any, at the previous v: exact at the fixed point.
+        if (system.skewed()) {
+            matrix_skew_gemv(*p.M, v, kv.data(), work.data());
+            for (int64_t j = 0; j < n; ++j) rhs[j] -= kv[j];
+        }
         if (frix_error e = system.solve(rhs.data(), v)) return e;
         if (m > 0) matrix_gemv_transposed(*p.H, 1.0, v, 0.0, u);
         double prim2 = 0.0, dual_xi2 = 0.0, comb = 0.0, g2 = 0.0, r2 = 0.0;

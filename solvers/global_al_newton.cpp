@@ -73,7 +73,14 @@ frix_error solve(SolveContext &ctx) {
 
     std::vector<double> rk(r, r + m), shift(m, 0.0), y(m), z(m), J(9 * nc), S(9 * nc);
     std::vector<double> Mv(n), Hz(n), grad(n), d(n), Md(n), Htd(m), ut(m), zt(m);
-    std::vector<double> best_r(r, r + m), best_v(v, v + n);
+    std::vector<double> best_r(r, r + m), best_v(v, v + n), fk(p.f, p.f + n), Kd(n), skew_work(n);
+    // out = (M + M^T) / 2 x: M x, less M's skew part where M is not exactly symmetric.
+    auto symmetric_mass = [&](const double *x, double *out) {
+        matrix_gemv(*p.M, 1.0, x, 0.0, out);
+        if (!system.skewed()) return;
+        matrix_skew_gemv(*p.M, x, Kd.data(), skew_work.data());
+        for (int64_t j = 0; j < n; ++j) out[j] -= Kd[j];
+    };
     const double norm_f = std::sqrt(dot(p.f, p.f, n));
     // u = H^T v + w, the De Saxce term from it.
     auto velocities = [&](const double *vv, double *uu) {
@@ -119,11 +126,17 @@ frix_error solve(SolveContext &ctx) {
         }
         // The outer step: minimise phi from the current v.
         velocities(v, u);
-        matrix_gemv(*p.M, 1.0, v, 0.0, Mv.data());
+        // M's skew part K, if any, at this step's start: the step minimises phi with M's
+        // symmetric part and f - K v_k, which at a fixed point is M v = f + H r.
+        if (system.skewed()) {
+            matrix_skew_gemv(*p.M, v, fk.data(), Kd.data());
+            for (int64_t j = 0; j < n; ++j) fk[j] = p.f[j] - fk[j];
+        }
+        symmetric_mass(v, Mv.data());
         double zsq = multiplier(u, z.data(), true);
         for (int step = 0; step < kInnerSteps; ++step) {
             if (m > 0) matrix_gemv(*p.H, 1.0, z.data(), 0.0, Hz.data());
-            for (int64_t j = 0; j < n; ++j) grad[j] = Mv[j] - p.f[j] - Hz[j];
+            for (int64_t j = 0; j < n; ++j) grad[j] = Mv[j] - fk[j] - Hz[j];
             // The force this step moved, H (z - r_k) = H z - H r_k.
             for (int64_t i = 0; i < m; ++i) y[i] = z[i] - rk[i];
             std::vector<double> &moved = d;  // scratch until the Newton direction is solved
@@ -147,10 +160,10 @@ frix_error solve(SolveContext &ctx) {
             for (int64_t j = 0; j < n; ++j) d[j] = -d[j];
             ++newton_steps;
             // phi along v + t d, from products computed once.
-            matrix_gemv(*p.M, 1.0, d.data(), 0.0, Md.data());
+            symmetric_mass(d.data(), Md.data());
             if (m > 0) matrix_gemv_transposed(*p.H, 1.0, d.data(), 0.0, Htd.data());
             const double vMv = dot(v, Mv.data(), n), dMv = dot(d.data(), Mv.data(), n), dMd = dot(d.data(), Md.data(), n);
-            const double fv = dot(p.f, v, n), fd = dot(p.f, d.data(), n);
+            const double fv = dot(fk.data(), v, n), fd = dot(fk.data(), d.data(), n);
             const double phi0 = 0.5 * vMv - fv + zsq / (2.0 * rho);
             const double slope = dot(grad.data(), d.data(), n);
             if (!(slope < 0.0)) break;  // no descent left: the minimiser to rounding
@@ -219,7 +232,7 @@ frix_error solve(SolveContext &ctx) {
 }
 
 const frix_option_key kExtraKeys[] = {FRIX_OPT_RHO, (frix_option_key)0};
-const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 500}, {FRIX_OPT_RHO, 1.0}, {(frix_option_key)0, 0}};
+const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 500}, {FRIX_OPT_RHO, 10.0}, {(frix_option_key)0, 0}};
 
 }  // namespace
 }  // namespace gal
@@ -235,7 +248,7 @@ const SolverEntry kGlobalAlNewtonEntry = {
     "each), grows 5-fold while an outer step does not halve the "
     "error. Converged means both the error and the equilibrium residual are below the "
     "tolerance. Global problems with a symmetric positive definite M only. Options: rho "
-    "(the initial penalty); max_iter counts outer steps.",
+    "(the initial penalty, in units of 1 / that mean; default 10); max_iter counts outer steps.",
     gal::solve, false, true, gal::kExtraKeys, gal::kDefaults};
 
 }  // namespace frix

@@ -10,11 +10,13 @@
 namespace frix {
 
 frix_error MassPlusContacts::build(const Csc &M, const Csc &H, int64_t nc, const char *solver) {
-    if (!is_symmetric(M))
+    const double asymmetry = relative_asymmetry(M);
+    if (asymmetry > kMassSkewMax)
         return fail(FRIX_ERR_UNSUPPORTED,
-                    "%s factorises M + H S H^T by Cholesky and needs a symmetric M; gnsn-ac (607) solves a "
-                    "problem whose M is not",
-                    solver);
+                    "%s factorises M + H S H^T by Cholesky and needs a symmetric M (here max |M_ij - M_ji| is "
+                    "%.3g of max |M_ij|); gnsn-ac (607) solves a problem whose M is not",
+                    solver, asymmetry);
+    skewed_ = asymmetry > 0.0;
     const int64_t n = M.rows;
     // Every contact's rows: the union over its 3 columns of H, sorted.
     row_start_.assign(nc + 1, 0);
@@ -44,7 +46,7 @@ frix_error MassPlusContacts::build(const Csc &M, const Csc &H, int64_t nc, const
     std::vector<std::pair<int64_t, int64_t>> entries;
     for (int64_t j = 0; j < n; ++j)
         for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e)
-            if (M.rowind[e] <= j) entries.emplace_back(j, M.rowind[e]);
+            entries.emplace_back(std::max(j, M.rowind[e]), std::min(j, M.rowind[e]));
     for (int64_t a = 0; a < nc; ++a)
         for (int64_t j = row_start_[a]; j < row_start_[a + 1]; ++j)
             for (int64_t i = row_start_[a]; i <= j; ++i) entries.emplace_back(rows_[j], rows_[i]);
@@ -67,12 +69,14 @@ frix_error MassPlusContacts::build(const Csc &M, const Csc &H, int64_t nc, const
     };
     m_slot_.clear();
     m_val_.clear();
+    // The symmetric part (M + M^T) / 2: every entry adds half its value to the upper one of
+    // its pair (the diagonal all of it); for a symmetric M the halves add up to M's values.
     for (int64_t j = 0; j < n; ++j)
-        for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e)
-            if (M.rowind[e] <= j) {
-                m_slot_.push_back(slot(M.rowind[e], j));
-                m_val_.push_back(M.val[e]);
-            }
+        for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e) {
+            const int64_t i = M.rowind[e];
+            m_slot_.push_back(slot(std::min(i, j), std::max(i, j)));
+            m_val_.push_back(i == j ? M.val[e] : 0.5 * M.val[e]);
+        }
     pair_start_.assign(nc + 1, 0);
     pair_slot_.clear();
     for (int64_t a = 0; a < nc; ++a) {

@@ -15,12 +15,21 @@
 
 namespace frix {
 
+// M's asymmetry (relative_asymmetry) up to which M + H S H^T is factorised with M's symmetric
+// part, the skew part K = (M - M^T) / 2 left to the solvers (on the right-hand side, at the
+// previous iterate: exact at a fixed point): a matrix written with 7 significant digits.
+constexpr double kMassSkewMax = 1e-6;
+
 class MassPlusContacts {
    public:
-    // The pattern: M's upper triangle and, for every contact a, the rows of H's columns
-    // 3a..3a+2 squared (H_a S_a H_a^T), with S_a's zeros kept, so that no S changes it. Fails
-    // with FRIX_ERR_UNSUPPORTED when M is not symmetric (there is no Cholesky of it).
+    // The pattern: M's (both triangles, folded onto the upper one) and, for every contact a,
+    // the rows of H's columns 3a..3a+2 squared (H_a S_a H_a^T), with S_a's zeros kept, so that
+    // no S changes it. Fails with FRIX_ERR_UNSUPPORTED when M's asymmetry is above
+    // kMassSkewMax (there is no Cholesky of it).
     frix_error build(const Csc &M, const Csc &H, int64_t nc, const char *solver);
+    // Whether M is not exactly symmetric: the factorised matrix is then (M + M^T) / 2 + H S H^T,
+    // and the solver must apply K = (M - M^T) / 2 itself (matrix_skew_gemv).
+    bool skewed() const { return skewed_; }
     // What factorising M + H S H^T costs, from its pattern alone (linalg::cholesky_cost).
     frix_error cost(linalg::FactorCost *cost) const { return linalg::cholesky_cost(A_.view(), cost); }
     // Factorises M + H S H^T, S = 9 nc values (column-major 3x3 blocks, symmetric), asking
@@ -33,6 +42,7 @@ class MassPlusContacts {
 
    private:
     Csc A_;                                // M + H S H^T, upper triangle
+    bool skewed_ = false;
     std::vector<int64_t> m_slot_;          // M's upper entries: their slot in A_
     std::vector<double> m_val_;            // ... and their values
     // Contact a: its rows of H (rows_[row_start_[a] .. row_start_[a + 1])), H restricted to

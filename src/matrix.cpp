@@ -244,6 +244,12 @@ void matrix_gemv(const frix_matrix &A, double alpha, const double *x, double bet
     }
 }
 
+void matrix_skew_gemv(const frix_matrix &A, const double *x, double *y, double *work) {
+    matrix_gemv(A, 0.5, x, 0.0, y);
+    matrix_gemv_transposed(A, 0.5, x, 0.0, work);
+    for (int64_t i = 0; i < A.rows; ++i) y[i] -= work[i];
+}
+
 void matrix_gemv_transposed(const frix_matrix &A, double alpha, const double *x, double beta,
                             double *y) {
     if (A.block) {

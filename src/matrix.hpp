@@ -157,6 +157,8 @@ void index_diagonal_blocks(frix_matrix &A);
 
 // y = alpha*A*x + beta*y for either storage; no argument checks (internal callers).
 void matrix_gemv(const frix_matrix &A, double alpha, const double *x, double beta, double *y);
+// y = (A - A^T) x / 2 (A square), the skew part of A times x; work holds n values.
+void matrix_skew_gemv(const frix_matrix &A, const double *x, double *y, double *work);
 void matrix_gemv_transposed(const frix_matrix &A, double alpha, const double *x, double beta,
                             double *y);
 

@@ -28,10 +28,9 @@ frix_error to_csc(const frix_matrix &A, Csc &out) {
     return frix_matrix_to_csc(&A, &nnz, out.colptr.data(), out.rowind.data(), out.val.data());
 }
 
-bool is_symmetric(const Csc &M) {
-    double amax = 0.0;
+double relative_asymmetry(const Csc &M) {
+    double amax = 0.0, skew = 0.0;
     for (double x : M.val) amax = std::max(amax, std::fabs(x));
-    const double tol = 1e-12 * amax;
     for (int64_t j = 0; j < M.cols; ++j)
         for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e) {
             const int64_t i = M.rowind[e];
@@ -39,10 +38,12 @@ bool is_symmetric(const Csc &M) {
             auto first = M.rowind.begin() + M.colptr[i], last = M.rowind.begin() + M.colptr[i + 1];
             auto it = std::lower_bound(first, last, j);
             const double mji = (it != last && *it == j) ? M.val[it - M.rowind.begin()] : 0.0;
-            if (std::fabs(mji - M.val[e]) > tol) return false;
+            skew = std::max(skew, std::fabs(mji - M.val[e]));
         }
-    return true;
+    return amax > 0.0 ? skew / amax : 0.0;
 }
+
+bool is_symmetric(const Csc &M) { return relative_asymmetry(M) <= 1e-12; }
 
 ReductionSize reduction_size(const frix_problem &p) {
     ReductionSize size;

@@ -29,6 +29,8 @@ struct Csc {
 
 frix_error to_csc(const frix_matrix &A, Csc &out);
 
+// max |M_ij - M_ji| / max |M_ij| (0 for M = 0).
+double relative_asymmetry(const Csc &M);
 // Whether M equals its transpose to round-off (CHOLMOD reads only the upper triangle).
 bool is_symmetric(const Csc &M);
 

@@ -70,7 +70,7 @@ pyramids() {
 # 48000 and 99825 dofs, 100 to 3025 contacts, written once into the work directory.
 grids() {
     mkdir -p "$work/grids"
-    for size in "10 10 4" "20 20 10" "40 40 10" "55 55 11"; do
+    for size in "10 10 4" "20 20 10" "40 40 10" "55 55 11" "30 30 2" "60 60 3" "80 80 2"; do
         set -- $size
         [ -f "$work/grids/elastic-grid-$1x$2x$3.hdf5" ] ||
             "$build/examples/frix_scene" elastic-grid "$work/grids/elastic-grid-$1x$2x$3.hdf5" "$1" "$2" "$3" >/dev/null
