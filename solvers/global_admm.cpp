@@ -37,14 +37,6 @@ constexpr double kBalanceFactor = 5.0;    // rho changes only by this factor or 
 constexpr double kRhoMin = 1e-6, kRhoMax = 1e6;  // in units of 1 / scale
 constexpr int64_t kFullCheckPeriod = 32;
 
-// What a persistent solver keeps between steps: M + H S H^T's pattern and analysis, rho's
-// unit, and the factorisation at the last rho, while M's and H's values stay.
-struct KeptSystem : CachedState {
-    uint64_t m_values = 0, h_values = 0;  // the versions they were built from (0: none)
-    MassPlusContacts system;
-    double scale = 1.0, factored_rho = NAN;  // NAN: no usable factorisation
-};
-
 using fo::dot;
 
 frix_error solve(SolveContext &ctx) {
@@ -58,25 +50,13 @@ frix_error solve(SolveContext &ctx) {
     const bool adaptive = o.i(FRIX_OPT_RHO_ADAPTIVE) != 0, accelerate = o.i(FRIX_OPT_ACCELERATION) != 0;
     const int64_t n = p.n, nc = p.nc, m = 3 * nc;
     double *r = ctx.r, *u = ctx.u, *v = ctx.v;
-    if (!ctx.solve_mass) return fail(FRIX_ERR_INTERNAL, "gadmm: no factorisation of M was given");
 
     // A persistent solver's next step with the same M and H starts from the last step's
     // factorisation and its rho: a time-stepping host pays the factorisation once.
-    Kept<KeptSystem> kept(ctx.cache, FRIX_SOLVER_GLOBAL_ADMM);
-    const bool current = ctx.cache && kept->m_values == ctx.cache->m_values && kept->h_values == ctx.cache->h_values;
+    Kept<KeptMassPlusContacts> kept(ctx.cache, FRIX_SOLVER_GLOBAL_ADMM);
     const linalg::FactorStats before = kept->system.stats();
     MassPlusContacts &system = kept->system;
-    if (!current) {
-        kept->m_values = kept->h_values = 0;  // until built
-        kept->factored_rho = NAN;
-        Csc M, H;
-        if (frix_error e = to_csc(*p.M, M)) return e;
-        if (frix_error e = to_csc(*p.H, H)) return e;
-        if (frix_error e = system.build(M, H, nc, "gadmm")) return e;
-        kept->scale = sampled_delassus_scale(p, H, *ctx.solve_mass, kScaleSamples);
-        if (!(kept->scale > 0.0) || !std::isfinite(kept->scale)) kept->scale = 1.0;
-        if (ctx.cache) kept->m_values = ctx.cache->m_values, kept->h_values = ctx.cache->h_values;
-    }
+    if (frix_error e = prepare_mass_plus_contacts(ctx, *kept, "gadmm", kScaleSamples)) return e;
     const double scale = kept->scale;
     double rho = std::isfinite(kept->factored_rho) ? kept->factored_rho : o.d(FRIX_OPT_RHO) / scale;
     std::vector<double> S(9 * nc, 0.0);

@@ -12,6 +12,7 @@
 // equilibrium), its generalized Hessian M + rho H J H^T with J = dP_K block-diagonal, symmetric
 // and 0 <= J <= I: Newton with Armijo's line search converges from any v, and every system is
 // at least as well posed as M. A fixed point r = P_K(r - rho g) is r in K, g in K*, r'g = 0.
+// A persistent solver keeps the pattern and its analysis while M and H stay.
 // rho grows while the outer steps gain little: the outer rate improves with rho, and Newton
 // refactorises every step anyway, so a new rho costs nothing more.
 #include <algorithm>
@@ -59,15 +60,14 @@ frix_error solve(SolveContext &ctx) {
     const int64_t verbosity = o.i(FRIX_OPT_VERBOSITY), measure = o.i(FRIX_OPT_ERROR_MEASURE);
     const int64_t n = p.n, nc = p.nc, m = 3 * nc;
     double *r = ctx.r, *u = ctx.u, *v = ctx.v;
-    if (!ctx.solve_mass) return fail(FRIX_ERR_INTERNAL, "gnsn-al: no factorisation of M was given");
-
-    Csc M, H;
-    if (frix_error e = to_csc(*p.M, M)) return e;
-    if (frix_error e = to_csc(*p.H, H)) return e;
-    MassPlusContacts system;
-    if (frix_error e = system.build(M, H, nc, "gnsn-al")) return e;
-    double scale = sampled_delassus_scale(p, H, *ctx.solve_mass, kScaleSamples);
-    if (!(scale > 0.0) || !std::isfinite(scale)) scale = 1.0;
+    // A persistent solver's next step with the same M and H keeps the pattern, its symbolic
+    // analysis and rho's unit.
+    Kept<KeptMassPlusContacts> kept(ctx.cache, FRIX_SOLVER_GLOBAL_AL_NEWTON);
+    const linalg::FactorStats before = kept->system.stats();
+    MassPlusContacts &system = kept->system;
+    if (frix_error e = prepare_mass_plus_contacts(ctx, *kept, "gnsn-al", kScaleSamples)) return e;
+    kept.keep();
+    const double scale = kept->scale;
     double rho = o.d(FRIX_OPT_RHO) / scale;
     const double rho_max = kRhoMax / scale;
 
@@ -224,7 +224,7 @@ frix_error solve(SolveContext &ctx) {
     info.iterations = outer;
     info.newton_iterations = newton_steps;
     info.line_search_steps = ls_steps;
-    Monitor::record_factorizations(info, system.stats());
+    Monitor::record_factorizations(info, system.stats() - before);
     if (verbosity >= 1)
         log_line(&o, "gnsn-al: %s after %lld outer steps, %lld Newton steps (rho %.3g / scale)",
                  frix_status_string(status), (long long)outer, (long long)newton_steps, rho * scale);

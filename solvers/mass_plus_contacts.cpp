@@ -111,6 +111,23 @@ frix_error MassPlusContacts::factor(const double *S, const linalg::FactorBudget 
     return e;
 }
 
+frix_error prepare_mass_plus_contacts(const SolveContext &ctx, KeptMassPlusContacts &kept, const char *solver,
+                                      int samples) {
+    const frix_problem &p = ctx.problem;
+    if (ctx.cache && kept.m_values == ctx.cache->m_values && kept.h_values == ctx.cache->h_values) return FRIX_OK;
+    kept.m_values = kept.h_values = 0;  // until built
+    kept.factored_rho = NAN;
+    if (!ctx.solve_mass) return fail(FRIX_ERR_INTERNAL, "%s: no factorisation of M was given", solver);
+    Csc M, H;
+    if (frix_error e = to_csc(*p.M, M)) return e;
+    if (frix_error e = to_csc(*p.H, H)) return e;
+    if (frix_error e = kept.system.build(M, H, p.nc, solver)) return e;
+    kept.scale = sampled_delassus_scale(p, H, *ctx.solve_mass, samples);
+    if (!(kept.scale > 0.0) || !std::isfinite(kept.scale)) kept.scale = 1.0;
+    if (ctx.cache) kept.m_values = ctx.cache->m_values, kept.h_values = ctx.cache->h_values;
+    return FRIX_OK;
+}
+
 double global_error(const frix_problem &p, int64_t measure, const double *r, const double *v, double *u,
                     double *equilibrium) {
     const Measures meas = global_measures(p, r, v, u, equilibrium);

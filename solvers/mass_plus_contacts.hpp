@@ -11,6 +11,7 @@
 
 #include "src/linalg/linalg.hpp"
 #include "src/reduction.hpp"
+#include "src/solve_cache.hpp"
 #include "src/solver_api.hpp"
 
 namespace frix {
@@ -51,6 +52,21 @@ class MassPlusContacts {
     std::vector<double> hrows_;
     linalg::SparseCholesky chol_;
 };
+
+// What these solvers keep between the solves of a persistent solver: M + H S H^T's pattern and
+// symbolic analysis, rho's unit, and (gadmm) the factorisation at the last rho, while M's and
+// H's values stay.
+struct KeptMassPlusContacts : CachedState {
+    uint64_t m_values = 0, h_values = 0;  // the versions they were built from (0: none)
+    MassPlusContacts system;
+    double scale = 1.0;        // rho's unit (sampled_delassus_scale)
+    double factored_rho = NAN;  // the rho of the factorisation the system holds (NAN: none usable)
+};
+// Makes `kept` current for ctx's problem: built anew (pattern, rho's unit from `samples`
+// sampled contacts) unless ctx's cache shows it was built from the same M and H. Fails as
+// MassPlusContacts::build does.
+frix_error prepare_mass_plus_contacts(const SolveContext &ctx, KeptMassPlusContacts &kept, const char *solver,
+                                      int samples);
 
 // The larger of the selected error measure and the equilibrium residual of (r, v), u = H^T v + w
 // computed into u: what a solver of global problems stops on.
