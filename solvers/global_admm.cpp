@@ -73,15 +73,11 @@ frix_error solve(SolveContext &ctx) {
 
     std::vector<double> shift(m, 0.0), xi(m), rh(r, r + m), xih(m), r_old(r, r + m), xi_old(m);
     std::vector<double> rhs(n), Hx(m), dxi(m), Hdxi(n), Hr(n), kv(n), work(n);
-    auto update_shift = [&]() {
-        for (int64_t a = 0; a < nc; ++a) shift[3 * a] = p.mu[a] * std::hypot(u[3 * a + 1], u[3 * a + 2]);
-    };
     double equilibrium = 0.0;
-    auto error_of = [&]() { return global_error(p, measure, r, v, u, &equilibrium); };
     auto checked_error = [&]() { return global_error_or_recovered(p, ctx.mass, measure, tol, r, v, u, &equilibrium); };
     // The start: u from the driver's v (M v = H r + f), xi = P_K*(u + s) = x + P_K(-x).
-    double err = error_of();
-    update_shift();
+    double err = global_error(p, measure, r, v, u, &equilibrium);
+    de_saxce_shift(p, u, shift.data());
     for (int64_t a = 0; a < nc; ++a) {
         double *x = &xi[3 * a], neg[3];
         for (int i = 0; i < 3; ++i) x[i] = u[3 * a + i] + shift[3 * a + i], neg[i] = -x[i];
@@ -131,7 +127,7 @@ frix_error solve(SolveContext &ctx) {
                 r2 += r[k] * r[k];
             }
         }
-        update_shift();
+        de_saxce_shift(p, u, shift.data());
         if (!std::isfinite(prim2 + dual_xi2 + g2 + r2)) {
             status = FRIX_STATUS_DIVERGED;
             break;

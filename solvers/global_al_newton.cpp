@@ -87,9 +87,6 @@ frix_error solve(SolveContext &ctx) {
         if (m > 0) matrix_gemv_transposed(*p.H, 1.0, vv, 0.0, uu);
         for (int64_t i = 0; i < m; ++i) uu[i] += p.w[i];
     };
-    auto update_shift = [&]() {
-        for (int64_t a = 0; a < nc; ++a) shift[3 * a] = p.mu[a] * std::hypot(u[3 * a + 1], u[3 * a + 2]);
-    };
     // z = P_K(r_k - rho (uu + s)) into zz, with J's blocks when asked; returns |z|^2.
     auto multiplier = [&](const double *uu, double *zz, bool jacobian) {
         double sq = 0.0;
@@ -106,7 +103,7 @@ frix_error solve(SolveContext &ctx) {
     double equilibrium = 0.0;
 
     velocities(v, u);
-    update_shift();
+    de_saxce_shift(p, u, shift.data());
     double err = global_error(p, measure, r, v, u, &equilibrium), best_err = err, ref_err = err;
     int64_t outer = 0, newton_steps = 0, ls_steps = 0;
     int since_progress = 0;
@@ -214,7 +211,7 @@ frix_error solve(SolveContext &ctx) {
         }
         if (err > kSlowOuter * previous && rho < rho_max) rho = std::min(rho * kRhoGrowth, rho_max);
         std::copy(r, r + m, rk.begin());
-        update_shift();
+        de_saxce_shift(p, u, shift.data());
     }
     if (!(err <= best_err)) {  // also when the last iterate is not finite
         std::copy(best_r.begin(), best_r.end(), r);

@@ -128,6 +128,10 @@ frix_error prepare_mass_plus_contacts(const SolveContext &ctx, KeptMassPlusConta
     return FRIX_OK;
 }
 
+void de_saxce_shift(const frix_problem &p, const double *u, double *shift) {
+    for (int64_t a = 0; a < p.nc; ++a) shift[3 * a] = p.mu[a] * std::hypot(u[3 * a + 1], u[3 * a + 2]);
+}
+
 double global_error(const frix_problem &p, int64_t measure, const double *r, const double *v, double *u,
                     double *equilibrium) {
     const Measures meas = global_measures(p, r, v, u, equilibrium);

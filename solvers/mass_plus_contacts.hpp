@@ -68,6 +68,10 @@ struct KeptMassPlusContacts : CachedState {
 frix_error prepare_mass_plus_contacts(const SolveContext &ctx, KeptMassPlusContacts &kept, const char *solver,
                                       int samples);
 
+// The De Saxce term of the global solvers without W from u = H^T v + w: shift[3a] =
+// mu_a |u_T,a| (the normal entry of each contact; the tangential ones are not written).
+void de_saxce_shift(const frix_problem &p, const double *u, double *shift);
+
 // The larger of the selected error measure and the equilibrium residual of (r, v), u = H^T v + w
 // computed into u: what a solver of global problems stops on.
 double global_error(const frix_problem &p, int64_t measure, const double *r, const double *v, double *u,
