@@ -58,16 +58,23 @@ FileReader::FileReader(const char *path) : path_(path) {
     if (S_ISDIR(st.st_mode)) raise(FRIX_ERR_IO, "cannot open '%s': it is a directory", path);
     std::FILE *probe = std::fopen(path, "rb");
     if (probe == nullptr) raise(FRIX_ERR_IO, "cannot open '%s': %s", path, std::strerror(errno));
-    unsigned char head[16];
+    unsigned char head[20];
     const size_t got = std::fread(head, 1, sizeof head, probe);
     std::fclose(probe);
-    // A version 0 or 1 superblock at the start must have its reserved bytes zero and its
-    // sizes of offsets and lengths among 2, 4, 8, 16, 32 (the HDF5 format): HDF5 1.10 reads
-    // a corrupt one's fields as sizes and asks for gigabytes before it fails.
+    // A version 0 or 1 superblock at the start must have its reserved bytes zero, its sizes of
+    // offsets and lengths among 2, 4, 8, 16, 32 (the HDF5 format) and its groups' B-tree ranks
+    // K within 1..kMaxGroupRank: HDF5 1.10 sizes buffers from a corrupt K and asks for
+    // gigabytes before it fails. Writers keep HDF5's defaults, 4 and 16.
     static const unsigned char kSignature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+    constexpr unsigned kMaxGroupRank = 1024;
     auto size_ok = [](unsigned char v) { return v == 2 || v == 4 || v == 8 || v == 16 || v == 32; };
+    auto rank_ok = [](const unsigned char *le16) {
+        const unsigned k = le16[0] | (unsigned)le16[1] << 8;
+        return k >= 1 && k <= kMaxGroupRank;
+    };
     if (got == sizeof head && std::memcmp(head, kSignature, sizeof kSignature) == 0 && head[8] <= 1 &&
-        (head[11] != 0 || head[15] != 0 || !size_ok(head[13]) || !size_ok(head[14])))
+        (head[11] != 0 || head[15] != 0 || !size_ok(head[13]) || !size_ok(head[14]) ||
+         !rank_ok(head + 16) || !rank_ok(head + 18)))
         raise(FRIX_ERR_FORMAT, "cannot read '%s': a corrupt HDF5 superblock (version %u)", path, (unsigned)head[8]);
 
 #if H5_VERSION_GE(1, 12, 0)

@@ -778,8 +778,9 @@ START_TEST(test_unreadable_files) {
     spit(text, "this is not HDF5\n", 17);
     expect_read_error(text, FRIX_ERR_IO, "not an HDF5 file");
 
-    /* A version 0 superblock with a reserved byte set (found by fuzz_read_problem): HDF5
-     * 1.10 reads it as a size and asks for gigabytes before failing; refused before HDF5 opens it. */
+    /* Version 0 superblocks found by fuzz_read_problem, refused before HDF5 opens them: a
+     * reserved byte set, then the same with the reserved byte clear but a group B-tree rank K
+     * of 65525, from which HDF5 1.10 sizes buffers of gigabytes before it fails. */
     static const unsigned char corrupt[49] = {
         0x89, 0x48, 0x44, 0x46, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x00, 0x00, 0x08, 0x08, 0xb8, 0xf5,
         0xff, 0xff, 0xff, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xff, 0xff,
@@ -787,6 +788,17 @@ START_TEST(test_unreadable_files) {
     const char *bad = tmp_path("corrupt_superblock.hdf5");
     spit(bad, (const char *)corrupt, (long)sizeof corrupt);
     expect_read_error(bad, FRIX_ERR_FORMAT, "corrupt HDF5 superblock");
+    unsigned char bad_rank[49];
+    memcpy(bad_rank, corrupt, sizeof bad_rank);
+    bad_rank[15] = 0x00;
+    spit(bad, (const char *)bad_rank, (long)sizeof bad_rank);
+    expect_read_error(bad, FRIX_ERR_FORMAT, "corrupt HDF5 superblock");
+    bad_rank[16] = 0x04; /* HDF5's default ranks (4 and 16) pass the check: HDF5 then finds the file unreadable */
+    bad_rank[17] = 0x00;
+    bad_rank[18] = 0x10;
+    bad_rank[19] = 0x00;
+    spit(bad, (const char *)bad_rank, (long)sizeof bad_rank);
+    expect_read_error(bad, FRIX_ERR_IO, "as an HDF5 file");
 
     frix_problem *p = (frix_problem *)0x1;
     ck_assert_int_eq(frix_fclib_read(NULL, &p), FRIX_ERR_INVALID_ARGUMENT);
