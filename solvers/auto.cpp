@@ -75,7 +75,9 @@ constexpr int64_t kFirstNsgsSweeps = 20000;
 // On a part of fewer contacts than this, the first stage is plain NSGS (500) without
 // freezing: over the few sweeps such a part needs, the velocity form's setup (W's block
 // columns) costs more than it saves, and freezing at a loose tolerance can trap the sweeps in
-// a cycle that plain NSGS does not enter.
+// a cycle that plain NSGS does not enter. Where such a problem is one part, that stage runs
+// before the part is set up (direct_nsgs): the setup costs more than the few sweeps most such
+// problems need.
 constexpr int64_t kPlainNsgsMaxContacts = 64;
 // A stage is stopped when its best error has not fallen tenfold within half its iterations
 // so far, and at least within `patience` of them.
@@ -352,6 +354,31 @@ struct Watchdog {
     }
 };
 
+// The options of a stage running solver `entry` to `tolerance` for at most `max_iter` of its
+// iterations, on the caller's clock, limits and log.
+void stage_options(const SolverEntry &entry, Shared &shared, double tolerance, int64_t max_iter, frix_options &o) {
+    const frix_options &user = shared.user;
+    default_options(entry, o);
+    o.dvalue[FRIX_OPT_TOLERANCE] = tolerance;
+    o.ivalue[FRIX_OPT_ERROR_MEASURE] = user.i(FRIX_OPT_ERROR_MEASURE);
+    o.ivalue[FRIX_OPT_VERBOSITY] = std::max<int64_t>(0, user.i(FRIX_OPT_VERBOSITY) - 1);
+    o.log = &Shared::log;
+    o.log_data = &shared;
+    if (entry.id == FRIX_SOLVER_ADMM && shared.scaled_penalty) o.ivalue[FRIX_OPT_RHO_STRATEGY] = FRIX_RHO_SPECTRAL;
+    if (entry.id == FRIX_SOLVER_NSGS_VELOCITY || entry.id == FRIX_SOLVER_NSGS) o.ivalue[FRIX_OPT_DRIFT_WINDOW] = kDriftWindow;
+    o.ivalue[FRIX_OPT_MAX_ITER] = max_iter;
+    // The stage runs on the shared clock (started by frix_solve): its limit is the caller's
+    // deadline itself.
+    const double deadline = shared.deadline();
+    o.dvalue[FRIX_OPT_TIME_LIMIT] = std::isfinite(deadline) ? deadline : 0.0;
+    o.dvalue[FRIX_OPT_MEMORY_LIMIT] = user.d(FRIX_OPT_MEMORY_LIMIT);
+}
+
+// The sweeps before the rate watch judges NSGS on a problem of `blocks` blocks of W.
+int64_t nsgs_min_sweeps(int64_t blocks) {
+    return std::max<int64_t>(kNsgsMinSweeps, (int64_t)(kNsgsMinWork / (double)std::max<int64_t>(1, blocks)));
+}
+
 // Counters summed over the stages into the caller's info.
 void accumulate(frix_info &into, const frix_info &stage) {
     into.newton_iterations += stage.newton_iterations;
@@ -394,7 +421,9 @@ class IslandSolver {
             // here, since it may already be the answer (a tightened pass over the parts).
             if (std::any_of(r, r + m_, [](double x) { return x != 0.0; })) best_error_ = measure(r);
         }
-        if (active()) {
+        if (phase == kFirst && first_ran_) {
+            best_solver_ = first_solver_;
+        } else if (active()) {
             if (frix_error e = phase == kFirst ? first_stage(r) : run_round(r)) return e;
         }
         const bool held = held_error_ < best_error_;
@@ -411,6 +440,14 @@ class IslandSolver {
         *m = best_measures_;
         std::copy(u_.begin(), u_.end(), u);
         return true;
+    }
+
+    // The first stage ran before this part was set up (direct_nsgs: solver `id`, its record
+    // in the trace, its iterate the warm start of solve(kFirst)), which then goes on from there.
+    void first_stage_ran(int id) {
+        first_ran_ = true;
+        first_solver_ = id;
+        ++stages_run_;
     }
 
     const std::vector<TraceEvent> &events() const { return events_; }
@@ -646,33 +683,19 @@ class IslandSolver {
     // counters are updated here.
     frix_error run_stage(int id, Watch kind, int64_t patience, int64_t budget, double *r, TraceEvent &ev) {
         const SolverEntry *entry = find_solver(id);
-        frix_options o;
-        default_options(*entry, o);
         const frix_options &user = shared_.user;
-        o.dvalue[FRIX_OPT_TOLERANCE] = tolerance_;
-        o.ivalue[FRIX_OPT_ERROR_MEASURE] = user.i(FRIX_OPT_ERROR_MEASURE);
-        o.ivalue[FRIX_OPT_VERBOSITY] = std::max<int64_t>(0, user.i(FRIX_OPT_VERBOSITY) - 1);
-        o.log = &Shared::log;
-        o.log_data = &shared_;
-        if (id == FRIX_SOLVER_ADMM && shared_.scaled_penalty) o.ivalue[FRIX_OPT_RHO_STRATEGY] = FRIX_RHO_SPECTRAL;
-        if (id == FRIX_SOLVER_NSGS_VELOCITY || id == FRIX_SOLVER_NSGS) o.ivalue[FRIX_OPT_DRIFT_WINDOW] = kDriftWindow;
         // At most half of the caller's iterations left: under a tight limit the stages after
         // this one still get their turn.
         const int64_t left = Monitor(user, shared_.clock).max_iterations() - shared_.iterations.load();
-        o.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, std::min(left / 2, budget));
+        frix_options o;
+        stage_options(*entry, shared_, tolerance_, std::max<int64_t>(1, std::min(left / 2, budget)), o);
         if (left / 2 < budget) cut_short_ = true;
-        // The stage runs on the shared clock (started by frix_solve): its limit is the
-        // caller's deadline itself.
-        const double deadline = shared_.deadline();
-        o.dvalue[FRIX_OPT_TIME_LIMIT] = std::isfinite(deadline) ? deadline : 0.0;
-        o.dvalue[FRIX_OPT_MEMORY_LIMIT] = user.d(FRIX_OPT_MEMORY_LIMIT);
         Watchdog dog;
         dog.shared = &shared_;
         dog.kind = kind;
         dog.tolerance = tolerance_;
         dog.patience = patience;
-        const double blocks = (double)std::max<int64_t>(1, p_.W->nblocks());
-        dog.min_sweeps = std::max<int64_t>(kNsgsMinSweeps, (int64_t)(kNsgsMinWork / blocks));
+        dog.min_sweeps = nsgs_min_sweeps(p_.W->nblocks());
         if (kind == Watch::Rate) {
             const bool admm = id == FRIX_SOLVER_ADMM;
             if (admm) {
@@ -791,6 +814,8 @@ class IslandSolver {
     bool finished_ = false;
     std::vector<TraceEvent> events_;
     int64_t switches_ = 0, stages_run_ = 0;
+    bool first_ran_ = false;
+    int first_solver_ = 0;
     frix_info counters_;
     bool stopped_ = false;
 };
@@ -848,30 +873,97 @@ void part_caches(KeptAuto &kept, const SolveCache &cache, const std::vector<std:
     }
 }
 
+// The first stage of a problem that is one part of fewer than kPlainNsgsMaxContacts contacts
+// (plain NSGS under the rate watch, as IslandSolver::first_stage runs it), run on ctx's
+// problem from ctx.r before the part is set up: its sweeps are counted in `shared`, its
+// record goes into the trace. Sets *converged; ctx holds its iterate, counters and measures
+// either way.
+frix_error direct_nsgs(SolveContext &ctx, Shared &shared, double tol, bool *converged) {
+    const frix_problem &p = ctx.problem;
+    const frix_options &user = ctx.options;
+    const SolverEntry &nsgs = *find_solver(FRIX_SOLVER_NSGS);
+    const int64_t left = Monitor(user, ctx.clock).max_iterations();
+    frix_options o;
+    stage_options(nsgs, shared, tol, std::max<int64_t>(1, std::min(left / 2, kFirstNsgsSweeps)), o);
+    Watchdog dog;
+    dog.shared = &shared;
+    dog.kind = Watch::Rate;
+    dog.tolerance = tol;
+    dog.min_sweeps = nsgs_min_sweeps(p.W->nblocks());
+    o.callback = Watchdog::callback;
+    o.callback_data = &dog;
+
+    frix_info &info = ctx.info;
+    info.status = FRIX_STATUS_NOT_RUN;
+    info.iterations = 0;
+    const double t0 = ctx.clock.seconds();
+    SolveContext sub{p, o, ctx.r, ctx.u, nullptr, info, ctx.clock, nullptr, nullptr, nullptr};
+    if (frix_error e = nsgs.solve(sub)) return e;
+    if (info.iterations > dog.last_iteration) shared.iterations += info.iterations - dog.last_iteration;
+    ctx.has_measured = sub.has_measured;
+    ctx.measured = sub.measured;
+    const double err = selected_error(sub.has_measured ? sub.measured : local_measures(p, ctx.r, ctx.u),
+                                      user.i(FRIX_OPT_ERROR_MEASURE));
+    TraceEvent ev = trace_event(kStage);
+    ev.solver_id = FRIX_SOLVER_NSGS;
+    ev.status = info.status;
+    ev.why = dog.stopped_by_watchdog ? dog.why : nullptr;
+    ev.iterations = info.iterations;
+    ev.seconds = ctx.clock.seconds() - t0;
+    ev.error = std::isfinite(err) ? err : INFINITY;
+    info.trace.push_back(ev);
+    if (user.i(FRIX_OPT_VERBOSITY) >= 1) {
+        std::string line = "auto: " + autosolve::format_event(frix_info(), ev);
+        while (!line.empty() && line.back() == '\n') line.pop_back();
+        Shared::log(&shared, line.c_str());
+    }
+    *converged = err <= tol;
+    if (info.status == FRIX_STATUS_STOPPED_BY_CALLBACK && !dog.stopped_by_watchdog) shared.stop_requested = true;
+    return FRIX_OK;
+}
+
 frix_error solve_local(SolveContext &ctx) {
     const frix_problem &p = ctx.problem;
     const frix_options &user = ctx.options;
     frix_info &info = ctx.info;
     const double tol = Monitor(ctx).tolerance();
     Shared shared(user, ctx.clock);
-    Kept<KeptAuto> kept(ctx.cache, FRIX_SOLVER_AUTO);
 
     Analysis a = analyse_local(p);
-    info.islands = (int64_t)a.island_size.size();
+    info.islands = a.islands;
     info.analysis.contacts = a.contacts;
     info.analysis.blocks = a.blocks;
-    info.analysis.islands = (int64_t)a.island_size.size();
+    info.analysis.islands = a.islands;
     info.analysis.largest_island = a.largest_island;
     info.analysis.diag_min = a.diag_min, info.analysis.diag_max = a.diag_max;
     info.analysis.mu_min = a.mu_min, info.analysis.mu_max = a.mu_max;
     info.trace.push_back(trace_event(kAnalysis));
     shared.scaled_penalty = !(a.diag_max <= kScaledPenaltySpread * a.diag_min);
+    // A small problem that is one part (see solve_units) gets its first stage at once.
+    const bool direct = p.nc < kPlainNsgsMaxContacts && (a.islands <= 1 || a.largest_island < kMinIslandContacts);
+    if (direct) {
+        bool converged = false;
+        if (frix_error e = direct_nsgs(ctx, shared, tol, &converged)) return e;
+        if (converged || shared.stop_requested.load() || shared.out_of_time() || shared.out_of_iterations()) {
+            info.iterations = shared.iterations.load();
+            info.status = converged                        ? FRIX_STATUS_CONVERGED
+                          : shared.stop_requested.load() ? FRIX_STATUS_STOPPED_BY_CALLBACK
+                          : shared.out_of_time()         ? FRIX_STATUS_TIME_LIMIT
+                                                         : FRIX_STATUS_MAX_ITER;
+            return FRIX_OK;
+        }
+        ctx.has_measured = false;
+    }
+    // Taken after the direct run: a problem that it solves leaves the kept state in the cache
+    // as it was.
+    Kept<KeptAuto> kept(ctx.cache, FRIX_SOLVER_AUTO);
 
     // The units of work: every island of at least kMinIslandContacts contacts on its own, the
     // smaller ones together (one sub-problem, still block-diagonal): a sub-problem per tiny
     // island would cost more in setup than its solve.
     std::vector<std::vector<int64_t>> units = solve_units(a, kMinIslandContacts);
     if (ctx.cache) part_caches(*kept, *ctx.cache, units);
+    if (direct && units.size() != 1) return fail(FRIX_ERR_INTERNAL, "auto: a direct first stage on %zu parts", units.size());
     std::vector<Island> islands(units.size());
     const bool whole = islands.size() == 1;
     for (size_t k = 0; k < islands.size(); ++k) {
@@ -887,6 +979,7 @@ frix_error solve_local(SolveContext &ctx) {
         }
         is.solver = std::make_unique<IslandSolver>(*sub, shared, whole ? 0 : (int64_t)k + 1,
                                                    ctx.cache ? kept->part_caches[k].get() : nullptr);
+        if (direct) is.solver->first_stage_ran(FRIX_SOLVER_NSGS);
     }
     if (!whole) {
         const double norm_q = norm2(p.q, 3 * p.nc);

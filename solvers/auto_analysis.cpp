@@ -41,10 +41,17 @@ Analysis analyse_local(const frix_problem &p) {
         a.mu_max = std::max(a.mu_max, p.mu[i]);
     }
     if (nc == 0) a.diag_min = a.mu_min = 0.0;
+    for (int64_t i = 0; i < nc; ++i)
+        if (sets.find(i) == i) {
+            ++a.islands;
+            a.largest_island = std::max(a.largest_island, sets.size_of_root(i));
+        }
+    if (a.islands <= 1) return a;  // one unit: no lists needed
     // Islands numbered by their first contact (a deterministic order). A root's entry holds
     // its island's number from the island's first contact on; a root is a contact of its own
     // island, so its entry ends with that same number.
     a.island_of.assign((size_t)nc, -1);
+    a.island_size.reserve((size_t)a.islands);
     for (int64_t i = 0; i < nc; ++i) {
         int64_t &number = a.island_of[(size_t)sets.find(i)];
         if (number < 0) {
@@ -54,7 +61,6 @@ Analysis analyse_local(const frix_problem &p) {
         a.island_of[(size_t)i] = number;
         ++a.island_size[(size_t)number];
     }
-    for (int64_t size : a.island_size) a.largest_island = std::max(a.largest_island, size);
     return a;
 }
 

@@ -19,11 +19,13 @@ struct Analysis {
     double diag_max = 0.0;
     double mu_min = 0.0, mu_max = 0.0;
     int64_t blocks = 0;         // stored 3x3 blocks of W
-    // Islands, numbered in the order of their first contact: each contact's island, and each
-    // island's size. Lists of contacts are made only for the units that need them (solve_units).
+    int64_t islands = 0;
+    int64_t largest_island = 0;
+    // Where there are several islands, numbered in the order of their first contact: each
+    // contact's island, and each island's size (empty for one island). Lists of contacts are
+    // made only for the units that need them (solve_units).
     std::vector<int64_t> island_of;
     std::vector<int64_t> island_size;
-    int64_t largest_island = 0;
 };
 
 // The units auto solves separately: each island of at least min_size contacts, largest

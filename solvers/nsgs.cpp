@@ -159,14 +159,17 @@ constexpr double kMaxDriftJump = 1000.0;
 class DriftExtrapolation {
    public:
     // r: the start of the first window.
-    DriftExtrapolation(int64_t window, int64_t m, const double *r) : window_(window) {
-        if (window_ > 0) start_.assign(r, r + m), last_.assign((size_t)m, 0.0);
+    DriftExtrapolation(int64_t window, int64_t m, const double *r) : window_(window), m_((size_t)m) {
+        if (window_ <= 0) return;
+        both_.assign(2 * m_, 0.0);  // one allocation: solves of a few sweeps run often
+        std::copy(r, r + m, both_.begin());
     }
     // After sweep `it` of at most `max_sweeps`: true when r jumped (then u and the frozen
     // contacts need a refresh).
     bool after_sweep(int64_t it, int64_t max_sweeps, double *r, const double *mu) {
         if (window_ <= 0 || it % window_ != 0) return false;
-        const size_t m = start_.size();
+        const size_t m = m_;
+        double *start_ = both_.data(), *last_ = both_.data() + m_;
         double dd = 0.0, dl = 0.0, ll = 0.0;
         for (size_t i = 0; i < m; ++i) {
             const double d = r[i] - start_[i];
@@ -188,7 +191,7 @@ class DriftExtrapolation {
         t = std::min(t, kMaxDriftJump);
         for (size_t i = 0; i < m; ++i) r[i] += t * last_[i];
         for (size_t a = 0; 3 * a < m; ++a) coulomb::project_on_cone(r + 3 * a, mu[a]);
-        std::copy(r, r + m, start_.begin());
+        std::copy(r, r + m, start_);
         have_last_ = false;  // a new window history from the new point
         ++jumps_;
         return true;
@@ -197,7 +200,8 @@ class DriftExtrapolation {
 
    private:
     int64_t window_;
-    std::vector<double> start_, last_;  // r at the window's start; the last window's displacement
+    size_t m_;
+    std::vector<double> both_;  // r at the window's start, then the last window's displacement
     bool have_last_ = false;
     int64_t jumps_ = 0;
 };

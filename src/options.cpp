@@ -6,6 +6,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "error_state.hpp"
 #include "solver_api.hpp"
@@ -130,11 +131,31 @@ frix_error store(const char *where, frix_options *opts, const KeySpec &s, double
 
 namespace frix {
 
-void default_options(const SolverEntry &e, frix_options &o) {
+namespace {
+
+void fill_defaults(const SolverEntry &e, frix_options &o) {
     o = frix_options();
     o.solver_id = e.id;
     for (const KeySpec &s : kKeys) assign(o, s, s.default_value);
     for (const OptionDefault *d = e.defaults; d && d->key; ++d) assign(o, *spec_of(d->key), d->value);
+}
+
+}  // namespace
+
+void default_options(const SolverEntry &e, frix_options &o) {
+    // Made once for every registered solver (the registry is fixed) and copied: auto sets up
+    // the options of every stage it runs, on small problems many times a millisecond.
+    static const std::vector<frix_options> made = [] {
+        std::vector<frix_options> t((size_t)solver_count());
+        for (int64_t k = 0; k < solver_count(); ++k) fill_defaults(solver_at(k), t[(size_t)k]);
+        return t;
+    }();
+    for (const frix_options &d : made)
+        if (d.solver_id == e.id) {
+            o = d;
+            return;
+        }
+    fill_defaults(e, o);
 }
 
 }  // namespace frix
