@@ -230,7 +230,7 @@ class ShiftedSystem {
     std::vector<int64_t> colptr_, rowind_, diag_;
     linalg::DenseCholesky dchol_;
     linalg::DenseLU dlu_;
-    linalg::SparseCholesky schol_;
+    linalg::SparseCholesky schol_{linalg::SparseCholesky::Layout::kForSolves};
     linalg::SparseLU slu_;
 };
 

@@ -50,7 +50,7 @@ class MassPlusContacts {
     // them (3 per row, hrows_), and the slots of their upper pairs (i <= j), row-major.
     std::vector<int64_t> row_start_, rows_, pair_start_, pair_slot_;
     std::vector<double> hrows_;
-    linalg::SparseCholesky chol_;
+    linalg::SparseCholesky chol_{linalg::SparseCholesky::Layout::kForSolves};
 };
 
 // What these solvers keep between the solves of a persistent solver: M + H S H^T's pattern and

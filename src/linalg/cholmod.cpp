@@ -1,4 +1,4 @@
-// SparseCholesky on CHOLMOD (the SuiteSparse_long "l" interface), supernodal. The
+// SparseCholesky on CHOLMOD (the SuiteSparse_long "l" interface). The
 // cholmod_common lives in the object: no state is shared between solves.
 #include <cholmod.h>
 
@@ -86,7 +86,6 @@ struct SparseCholesky::Impl {
         cholmod_l_start(&c);
         c.print = 0;  // the library never prints
         c.error_handler = nullptr;
-        c.supernodal = CHOLMOD_SUPERNODAL;
         c.final_ll = 1;
     }
     ~Impl() {
@@ -95,7 +94,11 @@ struct SparseCholesky::Impl {
     }
 };
 
-SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {}
+SparseCholesky::SparseCholesky(Layout layout) : impl_(std::make_unique<Impl>()) {
+    // CHOLMOD's own choice is simplicial where L has few flops per entry (the default
+    // supernodal_switch), supernodal elsewhere.
+    impl_->c.supernodal = layout == Layout::kSupernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_AUTO;
+}
 SparseCholesky::~SparseCholesky() = default;
 
 frix_error SparseCholesky::factor(const CscView &A) {

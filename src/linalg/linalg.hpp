@@ -1,7 +1,7 @@
 // The one internal interface for linear solves: sparse LU (UMFPACK), sparse Cholesky
-// (CHOLMOD, supernodal) and dense LU / Cholesky (LAPACK). Every factorisation lives in its own
-// object (no global state), every failure comes back as a frix_error with a message
-// (frix::fail), never as a crash or a print.
+// (CHOLMOD, supernodal or simplicial) and dense LU / Cholesky (LAPACK). Every factorisation
+// lives in its own object (no global state), every failure comes back as a frix_error with a
+// message (frix::fail), never as a crash or a print.
 //
 // Sparse matrices here are plain CSC views (column pointers, sorted row indices, values) over
 // arrays the caller owns and keeps alive while the object uses them.
@@ -144,7 +144,11 @@ class CongruenceSink {
 
 class SparseCholesky {
    public:
-    SparseCholesky();
+    // kSupernodal: L is always supernodal (inverse_congruence needs it). kForSolves: simplicial
+    // where L is sparse, whose solves then run without a BLAS call per supernode (several
+    // times faster on the small factors of iterative solvers), supernodal elsewhere.
+    enum class Layout { kSupernodal, kForSolves };
+    explicit SparseCholesky(Layout layout = Layout::kSupernodal);
     ~SparseCholesky();
     SparseCholesky(const SparseCholesky &) = delete;
     SparseCholesky &operator=(const SparseCholesky &) = delete;
