@@ -512,7 +512,13 @@ class IslandSolver {
         probe_alternative_ = NAN;
         if (e || !can_continue()) return e;
         std::copy(nsgs_r.begin(), nsgs_r.end(), r);
-        return stage(FRIX_SOLVER_NSGS_VELOCITY, Watch::Rate, 0, kFirstNsgsSweeps, r);
+        // NSGS then gets at least the work the probe took before it is judged again: a rate
+        // says nothing on a plateau of the error, which NSGS crosses when a contact changes
+        // status, and this way each of the two has had the same chance.
+        min_work_ = c->admm_setup + (double)events_.back().iterations * c->admm_iteration;
+        e = stage(FRIX_SOLVER_NSGS_VELOCITY, Watch::Rate, 0, kFirstNsgsSweeps, r);
+        min_work_ = NAN;
+        return e;
     }
 
     // One round of the stages (the caller calls it again while `active()`): round k gives
@@ -714,6 +720,8 @@ class IslandSolver {
                 }
                 dog.min_sweeps =
                     std::max(dog.min_sweeps, (int64_t)(kJudgeShare * dog.alternative_work / dog.iteration_work));
+                if (std::isfinite(min_work_))
+                    dog.min_sweeps = std::max(dog.min_sweeps, (int64_t)(min_work_ / dog.iteration_work));
             }
         }
         o.callback = Watchdog::callback;
@@ -809,6 +817,7 @@ class IslandSolver {
     // usual alternative (NaN: none); whether the last stage was stopped for its rate, and the
     // work its rate then predicted to the tolerance.
     double probe_alternative_ = NAN;
+    double min_work_ = NAN;  // the work a Watch::Rate stage does before it is judged (NaN: none)
     bool last_slow_ = false;
     double last_predicted_work_ = NAN;
     bool finished_ = false;
