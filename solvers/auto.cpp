@@ -79,6 +79,8 @@ constexpr int64_t kFirstNsgsSweeps = 20000;
 // before the part is set up (direct_nsgs): the setup costs more than the few sweeps most such
 // problems need.
 constexpr int64_t kPlainNsgsMaxContacts = 64;
+// Sweeps of plain NSGS on the whole of a problem of several parts before they are set up.
+constexpr int64_t kWholeNsgsSweeps = 30;
 // A stage is stopped when its best error has not fallen tenfold within half its iterations
 // so far, and at least within `patience` of them.
 struct StageSpec {
@@ -128,6 +130,9 @@ constexpr int64_t kAdmmRateBudget = 100000;
 constexpr double kAdmmExpectedIterations = 300.0;
 // The iterations of ADMM's probe that NSGS is first weighed against (first_stage).
 constexpr double kAdmmProbeIterations = 100.0;
+// NSGS whose error is within this factor of the tolerance when the probe ends goes on for at
+// least the probe's work (first_stage).
+constexpr double kPlateauRatio = 10.0;
 // When max_a |W_aa| / min_a |W_aa| exceeds this, ADMM gives each contact a penalty scaled by
 // its |W_aa| (rho_strategy 1, i.e. ADMM on the problem scaled to equal diagonal blocks): one
 // penalty needs many times the iterations when the contacts' stiffness spreads over decades.
@@ -506,16 +511,19 @@ class IslandSolver {
         // NSGS that gained nothing predicts nothing to weigh ADMM against: the rounds decide.
         if (e || !last_slow_ || !std::isfinite(last_predicted_work_) || !can_continue()) return e;
         const std::vector<double> nsgs_r(r, r + m_);
+        const double nsgs_error = events_.back().error;
         probe_alternative_ = last_predicted_work_;
         std::fill(r, r + m_, 0.0);
         e = stage(FRIX_SOLVER_ADMM, Watch::Rate, 0, kAdmmRateBudget, r);
         probe_alternative_ = NAN;
         if (e || !can_continue()) return e;
         std::copy(nsgs_r.begin(), nsgs_r.end(), r);
-        // NSGS then gets at least the work the probe took before it is judged again: a rate
-        // says nothing on a plateau of the error, which NSGS crosses when a contact changes
-        // status, and this way each of the two has had the same chance.
-        min_work_ = c->admm_setup + (double)events_.back().iterations * c->admm_iteration;
+        // NSGS within kPlateauRatio of the tolerance then gets at least the work the probe
+        // took before it is judged again: a rate says nothing on a plateau of the error, which
+        // NSGS crosses when a contact changes status, and this way each of the two has had
+        // the same chance.
+        if (nsgs_error <= kPlateauRatio * tolerance_)
+            min_work_ = c->admm_setup + (double)events_.back().iterations * c->admm_iteration;
         e = stage(FRIX_SOLVER_NSGS_VELOCITY, Watch::Rate, 0, kFirstNsgsSweeps, r);
         min_work_ = NAN;
         return e;
@@ -882,21 +890,22 @@ void part_caches(KeptAuto &kept, const SolveCache &cache, const std::vector<std:
     }
 }
 
-// The first stage of a problem that is one part of fewer than kPlainNsgsMaxContacts contacts
-// (plain NSGS under the rate watch, as IslandSolver::first_stage runs it), run on ctx's
-// problem from ctx.r before the part is set up: its sweeps are counted in `shared`, its
-// record goes into the trace. Sets *converged; ctx holds its iterate, counters and measures
-// either way.
-frix_error direct_nsgs(SolveContext &ctx, Shared &shared, double tol, bool *converged) {
+// Plain NSGS on ctx's problem from ctx.r, before any part is set up: with sweeps = 0 the
+// first stage of a problem that is one part of fewer than kPlainNsgsMaxContacts contacts (the
+// rate watch, as IslandSolver::first_stage runs it), otherwise that many sweeps unwatched. Its
+// sweeps are counted in `shared`, its record goes into the trace. Sets *converged; ctx holds
+// its iterate, counters and measures either way.
+frix_error direct_nsgs(SolveContext &ctx, Shared &shared, double tol, int64_t sweeps, bool *converged) {
     const frix_problem &p = ctx.problem;
     const frix_options &user = ctx.options;
     const SolverEntry &nsgs = *find_solver(FRIX_SOLVER_NSGS);
     const int64_t left = Monitor(user, ctx.clock).max_iterations();
     frix_options o;
-    stage_options(nsgs, shared, tol, std::max<int64_t>(1, std::min(left / 2, kFirstNsgsSweeps)), o);
+    stage_options(nsgs, shared, tol, std::max<int64_t>(1, std::min(left / 2, sweeps > 0 ? sweeps : kFirstNsgsSweeps)), o);
     Watchdog dog;
     dog.shared = &shared;
-    dog.kind = Watch::Rate;
+    dog.kind = sweeps > 0 ? Watch::Stall : Watch::Rate;
+    dog.patience = sweeps + 1;  // (the stall watch then only counts)
     dog.tolerance = tol;
     dog.min_sweeps = nsgs_min_sweeps(p.W->nblocks());
     o.callback = Watchdog::callback;
@@ -948,11 +957,14 @@ frix_error solve_local(SolveContext &ctx) {
     info.analysis.mu_min = a.mu_min, info.analysis.mu_max = a.mu_max;
     info.trace.push_back(trace_event(kAnalysis));
     shared.scaled_penalty = !(a.diag_max <= kScaledPenaltySpread * a.diag_min);
-    // A small problem that is one part (see solve_units) gets its first stage at once.
-    const bool direct = p.nc < kPlainNsgsMaxContacts && (a.islands <= 1 || a.largest_island < kMinIslandContacts);
-    if (direct) {
+    // A small problem that is one part gets its first stage at once; a problem of several
+    // parts first gets kWholeNsgsSweeps sweeps of plain NSGS on the whole of it, which end
+    // many easy problems before the parts cost their setup (the parts go on from there).
+    const bool several_parts = a.islands > 1 && a.largest_island >= kMinIslandContacts;
+    const bool direct = p.nc < kPlainNsgsMaxContacts && !several_parts;
+    if (direct || several_parts) {
         bool converged = false;
-        if (frix_error e = direct_nsgs(ctx, shared, tol, &converged)) return e;
+        if (frix_error e = direct_nsgs(ctx, shared, tol, several_parts ? kWholeNsgsSweeps : 0, &converged)) return e;
         if (converged || shared.stop_requested.load() || shared.out_of_time() || shared.out_of_iterations()) {
             info.iterations = shared.iterations.load();
             info.status = converged                        ? FRIX_STATUS_CONVERGED

@@ -62,6 +62,37 @@ START_TEST(sparse_cholesky_and_congruence) {
 }
 END_TEST
 
+/* The layout for repeated solves: simplicial on a sparse factor (a chain: tridiag(-1, 4, -1),
+ * a few flops per entry of L), supernodal on a dense one (120 x 120, n I + ones); the same
+ * solutions as the supernodal layout either way. */
+START_TEST(sparse_cholesky_layout_for_solves) {
+    enum { kLen = 200, kDenseN = 120 };
+    static int64_t cp[kDenseN * kDenseN + 1], ci[kDenseN * kDenseN];
+    static double cx[kDenseN * kDenseN];
+    double b[kLen], x0[kLen], x1[kLen];
+    for (int shape = 0; shape < 2; ++shape) {
+        const int64_t n = shape == 0 ? kLen : kDenseN;
+        int64_t e = 0;
+        for (int64_t j = 0; j < n; ++j) {
+            cp[j] = e;
+            for (int64_t i = 0; i < n; ++i) {
+                if (shape == 0 && (i < j - 1 || i > j + 1)) continue;
+                ci[e] = i;
+                cx[e++] = shape == 0 ? (i == j ? 4.0 : -1.0) : (i == j ? (double)n + 1.0 : 1.0);
+            }
+            b[j] = 1.0 + (double)(j % 7);
+        }
+        cp[n] = e;
+        int super0 = -1, super1 = -1;
+        ck_assert_int_eq(frix_testing_sparse_cholesky_layout(0, n, cp, ci, cx, b, x0, &super0), FRIX_OK);
+        ck_assert_int_eq(frix_testing_sparse_cholesky_layout(1, n, cp, ci, cx, b, x1, &super1), FRIX_OK);
+        ck_assert_int_eq(super0, 1);
+        ck_assert_int_eq(super1, shape == 1);
+        for (int64_t i = 0; i < n; ++i) ck_assert_double_eq_tol(x1[i], x0[i], 1e-12 * fabs(x0[i]));
+    }
+}
+END_TEST
+
 /* A: two components, a 12 x 12 grid (5-point Laplacian plus 0.5 I, whose factor is a tree of
  * several supernodes) and a chain of 20 (tridiag(-1, 4, -1)); CSC, both triangles. B (164 x 12,
  * 4 contacts of 3 columns): contact 0 on the grid, contact 1 on the chain, contact 2 on both,
@@ -260,6 +291,7 @@ int main(void) {
     tcase_add_test(tc, sparse_lu_reuses_symbolic);
     tcase_add_test(tc, sparse_lu_singular_is_an_error);
     tcase_add_test(tc, sparse_cholesky_and_congruence);
+    tcase_add_test(tc, sparse_cholesky_layout_for_solves);
     tcase_add_test(tc, congruence_up_the_supernodal_tree);
     tcase_add_test(tc, dense_lu_and_cholesky);
     tcase_add_test(tc, cholesky_cost_from_the_pattern);

@@ -195,6 +195,8 @@ frix_error cholesky_cost(const CscView &A, FactorCost *cost) {
     return fail(FRIX_ERR_NUMERICAL, "Cholesky cost: symbolic analysis failed (CHOLMOD status %d)", status);
 }
 
+bool SparseCholesky::supernodal() const { return impl_->L && impl_->L->is_super; }
+
 frix_error SparseCholesky::solve(const double *b, double *x) const {
     Impl &m = *impl_;
     if (!m.L || !m.numeric) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: solve() without a factorisation");

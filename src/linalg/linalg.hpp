@@ -158,6 +158,8 @@ class SparseCholesky {
     frix_error factor(const CscView &A);
     // x = A^-1 b for one dense right-hand side.
     frix_error solve(const double *b, double *x) const;
+    // Whether the factor held is supernodal (false: simplicial, or none).
+    bool supernodal() const;
     // C = B^T A^-1 B for a sparse B (n x k), handed to sink. With L L^T = P A P^T (supernodal)
     // and Z = L^-1 P B, C = Z^T Z = sum over L's supernodes s of Z_s^T Z_s, Z_s the rows of Z
     // in s and only the columns of B whose elimination paths pass through s (B's column j

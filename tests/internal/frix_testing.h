@@ -59,6 +59,10 @@ int frix_testing_sparse_cholesky(int64_t n, const int64_t *colptr, const int64_t
                                  const double *values, const double *b, double *x, int64_t k,
                                  const int64_t *bp, const int64_t *bi, const double *bx,
                                  double *C);
+/* The same solve with the layout for repeated solves (for_solves = 1) or the supernodal one
+ * (0); *supernodal: whether the factor was supernodal. */
+int frix_testing_sparse_cholesky_layout(int for_solves, int64_t n, const int64_t *colptr, const int64_t *rowind,
+                                        const double *values, const double *b, double *x, int *supernodal);
 /* The flops and entries of L of a Cholesky factorisation of A's pattern (upper triangle read,
  * values not needed), from the symbolic analysis alone. */
 int frix_testing_cholesky_cost(int64_t n, const int64_t *colptr, const int64_t *rowind, double *flops,

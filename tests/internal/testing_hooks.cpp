@@ -112,6 +112,18 @@ FRIX_TESTING_HOOK int frix_testing_sparse_cholesky(int64_t n, const int64_t *col
     return FRIX_OK;
 }
 
+// x = A^-1 b with the factor's layout chosen by for_solves; whether it was supernodal.
+FRIX_TESTING_HOOK int frix_testing_sparse_cholesky_layout(int for_solves, int64_t n, const int64_t *colptr,
+                                                          const int64_t *rowind, const double *values,
+                                                          const double *b, double *x, int *supernodal) {
+    using Layout = frix::linalg::SparseCholesky::Layout;
+    frix::linalg::SparseCholesky ch(for_solves ? Layout::kForSolves : Layout::kSupernodal);
+    int e = ch.factor({n, n, colptr, rowind, values});
+    if (e == FRIX_OK) e = ch.solve(b, x);
+    *supernodal = ch.supernodal();
+    return e;
+}
+
 // The price of a Cholesky factorisation of A's pattern (upper triangle), from the symbolic
 // analysis alone.
 FRIX_TESTING_HOOK int frix_testing_cholesky_cost(int64_t n, const int64_t *colptr, const int64_t *rowind,
