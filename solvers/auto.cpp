@@ -379,6 +379,14 @@ void stage_options(const SolverEntry &entry, Shared &shared, double tolerance, i
     o.dvalue[FRIX_OPT_MEMORY_LIMIT] = user.d(FRIX_OPT_MEMORY_LIMIT);
 }
 
+// A record's line to the caller's log, at verbosity 1 and above.
+void log_event(Shared &shared, const TraceEvent &e) {
+    if (shared.user.i(FRIX_OPT_VERBOSITY) < 1) return;
+    std::string line = "auto: " + autosolve::format_event(frix_info(), e);
+    while (!line.empty() && line.back() == '\n') line.pop_back();
+    Shared::log(&shared, line.c_str());
+}
+
 // The sweeps before the rate watch judges NSGS on a problem of `blocks` blocks of W.
 int64_t nsgs_min_sweeps(int64_t blocks) {
     return std::max<int64_t>(kNsgsMinSweeps, (int64_t)(kNsgsMinWork / (double)std::max<int64_t>(1, blocks)));
@@ -472,12 +480,7 @@ class IslandSolver {
         e.island = island_;
         e.island_contacts = island_ > 0 ? p_.nc : 0;
         events_.push_back(e);
-        if (shared_.user.i(FRIX_OPT_VERBOSITY) >= 1) {
-            frix_info none;
-            std::string line = "auto: " + autosolve::format_event(none, e);
-            while (!line.empty() && line.back() == '\n') line.pop_back();
-            Shared::log(&shared_, line.c_str());
-        }
+        log_event(shared_, e);
     }
 
     bool can_continue() const {
@@ -930,11 +933,7 @@ frix_error direct_nsgs(SolveContext &ctx, Shared &shared, double tol, int64_t sw
     ev.seconds = ctx.clock.seconds() - t0;
     ev.error = std::isfinite(err) ? err : INFINITY;
     info.trace.push_back(ev);
-    if (user.i(FRIX_OPT_VERBOSITY) >= 1) {
-        std::string line = "auto: " + autosolve::format_event(frix_info(), ev);
-        while (!line.empty() && line.back() == '\n') line.pop_back();
-        Shared::log(&shared, line.c_str());
-    }
+    log_event(shared, ev);
     *converged = err <= tol;
     if (info.status == FRIX_STATUS_STOPPED_BY_CALLBACK && !dog.stopped_by_watchdog) shared.stop_requested = true;
     return FRIX_OK;
