@@ -392,6 +392,21 @@ int64_t nsgs_min_sweeps(int64_t blocks) {
     return std::max<int64_t>(kNsgsMinSweeps, (int64_t)(kNsgsMinWork / (double)std::max<int64_t>(1, blocks)));
 }
 
+// After a stage's solve (solver `id`, its info, `seconds` long, ending at `error`): the
+// iterations its callback did not see (solvers report at their own pace) go to the shared
+// count, and its record is returned.
+TraceEvent close_stage(int id, const frix_info &info, const Watchdog &dog, double seconds, double error) {
+    if (info.iterations > dog.last_iteration) dog.shared->iterations += info.iterations - dog.last_iteration;
+    TraceEvent ev = trace_event(kStage);
+    ev.solver_id = id;
+    ev.status = info.status;
+    ev.why = dog.stopped_by_watchdog ? dog.why : nullptr;
+    ev.iterations = info.iterations;
+    ev.seconds = seconds;
+    ev.error = std::isfinite(error) ? error : INFINITY;
+    return ev;
+}
+
 // Counters summed over the stages into the caller's info.
 void accumulate(frix_info &into, const frix_info &stage) {
     into.newton_iterations += stage.newton_iterations;
@@ -748,17 +763,10 @@ class IslandSolver {
         if (frix_error e = solve_local_problem(p_, o, *entry, r, u_.data(), info, shared_.clock, cache_, &measures))
             return e;
         accumulate(counters_, info);
-        // Iterations the callback did not see (solvers report at their own pace).
-        if (info.iterations > dog.last_iteration) shared_.iterations += info.iterations - dog.last_iteration;
-        const double err = std::isfinite(info.error) ? info.error : INFINITY;
-        ev.solver_id = id;
-        ev.status = info.status;
-        ev.why = dog.stopped_by_watchdog ? dog.why : nullptr;
+        ev = close_stage(id, info, dog, shared_.clock.seconds() - t0, info.error);
+        const double err = ev.error;
         last_slow_ = dog.stopped_by_watchdog && dog.why == dog.slow;
         last_predicted_work_ = dog.predicted * dog.iteration_work;
-        ev.iterations = info.iterations;
-        ev.seconds = shared_.clock.seconds() - t0;
-        ev.error = err;
         if (info.status == FRIX_STATUS_STOPPED_BY_CALLBACK && !dog.stopped_by_watchdog) stopped_ = true;
         if (err < best_error_) {
             best_error_ = err;
@@ -920,18 +928,11 @@ frix_error direct_nsgs(SolveContext &ctx, Shared &shared, double tol, int64_t sw
     const double t0 = ctx.clock.seconds();
     SolveContext sub{p, o, ctx.r, ctx.u, nullptr, info, ctx.clock, nullptr, nullptr, nullptr};
     if (frix_error e = nsgs.solve(sub)) return e;
-    if (info.iterations > dog.last_iteration) shared.iterations += info.iterations - dog.last_iteration;
     ctx.has_measured = sub.has_measured;
     ctx.measured = sub.measured;
     const double err = selected_error(sub.has_measured ? sub.measured : local_measures(p, ctx.r, ctx.u),
                                       user.i(FRIX_OPT_ERROR_MEASURE));
-    TraceEvent ev = trace_event(kStage);
-    ev.solver_id = FRIX_SOLVER_NSGS;
-    ev.status = info.status;
-    ev.why = dog.stopped_by_watchdog ? dog.why : nullptr;
-    ev.iterations = info.iterations;
-    ev.seconds = ctx.clock.seconds() - t0;
-    ev.error = std::isfinite(err) ? err : INFINITY;
+    const TraceEvent ev = close_stage(FRIX_SOLVER_NSGS, info, dog, ctx.clock.seconds() - t0, err);
     info.trace.push_back(ev);
     log_event(shared, ev);
     *converged = err <= tol;
