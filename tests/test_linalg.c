@@ -3,6 +3,8 @@
  * factorisation failures returned as frix_error values. */
 #include <frix/frix.h>
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "check_main.h"
@@ -90,6 +92,51 @@ START_TEST(sparse_cholesky_layout_for_solves) {
         ck_assert_int_eq(super1, shape == 1);
         for (int64_t i = 0; i < n; ++i) ck_assert_double_eq_tol(x1[i], x0[i], 1e-12 * fabs(x0[i]));
     }
+}
+END_TEST
+
+/* The threads of this process, from /proc/self/status (-1 where there is none). */
+static int process_threads(void) {
+    FILE *f = fopen("/proc/self/status", "r");
+    if (!f) return -1;
+    char line[256];
+    int threads = -1;
+    while (fgets(line, sizeof line, f))
+        if (strncmp(line, "Threads:", 8) == 0) threads = atoi(line + 8);
+    fclose(f);
+    return threads;
+}
+
+/* A supernodal factorisation of a 200 x 200 matrix (n I + ones: one supernode of 200
+ * columns) starts no thread: CHOLMOD's OpenMP loops, which would otherwise start 3 threads
+ * whatever OMP_NUM_THREADS says, run on the calling thread. */
+START_TEST(sparse_cholesky_starts_no_thread) {
+    enum { kN = 200 };
+    static int64_t cp[kN + 1], ci[kN * kN];
+    static double cx[kN * kN];
+    double b[kN], x[kN];
+    int64_t e = 0;
+    for (int64_t j = 0; j < kN; ++j) {
+        cp[j] = e;
+        for (int64_t i = 0; i < kN; ++i) {
+            ci[e] = i;
+            cx[e++] = i == j ? (double)kN + 1.0 : 1.0;
+        }
+        b[j] = 1.0;
+    }
+    cp[kN] = e;
+    /* The BLAS library's own threads, if it has any, are started first: they are its
+     * business (OPENBLAS_NUM_THREADS), not CHOLMOD's. */
+    static double dense[kN * kN];
+    for (int64_t k = 0; k < kN * kN; ++k) dense[k] = cx[k];
+    ck_assert_int_eq(frix_testing_dense_solve(1, kN, dense, b, x), FRIX_OK);
+    const int before = process_threads();
+    int super = -1;
+    ck_assert_int_eq(frix_testing_sparse_cholesky_layout(0, kN, cp, ci, cx, b, x, &super), FRIX_OK);
+    ck_assert_int_eq(super, 1);
+    /* (n I + ones) x = ones: x = 1 / (2n) everywhere. */
+    for (int64_t i = 0; i < kN; ++i) ck_assert_double_eq_tol(x[i], 1.0 / (2.0 * kN), 1e-14);
+    if (before > 0) ck_assert_int_eq(process_threads(), before);
 }
 END_TEST
 
@@ -292,6 +339,7 @@ int main(void) {
     tcase_add_test(tc, sparse_lu_singular_is_an_error);
     tcase_add_test(tc, sparse_cholesky_and_congruence);
     tcase_add_test(tc, sparse_cholesky_layout_for_solves);
+    tcase_add_test(tc, sparse_cholesky_starts_no_thread);
     tcase_add_test(tc, congruence_up_the_supernodal_tree);
     tcase_add_test(tc, dense_lu_and_cholesky);
     tcase_add_test(tc, cholesky_cost_from_the_pattern);

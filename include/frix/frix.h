@@ -15,7 +15,9 @@
  * threads, never two calls at once). frix_last_error_message() is per thread. Results
  * depend neither on FRIX_OPT_THREADS nor on how many threads call the library
  * (tests/test_threads.c, also run under ThreadSanitizer); the interior-point stages can
- * depend on the BLAS library's own thread count (docs/auto.md). The METIS orderings of sparse
+ * depend on the BLAS library's own thread count (docs/auto.md). The only threads frix
+ * starts are auto's workers: CHOLMOD's OpenMP loops run on the solving thread, and the BLAS
+ * library threads as it is configured (OPENBLAS_NUM_THREADS). The METIS orderings of sparse
  * factorisations (gnsn-ac's, and CHOLMOD's where it tries METIS on a large M or W + rho I)
  * draw from libc's rand() after reseeding it: a host thread calling rand(), srand() or METIS
  * during such a solve can change its rounding, and the solve leaves rand() reseeded.

@@ -19,11 +19,40 @@ void dgemm_(const char *transa, const char *transb, const int *m, const int *n, 
             const int *ldc, size_t, size_t);
 }
 
+// The OpenMP runtime CHOLMOD brings along, when it was built with one. Weak: a CHOLMOD
+// without OpenMP leaves them null and needs nothing.
+extern "C" {
+int omp_get_max_active_levels(void) __attribute__((weak));
+void omp_set_max_active_levels(int) __attribute__((weak));
+}
+
 namespace frix::linalg {
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// CHOLMOD's supernodal factorisation asks OpenMP for a fixed 4 threads, whatever
+// OMP_NUM_THREADS says, for loops that copy values into the supernodes; waking those threads
+// costs more than the copies (its arithmetic is BLAS, threaded by the BLAS library). While
+// it lives, this thread's OpenMP regions run on this thread alone. max-active-levels is a
+// per-thread setting (libgomp from GCC 11 on, LLVM's libomp): other threads are not touched.
+class OpenMPRegionsOnThisThread {
+public:
+    OpenMPRegionsOnThisThread() {
+        if (!omp_get_max_active_levels || !omp_set_max_active_levels) return;
+        saved_ = omp_get_max_active_levels();
+        omp_set_max_active_levels(0);
+    }
+    ~OpenMPRegionsOnThisThread() {
+        if (saved_ >= 0) omp_set_max_active_levels(saved_);
+    }
+    OpenMPRegionsOnThisThread(const OpenMPRegionsOnThisThread &) = delete;
+    OpenMPRegionsOnThisThread &operator=(const OpenMPRegionsOnThisThread &) = delete;
+
+private:
+    int saved_ = -1;
+};
 
 // Columns of C per term handed to a CongruenceSink: a tile of X^T X the size of a few
 // megabytes, not the whole of it.
@@ -137,7 +166,11 @@ frix_error SparseCholesky::factor(const CscView &A) {
                     refused_ == FRIX_STATUS_MEMORY_LIMIT ? "memory" : "time");
     }
     const auto t1 = Clock::now();
-    const bool ok = m.L && cholmod_l_factorize(&a, m.L, &m.c);
+    bool ok = false;
+    if (m.L) {
+        const OpenMPRegionsOnThisThread serial;
+        ok = cholmod_l_factorize(&a, m.L, &m.c);
+    }
     m.numeric = ok && m.c.status == CHOLMOD_OK;
     m.last_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
     stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
