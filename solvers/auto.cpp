@@ -133,6 +133,10 @@ constexpr double kAdmmProbeIterations = 100.0;
 // NSGS whose error is within this factor of the tolerance when the probe ends goes on for at
 // least the probe's work (first_stage).
 constexpr double kPlateauRatio = 10.0;
+// NSGS stopped by its rate within this factor of the tolerance goes on for the probe's work
+// before the probe (first_stage): a plateau that close to the tolerance usually ends in fewer
+// sweeps than the probe and NSGS after it cost.
+constexpr double kNearPlateauRatio = 3.0;
 // When max_a |W_aa| / min_a |W_aa| exceeds this, ADMM gives each contact a penalty scaled by
 // its |W_aa| (rho_strategy 1, i.e. ADMM on the problem scaled to equal diagonal blocks): one
 // penalty needs many times the iterations when the contacts' stiffness spreads over decades.
@@ -153,7 +157,7 @@ constexpr double kPolishRatio = 1e-3;
 // Without a deadline, this many rounds in a row without halving the error end the sequence.
 constexpr int kMaxIdleRounds = 3;
 // Tightenings of the islands' tolerance when their combined error misses the tolerance
-// (after a pass that only drops the loosening of part_loosening, which is not counted).
+// (after the passes that shrink the loosening of part_loosening, which are not counted).
 constexpr int kMaxTightenings = 4;
 // A global problem is reduced to W = H^T M^-1 H. Where W would have more than this many
 // entries and more than kReductionMaxGrowth times those of M and H (a deformable body makes W
@@ -523,8 +527,17 @@ class IslandSolver {
         const StageCosts *c = prices();
         if (!c || !fits_memory(&StageCosts::admm_bytes))
             return stage(FRIX_SOLVER_NSGS_VELOCITY, Watch::Rate, 0, kFirstNsgsSweeps, r);
-        probe_alternative_ = c->admm_setup + kAdmmProbeIterations * c->admm_iteration;
+        const double probe = c->admm_setup + kAdmmProbeIterations * c->admm_iteration;
+        probe_alternative_ = probe;
         frix_error e = stage(FRIX_SOLVER_NSGS_VELOCITY, Watch::Rate, 0, kFirstNsgsSweeps, r);
+        // NSGS stopped within kNearPlateauRatio of the tolerance first goes on for the
+        // probe's work: there its rate says little (a plateau ends when a contact changes
+        // status), and the probe, then NSGS again, would cost more where NSGS finishes.
+        if (!e && last_slow_ && can_continue() && events_.back().error <= kNearPlateauRatio * tolerance_) {
+            min_work_ = probe;
+            e = stage(FRIX_SOLVER_NSGS_VELOCITY, Watch::Rate, 0, kFirstNsgsSweeps, r);
+            min_work_ = NAN;
+        }
         probe_alternative_ = NAN;
         // NSGS that gained nothing predicts nothing to weigh ADMM against: the rounds decide.
         if (e || !last_slow_ || !std::isfinite(last_predicted_work_) || !can_continue()) return e;
@@ -866,8 +879,8 @@ struct Island {
 // so a part whose |q_part| is small next to |q| may stop at a larger error of its own:
 // |q| / (|q_part| sqrt(2 parts)) (the parts below that share give at most half of the whole
 // residual's square), never below 1 and at most kMaxPartLoosening. The whole problem is
-// measured after the parts; where it misses, the parts are solved again to the tolerance
-// itself, and then tighter.
+// measured after the parts; where it misses, the parts are solved again with their
+// loosening shrunk by the miss, and then tighter.
 constexpr double kMaxPartLoosening = 100.0;
 double part_loosening(double norm_q, double part_norm_q, size_t parts) {
     const double share = part_norm_q * std::sqrt(2.0 * (double)parts);
@@ -1078,9 +1091,10 @@ frix_error solve_local(SolveContext &ctx) {
         if (!all_met) break;  // an island failed: tightening the others would not help
         if (loosened) {
             // The parts' shares misjudged the whole (their errors are relative to |r| and
-            // |u| too, which |q| does not tell): first every part to the tolerance itself,
-            // each going on from where it stopped.
-            for (Island &is : islands) is.loosening = 1.0;
+            // |u| too, which |q| does not tell): first their loosening shrinks by the observed
+            // ratio (and a margin), at least halving, down to the tolerance itself; each part
+            // goes on from where it stopped.
+            for (Island &is : islands) is.loosening = std::max(1.0, is.loosening * 0.5 * tol / error);
         } else {
             // The islands' relative errors are normalised by their own sizes; the whole
             // problem's by its own. Tighten by the observed ratio (and a margin).
