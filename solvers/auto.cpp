@@ -119,6 +119,13 @@ constexpr int64_t kDriftWindow = 1000;
 // such a result is set aside, and returned if the rounds end above it (a time or iteration
 // limit). Patience and budget count its iterations (interior points and then Newton steps).
 constexpr int64_t kIpmMinContacts = 200;
+// Smaller parts get the interior-point stage (without ADMM before it) where their tolerance
+// is this loose or looser, after kNewtonProbeSteps of Newton from r = 0: where Newton
+// converges it usually does so in a few steps, where it does not it can take tens of
+// line-searched steps, while the IPM's few tens of factorisations reach a loose tolerance
+// either way. At tight tolerances Newton's quadratic end usually wins: the rounds decide.
+constexpr double kIpmLooseTolerance = 1e-6;
+constexpr int64_t kNewtonProbeSteps = 10;
 constexpr StageSpec kIpmStage = {FRIX_SOLVER_IPM, 50, 500};
 constexpr double kIpmKeepRatio = 100.0;
 // Before the IPM, ADMM under the rate watch (judged on its best error, from this many
@@ -571,7 +578,14 @@ class IslandSolver {
             std::fill(r, r + m_, 0.0);
             if (frix_error e = stage(FRIX_SOLVER_ADMM, Watch::Rate, 0, kAdmmRateBudget, r)) return e;
         }
-        if (round_ == 0 && p_.nc >= kIpmMinContacts && can_continue() && fits_memory(&StageCosts::ipm_bytes)) {
+        const bool small_and_loose = p_.nc < kIpmMinContacts && tolerance_ >= kIpmLooseTolerance;
+        if (round_ == 0 && small_and_loose && can_continue()) {
+            std::fill(r, r + m_, 0.0);
+            if (frix_error e = stage(FRIX_SOLVER_NSN_AC, Watch::Stall, kNewtonProbeSteps, kNewtonProbeSteps, r))
+                return e;
+        }
+        if (round_ == 0 && (p_.nc >= kIpmMinContacts || small_and_loose) && can_continue() &&
+            fits_memory(&StageCosts::ipm_bytes)) {
             // The rounds start from its iterate only within kIpmKeepRatio of the tolerance.
             const std::vector<double> keep_r = best_r_;
             const double keep_error = best_error_;
@@ -697,9 +711,11 @@ class IslandSolver {
     // anywhere in a thin set of iterates that the relative measure cannot tell apart, and on
     // degenerate problems (a slope at tan = mu) some of them are visibly wrong (velocities off
     // by 1e3 x the measure). On a small island a few proximal Newton steps from there cost
-    // little and land on the solution to rounding; the best iterate is kept either way.
+    // little and land on the solution to rounding; the best iterate is kept either way. The
+    // Newton-type stages (Newton, PROX, the interior point) end on a solution, not in that set.
     frix_error polish(double *r) {
-        if (p_.nc > kPolishMaxContacts || best_solver_ == FRIX_SOLVER_NSN_AC || best_solver_ == FRIX_SOLVER_PROX)
+        if (p_.nc > kPolishMaxContacts || best_solver_ == FRIX_SOLVER_NSN_AC || best_solver_ == FRIX_SOLVER_PROX ||
+            best_solver_ == FRIX_SOLVER_IPM)
             return FRIX_OK;
         const double keep = tolerance_;
         tolerance_ = std::max(kPolishRatio * tolerance_, DBL_MIN);

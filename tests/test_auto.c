@@ -819,6 +819,31 @@ START_TEST(test_nsgs_crosses_a_plateau_before_the_probe) {
 }
 END_TEST
 
+/* A small part that NSGS does not finish, at a loose tolerance: Newton from r = 0 for a few
+ * steps, then the interior point, whose solution is not polished (local_problem_test at 1e-4:
+ * NSGS stalls at 8e-3, Newton alone takes 67 line-searched steps, the IPM 8). At 1e-8 the
+ * rounds run as before: no interior-point stage. */
+START_TEST(test_small_part_at_loose_tolerance_by_interior_point) {
+    file_run f;
+    if (!file_run_open(&f, "local/local_problem_test.hdf5", 1e-4)) return;
+    file_run_solve(&f);
+    const char *trace = frix_info_trace(f.info);
+    ck_assert_msg(frix_info_status(f.info) == FRIX_STATUS_CONVERGED, "%s", trace);
+    const int64_t newton = find_stage(f.info, FRIX_SOLVER_NSN_AC, 0), ipm = find_stage(f.info, FRIX_SOLVER_IPM, 0);
+    ck_assert_msg(newton >= 0 && stage_int(f.info, newton, FRIX_STAGE_ITERATIONS) <= 10 && ipm > newton &&
+                      stage_int(f.info, ipm, FRIX_STAGE_STATUS) == FRIX_STATUS_CONVERGED &&
+                      ipm == frix_info_stage_count(f.info) - 1,
+                  "%s", trace);
+    file_run_close(&f);
+    if (!file_run_open(&f, "local/local_problem_test.hdf5", 1e-8)) return;
+    file_run_solve(&f);
+    trace = frix_info_trace(f.info);
+    ck_assert_msg(frix_info_status(f.info) == FRIX_STATUS_CONVERGED && find_stage(f.info, FRIX_SOLVER_IPM, 0) < 0,
+                  "%s", trace);
+    file_run_close(&f);
+}
+END_TEST
+
 /* Before any part is set up: a problem of several parts that NSGS solves in a few sweeps ends
  * in the sweeps on the whole of it, and a small problem that is one part runs its first
  * stage at once, the same NSGS as the nsgs solver's (same iterations, same r). */
@@ -885,6 +910,7 @@ int main(void) {
     tcase_add_test(tc, test_small_parts_held_to_their_share);
     tcase_add_test(tc, test_easy_problems_before_the_parts);
     tcase_add_test(tc, test_nsgs_crosses_a_plateau_before_the_probe);
+    tcase_add_test(tc, test_small_part_at_loose_tolerance_by_interior_point);
     tcase_add_test(tc, test_contacts_in_different_units);
     tcase_add_test(tc, test_newton_from_stalled_interior_point);
     tcase_add_test(tc, test_rockpile_by_the_nsgs_chain);
