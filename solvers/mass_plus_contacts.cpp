@@ -94,7 +94,7 @@ frix_error MassPlusContacts::factor(const double *S, const linalg::FactorBudget 
     std::vector<double> G;  // H_a S_a, row-major (3 per row)
     for (int64_t a = 0; a < nc; ++a) {
         const int64_t first = row_start_[a], k = row_start_[a + 1] - first;
-        const double *h = &hrows_[3 * first], *Sa = S + 9 * a;
+        const double *h = hrows_.data() + 3 * first, *Sa = S + 9 * a;  // k = 0 may sit at the end
         G.resize(3 * k);
         for (int64_t i = 0; i < k; ++i)
             for (int c = 0; c < 3; ++c)
