@@ -36,7 +36,7 @@ using Clock = std::chrono::steady_clock;
 // OMP_NUM_THREADS says, for loops that copy values into the supernodes; waking those threads
 // costs more than the copies (its arithmetic is BLAS, threaded by the BLAS library). While
 // it lives, this thread's OpenMP regions run on this thread alone. max-active-levels is a
-// per-thread setting (libgomp from GCC 11 on, LLVM's libomp): other threads are not touched.
+// per-thread setting (libgomp from GCC 11 on): other threads are not touched.
 class OpenMPRegionsOnThisThread {
 public:
     OpenMPRegionsOnThisThread() {
