@@ -802,7 +802,7 @@ START_TEST(test_small_parts_held_to_their_share) {
 END_TEST
 
 /* NSGS near the tolerance on a plateau of its error (spheres-in-a-box at 1e-4: 1.7e-4 from
- * about sweep 100 to 750): stopped by its rate within 10 times the tolerance, it goes on for
+ * about sweep 100 to 750): stopped by its rate within 3 times the tolerance, it goes on for
  * the work of ADMM's probe before the probe, and crosses the plateau: no ADMM stage runs. */
 START_TEST(test_nsgs_crosses_a_plateau_before_the_probe) {
     file_run f;
