@@ -197,8 +197,11 @@ constexpr double kFactorFlopWork = 1.0 / 12.0;
 // Factorisations of W's size an interior-point stage makes on its way to a solution.
 constexpr double kIpmFactorizations = 50.0;
 // A first-order stage on a part whose alternative is a factorising stage goes on while its
-// rate predicts the tolerance at a cost below that alternative's (and kNsgsPatience times its
-// own work so far): giving up late then costs at most the alternative once more.
+// rate predicts the tolerance at a cost below that alternative's, or within kPricedPatience
+// times its own work so far (less than kNsgsPatience: here the alternative's price also bounds
+// what giving up costs, and a slow rate that promises the tolerance late would otherwise keep
+// a stage going long past that price): giving up late costs at most the alternative once more.
+constexpr double kPricedPatience = 2.0;
 // Nor is it judged before it has cost this share of the alternative: its early rate says
 // little, and an early judgement wastes at most this share.
 constexpr double kJudgeShare = 0.1;
@@ -268,7 +271,8 @@ struct Watchdog {
     // Watch::Rate: the price of one iteration and of the stage that would replace this one
     // (0: none; the rate is then judged against the stage's own work alone).
     double iteration_work = 0.0, alternative_work = 0.0;
-    // Whether the rate may also go on for kNsgsPatience times the iterations done (a stage
+    // Whether the rate may also go on for a multiple of the iterations done (kNsgsPatience,
+    // or kPricedPatience on a priced part; a stage
     // weighed against a whole alternative), or only within alternative_work (a stage weighed
     // against a probe of the alternative, which costs little if it fails).
     bool patient = true;
@@ -328,6 +332,13 @@ struct Watchdog {
     // ADMM's restarts are not monotone), elsewhere its last.
     double judged_error(double error) const { return iteration_work > 0.0 ? best : error; }
 
+    // The iterations the rate may predict to the tolerance before the stage is stopped.
+    double limit(int64_t sweeps, double allowed) const {
+        if (!patient) return allowed;
+        const double multiple = iteration_work > 0.0 ? kPricedPatience : kNsgsPatience;
+        return std::max(multiple * (double)sweeps, allowed);
+    }
+
     int judge_rate(double error, int64_t sweeps) {
         if (!std::isfinite(error)) return stop("non-finite error");
         double gained = 0.0;  // > 0 when converging
@@ -362,10 +373,10 @@ struct Watchdog {
         if (shared->user.i(FRIX_OPT_VERBOSITY) >= 3 && !samples.empty() && samples.back().first == sweeps) {
             char line[200];
             std::snprintf(line, sizeof line, "auto: rate watch at %lld: error %.3e, predicts %.4g more, allowed %.4g",
-                          (long long)sweeps, error, predicted, patient ? std::max(kNsgsPatience * (double)sweeps, allowed) : allowed);
+                          (long long)sweeps, error, predicted, limit(sweeps, allowed));
             Shared::log(shared, line);
         }
-        if (predicted > (patient ? std::max(kNsgsPatience * (double)sweeps, allowed) : allowed)) return stop(slow);
+        if (predicted > limit(sweeps, allowed)) return stop(slow);
         return 0;
     }
 };

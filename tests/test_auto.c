@@ -819,6 +819,26 @@ START_TEST(test_nsgs_crosses_a_plateau_before_the_probe) {
 }
 END_TEST
 
+/* A priced part whose NSGS rate promises the tolerance within three times its sweeps but
+ * not within twice, while the factorising alternative is priced lower (Spheres-n400 s200 at
+ * 1e-6, one part of 1171 contacts): NSGS is stopped after ADMM's probe and ADMM from r = 0
+ * finishes the part. Under the patience of unpriced parts (three times) NSGS went on to the
+ * tolerance at about twice the cost. */
+START_TEST(test_priced_part_stops_a_late_promise) {
+    file_run f;
+    if (!file_run_open(&f, "../fclib-large/Spheres-n400-seed2-s00200-nc1186.hdf5", 1e-6)) return;
+    file_run_solve(&f);
+    const char *trace = frix_info_trace(f.info);
+    ck_assert_msg(frix_info_status(f.info) == FRIX_STATUS_CONVERGED, "%s", trace);
+    const int64_t probe = find_stage(f.info, FRIX_SOLVER_ADMM, 0);
+    const int64_t nsgs = probe < 0 ? -1 : find_stage(f.info, FRIX_SOLVER_NSGS_VELOCITY, probe + 1);
+    ck_assert_msg(nsgs > probe && stage_int(f.info, nsgs, FRIX_STAGE_STOPPED_BY_AUTO) == 1, "%s", trace);
+    const int64_t admm = find_stage(f.info, FRIX_SOLVER_ADMM, nsgs + 1);
+    ck_assert_msg(admm > nsgs && stage_int(f.info, admm, FRIX_STAGE_STATUS) == FRIX_STATUS_CONVERGED, "%s", trace);
+    file_run_close(&f);
+}
+END_TEST
+
 /* A small part that NSGS does not finish, at a loose tolerance: Newton from r = 0 for a few
  * steps, then the interior point, whose solution is not polished (local_problem_test at 1e-4:
  * NSGS stalls at 8e-3, Newton alone takes 67 line-searched steps, the IPM 8). At 1e-8 the
@@ -911,6 +931,7 @@ int main(void) {
     tcase_add_test(tc, test_easy_problems_before_the_parts);
     tcase_add_test(tc, test_nsgs_crosses_a_plateau_before_the_probe);
     tcase_add_test(tc, test_small_part_at_loose_tolerance_by_interior_point);
+    tcase_add_test(tc, test_priced_part_stops_a_late_promise);
     tcase_add_test(tc, test_contacts_in_different_units);
     tcase_add_test(tc, test_newton_from_stalled_interior_point);
     tcase_add_test(tc, test_rockpile_by_the_nsgs_chain);
