@@ -272,9 +272,9 @@ struct Watchdog {
     // (0: none; the rate is then judged against the stage's own work alone).
     double iteration_work = 0.0, alternative_work = 0.0;
     // Whether the rate may also go on for a multiple of the iterations done (kNsgsPatience,
-    // or kPricedPatience on a priced part; a stage
-    // weighed against a whole alternative), or only within alternative_work (a stage weighed
-    // against a probe of the alternative, which costs little if it fails).
+    // or kPricedPatience on a priced part; a stage weighed against a whole alternative), or
+    // only within alternative_work (a stage weighed against a probe of the alternative, which
+    // costs little if it fails).
     bool patient = true;
     double predicted = NAN;  // iterations the rate last predicted to the tolerance
     const char *slow = "NSGS rate too slow";

@@ -80,22 +80,23 @@ grids() {
     done
 }
 
+# Every frix solver and every Siconos solver, but at simulation tolerances on fclib-large and
+# the pyramids: the ones that were the fastest on some problem of these families (Siconos's
+# NSN_AC reached neither 1e-4 nor 1e-6 on any of them in 20 s).
+simulation_solvers=auto,nsgs,nsgs-v,admm,ipm,prox,siconos:NSGS,siconos:ADMM,siconos:PROX
 for campaign in $campaigns; do
-    # Every frix solver and every Siconos solver, but at simulation tolerances: the ones that
-    # were the fastest on some problem of these families (Siconos's NSN_AC reached neither
-    # 1e-4 nor 1e-6 on any of them in 20 s).
     solvers=all,siconos:all
     case $campaign in
         large) dirs=("$shared/fclib-large"); tol=1e-8; tl=$large_limit ;;
         large-1e-4 | large-1e-6)
             pyramids
             dirs=("$shared/fclib-large" "$work/scenes"); tol=${campaign#large-}; tl=$limit
-            solvers=auto,nsgs,nsgs-v,admm,ipm,prox,siconos:NSGS,siconos:ADMM,siconos:PROX ;;
+            solvers=$simulation_solvers ;;
         large-1e-6-long)
             # The same solvers on fclib-large alone with a longer cap: at 20 s one of its
             # problems is solved by none of them.
             dirs=("$shared/fclib-large"); tol=1e-6; tl=$long_limit
-            solvers=auto,nsgs,nsgs-v,admm,ipm,prox,siconos:NSGS,siconos:ADMM,siconos:PROX ;;
+            solvers=$simulation_solvers ;;
         global)
             grids
             dirs=("$shared/fclib/global" "$work/grids"); tol=1e-8; tl=$global_limit
