@@ -151,3 +151,47 @@ FRIX_API frix_error frix_persistent_update_global(frix_persistent *ps, const fri
 }
 
 }  // extern "C"
+
+extern "C" {
+
+FRIX_API frix_error frix_persistent_set_contacts_local(frix_persistent *ps, const frix_matrix *W, const double *q,
+                                                       const double *mu, int64_t nc) {
+    return frix::guard("frix_persistent_set_contacts_local", [&]() -> frix_error {
+        if (!ps)
+            return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_persistent_set_contacts_local: the persistent solver is NULL");
+        if (ps->problem.kind != FRIX_PROBLEM_LOCAL)
+            return fail(FRIX_ERR_INVALID_ARGUMENT,
+                        "frix_persistent_set_contacts_local: the problem is global (use "
+                        "frix_persistent_set_contacts_global)");
+        frix_problem *check = nullptr;
+        if (frix_error e = frix::make_local_problem(W, q, mu, nc, &check)) return e;
+        copy_views(*check, ps->problem);
+        frix_problem_free(check);
+        // Every kept state was built for the old contacts: the versions say they are stale.
+        ps->W_pattern = W ? frix::pattern_of(*W) : frix_matrix{};
+        ++ps->cache.w_values;
+        ++ps->cache.w_pattern;
+        return FRIX_OK;
+    });
+}
+
+FRIX_API frix_error frix_persistent_set_contacts_global(frix_persistent *ps, const frix_matrix *H, const double *w,
+                                                        const double *mu, int64_t nc) {
+    return frix::guard("frix_persistent_set_contacts_global", [&]() -> frix_error {
+        if (!ps)
+            return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_persistent_set_contacts_global: the persistent solver is NULL");
+        if (ps->problem.kind != FRIX_PROBLEM_GLOBAL)
+            return fail(FRIX_ERR_INVALID_ARGUMENT,
+                        "frix_persistent_set_contacts_global: the problem is local (use "
+                        "frix_persistent_set_contacts_local)");
+        frix_problem *check = nullptr;
+        if (frix_error e = frix::make_global_problem(ps->problem.M, H, ps->problem.f, w, mu, nc, &check)) return e;
+        copy_views(*check, ps->problem);
+        frix_problem_free(check);
+        // M's factorisation follows M's version, which stays; what was formed from H does not.
+        ++ps->cache.h_values;
+        return FRIX_OK;
+    });
+}
+
+}  // extern "C"

@@ -94,19 +94,30 @@ namespace {
 // Version 1 ends where version 2's members begin; a host of version 1 never reads past it.
 const frix_plugin_table kTableV1 = {
     offsetof(frix_plugin_table, persistent_create), 1, FRIX_VERSION_NUMBER, FRIX_TABLE_V1_FUNCTIONS,
-    nullptr, nullptr, nullptr, nullptr, nullptr,
+    nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
 };
 
+#define FRIX_TABLE_V2_FUNCTIONS \
+    FRIX_TABLE_V1_FUNCTIONS,\
+    frix_persistent_create,\
+    frix_persistent_free,\
+    frix_persistent_solve,\
+    frix_persistent_update_local,\
+    frix_persistent_update_global
+
+// Version 2 ends where version 3's members begin.
 const frix_plugin_table kTableV2 = {
+    offsetof(frix_plugin_table, persistent_set_contacts_local), 2, FRIX_VERSION_NUMBER, FRIX_TABLE_V2_FUNCTIONS,
+    nullptr, nullptr,
+};
+
+const frix_plugin_table kTableV3 = {
     sizeof(frix_plugin_table),
-    2,
+    3,
     FRIX_VERSION_NUMBER,
-    FRIX_TABLE_V1_FUNCTIONS,
-    frix_persistent_create,
-    frix_persistent_free,
-    frix_persistent_solve,
-    frix_persistent_update_local,
-    frix_persistent_update_global,
+    FRIX_TABLE_V2_FUNCTIONS,
+    frix_persistent_set_contacts_local,
+    frix_persistent_set_contacts_global,
 };
 
 }  // namespace
@@ -116,6 +127,7 @@ extern "C" FRIX_API const frix_plugin_table *frix_plugin_api(int requested_abi_v
     frix::guard("frix_plugin_api", [&]() -> frix_error {
         if (requested_abi_version == 1) table = &kTableV1;
         else if (requested_abi_version == 2) table = &kTableV2;
+        else if (requested_abi_version == 3) table = &kTableV3;
         else
             return frix::fail(FRIX_ERR_UNSUPPORTED,
                               "frix_plugin_api: table ABI version %d requested; libfrix %s serves "

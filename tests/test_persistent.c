@@ -447,20 +447,115 @@ START_TEST(test_threads_share_data) {
 END_TEST
 
 START_TEST(test_plugin_table_versions) {
-    const frix_plugin_table *v1 = frix_plugin_api(1), *v2 = frix_plugin_api(2);
+    const frix_plugin_table *v1 = frix_plugin_api(1), *v2 = frix_plugin_api(2), *v3 = frix_plugin_api(3);
     ck_assert_ptr_nonnull(v1);
     ck_assert_ptr_nonnull(v2);
+    ck_assert_ptr_nonnull(v3);
     ck_assert_int_eq(v1->abi_version, 1);
     ck_assert_int_eq(v2->abi_version, 2);
+    ck_assert_int_eq(v3->abi_version, 3);
     ck_assert_uint_eq(v1->size, offsetof(frix_plugin_table, persistent_create));
-    ck_assert_uint_eq(v2->size, sizeof(frix_plugin_table));
+    ck_assert_uint_eq(v2->size, offsetof(frix_plugin_table, persistent_set_contacts_local));
+    ck_assert_uint_eq(v3->size, sizeof(frix_plugin_table));
     ck_assert(FRIX_PLUGIN_HAS(v1, info_stage_note));
     ck_assert(!FRIX_PLUGIN_HAS(v1, persistent_create));
     ck_assert(FRIX_PLUGIN_HAS(v2, persistent_update_global));
+    ck_assert(!FRIX_PLUGIN_HAS(v2, persistent_set_contacts_local));
+    ck_assert(FRIX_PLUGIN_HAS(v3, persistent_set_contacts_global));
     ck_assert_ptr_eq(v2->persistent_solve, frix_persistent_solve);
+    ck_assert_ptr_eq(v3->persistent_set_contacts_global, frix_persistent_set_contacts_global);
     ck_assert_ptr_eq(v1->solve, v2->solve);
-    ck_assert_ptr_null(frix_plugin_api(3));
+    ck_assert_ptr_null(frix_plugin_api(4));
     ck_assert_ptr_null(frix_plugin_api(0));
+}
+END_TEST
+
+/* r from frix_persistent_solve and from frix_solve of the same problem, both from r = 0:
+ * equal within the tolerance's scale. */
+static void assert_solves_as_one_shot(frix_persistent *ps, const frix_problem *p) {
+    const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
+    double *r = calloc((size_t)m + 1, sizeof *r), *r1 = calloc((size_t)m + 1, sizeof *r1);
+    double *u = calloc((size_t)m + 1, sizeof *u), *v = calloc((size_t)n + 1, sizeof *v);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_persistent_solve(ps, r, u, v, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    ck_assert_int_eq(frix_solve(p, NULL, r1, u, v, NULL), FRIX_OK);
+    double scale = 1.0;
+    for (int64_t i = 0; i < m; ++i) scale = fmax(scale, fabs(r1[i]));
+    for (int64_t i = 0; i < m; ++i) ck_assert_double_eq_tol(r[i], r1[i], 1e-4 * scale);
+    frix_info_free(info);
+    free(r);
+    free(r1);
+    free(u);
+    free(v);
+}
+
+/* Contacts that come and go: set_contacts gives the next step's contacts whatever their
+ * number, local (another scene's W) and global (the same bodies, half the contacts), and
+ * back; a refused call replaces nothing. */
+START_TEST(test_set_contacts) {
+    sequence s;
+    make_sequence(&s, 3);
+    frix_scene_params prm;
+    frix_scene_defaults(FRIX_SCENE_SPHERES, &prm);
+    prm.count = 2;
+    frix_scene other;
+    frix_scene_problems other_forms;
+    ck_assert_int_eq(frix_scene_build(&prm, &other, NULL), FRIX_OK);
+    ck_assert_int_eq(frix_scene_problems_make(&other, &other_forms), FRIX_OK);
+    ck_assert_int_ne(other.nc, s.scene[0].nc);
+
+    frix_persistent *ps = NULL;
+    ck_assert_int_eq(frix_persistent_create(s.forms[0].local, NULL, &ps), FRIX_OK);
+    ck_assert_int_eq(frix_persistent_set_contacts_local(NULL, other_forms.W, other_forms.q, other.mu, other.nc),
+                     FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(frix_persistent_set_contacts_global(ps, other_forms.H, other.w, other.mu, other.nc),
+                     FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(frix_persistent_set_contacts_local(ps, other_forms.W, other_forms.q, other.mu, s.scene[0].nc),
+                     FRIX_ERR_DIMENSION);
+    assert_solves_as_one_shot(ps, s.forms[0].local);
+    ck_assert_int_eq(frix_persistent_set_contacts_local(ps, other_forms.W, other_forms.q, other.mu, other.nc), FRIX_OK);
+    assert_solves_as_one_shot(ps, other_forms.local);
+    ck_assert_int_eq(frix_persistent_set_contacts_local(ps, s.forms[1].W, s.forms[1].q, s.scene[1].mu, s.scene[1].nc),
+                     FRIX_OK);
+    assert_solves_as_one_shot(ps, s.forms[1].local);
+    frix_persistent_free(ps);
+
+    /* The global form: the first half of the contacts (H's first columns), then all again. */
+    const frix_scene *sc = &s.scene[0];
+    const int64_t half = sc->nc / 2;
+    int64_t nnz = 0;
+    ck_assert_int_eq(frix_matrix_to_csc(s.forms[0].H, &nnz, NULL, NULL, NULL), FRIX_OK);
+    int64_t *colptr = malloc(sizeof *colptr * (size_t)(3 * sc->nc + 1));
+    int64_t *rowind = malloc(sizeof *rowind * (size_t)nnz);
+    double *values = malloc(sizeof *values * (size_t)nnz);
+    ck_assert_int_eq(frix_matrix_to_csc(s.forms[0].H, &nnz, colptr, rowind, values), FRIX_OK);
+    frix_matrix *H_half = NULL;
+    ck_assert_int_eq(frix_matrix_from_csc(sc->n, 3 * half, colptr, rowind, values, &H_half), FRIX_OK);
+    frix_problem *p_half = NULL;
+    ck_assert_int_eq(frix_problem_global(s.forms[0].M, H_half, sc->f, sc->w, sc->mu, half, &p_half), FRIX_OK);
+    ck_assert_int_eq(frix_persistent_create(s.forms[0].global, NULL, &ps), FRIX_OK);
+    ck_assert_int_eq(frix_persistent_set_contacts_local(ps, other_forms.W, other_forms.q, other.mu, other.nc),
+                     FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(frix_persistent_set_contacts_global(ps, H_half, sc->w, sc->mu, sc->nc), FRIX_ERR_DIMENSION);
+    ck_assert_int_eq(frix_persistent_set_contacts_global(ps, other_forms.H, other.w, other.mu, other.nc),
+                     FRIX_ERR_DIMENSION); /* another scene's bodies: H has other rows */
+    assert_solves_as_one_shot(ps, s.forms[0].global);
+    ck_assert_int_eq(frix_persistent_set_contacts_global(ps, H_half, sc->w, sc->mu, half), FRIX_OK);
+    assert_solves_as_one_shot(ps, p_half);
+    ck_assert_int_eq(frix_persistent_set_contacts_global(ps, s.forms[0].H, sc->w, sc->mu, sc->nc), FRIX_OK);
+    assert_solves_as_one_shot(ps, s.forms[0].global);
+    frix_persistent_free(ps);
+
+    frix_problem_free(p_half);
+    frix_matrix_free(H_half);
+    free(colptr);
+    free(rowind);
+    free(values);
+    frix_scene_problems_free(&other_forms);
+    frix_scene_free(&other);
+    free_sequence(&s);
 }
 END_TEST
 
@@ -477,6 +572,7 @@ int main(void) {
     tcase_add_test(tc, test_problem_handle_freed);
     tcase_add_test(tc, test_threads_share_data);
     tcase_add_test(tc, test_plugin_table_versions);
+    tcase_add_test(tc, test_set_contacts);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

@@ -535,6 +535,21 @@ module frix
       type(c_ptr), value :: ps, M, H, f, w, mu
       integer(c_int) :: frix_persistent_update_global
     end function
+    ! The next step's contacts, nc of them (any number): W (or H), q (or w) and mu together.
+    function frix_persistent_set_contacts_local(ps, W, q, mu, nc) &
+         bind(C, name='frix_persistent_set_contacts_local')
+      import :: c_ptr, c_int, c_int64_t
+      type(c_ptr), value :: ps, W, q, mu
+      integer(c_int64_t), value :: nc
+      integer(c_int) :: frix_persistent_set_contacts_local
+    end function
+    function frix_persistent_set_contacts_global(ps, H, w, mu, nc) &
+         bind(C, name='frix_persistent_set_contacts_global')
+      import :: c_ptr, c_int, c_int64_t
+      type(c_ptr), value :: ps, H, w, mu
+      integer(c_int64_t), value :: nc
+      integer(c_int) :: frix_persistent_set_contacts_global
+    end function
     ! What auto did, one line per step (a C string owned by info: frix_fstr copies it).
     function frix_info_trace(info) bind(C, name='frix_info_trace')
       import :: c_ptr

@@ -27,7 +27,8 @@
  * Vectors (q, f, w, mu) may also be changed in place between solves; matrices are immutable,
  * so a new W (or M, H) is given by an update. An update may change a matrix's sparsity
  * pattern too: what was analysed for the old pattern is then analysed again.
- * The number of contacts and of dofs is fixed: another size needs another persistent solver.
+ * The number of dofs is fixed. The contacts may come and go: frix_persistent_set_contacts_*
+ * gives the next step's contacts whatever their number (M's factorisation is kept across it).
  *
  * Threads. One persistent solver is used by one thread at a time (solve and update change
  * it); distinct persistent solvers may run in parallel, also on the same borrowed data,
@@ -76,6 +77,20 @@ FRIX_API frix_error frix_persistent_update_local(frix_persistent *ps, const frix
 FRIX_API frix_error frix_persistent_update_global(frix_persistent *ps, const frix_matrix *M,
                                                   const frix_matrix *H, const double *f,
                                                   const double *w, const double *mu);
+
+/* The next step's contacts, nc of them (any number, 0 included): W, q and mu together
+ * replace the current ones (W: 3nc x 3nc; q: 3nc; mu: nc; checked as by frix_problem_local).
+ * What was kept for the old contacts is dropped. r and u of the next solves have 3nc
+ * entries. FRIX_ERR_INVALID_ARGUMENT on a global problem's solver; on any error nothing is
+ * replaced. */
+FRIX_API frix_error frix_persistent_set_contacts_local(frix_persistent *ps, const frix_matrix *W,
+                                                       const double *q, const double *mu,
+                                                       int64_t nc);
+/* The same for a global problem: H (n x 3nc), w (3nc) and mu (nc) together replace the
+ * current ones, checked as by frix_problem_global; M, its factorisation and f stay. */
+FRIX_API frix_error frix_persistent_set_contacts_global(frix_persistent *ps, const frix_matrix *H,
+                                                        const double *w, const double *mu,
+                                                        int64_t nc);
 
 #ifdef __cplusplus
 }

@@ -40,9 +40,9 @@ extern "C" {
 /* The table layout this header describes. A new version is a longer table: the members of
  * the versions before it, in the same places, and a new group after them. The library serves
  * every version it has had (version 1: up to info_stage_note; version 2: the persistent
- * solver too), each with its own size and abi_version, so a host asks for the version its
+ * solver too; version 3: its set_contacts), each with its own size and abi_version, so a host asks for the version its
  * header has and gets nothing it does not know. */
-#define FRIX_PLUGIN_ABI_VERSION 2
+#define FRIX_PLUGIN_ABI_VERSION 3
 
 /* Non-zero if the loaded table has `member` (a table from an older library may end
  * before it). */
@@ -190,6 +190,12 @@ typedef struct frix_plugin_table {
     frix_error (*persistent_update_global)(frix_persistent *ps, const frix_matrix *M,
                                            const frix_matrix *H, const double *f,
                                            const double *w, const double *mu);
+
+    /* ---- Table version 3: contacts that come and go (frix_persistent.h). */
+    frix_error (*persistent_set_contacts_local)(frix_persistent *ps, const frix_matrix *W,
+                                                const double *q, const double *mu, int64_t nc);
+    frix_error (*persistent_set_contacts_global)(frix_persistent *ps, const frix_matrix *H,
+                                                 const double *w, const double *mu, int64_t nc);
 
     /* New members go here, at the end, and nowhere else. */
 } frix_plugin_table;
