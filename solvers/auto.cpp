@@ -429,17 +429,6 @@ TraceEvent close_stage(int id, const frix_info &info, const Watchdog &dog, doubl
     return ev;
 }
 
-// Counters summed over the stages into the caller's info.
-void accumulate(frix_info &into, const frix_info &stage) {
-    into.newton_iterations += stage.newton_iterations;
-    into.line_search_steps += stage.line_search_steps;
-    Monitor::add_factorizations(into, stage);
-    into.hybrid_sweeps += stage.hybrid_sweeps;
-    into.inner_iterations += stage.inner_iterations;
-    into.setup_time += stage.setup_time;
-    into.reduction_time += stage.reduction_time;
-}
-
 // Solves one local problem (an island, or the whole problem) with the stage sequence.
 class IslandSolver {
    public:
@@ -802,7 +791,7 @@ class IslandSolver {
         u_at_best_ = false;
         if (frix_error e = solve_local_problem(p_, o, *entry, r, u_.data(), info, shared_.clock, cache_, &measures))
             return e;
-        accumulate(counters_, info);
+        Monitor::add_work(counters_, info);
         ev = close_stage(id, info, dog, shared_.clock.seconds() - t0, info.error);
         const double err = ev.error;
         last_slow_ = dog.stopped_by_watchdog && dog.why == dog.slow;
@@ -1137,7 +1126,7 @@ frix_error solve_local(SolveContext &ctx) {
     flush_events();
     for (size_t k = 0; k < islands.size(); ++k) {
         info.switches += islands[k].solver->switches();
-        accumulate(info, islands[k].solver->counters());
+        Monitor::add_work(info, islands[k].solver->counters());
     }
     info.iterations = shared.iterations.load();
     bool stopped = shared.stop_requested.load();
@@ -1320,7 +1309,7 @@ frix_error w_free_route(SolveContext &ctx, int64_t max_iter, SolveCache *reducti
         return e;
     admm_answer.restore_if_better(ctx, info);
     trace.push_back(newton);
-    accumulate(info, before);
+    Monitor::add_work(info, before);
     info.analysis = analysis;
     info.iterations += iterations;
     info.switches += 1;
@@ -1371,7 +1360,7 @@ frix_error reduce_then_newton(SolveContext &ctx, int64_t max_iter, int64_t reduc
     if (frix_error e = run_global(ctx, kGlobalNsnAcEntry, left, stage, cache)) return e;
     reduced_answer.restore_if_better(ctx, info);
     trace.push_back(stage);
-    accumulate(info, before);
+    Monitor::add_work(info, before);
     info.trace = std::move(trace);
     info.analysis = analysis;
     info.islands = islands;
@@ -1462,7 +1451,7 @@ frix_error solve(SolveContext &ctx) {
             if (frix_error e = reduce_then_newton(ctx, left, left / 2, reduction)) return e;
             w_free_answer.restore_if_better(ctx, info);
             trace.insert(trace.end(), info.trace.begin(), info.trace.end());
-            accumulate(info, before);
+            Monitor::add_work(info, before);
             info.iterations += before.iterations;
             info.switches += before.switches + 1;
         }

@@ -84,6 +84,17 @@ class Monitor {
         into.symbolic_analyses += from.symbolic_analyses;
         into.factorization_time += from.factorization_time;
     }
+    // Adds the counters of `from`'s work (Newton steps, line searches, factorisations,
+    // hybrid sweeps, inner iterations, setup) to `into`: one run made of several.
+    static void add_work(frix_info &into, const frix_info &from) {
+        into.newton_iterations += from.newton_iterations;
+        into.line_search_steps += from.line_search_steps;
+        add_factorizations(into, from);
+        into.hybrid_sweeps += from.hybrid_sweeps;
+        into.inner_iterations += from.inner_iterations;
+        into.setup_time += from.setup_time;
+        into.reduction_time += from.reduction_time;
+    }
 
    private:
     // A first factorisation is priced at a share of a dense LU's rate: CHOLMOD's flop count
