@@ -32,18 +32,28 @@ inline bool finite3(const double *x) {
 }  // namespace
 
 Workspace::Workspace(const frix_problem &p, const Settings &s)
-    : W_(*p.W), q_(p.q), s_(s), contacts_((size_t)p.nc), rng_(s.seed) {
+    : W_(p.W), q_(p.q), s_(s), contacts_((size_t)p.nc), rng_(s.seed) {
     for (int64_t a = 0; a < p.nc; ++a) {
-        const int64_t d = W_.diag_index[a];
+        const int64_t d = W_->diag_index[a];
         static const double kZero[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-        local::contact_setup(d >= 0 ? &W_.block_val[9 * d] : kZero, p.mu[a], contacts_[a]);
+        local::contact_setup(d >= 0 ? &W_->block_val[9 * d] : kZero, p.mu[a], contacts_[a]);
     }
+    order_and_freezing(p.nc);
+}
+
+Workspace::Workspace(const double *diagonal_blocks, const double *mu, int64_t nc, const Settings &s)
+    : W_(nullptr), q_(nullptr), s_(s), contacts_((size_t)nc), rng_(s.seed) {
+    for (int64_t a = 0; a < nc; ++a) local::contact_setup(diagonal_blocks + 9 * a, mu[a], contacts_[a]);
+    order_and_freezing(nc);
+}
+
+void Workspace::order_and_freezing(int64_t nc) {
     if (s_.shuffle != FRIX_SHUFFLE_NONE) {
-        order_.resize((size_t)p.nc);
-        for (int64_t a = 0; a < p.nc; ++a) order_[a] = a;
+        order_.resize((size_t)nc);
+        for (int64_t a = 0; a < nc; ++a) order_[a] = a;
         if (s_.shuffle == FRIX_SHUFFLE_ONCE) shuffle(order_, rng_);
     }
-    if (s_.freezing > 0) frozen_.assign((size_t)p.nc, 0);
+    if (s_.freezing > 0) frozen_.assign((size_t)nc, 0);
 }
 
 void Workspace::reshuffle() { shuffle(order_, rng_); }
@@ -91,16 +101,16 @@ SweepStats Workspace::sweep(double *r) {
 
 void Workspace::build_columns() {
     const int64_t nc = (int64_t)contacts_.size();
-    const int64_t nb = W_.nblocks();
+    const int64_t nb = W_->nblocks();
     col_ptr_.assign((size_t)nc + 1, 0);
-    for (int64_t b = 0; b < nb; ++b) ++col_ptr_[(size_t)W_.block_col[b] + 1];
+    for (int64_t b = 0; b < nb; ++b) ++col_ptr_[(size_t)W_->block_col[b] + 1];
     for (int64_t a = 0; a < nc; ++a) col_ptr_[a + 1] += col_ptr_[a];
     col_row_.resize((size_t)nb);
     col_block_.resize((size_t)nb);
     std::vector<int64_t> next(col_ptr_.begin(), col_ptr_.end() - 1);
     for (int64_t row = 0; row < nc; ++row)
-        for (int64_t b = W_.row_ptr[row]; b < W_.row_ptr[row + 1]; ++b) {
-            const int64_t k = next[(size_t)W_.block_col[b]]++;
+        for (int64_t b = W_->row_ptr[row]; b < W_->row_ptr[row + 1]; ++b) {
+            const int64_t k = next[(size_t)W_->block_col[b]]++;
             col_row_[k] = row;
             col_block_[k] = b;
         }
@@ -109,8 +119,8 @@ void Workspace::build_columns() {
 SweepStats Workspace::sweep_velocity(double *r, double *u) {
     // A symmetric W's column a is its row a transposed: read in order, in place of the column
     // index (whose blocks lie a row apart in memory).
-    if (col_ptr_.empty() && !W_.symmetric) build_columns();
-    const double *val = W_.block_val.data();
+    if (col_ptr_.empty() && !W_->symmetric) build_columns();
+    const double *val = W_->block_val.data();
     const local::Params lp = s_.local;
     const auto local_q = [r, u](int64_t a, const local::Contact &c, double *ql) {
         // q_a + sum_{b != a} W_ab r_b = u_a - W_aa r_a.
@@ -122,10 +132,10 @@ SweepStats Workspace::sweep_velocity(double *r, double *u) {
     const auto step = [&lp](int64_t, local::Contact &c, const double *ql, double *rn) {
         return local::solve_contact(c, ql, rn, lp);
     };
-    if (W_.symmetric)
+    if (W_->symmetric)
         return sweep_loop(r, local_q, step, [this, u, val](int64_t a, const double *dr) {
-            for (int64_t e = W_.row_ptr[a]; e < W_.row_ptr[a + 1]; ++e)
-                block_gemv_transposed_add(val + 9 * e, dr, u + 3 * W_.block_col[e]);
+            for (int64_t e = W_->row_ptr[a]; e < W_->row_ptr[a + 1]; ++e)
+                block_gemv_transposed_add(val + 9 * e, dr, u + 3 * W_->block_col[e]);
         });
     return sweep_loop(r, local_q, step, [this, u, val](int64_t a, const double *dr) {
         for (int64_t e = col_ptr_[a]; e < col_ptr_[a + 1]; ++e)
@@ -207,14 +217,53 @@ class DriftExtrapolation {
     int64_t jumps_ = 0;
 };
 
-// NSGS (velocity = false) and velocity-based NSGS (velocity = true): the same stopping logic.
+// W's block rows (nsgs): the local q from each row; nothing kept between sweeps.
+class RowForm : public SweepForm {
+   public:
+    explicit RowForm(const frix_problem &p) : p_(p) {}
+    SweepStats sweep(Workspace &ws, double *r, double *) override { return ws.sweep(r); }
+    Measures exact(const double *r, double *u) override { return local_measures(p_, r, u); }
+
+   private:
+    const frix_problem &p_;
+};
+
+// W's block columns (nsgs-v): u = W r + q kept up to date by each change of r.
+class VelocityForm : public SweepForm {
+   public:
+    explicit VelocityForm(const frix_problem &p) : p_(p), norm_q_(norm2(p.q, 3 * p.nc)) {}
+    SweepStats sweep(Workspace &ws, double *r, double *u) override { return ws.sweep_velocity(r, u); }
+    Measures exact(const double *r, double *u) override { return local_measures(p_, r, u); }
+    bool kept(const double *r, double *u, Measures &m) override {
+        m = measures_from_ru(r, u, p_.mu, p_.nc, norm_q_);
+        return true;
+    }
+    void restart(const double *r, double *u) override {
+        matrix_gemv(*p_.W, 1.0, r, 0.0, u);
+        for (int64_t i = 0; i < 3 * p_.nc; ++i) u[i] += p_.q[i];
+    }
+
+   private:
+    const frix_problem &p_;
+    double norm_q_;
+};
+
 frix_error run(SolveContext &ctx, bool velocity) {
     const frix_problem &p = ctx.problem;
-    const frix_options &o = ctx.options;
     const char *name = velocity ? "nsgs-v" : "nsgs";
     if (!p.W || !p.W->block)
         return fail(FRIX_ERR_INTERNAL, "%s: W is not stored as 3x3 blocks", name);
+    Workspace ws(p, settings_from(ctx.options));
+    RowForm rows(p);
+    VelocityForm columns(p);
+    return run_sweeps(ctx, ws, velocity ? (SweepForm &)columns : (SweepForm &)rows, name);
+}
 
+}  // namespace
+
+frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const char *name) {
+    const frix_problem &p = ctx.problem;
+    const frix_options &o = ctx.options;
     const Settings s = settings_from(o);
     const Monitor monitor(ctx);
     const double tol = monitor.tolerance();
@@ -224,32 +273,27 @@ frix_error run(SolveContext &ctx, bool velocity) {
     const int64_t frequency = o.i(FRIX_OPT_ERROR_FREQUENCY);
     const int64_t m = 3 * p.nc;
 
-    Workspace ws(p, s);
     double *r = ctx.r;
     double *u = ctx.u;
     frix_info &info = ctx.info;
-    double norm_q = 0.0;
-    for (int64_t i = 0; i < m; ++i) norm_q += p.q[i] * p.q[i];
-    norm_q = std::sqrt(norm_q);
-    // The exact error: u recomputed as W r + q (which also resynchronises the velocity
-    // sweeps' u, drifting by rounding).
     // The last exact measures, handed to the driver when r has not moved since (at_r).
     Measures last;
     bool at_r = false;
     auto exact_error = [&]() {
-        last = local_measures(p, r, u);
+        last = form.exact(r, u);
         at_r = true;
         return selected_error(last, measure);
     };
     auto hand_over = [&]() {
-        ctx.has_measured = at_r;
+        ctx.has_measured = at_r && form.measures_are_local();
         ctx.measured = last;
     };
-    // A periodic check: the velocity sweeps keep u = W r + q, so it costs no product there;
-    // a passing check is confirmed by the exact error.
+    // A periodic check: from what the form keeps up to date where it keeps something; a
+    // passing check is confirmed by the exact error.
     auto full_error = [&]() {
-        if (!velocity) return exact_error();
-        const double e = selected_error(measures_from_ru(r, u, p.mu, p.nc, norm_q), measure);
+        Measures kept;
+        if (!form.kept(r, u, kept)) return exact_error();
+        const double e = selected_error(kept, measure);
         return e <= tol ? exact_error() : e;
     };
 
@@ -264,8 +308,8 @@ frix_error run(SolveContext &ctx, bool velocity) {
             hand_over();
             return FRIX_OK;
         }
-    } else if (velocity) {
-        std::copy(p.q, p.q + m, u);  // u = W 0 + q
+    } else {
+        form.restart(r, u);
     }
 
     DriftExtrapolation drift(o.i(FRIX_OPT_DRIFT_WINDOW), m, r);
@@ -280,7 +324,7 @@ frix_error run(SolveContext &ctx, bool velocity) {
             ws.set_freeze_threshold(it >= kFreezeAfter
                                         ? tol_light * tol_light * last_r2 / (10.0 * (double)p.nc)
                                         : -1.0);
-        const SweepStats st = velocity ? ws.sweep_velocity(r, u) : ws.sweep(r);
+        const SweepStats st = form.sweep(ws, r, u);
         at_r = false;
         ++it;
         last_r2 = st.r2;
@@ -290,10 +334,7 @@ frix_error run(SolveContext &ctx, bool velocity) {
         }
         const bool jumped = drift.after_sweep(it, max_iter, r, p.mu);
         if (jumped) {
-            if (velocity) {  // u = W r + q again
-                matrix_gemv(*p.W, 1.0, r, 0.0, u);
-                for (int64_t i = 0; i < m; ++i) u[i] += p.q[i];
-            }
+            form.restart(r, u);
             ws.thaw();
             if (verbosity >= 1)
                 log_line(&o, "%s: sweep %lld: drift carried ahead (jump %lld)", name, (long long)it,
@@ -357,6 +398,8 @@ frix_error run(SolveContext &ctx, bool velocity) {
                  (long long)it);
     return FRIX_OK;
 }
+
+namespace {
 
 frix_error solve(SolveContext &ctx) { return run(ctx, false); }
 frix_error solve_velocity(SolveContext &ctx) { return run(ctx, true); }

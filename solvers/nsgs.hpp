@@ -45,6 +45,9 @@ struct SweepStats {
 class Workspace {
    public:
     Workspace(const frix_problem &p, const Settings &s);
+    // Without W (the product form): the diagonal blocks W_aa (9 each, column-major) and mu;
+    // only sweep_loop runs on it.
+    Workspace(const double *diagonal_blocks, const double *mu, int64_t nc, const Settings &s);
     // One pass over the contacts with the settings' one-contact solver, updating r in place.
     SweepStats sweep(double *r);
     // The same pass with another one-contact step: step(a, contact, q_local, r_a) receives
@@ -66,11 +69,23 @@ class Workspace {
     local::Contact &contact(int64_t a) { return contacts_[(size_t)a]; }
     int64_t contacts() const { return (int64_t)contacts_.size(); }
 
-   private:
     // The loop of every sweep: contact order, freezing, statistics. local_q(a, contact, ql)
     // gives contact a's local q; moved(a, dr) is told of each accepted change dr of r_a.
     template <class LocalQ, class Step, class Moved>
     SweepStats sweep_loop(double *r, LocalQ &&local_q, Step &&step, Moved &&moved);
+    // sweep_loop with the settings' one-contact solver.
+    template <class LocalQ, class Moved>
+    SweepStats sweep_loop(double *r, LocalQ &&local_q, Moved &&moved) {
+        const local::Params lp = s_.local;
+        return sweep_loop(
+            r, local_q, [&lp](int64_t, local::Contact &c, const double *ql, double *rn) {
+                return local::solve_contact(c, ql, rn, lp);
+            },
+            moved);
+    }
+
+   private:
+    void order_and_freezing(int64_t nc);
     void reshuffle();
     void build_columns();
     // Local q of contact a: q_a + sum_{b != a} W_ab r_b, in one pass over the block row that
@@ -79,9 +94,9 @@ class Workspace {
         ql[0] = q_[3 * a];
         ql[1] = q_[3 * a + 1];
         ql[2] = q_[3 * a + 2];
-        const int64_t *col = W_.block_col.data();
-        const double *val = W_.block_val.data();
-        const int64_t beg = W_.row_ptr[a], end = W_.row_ptr[a + 1], d = W_.diag_index[a];
+        const int64_t *col = W_->block_col.data();
+        const double *val = W_->block_val.data();
+        const int64_t beg = W_->row_ptr[a], end = W_->row_ptr[a + 1], d = W_->diag_index[a];
         const int64_t mid = d >= 0 ? d : end;
         for (int64_t b = beg; b < mid; ++b) block_gemv_add(val + 9 * b, r + 3 * col[b], ql);
         for (int64_t b = d >= 0 ? d + 1 : end; b < end; ++b)
@@ -91,7 +106,7 @@ class Workspace {
     // the statistics; returns false (ra unchanged) if it was rejected.
     bool accept(int64_t a, double *ra, double *rn, SweepStats &st);
 
-    const frix_matrix &W_;
+    const frix_matrix *W_;  // null in the product form
     const double *q_;
     Settings s_;
     std::vector<local::Contact> contacts_;
@@ -142,6 +157,32 @@ SweepStats Workspace::sweep_with(double *r, Step &&step) {
         r, [this, r](int64_t a, const local::Contact &, double *ql) { local_q(a, r, ql); },
         step, [](int64_t, const double *) {});
 }
+
+// What the sweeps run on: W's block rows (nsgs), W's block columns with u kept up to date
+// (nsgs-v), or H and M^-1 H with v kept up to date (gnsgs). run_sweeps stops them all alike.
+class SweepForm {
+   public:
+    virtual ~SweepForm() = default;
+    virtual SweepStats sweep(Workspace &ws, double *r, double *u) = 0;
+    // The measures at r, computed afresh (which also resynchronises what the form keeps up
+    // to date, drifting by rounding); u receives the velocities.
+    virtual Measures exact(const double *r, double *u) = 0;
+    // The measures from what the form keeps up to date, without a product: false where it
+    // keeps nothing (then only exact() measures).
+    virtual bool kept(const double *r, double *u, Measures &m) {
+        (void)r, (void)u, (void)m;
+        return false;
+    }
+    // r changed other than by a sweep (a drift jump, or the start): the kept state follows.
+    virtual void restart(const double *r, double *u) { (void)r, (void)u; }
+    // Whether exact()'s measures are the local ones the driver would compute (and may take).
+    virtual bool measures_are_local() const { return true; }
+};
+
+// The NSGS iteration on `form`: sweeps, the light error calibrated by full checks, drift
+// extrapolation, freezing, the monitor's limits and callback; ctx.info gets the status and
+// the sweeps.
+frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const char *name);
 
 }  // namespace nsgs
 }  // namespace frix
