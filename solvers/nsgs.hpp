@@ -1,6 +1,7 @@
 // Nonsmooth Gauss-Seidel: sweeps over the contacts of a local problem, each solved exactly or
-// nearly so by a one-contact solver. Ids 500 (NSGS: local q from W's block rows) and 501
-// (velocity-based NSGS: u = W r + q kept up to date by W's block columns). The sweep is also
+// nearly so by a one-contact solver. Ids 500 (NSGS: local q from W's block rows), 501
+// (velocity-based NSGS: u = W r + q kept up to date by W's block columns) and 902 (global
+// problems of rigid bodies: v kept up to date by M^-1 H, nsgs_product.cpp). The sweep is also
 // the inner solver of the fixed points (fixed_points.cpp), which pass their own local step.
 #pragma once
 
@@ -17,6 +18,7 @@ namespace frix {
 
 extern const SolverEntry kNsgsEntry;
 extern const SolverEntry kNsgsVelocityEntry;
+extern const SolverEntry kGlobalNsgsEntry;  // nsgs_product.cpp
 
 namespace nsgs {
 

@@ -34,6 +34,7 @@ const frix::SolverEntry *const kSolvers[] = {
     &frix::kIpmEntry,
     &frix::kGlobalAdmmEntry,
     &frix::kGlobalAlNewtonEntry,
+    &frix::kGlobalNsgsEntry,
 };
 constexpr int64_t kSolverCount = sizeof kSolvers / sizeof kSolvers[0];
 

@@ -191,6 +191,8 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         // The solver's own setup (auto's reduction route) adds to the driver's.
         frix_info native = info;
         native.setup_time = native.reduction_time = 0.0;
+        native.factorizations = native.symbolic_analyses = 0;  // the solver's own, M's added below
+        native.factorization_time = 0.0;
         const std::function<frix_error(const double *, double *)> solve_mass = [&ms](const double *b, double *x) {
             return ms.solve(b, x);
         };

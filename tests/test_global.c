@@ -275,10 +275,10 @@ START_TEST(small_problems_stored_as_csc) {
         frix_matrix *M = NULL, *H = NULL;
         frix_problem *p = small_global(ms[k], &M, &H, f, w, mu);
         const int solvers[] = {FRIX_SOLVER_GLOBAL_NSN_AC, FRIX_SOLVER_NSN_AC, FRIX_SOLVER_NSGS,
-                               FRIX_SOLVER_GLOBAL_ADMM, FRIX_SOLVER_GLOBAL_AL_NEWTON};
-        for (int s = 0; s < 5; ++s) {
+                               FRIX_SOLVER_GLOBAL_ADMM, FRIX_SOLVER_GLOBAL_AL_NEWTON, FRIX_SOLVER_GLOBAL_NSGS};
+        for (int s = 0; s < 6; ++s) {
             double r[6] = {0}, u[6] = {0}, v[4] = {0};
-            if (k == 1 && s >= 3) {
+            if (k == 1 && (s == 3 || s == 4)) {
                 /* No Cholesky of M + H S H^T: refused, with the way out. */
                 frix_options *o = NULL;
                 frix_info *info = NULL;
@@ -301,6 +301,58 @@ START_TEST(small_problems_stored_as_csc) {
         frix_matrix_free(M);
         frix_matrix_free(H);
     }
+}
+END_TEST
+
+/* gnsgs (902) at tolerance tol from r = 0: its status, sweeps, and the error and equilibrium
+ * measured afresh. */
+static outcome solve_at(const frix_problem *p, int solver, double tol, int64_t *iterations) {
+    const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
+    double *r = calloc((size_t)m + 1, sizeof *r), *u = calloc((size_t)m + 1, sizeof *u);
+    double *v = calloc((size_t)n + 1, sizeof *v);
+    frix_options *o = NULL;
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_options_create(solver, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, tol), FRIX_OK);
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_msg(frix_solve(p, o, r, u, v, info) == FRIX_OK, "%s", frix_last_error_message());
+    outcome out = {frix_info_status(info), NAN, NAN};
+    *iterations = frix_info_iterations(info);
+    ck_assert_int_eq(frix_problem_measure(p, r, v, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_get_double(info, FRIX_INFO_ERROR_RELATIVE, &out.error), FRIX_OK);
+    ck_assert_int_eq(frix_info_get_double(info, FRIX_INFO_EQUILIBRIUM, &out.equilibrium), FRIX_OK);
+    frix_info_free(info);
+    frix_options_free(o);
+    free(r), free(u), free(v);
+    return out;
+}
+
+/* gnsgs sweeps on H and M^-1 H as nsgs-v sweeps on W = H^T M^-1 H: on rigid spheres the same
+ * iterates up to rounding, so the same sweeps to the tolerance (nsgs-v's error is the local
+ * one, scaled by |q|, gnsgs's the global one, scaled by |w|: equal here); a deformable body's
+ * M is refused with the way out. */
+START_TEST(product_form_sweeps_as_nsgs_v) {
+    frix_problem *p = load("global/spheres-in-a-box-98-i10000-256-10.hdf5");
+    if (p) {
+        int64_t it_w = 0, it_product = 0;
+        const outcome w = solve_at(p, FRIX_SOLVER_NSGS_VELOCITY, 1e-4, &it_w);
+        const outcome product = solve_at(p, FRIX_SOLVER_GLOBAL_NSGS, 1e-4, &it_product);
+        ck_assert_int_eq(w.status, FRIX_STATUS_CONVERGED);
+        ck_assert_msg(product.status == FRIX_STATUS_CONVERGED && product.error <= 1e-4 && product.equilibrium <= 1e-12,
+                      "gnsgs: %s error %g equilibrium %g", frix_status_string(product.status), product.error,
+                      product.equilibrium);
+        ck_assert_msg(llabs(it_product - it_w) <= 2 + it_w / 100, "gnsgs %lld sweeps, nsgs-v %lld",
+                      (long long)it_product, (long long)it_w);
+        frix_problem_free(p);
+    }
+    grid_case c = grid_case_make(9, 9, 1, 0.5, 1e4); /* M couples 81 dofs a direction */
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_GLOBAL_NSGS, &o), FRIX_OK);
+    ck_assert_int_eq(frix_solve(c.p, o, c.r, c.u, c.v, NULL), FRIX_ERR_UNSUPPORTED);
+    ck_assert_msg(strstr(frix_last_error_message(), "deformable") && strstr(frix_last_error_message(), "gadmm"), "%s",
+                  frix_last_error_message());
+    frix_options_free(o);
+    grid_case_free(&c);
 }
 END_TEST
 
@@ -658,6 +710,7 @@ int main(void) {
                         (int)(sizeof kGlobalFiles / sizeof kGlobalFiles[0]));
     tcase_add_test(tc, the_rigid_spheres_by_both_routes);
     tcase_add_test(tc, small_problems_stored_as_csc);
+    tcase_add_test(tc, product_form_sweeps_as_nsgs_v);
     tcase_add_test(tc, singular_mass_matrix_is_an_error);
     tcase_add_test(tc, no_contacts);
     tcase_add_test(tc, auto_prices_the_reduction_of_a_deformable_body);

@@ -64,7 +64,8 @@ static limited_run solve_pile(int id, const frix_problem *p, const frix_options 
 
 /* The solvers of global problems only: they run on the global pile. */
 static int global_only(int id) {
-    return id == FRIX_SOLVER_GLOBAL_NSN_AC || id == FRIX_SOLVER_GLOBAL_ADMM || id == FRIX_SOLVER_GLOBAL_AL_NEWTON;
+    return id == FRIX_SOLVER_GLOBAL_NSN_AC || id == FRIX_SOLVER_GLOBAL_ADMM || id == FRIX_SOLVER_GLOBAL_AL_NEWTON ||
+           id == FRIX_SOLVER_GLOBAL_NSGS;
 }
 
 START_TEST(test_no_factorisation_past_the_limit) {

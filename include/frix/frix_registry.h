@@ -32,8 +32,10 @@ enum {
     FRIX_SOLVER_AUTO = 900,        /* the default: analyses the problem, splits it into
                                       independent islands and runs a watched sequence of the
                                       solvers above on each (see docs/auto.md) */
-    FRIX_SOLVER_GLOBAL_AL_NEWTON = 901 /* global problems: augmented Lagrangian, Newton on v,
-                                          M + rho H J H^T factorised, no W */
+    FRIX_SOLVER_GLOBAL_AL_NEWTON = 901, /* global problems: augmented Lagrangian, Newton on v,
+                                           M + rho H J H^T factorised, no W */
+    FRIX_SOLVER_GLOBAL_NSGS = 902  /* global problems with block-diagonal M (rigid bodies):
+                                      NSGS on H and M^-1 H, no W */
 };
 
 FRIX_API int64_t frix_solver_count(void);
