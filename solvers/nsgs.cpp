@@ -404,10 +404,6 @@ namespace {
 frix_error solve(SolveContext &ctx) { return run(ctx, false); }
 frix_error solve_velocity(SolveContext &ctx) { return run(ctx, true); }
 
-const frix_option_key kExtraKeys[] = {FRIX_OPT_LOCAL_SOLVER, FRIX_OPT_LOCAL_TOLERANCE,
-                                      FRIX_OPT_LOCAL_MAX_ITER, FRIX_OPT_RELAXATION,
-                                      FRIX_OPT_SHUFFLE, FRIX_OPT_SEED, FRIX_OPT_FREEZING,
-                                      FRIX_OPT_ERROR_FREQUENCY, FRIX_OPT_DRIFT_WINDOW, (frix_option_key)0};
 
 // The sweep limit covers the slowest FCLIB problems that NSGS solves at 1e-8 (Capsules:
 // ~8000 sweeps).
@@ -418,6 +414,13 @@ const OptionDefault kDefaults[] = {
     {FRIX_OPT_LOCAL_MAX_ITER, 20},
     {(frix_option_key)0, 0}};
 
+}  // namespace
+
+const frix_option_key kExtraKeys[] = {FRIX_OPT_LOCAL_SOLVER, FRIX_OPT_LOCAL_TOLERANCE,
+                                      FRIX_OPT_LOCAL_MAX_ITER, FRIX_OPT_RELAXATION,
+                                      FRIX_OPT_SHUFFLE, FRIX_OPT_SEED, FRIX_OPT_FREEZING,
+                                      FRIX_OPT_ERROR_FREQUENCY, FRIX_OPT_DRIFT_WINDOW, (frix_option_key)0};
+
 // nsgs-v: freezing on by default; skipped contacts cost it nothing at all.
 const OptionDefault kVelocityDefaults[] = {
     {FRIX_OPT_MAX_ITER, 20000},
@@ -427,7 +430,6 @@ const OptionDefault kVelocityDefaults[] = {
     {FRIX_OPT_FREEZING, 10},
     {(frix_option_key)0, 0}};
 
-}  // namespace
 }  // namespace nsgs
 
 const SolverEntry kNsgsEntry = {

@@ -186,5 +186,10 @@ class SweepForm {
 // the sweeps.
 frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const char *name);
 
+// The options of every NSGS entry, and nsgs-v's defaults (also gnsgs's: both keep velocities
+// up to date, where a frozen contact costs nothing).
+extern const frix_option_key kExtraKeys[];
+extern const OptionDefault kVelocityDefaults[];
+
 }  // namespace nsgs
 }  // namespace frix

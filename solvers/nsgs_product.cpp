@@ -275,20 +275,6 @@ frix_error solve(SolveContext &ctx) {
     return run_sweeps(ctx, ws, form, "gnsgs");
 }
 
-const frix_option_key kExtraKeys[] = {FRIX_OPT_LOCAL_SOLVER, FRIX_OPT_LOCAL_TOLERANCE,
-                                      FRIX_OPT_LOCAL_MAX_ITER, FRIX_OPT_RELAXATION,
-                                      FRIX_OPT_SHUFFLE, FRIX_OPT_SEED, FRIX_OPT_FREEZING,
-                                      FRIX_OPT_ERROR_FREQUENCY, FRIX_OPT_DRIFT_WINDOW, (frix_option_key)0};
-
-// nsgs-v's: v is kept up to date as nsgs-v keeps u, and a frozen contact costs nothing.
-const OptionDefault kDefaults[] = {
-    {FRIX_OPT_MAX_ITER, 20000},
-    {FRIX_OPT_LOCAL_SOLVER, local::kClosedForm},
-    {FRIX_OPT_LOCAL_TOLERANCE, 1e-12},
-    {FRIX_OPT_LOCAL_MAX_ITER, 20},
-    {FRIX_OPT_FREEZING, 10},
-    {(frix_option_key)0, 0}};
-
 }  // namespace
 }  // namespace nsgs
 
@@ -309,7 +295,7 @@ const SolverEntry kGlobalNsgsEntry = {
     false,
     true,
     nsgs::kExtraKeys,
-    nsgs::kDefaults,
+    nsgs::kVelocityDefaults,
 };
 
 }  // namespace frix
