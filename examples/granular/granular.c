@@ -379,7 +379,7 @@ int main(int argc, char **argv) {
     }
     if ((e = frix_options_create(solver_id, &opts)) || (e = frix_options_set_double(opts, FRIX_OPT_TOLERANCE, st.tol)) ||
         (e = frix_options_set_double(opts, FRIX_OPT_TIME_LIMIT, st.time_limit)) ||
-        (e = frix_options_set_int(opts, FRIX_OPT_THREADS, st.threads)) ||
+        (st.threads > 1 && (e = frix_options_set_int(opts, FRIX_OPT_THREADS, st.threads))) ||
         (st.max_iter && (e = frix_options_set_int(opts, FRIX_OPT_MAX_ITER, st.max_iter))) ||
         (e = frix_info_create(&info))) {
         failed = "options";
