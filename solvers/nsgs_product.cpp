@@ -44,7 +44,7 @@ class ProductForm : public SweepForm {
     std::vector<double> diagonal_blocks() const {
         std::vector<double> blocks(9 * (size_t)p_.nc, 0.0);
         for (int64_t a = 0; a < p_.nc; ++a) {
-            const double *h = &hd_[3 * dof_ptr_[a]], *g = &gd_[3 * dof_ptr_[a]];
+            const double *h = hd_.data() + 3 * dof_ptr_[a], *g = gd_.data() + 3 * dof_ptr_[a];
             for (int64_t t = 0; t < dof_ptr_[a + 1] - dof_ptr_[a]; ++t)
                 for (int f = 0; f < 3; ++f)
                     for (int e = 0; e < 3; ++e) blocks[9 * a + e + 3 * f] += h[3 * t + e] * g[3 * t + f];
@@ -61,8 +61,8 @@ class ProductForm : public SweepForm {
             for (int e = 0; e < 3; ++e) ql[e] = s[e] - (Wd[e] * ra[0] + Wd[e + 3] * ra[1] + Wd[e + 6] * ra[2]);
         };
         const auto moved = [this, v](int64_t a, const double *dr) {
-            const int64_t *dofs = &dofs_[dof_ptr_[a]];
-            const double *g = &gd_[3 * dof_ptr_[a]];
+            const int64_t *dofs = dofs_.data() + dof_ptr_[a];
+            const double *g = gd_.data() + 3 * dof_ptr_[a];
             for (int64_t t = 0; t < dof_ptr_[a + 1] - dof_ptr_[a]; ++t)
                 v[dofs[t]] += g[3 * t] * dr[0] + g[3 * t + 1] * dr[1] + g[3 * t + 2] * dr[2];
         };
@@ -82,8 +82,8 @@ class ProductForm : public SweepForm {
         for (int64_t a = 0; a < p_.nc; ++a) {
             const double *ra = r + 3 * a;
             if (ra[0] == 0.0 && ra[1] == 0.0 && ra[2] == 0.0) continue;
-            const int64_t *dofs = &dofs_[dof_ptr_[a]];
-            const double *g = &gd_[3 * dof_ptr_[a]];
+            const int64_t *dofs = dofs_.data() + dof_ptr_[a];
+            const double *g = gd_.data() + 3 * dof_ptr_[a];
             for (int64_t t = 0; t < dof_ptr_[a + 1] - dof_ptr_[a]; ++t)
                 v_[dofs[t]] += g[3 * t] * ra[0] + g[3 * t + 1] * ra[1] + g[3 * t + 2] * ra[2];
         }
@@ -93,8 +93,8 @@ class ProductForm : public SweepForm {
    private:
     // u_a = H_a^T v + w_a.
     void contact_velocity(int64_t a, const double *v, double *s) const {
-        const int64_t *dofs = &dofs_[dof_ptr_[a]];
-        const double *h = &hd_[3 * dof_ptr_[a]];
+        const int64_t *dofs = dofs_.data() + dof_ptr_[a];
+        const double *h = hd_.data() + 3 * dof_ptr_[a];
         s[0] = p_.w[3 * a];
         s[1] = p_.w[3 * a + 1];
         s[2] = p_.w[3 * a + 2];
