@@ -72,19 +72,16 @@ Settings settings_from(const frix_options &o) {
     return s;
 }
 
-bool Workspace::accept(int64_t a, double *ra, double *rn, SweepStats &st) {
+bool Workspace::accept(int64_t a, double *ra, double *rn, double &dr2_out) {
     const double omega = s_.relaxation;
     if (omega != 1.0) {
         for (int i = 0; i < 3; ++i) rn[i] = omega * rn[i] + (1.0 - omega) * ra[i];
         if (omega > 1.0) coulomb::project_on_cone(rn, contacts_[(size_t)a].mu);
     }
-    if (!finite3(rn)) {
-        ++st.rejected;
-        return false;
-    }
+    if (!finite3(rn)) return false;
     const double d0 = rn[0] - ra[0], d1 = rn[1] - ra[1], d2 = rn[2] - ra[2];
     const double dr2 = d0 * d0 + d1 * d1 + d2 * d2;
-    st.dr2 += dr2;
+    dr2_out = dr2;
     if (!frozen_.empty() && dr2 <= freeze_dr2_) frozen_[(size_t)a] = s_.freezing;
     ra[0] = rn[0];
     ra[1] = rn[1];

@@ -5,9 +5,17 @@
 // the inner solver of the fixed points (fixed_points.cpp), which pass their own local step.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
+
+// OpenMP pragmas, only where the compiler builds them (elsewhere the loops run on one thread).
+#ifdef _OPENMP
+#define FRIX_OMP(directive) _Pragma(#directive)
+#else
+#define FRIX_OMP(directive)
+#endif
 
 #include "solvers/local3x3.hpp"
 #include "src/matrix.hpp"
@@ -34,6 +42,44 @@ struct Settings {
 
 // The sweep settings an options object (of solver 500 or 501) asks for.
 Settings settings_from(const frix_options &o);
+
+// Contacts grouped by colour: the contacts of colour k are contacts[ptr[k] .. ptr[k+1]), in
+// increasing order; no two of one colour share a body (a block of M, or of W's rows).
+struct Colouring {
+    std::vector<int64_t> ptr, contacts;
+    int64_t colours() const { return ptr.empty() ? 0 : (int64_t)ptr.size() - 1; }
+};
+
+// Greedy colouring: contact a, in increasing order, takes the smallest colour that no earlier
+// contact sharing one of its groups has. groups_of(a, out) appends a's group ids (< groups).
+template <class GroupsOf>
+Colouring greedy_colouring(int64_t nc, int64_t groups, GroupsOf &&groups_of) {
+    std::vector<int64_t> colour((size_t)nc), mark, mine;
+    std::vector<std::vector<int64_t>> used((size_t)groups);  // colours taken in each group
+    int64_t colours = 0;
+    for (int64_t a = 0; a < nc; ++a) {
+        mine.clear();
+        groups_of(a, mine);
+        for (const int64_t g : mine)
+            for (const int64_t c : used[(size_t)g]) {
+                if ((int64_t)mark.size() <= c) mark.resize((size_t)c + 1, -1);
+                mark[(size_t)c] = a;
+            }
+        int64_t c = 0;
+        while (c < (int64_t)mark.size() && mark[(size_t)c] == a) ++c;
+        colour[(size_t)a] = c;
+        colours = std::max(colours, c + 1);
+        for (const int64_t g : mine) used[(size_t)g].push_back(c);
+    }
+    Colouring out;
+    out.ptr.assign((size_t)colours + 1, 0);
+    for (int64_t a = 0; a < nc; ++a) ++out.ptr[(size_t)colour[(size_t)a] + 1];
+    for (int64_t k = 0; k < colours; ++k) out.ptr[(size_t)k + 1] += out.ptr[(size_t)k];
+    out.contacts.resize((size_t)nc);
+    std::vector<int64_t> next(out.ptr.begin(), out.ptr.end() - 1);
+    for (int64_t a = 0; a < nc; ++a) out.contacts[(size_t)next[(size_t)colour[(size_t)a]]++] = a;
+    return out;
+}
 
 struct SweepStats {
     double dr2 = 0.0;        // sum over contacts of |r_a,new - r_a,old|^2
@@ -75,6 +121,12 @@ class Workspace {
     // gives contact a's local q; moved(a, dr) is told of each accepted change dr of r_a.
     template <class LocalQ, class Step, class Moved>
     SweepStats sweep_loop(double *r, LocalQ &&local_q, Step &&step, Moved &&moved);
+    // Sweeps colour by colour, in the colouring's order, each colour's contacts split among
+    // `threads` threads: local_q and moved of two contacts of one colour must touch disjoint
+    // data. The iterates and the statistics (summed in contact order) do not depend on the
+    // number of threads. The settings' shuffle does not apply: the colouring fixes the order.
+    template <class LocalQ, class Moved>
+    SweepStats sweep_coloured(double *r, const Colouring &colouring, int threads, LocalQ &&local_q, Moved &&moved);
     // sweep_loop with the settings' one-contact solver.
     template <class LocalQ, class Moved>
     SweepStats sweep_loop(double *r, LocalQ &&local_q, Moved &&moved) {
@@ -104,9 +156,9 @@ class Workspace {
         for (int64_t b = d >= 0 ? d + 1 : end; b < end; ++b)
             block_gemv_add(val + 9 * b, r + 3 * col[b], ql);
     }
-    // Accepts rn as contact a's new reaction (relaxation, finiteness, freezing), updating
-    // the statistics; returns false (ra unchanged) if it was rejected.
-    bool accept(int64_t a, double *ra, double *rn, SweepStats &st);
+    // Accepts rn as contact a's new reaction (relaxation, finiteness, freezing), dr2 set to
+    // |r_a,new - r_a,old|^2; returns false (ra unchanged) if it was rejected (not finite).
+    bool accept(int64_t a, double *ra, double *rn, double &dr2);
 
     const frix_matrix *W_;  // null in the product form
     const double *q_;
@@ -119,6 +171,7 @@ class Workspace {
     // Block columns of W (velocity sweeps): for block column a, the blocks (row, index into
     // block_val) at col_ptr_[a] .. col_ptr_[a+1].
     std::vector<int64_t> col_ptr_, col_row_, col_block_;
+    std::vector<double> contact_dr2_, contact_r2_;  // coloured sweeps: per contact, summed after
 };
 
 template <class LocalQ, class Step, class Moved>
@@ -144,11 +197,69 @@ SweepStats Workspace::sweep_loop(double *r, LocalQ &&local_q, Step &&step, Moved
         const local::Outcome out = step(a, c, (const double *)ql, rn);
         if (out == local::Outcome::NotConverged || out == local::Outcome::NoSolution) ++st.unsolved;
         const double old[3] = {ra[0], ra[1], ra[2]};
-        if (accept(a, ra, rn, st)) {
+        double dr2 = 0.0;
+        if (accept(a, ra, rn, dr2)) {
+            st.dr2 += dr2;
             const double dr[3] = {ra[0] - old[0], ra[1] - old[1], ra[2] - old[2]};
             if (dr[0] != 0.0 || dr[1] != 0.0 || dr[2] != 0.0) moved(a, dr);
+        } else {
+            ++st.rejected;
         }
         st.r2 += ra[0] * ra[0] + ra[1] * ra[1] + ra[2] * ra[2];
+    }
+    return st;
+}
+
+template <class LocalQ, class Moved>
+SweepStats Workspace::sweep_coloured(double *r, const Colouring &colouring, int threads, LocalQ &&local_q,
+                                     Moved &&moved) {
+    const int64_t nc = (int64_t)contacts_.size(), colours = colouring.colours();
+    contact_dr2_.resize((size_t)nc);
+    contact_r2_.resize((size_t)nc);
+    int64_t *frozen = frozen_.empty() ? nullptr : frozen_.data();
+    const local::Params lp = s_.local;
+    int64_t rejected = 0, unsolved = 0, skipped = 0;
+    // Contact a's step; its counts go to the calling thread's sums (integers: exact in any order).
+    const auto visit = [&](int64_t a, int64_t &rej, int64_t &uns, int64_t &skip) {
+        double *ra = r + 3 * a, dr2 = 0.0;
+        if (frozen && frozen[a] > 0) {
+            --frozen[a];
+            ++skip;
+        } else {
+            local::Contact &c = contacts_[(size_t)a];
+            double ql[3];
+            local_q(a, (const local::Contact &)c, ql);
+            double rn[3] = {ra[0], ra[1], ra[2]};
+            const local::Outcome out = local::solve_contact(c, ql, rn, lp);
+            if (out == local::Outcome::NotConverged || out == local::Outcome::NoSolution) ++uns;
+            const double old[3] = {ra[0], ra[1], ra[2]};
+            if (accept(a, ra, rn, dr2)) {
+                const double dr[3] = {ra[0] - old[0], ra[1] - old[1], ra[2] - old[2]};
+                if (dr[0] != 0.0 || dr[1] != 0.0 || dr[2] != 0.0) moved(a, dr);
+            } else {
+                ++rej;
+            }
+        }
+        contact_dr2_[(size_t)a] = dr2;
+        contact_r2_[(size_t)a] = ra[0] * ra[0] + ra[1] * ra[1] + ra[2] * ra[2];
+    };
+    if (threads > 1) {
+        FRIX_OMP(omp parallel num_threads(threads) reduction(+ : rejected, unsolved, skipped))
+        for (int64_t k = 0; k < colours; ++k) {
+            FRIX_OMP(omp for schedule(static))
+            for (int64_t i = colouring.ptr[(size_t)k]; i < colouring.ptr[(size_t)k + 1]; ++i)
+                visit(colouring.contacts[(size_t)i], rejected, unsolved, skipped);
+        }
+    } else {
+        for (int64_t i = 0; i < nc; ++i) visit(colouring.contacts[(size_t)i], rejected, unsolved, skipped);
+    }
+    SweepStats st;
+    st.rejected = rejected;
+    st.unsolved = unsolved;
+    st.frozen = skipped;
+    for (int64_t a = 0; a < nc; ++a) {  // in contact order, whatever the threads
+        st.dr2 += contact_dr2_[(size_t)a];
+        st.r2 += contact_r2_[(size_t)a];
     }
     return st;
 }

@@ -26,7 +26,8 @@ constexpr int64_t kMaxBodyDofs = 64;
 // M^-1 as dense blocks, one per body, and each contact's H_a and M^-1 H_a on its bodies' dofs.
 class ProductForm : public SweepForm {
    public:
-    ProductForm(const frix_problem &p, double *v) : p_(p), v_(v), norm_w_(norm2(p.w, 3 * p.nc)) {}
+    ProductForm(const frix_problem &p, double *v, int threads)
+        : p_(p), v_(v), norm_w_(norm2(p.w, 3 * p.nc)), threads_(threads) {}
 
     frix_error setup() {
         if (frix_error e = to_csc(*p_.M, M_)) return e;
@@ -38,6 +39,10 @@ class ProductForm : public SweepForm {
         apply_inverse(p_.f, v0_.data());
         M_ = Csc{};  // the sweeps read only the per-contact copies
         H_ = Csc{};
+        // Contacts of one colour share no body: their sweeps touch disjoint parts of v.
+        colouring_ = greedy_colouring(p_.nc, (int64_t)body_ptr_.size() - 1, [this](int64_t a, std::vector<int64_t> &out) {
+            out.insert(out.end(), contact_bodies_.begin() + bodies_ptr_[a], contact_bodies_.begin() + bodies_ptr_[a + 1]);
+        });
         return FRIX_OK;
     }
     // W_aa = H_a^T M^-1 H_a, 9 per contact, column-major.
@@ -66,7 +71,7 @@ class ProductForm : public SweepForm {
             for (int64_t t = 0; t < dof_ptr_[a + 1] - dof_ptr_[a]; ++t)
                 v[dofs[t]] += g[3 * t] * dr[0] + g[3 * t + 1] * dr[1] + g[3 * t + 2] * dr[2];
         };
-        return ws.sweep_loop(r, local_q, moved);
+        return ws.sweep_coloured(r, colouring_, threads_, local_q, moved);
     }
     Measures exact(const double *r, double *u) override {
         restart(r, u);
@@ -217,6 +222,7 @@ class ProductForm : public SweepForm {
     // order, each whole), and on them H_a and M^-1 H_a, 3 values per dof (one per column).
     void form_contacts() {
         dof_ptr_.assign((size_t)p_.nc + 1, 0);
+        bodies_ptr_.assign(1, 0);
         std::vector<int64_t> touched;
         for (int pass = 0; pass < 2; ++pass) {
             int64_t at = 0;
@@ -226,6 +232,10 @@ class ProductForm : public SweepForm {
                     for (int64_t e = H_.colptr[c]; e < H_.colptr[c + 1]; ++e) touched.push_back(body_of_[H_.rowind[e]]);
                 std::sort(touched.begin(), touched.end());
                 touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+                if (pass == 0) {
+                    contact_bodies_.insert(contact_bodies_.end(), touched.begin(), touched.end());
+                    bodies_ptr_.push_back((int64_t)contact_bodies_.size());
+                }
                 for (const int64_t b : touched) {
                     const int64_t k = body_ptr_[b + 1] - body_ptr_[b];
                     if (pass == 1) {
@@ -262,18 +272,26 @@ class ProductForm : public SweepForm {
     std::vector<double> inverse_, v0_;
     std::vector<int64_t> dof_ptr_, dofs_;
     std::vector<double> hd_, gd_;
+    std::vector<int64_t> bodies_ptr_, contact_bodies_;  // the bodies of each contact
+    Colouring colouring_;
+    int threads_;
 };
 
 frix_error solve(SolveContext &ctx) {
     const frix_problem &p = ctx.problem;
     if (p.kind != FRIX_PROBLEM_GLOBAL)
         return fail(FRIX_ERR_UNSUPPORTED, "gnsgs: solves global problems only");
-    ProductForm form(p, ctx.v);
+    ProductForm form(p, ctx.v, (int)ctx.options.i(FRIX_OPT_THREADS));
     if (frix_error e = form.setup()) return e;
     const std::vector<double> blocks = form.diagonal_blocks();
     Workspace ws(blocks.data(), p.mu, p.nc, settings_from(ctx.options));
     return run_sweeps(ctx, ws, form, "gnsgs");
 }
+
+// nsgs-v's keys but shuffle and seed (the colouring fixes the order), and threads.
+const frix_option_key kProductKeys[] = {FRIX_OPT_LOCAL_SOLVER, FRIX_OPT_LOCAL_TOLERANCE, FRIX_OPT_LOCAL_MAX_ITER,
+                                        FRIX_OPT_RELAXATION,    FRIX_OPT_FREEZING,        FRIX_OPT_ERROR_FREQUENCY,
+                                        FRIX_OPT_DRIFT_WINDOW,  FRIX_OPT_THREADS,         (frix_option_key)0};
 
 }  // namespace
 }  // namespace nsgs
@@ -287,14 +305,16 @@ const SolverEntry kGlobalNsgsEntry = {
     "to date, reads u_a = H_a^T v + w_a and adds M^-1 H_a dr_a to v after each contact's "
     "one-contact solve. A sweep costs O(nnz(H)) where nsgs's costs W's blocks; memory is H, "
     "M^-1 H (H's pattern filled to whole bodies) and M's inverse blocks. The iterates are "
-    "nsgs-v's on W = H^T M^-1 H up to rounding, stopped by the global measure. Refuses a "
-    "deformable M (FRIX_ERR_UNSUPPORTED). Options: those of nsgs-v (local_solver, "
-    "local_tolerance, local_max_iter, relaxation, shuffle, seed, freezing, error_frequency, "
-    "drift_window).",
+    "nsgs-v's on W = H^T M^-1 H, in another order: contacts are coloured (greedily, so that "
+    "no two of one colour share a body) and swept colour by colour, each colour's contacts "
+    "split among the threads; r does not depend on the number of threads. Stopped by the "
+    "global measure. Refuses a deformable M (FRIX_ERR_UNSUPPORTED). Options: threads, and "
+    "those of nsgs-v but shuffle and seed (local_solver, local_tolerance, local_max_iter, "
+    "relaxation, freezing, error_frequency, drift_window).",
     nsgs::solve,
     false,
     true,
-    nsgs::kExtraKeys,
+    nsgs::kProductKeys,
     nsgs::kVelocityDefaults,
 };
 

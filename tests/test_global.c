@@ -327,10 +327,9 @@ static outcome solve_at(const frix_problem *p, int solver, double tol, int64_t *
     return out;
 }
 
-/* gnsgs sweeps on H and M^-1 H as nsgs-v sweeps on W = H^T M^-1 H: on rigid spheres the same
- * iterates up to rounding, so the same sweeps to the tolerance (nsgs-v's error is the local
- * one, scaled by |q|, gnsgs's the global one, scaled by |w|: equal here); a deformable body's
- * M is refused with the way out. */
+/* gnsgs sweeps on H and M^-1 H as nsgs-v sweeps on W = H^T M^-1 H, contact by contact, in
+ * colour order instead of contact order: on rigid spheres it converges in about as many
+ * sweeps (within a factor 2); a deformable body's M is refused with the way out. */
 START_TEST(product_form_sweeps_as_nsgs_v) {
     frix_problem *p = load("global/spheres-in-a-box-98-i10000-256-10.hdf5");
     if (p) {
@@ -341,7 +340,7 @@ START_TEST(product_form_sweeps_as_nsgs_v) {
         ck_assert_msg(product.status == FRIX_STATUS_CONVERGED && product.error <= 1e-4 && product.equilibrium <= 1e-12,
                       "gnsgs: %s error %g equilibrium %g", frix_status_string(product.status), product.error,
                       product.equilibrium);
-        ck_assert_msg(llabs(it_product - it_w) <= 2 + it_w / 100, "gnsgs %lld sweeps, nsgs-v %lld",
+        ck_assert_msg(2 * it_product >= it_w && it_product <= 2 * it_w, "gnsgs %lld sweeps, nsgs-v %lld",
                       (long long)it_product, (long long)it_w);
         frix_problem_free(p);
     }

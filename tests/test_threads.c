@@ -247,6 +247,51 @@ START_TEST(test_concurrent_fclib_io) {
 }
 END_TEST
 
+/* gnsgs sweeps colour by colour, each colour's contacts split among the threads: r, the sweeps
+ * and the error are the same bit for bit with 1, 2 and 3 threads (a pyramid of spheres: bodies
+ * with many contacts each, several colours). */
+START_TEST(test_coloured_sweeps_bit_identical) {
+    frix_scene_params prm;
+    frix_scene_defaults(FRIX_SCENE_SPHERES, &prm);
+    prm.count = 6;
+    frix_scene scene;
+    frix_scene_problems forms;
+    ck_assert_int_eq(frix_scene_build(&prm, &scene, NULL), FRIX_OK);
+    ck_assert_int_eq(frix_scene_problems_make(&scene, &forms), FRIX_OK);
+    const int64_t m = 3 * scene.nc, n = scene.n;
+    double *r[3], *v[3], *u = malloc(sizeof *u * (size_t)m);
+    int64_t iterations[3];
+    double error[3];
+    for (int t = 0; t < 3; ++t) {
+        r[t] = calloc((size_t)m, sizeof *r[t]);
+        v[t] = calloc((size_t)n, sizeof *v[t]);
+        frix_options *o = NULL;
+        frix_info *info = NULL;
+        ck_assert_int_eq(frix_options_create(FRIX_SOLVER_GLOBAL_NSGS, &o), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_THREADS, t + 1), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 3000), FRIX_OK);
+        ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+        ck_assert_int_eq(frix_solve(forms.global, o, r[t], u, v[t], info), FRIX_OK);
+        iterations[t] = frix_info_iterations(info);
+        error[t] = frix_info_error(info);
+        ck_assert_int_gt(iterations[t], 10); /* the sweeps, not the start, decide the answer */
+        frix_info_free(info);
+        frix_options_free(o);
+    }
+    for (int t = 1; t < 3; ++t) {
+        ck_assert_int_eq(iterations[t], iterations[0]);
+        ck_assert(error[t] == error[0]);
+        ck_assert_mem_eq(r[t], r[0], sizeof(double) * (size_t)m);
+        ck_assert_mem_eq(v[t], v[0], sizeof(double) * (size_t)n);
+    }
+    for (int t = 0; t < 3; ++t) free(r[t]), free(v[t]);
+    free(u);
+    frix_scene_problems_free(&forms);
+    frix_scene_free(&scene);
+}
+END_TEST
+
 int main(void) {
     Suite *s = suite_create("threads");
     TCase *tc = tcase_create("core");
@@ -254,6 +299,7 @@ int main(void) {
     tcase_add_test(tc, test_concurrent_solves_match_serial);
     tcase_add_test(tc, test_concurrent_orderings_match_serial);
     tcase_add_test(tc, test_concurrent_fclib_io);
+    tcase_add_test(tc, test_coloured_sweeps_bit_identical);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

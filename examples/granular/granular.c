@@ -9,7 +9,8 @@
  * twice as tall as wide over the floor of a box with four walls, with small random
  * velocities. Each step (Moreau-Jean, theta = 1):
  *   - broad phase on a uniform grid of cells of one sphere's span; a contact is a pair (or a
- *     sphere and a wall) closer than a margin that no step can cross;
+ *     sphere and a wall) closer than a margin no step can cross: a floor of 5 % of the
+ *     smallest radius plus, for each sphere, twice what it can move in a step;
  *   - contact frames (normal into the first sphere, two tangents) and the global problem
  *     M v = H r + f, u = H^T v + w: M diagonal (mass, inertia), f = M v_k + h F_ext, and
  *     w_N = max(gap, 0) / h, so that u_N >= 0 closes the gap no further than to touching;
@@ -215,14 +216,18 @@ static int by_pair(const void *p, const void *q) {
     return x->b < y->b ? -1 : x->b > y->b;
 }
 
-/* The contacts closer than `margin`, sorted by (a, b): a counting sort of the spheres into
- * grid cells of one sphere's span plus the margin, then each sphere against the spheres of its
+/* The contacts closer than their margin (floor + reach[a] + reach[b]; a wall has no reach),
+ * sorted by (a, b): a counting sort of the spheres into grid cells of one sphere's span plus
+ * the largest margin, then each sphere against the spheres of its
  * 27 cells with a larger index, and against the walls. */
-static int find_contacts(const world *w, double margin, contacts *cs, int64_t **cell_start, int64_t **order,
+static int find_contacts(const world *w, double floor_margin, const double *reach, contacts *cs,
+                         int64_t **cell_start, int64_t **order,
                          int64_t *cells_capacity) {
     cs->count = 0;
     const int64_t n = w->n;
-    const double cell = 2.0 * w->rmax + margin;
+    double reach_max = 0.0;
+    for (int64_t i = 0; i < n; ++i) reach_max = fmax(reach_max, reach[i]);
+    const double cell = 2.0 * w->rmax + floor_margin + 2.0 * reach_max;
     double zmax = 0.0;
     for (int64_t i = 0; i < n; ++i) zmax = fmax(zmax, w->x[3 * i + 2]);
     const int64_t nx = (int64_t)(w->box[0] / cell) + 1, ny = (int64_t)(w->box[1] / cell) + 1;
@@ -263,7 +268,7 @@ static int find_contacts(const world *w, double margin, contacts *cs, int64_t **
                         double d[3] = {xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]};
                         const double dist = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
                         const double gap = dist - ri - w->radius[j];
-                        if (gap >= margin || dist == 0.0) continue;
+                        if (gap >= floor_margin + reach[i] + reach[j] || dist == 0.0) continue;
                         for (int q = 0; q < 3; ++q) d[q] /= dist;
                         if (!push(cs, i, j, gap, d)) return 0;
                     }
@@ -272,7 +277,7 @@ static int find_contacts(const world *w, double margin, contacts *cs, int64_t **
         const double normals[WALLS][3] = {{0, 0, 1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
         const double gaps[WALLS] = {xi[2] - ri, xi[0] - ri, w->box[0] - xi[0] - ri, xi[1] - ri, w->box[1] - xi[1] - ri};
         for (int k = 0; k < WALLS; ++k)
-            if (gaps[k] < margin && !push(cs, i, n + k, gaps[k], normals[k])) return 0;
+            if (gaps[k] < floor_margin + reach[i] && !push(cs, i, n + k, gaps[k], normals[k])) return 0;
     }
 #undef CELL_OF
 #undef CLAMPED
@@ -354,7 +359,7 @@ int main(int argc, char **argv) {
     /* M: diagonal, the same every step. */
     int64_t *idx = malloc(sizeof *idx * (size_t)dofs);
     double *mdiag = malloc(sizeof *mdiag * (size_t)dofs), *f = malloc(sizeof *f * (size_t)dofs);
-    double *v_new = malloc(sizeof *v_new * (size_t)dofs);
+    double *v_new = malloc(sizeof *v_new * (size_t)dofs), *reach = malloc(sizeof *reach * (size_t)n);
     contacts now = {0}, before = {0};
     int64_t *cell_start = NULL, cells_capacity = 0, *order = malloc(sizeof *order * (size_t)n);
     int64_t *hr = NULL, *hc = NULL;
@@ -365,7 +370,7 @@ int main(int argc, char **argv) {
     frix_persistent *ps = NULL;
     frix_options *opts = NULL;
     frix_info *info = NULL;
-    if (!idx || !mdiag || !f || !v_new || !order) {
+    if (!idx || !mdiag || !f || !v_new || !reach || !order) {
         fprintf(stderr, "granular: out of memory\n");
         status = 2;
         goto done;
@@ -387,16 +392,18 @@ int main(int argc, char **argv) {
     }
     if (!st.quiet) printf("# step contacts solver iterations error time_s energy_J\n");
     const double e0 = energy(&w);
-    double e_before = e0, vmax = 0.0;
+    double e_before = e0;
     for (int64_t step = 0; step <= st.steps; ++step) {
-        /* No sphere moves more than h |v| + h^2 g in a step: twice that, and a floor. */
-        vmax = 0.0;
-        for (int64_t k = 0; k < 3 * n; ++k) vmax = fmax(vmax, fabs(w.v[6 * (k / 3) + k % 3]));
-        const double margin = fmax(0.05 * w.rmin, 4.0 * st.h * (vmax + st.h * GRAVITY));
+        /* A sphere moves by at most h |v| + h^2 g in a step (and |v| changes little): its reach
+         * is twice that. */
+        for (int64_t i = 0; i < n; ++i) {
+            const double *vi = &w.v[6 * i];
+            reach[i] = 2.0 * st.h * (sqrt(vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2]) + st.h * GRAVITY);
+        }
         contacts t = before;
         before = now;
         now = t;
-        if (!find_contacts(&w, margin, &now, &cell_start, &order, &cells_capacity)) {
+        if (!find_contacts(&w, 0.05 * w.rmin, reach, &now, &cell_start, &order, &cells_capacity)) {
             fprintf(stderr, "granular: out of memory\n");
             status = 2;
             goto done;
@@ -516,6 +523,7 @@ done:
     free(mdiag);
     free(f);
     free(v_new);
+    free(reach);
     free(now.c);
     free(before.c);
     free(cell_start);
