@@ -42,6 +42,7 @@
 #include "solvers/auto_trace.hpp"
 #include "solvers/global_newton.hpp"
 #include "solvers/mass_plus_contacts.hpp"
+#include "solvers/nsgs.hpp"
 #include "src/error_state.hpp"
 #include "src/existence.hpp"
 #include "src/linalg/linalg.hpp"
@@ -1229,7 +1230,7 @@ struct GlobalAnswer {
 // Converged is the driver's verdict on the returned (r, v) (error and equilibrium), whatever
 // the solver's own stopping test said.
 frix_error run_global(SolveContext &ctx, const SolverEntry &entry, int64_t max_iter, TraceEvent &stage,
-                      SolveCache *reduction) {
+                      SolveCache *reduction, Watchdog *dog = nullptr) {
     frix_options o;
     default_options(entry, o);
     o.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, std::min(o.ivalue[FRIX_OPT_MAX_ITER], max_iter));
@@ -1237,8 +1238,14 @@ frix_error run_global(SolveContext &ctx, const SolverEntry &entry, int64_t max_i
     o.ivalue[FRIX_OPT_ERROR_MEASURE] = ctx.options.i(FRIX_OPT_ERROR_MEASURE);
     o.dvalue[FRIX_OPT_TIME_LIMIT] = ctx.options.d(FRIX_OPT_TIME_LIMIT);  // the same clock: the same deadline
     o.dvalue[FRIX_OPT_MEMORY_LIMIT] = ctx.options.d(FRIX_OPT_MEMORY_LIMIT);
+    o.ivalue[FRIX_OPT_THREADS] = ctx.options.i(FRIX_OPT_THREADS);
     o.callback = ctx.options.callback;
     o.callback_data = ctx.options.callback_data;
+    if (dog) {  // it passes the caller's callback on
+        o.callback = &Watchdog::callback;
+        o.callback_data = dog;
+        if (entry.id == FRIX_SOLVER_GLOBAL_NSGS) o.ivalue[FRIX_OPT_DRIFT_WINDOW] = kDriftWindow;
+    }
     o.log = ctx.options.log;
     o.log_data = ctx.options.log_data;
     frix_info run;
@@ -1313,6 +1320,45 @@ frix_error w_free_route(SolveContext &ctx, int64_t max_iter, SolveCache *reducti
     info.analysis = analysis;
     info.iterations += iterations;
     info.switches += 1;
+    return FRIX_OK;
+}
+
+frix_error reduce_then_newton(SolveContext &ctx, int64_t max_iter, int64_t reduction_iter, SolveCache *cache);
+
+// Rigid bodies whose W would be large and hold more entries than M^-1 H: NSGS without W
+// (gnsgs, the caller's threads) with half the iterations, judged by the rate watch as the
+// local NSGS stage is; where it misses the tolerance, the reduction route from its answer
+// with what is left. ctx.info becomes the route's info, `trace` gets its stages.
+frix_error product_then_reduce(SolveContext &ctx, int64_t max_iter, bool may_reduce, SolveCache *cache,
+                               std::vector<TraceEvent> &trace) {
+    frix_info &info = ctx.info;
+    const AnalysisSummary analysis = info.analysis;
+    Shared shared(ctx.options, ctx.clock);
+    Watchdog dog;
+    dog.shared = &shared;
+    dog.kind = Watch::Rate;
+    dog.tolerance = Monitor(ctx).tolerance();
+    TraceEvent stage = trace_event(kStage);
+    if (frix_error e = run_global(ctx, kGlobalNsgsEntry, std::max<int64_t>(1, max_iter / 2), stage, cache, &dog))
+        return e;
+    stage.why = dog.stopped_by_watchdog ? dog.why : nullptr;
+    trace.push_back(stage);
+    info.analysis = analysis;
+    const double tl = ctx.options.d(FRIX_OPT_TIME_LIMIT);
+    const int64_t left = max_iter - info.iterations;
+    if (info.status == FRIX_STATUS_CONVERGED || shared.stop_requested.load() || !may_reduce ||
+        (tl > 0.0 && ctx.clock.seconds() >= tl) || left <= 0) {
+        if (info.status == FRIX_STATUS_STOPPED_BY_CALLBACK && dog.stopped_by_watchdog) info.status = FRIX_STATUS_STAGNATED;
+        return FRIX_OK;
+    }
+    const frix_info before = info;
+    const GlobalAnswer product_answer(ctx, info);
+    if (frix_error e = reduce_then_newton(ctx, left, left / 2, cache)) return e;
+    product_answer.restore_if_better(ctx, info);
+    trace.insert(trace.end(), info.trace.begin(), info.trace.end());
+    Monitor::add_work(info, before);
+    info.iterations += before.iterations;
+    info.switches += before.switches + 1;
     return FRIX_OK;
 }
 
@@ -1416,6 +1462,16 @@ frix_error solve(SolveContext &ctx) {
             // Not priced (M factorised by LU): W's blocks against the memory alone.
             if (!reduction_memory(size, Monitor(ctx)).fits) reduction_refused = FRIX_STATUS_MEMORY_LIMIT;
         }
+    }
+    // Rigid bodies with a large W: W's entries against M^-1 H's.
+    const bool product = !w_free && size.largest_component <= nsgs::kMaxRigidBodyDofs &&
+                         size.w_entries > kReductionMaxEntries && size.w_entries > size.product_entries;
+    if (product) {
+        std::vector<TraceEvent> trace;
+        if (frix_error e = product_then_reduce(ctx, max_iter, !reduction_refused, reduction, trace)) return e;
+        info.trace = std::move(trace);
+        check_existence_on_failure(ctx);
+        return FRIX_OK;
     }
     if (!reduction_refused && !w_free) {
         if (frix_error e = reduce_then_newton(ctx, max_iter, max_iter / 2, reduction)) return e;

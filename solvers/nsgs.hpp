@@ -297,6 +297,10 @@ class SweepForm {
 // the sweeps.
 frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const char *name);
 
+// gnsgs: a body (a connected component of M's graph) of more dofs than this is deformable;
+// its dense inverse block would cost its dofs squared.
+constexpr int64_t kMaxRigidBodyDofs = 64;
+
 // The options of every NSGS entry, and nsgs-v's defaults (also gnsgs's: both keep velocities
 // up to date, where a frozen contact costs nothing).
 extern const frix_option_key kExtraKeys[];

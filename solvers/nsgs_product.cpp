@@ -19,10 +19,6 @@ namespace frix {
 namespace nsgs {
 namespace {
 
-// A body is a connected component of M's graph; one of more dofs than this is a deformable
-// body, whose dense inverse block would cost its dofs squared: gadmm and auto solve those.
-constexpr int64_t kMaxBodyDofs = 64;
-
 // M^-1 as dense blocks, one per body, and each contact's H_a and M^-1 H_a on its bodies' dofs.
 class ProductForm : public SweepForm {
    public:
@@ -126,11 +122,11 @@ class ProductForm : public SweepForm {
         for (int64_t i = 0; i < n; ++i) {
             const int64_t root = sets.find(i);
             if (body_of_root[root] < 0) {
-                if (sets.size_of_root(root) > kMaxBodyDofs)
+                if (sets.size_of_root(root) > kMaxRigidBodyDofs)
                     return fail(FRIX_ERR_UNSUPPORTED,
                                 "gnsgs: M couples %lld dofs in one block (more than %lld: a deformable body); "
                                 "gadmm or auto solve this problem",
-                                (long long)sets.size_of_root(root), (long long)kMaxBodyDofs);
+                                (long long)sets.size_of_root(root), (long long)kMaxRigidBodyDofs);
                 body_of_root[root] = bodies++;
             }
             body_of_[i] = body_of_root[root];

@@ -63,6 +63,9 @@ ReductionSize reduction_size(const frix_problem &p) {
     size.input_entries += (double)touches.size();
     std::sort(touches.begin(), touches.end());
     touches.erase(std::unique(touches.begin(), touches.end()), touches.end());
+    for (const auto &t : touches) size.product_entries += (double)components.size_of_root(t.first);
+    for (int64_t i = 0; i < p.n; ++i)
+        if (components.find(i) == i) size.largest_component = std::max(size.largest_component, components.size_of_root(i));
     // Per component, the columns and the contacts (3 columns each, in order) touching it.
     double bound = 0.0, block_bound = 0.0;
     for (size_t k = 0; k < touches.size();) {

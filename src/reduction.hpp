@@ -166,6 +166,11 @@ struct ReductionSize {
     double w_entries = 0.0;      // the bound on W's non-zero entries
     double w_blocks = 0.0;       // the bound on its non-zero 3x3 blocks (contacts, squared)
     double input_entries = 0.0;  // non-zero entries of M and H
+    // Without W, in product form (gnsgs): the dofs of the components each column of H
+    // touches, summed over the columns (the entries of M^-1 H), and the largest component's
+    // dofs (a rigid body's 6; a deformable body's all).
+    double product_entries = 0.0;
+    int64_t largest_component = 0;
 };
 ReductionSize reduction_size(const frix_problem &p);
 
