@@ -246,7 +246,7 @@ SweepStats Workspace::sweep_coloured(double *r, const Colouring &colouring, int 
     if (threads > 1) {
         FRIX_OMP(omp parallel num_threads(threads) reduction(+ : rejected, unsolved, skipped))
         for (int64_t k = 0; k < colours; ++k) {
-            FRIX_OMP(omp for schedule(static))
+            FRIX_OMP(omp for schedule(dynamic, 128))
             for (int64_t i = colouring.ptr[(size_t)k]; i < colouring.ptr[(size_t)k + 1]; ++i)
                 visit(colouring.contacts[(size_t)i], rejected, unsolved, skipped);
         }

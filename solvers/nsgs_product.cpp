@@ -2,8 +2,9 @@
 // bodies), in product form: W is never formed. The sweep keeps v = M^-1 (H r + f) up to date;
 // contact a reads u_a = H_a^T v + w_a and, after its one-contact solve, adds M^-1 H_a dr_a to
 // v. Each sweep costs O(nnz(H) + nnz(M^-1 H)); memory is, per contact, the dofs of the bodies
-// it touches with H_a and M^-1 H_a on them (3 values a dof each), and the blocks of M^-1. The iterates are those of nsgs-v on
-// W = H^T M^-1 H up to rounding; the stopping logic is nsgs's (run_sweeps), on the global
+// it touches with H_a and M^-1 H_a on them (3 values a dof each), and the blocks of M^-1.
+// Contacts are coloured (no two of a colour share a body) and swept colour by colour, each
+// colour split among the threads. The stopping logic is nsgs's (run_sweeps), on the global
 // measure (its scale |w|, as Siconos's).
 #include <algorithm>
 #include <cmath>
@@ -12,6 +13,7 @@
 #include "solvers/nsgs.hpp"
 #include "src/disjoint_sets.hpp"
 #include "src/error_state.hpp"
+#include "src/log.hpp"
 #include "src/measures.hpp"
 #include "src/reduction.hpp"
 
@@ -30,25 +32,49 @@ class ProductForm : public SweepForm {
         if (frix_error e = to_csc(*p_.H, H_)) return e;
         if (frix_error e = find_bodies()) return e;
         if (frix_error e = invert_bodies()) return e;
+        find_contact_bodies();
+        // Contacts of one colour share no body: their sweeps touch disjoint parts of v. The
+        // sweeps run on the contacts renumbered in colour order (slots), so that a sweep reads
+        // the per-contact data front to back.
+        const Colouring colouring =
+            greedy_colouring(p_.nc, (int64_t)body_ptr_.size() - 1, [this](int64_t a, std::vector<int64_t> &out) {
+                out.insert(out.end(), contact_bodies_.begin() + bodies_ptr_[a],
+                           contact_bodies_.begin() + bodies_ptr_[a + 1]);
+            });
+        contact_of_slot_ = colouring.contacts;
+        slots_.ptr = colouring.ptr;
+        slots_.contacts.resize((size_t)p_.nc);
+        for (int64_t k = 0; k < p_.nc; ++k) slots_.contacts[(size_t)k] = k;
         form_contacts();
+        w_.resize(3 * (size_t)p_.nc);
+        mu_.resize((size_t)p_.nc);
+        for (int64_t k = 0; k < p_.nc; ++k) {
+            const int64_t a = contact_of_slot_[(size_t)k];
+            std::copy(p_.w + 3 * a, p_.w + 3 * a + 3, &w_[3 * (size_t)k]);
+            mu_[(size_t)k] = p_.mu[a];
+        }
         v0_.resize((size_t)p_.n);
         apply_inverse(p_.f, v0_.data());
         M_ = Csc{};  // the sweeps read only the per-contact copies
         H_ = Csc{};
-        // Contacts of one colour share no body: their sweeps touch disjoint parts of v.
-        colouring_ = greedy_colouring(p_.nc, (int64_t)body_ptr_.size() - 1, [this](int64_t a, std::vector<int64_t> &out) {
-            out.insert(out.end(), contact_bodies_.begin() + bodies_ptr_[a], contact_bodies_.begin() + bodies_ptr_[a + 1]);
-        });
         return FRIX_OK;
     }
+    // Slot k of the sweeps is contact contact_of_slot()[k] of the problem; w and mu by slot.
+    const std::vector<int64_t> &contact_of_slot() const { return contact_of_slot_; }
+    const double *slot_w() const { return w_.data(); }
+    const double *slot_mu() const { return mu_.data(); }
+    int64_t colours() const { return slots_.colours(); }
     // W_aa = H_a^T M^-1 H_a, 9 per contact, column-major.
     std::vector<double> diagonal_blocks() const {
         std::vector<double> blocks(9 * (size_t)p_.nc, 0.0);
         for (int64_t a = 0; a < p_.nc; ++a) {
-            const double *h = hd_.data() + 3 * dof_ptr_[a], *g = gd_.data() + 3 * dof_ptr_[a];
-            for (int64_t t = 0; t < dof_ptr_[a + 1] - dof_ptr_[a]; ++t)
+            const double *h = hd_.data() + 3 * dof_ptr_[a];
+            for (int64_t t = 0; t < dof_ptr_[a + 1] - dof_ptr_[a]; ++t) {
+                double g[3];
+                g_row(a, t, g);
                 for (int f = 0; f < 3; ++f)
-                    for (int e = 0; e < 3; ++e) blocks[9 * a + e + 3 * f] += h[3 * t + e] * g[3 * t + f];
+                    for (int e = 0; e < 3; ++e) blocks[9 * a + e + 3 * f] += h[3 * t + e] * g[f];
+            }
         }
         return blocks;
     }
@@ -61,13 +87,8 @@ class ProductForm : public SweepForm {
             contact_velocity(a, v, s);
             for (int e = 0; e < 3; ++e) ql[e] = s[e] - (Wd[e] * ra[0] + Wd[e + 3] * ra[1] + Wd[e + 6] * ra[2]);
         };
-        const auto moved = [this, v](int64_t a, const double *dr) {
-            const int64_t *dofs = dofs_.data() + dof_ptr_[a];
-            const double *g = gd_.data() + 3 * dof_ptr_[a];
-            for (int64_t t = 0; t < dof_ptr_[a + 1] - dof_ptr_[a]; ++t)
-                v[dofs[t]] += g[3 * t] * dr[0] + g[3 * t + 1] * dr[1] + g[3 * t + 2] * dr[2];
-        };
-        return ws.sweep_coloured(r, colouring_, threads_, local_q, moved);
+        const auto moved = [this, v](int64_t a, const double *dr) { add_g(a, dr, v); };
+        return ws.sweep_coloured(r, slots_, threads_, local_q, moved);
     }
     Measures exact(const double *r, double *u) override {
         restart(r, u);
@@ -82,23 +103,42 @@ class ProductForm : public SweepForm {
         std::copy(v0_.begin(), v0_.end(), v_);
         for (int64_t a = 0; a < p_.nc; ++a) {
             const double *ra = r + 3 * a;
-            if (ra[0] == 0.0 && ra[1] == 0.0 && ra[2] == 0.0) continue;
-            const int64_t *dofs = dofs_.data() + dof_ptr_[a];
-            const double *g = gd_.data() + 3 * dof_ptr_[a];
-            for (int64_t t = 0; t < dof_ptr_[a + 1] - dof_ptr_[a]; ++t)
-                v_[dofs[t]] += g[3 * t] * ra[0] + g[3 * t + 1] * ra[1] + g[3 * t + 2] * ra[2];
+            if (ra[0] != 0.0 || ra[1] != 0.0 || ra[2] != 0.0) add_g(a, ra, v_);
         }
     }
     bool measures_are_local() const override { return false; }
 
    private:
+    // Row t of slot a's M^-1 H_a (its t-th dof), into g[3].
+    void g_row(int64_t a, int64_t t, double *g) const {
+        if (g_ptr_[a] >= 0) {
+            std::copy(&gd_[3 * (size_t)(g_ptr_[a] + t)], &gd_[3 * (size_t)(g_ptr_[a] + t)] + 3, g);
+            return;
+        }
+        const double *h = hd_.data() + 3 * (dof_ptr_[a] + t), d = minv_[dof_ptr_[a] + t];
+        g[0] = d * h[0], g[1] = d * h[1], g[2] = d * h[2];
+    }
+    // v += M^-1 H_a x: from H_a and M's diagonal where every body of the contact is one dof
+    // (M diagonal there: half the data a sweep reads), from M^-1 H_a stored otherwise.
+    void add_g(int64_t a, const double *x, double *v) const {
+        const int64_t *dofs = dofs_.data() + dof_ptr_[a];
+        const int64_t count = dof_ptr_[a + 1] - dof_ptr_[a];
+        if (g_ptr_[a] < 0) {
+            const double *h = hd_.data() + 3 * dof_ptr_[a], *d = minv_.data() + dof_ptr_[a];
+            for (int64_t t = 0; t < count; ++t)
+                v[dofs[t]] += d[t] * (h[3 * t] * x[0] + h[3 * t + 1] * x[1] + h[3 * t + 2] * x[2]);
+            return;
+        }
+        const double *g = gd_.data() + 3 * g_ptr_[a];
+        for (int64_t t = 0; t < count; ++t) v[dofs[t]] += g[3 * t] * x[0] + g[3 * t + 1] * x[1] + g[3 * t + 2] * x[2];
+    }
     // u_a = H_a^T v + w_a.
     void contact_velocity(int64_t a, const double *v, double *s) const {
         const int64_t *dofs = dofs_.data() + dof_ptr_[a];
         const double *h = hd_.data() + 3 * dof_ptr_[a];
-        s[0] = p_.w[3 * a];
-        s[1] = p_.w[3 * a + 1];
-        s[2] = p_.w[3 * a + 2];
+        s[0] = w_[3 * (size_t)a];
+        s[1] = w_[3 * (size_t)a + 1];
+        s[2] = w_[3 * (size_t)a + 2];
         for (int64_t t = 0; t < dof_ptr_[a + 1] - dof_ptr_[a]; ++t) {
             const double x = v[dofs[t]];
             s[0] += h[3 * t] * x;
@@ -108,14 +148,15 @@ class ProductForm : public SweepForm {
     }
     Measures measures_from_v(const double *r, double *u) const {
         for (int64_t a = 0; a < p_.nc; ++a) contact_velocity(a, v_, u + 3 * a);
-        return measures_from_ru(r, u, p_.mu, p_.nc, norm_w_);
+        return measures_from_ru(r, u, mu_.data(), p_.nc, norm_w_);
     }
 
     frix_error find_bodies() {
         const int64_t n = p_.n;
         DisjointSets sets(n);
         for (int64_t c = 0; c < n; ++c)
-            for (int64_t k = M_.colptr[c]; k < M_.colptr[c + 1]; ++k) sets.unite(M_.rowind[k], c);
+            for (int64_t k = M_.colptr[c]; k < M_.colptr[c + 1]; ++k)
+                if (M_.val[k] != 0.0) sets.unite(M_.rowind[k], c);  // a stored zero couples nothing
         body_of_.assign((size_t)n, -1);
         std::vector<int64_t> body_of_root((size_t)n, -1);
         int64_t bodies = 0;
@@ -214,48 +255,72 @@ class ProductForm : public SweepForm {
         }
     }
 
-    // Per contact, the dofs of the bodies its three columns of H touch (bodies in increasing
-    // order, each whole), and on them H_a and M^-1 H_a, 3 values per dof (one per column).
-    void form_contacts() {
-        dof_ptr_.assign((size_t)p_.nc + 1, 0);
+    // The bodies each contact's three columns of H touch, in increasing order.
+    void find_contact_bodies() {
         bodies_ptr_.assign(1, 0);
+        contact_bodies_.clear();
         std::vector<int64_t> touched;
-        for (int pass = 0; pass < 2; ++pass) {
-            int64_t at = 0;
-            for (int64_t a = 0; a < p_.nc; ++a) {
-                touched.clear();
-                for (int64_t c = 3 * a; c < 3 * a + 3; ++c)
-                    for (int64_t e = H_.colptr[c]; e < H_.colptr[c + 1]; ++e) touched.push_back(body_of_[H_.rowind[e]]);
-                std::sort(touched.begin(), touched.end());
-                touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-                if (pass == 0) {
-                    contact_bodies_.insert(contact_bodies_.end(), touched.begin(), touched.end());
-                    bodies_ptr_.push_back((int64_t)contact_bodies_.size());
-                }
-                for (const int64_t b : touched) {
-                    const int64_t k = body_ptr_[b + 1] - body_ptr_[b];
-                    if (pass == 1) {
-                        double *h = &hd_[3 * at], *g = &gd_[3 * at];
-                        for (int64_t i = 0; i < k; ++i) dofs_[at + i] = body_dofs_[body_ptr_[b] + i];
-                        for (int64_t c = 3 * a; c < 3 * a + 3; ++c)
-                            for (int64_t e = H_.colptr[c]; e < H_.colptr[c + 1]; ++e)
-                                if (body_of_[H_.rowind[e]] == b) h[3 * place_[H_.rowind[e]] + (c - 3 * a)] += H_.val[e];
-                        const double *inv = &inverse_[inverse_ptr_[b]];
-                        for (int64_t i = 0; i < k; ++i)
-                            for (int f = 0; f < 3; ++f) {
-                                double s = 0.0;
-                                for (int64_t j = 0; j < k; ++j) s += inv[i + k * j] * h[3 * j + f];
-                                g[3 * i + f] = s;
-                            }
-                    }
-                    at += k;
-                }
-                if (pass == 0) dof_ptr_[a + 1] = at;
+        for (int64_t a = 0; a < p_.nc; ++a) {
+            touched.clear();
+            for (int64_t c = 3 * a; c < 3 * a + 3; ++c)
+                for (int64_t e = H_.colptr[c]; e < H_.colptr[c + 1]; ++e) touched.push_back(body_of_[H_.rowind[e]]);
+            std::sort(touched.begin(), touched.end());
+            touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+            contact_bodies_.insert(contact_bodies_.end(), touched.begin(), touched.end());
+            bodies_ptr_.push_back((int64_t)contact_bodies_.size());
+        }
+    }
+
+    // Slot by slot, the dofs of its contact's bodies (each whole), and on them H_a and
+    // M^-1 H_a, 3 values per dof (one per column).
+    void form_contacts() {
+        const int64_t nc = p_.nc;
+        dof_ptr_.assign((size_t)nc + 1, 0);
+        for (int64_t k = 0; k < nc; ++k) {
+            const int64_t a = contact_of_slot_[(size_t)k];
+            int64_t dofs = 0;
+            for (int64_t i = bodies_ptr_[a]; i < bodies_ptr_[a + 1]; ++i)
+                dofs += body_ptr_[contact_bodies_[i] + 1] - body_ptr_[contact_bodies_[i]];
+            dof_ptr_[k + 1] = dof_ptr_[k] + dofs;
+        }
+        dofs_.resize((size_t)dof_ptr_[nc]);
+        hd_.assign(3 * (size_t)dof_ptr_[nc], 0.0);
+        g_ptr_.assign((size_t)nc, -1);
+        int64_t stored = 0;
+        for (int64_t k = 0; k < nc; ++k) {
+            const int64_t a = contact_of_slot_[(size_t)k];
+            bool one_dof_bodies = true;
+            for (int64_t i = bodies_ptr_[a]; i < bodies_ptr_[a + 1]; ++i)
+                one_dof_bodies = one_dof_bodies && body_ptr_[contact_bodies_[i] + 1] - body_ptr_[contact_bodies_[i]] == 1;
+            if (!one_dof_bodies) {
+                g_ptr_[(size_t)k] = stored;
+                stored += dof_ptr_[k + 1] - dof_ptr_[k];
             }
-            if (pass == 0) {
-                dofs_.resize((size_t)at);
-                hd_.assign(3 * (size_t)at, 0.0);
-                gd_.assign(3 * (size_t)at, 0.0);
+        }
+        gd_.assign(3 * (size_t)stored, 0.0);
+        minv_.assign((size_t)dof_ptr_[nc], 0.0);
+        for (int64_t k = 0; k < nc; ++k) {
+            const int64_t a = contact_of_slot_[(size_t)k];
+            int64_t at = dof_ptr_[k];
+            for (int64_t i = bodies_ptr_[a]; i < bodies_ptr_[a + 1]; ++i) {
+                const int64_t b = contact_bodies_[i], size = body_ptr_[b + 1] - body_ptr_[b];
+                double *h = hd_.data() + 3 * at;
+                for (int64_t j = 0; j < size; ++j) dofs_[at + j] = body_dofs_[body_ptr_[b] + j];
+                for (int64_t c = 3 * a; c < 3 * a + 3; ++c)
+                    for (int64_t e = H_.colptr[c]; e < H_.colptr[c + 1]; ++e)
+                        if (body_of_[H_.rowind[e]] == b) h[3 * place_[H_.rowind[e]] + (c - 3 * a)] += H_.val[e];
+                if (g_ptr_[(size_t)k] < 0) minv_[at] = inverse_[inverse_ptr_[b]];  // a one-dof body
+                if (g_ptr_[(size_t)k] >= 0) {
+                    double *g = gd_.data() + 3 * (g_ptr_[(size_t)k] + at - dof_ptr_[k]);
+                    const double *inv = inverse_.data() + inverse_ptr_[b];
+                    for (int64_t x = 0; x < size; ++x)
+                        for (int f = 0; f < 3; ++f) {
+                            double sum = 0.0;
+                            for (int64_t j = 0; j < size; ++j) sum += inv[x + size * j] * h[3 * j + f];
+                            g[3 * x + f] = sum;
+                        }
+                }
+                at += size;
             }
         }
     }
@@ -268,8 +333,12 @@ class ProductForm : public SweepForm {
     std::vector<double> inverse_, v0_;
     std::vector<int64_t> dof_ptr_, dofs_;
     std::vector<double> hd_, gd_;
+    std::vector<int64_t> g_ptr_;  // per slot: where its M^-1 H_a starts in gd_, -1: from minv_
+    std::vector<double> minv_;    // beside H_a where g_ptr_ is -1: each dof's inverse mass
     std::vector<int64_t> bodies_ptr_, contact_bodies_;  // the bodies of each contact
-    Colouring colouring_;
+    std::vector<int64_t> contact_of_slot_;
+    Colouring slots_;  // the colours as ranges of slots
+    std::vector<double> w_, mu_;
     int threads_;
 };
 
@@ -279,9 +348,32 @@ frix_error solve(SolveContext &ctx) {
         return fail(FRIX_ERR_UNSUPPORTED, "gnsgs: solves global problems only");
     ProductForm form(p, ctx.v, (int)ctx.options.i(FRIX_OPT_THREADS));
     if (frix_error e = form.setup()) return e;
+    // The sweeps see the contacts by slot: r, u, w and mu renumbered, and back at the end.
+    const std::vector<int64_t> &contact = form.contact_of_slot();
+    const int64_t m = 3 * p.nc;
+    std::vector<double> r((size_t)m), u((size_t)m);
+    for (int64_t k = 0; k < p.nc; ++k) std::copy(ctx.r + 3 * contact[k], ctx.r + 3 * contact[k] + 3, &r[3 * k]);
+    frix_problem slots;
+    slots.kind = FRIX_PROBLEM_GLOBAL;
+    slots.nc = p.nc;
+    slots.n = p.n;
+    slots.M = p.M;
+    slots.f = p.f;
+    slots.w = form.slot_w();
+    slots.mu = form.slot_mu();
+    SolveContext inner{slots, ctx.options, r.data(), u.data(), ctx.v, ctx.info, ctx.clock, ctx.solve_mass, ctx.mass,
+                       ctx.cache};
+    if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1)
+        log_line(&ctx.options, "gnsgs: %lld contacts in %lld colours, %lld threads", (long long)p.nc,
+                 (long long)form.colours(), (long long)ctx.options.i(FRIX_OPT_THREADS));
     const std::vector<double> blocks = form.diagonal_blocks();
-    Workspace ws(blocks.data(), p.mu, p.nc, settings_from(ctx.options));
-    return run_sweeps(ctx, ws, form, "gnsgs");
+    Workspace ws(blocks.data(), slots.mu, p.nc, settings_from(ctx.options));
+    const frix_error e = run_sweeps(inner, ws, form, "gnsgs");
+    for (int64_t k = 0; k < p.nc; ++k) {
+        std::copy(&r[3 * k], &r[3 * k] + 3, ctx.r + 3 * contact[k]);
+        std::copy(&u[3 * k], &u[3 * k] + 3, ctx.u + 3 * contact[k]);
+    }
+    return e;
 }
 
 // nsgs-v's keys but shuffle and seed (the colouring fixes the order), and threads.
