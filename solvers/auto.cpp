@@ -186,6 +186,10 @@ constexpr double kWFreeIterations = 50.0;
 // Lagrangian Newton), far past what they take where they work, so that where they do not the
 // reduction still gets its turn.
 constexpr int64_t kWFreeAdmmIterations = 1000, kWFreeNewtonSteps = 50;
+// Rigid bodies with a large W: gnsgs is judged by its rate only after this many sweeps:
+// forming W, which the reduction route needs, costs as much as many sweeps, and a time step
+// pays it again whenever its contacts change (docs/notes/2026-11-26-scale.md).
+constexpr int64_t kProductPatience = 200;
 
 // Prices of the stages, in one unit: the work of one 3x3 block of W times a vector. They are
 // known before anything runs (sizes, and CHOLMOD's symbolic analysis of the block graph of
@@ -1326,9 +1330,10 @@ frix_error w_free_route(SolveContext &ctx, int64_t max_iter, SolveCache *reducti
 frix_error reduce_then_newton(SolveContext &ctx, int64_t max_iter, int64_t reduction_iter, SolveCache *cache);
 
 // Rigid bodies whose W would be large and hold more entries than M^-1 H: NSGS without W
-// (gnsgs, the caller's threads) with half the iterations, judged by the rate watch as the
-// local NSGS stage is; where it misses the tolerance, the reduction route from its answer
-// with what is left. ctx.info becomes the route's info, `trace` gets its stages.
+// (gnsgs, the caller's threads) with half the iterations, under the NSGS rate watch from
+// kProductPatience sweeps on; where it misses the tolerance, the reduction route from its
+// answer with what is left. ctx.info becomes the
+// route's info, `trace` gets its stages.
 frix_error product_then_reduce(SolveContext &ctx, int64_t max_iter, bool may_reduce, SolveCache *cache,
                                std::vector<TraceEvent> &trace) {
     frix_info &info = ctx.info;
@@ -1337,6 +1342,7 @@ frix_error product_then_reduce(SolveContext &ctx, int64_t max_iter, bool may_red
     Watchdog dog;
     dog.shared = &shared;
     dog.kind = Watch::Rate;
+    dog.min_sweeps = kProductPatience;
     dog.tolerance = Monitor(ctx).tolerance();
     TraceEvent stage = trace_event(kStage);
     if (frix_error e = run_global(ctx, kGlobalNsgsEntry, std::max<int64_t>(1, max_iter / 2), stage, cache, &dog))

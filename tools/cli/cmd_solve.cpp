@@ -107,6 +107,8 @@ SolveArgs parse(int argc, char **argv, bool &help) {
             a.settings.push_back({FRIX_OPT_MAX_ITER, "--max-iter", v, "--max-iter " + v});
         } else if (args.option("--time-limit", v)) {
             a.settings.push_back({FRIX_OPT_TIME_LIMIT, "--time-limit", v, "--time-limit " + v});
+        } else if (args.option("--threads", v)) {
+            a.settings.push_back({FRIX_OPT_THREADS, "--threads", v, "--threads " + v});
         } else if (args.option("--set", v)) {
             std::size_t eq = v.find('=');
             if (eq == std::string::npos || eq == 0)
