@@ -205,6 +205,8 @@ START_TEST(test_csv_files) {
     ck_assert_str_eq(csv_get(runs, 1, "tolerance"), "1e-10");
     /* The run's process held the problem, the library and its buffers: megabytes, not none. */
     ck_assert_double_gt(atof(csv_get(runs, 1, "peak_memory_mb")), 1.0);
+    /* The problem's own storage, in blocks: at least its diagonal blocks. */
+    ck_assert_double_ge(atof(csv_get(runs, 1, "stored_blocks")), atof(csv_get(runs, 1, "contacts")));
     csv_free(runs);
 
     csv *tr = csv_read(TMP "/csv/out/traces.csv");
@@ -224,6 +226,7 @@ START_TEST(test_csv_files) {
     ck_assert(exists(TMP "/csv/out/work_precision.csv"));
     char *md = slurp(TMP "/csv/out/summary.md");
     ck_assert_msg(strstr(md, "| nsgs | 1/1 |") != NULL, "summary: %s", md);
+    ck_assert_msg(strstr(md, "peak memory per contact (kB)") != NULL, "summary: %s", md);
     free(md);
 }
 END_TEST

@@ -822,6 +822,7 @@ class Solver(_Closing):
         self._busy = False  # a call is in progress (its callback may run)
         self._handle = None
         self._kept = {}  # the arrays and matrices the persistent solver borrows
+        self._contacts = problem.contacts  # changed by set_contacts
         self._opts = _Options(solver, _settings(tol, max_iter, time_limit, solver_options), callback)
         handle = ctypes.c_void_p()
         problem_handle = problem._use()
@@ -883,11 +884,12 @@ class Solver(_Closing):
         in W.tocsr()'s for the other formats). Global problems: f, w, mu, M, H. Vectors are
         borrowed as by Problem (a float64 contiguous array is used in place)."""
         p = self._problem
-        nc, m = p.contacts, p.contact_dofs
+        nc = self._contacts
+        m = 3 * nc
         if W_values is not None:
-            if W is not None or p._pattern is None:
+            if W is not None or p._pattern is None or self._contacts != p.contacts:
                 raise InvalidArgumentError(-1, "frix: W_values needs a problem built from a "
-                                           "scipy.sparse W, and no W")
+                                           "scipy.sparse W, and no W, and its contacts")
             W = _with_values(p._pattern, W_values)
         new = {}
         self._enter()
@@ -930,6 +932,53 @@ class Solver(_Closing):
                 if key in ("W", "M", "H") and old is not None:
                     lib.frix_matrix_free(old)
                 self._kept[key] = value
+        finally:
+            self._exit()
+
+    def set_contacts(self, mu, W=None, q=None, H=None, w=None):
+        """The next step's contacts, whatever their number nc = len(mu): W (3nc x 3nc) and q
+        for a local problem, H (n x 3nc) and w for a global one, with mu, all together
+        (frix_persistent_set_contacts_*). M, f and M's factorisation stay. The next solve
+        starts from r = 0 unless given r0 (the last r belongs to the old contacts)."""
+        p = self._problem
+        mu = np.ascontiguousarray(mu, dtype=np.float64).reshape(-1)
+        nc = mu.shape[0]
+        new = {}
+        self._enter()
+        try:
+            if p.kind == "local":
+                if W is None or q is None or H is not None or w is not None:
+                    raise InvalidArgumentError(-1, "frix: set_contacts of a local problem takes "
+                                               "W, q and mu")
+                new["W"] = _matrix(W, "W")
+                new["q"] = _vector(q, 3 * nc, "q")
+                new["mu"] = _vector(mu, nc, "mu")
+                _check(lib.frix_persistent_set_contacts_local(
+                    self._handle, new["W"], _ptr(new["q"]), _ptr(new["mu"]), nc))
+            else:
+                if H is None or w is None or W is not None or q is not None:
+                    raise InvalidArgumentError(-1, "frix: set_contacts of a global problem takes "
+                                               "H, w and mu")
+                new["H"] = _matrix(H, "H")
+                new["w"] = _vector(w, 3 * nc, "w")
+                new["mu"] = _vector(mu, nc, "mu")
+                _check(lib.frix_persistent_set_contacts_global(
+                    self._handle, new["H"], _ptr(new["w"]), _ptr(new["mu"]), nc))
+        except BaseException:
+            for key in ("W", "H"):
+                if key in new:
+                    lib.frix_matrix_free(new[key])
+            raise
+        else:
+            for key, value in new.items():
+                old = self._kept.get(key)
+                if key in ("W", "H") and old is not None:
+                    lib.frix_matrix_free(old)
+                self._kept[key] = value
+            self._contacts = nc
+            self._r, self._u = np.zeros(3 * nc), np.zeros(3 * nc)
+            self._addresses = (self._r.ctypes.data, self._u.ctypes.data,
+                               None if self._v is None else self._v.ctypes.data)
         finally:
             self._exit()
 

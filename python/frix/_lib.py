@@ -105,6 +105,10 @@ _declare("frix_persistent_solve", c_int, c_void_p, c_void_p, c_void_p, c_void_p,
 _declare("frix_persistent_update_local", c_int, c_void_p, c_void_p, c_double_p, c_double_p)
 _declare("frix_persistent_update_global", c_int, c_void_p, c_void_p, c_void_p, c_double_p,
          c_double_p, c_double_p)
+_declare("frix_persistent_set_contacts_local", c_int, c_void_p, c_void_p, c_double_p, c_double_p,
+         c_int64)
+_declare("frix_persistent_set_contacts_global", c_int, c_void_p, c_void_p, c_double_p, c_double_p,
+         c_int64)
 
 _declare("frix_solver_count", c_int64)
 _declare("frix_solver_id_at", c_int, c_int64)

@@ -212,6 +212,35 @@ def test_persistent_solver_time_steps():
     p.close()
 
 
+def test_persistent_solver_contacts_come_and_go():
+    W, q, mu = two_contacts()
+    one = frix.Problem(W[:3, :3], q[:3], mu[:1])
+    with frix.Solver(frix.Problem(W, q, mu), tol=1e-10) as s:
+        assert s.solve().converged
+        s.set_contacts(mu[:1], W=W[:3, :3], q=q[:3])
+        res = s.solve()
+        assert res.converged and res.r.shape == (3,)
+        np.testing.assert_allclose(res.r, frix.solve(one, tol=1e-10).r, atol=1e-8)
+        with pytest.raises(frix.InvalidArgumentError):
+            s.set_contacts(mu, H=sp.eye(6), w=q)  # a local problem's: W and q
+        with pytest.raises(frix.DimensionError):
+            s.set_contacts(mu, W=W[:3, :3], q=q)  # W for one contact, mu for two
+        assert s.solve().r.shape == (3,)  # nothing of a refused call was taken
+        s.set_contacts(mu, W=W, q=q)
+        assert s.solve().converged
+    # Global: the same bodies, the second contact only (H's last three columns).
+    M = sp.identity(6, format="csc")
+    H = sp.csc_matrix(np.linalg.cholesky(W))
+    f = np.zeros(6)
+    p = frix.Problem.from_global(M, H, f, q, mu)
+    with frix.Solver(p, tol=1e-10) as s:
+        s.set_contacts(mu[1:], H=H[:, 3:], w=q[3:])
+        res = s.solve()
+        direct = frix.solve(frix.Problem.from_global(M, H[:, 3:], f, q[3:], mu[1:]), tol=1e-10)
+        assert res.converged and res.v.shape == (6,)
+        np.testing.assert_allclose(res.r, direct.r, atol=1e-8)
+
+
 def test_solvers_listed():
     names = {s.name for s in frix.solvers()}
     assert {"auto", "nsgs", "admm", "ipm"} <= names

@@ -26,6 +26,9 @@ struct RunRecord {
     double reported_error = 0;        // the solver's own final error (Siconos's differs)
     std::string note;
     double peak_memory_mb = NAN;  // the run's peak resident memory, problem read included (NaN: not known)
+    // The problem's own storage in 3x3 blocks: W's stored entries / 9 (local), M's and H's
+    // (global); NaN: not known (older campaigns).
+    double stored_blocks = NAN;
     bool converged() const { return status == "converged"; }
 };
 

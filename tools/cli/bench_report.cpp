@@ -52,6 +52,7 @@ std::vector<RunRecord> read_runs(const std::string &path) {
         r.reported_error = to_number(t.get(k, "reported_error"));
         r.note = t.get(k, "note");
         r.peak_memory_mb = to_number(t.get(k, "peak_memory_mb"));  // absent from older campaigns
+        r.stored_blocks = to_number(t.get(k, "stored_blocks"));    // as is this
         if (r.problem.empty() || r.solver.empty()) fail(path + ": row " + std::to_string(k + 2) + " lacks a problem or solver");
         out.push_back(r);
     }
@@ -197,6 +198,33 @@ bool is_crash(const std::string &status) { return status.compare(0, 5, "crash") 
 // The default solver (auto) against the best of frix's other solvers and the best of
 // Siconos's on each problem (the fastest that converged), and the geometric means of the three
 // with an unsolved problem counted at the time limit. Empty unless auto ran beside another solver.
+// Peak memory against the problem's size, per solver: the median over its runs of the peak
+// per contact and per stored 3x3 block of the problem (W's, or M's and H's).
+std::string memory_md(const Campaign &c) {
+    std::string md = "\n| solver | peak memory per contact (kB), median / max | per stored block of the problem (B), "
+                     "median / max |\n|---|---:|---:|\n";
+    bool any = false;
+    for (const std::string &s : c.solvers) {
+        std::vector<double> per_contact, per_block;
+        for (const std::string &p : c.problems) {
+            auto it = c.at.find({p, s});
+            if (it == c.at.end()) continue;
+            const RunRecord &r = *it->second;
+            if (!std::isfinite(r.peak_memory_mb)) continue;
+            if (r.contacts > 0) per_contact.push_back(r.peak_memory_mb * 1e3 / (double)r.contacts);
+            if (r.stored_blocks > 0) per_block.push_back(r.peak_memory_mb * 1e6 / r.stored_blocks);
+        }
+        const auto cell = [](std::vector<double> &v) {
+            if (v.empty()) return std::string("-");
+            std::sort(v.begin(), v.end());
+            return fmt("%.3g", v[v.size() / 2]) + " / " + fmt("%.3g", v.back());
+        };
+        any = any || !per_contact.empty();
+        md += "| " + s + " | " + cell(per_contact) + " | " + cell(per_block) + " |\n";
+    }
+    return any ? md : std::string();
+}
+
 std::string best_per_problem_md(const Campaign &c) {
     const bool have_auto = std::find(c.solvers.begin(), c.solvers.end(), "auto") != c.solvers.end();
     if (!have_auto || c.solvers.size() < 2) return "";
@@ -310,6 +338,7 @@ std::string summary_md(const Campaign &c) {
                       fmt("%.3g", geomean(penalized)).c_str(), peak.c_str());
         md += buf;
     }
+    md += memory_md(c);
     md += best_per_problem_md(c);
 
     // frix and Siconos side by side: the solvers that share an id are the same algorithm.

@@ -45,6 +45,7 @@ struct Solver {
 struct Problem {
     std::string path, name, family;
     std::int64_t contacts = 0, dofs = 0;
+    double stored_blocks = 0.0;  // see RunRecord
 };
 
 volatile std::sig_atomic_t g_interrupted = 0;
@@ -227,8 +228,12 @@ std::vector<Problem> collect_problems(const std::vector<std::string> &paths) {
             continue;
         }
         pr.contacts = frix_problem_contacts(p.get());
-        pr.dofs = frix_problem_get_kind(p.get()) == FRIX_PROBLEM_GLOBAL ? frix_problem_dofs(p.get())
-                                                                         : frix_problem_contact_dofs(p.get());
+        const bool global = frix_problem_get_kind(p.get()) == FRIX_PROBLEM_GLOBAL;
+        pr.dofs = global ? frix_problem_dofs(p.get()) : frix_problem_contact_dofs(p.get());
+        const auto entries = [](const frix_matrix *m) { return m ? (double)std::max<std::int64_t>(0, frix_matrix_nnz(m)) : 0.0; };
+        pr.stored_blocks = (global ? entries(frix_problem_M(p.get())) + entries(frix_problem_H(p.get()))
+                                   : entries(frix_problem_W(p.get()))) /
+                           9.0;
         out.push_back(pr);
     }
     if (out.empty()) usage_error("bench", "no readable problem among the paths given");
@@ -371,7 +376,7 @@ int run_campaign(const BenchArgs &a) {
             RunRecord &r = records[o.index];
             r = {p.name, p.family, p.contacts, p.dofs, s.name, s.id, o.status, o.iterations,
                  o.error, o.time, a.tol, a.time_limit, a.max_iter, o.reported_error, o.note,
-                 o.peak_memory / 1e6};
+                 o.peak_memory / 1e6, p.stored_blocks};
             // One rule for all: a result after the time limit does not count as converged
             // (frix's solvers stop themselves at it; Siconos's are only killed later).
             if (r.converged() && r.time > a.time_limit) {
