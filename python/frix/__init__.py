@@ -946,24 +946,19 @@ class Solver(_Closing):
         new = {}
         self._enter()
         try:
-            if p.kind == "local":
-                if W is None or q is None or H is not None or w is not None:
-                    raise InvalidArgumentError(-1, "frix: set_contacts of a local problem takes "
-                                               "W, q and mu")
-                new["W"] = _matrix(W, "W")
-                new["q"] = _vector(q, 3 * nc, "q")
-                new["mu"] = _vector(mu, nc, "mu")
-                _check(lib.frix_persistent_set_contacts_local(
-                    self._handle, new["W"], _ptr(new["q"]), _ptr(new["mu"]), nc))
-            else:
-                if H is None or w is None or W is not None or q is not None:
-                    raise InvalidArgumentError(-1, "frix: set_contacts of a global problem takes "
-                                               "H, w and mu")
-                new["H"] = _matrix(H, "H")
-                new["w"] = _vector(w, 3 * nc, "w")
-                new["mu"] = _vector(mu, nc, "mu")
-                _check(lib.frix_persistent_set_contacts_global(
-                    self._handle, new["H"], _ptr(new["w"]), _ptr(new["mu"]), nc))
+            local = p.kind == "local"
+            mat, vec = ("W", "q") if local else ("H", "w")
+            given = {"W": W, "q": q, "H": H, "w": w}
+            if given[mat] is None or given[vec] is None or any(
+                    given[k] is not None for k in given if k not in (mat, vec)):
+                raise InvalidArgumentError(-1, f"frix: set_contacts of a {p.kind} problem takes "
+                                           f"{mat}, {vec} and mu")
+            new[mat] = _matrix(given[mat], mat)
+            new[vec] = _vector(given[vec], 3 * nc, vec)
+            new["mu"] = _vector(mu, nc, "mu")
+            setter = (lib.frix_persistent_set_contacts_local if local
+                      else lib.frix_persistent_set_contacts_global)
+            _check(setter(self._handle, new[mat], _ptr(new[vec]), _ptr(new["mu"]), nc))
         except BaseException:
             for key in ("W", "H"):
                 if key in new:
