@@ -231,6 +231,26 @@ START_TEST(test_csv_files) {
 }
 END_TEST
 
+/* A solver with options of its own (NAME@OPTION=VALUE) is a solver of its own in the tables,
+ * and its option reaches the run: relaxation 0.5 changes the sweeps. */
+START_TEST(test_solver_options) {
+    fresh_dir(TMP "/opts/problems");
+    make_problem(TMP "/opts/problems/p.hdf5");
+    const char *args[] = {"bench", TMP "/opts/problems", "--solvers", "nsgs,nsgs@relaxation=0.5", "--tol", "1e-10",
+                          "--time-limit", "5", "--out", TMP "/opts/out", "--no-plots", NULL};
+    ck_assert_int_eq(cli_exit_code(args), 0);
+    csv *runs = csv_read(TMP "/opts/out/runs.csv");
+    ck_assert_int_eq(runs->rows, 3);
+    ck_assert_str_eq(csv_get(runs, 1, "solver"), "nsgs");
+    ck_assert_str_eq(csv_get(runs, 2, "solver"), "nsgs@relaxation=0.5");
+    ck_assert_str_eq(csv_get(runs, 2, "status"), "converged");
+    ck_assert_int_gt(atoi(csv_get(runs, 2, "iterations")), atoi(csv_get(runs, 1, "iterations")));
+    csv_free(runs);
+    const char *bad[] = {"bench", TMP "/opts/problems", "--solvers", "nsgs@nosuch=1", "--out", TMP "/never", NULL};
+    ck_assert_int_eq(cli_exit_code(bad), 2);
+}
+END_TEST
+
 START_TEST(test_usage_errors) {
     const char *no_out[] = {"bench", FRIX_TEST_TMPDIR, "--solvers", "nsgs", NULL};
     ck_assert_int_eq(cli_exit_code(no_out), 2);
@@ -525,6 +545,7 @@ int main(void) {
     tcase_set_timeout(tc, 120);
     tcase_add_test(tc, test_csv_files);
     tcase_add_test(tc, test_usage_errors);
+    tcase_add_test(tc, test_solver_options);
     tcase_add_test(tc, test_profile_known_values);
     tcase_add_test(tc, test_best_per_problem);
     tcase_add_test(tc, test_isolation);

@@ -37,9 +37,10 @@ struct BenchArgs {
 };
 
 struct Solver {
-    std::string name;  // "nsgs", "siconos:NSGS"
+    std::string name;  // "nsgs", "siconos:NSGS", "gnsgs@threads=2"
     int id = 0;
     bool siconos = false;
+    std::vector<std::string> settings;  // frix's: "NAME=VALUE", passed to bench-run as --set
 };
 
 struct Problem {
@@ -164,13 +165,25 @@ std::vector<Solver> resolve_solvers(const std::string &list, const std::string &
         } else if (item == "all") {
             for (int64_t k = 0; k < frix_solver_count(); ++k) {
                 int id = frix_solver_id_at(k);
-                add({frix_solver_name(id), id, false});
+                add({frix_solver_name(id), id, false, {}});
             }
         } else {
+            // NAME@OPTION=VALUE@...: a frix solver with options of its own.
+            std::vector<std::string> parts = split(item, '@');
             int id = 0;
-            if (frix_solver_by_name(item.c_str(), &id) != FRIX_OK)
-                usage_error("bench", "unknown solver '" + item + "' (see 'frix solvers')");
-            add({frix_solver_name(id), id, false});
+            if (frix_solver_by_name(parts[0].c_str(), &id) != FRIX_OK)
+                usage_error("bench", "unknown solver '" + parts[0] + "' (see 'frix solvers')");
+            Solver s{frix_solver_name(id), id, false, {}};
+            for (std::size_t k = 1; k < parts.size(); ++k) {
+                const std::size_t eq = parts[k].find('=');
+                frix_option_key key{};
+                if (eq == std::string::npos || eq + 1 == parts[k].size() ||
+                    frix_option_by_name(parts[k].substr(0, eq).c_str(), &key) != FRIX_OK)
+                    usage_error("bench", "'" + item + "': expected SOLVER@OPTION=VALUE with an option of 'frix solvers'");
+                s.settings.push_back(parts[k]);
+                s.name += "@" + parts[k];
+            }
+            add(s);
         }
     }
     if (out.empty()) usage_error("bench", "no solver to run");
@@ -363,8 +376,12 @@ int run_campaign(const BenchArgs &a) {
                              "--max-iter", std::to_string(a.max_iter)};
             } else {
                 std::snprintf(num, sizeof num, "%.17g", a.time_limit);
-                spec.argv = {self + "/frix", "bench-run", p.path, "--solver", s.name, "--tol", tol,
+                spec.argv = {self + "/frix", "bench-run", p.path, "--solver", frix_solver_name(s.id), "--tol", tol,
                              "--max-iter", std::to_string(a.max_iter), "--time-limit", num};
+                for (const std::string &kv : s.settings) {
+                    spec.argv.push_back("--set");
+                    spec.argv.push_back(kv);
+                }
             }
             runner.start(spec);
             progress.running(done, running_text(next));

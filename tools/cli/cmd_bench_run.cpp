@@ -73,6 +73,7 @@ void set_option(frix_options *o, frix_option_key key, double value, const char *
 int cmd_bench_run(int argc, char **argv) {
     ArgCursor args("bench-run", argc, argv);
     std::string file, solver, v;
+    std::vector<std::pair<frix_option_key, double>> settings;  // --set NAME=VALUE
     double tol = 1e-8, time_limit = 0;
     int64_t max_iter = 0;
     int fd = -1;
@@ -87,6 +88,12 @@ int cmd_bench_run(int argc, char **argv) {
             time_limit = parse_double("bench-run", "--time-limit", v);
         } else if (args.option("--fd", v)) {
             fd = static_cast<int>(parse_int("bench-run", "--fd", v));
+        } else if (args.option("--set", v)) {
+            const std::size_t eq = v.find('=');
+            frix_option_key key{};
+            if (eq == std::string::npos || frix_option_by_name(v.substr(0, eq).c_str(), &key) != FRIX_OK)
+                usage_error("bench-run", "--set expects a known NAME=VALUE, got '" + v + "'");
+            settings.push_back({key, parse_double("bench-run", "--set", v.substr(eq + 1))});
         } else if (args.at_option()) {
             args.unknown_option();
         } else {
@@ -109,6 +116,7 @@ int cmd_bench_run(int argc, char **argv) {
     set_option(opts.get(), FRIX_OPT_TOLERANCE, tol, "--tol");
     if (max_iter > 0) set_option(opts.get(), FRIX_OPT_MAX_ITER, static_cast<double>(max_iter), "--max-iter");
     set_option(opts.get(), FRIX_OPT_TIME_LIMIT, time_limit, "--time-limit");
+    for (const auto &kv : settings) set_option(opts.get(), kv.first, kv.second, frix_option_name(kv.first));
     Stream stream{{}, fd};
     frix_options_set_callback(opts.get(), on_progress, &stream);
 
