@@ -6,21 +6,16 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <vector>
-
-// OpenMP pragmas, only where the compiler builds them (elsewhere the loops run on one thread).
-#ifdef _OPENMP
-#define FRIX_OMP(directive) _Pragma(#directive)
-#else
-#define FRIX_OMP(directive)
-#endif
 
 #include "solvers/local3x3.hpp"
 #include "src/matrix.hpp"
 #include "src/problem.hpp"
 #include "src/solver_api.hpp"
+#include "src/thread_team.hpp"
 
 namespace frix {
 
@@ -122,11 +117,12 @@ class Workspace {
     template <class LocalQ, class Step, class Moved>
     SweepStats sweep_loop(double *r, LocalQ &&local_q, Step &&step, Moved &&moved);
     // Sweeps colour by colour, in the colouring's order, each colour's contacts split among
-    // `threads` threads: local_q and moved of two contacts of one colour must touch disjoint
+    // the team's threads: local_q and moved of two contacts of one colour must touch disjoint
     // data. The iterates and the statistics (summed in contact order) do not depend on the
     // number of threads. The settings' shuffle does not apply: the colouring fixes the order.
     template <class LocalQ, class Moved>
-    SweepStats sweep_coloured(double *r, const Colouring &colouring, int threads, LocalQ &&local_q, Moved &&moved);
+    SweepStats sweep_coloured(double *r, const Colouring &colouring, ThreadTeam &team, LocalQ &&local_q,
+                              Moved &&moved);
     // sweep_loop with the settings' one-contact solver.
     template <class LocalQ, class Moved>
     SweepStats sweep_loop(double *r, LocalQ &&local_q, Moved &&moved) {
@@ -210,16 +206,20 @@ SweepStats Workspace::sweep_loop(double *r, LocalQ &&local_q, Step &&step, Moved
     return st;
 }
 
+// Contacts of a colour handed to a thread at a time: per-contact work varies (a separated
+// contact costs little, a sliding one a root search).
+constexpr int64_t kColourChunk = 128;
+
 template <class LocalQ, class Moved>
-SweepStats Workspace::sweep_coloured(double *r, const Colouring &colouring, int threads, LocalQ &&local_q,
+SweepStats Workspace::sweep_coloured(double *r, const Colouring &colouring, ThreadTeam &team, LocalQ &&local_q,
                                      Moved &&moved) {
     const int64_t nc = (int64_t)contacts_.size(), colours = colouring.colours();
     contact_dr2_.resize((size_t)nc);
     contact_r2_.resize((size_t)nc);
     int64_t *frozen = frozen_.empty() ? nullptr : frozen_.data();
     const local::Params lp = s_.local;
-    int64_t rejected = 0, unsolved = 0, skipped = 0;
-    // Contact a's step; its counts go to the calling thread's sums (integers: exact in any order).
+    std::atomic<int64_t> rejected{0}, unsolved{0}, skipped{0};
+    // Contact a's step; its counts go to the chunk's sums (integers: exact in any order).
     const auto visit = [&](int64_t a, int64_t &rej, int64_t &uns, int64_t &skip) {
         double *ra = r + 3 * a, dr2 = 0.0;
         if (frozen && frozen[a] > 0) {
@@ -243,20 +243,18 @@ SweepStats Workspace::sweep_coloured(double *r, const Colouring &colouring, int 
         contact_dr2_[(size_t)a] = dr2;
         contact_r2_[(size_t)a] = ra[0] * ra[0] + ra[1] * ra[1] + ra[2] * ra[2];
     };
-    if (threads > 1) {
-        FRIX_OMP(omp parallel num_threads(threads) reduction(+ : rejected, unsolved, skipped))
-        for (int64_t k = 0; k < colours; ++k) {
-            FRIX_OMP(omp for schedule(dynamic, 128))
-            for (int64_t i = colouring.ptr[(size_t)k]; i < colouring.ptr[(size_t)k + 1]; ++i)
-                visit(colouring.contacts[(size_t)i], rejected, unsolved, skipped);
-        }
-    } else {
-        for (int64_t i = 0; i < nc; ++i) visit(colouring.contacts[(size_t)i], rejected, unsolved, skipped);
+    for (int64_t k = 0; k < colours; ++k) {
+        const int64_t first = colouring.ptr[(size_t)k];
+        team.for_chunks(colouring.ptr[(size_t)k + 1] - first, kColourChunk, [&](int64_t begin, int64_t end) {
+            int64_t rej = 0, uns = 0, skip = 0;
+            for (int64_t i = first + begin; i < first + end; ++i) visit(colouring.contacts[(size_t)i], rej, uns, skip);
+            rejected += rej, unsolved += uns, skipped += skip;
+        });
     }
     SweepStats st;
-    st.rejected = rejected;
-    st.unsolved = unsolved;
-    st.frozen = skipped;
+    st.rejected = rejected.load();
+    st.unsolved = unsolved.load();
+    st.frozen = skipped.load();
     for (int64_t a = 0; a < nc; ++a) {  // in contact order, whatever the threads
         st.dr2 += contact_dr2_[(size_t)a];
         st.r2 += contact_r2_[(size_t)a];

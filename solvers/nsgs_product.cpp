@@ -25,7 +25,7 @@ namespace {
 class ProductForm : public SweepForm {
    public:
     ProductForm(const frix_problem &p, double *v, int threads)
-        : p_(p), v_(v), norm_w_(norm2(p.w, 3 * p.nc)), threads_(threads) {}
+        : p_(p), v_(v), norm_w_(norm2(p.w, 3 * p.nc)), team_(threads) {}
 
     frix_error setup() {
         if (frix_error e = to_csc(*p_.M, M_)) return e;
@@ -88,7 +88,7 @@ class ProductForm : public SweepForm {
             for (int e = 0; e < 3; ++e) ql[e] = s[e] - (Wd[e] * ra[0] + Wd[e + 3] * ra[1] + Wd[e + 6] * ra[2]);
         };
         const auto moved = [this, v](int64_t a, const double *dr) { add_g(a, dr, v); };
-        return ws.sweep_coloured(r, slots_, threads_, local_q, moved);
+        return ws.sweep_coloured(r, slots_, team_, local_q, moved);
     }
     Measures exact(const double *r, double *u) override {
         restart(r, u);
@@ -339,7 +339,7 @@ class ProductForm : public SweepForm {
     std::vector<int64_t> contact_of_slot_;
     Colouring slots_;  // the colours as ranges of slots
     std::vector<double> w_, mu_;
-    int threads_;
+    ThreadTeam team_;
 };
 
 frix_error solve(SolveContext &ctx) {

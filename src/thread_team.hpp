@@ -1,0 +1,108 @@
+// A team of threads for the loops of one solve: the caller and threads - 1 workers take the
+// chunks of a range in turn. Waiting spins briefly, then sleeps: with more threads than free
+// cores (other processes, other teams), spinning workers would take the cores from the ones
+// with work (an OpenMP runtime's spinning barriers made a sweep many times slower there).
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace frix {
+
+class ThreadTeam {
+   public:
+    explicit ThreadTeam(int threads) {
+        for (int k = 1; k < threads; ++k) workers_.emplace_back([this] { work(); });
+    }
+    ~ThreadTeam() {
+        {
+            const std::lock_guard<std::mutex> lock(mutex_);
+            stop_ = true;
+            generation_.fetch_add(1, std::memory_order_release);
+        }
+        wake_.notify_all();
+        for (std::thread &t : workers_) t.join();
+    }
+    ThreadTeam(const ThreadTeam &) = delete;
+    ThreadTeam &operator=(const ThreadTeam &) = delete;
+
+    int size() const { return (int)workers_.size() + 1; }
+
+    // body(begin, end) over [0, n) in chunks of `chunk`, each taken by whichever thread is free
+    // (the caller too); returns when every chunk is done. Which thread runs a chunk must not
+    // change the result.
+    void for_chunks(int64_t n, int64_t chunk, const std::function<void(int64_t, int64_t)> &body) {
+        if (workers_.empty() || n <= chunk) {
+            if (n > 0) body(0, n);
+            return;
+        }
+        {
+            const std::lock_guard<std::mutex> lock(mutex_);
+            body_ = &body;
+            n_ = n;
+            chunk_ = chunk;
+            next_.store(0, std::memory_order_relaxed);
+            busy_.store((int)workers_.size(), std::memory_order_relaxed);
+            generation_.fetch_add(1, std::memory_order_release);
+        }
+        wake_.notify_all();
+        take_chunks();
+        // The workers' ends: spin a little, then sleep until the last one says so.
+        for (int spin = 0; busy_.load(std::memory_order_acquire) > 0; ++spin) {
+            if (spin < kSpins) continue;
+            std::unique_lock<std::mutex> lock(mutex_);
+            done_.wait(lock, [this] { return busy_.load(std::memory_order_acquire) == 0; });
+        }
+        body_ = nullptr;
+    }
+
+   private:
+    static constexpr int kSpins = 4000;  // a few microseconds
+
+    void take_chunks() {
+        for (;;) {
+            const int64_t begin = next_.fetch_add(chunk_, std::memory_order_relaxed);
+            if (begin >= n_) return;
+            (*body_)(begin, begin + chunk_ < n_ ? begin + chunk_ : n_);
+        }
+    }
+
+    void work() {
+        uint64_t seen = 0;
+        for (;;) {
+            // A new job: spin a little, then sleep until one comes.
+            for (int spin = 0; generation_.load(std::memory_order_acquire) == seen; ++spin) {
+                if (spin < kSpins) continue;
+                std::unique_lock<std::mutex> lock(mutex_);
+                wake_.wait(lock, [&] { return generation_.load(std::memory_order_acquire) != seen; });
+            }
+            {
+                const std::lock_guard<std::mutex> lock(mutex_);
+                seen = generation_.load(std::memory_order_acquire);
+                if (stop_) return;
+            }
+            take_chunks();
+            if (busy_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+                const std::lock_guard<std::mutex> lock(mutex_);  // the caller may be going to sleep
+                done_.notify_one();
+            }
+        }
+    }
+
+    std::vector<std::thread> workers_;
+    std::mutex mutex_;
+    std::condition_variable wake_, done_;
+    std::atomic<uint64_t> generation_{0};
+    std::atomic<int64_t> next_{0};
+    std::atomic<int> busy_{0};
+    bool stop_ = false;
+    const std::function<void(int64_t, int64_t)> *body_ = nullptr;
+    int64_t n_ = 0, chunk_ = 1;
+};
+
+}  // namespace frix
