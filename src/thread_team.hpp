@@ -35,9 +35,10 @@ class ThreadTeam {
 
     // body(begin, end) over [0, n) in chunks of `chunk`, each taken by whichever thread is free
     // (the caller too); returns when every chunk is done. Which thread runs a chunk must not
-    // change the result.
+    // change the result. A range of fewer than two chunks a thread runs on the caller alone:
+    // waking the workers would cost more than they save.
     void for_chunks(int64_t n, int64_t chunk, const std::function<void(int64_t, int64_t)> &body) {
-        if (workers_.empty() || n <= chunk) {
+        if (workers_.empty() || n < 2 * chunk * size()) {
             if (n > 0) body(0, n);
             return;
         }
