@@ -1332,8 +1332,7 @@ frix_error reduce_then_newton(SolveContext &ctx, int64_t max_iter, int64_t reduc
 // Rigid bodies whose W would be large and hold more entries than M^-1 H: NSGS without W
 // (gnsgs, the caller's threads) with half the iterations, under the NSGS rate watch from
 // kProductPatience sweeps on; where it misses the tolerance, the reduction route from its
-// answer with what is left. ctx.info becomes the
-// route's info, `trace` gets its stages.
+// answer with what is left. ctx.info becomes the route's info, `trace` gets its stages.
 frix_error product_then_reduce(SolveContext &ctx, int64_t max_iter, bool may_reduce, SolveCache *cache,
                                std::vector<TraceEvent> &trace) {
     frix_info &info = ctx.info;
