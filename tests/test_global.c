@@ -304,7 +304,7 @@ START_TEST(small_problems_stored_as_csc) {
 }
 END_TEST
 
-/* gnsgs (902) at tolerance tol from r = 0: its status, sweeps, and the error and equilibrium
+/* `solver` at tolerance tol from r = 0: its status, sweeps, and the error and equilibrium
  * measured afresh. */
 static outcome solve_at(const frix_problem *p, int solver, double tol, int64_t *iterations) {
     const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);

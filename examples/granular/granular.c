@@ -333,6 +333,19 @@ static void warm_start(const contacts *now, const contacts *before, const double
     }
 }
 
+/* *p reallocated to n entries (kept as it was when that fails). */
+static int grow_doubles(double **p, int64_t n) {
+    double *q = realloc(*p, sizeof *q * (size_t)n);
+    if (q) *p = q;
+    return q != NULL;
+}
+
+static int grow_indices(int64_t **p, int64_t n) {
+    int64_t *q = realloc(*p, sizeof *q * (size_t)n);
+    if (q) *p = q;
+    return q != NULL;
+}
+
 static int fail(const char *what, frix_error e) {
     fprintf(stderr, "granular: %s: %s (%s)\n", what, frix_error_string(e), frix_last_error_message());
     return 2;
@@ -364,7 +377,7 @@ int main(int argc, char **argv) {
     int64_t *cell_start = NULL, cells_capacity = 0, *order = malloc(sizeof *order * (size_t)n);
     int64_t *hr = NULL, *hc = NULL;
     double *hv = NULL, *wv = NULL, *mu = NULL, *r = NULL, *u = NULL, *r_before = NULL;
-    int64_t h_capacity = 0, c_capacity = 0;
+    int64_t c_capacity = 0;
     frix_matrix *M = NULL, *H = NULL, *H_next = NULL;
     frix_problem *problem = NULL;
     frix_persistent *ps = NULL;
@@ -411,27 +424,15 @@ int main(int argc, char **argv) {
         const int64_t nc = now.count;
         if (nc > c_capacity || !r) {
             const int64_t cap = nc > 2 * c_capacity ? nc : 2 * c_capacity + 1;
-            double *nw = realloc(wv, sizeof *nw * 3 * (size_t)cap), *nm = realloc(mu, sizeof *nm * (size_t)cap);
-            wv = nw ? nw : wv;
-            mu = nm ? nm : mu;
-            double *nr = realloc(r, sizeof *nr * 3 * (size_t)cap), *nu = realloc(u, sizeof *nu * 3 * (size_t)cap);
-            r = nr ? nr : r;
-            u = nu ? nu : u;
-            double *nb = realloc(r_before, sizeof *nb * 3 * (size_t)cap);
-            r_before = nb ? nb : r_before;
-            int64_t *nhr = realloc(hr, sizeof *nhr * 36 * (size_t)cap), *nhc = realloc(hc, sizeof *nhc * 36 * (size_t)cap);
-            hr = nhr ? nhr : hr;
-            hc = nhc ? nhc : hc;
-            double *nhv = realloc(hv, sizeof *nhv * 36 * (size_t)cap);
-            hv = nhv ? nhv : hv;
-            if (!nw || !nm || !nr || !nu || !nb || !nhr || !nhc || !nhv) {
+            if (!grow_doubles(&wv, 3 * cap) || !grow_doubles(&mu, cap) || !grow_doubles(&r, 3 * cap) ||
+                !grow_doubles(&u, 3 * cap) || !grow_doubles(&r_before, 3 * cap) || !grow_indices(&hr, 36 * cap) ||
+                !grow_indices(&hc, 36 * cap) || !grow_doubles(&hv, 36 * cap)) {
                 fprintf(stderr, "granular: out of memory\n");
                 status = 2;
                 goto done;
             }
-            c_capacity = h_capacity = cap;
+            c_capacity = cap;
         }
-        (void)h_capacity;
         const int64_t entries = assemble_h(&w, &now, hr, hc, hv);
         if ((e = frix_matrix_from_triplets(dofs, 3 * nc, entries, hr, hc, hv, &H_next))) {
             failed = "H";
