@@ -922,18 +922,29 @@ class Solver(_Closing):
                     self._handle, new.get("M"), new.get("H"), _ptr(new.get("f")),
                     _ptr(new.get("w")), _ptr(new.get("mu"))))
         except BaseException:
-            for key in ("W", "M", "H"):
-                if key in new:
-                    lib.frix_matrix_free(new[key])
+            self._discard(new)
             raise
         else:
-            for key, value in new.items():
-                old = self._kept.get(key)
-                if key in ("W", "M", "H") and old is not None:
-                    lib.frix_matrix_free(old)
-                self._kept[key] = value
+            self._keep(new)
         finally:
             self._exit()
+
+    _MATRICES = ("W", "M", "H")
+
+    @staticmethod
+    def _discard(new):
+        """Frees the matrices made for a call that was refused."""
+        for key in Solver._MATRICES:
+            if key in new:
+                lib.frix_matrix_free(new[key])
+
+    def _keep(self, new):
+        """What the persistent solver now borrows, in place of what it borrowed before."""
+        for key, value in new.items():
+            old = self._kept.get(key)
+            if key in Solver._MATRICES and old is not None:
+                lib.frix_matrix_free(old)
+            self._kept[key] = value
 
     def set_contacts(self, mu, W=None, q=None, H=None, w=None):
         """The next step's contacts, whatever their number nc = len(mu): W (3nc x 3nc) and q
@@ -960,16 +971,10 @@ class Solver(_Closing):
                       else lib.frix_persistent_set_contacts_global)
             _check(setter(self._handle, new[mat], _ptr(new[vec]), _ptr(new["mu"]), nc))
         except BaseException:
-            for key in ("W", "H"):
-                if key in new:
-                    lib.frix_matrix_free(new[key])
+            self._discard(new)
             raise
         else:
-            for key, value in new.items():
-                old = self._kept.get(key)
-                if key in ("W", "H") and old is not None:
-                    lib.frix_matrix_free(old)
-                self._kept[key] = value
+            self._keep(new)
             self._contacts = nc
             self._r, self._u = np.zeros(3 * nc), np.zeros(3 * nc)
             self._addresses = (self._r.ctypes.data, self._u.ctypes.data,
