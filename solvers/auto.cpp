@@ -1329,6 +1329,24 @@ frix_error w_free_route(SolveContext &ctx, int64_t max_iter, SolveCache *reducti
 
 frix_error reduce_then_newton(SolveContext &ctx, int64_t max_iter, int64_t reduction_iter, SolveCache *cache);
 
+// After a route that missed the tolerance: the reduction route with `left` iterations, from
+// `from` (null: from the route's answer), the better of the two answers kept; ctx.info sums
+// both routes' work, `trace` gets the reduction's stages.
+frix_error reduce_after(SolveContext &ctx, int64_t left, SolveCache *cache, const GlobalAnswer *from,
+                        std::vector<TraceEvent> &trace) {
+    frix_info &info = ctx.info;
+    const frix_info before = info;
+    const GlobalAnswer answer(ctx, info);
+    if (from) from->put_back(ctx);
+    if (frix_error e = reduce_then_newton(ctx, left, left / 2, cache)) return e;
+    answer.restore_if_better(ctx, info);
+    trace.insert(trace.end(), info.trace.begin(), info.trace.end());
+    Monitor::add_work(info, before);
+    info.iterations += before.iterations;
+    info.switches += before.switches + 1;
+    return FRIX_OK;
+}
+
 // Rigid bodies whose W would be large and hold more entries than M^-1 H: NSGS without W
 // (gnsgs, the caller's threads) with half the iterations, under the NSGS rate watch from
 // kProductPatience sweeps on; where it misses the tolerance, the reduction route from its
@@ -1356,15 +1374,7 @@ frix_error product_then_reduce(SolveContext &ctx, int64_t max_iter, bool may_red
         if (info.status == FRIX_STATUS_STOPPED_BY_CALLBACK && dog.stopped_by_watchdog) info.status = FRIX_STATUS_STAGNATED;
         return FRIX_OK;
     }
-    const frix_info before = info;
-    const GlobalAnswer product_answer(ctx, info);
-    if (frix_error e = reduce_then_newton(ctx, left, left / 2, cache)) return e;
-    product_answer.restore_if_better(ctx, info);
-    trace.insert(trace.end(), info.trace.begin(), info.trace.end());
-    Monitor::add_work(info, before);
-    info.iterations += before.iterations;
-    info.switches += before.switches + 1;
-    return FRIX_OK;
+    return reduce_after(ctx, left, cache, nullptr, trace);
 }
 
 // The reduction route on a global problem: the local strategy on W = H^T M^-1 H with
@@ -1503,18 +1513,10 @@ frix_error solve(SolveContext &ctx) {
             after.error = info.error;
             after.value = info.equilibrium;
             trace.push_back(after);
-            const frix_info before = info;
-            const GlobalAnswer w_free_answer(ctx, info);
             // From the caller's start, not from that answer: on such a body r is far from
             // unique, and the reduction's own path leads where the equilibrium's rounding is
             // smaller relative to H r.
-            start.put_back(ctx);
-            if (frix_error e = reduce_then_newton(ctx, left, left / 2, reduction)) return e;
-            w_free_answer.restore_if_better(ctx, info);
-            trace.insert(trace.end(), info.trace.begin(), info.trace.end());
-            Monitor::add_work(info, before);
-            info.iterations += before.iterations;
-            info.switches += before.switches + 1;
+            if (frix_error e = reduce_after(ctx, left, reduction, &start, trace)) return e;
         }
     } else {
         // Forming W would overrun a limit, and M + H H^T has no Cholesky factor or would not
