@@ -81,9 +81,13 @@ Measures measures_from_ru(const double *r, const double *u, const double *mu, in
         m.complementarity = std::max(m.complementarity,
                                      std::fabs(ra[0] * uhat_n + ra[1] * ua[1] + ra[2] * ua[2]));
     }
-    m.norm_q = norm_q;
     m.norm_r = norm2(r, 3 * nc);
     m.norm_u = norm2(u, 3 * nc);
+    return with_norm_q(m, norm_q);
+}
+
+Measures with_norm_q(Measures m, double norm_q) {
+    m.norm_q = norm_q;
     // Siconos 4.4 divides only when the scale is meaningful (fc3d_compute_error).
     const double scale = std::max({m.norm_q, m.norm_r, m.norm_u});
     m.relative = scale > DBL_EPSILON ? m.residual_absolute / scale : m.residual_absolute;

@@ -27,6 +27,10 @@ double norm2(const double *x, int64_t n);
 Measures measures_from_ru(const double *r, const double *u, const double *mu, int64_t nc,
                           double norm_q);
 
+// m's errors on another scale: norm_q replaced (a reduced problem's answer measured as the
+// global problem's, |w| for |q|: the residual, r and u are the same).
+Measures with_norm_q(Measures m, double norm_q);
+
 // Computes u = W r + q (into u) and the measures of a local problem.
 Measures local_measures(const frix_problem &p, const double *r, double *u);
 

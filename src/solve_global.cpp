@@ -35,15 +35,15 @@ constexpr int kGlobalStateKey = 0;  // no solver has id 0
 // from its answer to the tolerance tightened by the ratio of the two errors, at most twice.
 constexpr int kTightenedPasses = 2;
 
+// `measures`: the local solve's final measures, which go on with it.
 frix_error tighten_to_global_measure(const frix_problem &p, const frix_problem &local, const frix_options &opts,
-                                     const SolverEntry &entry, const MassSolver &ms, double *r, double *u, double *v,
-                                     frix_info &info, const Stopwatch &clock, SolveCache *local_cache) {
-    const double tol = opts.d(FRIX_OPT_TOLERANCE);
+                                     const SolverEntry &entry, double *r, double *u, frix_info &info,
+                                     const Stopwatch &clock, SolveCache *local_cache, Measures &measures) {
+    const double tol = opts.d(FRIX_OPT_TOLERANCE), norm_w = norm2(p.w, 3 * p.nc);
     const int64_t measure = opts.i(FRIX_OPT_ERROR_MEASURE), max_iter = opts.i(FRIX_OPT_MAX_ITER);
-    std::vector<double> u_global((size_t)(3 * p.nc));
     for (int pass = 0; pass < kTightenedPasses && info.status == FRIX_STATUS_CONVERGED; ++pass) {
-        if (frix_error e = recover_velocity(p, ms, r, v)) return e;
-        const double global = selected_error(global_measures(p, r, v, u_global.data(), nullptr), measure);
+        // The global measure of (r, M^-1 (H r + f)) up to rounding: u = W r + q = H^T v + w.
+        const double global = selected_error(with_norm_q(measures, norm_w), measure);
         if (!(global > tol) || !(info.error > 0.0) || !(global > info.error) || info.iterations >= max_iter) break;
         frix_options tighter = opts;
         tighter.dvalue[FRIX_OPT_TOLERANCE] = 0.5 * tol * info.error / global;
@@ -52,7 +52,8 @@ frix_error tighten_to_global_measure(const frix_problem &p, const frix_problem &
         more.solver_id = info.solver_id;
         more.contacts = info.contacts;
         more.tolerance = tighter.dvalue[FRIX_OPT_TOLERANCE];
-        if (frix_error e = solve_local_problem(local, tighter, entry, r, u, more, clock, local_cache)) return e;
+        if (frix_error e = solve_local_problem(local, tighter, entry, r, u, more, clock, local_cache, &measures))
+            return e;
         Monitor::add_work(more, info);
         more.iterations += info.iterations;
         more.tolerance = info.tolerance;
@@ -117,8 +118,9 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
         }
         local_cache = &kept->local;
     }
-    frix_error err = solve_local_problem(*local, opts, entry, r, u, info, clock, local_cache);
-    if (!err) err = tighten_to_global_measure(p, *local, opts, entry, ms, r, u, v, info, clock, local_cache);
+    Measures measures;
+    frix_error err = solve_local_problem(*local, opts, entry, r, u, info, clock, local_cache, &measures);
+    if (!err) err = tighten_to_global_measure(p, *local, opts, entry, r, u, info, clock, local_cache, measures);
     if (kept) {
         kept->W = std::move(W);
         kept->w_from_m = cache->m_values;
