@@ -1,5 +1,7 @@
 #include "hdf5_file.hpp"
 
+#include <cstring>
+
 namespace frix::fclib {
 
 Handle &Handle::operator=(Handle &&other) noexcept {
@@ -57,6 +59,16 @@ std::string hdf5_error_detail() {
     std::string detail;
     H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, keep_innermost, &detail);
     return detail;
+}
+
+long hdf5_signature_offset(std::FILE *file) {
+    static const unsigned char kSignature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+    for (long offset = 0; offset <= (1L << 30); offset = offset == 0 ? 512 : 2 * offset) {
+        unsigned char head[8];
+        if (std::fseek(file, offset, SEEK_SET) != 0 || std::fread(head, 1, 8, file) != 8) return -1;
+        if (std::memcmp(head, kSignature, 8) == 0) return offset;
+    }
+    return -1;
 }
 
 }  // namespace frix::fclib

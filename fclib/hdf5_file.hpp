@@ -4,6 +4,7 @@
 
 #include <hdf5.h>
 
+#include <cstdio>
 #include <mutex>
 #include <string>
 
@@ -66,5 +67,9 @@ class Session {
 // first detected, e.g. "file signature not found"), or "" when the stack is empty. Must be
 // called right after the failing HDF5 call: the next HDF5 call clears the stack.
 std::string hdf5_error_detail();
+
+// Where HDF5's 8-byte signature (and so the superblock) starts: offset 0, or after a user
+// block of 512, 1024, 2048, ... bytes, as HDF5 itself searches; -1 when there is none.
+long hdf5_signature_offset(std::FILE *file);
 
 }  // namespace frix::fclib

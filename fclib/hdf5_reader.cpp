@@ -40,6 +40,54 @@ H5I_type_t object_type(hid_t file, const std::string &name) {
     return object.valid() ? H5Iget_type(object.get()) : H5I_BADID;
 }
 
+// What is wrong with a version 0 or 1 superblock that HDF5 1.10 would size buffers from
+// before it fails (it asks for gigabytes on some corrupt files), or nullptr. Checked: the
+// reserved bytes are zero; the sizes of offsets and lengths are among 2, 4, 8, 16, 32 (the
+// format's); the groups' B-tree ranks K are within 1..kMaxGroupRank (writers keep HDF5's
+// defaults, 4 and 16); a driver information block lies, with the length it declares, inside
+// the file. Other versions and a file without the signature are left to HDF5.
+const char *corrupt_superblock(std::FILE *file, uint64_t file_size) {
+    const long at = hdf5_signature_offset(file);
+    unsigned char sb[160];
+    if (at < 0 || std::fseek(file, at, SEEK_SET) != 0) return nullptr;
+    const size_t got = std::fread(sb, 1, sizeof sb, file);
+    if (got < 20 || sb[8] > 1) return nullptr;
+    constexpr unsigned kMaxGroupRank = 1024;
+    auto size_ok = [](unsigned char v) { return v == 2 || v == 4 || v == 8 || v == 16 || v == 32; };
+    auto rank_ok = [](const unsigned char *le16) {
+        const unsigned k = le16[0] | (unsigned)le16[1] << 8;
+        return k >= 1 && k <= kMaxGroupRank;
+    };
+    if (sb[11] != 0 || sb[15] != 0) return "a reserved byte is set";
+    if (!size_ok(sb[13]) || !size_ok(sb[14])) return "sizes of offsets or lengths";
+    if (!rank_ok(sb + 16) || !rank_ok(sb + 18)) return "group B-tree rank";
+
+    // Base, free-space, end-of-file and driver-information addresses follow the flags (and,
+    // in version 1, the indexed-storage rank). HDF5 reads an address of all ones as
+    // undefined and keeps the low 8 bytes of a longer one; it locates the driver block from
+    // where the superblock is.
+    const unsigned offsets = sb[13];
+    const size_t driver_field = (sb[8] == 0 ? 24 : 28) + 3 * size_t{offsets};
+    if (got < driver_field + offsets) return nullptr;
+    bool undefined = true;
+    uint64_t driver = 0;
+    for (unsigned b = 0; b < offsets; ++b) {
+        const unsigned char c = sb[driver_field + b];
+        undefined = undefined && c == 0xff;
+        if (b < 8) driver |= uint64_t{c} << (8 * b);
+    }
+    if (undefined) return nullptr;
+    constexpr uint64_t kDriverHeader = 16;  // version, 3 reserved, 4-byte length, 8-byte name
+    const uint64_t start = static_cast<uint64_t>(at) + driver;  // no overflow: checked against the size first
+    unsigned char head[kDriverHeader];
+    if (file_size < kDriverHeader || driver > file_size || start > file_size - kDriverHeader ||
+        std::fseek(file, static_cast<long>(start), SEEK_SET) != 0 || std::fread(head, 1, sizeof head, file) != sizeof head)
+        return "the driver information block lies beyond the end of the file";
+    const uint64_t length = head[4] | uint64_t{head[5]} << 8 | uint64_t{head[6]} << 16 | uint64_t{head[7]} << 24;
+    if (length > file_size - start - kDriverHeader) return "the driver information block is longer than the file";
+    return nullptr;
+}
+
 }  // namespace
 
 struct FileReader::Dataset {
@@ -58,24 +106,9 @@ FileReader::FileReader(const char *path) : path_(path) {
     if (S_ISDIR(st.st_mode)) raise(FRIX_ERR_IO, "cannot open '%s': it is a directory", path);
     std::FILE *probe = std::fopen(path, "rb");
     if (probe == nullptr) raise(FRIX_ERR_IO, "cannot open '%s': %s", path, std::strerror(errno));
-    unsigned char head[20];
-    const size_t got = std::fread(head, 1, sizeof head, probe);
+    const char *corrupt = corrupt_superblock(probe, static_cast<uint64_t>(st.st_size));
     std::fclose(probe);
-    // A version 0 or 1 superblock at the start must have its reserved bytes zero, its sizes of
-    // offsets and lengths among 2, 4, 8, 16, 32 (the HDF5 format) and its groups' B-tree ranks
-    // K within 1..kMaxGroupRank: HDF5 1.10 sizes buffers from a corrupt K and asks for
-    // gigabytes before it fails. Writers keep HDF5's defaults, 4 and 16.
-    static const unsigned char kSignature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
-    constexpr unsigned kMaxGroupRank = 1024;
-    auto size_ok = [](unsigned char v) { return v == 2 || v == 4 || v == 8 || v == 16 || v == 32; };
-    auto rank_ok = [](const unsigned char *le16) {
-        const unsigned k = le16[0] | (unsigned)le16[1] << 8;
-        return k >= 1 && k <= kMaxGroupRank;
-    };
-    if (got == sizeof head && std::memcmp(head, kSignature, sizeof kSignature) == 0 && head[8] <= 1 &&
-        (head[11] != 0 || head[15] != 0 || !size_ok(head[13]) || !size_ok(head[14]) ||
-         !rank_ok(head + 16) || !rank_ok(head + 18)))
-        raise(FRIX_ERR_FORMAT, "cannot read '%s': a corrupt HDF5 superblock (version %u)", path, (unsigned)head[8]);
+    if (corrupt != nullptr) raise(FRIX_ERR_FORMAT, "cannot read '%s': a corrupt HDF5 superblock (%s)", path, corrupt);
 
 #if H5_VERSION_GE(1, 12, 0)
     const htri_t is_hdf5 = H5Fis_accessible(path, H5P_DEFAULT);

@@ -800,6 +800,22 @@ START_TEST(test_unreadable_files) {
     spit(bad, (const char *)bad_rank, (long)sizeof bad_rank);
     expect_read_error(bad, FRIX_ERR_IO, "as an HDF5 file");
 
+    /* A version 0 superblock (sizes 8 and 8, HDF5's ranks, end of file 128) whose driver
+     * information block at 96 declares 0xff000000 bytes: HDF5 1.10 allocates that much before
+     * it finds the file short (fuzz_read_problem). Then the same block placed past the end. */
+    unsigned char driver[128] = {0x89, 0x48, 0x44, 0x46, 0x0d, 0x0a, 0x1a, 0x0a, 0, 0, 0, 0, 0, 8, 8, 0, 4, 0, 16, 0};
+    memset(driver + 32, 0xff, 8); /* no free-space index */
+    driver[40] = 128;             /* end of file */
+    driver[48] = 96;              /* driver information block */
+    driver[96 + 7] = 0xff;        /* its length, little-endian 0xff000000 */
+    memcpy(driver + 96 + 8, "NCSAmult", 8);
+    spit(bad, (const char *)driver, (long)sizeof driver);
+    expect_read_error(bad, FRIX_ERR_FORMAT, "driver information block is longer than the file");
+    driver[48] = 0;
+    driver[49] = 0x10; /* at 4096 */
+    spit(bad, (const char *)driver, (long)sizeof driver);
+    expect_read_error(bad, FRIX_ERR_FORMAT, "driver information block lies beyond the end of the file");
+
     frix_problem *p = (frix_problem *)0x1;
     ck_assert_int_eq(frix_fclib_read(NULL, &p), FRIX_ERR_INVALID_ARGUMENT);
     ck_assert_int_eq(frix_fclib_read(text, NULL), FRIX_ERR_INVALID_ARGUMENT);
