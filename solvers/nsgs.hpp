@@ -76,6 +76,85 @@ Colouring greedy_colouring(int64_t nc, int64_t groups, GroupsOf &&groups_of) {
     return out;
 }
 
+// Contacts cut into domains for threaded sweeps. The contacts are put in a breadth-first
+// order of the contact graph (two contacts are neighbours when they share a group) and cut
+// into runs of domain_size; the domains are coloured greedily so that no two of one colour
+// share a group. A thread sweeps a whole domain in order and the domains of a colour run in
+// parallel: one wait per colour, and each thread works on its own part of the groups (no
+// cache line of v written by two threads but at the domains' borders). The order depends on
+// the problem and domain_size only, never on the number of threads.
+struct Domains {
+    std::vector<int64_t> contacts;    // the sweep order: colour by colour, domain by domain
+    std::vector<int64_t> domain_ptr;  // domain d is contacts[domain_ptr[d] .. domain_ptr[d+1])
+    std::vector<int64_t> colour_ptr;  // colour k is domains colour_ptr[k] .. colour_ptr[k+1]
+    int64_t domains() const { return domain_ptr.empty() ? 0 : (int64_t)domain_ptr.size() - 1; }
+    int64_t colours() const { return colour_ptr.empty() ? 0 : (int64_t)colour_ptr.size() - 1; }
+};
+
+template <class GroupsOf>
+Domains make_domains(int64_t nc, int64_t groups, int64_t domain_size, GroupsOf &&groups_of) {
+    // Each contact's groups, and each group's contacts.
+    std::vector<int64_t> group_ptr{0}, group_list;
+    for (int64_t a = 0; a < nc; ++a) {
+        groups_of(a, group_list);
+        group_ptr.push_back((int64_t)group_list.size());
+    }
+    std::vector<int64_t> contact_ptr((size_t)groups + 1, 0), contact_list(group_list.size());
+    for (const int64_t g : group_list) ++contact_ptr[(size_t)g + 1];
+    for (int64_t g = 0; g < groups; ++g) contact_ptr[(size_t)g + 1] += contact_ptr[(size_t)g];
+    {
+        std::vector<int64_t> next(contact_ptr.begin(), contact_ptr.end() - 1);
+        for (int64_t a = 0; a < nc; ++a)
+            for (int64_t i = group_ptr[(size_t)a]; i < group_ptr[(size_t)a + 1]; ++i)
+                contact_list[(size_t)next[(size_t)group_list[(size_t)i]]++] = a;
+    }
+    // Breadth first, each component from its first contact; a group is expanded once.
+    std::vector<int64_t> order;
+    order.reserve((size_t)nc);
+    std::vector<char> seen((size_t)nc, 0), expanded((size_t)groups, 0);
+    for (int64_t start = 0; start < nc; ++start) {
+        if (seen[(size_t)start]) continue;
+        seen[(size_t)start] = 1;
+        order.push_back(start);
+        for (size_t head = order.size() - 1; head < order.size(); ++head) {
+            const int64_t a = order[head];
+            for (int64_t i = group_ptr[(size_t)a]; i < group_ptr[(size_t)a + 1]; ++i) {
+                const int64_t g = group_list[(size_t)i];
+                if (expanded[(size_t)g]) continue;
+                expanded[(size_t)g] = 1;
+                for (int64_t j = contact_ptr[(size_t)g]; j < contact_ptr[(size_t)g + 1]; ++j)
+                    if (!seen[(size_t)contact_list[(size_t)j]]) {
+                        seen[(size_t)contact_list[(size_t)j]] = 1;
+                        order.push_back(contact_list[(size_t)j]);
+                    }
+            }
+        }
+    }
+    const int64_t size = std::max<int64_t>(domain_size, 1), count = (nc + size - 1) / size;
+    const Colouring colouring = greedy_colouring(count, groups, [&](int64_t d, std::vector<int64_t> &out) {
+        const size_t from = out.size();
+        for (int64_t k = d * size; k < std::min(nc, (d + 1) * size); ++k) {
+            const int64_t a = order[(size_t)k];
+            out.insert(out.end(), group_list.begin() + group_ptr[(size_t)a], group_list.begin() + group_ptr[(size_t)a + 1]);
+        }
+        std::sort(out.begin() + (std::ptrdiff_t)from, out.end());
+        out.erase(std::unique(out.begin() + (std::ptrdiff_t)from, out.end()), out.end());
+    });
+    Domains out;
+    out.contacts.reserve((size_t)nc);
+    out.domain_ptr.assign(1, 0);
+    out.colour_ptr.assign(1, 0);
+    for (int64_t k = 0; k < colouring.colours(); ++k) {
+        for (int64_t i = colouring.ptr[(size_t)k]; i < colouring.ptr[(size_t)k + 1]; ++i) {
+            const int64_t d = colouring.contacts[(size_t)i];
+            out.contacts.insert(out.contacts.end(), order.begin() + d * size, order.begin() + std::min(nc, (d + 1) * size));
+            out.domain_ptr.push_back((int64_t)out.contacts.size());
+        }
+        out.colour_ptr.push_back(out.domains());
+    }
+    return out;
+}
+
 struct SweepStats {
     double dr2 = 0.0;        // sum over contacts of |r_a,new - r_a,old|^2
     double r2 = 0.0;         // |r|^2 after the sweep
@@ -116,13 +195,12 @@ class Workspace {
     // gives contact a's local q; moved(a, dr) is told of each accepted change dr of r_a.
     template <class LocalQ, class Step, class Moved>
     SweepStats sweep_loop(double *r, LocalQ &&local_q, Step &&step, Moved &&moved);
-    // Sweeps colour by colour, in the colouring's order, each colour's contacts split among
-    // the team's threads: local_q and moved of two contacts of one colour must touch disjoint
-    // data. The iterates and the statistics (summed in contact order) do not depend on the
-    // number of threads. The settings' shuffle does not apply: the colouring fixes the order.
+    // Sweeps domain by domain in the domains' order, the domains of a colour shared among the
+    // team's threads: local_q and moved of two contacts of one colour's domains must touch
+    // disjoint data. The iterates and the statistics (summed domain by domain, in order) do
+    // not depend on the number of threads. The settings' shuffle does not apply.
     template <class LocalQ, class Moved>
-    SweepStats sweep_coloured(double *r, const Colouring &colouring, ThreadTeam &team, LocalQ &&local_q,
-                              Moved &&moved);
+    SweepStats sweep_domains(double *r, const Domains &domains, ThreadTeam &team, LocalQ &&local_q, Moved &&moved);
     // sweep_loop with the settings' one-contact solver.
     template <class LocalQ, class Moved>
     SweepStats sweep_loop(double *r, LocalQ &&local_q, Moved &&moved) {
@@ -167,7 +245,7 @@ class Workspace {
     // Block columns of W (velocity sweeps): for block column a, the blocks (row, index into
     // block_val) at col_ptr_[a] .. col_ptr_[a+1].
     std::vector<int64_t> col_ptr_, col_row_, col_block_;
-    std::vector<double> contact_dr2_, contact_r2_;  // coloured sweeps: per contact, summed after
+    std::vector<double> domain_dr2_, domain_r2_;  // domain sweeps: per domain, summed after
 };
 
 template <class LocalQ, class Step, class Moved>
@@ -206,58 +284,60 @@ SweepStats Workspace::sweep_loop(double *r, LocalQ &&local_q, Step &&step, Moved
     return st;
 }
 
-// Contacts of a colour handed to a thread at a time: per-contact work varies (a separated
-// contact costs little, a sliding one a root search).
-constexpr int64_t kColourChunk = 128;
-
 template <class LocalQ, class Moved>
-SweepStats Workspace::sweep_coloured(double *r, const Colouring &colouring, ThreadTeam &team, LocalQ &&local_q,
-                                     Moved &&moved) {
-    const int64_t nc = (int64_t)contacts_.size(), colours = colouring.colours();
-    contact_dr2_.resize((size_t)nc);
-    contact_r2_.resize((size_t)nc);
+SweepStats Workspace::sweep_domains(double *r, const Domains &domains, ThreadTeam &team, LocalQ &&local_q,
+                                    Moved &&moved) {
+    domain_dr2_.assign((size_t)domains.domains(), 0.0);
+    domain_r2_.assign((size_t)domains.domains(), 0.0);
     int64_t *frozen = frozen_.empty() ? nullptr : frozen_.data();
     const local::Params lp = s_.local;
     std::atomic<int64_t> rejected{0}, unsolved{0}, skipped{0};
-    // Contact a's step; its counts go to the chunk's sums (integers: exact in any order).
-    const auto visit = [&](int64_t a, int64_t &rej, int64_t &uns, int64_t &skip) {
-        double *ra = r + 3 * a, dr2 = 0.0;
-        if (frozen && frozen[a] > 0) {
-            --frozen[a];
-            ++skip;
-        } else {
-            local::Contact &c = contacts_[(size_t)a];
-            double ql[3];
-            local_q(a, (const local::Contact &)c, ql);
-            double rn[3] = {ra[0], ra[1], ra[2]};
-            const local::Outcome out = local::solve_contact(c, ql, rn, lp);
-            if (out == local::Outcome::NotConverged || out == local::Outcome::NoSolution) ++uns;
-            const double old[3] = {ra[0], ra[1], ra[2]};
-            if (accept(a, ra, rn, dr2)) {
-                const double dr[3] = {ra[0] - old[0], ra[1] - old[1], ra[2] - old[2]};
-                if (dr[0] != 0.0 || dr[1] != 0.0 || dr[2] != 0.0) moved(a, dr);
+    // Domain d's sweep; its sums go to its own slots (counts: exact in any order).
+    const auto sweep_domain = [&](int64_t d) {
+        int64_t rej = 0, uns = 0, skip = 0;
+        double sum_dr2 = 0.0, sum_r2 = 0.0;
+        for (int64_t i = domains.domain_ptr[(size_t)d]; i < domains.domain_ptr[(size_t)d + 1]; ++i) {
+            const int64_t a = domains.contacts[(size_t)i];
+            double *ra = r + 3 * a;
+            if (frozen && frozen[a] > 0) {
+                --frozen[a];
+                ++skip;
             } else {
-                ++rej;
+                local::Contact &c = contacts_[(size_t)a];
+                double ql[3];
+                local_q(a, (const local::Contact &)c, ql);
+                double rn[3] = {ra[0], ra[1], ra[2]};
+                const local::Outcome out = local::solve_contact(c, ql, rn, lp);
+                if (out == local::Outcome::NotConverged || out == local::Outcome::NoSolution) ++uns;
+                const double old[3] = {ra[0], ra[1], ra[2]};
+                double dr2 = 0.0;
+                if (accept(a, ra, rn, dr2)) {
+                    sum_dr2 += dr2;
+                    const double dr[3] = {ra[0] - old[0], ra[1] - old[1], ra[2] - old[2]};
+                    if (dr[0] != 0.0 || dr[1] != 0.0 || dr[2] != 0.0) moved(a, dr);
+                } else {
+                    ++rej;
+                }
             }
+            sum_r2 += ra[0] * ra[0] + ra[1] * ra[1] + ra[2] * ra[2];
         }
-        contact_dr2_[(size_t)a] = dr2;
-        contact_r2_[(size_t)a] = ra[0] * ra[0] + ra[1] * ra[1] + ra[2] * ra[2];
+        domain_dr2_[(size_t)d] = sum_dr2;
+        domain_r2_[(size_t)d] = sum_r2;
+        rejected += rej, unsolved += uns, skipped += skip;
     };
-    for (int64_t k = 0; k < colours; ++k) {
-        const int64_t first = colouring.ptr[(size_t)k];
-        team.for_chunks(colouring.ptr[(size_t)k + 1] - first, kColourChunk, [&](int64_t begin, int64_t end) {
-            int64_t rej = 0, uns = 0, skip = 0;
-            for (int64_t i = first + begin; i < first + end; ++i) visit(colouring.contacts[(size_t)i], rej, uns, skip);
-            rejected += rej, unsolved += uns, skipped += skip;
+    for (int64_t k = 0; k < domains.colours(); ++k) {
+        const int64_t first = domains.colour_ptr[(size_t)k];
+        team.for_chunks(domains.colour_ptr[(size_t)k + 1] - first, 1, [&](int64_t begin, int64_t end) {
+            for (int64_t d = first + begin; d < first + end; ++d) sweep_domain(d);
         });
     }
     SweepStats st;
     st.rejected = rejected.load();
     st.unsolved = unsolved.load();
     st.frozen = skipped.load();
-    for (int64_t a = 0; a < nc; ++a) {  // in contact order, whatever the threads
-        st.dr2 += contact_dr2_[(size_t)a];
-        st.r2 += contact_r2_[(size_t)a];
+    for (int64_t d = 0; d < domains.domains(); ++d) {  // in domain order, whatever the threads
+        st.dr2 += domain_dr2_[(size_t)d];
+        st.r2 += domain_r2_[(size_t)d];
     }
     return st;
 }

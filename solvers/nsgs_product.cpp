@@ -3,8 +3,10 @@
 // contact a reads u_a = H_a^T v + w_a and, after its one-contact solve, adds M^-1 H_a dr_a to
 // v. Each sweep costs O(nnz(H) + nnz(M^-1 H)); memory is, per contact, the dofs of the bodies
 // it touches with H_a and M^-1 H_a on them (3 values a dof each), and the blocks of M^-1.
-// Contacts are coloured (no two of a colour share a body) and swept colour by colour, each
-// colour split among the threads. The stopping logic is nsgs's (run_sweeps), on the global
+// Contacts are cut into domains (runs of a breadth-first order of the contact graph) and the
+// domains coloured (no two of a colour share a body); a thread sweeps a whole domain, the
+// domains of a colour run in parallel, and v's dofs are renumbered in sweep order so that a
+// domain works on a compact part of it. The stopping logic is nsgs's (run_sweeps), on the global
 // measure (its scale |w|, as Siconos's).
 #include <algorithm>
 #include <cmath>
@@ -21,11 +23,15 @@ namespace frix {
 namespace nsgs {
 namespace {
 
+// Domains: about kDomains of them, enough for the threads to share each colour's evenly, and
+// none under kMinDomain contacts (a domain's sweep must outweigh handing it to a thread).
+constexpr int64_t kDomains = 128;
+constexpr int64_t kMinDomain = 256;
+
 // M^-1 as dense blocks, one per body, and each contact's H_a and M^-1 H_a on its bodies' dofs.
 class ProductForm : public SweepForm {
    public:
-    ProductForm(const frix_problem &p, double *v, int threads)
-        : p_(p), v_(v), norm_w_(norm2(p.w, 3 * p.nc)), team_(threads) {}
+    ProductForm(const frix_problem &p, int threads) : p_(p), norm_w_(norm2(p.w, 3 * p.nc)), team_(threads) {}
 
     frix_error setup() {
         if (frix_error e = to_csc(*p_.M, M_)) return e;
@@ -33,17 +39,17 @@ class ProductForm : public SweepForm {
         if (frix_error e = find_bodies()) return e;
         if (frix_error e = invert_bodies()) return e;
         find_contact_bodies();
-        // Contacts of one colour share no body: their sweeps touch disjoint parts of v. The
-        // sweeps run on the contacts renumbered in colour order (slots), so that a sweep reads
+        // The domains of one colour share no body: their sweeps touch disjoint parts of v. The
+        // sweeps run on the contacts renumbered in sweep order (slots), so that a sweep reads
         // the per-contact data front to back.
-        const Colouring colouring =
-            greedy_colouring(p_.nc, (int64_t)body_ptr_.size() - 1, [this](int64_t a, std::vector<int64_t> &out) {
+        const Domains domains = make_domains(
+            p_.nc, (int64_t)body_ptr_.size() - 1, std::max(kMinDomain, (p_.nc + kDomains - 1) / kDomains),
+            [this](int64_t a, std::vector<int64_t> &out) {
                 out.insert(out.end(), contact_bodies_.begin() + bodies_ptr_[a],
                            contact_bodies_.begin() + bodies_ptr_[a + 1]);
             });
-        contact_of_slot_ = colouring.contacts;
-        slots_.ptr = colouring.ptr;
-        slots_.contacts.resize((size_t)p_.nc);
+        contact_of_slot_ = domains.contacts;
+        slots_ = domains;
         for (int64_t k = 0; k < p_.nc; ++k) slots_.contacts[(size_t)k] = k;
         form_contacts();
         w_.resize(3 * (size_t)p_.nc);
@@ -53,17 +59,26 @@ class ProductForm : public SweepForm {
             std::copy(p_.w + 3 * a, p_.w + 3 * a + 3, &w_[3 * (size_t)k]);
             mu_[(size_t)k] = p_.mu[a];
         }
+        renumber_dofs();
+        std::vector<double> v0((size_t)p_.n);
+        apply_inverse(p_.f, v0.data());
         v0_.resize((size_t)p_.n);
-        apply_inverse(p_.f, v0_.data());
+        for (int64_t d = 0; d < p_.n; ++d) v0_[(size_t)slot_of_dof_[(size_t)d]] = v0[(size_t)d];
+        v_.resize((size_t)p_.n);
         M_ = Csc{};  // the sweeps read only the per-contact copies
         H_ = Csc{};
         return FRIX_OK;
+    }
+    // v in the problem's numbering of the dofs.
+    void copy_v(double *v) const {
+        for (int64_t d = 0; d < p_.n; ++d) v[d] = v_[(size_t)slot_of_dof_[(size_t)d]];
     }
     // Slot k of the sweeps is contact contact_of_slot()[k] of the problem; w and mu by slot.
     const std::vector<int64_t> &contact_of_slot() const { return contact_of_slot_; }
     const double *slot_w() const { return w_.data(); }
     const double *slot_mu() const { return mu_.data(); }
     int64_t colours() const { return slots_.colours(); }
+    int64_t domains() const { return slots_.domains(); }
     // W_aa = H_a^T M^-1 H_a, 9 per contact, column-major.
     std::vector<double> diagonal_blocks() const {
         std::vector<double> blocks(9 * (size_t)p_.nc, 0.0);
@@ -80,7 +95,7 @@ class ProductForm : public SweepForm {
     }
 
     SweepStats sweep(Workspace &ws, double *r, double *) override {
-        double *v = v_;
+        double *v = v_.data();
         const auto local_q = [this, r, v](int64_t a, const local::Contact &c, double *ql) {
             const double *Wd = c.W, *ra = r + 3 * a;
             double s[3];
@@ -88,7 +103,7 @@ class ProductForm : public SweepForm {
             for (int e = 0; e < 3; ++e) ql[e] = s[e] - (Wd[e] * ra[0] + Wd[e + 3] * ra[1] + Wd[e + 6] * ra[2]);
         };
         const auto moved = [this, v](int64_t a, const double *dr) { add_g(a, dr, v); };
-        return ws.sweep_coloured(r, slots_, team_, local_q, moved);
+        return ws.sweep_domains(r, slots_, team_, local_q, moved);
     }
     Measures exact(const double *r, double *u) override {
         restart(r, u);
@@ -100,10 +115,10 @@ class ProductForm : public SweepForm {
     }
     // v = M^-1 f + M^-1 H r.
     void restart(const double *r, double *) override {
-        std::copy(v0_.begin(), v0_.end(), v_);
+        std::copy(v0_.begin(), v0_.end(), v_.begin());
         for (int64_t a = 0; a < p_.nc; ++a) {
             const double *ra = r + 3 * a;
-            if (ra[0] != 0.0 || ra[1] != 0.0 || ra[2] != 0.0) add_g(a, ra, v_);
+            if (ra[0] != 0.0 || ra[1] != 0.0 || ra[2] != 0.0) add_g(a, ra, v_.data());
         }
     }
     bool measures_are_local() const override { return false; }
@@ -146,9 +161,20 @@ class ProductForm : public SweepForm {
             s[2] += h[3 * t + 2] * x;
         }
     }
-    Measures measures_from_v(const double *r, double *u) const {
-        for (int64_t a = 0; a < p_.nc; ++a) contact_velocity(a, v_, u + 3 * a);
-        return measures_from_ru(r, u, mu_.data(), p_.nc, norm_w_);
+    // u = H^T v + w and the measures' parts domain by domain on the team, the parts combined
+    // in domain order (the same numbers on any number of threads).
+    Measures measures_from_v(const double *r, double *u) {
+        parts_.assign((size_t)slots_.domains(), MeasureParts{});
+        team_.for_chunks(slots_.domains(), 1, [this, r, u](int64_t begin, int64_t end) {
+            for (int64_t d = begin; d < end; ++d) {
+                const int64_t first = slots_.domain_ptr[(size_t)d], last = slots_.domain_ptr[(size_t)d + 1];
+                for (int64_t a = first; a < last; ++a) contact_velocity(a, v_.data(), u + 3 * a);
+                parts_[(size_t)d] = measure_parts(r, u, mu_.data(), first, last);
+            }
+        });
+        MeasureParts all;
+        for (const MeasureParts &part : parts_) all.add(part);
+        return measures_from_parts(all, r, u, mu_.data(), p_.nc, norm_w_);
     }
 
     frix_error find_bodies() {
@@ -325,8 +351,23 @@ class ProductForm : public SweepForm {
         }
     }
 
+    // The sweeps keep v with its dofs renumbered in the order the sweep first reaches them
+    // (a body's together): a domain then reads and writes a compact part of v, and two
+    // threads seldom share a cache line of it.
+    void renumber_dofs() {
+        slot_of_dof_.assign((size_t)p_.n, -1);
+        int64_t next = 0;
+        for (int64_t &d : dofs_) {
+            if (slot_of_dof_[(size_t)d] < 0) slot_of_dof_[(size_t)d] = next++;
+            d = slot_of_dof_[(size_t)d];
+        }
+        for (int64_t &s : slot_of_dof_)
+            if (s < 0) s = next++;  // dofs no contact touches
+    }
+
     const frix_problem &p_;
-    double *v_;
+    std::vector<double> v_;  // in the sweeps' numbering of the dofs
+    std::vector<int64_t> slot_of_dof_;
     double norm_w_;
     Csc M_, H_;
     std::vector<int64_t> body_of_, body_ptr_, body_dofs_, place_, inverse_ptr_;
@@ -337,8 +378,9 @@ class ProductForm : public SweepForm {
     std::vector<double> minv_;    // beside H_a where g_ptr_ is -1: each dof's inverse mass
     std::vector<int64_t> bodies_ptr_, contact_bodies_;  // the bodies of each contact
     std::vector<int64_t> contact_of_slot_;
-    Colouring slots_;  // the colours as ranges of slots
+    Domains slots_;  // the domains and colours as ranges of slots
     std::vector<double> w_, mu_;
+    std::vector<MeasureParts> parts_;  // per domain, for measures_from_v
     ThreadTeam team_;
 };
 
@@ -346,7 +388,7 @@ frix_error solve(SolveContext &ctx) {
     const frix_problem &p = ctx.problem;
     if (p.kind != FRIX_PROBLEM_GLOBAL)
         return fail(FRIX_ERR_UNSUPPORTED, "gnsgs: solves global problems only");
-    ProductForm form(p, ctx.v, (int)ctx.options.i(FRIX_OPT_THREADS));
+    ProductForm form(p, (int)ctx.options.i(FRIX_OPT_THREADS));
     if (frix_error e = form.setup()) return e;
     // The sweeps see the contacts by slot: r, u, w and mu renumbered, and back at the end.
     const std::vector<int64_t> &contact = form.contact_of_slot();
@@ -364,11 +406,12 @@ frix_error solve(SolveContext &ctx) {
     SolveContext inner{slots, ctx.options, r.data(), u.data(), ctx.v, ctx.info, ctx.clock, ctx.solve_mass, ctx.mass,
                        ctx.cache};
     if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1)
-        log_line(&ctx.options, "gnsgs: %lld contacts in %lld colours, %lld threads", (long long)p.nc,
-                 (long long)form.colours(), (long long)ctx.options.i(FRIX_OPT_THREADS));
+        log_line(&ctx.options, "gnsgs: %lld contacts in %lld domains of %lld colours, %lld threads", (long long)p.nc,
+                 (long long)form.domains(), (long long)form.colours(), (long long)ctx.options.i(FRIX_OPT_THREADS));
     const std::vector<double> blocks = form.diagonal_blocks();
     Workspace ws(blocks.data(), slots.mu, p.nc, settings_from(ctx.options));
     const frix_error e = run_sweeps(inner, ws, form, "gnsgs");
+    form.copy_v(ctx.v);
     for (int64_t k = 0; k < p.nc; ++k) {
         std::copy(&r[3 * k], &r[3 * k] + 3, ctx.r + 3 * contact[k]);
         std::copy(&u[3 * k], &u[3 * k] + 3, ctx.u + 3 * contact[k]);
@@ -376,7 +419,7 @@ frix_error solve(SolveContext &ctx) {
     return e;
 }
 
-// nsgs-v's keys but shuffle and seed (the colouring fixes the order), and threads.
+// nsgs-v's keys but shuffle and seed (the domains fix the order), and threads.
 const frix_option_key kProductKeys[] = {FRIX_OPT_LOCAL_SOLVER, FRIX_OPT_LOCAL_TOLERANCE, FRIX_OPT_LOCAL_MAX_ITER,
                                         FRIX_OPT_RELAXATION,    FRIX_OPT_FREEZING,        FRIX_OPT_ERROR_FREQUENCY,
                                         FRIX_OPT_DRIFT_WINDOW,  FRIX_OPT_THREADS,         (frix_option_key)0};
@@ -393,9 +436,10 @@ const SolverEntry kGlobalNsgsEntry = {
     "to date, reads u_a = H_a^T v + w_a and adds M^-1 H_a dr_a to v after each contact's "
     "one-contact solve. A sweep costs O(nnz(H)) where nsgs's costs W's blocks; memory is H, "
     "M^-1 H (H's pattern filled to whole bodies) and M's inverse blocks. The iterates are "
-    "nsgs-v's on W = H^T M^-1 H, in another order: contacts are coloured (greedily, so that "
-    "no two of one colour share a body) and swept colour by colour, each colour's contacts "
-    "split among the threads; r does not depend on the number of threads. Stopped by the "
+    "nsgs-v's on W = H^T M^-1 H, in another order: contacts are cut into domains (runs of a "
+    "breadth-first order of the contact graph), the domains coloured so that no two of one "
+    "colour share a body; a thread sweeps a whole domain and the domains of a colour run at "
+    "once; r does not depend on the number of threads. Stopped by the "
     "global measure. Refuses a deformable M (FRIX_ERR_UNSUPPORTED). Options: threads, and "
     "those of nsgs-v but shuffle and seed (local_solver, local_tolerance, local_max_iter, "
     "relaxation, freezing, error_frequency, drift_window).",

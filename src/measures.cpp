@@ -57,33 +57,56 @@ double norm2(const double *x, int64_t n) {
     return a * std::sqrt(s);
 }
 
-Measures measures_from_ru(const double *r, const double *u, const double *mu, int64_t nc,
-                          double norm_q) {
+void MeasureParts::add(const MeasureParts &o) {
+    residual_sq += o.residual_sq;
+    cone = std::max(cone, o.cone);
+    penetration = std::max(penetration, o.penetration);
+    complementarity = std::max(complementarity, o.complementarity);
+    r_sq += o.r_sq;
+    u_sq += o.u_sq;
+}
+
+MeasureParts measure_parts(const double *r, const double *u, const double *mu, int64_t first, int64_t end) {
+    MeasureParts m;
+    residual_and_cone(r + 3 * first, u + 3 * first, mu + first, end - first, 1.0, m.residual_sq, m.cone);
+    for (int64_t a = first; a < end; ++a) {
+        const double *ra = r + 3 * a, *ua = u + 3 * a;
+        m.penetration = std::max(m.penetration, -ua[0]);
+        const double uhat_n = ua[0] + mu[a] * std::hypot(ua[1], ua[2]);
+        m.complementarity = std::max(m.complementarity, std::fabs(ra[0] * uhat_n + ra[1] * ua[1] + ra[2] * ua[2]));
+    }
+    for (int64_t i = 3 * first; i < 3 * end; ++i) m.r_sq += r[i] * r[i];
+    for (int64_t i = 3 * first; i < 3 * end; ++i) m.u_sq += u[i] * u[i];
+    return m;
+}
+
+Measures measures_from_parts(const MeasureParts &all, const double *r, const double *u, const double *mu,
+                             int64_t nc, double norm_q) {
     Measures m;
-    double sum, cone;
-    residual_and_cone(r, u, mu, nc, 1.0, sum, cone);
-    m.residual_absolute = std::sqrt(sum);
-    if (!(sum > kSafeSumMin && sum < kSafeSumMax)) {
+    m.residual_absolute = std::sqrt(all.residual_sq);
+    m.cone_violation = all.cone;
+    if (!(all.residual_sq > kSafeSumMin && all.residual_sq < kSafeSumMax)) {
         // Squares overflowed or underflowed (e.g. a problem scaled by 1e+-200): redo on
         // (r, u) / max|.|, where every square is in range, and scale the results back.
         const double a = std::max(max_abs(r, 3 * nc), max_abs(u, 3 * nc));
         if (a > 0.0) {
+            double sum, cone;
             residual_and_cone(r, u, mu, nc, a, sum, cone);
             m.residual_absolute = a * std::sqrt(sum);
-            cone *= a;
+            m.cone_violation = cone * a;
         }
     }
-    m.cone_violation = cone;
-    for (int64_t a = 0; a < nc; ++a) {
-        const double *ra = r + 3 * a, *ua = u + 3 * a;
-        m.penetration = std::max(m.penetration, -ua[0]);
-        const double uhat_n = ua[0] + mu[a] * std::hypot(ua[1], ua[2]);
-        m.complementarity = std::max(m.complementarity,
-                                     std::fabs(ra[0] * uhat_n + ra[1] * ua[1] + ra[2] * ua[2]));
-    }
-    m.norm_r = norm2(r, 3 * nc);
-    m.norm_u = norm2(u, 3 * nc);
+    m.penetration = all.penetration;
+    m.complementarity = all.complementarity;
+    const auto safe = [](double s) { return s > kSafeSumMin && s < kSafeSumMax; };
+    m.norm_r = safe(all.r_sq) ? std::sqrt(all.r_sq) : norm2(r, 3 * nc);
+    m.norm_u = safe(all.u_sq) ? std::sqrt(all.u_sq) : norm2(u, 3 * nc);
     return with_norm_q(m, norm_q);
+}
+
+Measures measures_from_ru(const double *r, const double *u, const double *mu, int64_t nc,
+                          double norm_q) {
+    return measures_from_parts(measure_parts(r, u, mu, 0, nc), r, u, mu, nc, norm_q);
 }
 
 Measures with_norm_q(Measures m, double norm_q) {

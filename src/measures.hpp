@@ -27,6 +27,19 @@ double norm2(const double *x, int64_t n);
 Measures measures_from_ru(const double *r, const double *u, const double *mu, int64_t nc,
                           double norm_q);
 
+// measures_from_ru's sums and maxima over contacts [first, end): threads may measure ranges
+// apart and combine them (add) in a fixed order, so that the result does not depend on how
+// many there are.
+struct MeasureParts {
+    double residual_sq = 0, cone = 0, penetration = 0, complementarity = 0, r_sq = 0, u_sq = 0;
+    void add(const MeasureParts &o);
+};
+MeasureParts measure_parts(const double *r, const double *u, const double *mu, int64_t first, int64_t end);
+// The measures from the parts of all nc contacts (sums out of the safe range are redone on
+// r and u rescaled).
+Measures measures_from_parts(const MeasureParts &all, const double *r, const double *u, const double *mu,
+                             int64_t nc, double norm_q);
+
 // m's errors on another scale: norm_q replaced (a reduced problem's answer measured as the
 // global problem's, |w| for |q|: the residual, r and u are the same).
 Measures with_norm_q(Measures m, double norm_q);

@@ -1,10 +1,11 @@
 // A team of threads for the loops of one solve: the caller and threads - 1 workers take the
-// chunks of a range in turn. Waiting spins briefly, then sleeps: with more threads than free
+// chunks of a range in turn. Waiting spins for a bounded time, then sleeps: with more threads than free
 // cores (other processes, other teams), spinning workers would take the cores from the ones
 // with work (an OpenMP runtime's spinning barriers made a sweep many times slower there).
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -35,10 +36,10 @@ class ThreadTeam {
 
     // body(begin, end) over [0, n) in chunks of `chunk`, each taken by whichever thread is free
     // (the caller too); returns when every chunk is done. Which thread runs a chunk must not
-    // change the result. A range of fewer than two chunks a thread runs on the caller alone:
-    // waking the workers would cost more than they save.
+    // change the result. A range of one chunk runs on the caller alone; a chunk should be
+    // work enough to outweigh waking a thread (tens of microseconds).
     void for_chunks(int64_t n, int64_t chunk, const std::function<void(int64_t, int64_t)> &body) {
-        if (workers_.empty() || n < 2 * chunk * size()) {
+        if (workers_.empty() || n <= chunk) {
             if (n > 0) body(0, n);
             return;
         }
@@ -53,17 +54,30 @@ class ThreadTeam {
         }
         wake_.notify_all();
         take_chunks();
-        // The workers' ends: spin a little, then sleep until the last one says so.
-        for (int spin = 0; busy_.load(std::memory_order_acquire) > 0; ++spin) {
-            if (spin < kSpins) continue;
+        // The workers' ends: spin a while, then sleep until the last one says so.
+        const auto finished = [this] { return busy_.load(std::memory_order_acquire) == 0; };
+        if (!spin_until(finished)) {
             std::unique_lock<std::mutex> lock(mutex_);
-            done_.wait(lock, [this] { return busy_.load(std::memory_order_acquire) == 0; });
+            done_.wait(lock, finished);
         }
         body_ = nullptr;
     }
 
    private:
-    static constexpr int kSpins = 4000;  // a few microseconds
+    // How long a waiting thread spins before it sleeps: about one chunk of a sweep's work,
+    // so that a thread that ends its share a little early is not put to sleep and woken (tens
+    // of microseconds each) between two ranges run back to back.
+    static constexpr std::chrono::microseconds kSpinTime{100};
+
+    // Whether ready() became true within kSpinTime.
+    template <class Ready>
+    static bool spin_until(const Ready &ready) {
+        const auto until = std::chrono::steady_clock::now() + kSpinTime;
+        for (int k = 1;; ++k) {
+            if (ready()) return true;
+            if (k % 64 == 0 && std::chrono::steady_clock::now() > until) return false;
+        }
+    }
 
     void take_chunks() {
         for (;;) {
@@ -76,11 +90,11 @@ class ThreadTeam {
     void work() {
         uint64_t seen = 0;
         for (;;) {
-            // A new job: spin a little, then sleep until one comes.
-            for (int spin = 0; generation_.load(std::memory_order_acquire) == seen; ++spin) {
-                if (spin < kSpins) continue;
+            // A new job: spin a while, then sleep until one comes.
+            const auto job = [&] { return generation_.load(std::memory_order_acquire) != seen; };
+            if (!spin_until(job)) {
                 std::unique_lock<std::mutex> lock(mutex_);
-                wake_.wait(lock, [&] { return generation_.load(std::memory_order_acquire) != seen; });
+                wake_.wait(lock, job);
             }
             {
                 const std::lock_guard<std::mutex> lock(mutex_);

@@ -328,7 +328,7 @@ static outcome solve_at(const frix_problem *p, int solver, double tol, int64_t *
 }
 
 /* gnsgs sweeps on H and M^-1 H as nsgs-v sweeps on W = H^T M^-1 H, contact by contact, in
- * colour order instead of contact order: on rigid spheres it converges in about as many
+ * its domains' order instead of contact order: on rigid spheres it converges in about as many
  * sweeps (within a factor 2); a deformable body's M is refused with the way out. */
 START_TEST(product_form_sweeps_as_nsgs_v) {
     frix_problem *p = load("global/spheres-in-a-box-98-i10000-256-10.hdf5");

@@ -62,8 +62,8 @@ typedef enum frix_option_key FRIX_ENUM_BASE {
     /* auto (900) */
     FRIX_OPT_THREADS = 28,        /* int >= 1: threads auto may use to solve independent islands
                                      at once, and gnsgs (902) and auto's route through it to
-                                     sweep each colour of contacts (default 1; results do not
-                                     depend on it) */
+                                     sweep domains of contacts at once (default 1; results do
+                                     not depend on it) */
     FRIX_OPT_EXISTENCE_CHECK = 29, /* int 0/1: when the solve fails, check whether a solution
                                      exists (frix_problem_check_existence; default 1) */
     /* NSGS (500, 501) */
