@@ -80,9 +80,9 @@ Colouring greedy_colouring(int64_t nc, int64_t groups, GroupsOf &&groups_of) {
 // order of the contact graph (two contacts are neighbours when they share a group) and cut
 // into runs of domain_size; the domains are coloured greedily so that no two of one colour
 // share a group. A thread sweeps a whole domain in order and the domains of a colour run in
-// parallel: one wait per colour, and each thread works on its own part of the groups (no
-// cache line of v written by two threads but at the domains' borders). The order depends on
-// the problem and domain_size only, never on the number of threads.
+// parallel: one wait per colour, and each thread works on groups of its own, mostly apart
+// from the other threads' ones. The order depends on the problem and domain_size only, never
+// on the number of threads.
 struct Domains {
     std::vector<int64_t> contacts;    // the sweep order: colour by colour, domain by domain
     std::vector<int64_t> domain_ptr;  // domain d is contacts[domain_ptr[d] .. domain_ptr[d+1])
