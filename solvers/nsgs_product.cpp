@@ -325,28 +325,36 @@ class ProductForm : public SweepForm {
         }
         gd_.assign(3 * (size_t)stored, 0.0);
         minv_.assign((size_t)dof_ptr_[nc], 0.0);
+        // Where each body of the slot's contact starts in its dof list, then each of H's
+        // entries put there in one pass (O(nnz(H)), not entries x bodies).
+        std::vector<int64_t> body_at(body_ptr_.size() - 1, 0);
         for (int64_t k = 0; k < nc; ++k) {
             const int64_t a = contact_of_slot_[(size_t)k];
             int64_t at = dof_ptr_[k];
             for (int64_t i = bodies_ptr_[a]; i < bodies_ptr_[a + 1]; ++i) {
                 const int64_t b = contact_bodies_[i], size = body_ptr_[b + 1] - body_ptr_[b];
-                double *h = hd_.data() + 3 * at;
+                body_at[(size_t)b] = at;
                 for (int64_t j = 0; j < size; ++j) dofs_[at + j] = body_dofs_[body_ptr_[b] + j];
-                for (int64_t c = 3 * a; c < 3 * a + 3; ++c)
-                    for (int64_t e = H_.colptr[c]; e < H_.colptr[c + 1]; ++e)
-                        if (body_of_[H_.rowind[e]] == b) h[3 * place_[H_.rowind[e]] + (c - 3 * a)] += H_.val[e];
                 if (g_ptr_[(size_t)k] < 0) minv_[at] = inverse_[inverse_ptr_[b]];  // a one-dof body
-                if (g_ptr_[(size_t)k] >= 0) {
-                    double *g = gd_.data() + 3 * (g_ptr_[(size_t)k] + at - dof_ptr_[k]);
-                    const double *inv = inverse_.data() + inverse_ptr_[b];
-                    for (int64_t x = 0; x < size; ++x)
-                        for (int f = 0; f < 3; ++f) {
-                            double sum = 0.0;
-                            for (int64_t j = 0; j < size; ++j) sum += inv[x + size * j] * h[3 * j + f];
-                            g[3 * x + f] = sum;
-                        }
-                }
                 at += size;
+            }
+            for (int64_t c = 3 * a; c < 3 * a + 3; ++c)
+                for (int64_t e = H_.colptr[c]; e < H_.colptr[c + 1]; ++e) {
+                    const int64_t row = H_.rowind[e];
+                    hd_[3 * (size_t)(body_at[(size_t)body_of_[row]] + place_[row]) + (size_t)(c - 3 * a)] += H_.val[e];
+                }
+            if (g_ptr_[(size_t)k] < 0) continue;
+            for (int64_t i = bodies_ptr_[a]; i < bodies_ptr_[a + 1]; ++i) {
+                const int64_t b = contact_bodies_[i], size = body_ptr_[b + 1] - body_ptr_[b];
+                const int64_t start = body_at[(size_t)b];
+                const double *h = hd_.data() + 3 * start, *inv = inverse_.data() + inverse_ptr_[b];
+                double *g = gd_.data() + 3 * (g_ptr_[(size_t)k] + start - dof_ptr_[k]);
+                for (int64_t x = 0; x < size; ++x)
+                    for (int f = 0; f < 3; ++f) {
+                        double sum = 0.0;
+                        for (int64_t j = 0; j < size; ++j) sum += inv[x + size * j] * h[3 * j + f];
+                        g[3 * x + f] = sum;
+                    }
             }
         }
     }
