@@ -196,7 +196,8 @@ class Workspace {
     template <class LocalQ, class Step, class Moved>
     SweepStats sweep_loop(double *r, LocalQ &&local_q, Step &&step, Moved &&moved);
     // Sweeps domain by domain in the domains' order, the domains of a colour shared among the
-    // team's threads: local_q and moved of two contacts of one colour's domains must touch
+    // team's threads; the contacts are numbered in sweep order (domain d is contacts
+    // domains.domain_ptr[d] .. domain_ptr[d+1]; domains.contacts is not read): local_q and moved of two contacts of one colour's domains must touch
     // disjoint data. The iterates and the statistics (summed domain by domain, in order) do
     // not depend on the number of threads. The settings' shuffle does not apply.
     template <class LocalQ, class Moved>
@@ -296,8 +297,7 @@ SweepStats Workspace::sweep_domains(double *r, const Domains &domains, ThreadTea
     const auto sweep_domain = [&](int64_t d) {
         int64_t rej = 0, uns = 0, skip = 0;
         double sum_dr2 = 0.0, sum_r2 = 0.0;
-        for (int64_t i = domains.domain_ptr[(size_t)d]; i < domains.domain_ptr[(size_t)d + 1]; ++i) {
-            const int64_t a = domains.contacts[(size_t)i];
+        for (int64_t a = domains.domain_ptr[(size_t)d]; a < domains.domain_ptr[(size_t)d + 1]; ++a) {
             double *ra = r + 3 * a;
             if (frozen && frozen[a] > 0) {
                 --frozen[a];

@@ -42,15 +42,14 @@ class ProductForm : public SweepForm {
         // The domains of one colour share no body: their sweeps touch disjoint parts of v. The
         // sweeps run on the contacts renumbered in sweep order (slots), so that a sweep reads
         // the per-contact data front to back.
-        const Domains domains = make_domains(
+        Domains domains = make_domains(
             p_.nc, (int64_t)body_ptr_.size() - 1, std::max(kMinDomain, (p_.nc + kDomains - 1) / kDomains),
             [this](int64_t a, std::vector<int64_t> &out) {
                 out.insert(out.end(), contact_bodies_.begin() + bodies_ptr_[a],
                            contact_bodies_.begin() + bodies_ptr_[a + 1]);
             });
-        contact_of_slot_ = domains.contacts;
-        slots_ = domains;
-        for (int64_t k = 0; k < p_.nc; ++k) slots_.contacts[(size_t)k] = k;
+        contact_of_slot_ = std::move(domains.contacts);
+        slots_ = std::move(domains);  // its ranges are of slots; its contacts moved out
         form_contacts();
         w_.resize(3 * (size_t)p_.nc);
         mu_.resize((size_t)p_.nc);
