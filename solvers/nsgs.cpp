@@ -114,10 +114,6 @@ void Workspace::build_columns() {
 }
 
 SweepStats Workspace::sweep_velocity(double *r, double *u) {
-    // A symmetric W's column a is its row a transposed: read in order, in place of the column
-    // index (whose blocks lie a row apart in memory).
-    if (col_ptr_.empty() && !W_->symmetric) build_columns();
-    const double *val = W_->block_val.data();
     const local::Params lp = s_.local;
     const auto local_q = [r, u](int64_t a, const local::Contact &c, double *ql) {
         // q_a + sum_{b != a} W_ab r_b = u_a - W_aa r_a.
@@ -129,15 +125,20 @@ SweepStats Workspace::sweep_velocity(double *r, double *u) {
     const auto step = [&lp](int64_t, local::Contact &c, const double *ql, double *rn) {
         return local::solve_contact(c, ql, rn, lp);
     };
-    if (W_->symmetric)
-        return sweep_loop(r, local_q, step, [this, u, val](int64_t a, const double *dr) {
-            for (int64_t e = W_->row_ptr[a]; e < W_->row_ptr[a + 1]; ++e)
-                block_gemv_transposed_add(val + 9 * e, dr, u + 3 * W_->block_col[e]);
-        });
-    return sweep_loop(r, local_q, step, [this, u, val](int64_t a, const double *dr) {
-        for (int64_t e = col_ptr_[a]; e < col_ptr_[a + 1]; ++e)
-            block_gemv_add(val + 9 * col_block_[e], dr, u + 3 * col_row_[e]);
-    });
+    return sweep_loop(r, local_q, step, [this, u](int64_t a, const double *dr) { push_velocity(a, dr, u); });
+}
+
+void Workspace::push_velocity(int64_t a, const double *dr, double *u) {
+    // A symmetric W's column a is its row a transposed: read in order, in place of the column
+    // index (whose blocks lie a row apart in memory).
+    const double *val = W_->block_val.data();
+    if (W_->symmetric) {
+        for (int64_t e = W_->row_ptr[a]; e < W_->row_ptr[a + 1]; ++e)
+            block_gemv_transposed_add(val + 9 * e, dr, u + 3 * W_->block_col[e]);
+        return;
+    }
+    if (col_ptr_.empty()) build_columns();
+    for (int64_t e = col_ptr_[a]; e < col_ptr_[a + 1]; ++e) block_gemv_add(val + 9 * col_block_[e], dr, u + 3 * col_row_[e]);
 }
 
 namespace {
@@ -214,6 +215,50 @@ class DriftExtrapolation {
     int64_t jumps_ = 0;
 };
 
+// Nesterov momentum on the sweep (option acceleration; O'Donoghue and Candes's adaptive
+// restart): after the k-th sweep since the last restart, r = x_k, the sweep's result, moves to
+// P_K(x_k + beta_k (x_k - x_{k-1})), beta_k = (k - 1) / (k + 2). The momentum restarts (beta
+// = 0) whenever a sweep moved r more than each of the two before (a sweep's displacement often
+// alternates from one sweep to the next), and after a drift jump. Where load crosses a pile
+// a layer a sweep, the sweeps' steps keep their direction for long, which momentum follows;
+// the sweep itself, and its fixed points, stay as they are. Freezing is off under it: the
+// extrapolation moves the contacts freezing would skip, and the two together can hold the
+// error on a plateau.
+class Momentum {
+   public:
+    Momentum(bool on, int64_t m, const double *r) : on_(on) {
+        if (!on_) return;
+        last_.assign(r, r + m);
+        line_.resize((size_t)m);
+    }
+    bool on() const { return on_; }
+    // After a sweep that moved r by |dr|^2 = dr2 (jumped: r then jumped ahead of the sweep).
+    void after_sweep(double dr2, bool jumped, double *r, const double *mu, Workspace &ws, SweepForm &form, double *u) {
+        if (!on_) return;
+        if (jumped || !(dr2 <= std::max(last_dr2_[0], last_dr2_[1]))) k_ = 0;
+        last_dr2_[1] = last_dr2_[0];
+        last_dr2_[0] = dr2;
+        ++k_;
+        const double beta = (double)(k_ - 1) / (double)(k_ + 2);
+        const size_t m = last_.size();
+        for (size_t i = 0; i < m; ++i) {
+            const double x = r[i];
+            line_[i] = x + beta * (x - last_[i]);
+            last_[i] = x;
+            r[i] = line_[i];
+        }
+        if (beta != 0.0)
+            for (size_t a = 0; 3 * a < m; ++a) coulomb::project_on_cone(r + 3 * a, mu[a]);
+        form.extrapolate(ws, beta, line_.data(), r, u);
+    }
+
+   private:
+    bool on_;
+    std::vector<double> last_, line_;  // x_{k-1}; the line point before its projection
+    double last_dr2_[2] = {INFINITY, INFINITY};  // the last two sweeps' |dr|^2
+    int64_t k_ = 0;
+};
+
 // W's block rows (nsgs): the local q from each row; nothing kept between sweeps.
 class RowForm : public SweepForm {
    public:
@@ -239,10 +284,25 @@ class VelocityForm : public SweepForm {
         matrix_gemv(*p_.W, 1.0, r, 0.0, u);
         for (int64_t i = 0; i < 3 * p_.nc; ++i) u[i] += p_.q[i];
     }
+    void extrapolate(Workspace &ws, double beta, const double *line, const double *y, double *u) override {
+        const int64_t m = 3 * p_.nc;
+        if (u_last_.empty()) u_last_.resize((size_t)m);
+        for (int64_t i = 0; i < m; ++i) {
+            const double now = u[i];
+            u[i] = now + beta * (now - u_last_[(size_t)i]);
+            u_last_[(size_t)i] = now;
+        }
+        if (beta == 0.0) return;
+        for (int64_t a = 0; a < p_.nc; ++a) {
+            const double d[3] = {y[3 * a] - line[3 * a], y[3 * a + 1] - line[3 * a + 1], y[3 * a + 2] - line[3 * a + 2]};
+            if (d[0] != 0.0 || d[1] != 0.0 || d[2] != 0.0) ws.push_velocity(a, d, u);
+        }
+    }
 
    private:
     const frix_problem &p_;
     double norm_q_;
+    std::vector<double> u_last_;  // u at the previous extrapolation's x
 };
 
 frix_error run(SolveContext &ctx, bool velocity) {
@@ -310,6 +370,7 @@ frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const c
     }
 
     DriftExtrapolation drift(o.i(FRIX_OPT_DRIFT_WINDOW), m, r);
+    Momentum momentum(o.i(FRIX_OPT_ACCELERATION) != 0, m, r);
 
     double tol_light = tol;
     int64_t it = 0, evaluations = 0;
@@ -318,7 +379,7 @@ frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const c
     double last_full = NAN, estimate = NAN, last_r2 = 0.0;
     while (it < max_iter) {
         if (s.freezing > 0)
-            ws.set_freeze_threshold(it >= kFreezeAfter
+            ws.set_freeze_threshold(it >= kFreezeAfter && !momentum.on()
                                         ? tol_light * tol_light * last_r2 / (10.0 * (double)p.nc)
                                         : -1.0);
         const SweepStats st = form.sweep(ws, r, u);
@@ -337,6 +398,7 @@ frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const c
                 log_line(&o, "%s: sweep %lld: drift carried ahead (jump %lld)", name, (long long)it,
                          (long long)drift.jumps());
         }
+        momentum.after_sweep(st.dr2, jumped, r, p.mu, ws, form, u);
         checked_last = false;
         double light = NAN;
         if (it % frequency == 0 && !jumped) {  // (the sweep's light error predates a jump)
@@ -409,14 +471,15 @@ const OptionDefault kDefaults[] = {
     {FRIX_OPT_LOCAL_SOLVER, local::kClosedForm},
     {FRIX_OPT_LOCAL_TOLERANCE, 1e-12},
     {FRIX_OPT_LOCAL_MAX_ITER, 20},
+    {FRIX_OPT_ACCELERATION, 0},
     {(frix_option_key)0, 0}};
 
 }  // namespace
 
-const frix_option_key kExtraKeys[] = {FRIX_OPT_LOCAL_SOLVER, FRIX_OPT_LOCAL_TOLERANCE,
-                                      FRIX_OPT_LOCAL_MAX_ITER, FRIX_OPT_RELAXATION,
-                                      FRIX_OPT_SHUFFLE, FRIX_OPT_SEED, FRIX_OPT_FREEZING,
-                                      FRIX_OPT_ERROR_FREQUENCY, FRIX_OPT_DRIFT_WINDOW, (frix_option_key)0};
+const frix_option_key kExtraKeys[] = {FRIX_OPT_LOCAL_SOLVER,   FRIX_OPT_LOCAL_TOLERANCE, FRIX_OPT_LOCAL_MAX_ITER,
+                                      FRIX_OPT_RELAXATION,     FRIX_OPT_SHUFFLE,         FRIX_OPT_SEED,
+                                      FRIX_OPT_FREEZING,       FRIX_OPT_ERROR_FREQUENCY, FRIX_OPT_DRIFT_WINDOW,
+                                      FRIX_OPT_ACCELERATION,   (frix_option_key)0};
 
 // nsgs-v: freezing on by default; skipped contacts cost it nothing at all.
 const OptionDefault kVelocityDefaults[] = {
@@ -425,6 +488,7 @@ const OptionDefault kVelocityDefaults[] = {
     {FRIX_OPT_LOCAL_TOLERANCE, 1e-12},
     {FRIX_OPT_LOCAL_MAX_ITER, 20},
     {FRIX_OPT_FREEZING, 10},
+    {FRIX_OPT_ACCELERATION, 0},
     {(frix_option_key)0, 0}};
 
 }  // namespace nsgs
@@ -450,7 +514,10 @@ const SolverEntry kNsgsEntry = {
     "error_frequency (the light error is tested every k sweeps) and drift_window (every k "
     "sweeps, when r's displacement over the last k sweeps points the way of the previous k's, "
     "r jumps along it to the next loss of contact: for rank-deficient piles on which the "
-    "sweeps creep along a steady transfer of load; 0 = never, the default).",
+    "sweeps creep along a steady transfer of load; 0 = never, the default) and acceleration "
+    "(1: after each sweep r moves on along its last step, Nesterov's momentum restarted whenever "
+    "a sweep moves r more than each of the two before; freezing is then off; for piles whose "
+    "sweeps converge slowly but steadily; 0 = off, the default).",
     nsgs::solve,
     true,
     false,
@@ -470,7 +537,8 @@ const SolverEntry kNsgsVelocityEntry = {
     "(u is recomputed exactly to confirm the end, which also removes the rounding drift). "
     "Freezing is on by default (10 sweeps). Options: those of nsgs (local_solver, "
     "local_tolerance, local_max_iter, "
-    "relaxation, shuffle, seed, freezing, error_frequency, drift_window). Unlike Siconos 4.4's "
+    "relaxation, shuffle, seed, freezing, error_frequency, drift_window, acceleration). Unlike "
+    "Siconos 4.4's "
     "NSGSV "
     "(dense W only, pseudo-inverse, prints), it takes any sparse W.",
     nsgs::solve_velocity,

@@ -182,6 +182,8 @@ class Workspace {
     // into u through W's block column a, so that u = W r + q holds after the sweep (up to
     // rounding, see resync) and a contact whose reaction does not change costs O(1).
     SweepStats sweep_velocity(double *r, double *u);
+    // u += W's block column a times dr: what sweep_velocity does after each change of r_a.
+    void push_velocity(int64_t a, const double *dr, double *u);
 
     // Freezing: a contact whose |r_a,new - r_a,old|^2 is <= dr2 is then skipped for
     // settings.freezing sweeps. thaw() releases every frozen contact.
@@ -368,6 +370,15 @@ class SweepForm {
     virtual void restart(const double *r, double *u) { (void)r, (void)u; }
     // Whether exact()'s measures are the local ones the driver would compute (and may take).
     virtual bool measures_are_local() const { return true; }
+    // Momentum (run_sweeps, option acceleration): after each sweep, r moves from x, the
+    // sweep's result, to y = P_K(line), line = x + beta (x - x_prev), where x_prev is the r
+    // of the previous call; the kept state follows. A form that keeps something affine in r
+    // follows from its state at x and at x_prev (kept + beta (kept - kept at x_prev)) plus
+    // the projection's part y - line, without a product; this default recomputes it.
+    virtual void extrapolate(Workspace &ws, double beta, const double *line, const double *y, double *u) {
+        (void)ws, (void)line;
+        if (beta != 0.0) restart(y, u);
+    }
 };
 
 // The NSGS iteration on `form`: sweeps, the light error calibrated by full checks, drift

@@ -121,6 +121,20 @@ class ProductForm : public SweepForm {
         }
     }
     bool measures_are_local() const override { return false; }
+    // v is affine in r: v(y) = v(x) + beta (v(x) - v(x_prev)) + M^-1 H (y - line).
+    void extrapolate(Workspace &, double beta, const double *line, const double *y, double *) override {
+        if (v_last_.empty()) v_last_.resize(v_.size());
+        for (size_t i = 0; i < v_.size(); ++i) {
+            const double now = v_[i];
+            v_[i] = now + beta * (now - v_last_[i]);
+            v_last_[i] = now;
+        }
+        if (beta == 0.0) return;
+        for (int64_t a = 0; a < p_.nc; ++a) {
+            const double d[3] = {y[3 * a] - line[3 * a], y[3 * a + 1] - line[3 * a + 1], y[3 * a + 2] - line[3 * a + 2]};
+            if (d[0] != 0.0 || d[1] != 0.0 || d[2] != 0.0) add_g(a, d, v_.data());
+        }
+    }
 
    private:
     // Row t of slot a's M^-1 H_a (its t-th dof), into g[3].
@@ -373,7 +387,8 @@ class ProductForm : public SweepForm {
     }
 
     const frix_problem &p_;
-    std::vector<double> v_;  // in the sweeps' numbering of the dofs
+    std::vector<double> v_;       // in the sweeps' numbering of the dofs
+    std::vector<double> v_last_;  // v at the previous extrapolation's r (momentum)
     std::vector<int64_t> slot_of_dof_;
     double norm_w_;
     Csc M_, H_;
@@ -429,7 +444,8 @@ frix_error solve(SolveContext &ctx) {
 // nsgs-v's keys but shuffle and seed (the domains fix the order), and threads.
 const frix_option_key kProductKeys[] = {FRIX_OPT_LOCAL_SOLVER, FRIX_OPT_LOCAL_TOLERANCE, FRIX_OPT_LOCAL_MAX_ITER,
                                         FRIX_OPT_RELAXATION,    FRIX_OPT_FREEZING,        FRIX_OPT_ERROR_FREQUENCY,
-                                        FRIX_OPT_DRIFT_WINDOW,  FRIX_OPT_THREADS,         (frix_option_key)0};
+                                        FRIX_OPT_DRIFT_WINDOW,  FRIX_OPT_THREADS,         FRIX_OPT_ACCELERATION,
+                                        (frix_option_key)0};
 
 }  // namespace
 }  // namespace nsgs
@@ -449,7 +465,7 @@ const SolverEntry kGlobalNsgsEntry = {
     "once; r does not depend on the number of threads. Stopped by the "
     "global measure. Refuses a deformable M (FRIX_ERR_UNSUPPORTED). Options: threads, and "
     "those of nsgs-v but shuffle and seed (local_solver, local_tolerance, local_max_iter, "
-    "relaxation, freezing, error_frequency, drift_window).",
+    "relaxation, freezing, error_frequency, drift_window, acceleration).",
     nsgs::solve,
     false,
     true,

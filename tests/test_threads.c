@@ -248,9 +248,10 @@ START_TEST(test_concurrent_fclib_io) {
 END_TEST
 
 /* gnsgs sweeps domains of contacts, those of one colour at once on the threads: r, v, the
- * sweeps and the error are the same bit for bit with 1, 2 and 3 threads. The pyramid of
- * spheres (3312 contacts, bodies with many contacts each) has 13 domains of 3 colours, so
- * that every colour is shared among the threads. */
+ * sweeps and the error are the same bit for bit with 1, 2 and 3 threads, with and without
+ * acceleration (the loop's index). The pyramid of spheres (3312 contacts, bodies with many
+ * contacts each) has 13 domains of 3 colours, so that every colour is shared among the
+ * threads. */
 START_TEST(test_domain_sweeps_bit_identical) {
     frix_scene_params prm;
     frix_scene_defaults(FRIX_SCENE_SPHERES, &prm);
@@ -272,6 +273,7 @@ START_TEST(test_domain_sweeps_bit_identical) {
         ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_THREADS, t + 1), FRIX_OK);
         ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-6), FRIX_OK);
         ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 1500), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_ACCELERATION, _i), FRIX_OK);
         ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
         ck_assert_int_eq(frix_solve(forms.global, o, r[t], u, v[t], info), FRIX_OK);
         iterations[t] = frix_info_iterations(info);
@@ -300,7 +302,7 @@ int main(void) {
     tcase_add_test(tc, test_concurrent_solves_match_serial);
     tcase_add_test(tc, test_concurrent_orderings_match_serial);
     tcase_add_test(tc, test_concurrent_fclib_io);
-    tcase_add_test(tc, test_domain_sweeps_bit_identical);
+    tcase_add_loop_test(tc, test_domain_sweeps_bit_identical, 0, 2);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

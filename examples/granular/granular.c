@@ -3,7 +3,7 @@
  *
  *   granular [--spheres N] [--steps S] [--step H] [--mu MU] [--radius R] [--seed K]
  *            [--solver NAME] [--tol T] [--threads T] [--max-iter I] [--time-limit SEC]
- *            [--dump-step K --dump FILE.hdf5] [--every K] [--check] [--quiet]
+ *            [--set NAME=VALUE ...] [--dump-step K --dump FILE.hdf5] [--every K] [--check] [--quiet]
  *
  * Bodies: N spheres of radii in [0.7 R, R] (density 2500), set on a loose lattice of columns
  * twice as tall as wide over the floor of a box with four walls, with small random
@@ -39,7 +39,8 @@ typedef struct {
     int64_t spheres, steps, seed, threads, max_iter, dump_step, every;
     double h, mu, radius, tol, time_limit;
     const char *solver, *dump;
-    int check, quiet;
+    const char *set[16]; /* --set NAME=VALUE: any other solver option, by name */
+    int sets, check, quiet;
 } settings;
 
 typedef struct {
@@ -74,7 +75,7 @@ static int usage(const char *msg, const char *arg) {
     fprintf(stderr, "granular: %s%s%s\n", msg, arg ? ": " : "", arg ? arg : "");
     fprintf(stderr, "usage: granular [--spheres N] [--steps S] [--step H] [--mu MU] [--radius R] [--seed K]\n"
                     "         [--solver NAME] [--tol T] [--threads T] [--max-iter I] [--time-limit SEC]\n"
-                    "         [--dump-step K --dump FILE.hdf5] [--every K] [--check] [--quiet]\n");
+                    "         [--set NAME=VALUE ...] [--dump-step K --dump FILE.hdf5] [--every K] [--check] [--quiet]\n");
     return 2;
 }
 
@@ -120,11 +121,41 @@ static int parse(int argc, char **argv, settings *st) {
         else if (!strcmp(o, "--time-limit")) ok = parse_double(a, &st->time_limit) && st->time_limit >= 0.0;
         else if (!strcmp(o, "--solver")) st->solver = a;
         else if (!strcmp(o, "--dump")) st->dump = a;
+        else if (!strcmp(o, "--set")) {
+            if (st->sets == (int)(sizeof st->set / sizeof st->set[0])) return usage("too many --set", a);
+            st->set[st->sets++] = a;
+        }
         else return usage("unknown option", o);
         if (!ok) return usage("bad value", a);
         i += takes;
     }
     if ((st->dump != NULL) != (st->dump_step >= 0)) return usage("--dump and --dump-step go together", NULL);
+    return 0;
+}
+
+static int fail(const char *what, frix_error e) {
+    fprintf(stderr, "granular: %s: %s (%s)\n", what, frix_error_string(e), frix_last_error_message());
+    return 2;
+}
+
+/* --set NAME=VALUE: the option of that name, its value read as its type asks; 0, or 2 after
+ * saying why not. */
+static int set_option(frix_options *opts, const char *assignment) {
+    const char *eq = strchr(assignment, '=');
+    char name[64];
+    if (!eq || eq == assignment || (size_t)(eq - assignment) >= sizeof name) return usage("--set takes NAME=VALUE", assignment);
+    memcpy(name, assignment, (size_t)(eq - assignment));
+    name[eq - assignment] = '\0';
+    frix_option_key key;
+    double lower, upper, value;
+    int is_int;
+    int64_t n;
+    frix_error e;
+    if ((e = frix_option_by_name(name, &key)) || (e = frix_options_bounds(opts, key, &lower, &upper, &is_int)))
+        return fail(assignment, e);
+    if (is_int ? !parse_int(eq + 1, &n) : !parse_double(eq + 1, &value)) return usage("bad value", assignment);
+    if ((e = is_int ? frix_options_set_int(opts, key, n) : frix_options_set_double(opts, key, value)))
+        return fail(assignment, e);
     return 0;
 }
 
@@ -346,11 +377,6 @@ static int grow_indices(int64_t **p, int64_t n) {
     return q != NULL;
 }
 
-static int fail(const char *what, frix_error e) {
-    fprintf(stderr, "granular: %s: %s (%s)\n", what, frix_error_string(e), frix_last_error_message());
-    return 2;
-}
-
 int main(int argc, char **argv) {
     settings st;
     if (parse(argc, argv, &st)) return 2;
@@ -403,6 +429,8 @@ int main(int argc, char **argv) {
         failed = "options";
         goto done;
     }
+    for (int i = 0; i < st.sets && status == 0; ++i) status = set_option(opts, st.set[i]);
+    if (status) goto done;
     if (!st.quiet) printf("# step contacts solver iterations error time_s energy_J\n");
     const double e0 = energy(&w);
     double e_before = e0;

@@ -57,8 +57,9 @@ typedef enum frix_option_key FRIX_ENUM_BASE {
     /* Fixed points (503, 516) */
     FRIX_OPT_INNER_MAX_ITER = 25, /* int: inner sweeps per outer iteration */
     FRIX_OPT_INNER_TOLERANCE_RATIO = 26, /* double in (0, 1]: inner tolerance = ratio * outer error */
-    /* ADMM (523) */
-    FRIX_OPT_ACCELERATION = 27,   /* int 0/1: Nesterov acceleration with restart */
+    /* ADMM (523), NSGS (500, 501, 902) */
+    FRIX_OPT_ACCELERATION = 27,   /* int 0/1: Nesterov acceleration with restart (default 1 for
+                                     523, 0 for the NSGS ones, where it turns freezing off) */
     /* auto (900) */
     FRIX_OPT_THREADS = 28,        /* int >= 1: threads auto may use to solve independent islands
                                      at once, and gnsgs (902) and auto's route through it to
