@@ -26,9 +26,7 @@ void de_saxce_map(const frix_problem &p, const double *r, double *u, double *F) 
     }
 }
 
-void project_on_cones(const frix_problem &p, double *r) {
-    for (int64_t a = 0; a < p.nc; ++a) coulomb::project_on_cone(r + 3 * a, p.mu[a]);
-}
+void project_on_cones(const frix_problem &p, double *r) { coulomb::project_on_cones(r, p.mu, p.nc); }
 
 double contact_diagonal_norm(const frix_problem &p, int64_t a) {
     const frix_matrix &W = *p.W;

@@ -199,7 +199,7 @@ class DriftExtrapolation {
         if (!(t > 1.0) || !std::isfinite(t) || max_sweeps - it < 2 * window_) return false;
         t = std::min(t, kMaxDriftJump);
         for (size_t i = 0; i < m; ++i) r[i] += t * last_[i];
-        for (size_t a = 0; 3 * a < m; ++a) coulomb::project_on_cone(r + 3 * a, mu[a]);
+        coulomb::project_on_cones(r, mu, (int64_t)(m / 3));
         std::copy(r, r + m, start_);
         have_last_ = false;  // a new window history from the new point
         ++jumps_;
@@ -247,8 +247,7 @@ class Momentum {
             last_[i] = x;
             r[i] = line_[i];
         }
-        if (beta != 0.0)
-            for (size_t a = 0; 3 * a < m; ++a) coulomb::project_on_cone(r + 3 * a, mu[a]);
+        if (beta != 0.0) coulomb::project_on_cones(r, mu, (int64_t)(m / 3));
         form.extrapolate(ws, beta, line_.data(), r, u);
     }
 
@@ -285,18 +284,8 @@ class VelocityForm : public SweepForm {
         for (int64_t i = 0; i < 3 * p_.nc; ++i) u[i] += p_.q[i];
     }
     void extrapolate(Workspace &ws, double beta, const double *line, const double *y, double *u) override {
-        const int64_t m = 3 * p_.nc;
-        if (u_last_.empty()) u_last_.resize((size_t)m);
-        for (int64_t i = 0; i < m; ++i) {
-            const double now = u[i];
-            u[i] = now + beta * (now - u_last_[(size_t)i]);
-            u_last_[(size_t)i] = now;
-        }
-        if (beta == 0.0) return;
-        for (int64_t a = 0; a < p_.nc; ++a) {
-            const double d[3] = {y[3 * a] - line[3 * a], y[3 * a + 1] - line[3 * a + 1], y[3 * a + 2] - line[3 * a + 2]};
-            if (d[0] != 0.0 || d[1] != 0.0 || d[2] != 0.0) ws.push_velocity(a, d, u);
-        }
+        extrapolate_affine(beta, line, y, p_.nc, u, 3 * (size_t)p_.nc, u_last_,
+                           [&ws, u](int64_t a, const double *d) { ws.push_velocity(a, d, u); });
     }
 
    private:

@@ -198,9 +198,9 @@ class Workspace {
     template <class LocalQ, class Step, class Moved>
     SweepStats sweep_loop(double *r, LocalQ &&local_q, Step &&step, Moved &&moved);
     // Sweeps domain by domain in the domains' order, the domains of a colour shared among the
-    // team's threads; the contacts are numbered in sweep order (domain d is contacts
-    // domains.domain_ptr[d] .. domain_ptr[d+1]; domains.contacts is not read): local_q and moved of two contacts of one colour's domains must touch
-    // disjoint data. The iterates and the statistics (summed domain by domain, in order) do
+    // team's threads. The contacts are numbered in sweep order: domain d is contacts
+    // domains.domain_ptr[d] .. domain_ptr[d+1], and domains.contacts is not read. local_q and
+    // moved of two contacts of one colour's domains must touch disjoint data. The iterates and the statistics (summed domain by domain, in order) do
     // not depend on the number of threads. The settings' shuffle does not apply.
     template <class LocalQ, class Moved>
     SweepStats sweep_domains(double *r, const Domains &domains, ThreadTeam &team, LocalQ &&local_q, Moved &&moved);
@@ -380,6 +380,25 @@ class SweepForm {
         if (beta != 0.0) restart(y, u);
     }
 };
+
+// SweepForm::extrapolate for a kept state (n values) affine in r: kept <- kept + beta (kept -
+// last), last <- kept as it was; then push(a, y_a - line_a) for each contact a the projection
+// moved, which must add that change's part to kept.
+template <class Push>
+void extrapolate_affine(double beta, const double *line, const double *y, int64_t nc, double *kept, size_t n,
+                        std::vector<double> &last, Push &&push) {
+    if (last.empty()) last.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        const double now = kept[i];
+        kept[i] = now + beta * (now - last[i]);
+        last[i] = now;
+    }
+    if (beta == 0.0) return;
+    for (int64_t a = 0; a < nc; ++a) {
+        const double d[3] = {y[3 * a] - line[3 * a], y[3 * a + 1] - line[3 * a + 1], y[3 * a + 2] - line[3 * a + 2]};
+        if (d[0] != 0.0 || d[1] != 0.0 || d[2] != 0.0) push(a, d);
+    }
+}
 
 // The NSGS iteration on `form`: sweeps, the light error calibrated by full checks, drift
 // extrapolation, freezing, the monitor's limits and callback; ctx.info gets the status and

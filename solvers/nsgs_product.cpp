@@ -123,17 +123,8 @@ class ProductForm : public SweepForm {
     bool measures_are_local() const override { return false; }
     // v is affine in r: v(y) = v(x) + beta (v(x) - v(x_prev)) + M^-1 H (y - line).
     void extrapolate(Workspace &, double beta, const double *line, const double *y, double *) override {
-        if (v_last_.empty()) v_last_.resize(v_.size());
-        for (size_t i = 0; i < v_.size(); ++i) {
-            const double now = v_[i];
-            v_[i] = now + beta * (now - v_last_[i]);
-            v_last_[i] = now;
-        }
-        if (beta == 0.0) return;
-        for (int64_t a = 0; a < p_.nc; ++a) {
-            const double d[3] = {y[3 * a] - line[3 * a], y[3 * a + 1] - line[3 * a + 1], y[3 * a + 2] - line[3 * a + 2]};
-            if (d[0] != 0.0 || d[1] != 0.0 || d[2] != 0.0) add_g(a, d, v_.data());
-        }
+        extrapolate_affine(beta, line, y, p_.nc, v_.data(), v_.size(), v_last_,
+                           [this](int64_t a, const double *d) { add_g(a, d, v_.data()); });
     }
 
    private:

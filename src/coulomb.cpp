@@ -30,6 +30,10 @@ void project_on_cone(double *r, double mu) {
     r[2] *= k;
 }
 
+void project_on_cones(double *r, const double *mu, int64_t nc) {
+    for (int64_t a = 0; a < nc; ++a) project_on_cone(r + 3 * a, mu[a]);
+}
+
 void project_on_disk(double *r, double R) {
     if (r[0] < 0.0) r[0] = 0.0;
     R = std::max(R, 0.0);

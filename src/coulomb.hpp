@@ -4,10 +4,15 @@
 // definition of the law decides what "solved" means.
 #pragma once
 
+#include <cstdint>
+
 namespace frix::coulomb {
 
 // r <- P_K(r), K = {|r_T| <= mu r_N}; mu = 0 is the half-line r_T = 0, r_N >= 0.
 void project_on_cone(double *r, double mu);
+
+// project_on_cone for each of nc contacts: r_a = r[3a .. 3a+3) on its mu[a].
+void project_on_cones(double *r, const double *mu, int64_t nc);
 
 // r <- the projection on {r_N >= 0, |r_T| <= R} (Tresca); R < 0 is taken as 0.
 void project_on_disk(double *r, double R);
