@@ -1,12 +1,12 @@
 /* A granular time-stepping client of frix: polydisperse spheres poured into a box under
  * gravity, one frictional contact problem per step solved by a persistent solver.
  *
- *   granular [--spheres N] [--steps S] [--step H] [--mu MU] [--radius R] [--seed K]
+ *   granular [--spheres N] [--aspect A] [--steps S] [--step H] [--mu MU] [--radius R] [--seed K]
  *            [--solver NAME] [--tol T] [--threads T] [--max-iter I] [--time-limit SEC]
  *            [--set NAME=VALUE ...] [--dump-step K --dump FILE.hdf5] [--every K] [--check] [--quiet]
  *
- * Bodies: N spheres of radii in [0.7 R, R] (density 2500), set on a loose lattice of columns
- * twice as tall as wide over the floor of a box with four walls, with small random
+ * Bodies: N spheres of radii in [0.7 R, R] (density 2500), set on a loose lattice A times as
+ * tall as wide (default 2) over the floor of a box with four walls, with small random
  * velocities. Each step (Moreau-Jean, theta = 1):
  *   - broad phase on a uniform grid of cells of one sphere's span; a contact is a pair (or a
  *     sphere and a wall) closer than a margin no step can cross: a floor of 5 % of the
@@ -37,7 +37,7 @@
 
 typedef struct {
     int64_t spheres, steps, seed, threads, max_iter, dump_step, every;
-    double h, mu, radius, tol, time_limit;
+    double h, mu, radius, tol, time_limit, aspect;
     const char *solver, *dump;
     const char *set[16]; /* --set NAME=VALUE: any other solver option, by name */
     int sets, check, quiet;
@@ -73,7 +73,7 @@ static double uniform(uint64_t *s) {
 
 static int usage(const char *msg, const char *arg) {
     fprintf(stderr, "granular: %s%s%s\n", msg, arg ? ": " : "", arg ? arg : "");
-    fprintf(stderr, "usage: granular [--spheres N] [--steps S] [--step H] [--mu MU] [--radius R] [--seed K]\n"
+    fprintf(stderr, "usage: granular [--spheres N] [--aspect A] [--steps S] [--step H] [--mu MU] [--radius R] [--seed K]\n"
                     "         [--solver NAME] [--tol T] [--threads T] [--max-iter I] [--time-limit SEC]\n"
                     "         [--set NAME=VALUE ...] [--dump-step K --dump FILE.hdf5] [--every K] [--check] [--quiet]\n");
     return 2;
@@ -99,7 +99,7 @@ static int parse_int(const char *s, int64_t *out) {
 
 static int parse(int argc, char **argv, settings *st) {
     *st = (settings){.spheres = 1000, .steps = 200, .seed = 1, .threads = 1, .max_iter = 0, .dump_step = -1,
-                     .every = 1, .h = 2e-3, .mu = 0.5, .radius = 0.01, .tol = 1e-4, .time_limit = 0.0,
+                     .every = 1, .h = 2e-3, .mu = 0.5, .radius = 0.01, .tol = 1e-4, .time_limit = 0.0, .aspect = 2.0,
                      .solver = "auto", .dump = NULL, .check = 0, .quiet = 0};
     for (int i = 1; i < argc; ++i) {
         const char *o = argv[i], *a = i + 1 < argc ? argv[i + 1] : NULL;
@@ -117,6 +117,7 @@ static int parse(int argc, char **argv, settings *st) {
         else if (!strcmp(o, "--step")) ok = parse_double(a, &st->h) && st->h > 0.0;
         else if (!strcmp(o, "--mu")) ok = parse_double(a, &st->mu) && st->mu >= 0.0;
         else if (!strcmp(o, "--radius")) ok = parse_double(a, &st->radius) && st->radius > 0.0;
+        else if (!strcmp(o, "--aspect")) ok = parse_double(a, &st->aspect) && st->aspect >= 0.01 && st->aspect <= 100.0;
         else if (!strcmp(o, "--tol")) ok = parse_double(a, &st->tol) && st->tol > 0.0;
         else if (!strcmp(o, "--time-limit")) ok = parse_double(a, &st->time_limit) && st->time_limit >= 0.0;
         else if (!strcmp(o, "--solver")) st->solver = a;
@@ -159,7 +160,8 @@ static int set_option(frix_options *opts, const char *assignment) {
     return 0;
 }
 
-/* The initial state: columns of a lattice twice as tall as wide, each site jittered. */
+/* The initial state: a lattice filling the box's floor, aspect times as tall as wide (to the
+ * last layer), each site jittered. */
 static int make_world(const settings *st, world *w) {
     const int64_t n = st->spheres;
     w->n = n;
@@ -172,7 +174,7 @@ static int make_world(const settings *st, world *w) {
     uint64_t rng = 0x9E3779B97F4A7C15ULL ^ (uint64_t)(st->seed + 1) * 0xBF58476D1CE4E5B9ULL;
     const double R = st->radius, spacing = 2.2 * R;
     int64_t side = 1;
-    while (2 * side * side * side < n) ++side;
+    while (st->aspect * (double)(side * side * side) < (double)n) ++side;
     w->rmax = R;
     w->rmin = 0.7 * R;
     w->box[0] = w->box[1] = (double)side * spacing;
