@@ -1,4 +1,5 @@
-# cmake --install: headers (with the Fortran module source), libfrix.so.0 and libfrix.a, the
+# cmake --install: headers (with the Fortran module source), libfrix.so.0 and libfrix.a
+# (and libfrix_mpi.so.0 with frix-mpi, when built), the
 # Fortran module and its library, the frix CLI (tools/CMakeLists.txt), a CMake package
 # (find_package(frix) -> frix::frix, frix::frix_static, frix::fortran) and frix.pc.
 include(CMakePackageConfigHelpers)
@@ -6,11 +7,19 @@ include(CMakePackageConfigHelpers)
 # The installed CLI finds the installed libfrix.so.0 relative to itself, wherever the prefix.
 file(RELATIVE_PATH FRIX_BIN_TO_LIB "/${CMAKE_INSTALL_BINDIR}" "/${CMAKE_INSTALL_LIBDIR}")
 set_target_properties(frix_cli PROPERTIES INSTALL_RPATH "$ORIGIN/${FRIX_BIN_TO_LIB}")
+if(TARGET frix_mpi_cli)
+  set_target_properties(frix_mpi_cli PROPERTIES INSTALL_RPATH "$ORIGIN/${FRIX_BIN_TO_LIB}")
+endif()
 
 install(TARGETS frix frix_static EXPORT frixTargets
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
-install(DIRECTORY include/frix DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+if(TARGET frix_mpi)
+  install(TARGETS frix_mpi EXPORT frixTargets LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(DIRECTORY include/frix DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+else()
+  install(DIRECTORY include/frix DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} PATTERN frix_mpi.h EXCLUDE)
+endif()
 install(FILES "${CMAKE_CURRENT_BINARY_DIR}/include/frix/frix_version.h"
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/frix)
 if(TARGET frix_fortran)

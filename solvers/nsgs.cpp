@@ -96,6 +96,14 @@ SweepStats Workspace::sweep(double *r) {
     });
 }
 
+SweepStats Workspace::sweep_part(double *r, const int64_t *contacts, int64_t count) {
+    const local::Params lp = s_.local;
+    return sweep_contacts(
+        r, contacts, count, [this, r](int64_t a, const local::Contact &, double *ql) { local_q(a, r, ql); },
+        [&lp](int64_t, local::Contact &c, const double *ql, double *rn) { return local::solve_contact(c, ql, rn, lp); },
+        [](int64_t, const double *) {});
+}
+
 void Workspace::build_columns() {
     const int64_t nc = (int64_t)contacts_.size();
     const int64_t nb = W_->nblocks();
@@ -155,6 +163,8 @@ constexpr int64_t kFreezeAfter = 10;
 // windows ahead.
 constexpr double kDriftCosine = 0.99;
 constexpr double kMaxDriftJump = 1000.0;
+// The flags of SweepForm::agree after a sweep.
+constexpr unsigned kStopAsked = 1u, kOutOfTime = 2u;
 
 // On rank-deficient W, NSGS can sit for millions of sweeps on a plateau of the error while r
 // drifts at a steady rate along a nearly self-equilibrated transfer of load between contacts,
@@ -346,6 +356,7 @@ frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const c
     // A warm start that already solves the problem costs one product, not a sweep.
     bool warm = false;
     for (int64_t i = 0; i < m && !warm; ++i) warm = r[i] != 0.0;
+    warm = form.agree(warm ? 1u : 0u) != 0;
     if (warm) {
         const double e = exact_error();
         if (e <= tol) {
@@ -358,6 +369,7 @@ frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const c
         form.restart(r, u);
     }
 
+    const int64_t all_contacts = form.all_contacts(p.nc);
     DriftExtrapolation drift(o.i(FRIX_OPT_DRIFT_WINDOW), m, r);
     Momentum momentum(o.i(FRIX_OPT_ACCELERATION) != 0, m, r);
 
@@ -369,7 +381,7 @@ frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const c
     while (it < max_iter) {
         if (s.freezing > 0)
             ws.set_freeze_threshold(it >= kFreezeAfter && !momentum.on()
-                                        ? tol_light * tol_light * last_r2 / (10.0 * (double)p.nc)
+                                        ? tol_light * tol_light * last_r2 / (10.0 * (double)all_contacts)
                                         : -1.0);
         const SweepStats st = form.sweep(ws, r, u);
         at_r = false;
@@ -427,11 +439,12 @@ frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const c
         // The callback sees every sweep, the last one too; it can only stop a running solve.
         const bool stop = monitor.report(it, estimate);
         if (info.status != FRIX_STATUS_MAX_ITER) break;
-        if (stop) {
+        const unsigned flags = form.agree((stop ? kStopAsked : 0u) | (monitor.out_of_time() ? kOutOfTime : 0u));
+        if (flags & kStopAsked) {
             info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
             break;
         }
-        if (monitor.out_of_time()) {
+        if (flags & kOutOfTime) {
             info.status = FRIX_STATUS_TIME_LIMIT;
             break;
         }

@@ -161,6 +161,9 @@ struct SweepStats {
     int64_t rejected = 0;    // non-finite local results discarded
     int64_t unsolved = 0;    // local solves that stopped short of the local tolerance
     int64_t frozen = 0;      // contacts skipped because frozen
+    void add(const SweepStats &o) {
+        dr2 += o.dr2, r2 += o.r2, rejected += o.rejected, unsolved += o.unsolved, frozen += o.frozen;
+    }
 };
 
 // Everything a sweep needs, prepared once per solve; sweeps allocate nothing.
@@ -172,6 +175,9 @@ class Workspace {
     Workspace(const double *diagonal_blocks, const double *mu, int64_t nc, const Settings &s);
     // One pass over the contacts with the settings' one-contact solver, updating r in place.
     SweepStats sweep(double *r);
+    // The same pass over contacts[0 .. count) only, in that order (the settings' shuffle does
+    // not apply): a distributed sweep runs its contacts in parts between its messages.
+    SweepStats sweep_part(double *r, const int64_t *contacts, int64_t count);
     // The same pass with another one-contact step: step(a, contact, q_local, r_a) receives
     // the local q (q_a + sum_{b!=a} W_ab r_b) and r_a (3 values: the current reaction in, the
     // new one out) and returns a local::Outcome. Used by the fixed points, whose inner
@@ -197,6 +203,11 @@ class Workspace {
     // gives contact a's local q; moved(a, dr) is told of each accepted change dr of r_a.
     template <class LocalQ, class Step, class Moved>
     SweepStats sweep_loop(double *r, LocalQ &&local_q, Step &&step, Moved &&moved);
+    // sweep_loop's pass over `count` contacts: contacts[k] for k < count, or k itself when
+    // contacts is null.
+    template <class LocalQ, class Step, class Moved>
+    SweepStats sweep_contacts(double *r, const int64_t *contacts, int64_t count, LocalQ &&local_q, Step &&step,
+                              Moved &&moved);
     // Sweeps domain by domain in the domains' order, the domains of a colour shared among the
     // team's threads. The contacts are numbered in sweep order: domain d is contacts
     // domains.domain_ptr[d] .. domain_ptr[d+1], and domains.contacts is not read. local_q and
@@ -253,12 +264,17 @@ class Workspace {
 
 template <class LocalQ, class Step, class Moved>
 SweepStats Workspace::sweep_loop(double *r, LocalQ &&local_q, Step &&step, Moved &&moved) {
-    SweepStats st;
     if (s_.shuffle == FRIX_SHUFFLE_EACH_SWEEP) reshuffle();
-    const int64_t nc = (int64_t)contacts_.size();
-    const int64_t *order = order_.empty() ? nullptr : order_.data();
+    return sweep_contacts(r, order_.empty() ? nullptr : order_.data(), (int64_t)contacts_.size(), local_q, step,
+                          moved);
+}
+
+template <class LocalQ, class Step, class Moved>
+SweepStats Workspace::sweep_contacts(double *r, const int64_t *order, int64_t count, LocalQ &&local_q, Step &&step,
+                                     Moved &&moved) {
+    SweepStats st;
     int64_t *frozen = frozen_.empty() ? nullptr : frozen_.data();
-    for (int64_t k = 0; k < nc; ++k) {
+    for (int64_t k = 0; k < count; ++k) {
         const int64_t a = order ? order[k] : k;
         double *ra = r + 3 * a;
         if (frozen && frozen[a] > 0) {
@@ -379,6 +395,12 @@ class SweepForm {
         (void)ws, (void)line;
         if (beta != 0.0) restart(y, u);
     }
+    // A form whose contacts are shared among processes (a distributed solve): the bitwise or
+    // of `flags` over them, so that each decision taken on one process's own data (a warm
+    // start, the callback, the clock) is taken by all of them alike.
+    virtual unsigned agree(unsigned flags) { return flags; }
+    // The number of contacts of the whole problem, of which the workspace holds `held`.
+    virtual int64_t all_contacts(int64_t held) const { return held; }
 };
 
 // SweepForm::extrapolate for a kept state (n values) affine in r: kept <- kept + beta (kept -

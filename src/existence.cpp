@@ -30,12 +30,14 @@
 #include "error_state.hpp"
 #include "coulomb.hpp"
 #include "matrix.hpp"
+#include "measures.hpp"
 #include "solver_api.hpp"
 
 namespace {
 
 using Vec = std::vector<double>;
 using frix::for_each_entry;
+using frix::max_abs;
 
 // ---- Budget and tolerances.
 // time_limit = 0: steps worth about kDefaultWork multiply-adds (a step costs one or two
@@ -82,12 +84,6 @@ double dot(const Vec &x, const Vec &y) {
     double s = 0.0;
     for (std::size_t i = 0; i < x.size(); ++i) s += x[i] * y[i];
     return s;
-}
-
-double max_abs(const double *x, int64_t n) {
-    double a = 0.0;
-    for (int64_t i = 0; i < n; ++i) a = std::max(a, std::fabs(x[i]));
-    return a;
 }
 
 // The root mean square over contacts of |x_a|: the scale of margins. Summed over x / max|x|,

@@ -17,21 +17,25 @@ namespace {
 // physical problem. Problems scaled by 1e+-200 take the rescaled path.
 constexpr double kSafeSumMin = 1e-280, kSafeSumMax = 1e280;
 
+}  // namespace
+
+namespace frix {
+
 double max_abs(const double *x, int64_t n) {
     double a = 0.0;
     for (int64_t i = 0; i < n; ++i) a = std::max(a, std::fabs(x[i]));
     return a;
 }
 
-// Sum over contacts of the squared natural-map residual and the largest distance of r_a to
-// its cone, for (r, u) divided by `divisor` (both are positively homogeneous, so the caller
-// multiplies the results back). Dividing, not multiplying by 1/divisor, which overflows
-// for a subnormal divisor.
-void residual_and_cone(const double *r, const double *u, const double *mu, int64_t nc,
+bool in_safe_range(double s) { return s > kSafeSumMin && s < kSafeSumMax; }
+
+// Both measures are positively homogeneous, so the caller multiplies the results back.
+// Dividing, not multiplying by 1/divisor, which overflows for a subnormal divisor.
+void rescaled_residual(const double *r, const double *u, const double *mu, int64_t first, int64_t end,
                        double divisor, double &sum, double &cone) {
     sum = 0.0;
     cone = 0.0;
-    for (int64_t a = 0; a < nc; ++a) {
+    for (int64_t a = first; a < end; ++a) {
         const double ra[3] = {r[3 * a] / divisor, r[3 * a + 1] / divisor, r[3 * a + 2] / divisor};
         const double ua[3] = {u[3 * a] / divisor, u[3 * a + 1] / divisor, u[3 * a + 2] / divisor};
         sum += frix::coulomb::residual_sq(ra, ua, mu[a]);
@@ -42,14 +46,10 @@ void residual_and_cone(const double *r, const double *u, const double *mu, int64
     }
 }
 
-}  // namespace
-
-namespace frix {
-
 double norm2(const double *x, int64_t n) {
     double s = 0.0;
     for (int64_t i = 0; i < n; ++i) s += x[i] * x[i];
-    if (s > kSafeSumMin && s < kSafeSumMax) return std::sqrt(s);
+    if (in_safe_range(s)) return std::sqrt(s);
     const double a = max_abs(x, n);
     if (a == 0.0) return 0.0;
     s = 0.0;
@@ -68,7 +68,7 @@ void MeasureParts::add(const MeasureParts &o) {
 
 MeasureParts measure_parts(const double *r, const double *u, const double *mu, int64_t first, int64_t end) {
     MeasureParts m;
-    residual_and_cone(r + 3 * first, u + 3 * first, mu + first, end - first, 1.0, m.residual_sq, m.cone);
+    rescaled_residual(r, u, mu, first, end, 1.0, m.residual_sq, m.cone);
     for (int64_t a = first; a < end; ++a) {
         const double *ra = r + 3 * a, *ua = u + 3 * a;
         m.penetration = std::max(m.penetration, -ua[0]);
@@ -80,27 +80,51 @@ MeasureParts measure_parts(const double *r, const double *u, const double *mu, i
     return m;
 }
 
+namespace {
+
+// The rescue of the contacts all held here.
+class WholeRescue : public MeasureRescue {
+   public:
+    WholeRescue(const double *r, const double *u, const double *mu, int64_t nc) : r_(r), u_(u), mu_(mu), nc_(nc) {}
+    double max_abs_ru() override { return std::max(max_abs(r_, 3 * nc_), max_abs(u_, 3 * nc_)); }
+    void residual(double divisor, double &sum, double &cone) override {
+        rescaled_residual(r_, u_, mu_, 0, nc_, divisor, sum, cone);
+    }
+    double norm_r() override { return norm2(r_, 3 * nc_); }
+    double norm_u() override { return norm2(u_, 3 * nc_); }
+
+   private:
+    const double *r_, *u_, *mu_;
+    int64_t nc_;
+};
+
+}  // namespace
+
 Measures measures_from_parts(const MeasureParts &all, const double *r, const double *u, const double *mu,
                              int64_t nc, double norm_q) {
+    WholeRescue rescue(r, u, mu, nc);
+    return measures_from_parts(all, rescue, norm_q);
+}
+
+Measures measures_from_parts(const MeasureParts &all, MeasureRescue &rescue, double norm_q) {
     Measures m;
     m.residual_absolute = std::sqrt(all.residual_sq);
     m.cone_violation = all.cone;
-    if (!(all.residual_sq > kSafeSumMin && all.residual_sq < kSafeSumMax)) {
+    if (!in_safe_range(all.residual_sq)) {
         // Squares overflowed or underflowed (e.g. a problem scaled by 1e+-200): redo on
         // (r, u) / max|.|, where every square is in range, and scale the results back.
-        const double a = std::max(max_abs(r, 3 * nc), max_abs(u, 3 * nc));
+        const double a = rescue.max_abs_ru();
         if (a > 0.0) {
             double sum, cone;
-            residual_and_cone(r, u, mu, nc, a, sum, cone);
+            rescue.residual(a, sum, cone);
             m.residual_absolute = a * std::sqrt(sum);
             m.cone_violation = cone * a;
         }
     }
     m.penetration = all.penetration;
     m.complementarity = all.complementarity;
-    const auto safe = [](double s) { return s > kSafeSumMin && s < kSafeSumMax; };
-    m.norm_r = safe(all.r_sq) ? std::sqrt(all.r_sq) : norm2(r, 3 * nc);
-    m.norm_u = safe(all.u_sq) ? std::sqrt(all.u_sq) : norm2(u, 3 * nc);
+    m.norm_r = in_safe_range(all.r_sq) ? std::sqrt(all.r_sq) : rescue.norm_r();
+    m.norm_u = in_safe_range(all.u_sq) ? std::sqrt(all.u_sq) : rescue.norm_u();
     return with_norm_q(m, norm_q);
 }
 

@@ -40,6 +40,31 @@ MeasureParts measure_parts(const double *r, const double *u, const double *mu, i
 Measures measures_from_parts(const MeasureParts &all, const double *r, const double *u, const double *mu,
                              int64_t nc, double norm_q);
 
+// What measures_from_parts redoes over all contacts when a sum of the parts left the safe
+// range (a problem scaled by 1e+-200): for contacts held apart (by the processes of a
+// distributed solve), which must combine their shares in a fixed order.
+class MeasureRescue {
+   public:
+    virtual ~MeasureRescue() = default;
+    // The largest |r_i| and |u_i|.
+    virtual double max_abs_ru() = 0;
+    // rescaled_residual's sum and maximum over all contacts, for the divisor given.
+    virtual void residual(double divisor, double &sum, double &cone) = 0;
+    // |r|_2 and |u|_2 (norm2 over all contacts).
+    virtual double norm_r() = 0;
+    virtual double norm_u() = 0;
+};
+Measures measures_from_parts(const MeasureParts &all, MeasureRescue &rescue, double norm_q);
+
+// The sum over contacts [first, end) of the squared natural-map residual of (r, u) / divisor,
+// and the largest distance of r_a / divisor to its cone.
+void rescaled_residual(const double *r, const double *u, const double *mu, int64_t first, int64_t end,
+                       double divisor, double &sum, double &cone);
+// max_i |x_i|.
+double max_abs(const double *x, int64_t n);
+// Whether a sum of squares lies where the plain sums are exact enough (kSafeSumMin..Max).
+bool in_safe_range(double sum_of_squares);
+
 // m's errors on another scale: norm_q replaced (a reduced problem's answer measured as the
 // global problem's, |w| for |q|: the residual, r and u are the same).
 Measures with_norm_q(Measures m, double norm_q);

@@ -19,6 +19,24 @@ foreach(std c++98 c++17)
                    "${CMAKE_CURRENT_SOURCE_DIR}/public_headers.c")
 endforeach()
 
+# frix_mpi.h, with MPI's own headers as system headers (they are not ours to check).
+if(FRIX_WITH_MPI)
+  set(FRIX_MPI_INCLUDES)
+  foreach(d ${MPI_C_INCLUDE_DIRS})
+    list(APPEND FRIX_MPI_INCLUDES -isystem "${d}")
+  endforeach()
+  foreach(std c89 c99 c11)
+    add_test(NAME public_headers_mpi_${std}
+             COMMAND ${CMAKE_C_COMPILER} -std=${std} ${FRIX_HEADER_FLAGS} ${FRIX_PUBLIC_INCLUDES} ${FRIX_MPI_INCLUDES}
+                     "${CMAKE_CURRENT_SOURCE_DIR}/public_headers_mpi.c")
+  endforeach()
+  foreach(std c++98 c++17)
+    add_test(NAME public_headers_mpi_${std}
+             COMMAND ${CMAKE_CXX_COMPILER} -x c++ -std=${std} ${FRIX_HEADER_FLAGS} ${FRIX_PUBLIC_INCLUDES}
+                     ${FRIX_MPI_INCLUDES} "${CMAKE_CURRENT_SOURCE_DIR}/public_headers_mpi.c")
+  endforeach()
+endif()
+
 # ---- ABI: abidw (Debian abigail-tools) on libfrix.so against abi/libfrix.so.0.abi.
 find_program(FRIX_ABIDW abidw)
 find_program(FRIX_ABIDIFF abidiff)

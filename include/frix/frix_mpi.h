@@ -1,0 +1,124 @@
+/* frix — distributed solves under MPI: libfrix_mpi, built with -DFRIX_WITH_MPI=ON.
+ *
+ * For host codes that already run under MPI with their contacts partitioned. Each process
+ * (rank of the host's communicator) passes the contacts it owns, a contiguous block of the
+ * global numbering, and their block rows of W; the processes then solve together, each
+ * receiving the reactions of its own contacts. The serial library (libfrix) is unchanged;
+ * options and info are its handles (frix_options_create, frix_info_create, of the same
+ * version), and the error and status codes are its own.
+ *
+ *   frix_mpi_context *ctx;                    (the host's communicator, duplicated)
+ *   frix_mpi_context_create(host_comm, &ctx);
+ *   frix_mpi_problem *p;                      (this rank: contacts first .. first+owned-1)
+ *   frix_mpi_problem_local(ctx, first, owned, row_ptr, block_col, block_val, q, mu, &p);
+ *   frix_mpi_solve(p, options, r, u, info);   (r, u: 3*owned values; r is the warm start)
+ *   frix_mpi_problem_free(p);
+ *   frix_mpi_context_free(ctx);
+ *
+ * Collective calls. Every function that takes a context or a problem, except the getters
+ * and the frees, is collective over the context's communicator: all its ranks call it, in
+ * the same order, and all of them return the same frix_error. When one rank's input is
+ * refused, every rank gets the error, with the refusing rank's message.
+ *
+ * Communicator. The context works on its own duplicate of the communicator given and never
+ * on MPI_COMM_WORLD: separate contexts (on the halves of a split communicator, say) solve at
+ * once without interfering. MPI must be initialised before create and finalised after free;
+ * the library never initialises or finalises it. Calls on one context come from one thread.
+ *
+ * The solve. frix_mpi_solve runs nsgs (FRIX_SOLVER_NSGS, 500): a nonsmooth Gauss-Seidel
+ * whose sweep is a Gauss-Seidel over all contacts in an order fixed by the partition. The
+ * processes are coloured so that no two neighbours (ranks whose contacts are coupled through
+ * W) share a colour; in a sweep a rank sweeps its interior contacts (coupled to its own
+ * contacts only) while its boundary contacts wait for the reactions of its neighbours of
+ * lower colours. For a fixed partition the results are the same bits on every run; with one
+ * rank they are those of frix_solve with the same options. With more ranks the order of the
+ * sweep differs, and so do the iterates: the answer meets the same tolerance. The error
+ * measure is computed over all contacts, in a fixed order. Options drift_window,
+ * acceleration and shuffle are refused (they steer the whole iterate at once).
+ *
+ * Messages. The last failing call's message in this thread: frix_mpi_last_error_message()
+ * (libfrix's frix_last_error_message() reports libfrix's own calls only).
+ */
+#ifndef FRIX_MPI_H
+#define FRIX_MPI_H
+
+#include <mpi.h>
+#include <stdint.h>
+#include "frix_export.h"
+#include "frix_errors.h"
+#include "frix_options.h"
+#include "frix_info.h"
+#include "frix_problem.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct frix_mpi_context frix_mpi_context;
+typedef struct frix_mpi_problem frix_mpi_problem;
+
+/* A context on a duplicate of `comm` (collective over comm). FRIX_ERR_INVALID_ARGUMENT for
+ * MPI_COMM_NULL, a NULL out, or MPI not initialised. */
+FRIX_API frix_error frix_mpi_context_create(MPI_Comm comm, frix_mpi_context **out);
+/* Frees the duplicate (collective). Free the context's problems first. */
+FRIX_API void frix_mpi_context_free(frix_mpi_context *ctx);
+FRIX_API int frix_mpi_context_rank(const frix_mpi_context *ctx);
+FRIX_API int frix_mpi_context_size(const frix_mpi_context *ctx);
+
+/* This rank's part of a local problem (u = W r + q) of n contacts in all: contacts first ..
+ * first+owned-1 (owned may be 0), the ranks' blocks in rank order and covering 0 .. n-1.
+ * Their block rows of W in 3x3 block-CSR: block row i (contact first+i) holds the blocks
+ * row_ptr[i] .. row_ptr[i+1]-1, block k in block column block_col[k] (a global contact
+ * index, increasing within the row) with its 9 values column-major at block_val[9k]; q
+ * (3*owned values) and mu (owned values). The data are copied. Checked as frix_problem_local
+ * checks a whole problem (sizes, finite values, mu >= 0, columns in range), and the blocks
+ * against the ranks' blocks. */
+FRIX_API frix_error frix_mpi_problem_local(frix_mpi_context *ctx, int64_t first, int64_t owned,
+                                           const int64_t *row_ptr, const int64_t *block_col,
+                                           const double *block_val, const double *q, const double *mu,
+                                           frix_mpi_problem **out);
+/* A whole local problem held by rank `root` (`problem` is read on root only; NULL elsewhere),
+ * cut into blocks and sent to the ranks: rank k receives contacts starts[k] .. starts[k+1]-1
+ * (`starts`: size+1 values, read on root; NULL for blocks of equal size, the first ranks one
+ * contact more). The problem's W must be stored in 3x3 blocks, as problems read from files
+ * are. */
+FRIX_API frix_error frix_mpi_problem_scatter(frix_mpi_context *ctx, int root, const frix_problem *problem,
+                                             const int64_t *starts, frix_mpi_problem **out);
+FRIX_API void frix_mpi_problem_free(frix_mpi_problem *p);
+
+/* What a distributed problem holds (not collective). */
+typedef enum frix_mpi_key FRIX_ENUM_BASE {
+    FRIX_MPI_CONTACTS = 1,        /* contacts of the whole problem */
+    FRIX_MPI_FIRST = 2,           /* this rank's first contact */
+    FRIX_MPI_OWNED = 3,           /* this rank's contacts */
+    FRIX_MPI_GHOSTS = 4,          /* other ranks' contacts that this rank's rows couple to */
+    FRIX_MPI_BOUNDARY = 5,        /* this rank's contacts coupled to another rank's */
+    FRIX_MPI_NEIGHBOURS = 6,      /* ranks this rank exchanges reactions with */
+    FRIX_MPI_COLOUR = 7,          /* this rank's colour in the sweep's order */
+    FRIX_MPI_COLOURS = 8,         /* colours of all ranks */
+    FRIX_MPI_MESSAGES_SENT = 9    /* messages this rank sends in one sweep */
+} frix_mpi_key;
+FRIX_API frix_error frix_mpi_problem_get_int(const frix_mpi_problem *p, frix_mpi_key key, int64_t *value);
+
+/* Solves (collective). r: this rank's 3*owned reactions, the warm start in (0 for a cold
+ * start; non-finite entries are started from 0) and the result out; u: 3*owned, receives
+ * W r + q. options: NULL for nsgs's defaults, else options of FRIX_SOLVER_NSGS; the same on
+ * every rank (the tolerance, the limits), except the callback and log sink, which each rank
+ * may set or not. A callback asking to stop, or a time limit reached, on any rank stops all.
+ * Only rank 0 logs. info (may be NULL) receives what frix_solve reports: status,
+ * iterations (sweeps), the error measures over all contacts, solve time. */
+FRIX_API frix_error frix_mpi_solve(frix_mpi_problem *p, const frix_options *options, double *r, double *u,
+                                   frix_info *info);
+
+/* Gathers a per-contact vector (3 values a contact) to rank `root` (collective): each rank
+ * gives its 3*owned values, root receives all 3*n in x_all (ignored elsewhere). */
+FRIX_API frix_error frix_mpi_gather(const frix_mpi_problem *p, int root, const double *x_owned, double *x_all);
+
+/* The message of this thread's last failing frix_mpi_* call. */
+FRIX_API const char *frix_mpi_last_error_message(void);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* FRIX_MPI_H */

@@ -1,0 +1,369 @@
+// Distributed local problems: each rank's block rows, the ghosts they couple to, the
+// exchange with the neighbours and the colouring of the ranks that orders the sweep.
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <memory>
+
+#include "mpi/distributed.hpp"
+#include "src/error_state.hpp"
+
+namespace frix {
+namespace mpi {
+namespace {
+
+// Checks one rank's input as frix_problem_local checks a whole problem; FRIX_OK or a message.
+frix_error check_part(int64_t first, int64_t owned, const int64_t *row_ptr, const int64_t *block_col,
+                      const double *block_val, const double *q, const double *mu, const char *where) {
+    if (first < 0 || owned < 0)
+        return fail(FRIX_ERR_DIMENSION, "%s: first (%lld) and owned (%lld) must be >= 0", where, (long long)first,
+                    (long long)owned);
+    if (owned == 0) return FRIX_OK;
+    if (!row_ptr || !q || !mu) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: row_ptr, q and mu are required", where);
+    if (row_ptr[0] != 0) return fail(FRIX_ERR_DIMENSION, "%s: row_ptr[0] is %lld, not 0", where, (long long)row_ptr[0]);
+    for (int64_t i = 0; i < owned; ++i) {
+        if (row_ptr[i + 1] < row_ptr[i])
+            return fail(FRIX_ERR_DIMENSION, "%s: row_ptr decreases at row %lld", where, (long long)i);
+        for (int64_t k = row_ptr[i] + 1; k < row_ptr[i + 1]; ++k)
+            if (block_col[k] <= block_col[k - 1])
+                return fail(FRIX_ERR_DIMENSION, "%s: the block columns of row %lld do not increase", where,
+                            (long long)i);
+    }
+    const int64_t blocks = row_ptr[owned];
+    if (blocks > 0 && (!block_col || !block_val))
+        return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: block_col and block_val are required", where);
+    for (int64_t k = 0; k < 9 * blocks; ++k)
+        if (!std::isfinite(block_val[k]))
+            return fail(FRIX_ERR_NOT_FINITE, "%s: block_val[%lld] is not finite", where, (long long)k);
+    for (int64_t k = 0; k < 3 * owned; ++k)
+        if (!std::isfinite(q[k])) return fail(FRIX_ERR_NOT_FINITE, "%s: q[%lld] is not finite", where, (long long)k);
+    for (int64_t a = 0; a < owned; ++a)
+        if (!std::isfinite(mu[a]) || mu[a] < 0.0)
+            return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: mu[%lld] = %g must be finite and >= 0", where, (long long)a,
+                        mu[a]);
+    return FRIX_OK;
+}
+
+int owner_of(const std::vector<int64_t> &starts, int64_t g) {
+    return (int)(std::upper_bound(starts.begin(), starts.end(), g) - starts.begin()) - 1;
+}
+
+// Greedy colouring of the ranks in rank order: each takes the smallest colour none of its
+// lower neighbours has. Every rank computes it from the same gathered lists.
+void colour_ranks(frix_mpi_problem &p) {
+    const frix_mpi_context &c = *p.ctx;
+    int count = (int)p.neighbours.size();
+    std::vector<int> counts((size_t)c.size), displs((size_t)c.size + 1, 0);
+    check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, c.comm), "MPI_Allgather");
+    for (int k = 0; k < c.size; ++k) displs[(size_t)k + 1] = displs[(size_t)k] + counts[(size_t)k];
+    std::vector<int> lists((size_t)displs[(size_t)c.size]);
+    check(MPI_Allgatherv(p.neighbours.data(), count, MPI_INT, lists.data(), counts.data(), displs.data(), MPI_INT,
+                         c.comm),
+          "MPI_Allgatherv");
+    std::vector<int> colour((size_t)c.size, 0);
+    std::vector<char> taken;
+    int colours = 1;
+    for (int k = 0; k < c.size; ++k) {
+        taken.assign((size_t)counts[(size_t)k] + 1, 0);
+        for (int e = displs[(size_t)k]; e < displs[(size_t)k + 1]; ++e) {
+            const int j = lists[(size_t)e];
+            if (j < k && colour[(size_t)j] < (int)taken.size()) taken[(size_t)colour[(size_t)j]] = 1;
+        }
+        int mine = 0;
+        while (taken[(size_t)mine]) ++mine;
+        colour[(size_t)k] = mine;
+        colours = std::max(colours, mine + 1);
+    }
+    p.colour = colour[(size_t)c.rank];
+    p.colours = colours;
+    p.neighbour_colour.clear();
+    for (const int j : p.neighbours) p.neighbour_colour.push_back(colour[(size_t)j]);
+}
+
+// Builds p (ctx, first, owned set) from checked input: local columns, ghosts, exchange plan,
+// boundary, colours. Collective.
+void build(frix_mpi_problem &p, const int64_t *row_ptr, const int64_t *block_col, const double *block_val,
+           const double *q, const double *mu) {
+    const frix_mpi_context &c = *p.ctx;
+    const int64_t owned = p.owned, first = p.first, blocks = owned > 0 ? row_ptr[owned] : 0;
+    // Ghosts: the columns outside [first, first + owned), increasing.
+    for (int64_t k = 0; k < blocks; ++k)
+        if (block_col[k] < first || block_col[k] >= first + owned) p.ghosts.push_back(block_col[k]);
+    std::sort(p.ghosts.begin(), p.ghosts.end());
+    p.ghosts.erase(std::unique(p.ghosts.begin(), p.ghosts.end()), p.ghosts.end());
+    const int64_t held = owned + (int64_t)p.ghosts.size();
+
+    frix_matrix &W = p.W;
+    W.block = true;
+    W.rows = 3 * owned;
+    W.cols = 3 * held;
+    W.block_rows = owned;
+    W.block_cols = held;
+    W.row_ptr.assign(row_ptr, row_ptr + owned + 1);
+    if (owned == 0) W.row_ptr.assign(1, 0);
+    W.block_col.resize((size_t)blocks);
+    W.block_val.assign(block_val, block_val + 9 * blocks);
+    W.diag_index.assign((size_t)owned, -1);
+    std::vector<char> has_ghost((size_t)owned, 0);
+    for (int64_t i = 0; i < owned; ++i)
+        for (int64_t k = row_ptr[i]; k < row_ptr[i + 1]; ++k) {
+            const int64_t g = block_col[k];
+            if (g >= first && g < first + owned) {
+                W.block_col[(size_t)k] = g - first;
+                if (g - first == i) W.diag_index[(size_t)i] = k;
+            } else {
+                W.block_col[(size_t)k] =
+                    owned + (std::lower_bound(p.ghosts.begin(), p.ghosts.end(), g) - p.ghosts.begin());
+                has_ghost[(size_t)i] = 1;
+            }
+        }
+    p.q.assign(q, q + 3 * owned);
+    p.mu.assign(mu, mu + owned);
+    p.view.kind = FRIX_PROBLEM_LOCAL;
+    p.view.nc = owned;
+    p.view.W = &p.W;
+    p.view.q = p.q.data();
+    p.view.mu = p.mu.data();
+    for (int64_t i = 0; i < 3 * owned; ++i) p.q_sq += p.q[(size_t)i] * p.q[(size_t)i];
+
+    // Ask each owner for its ghosts; what the others ask of this rank is what it sends.
+    const size_t P = (size_t)c.size;
+    std::vector<int> asks(P, 0), asked(P, 0), ask_displs(P + 1, 0), asked_displs(P + 1, 0);
+    std::vector<int64_t> first_ghost(P + 1, 0);  // ghosts of rank k: first_ghost[k] .. [k+1]
+    for (const int64_t g : p.ghosts) ++asks[(size_t)owner_of(p.starts, g)];
+    for (size_t k = 0; k < P; ++k) {
+        ask_displs[k + 1] = ask_displs[k] + asks[k];
+        first_ghost[k + 1] = ask_displs[k + 1];
+    }
+    check(MPI_Alltoall(asks.data(), 1, MPI_INT, asked.data(), 1, MPI_INT, c.comm), "MPI_Alltoall");
+    for (size_t k = 0; k < P; ++k) asked_displs[k + 1] = asked_displs[k] + asked[k];
+    std::vector<int64_t> wanted((size_t)asked_displs[P]);
+    check(MPI_Alltoallv(p.ghosts.data(), asks.data(), ask_displs.data(), MPI_INT64_T, wanted.data(), asked.data(),
+                        asked_displs.data(), MPI_INT64_T, c.comm),
+          "MPI_Alltoallv");
+    std::vector<char> sent((size_t)owned, 0);
+    p.send_ptr.assign(1, 0);
+    p.recv_ptr.assign(1, 0);
+    for (size_t k = 0; k < P; ++k) {
+        if (asks[k] == 0 && asked[k] == 0) continue;
+        p.neighbours.push_back((int)k);
+        for (int e = asked_displs[k]; e < asked_displs[k + 1]; ++e) {
+            const int64_t local = wanted[(size_t)e] - first;
+            p.send.push_back(local);
+            sent[(size_t)local] = 1;
+        }
+        p.send_ptr.push_back((int64_t)p.send.size());
+        // This rank's ghosts owned by k: one run (increasing global indices).
+        p.recv_ptr.back() = first_ghost[k];
+        p.recv_ptr.push_back(first_ghost[k + 1]);
+    }
+    for (int64_t i = 0; i < owned; ++i) (has_ghost[(size_t)i] || sent[(size_t)i] ? p.boundary : p.interior).push_back(i);
+    colour_ranks(p);
+}
+
+// The wanted[] a rank was asked for lie in its block (the askers found it the owner).
+frix_error make(frix_mpi_context *ctx, int64_t first, int64_t owned, const int64_t *row_ptr, const int64_t *block_col,
+                const double *block_val, const double *q, const double *mu, frix_mpi_problem **out,
+                const char *where) {
+    frix_error e = check_part(first, owned, row_ptr, block_col, block_val, q, mu, where);
+    // The ranks' blocks, in rank order, covering 0 .. total-1.
+    const int64_t mine[2] = {first, owned};
+    std::vector<int64_t> all((size_t)ctx->size * 2);
+    check(MPI_Allgather(mine, 2, MPI_INT64_T, all.data(), 2, MPI_INT64_T, ctx->comm), "MPI_Allgather");
+    auto p = std::make_unique<frix_mpi_problem>();
+    p->ctx = ctx;
+    p->first = first;
+    p->owned = owned;
+    p->starts.assign((size_t)ctx->size + 1, 0);
+    bool contiguous = true;
+    for (int k = 0; k < ctx->size; ++k) {
+        contiguous = contiguous && all[2 * (size_t)k] == p->starts[(size_t)k] && all[2 * (size_t)k + 1] >= 0;
+        p->starts[(size_t)k + 1] = p->starts[(size_t)k] + std::max<int64_t>(all[2 * (size_t)k + 1], 0);
+    }
+    p->total = p->starts[(size_t)ctx->size];
+    if (!e && !contiguous)
+        e = fail(FRIX_ERR_DIMENSION,
+                 "%s: the ranks' contacts must be contiguous blocks in rank order from 0 (this rank: first %lld, owned "
+                 "%lld; rank 0 must start at 0 and each rank where the one before ends)",
+                 where, (long long)first, (long long)owned);
+    if (!e)
+        for (int64_t k = 0; k < (owned > 0 ? row_ptr[owned] : 0); ++k)
+            if (block_col[k] < 0 || block_col[k] >= p->total) {
+                e = fail(FRIX_ERR_DIMENSION, "%s: block_col[%lld] = %lld is not a contact (there are %lld)", where,
+                         (long long)k, (long long)block_col[k], (long long)p->total);
+                break;
+            }
+    if (frix_error agreed = agree(ctx->comm, e, where)) return agreed;
+    build(*p, row_ptr, block_col, block_val, q, mu);
+    *out = p.release();
+    return FRIX_OK;
+}
+
+int checked_count(int64_t n) {
+    if (n > INT_MAX) {
+        fail(FRIX_ERR_DIMENSION, "a rank's part holds %lld values, more than one MPI message carries (%d)",
+             (long long)n, INT_MAX);
+        throw Failure{FRIX_ERR_DIMENSION};
+    }
+    return (int)n;
+}
+
+}  // namespace
+}  // namespace mpi
+}  // namespace frix
+
+extern "C" {
+
+FRIX_API frix_error frix_mpi_problem_local(frix_mpi_context *ctx, int64_t first, int64_t owned, const int64_t *row_ptr,
+                                           const int64_t *block_col, const double *block_val, const double *q,
+                                           const double *mu, frix_mpi_problem **out) {
+    return frix::guard("frix_mpi_problem_local", [&]() -> frix_error {
+        using frix::fail;
+        if (!ctx) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_mpi_problem_local: ctx is NULL");
+        if (out) *out = nullptr;
+        const frix_error e =
+            out ? FRIX_OK : fail(FRIX_ERR_INVALID_ARGUMENT, "frix_mpi_problem_local: out is NULL");
+        if (frix_error agreed = frix::mpi::agree(ctx->comm, e, "frix_mpi_problem_local")) return agreed;
+        return frix::mpi::make(ctx, first, owned, row_ptr, block_col, block_val, q, mu, out, "frix_mpi_problem_local");
+    });
+}
+
+FRIX_API frix_error frix_mpi_problem_scatter(frix_mpi_context *ctx, int root, const frix_problem *problem,
+                                             const int64_t *starts, frix_mpi_problem **out) {
+    return frix::guard("frix_mpi_problem_scatter", [&]() -> frix_error {
+        using frix::fail;
+        using frix::mpi::check;
+        const char *where = "frix_mpi_problem_scatter";
+        if (!ctx) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: ctx is NULL", where);
+        if (out) *out = nullptr;
+        if (root < 0 || root >= ctx->size)
+            return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: root %d is not a rank (0 .. %d)", where, root, ctx->size - 1);
+        const bool is_root = ctx->rank == root;
+        const size_t P = (size_t)ctx->size;
+        frix_error e = FRIX_OK;
+        if (!out) e = fail(FRIX_ERR_INVALID_ARGUMENT, "%s: out is NULL", where);
+        std::vector<int64_t> cut(P + 1, 0);
+        if (!e && is_root) {
+            if (!problem)
+                e = fail(FRIX_ERR_INVALID_ARGUMENT, "%s: problem is NULL on the root", where);
+            else if (problem->kind != FRIX_PROBLEM_LOCAL)
+                e = fail(FRIX_ERR_UNSUPPORTED, "%s: only local problems are distributed (this one is global)", where);
+            else if (problem->nc > 0 && !problem->W->block)
+                e = fail(FRIX_ERR_UNSUPPORTED, "%s: W must be stored in 3x3 blocks", where);
+            else if (frix_error bad = frix::check_problem_vectors(*problem))
+                e = bad;
+            if (!e && starts) {
+                cut.assign(starts, starts + P + 1);
+                bool ok = cut[0] == 0 && cut[P] == problem->nc;
+                for (size_t k = 0; k < P && ok; ++k) ok = cut[k + 1] >= cut[k];
+                if (!ok)
+                    e = fail(FRIX_ERR_DIMENSION,
+                             "%s: starts must increase from 0 to the number of contacts (%lld), %d + 1 values",
+                             where, (long long)problem->nc, ctx->size);
+            } else if (!e) {
+                const int64_t n = problem->nc, base = n / (int64_t)P, extra = n % (int64_t)P;
+                for (size_t k = 0; k < P; ++k) cut[k + 1] = cut[k] + base + ((int64_t)k < extra ? 1 : 0);
+            }
+        }
+        if (frix_error agreed = frix::mpi::agree(ctx->comm, e, where)) return agreed;
+        check(MPI_Bcast(cut.data(), (int)P + 1, MPI_INT64_T, root, ctx->comm), "MPI_Bcast");
+        const int64_t first = cut[(size_t)ctx->rank], owned = cut[(size_t)ctx->rank + 1] - first;
+        // Counts per rank: rows, blocks, and the vectors.
+        const frix_matrix *W = is_root ? problem->W : nullptr;
+        std::vector<int> rows(P), rows_at(P), blocks(P), blocks_at(P), vals(P), vals_at(P), vec3(P), vec3_at(P),
+            vec1(P), vec1_at(P);
+        if (is_root)
+            for (size_t k = 0; k < P; ++k) {
+                const int64_t b0 = cut[k] < cut[P] ? W->row_ptr[(size_t)cut[k]] : W->nblocks();
+                const int64_t b1 = W->row_ptr[(size_t)cut[k + 1]];
+                rows[k] = frix::mpi::checked_count(cut[k + 1] - cut[k]);
+                rows_at[k] = frix::mpi::checked_count(cut[k]);
+                blocks[k] = frix::mpi::checked_count(b1 - b0);
+                blocks_at[k] = frix::mpi::checked_count(b0);
+                vals[k] = frix::mpi::checked_count(9 * (b1 - b0));
+                vals_at[k] = frix::mpi::checked_count(9 * b0);
+                vec3[k] = frix::mpi::checked_count(3 * (cut[k + 1] - cut[k]));
+                vec3_at[k] = frix::mpi::checked_count(3 * cut[k]);
+                vec1[k] = rows[k];
+                vec1_at[k] = rows_at[k];
+            }
+        int my_blocks = 0;
+        check(MPI_Scatter(blocks.data(), 1, MPI_INT, &my_blocks, 1, MPI_INT, root, ctx->comm), "MPI_Scatter");
+        // Row lengths, not row_ptr: each rank's rows start at its own 0.
+        std::vector<int64_t> lengths;
+        if (is_root) {
+            lengths.resize((size_t)cut[P]);
+            for (int64_t i = 0; i < cut[P]; ++i) lengths[(size_t)i] = W->row_ptr[(size_t)i + 1] - W->row_ptr[(size_t)i];
+        }
+        std::vector<int64_t> my_lengths((size_t)owned), row_ptr((size_t)owned + 1, 0), block_col((size_t)my_blocks);
+        std::vector<double> block_val(9 * (size_t)my_blocks), q(3 * (size_t)owned), mu((size_t)owned);
+        check(MPI_Scatterv(lengths.data(), rows.data(), rows_at.data(), MPI_INT64_T, my_lengths.data(), (int)owned,
+                           MPI_INT64_T, root, ctx->comm),
+              "MPI_Scatterv");
+        for (int64_t i = 0; i < owned; ++i) row_ptr[(size_t)i + 1] = row_ptr[(size_t)i] + my_lengths[(size_t)i];
+        check(MPI_Scatterv(is_root ? W->block_col.data() : nullptr, blocks.data(), blocks_at.data(), MPI_INT64_T,
+                           block_col.data(), my_blocks, MPI_INT64_T, root, ctx->comm),
+              "MPI_Scatterv");
+        check(MPI_Scatterv(is_root ? W->block_val.data() : nullptr, vals.data(), vals_at.data(), MPI_DOUBLE,
+                           block_val.data(), 9 * my_blocks, MPI_DOUBLE, root, ctx->comm),
+              "MPI_Scatterv");
+        check(MPI_Scatterv(is_root ? problem->q : nullptr, vec3.data(), vec3_at.data(), MPI_DOUBLE, q.data(),
+                           (int)(3 * owned), MPI_DOUBLE, root, ctx->comm),
+              "MPI_Scatterv");
+        check(MPI_Scatterv(is_root ? problem->mu : nullptr, vec1.data(), vec1_at.data(), MPI_DOUBLE, mu.data(),
+                           (int)owned, MPI_DOUBLE, root, ctx->comm),
+              "MPI_Scatterv");
+        return frix::mpi::make(ctx, first, owned, row_ptr.data(), block_col.data(), block_val.data(), q.data(),
+                               mu.data(), out, where);
+    });
+}
+
+FRIX_API void frix_mpi_problem_free(frix_mpi_problem *p) { delete p; }
+
+FRIX_API frix_error frix_mpi_problem_get_int(const frix_mpi_problem *p, frix_mpi_key key, int64_t *value) {
+    return frix::guard("frix_mpi_problem_get_int", [&]() -> frix_error {
+        using frix::fail;
+        if (!p || !value) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_mpi_problem_get_int: p and value are required");
+        int64_t messages = 0;
+        for (size_t k = 0; k + 1 < p->send_ptr.size(); ++k) messages += p->send_ptr[k + 1] > p->send_ptr[k] ? 1 : 0;
+        switch (key) {
+            case FRIX_MPI_CONTACTS: *value = p->total; return FRIX_OK;
+            case FRIX_MPI_FIRST: *value = p->first; return FRIX_OK;
+            case FRIX_MPI_OWNED: *value = p->owned; return FRIX_OK;
+            case FRIX_MPI_GHOSTS: *value = (int64_t)p->ghosts.size(); return FRIX_OK;
+            case FRIX_MPI_BOUNDARY: *value = (int64_t)p->boundary.size(); return FRIX_OK;
+            case FRIX_MPI_NEIGHBOURS: *value = (int64_t)p->neighbours.size(); return FRIX_OK;
+            case FRIX_MPI_COLOUR: *value = p->colour; return FRIX_OK;
+            case FRIX_MPI_COLOURS: *value = p->colours; return FRIX_OK;
+            case FRIX_MPI_MESSAGES_SENT: *value = messages; return FRIX_OK;
+        }
+        return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_mpi_problem_get_int: unknown key %d", (int)key);
+    });
+}
+
+FRIX_API frix_error frix_mpi_gather(const frix_mpi_problem *p, int root, const double *x_owned, double *x_all) {
+    return frix::guard("frix_mpi_gather", [&]() -> frix_error {
+        using frix::fail;
+        if (!p) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_mpi_gather: p is NULL");
+        const frix_mpi_context &c = *p->ctx;
+        frix_error e = FRIX_OK;
+        if (root < 0 || root >= c.size)
+            e = fail(FRIX_ERR_INVALID_ARGUMENT, "frix_mpi_gather: root %d is not a rank (0 .. %d)", root, c.size - 1);
+        else if (p->owned > 0 && !x_owned)
+            e = fail(FRIX_ERR_INVALID_ARGUMENT, "frix_mpi_gather: x_owned is NULL");
+        else if (c.rank == root && p->total > 0 && !x_all)
+            e = fail(FRIX_ERR_INVALID_ARGUMENT, "frix_mpi_gather: x_all is NULL on the root");
+        if (frix_error agreed = frix::mpi::agree(c.comm, e, "frix_mpi_gather")) return agreed;
+        std::vector<int> counts((size_t)c.size), at((size_t)c.size);
+        for (size_t k = 0; k < (size_t)c.size; ++k) {
+            counts[k] = frix::mpi::checked_count(3 * (p->starts[k + 1] - p->starts[k]));
+            at[k] = frix::mpi::checked_count(3 * p->starts[k]);
+        }
+        frix::mpi::check(MPI_Gatherv(x_owned, (int)(3 * p->owned), MPI_DOUBLE, x_all, counts.data(), at.data(),
+                                     MPI_DOUBLE, root, c.comm),
+                         "MPI_Gatherv");
+        return FRIX_OK;
+    });
+}
+
+}  // extern "C"

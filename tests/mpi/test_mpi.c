@@ -1,0 +1,503 @@
+/* libfrix_mpi under mpiexec (CTest runs it at np = 1, 2, 3 and 4): one rank equals the serial
+ * solver bit for bit; more ranks converge to the same tolerance, the same bits on every run;
+ * two problems solve at once on the halves of a split communicator; the exchange plan of a
+ * chain; refusals reach every rank. Every test is collective: each rank runs it, and the
+ * verdicts are agreed (all_true) before they are asserted, so that a failure on one rank
+ * fails all of them instead of leaving the others waiting. Public API only. */
+#include <check.h>
+#include <frix/frix.h>
+#include <frix/frix_mpi.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "scenes.h"
+
+#ifndef FRIX_SHARED_DIR
+#define FRIX_SHARED_DIR ""
+#endif
+
+static int g_rank, g_size;
+
+/* Whether `ok` holds on every rank of comm. */
+static int all_true(MPI_Comm comm, int ok) {
+    int all = 0;
+    MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_LAND, comm);
+    return all;
+}
+
+/* A problem of ../shared (fclib/ or fclib-large/), read on every rank; NULL with a note when
+ * the shared data is absent (the test then passes). */
+static frix_problem *shared_problem(const char *relative) {
+    char path[4096];
+    frix_problem *p = NULL;
+    snprintf(path, sizeof path, "%s/%s", FRIX_SHARED_DIR, relative);
+    if (access(path, R_OK) != 0) {
+        if (g_rank == 0) fprintf(stderr, "note: %s not found, test skipped\n", path);
+        return NULL;
+    }
+    ck_assert_msg(frix_fclib_read(path, &p) == FRIX_OK, "%s: %s", path, frix_last_error_message());
+    return p;
+}
+
+static frix_options *nsgs_options(double tol) {
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, tol), FRIX_OK);
+    return o;
+}
+
+/* The serial solve and the distributed one on `comm` (the whole problem scattered from rank
+ * 0, blocks as `starts` says or equal), from the warm start r0 (NULL: 0). The distributed
+ * result is gathered to every rank (r_dist, u_dist: 3nc). */
+typedef struct {
+    frix_status status;
+    int64_t iterations;
+    double error;
+    double *r, *u;
+} outcome;
+
+static void outcome_free(outcome *o) {
+    free(o->r);
+    free(o->u);
+}
+
+static outcome solve_serial(const frix_problem *p, const frix_options *o, const double *r0) {
+    const int64_t m = 3 * frix_problem_contacts(p);
+    outcome out;
+    frix_info *info = NULL;
+    out.r = calloc((size_t)m + 1, sizeof(double));
+    out.u = calloc((size_t)m + 1, sizeof(double));
+    if (r0) memcpy(out.r, r0, (size_t)m * sizeof(double));
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_msg(frix_solve(p, o, out.r, out.u, NULL, info) == FRIX_OK, "%s", frix_last_error_message());
+    out.status = frix_info_status(info);
+    out.iterations = frix_info_iterations(info);
+    out.error = frix_info_error(info);
+    frix_info_free(info);
+    return out;
+}
+
+static outcome solve_distributed(MPI_Comm comm, const frix_problem *p, const int64_t *starts, const frix_options *o,
+                                 const double *r0, frix_mpi_problem **keep) {
+    const int64_t m = 3 * frix_problem_contacts(p);
+    frix_mpi_context *ctx = NULL;
+    frix_mpi_problem *part = NULL;
+    frix_info *info = NULL;
+    int64_t first = 0, owned = 0;
+    int rank = 0;
+    outcome out;
+    double *r, *u;
+    MPI_Comm_rank(comm, &rank);
+    ck_assert_int_eq(frix_mpi_context_create(comm, &ctx), FRIX_OK);
+    ck_assert_msg(frix_mpi_problem_scatter(ctx, 0, rank == 0 ? p : NULL, starts, &part) == FRIX_OK, "%s",
+                  frix_mpi_last_error_message());
+    frix_mpi_problem_get_int(part, FRIX_MPI_FIRST, &first);
+    frix_mpi_problem_get_int(part, FRIX_MPI_OWNED, &owned);
+    r = calloc((size_t)(3 * owned) + 1, sizeof(double));
+    u = calloc((size_t)(3 * owned) + 1, sizeof(double));
+    if (r0) memcpy(r, r0 + 3 * first, (size_t)(3 * owned) * sizeof(double));
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_msg(frix_mpi_solve(part, o, r, u, info) == FRIX_OK, "%s", frix_mpi_last_error_message());
+    out.status = frix_info_status(info);
+    out.iterations = frix_info_iterations(info);
+    out.error = frix_info_error(info);
+    out.r = calloc((size_t)m + 1, sizeof(double));
+    out.u = calloc((size_t)m + 1, sizeof(double));
+    ck_assert_int_eq(frix_mpi_gather(part, 0, r, out.r), FRIX_OK);
+    ck_assert_int_eq(frix_mpi_gather(part, 0, u, out.u), FRIX_OK);
+    MPI_Bcast(out.r, (int)m, MPI_DOUBLE, 0, comm);
+    MPI_Bcast(out.u, (int)m, MPI_DOUBLE, 0, comm);
+    free(r);
+    free(u);
+    frix_info_free(info);
+    if (keep)
+        *keep = part;
+    else
+        frix_mpi_problem_free(part);
+    frix_mpi_context_free(ctx);
+    return out;
+}
+
+static int same_bits(const outcome *a, const outcome *b, int64_t m) {
+    return a->status == b->status && a->iterations == b->iterations &&
+           memcmp(&a->error, &b->error, sizeof(double)) == 0 && memcmp(a->r, b->r, (size_t)m * sizeof(double)) == 0 &&
+           memcmp(a->u, b->u, (size_t)m * sizeof(double)) == 0;
+}
+
+/* ---- A chain: contact i coupled to i-1 and i+1 (W block-tridiagonal, diagonally dominant,
+ * not symmetric), every contact pressed (q_N < 0) and pushed sideways. */
+typedef struct {
+    int64_t nc, nb;
+    int64_t *row_ptr, *rows, *cols;
+    double *vals, *q, *mu;
+} chain;
+
+static chain chain_make(int64_t nc) {
+    chain c;
+    int64_t i, k = 0;
+    c.nc = nc;
+    c.row_ptr = calloc((size_t)nc + 1, sizeof(int64_t));
+    c.rows = calloc((size_t)(3 * nc), sizeof(int64_t));
+    c.cols = calloc((size_t)(3 * nc), sizeof(int64_t));
+    c.vals = calloc((size_t)(27 * nc), sizeof(double));
+    c.q = calloc((size_t)(3 * nc), sizeof(double));
+    c.mu = calloc((size_t)nc, sizeof(double));
+    for (i = 0; i < nc; ++i) {
+        int64_t j;
+        for (j = i - 1; j <= i + 1; ++j) {
+            int e;
+            if (j < 0 || j >= nc) continue;
+            c.rows[k] = i;
+            c.cols[k] = j;
+            for (e = 0; e < 9; ++e) {
+                const int diag = e % 4 == 0;
+                c.vals[9 * k + e] = j == i ? (diag ? 4.0 + 0.1 * (double)(i % 3) : 0.05 * (double)(e % 3))
+                                           : (diag ? -1.0 : 0.02 * (double)(j > i ? 1 : -1));
+            }
+            ++k;
+        }
+        c.row_ptr[i + 1] = k;
+        c.q[3 * i] = -1.0 - 0.25 * (double)(i % 5);
+        c.q[3 * i + 1] = 0.6 * cos((double)i);
+        c.q[3 * i + 2] = 0.6 * sin((double)i);
+        c.mu[i] = 0.3 + 0.1 * (double)(i % 4);
+    }
+    c.nb = k;
+    return c;
+}
+
+static void chain_free(chain *c) {
+    free(c->row_ptr);
+    free(c->rows);
+    free(c->cols);
+    free(c->vals);
+    free(c->q);
+    free(c->mu);
+}
+
+static frix_problem *chain_problem(const chain *c, frix_matrix **W) {
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_matrix_from_blocks(c->nc, c->nc, c->nb, c->rows, c->cols, c->vals, W), FRIX_OK);
+    ck_assert_int_eq(frix_problem_local(*W, c->q, c->mu, c->nc, &p), FRIX_OK);
+    return p;
+}
+
+/* ---- Tests. */
+
+/* Each rank alone (a communicator of one): the distributed solve is frix_solve, bit for bit
+ * (status, sweeps, error, r and u), cold and warm, with freezing, on shared problems and a
+ * chain. */
+START_TEST(one_rank_is_the_serial_solver) {
+    MPI_Comm alone;
+    const char *files[] = {"fclib/converted/Capsules-i101-404.from_dat.hdf5",
+                           "fclib-large/Spheres-n400-seed2-s00200-nc1186.hdf5",
+                           "fclib-large/Kapla-3x3x20-seed1-s00030-nc2799.hdf5"};
+    const double tols[] = {1e-8, 1e-4, 1e-4};
+    int ok = 1, f;
+    MPI_Comm_split(MPI_COMM_WORLD, g_rank, 0, &alone);
+    for (f = 0; f < 4; ++f) {
+        frix_matrix *W = NULL;
+        chain c = chain_make(200);
+        frix_problem *p = f < 3 ? shared_problem(files[f]) : chain_problem(&c, &W);
+        int variant;
+        if (p) {
+            const int64_t m = 3 * frix_problem_contacts(p);
+            double *half = calloc((size_t)m + 1, sizeof(double));
+            for (variant = 0; variant < 3; ++variant) {
+                /* 0: cold; 1: freezing 10; 2: warm, from half of the answer. */
+                frix_options *o = nsgs_options(f < 3 ? tols[f] : 1e-10);
+                outcome s, d;
+                if (variant == 1) ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_FREEZING, 10), FRIX_OK);
+                s = solve_serial(p, o, variant == 2 ? half : NULL);
+                d = solve_distributed(alone, p, NULL, o, variant == 2 ? half : NULL, NULL);
+                if (!same_bits(&s, &d, m)) {
+                    fprintf(stderr, "rank %d: problem %d variant %d: serial %d sweeps %.17g, distributed %d sweeps %.17g\n",
+                            g_rank, f, variant, (int)s.iterations, s.error, (int)d.iterations, d.error);
+                    ok = 0;
+                }
+                if (variant == 0) {
+                    int64_t i;
+                    for (i = 0; i < m; ++i) half[i] = 0.5 * s.r[i];
+                }
+                outcome_free(&s);
+                outcome_free(&d);
+                frix_options_free(o);
+            }
+            free(half);
+        }
+        frix_problem_free(p);
+        frix_matrix_free(W);
+        chain_free(&c);
+    }
+    MPI_Comm_free(&alone);
+    ck_assert_msg(all_true(MPI_COMM_WORLD, ok), "a one-rank solve differs from frix_solve");
+}
+END_TEST
+
+/* All ranks together on the shared piles at 1e-4: converged, and the gathered answer meets
+ * the tolerance by libfrix's own measure (which agrees with the distributed one up to the
+ * order of the sums). */
+START_TEST(the_ranks_converge_on_the_piles) {
+    const char *files[] = {"fclib-large/Kapla-3x3x20-seed1-s00030-nc2799.hdf5",
+                           "fclib-large/Spheres-n400-seed2-s00140-nc1165.hdf5",
+                           "fclib-large/Kapla-4x4x25-seed4-s00010-nc6251.hdf5"};
+    int ok = 1, f;
+    for (f = 0; f < 3; ++f) {
+        frix_problem *p = shared_problem(files[f]);
+        frix_options *o = nsgs_options(1e-4);
+        if (p) {
+            outcome d = solve_distributed(MPI_COMM_WORLD, p, NULL, o, NULL, NULL);
+            double measured = 0.0;
+            ck_assert_int_eq(frix_problem_error(p, d.r, NULL, &measured), FRIX_OK);
+            if (g_rank == 0)
+                printf("%s, %d ranks: %s after %d sweeps, error %.4e (libfrix: %.4e)\n", files[f], g_size,
+                       frix_status_string(d.status), (int)d.iterations, d.error, measured);
+            if (d.status != FRIX_STATUS_CONVERGED || !(d.error <= 1e-4) || !(measured <= 1e-4 * (1.0 + 1e-9)) ||
+                !(fabs(measured - d.error) <= 1e-9 * d.error))
+                ok = 0;
+            outcome_free(&d);
+        }
+        frix_problem_free(p);
+        frix_options_free(o);
+    }
+    ck_assert_msg(all_true(MPI_COMM_WORLD, ok), "a distributed solve missed 1e-4");
+}
+END_TEST
+
+/* Two runs at one number of ranks: the same bits; and an uneven partition given by starts. */
+START_TEST(the_same_bits_on_every_run) {
+    frix_problem *p = shared_problem("fclib-large/Spheres-n400-seed2-s00200-nc1186.hdf5");
+    frix_options *o = nsgs_options(1e-4);
+    int ok = 1, pass;
+    if (p) {
+        const int64_t nc = frix_problem_contacts(p);
+        int64_t *starts = calloc((size_t)g_size + 1, sizeof(int64_t));
+        int k;
+        /* Rank k's share grows with k: (k + 1) / (1 + 2 + ... + size). */
+        for (k = 0; k < g_size; ++k) starts[k + 1] = starts[k] + nc * (k + 1) / ((int64_t)g_size * (g_size + 1) / 2);
+        starts[g_size] = nc;
+        for (pass = 0; pass < 2; ++pass) {
+            const int64_t *cut = pass == 0 ? NULL : starts;
+            outcome a = solve_distributed(MPI_COMM_WORLD, p, cut, o, NULL, NULL);
+            outcome b = solve_distributed(MPI_COMM_WORLD, p, cut, o, NULL, NULL);
+            if (!same_bits(&a, &b, 3 * nc) || a.status != FRIX_STATUS_CONVERGED) ok = 0;
+            outcome_free(&a);
+            outcome_free(&b);
+        }
+        free(starts);
+    }
+    frix_problem_free(p);
+    frix_options_free(o);
+    ck_assert_msg(all_true(MPI_COMM_WORLD, ok), "two runs differ");
+}
+END_TEST
+
+/* The halves of a split communicator solve two problems at once, each as it does alone. */
+START_TEST(two_problems_on_the_halves) {
+    const char *files[] = {"fclib-large/Spheres-n400-seed2-s00200-nc1186.hdf5",
+                           "fclib-large/Kapla-3x3x20-seed1-s00030-nc2799.hdf5"};
+    MPI_Comm half;
+    const int side = g_rank < g_size / 2 ? 0 : 1;
+    frix_problem *p;
+    frix_options *o = nsgs_options(1e-4);
+    int ok = 1;
+    if (g_size < 2) {
+        if (g_rank == 0) fprintf(stderr, "note: two_problems_on_the_halves needs 2 ranks or more, skipped\n");
+        frix_options_free(o);
+        return;
+    }
+    MPI_Comm_split(MPI_COMM_WORLD, side, g_rank, &half);
+    p = shared_problem(files[side]);
+    if (p) {
+        const int64_t m = 3 * frix_problem_contacts(p);
+        outcome at_once = solve_distributed(half, p, NULL, o, NULL, NULL);
+        outcome alone;
+        MPI_Barrier(MPI_COMM_WORLD); /* the other half is done too: this half now runs alone */
+        alone = solve_distributed(half, p, NULL, o, NULL, NULL);
+        if (!same_bits(&at_once, &alone, m) || at_once.status != FRIX_STATUS_CONVERGED) ok = 0;
+        outcome_free(&at_once);
+        outcome_free(&alone);
+    }
+    frix_problem_free(p);
+    frix_options_free(o);
+    MPI_Comm_free(&half);
+    ck_assert_msg(all_true(MPI_COMM_WORLD, ok), "a half's solve depended on the other half");
+}
+END_TEST
+
+/* A chain in equal blocks: each rank's ghosts, boundary, neighbours and colours are known;
+ * rows given by each rank (frix_mpi_problem_local) solve to the bits of the scattered
+ * problem, and the answer meets the tolerance. */
+START_TEST(a_chain_in_blocks) {
+    const int64_t per_rank = 7, nc = per_rank * g_size;
+    chain c = chain_make(nc);
+    frix_matrix *W = NULL;
+    frix_problem *p = chain_problem(&c, &W);
+    frix_mpi_context *ctx = NULL;
+    frix_mpi_problem *mine = NULL, *scattered = NULL;
+    frix_options *o = nsgs_options(1e-10);
+    const int64_t first = per_rank * g_rank;
+    const int64_t expect_neighbours = (g_rank > 0) + (g_rank < g_size - 1);
+    int64_t v, *row_ptr = calloc((size_t)per_rank + 1, sizeof(int64_t));
+    double *r = calloc((size_t)(3 * per_rank), sizeof(double)), *u = calloc((size_t)(3 * per_rank), sizeof(double));
+    outcome s;
+    frix_info *info = NULL;
+    int ok = 1, i;
+    for (i = 0; i <= per_rank; ++i) row_ptr[i] = c.row_ptr[first + i] - c.row_ptr[first];
+    ck_assert_int_eq(frix_mpi_context_create(MPI_COMM_WORLD, &ctx), FRIX_OK);
+    ck_assert_int_eq(frix_mpi_problem_local(ctx, first, per_rank, row_ptr, c.cols + c.row_ptr[first],
+                                            c.vals + 9 * c.row_ptr[first], c.q + 3 * first, c.mu + first, &mine),
+                     FRIX_OK);
+    frix_mpi_problem_get_int(mine, FRIX_MPI_GHOSTS, &v);
+    ok = ok && v == expect_neighbours;
+    frix_mpi_problem_get_int(mine, FRIX_MPI_NEIGHBOURS, &v);
+    ok = ok && v == expect_neighbours;
+    frix_mpi_problem_get_int(mine, FRIX_MPI_BOUNDARY, &v);
+    ok = ok && v == expect_neighbours;
+    frix_mpi_problem_get_int(mine, FRIX_MPI_MESSAGES_SENT, &v);
+    ok = ok && v == expect_neighbours;
+    frix_mpi_problem_get_int(mine, FRIX_MPI_COLOURS, &v);
+    ok = ok && v == (g_size == 1 ? 1 : 2);
+    frix_mpi_problem_get_int(mine, FRIX_MPI_COLOUR, &v);
+    ok = ok && v == g_rank % 2;
+    frix_mpi_problem_get_int(mine, FRIX_MPI_CONTACTS, &v);
+    ok = ok && v == nc;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_mpi_solve(mine, o, r, u, info), FRIX_OK);
+    s = solve_distributed(MPI_COMM_WORLD, p, NULL, o, NULL, &scattered);
+    ok = ok && frix_info_status(info) == FRIX_STATUS_CONVERGED && frix_info_iterations(info) == s.iterations &&
+         memcmp(r, s.r + 3 * first, (size_t)(3 * per_rank) * sizeof(double)) == 0;
+    {
+        double measured = 1.0;
+        ck_assert_int_eq(frix_problem_error(p, s.r, NULL, &measured), FRIX_OK);
+        ok = ok && measured <= 1e-10 * (1.0 + 1e-9);
+    }
+    outcome_free(&s);
+    frix_info_free(info);
+    free(r);
+    free(u);
+    free(row_ptr);
+    frix_mpi_problem_free(mine);
+    frix_mpi_problem_free(scattered);
+    frix_mpi_context_free(ctx);
+    frix_options_free(o);
+    frix_problem_free(p);
+    frix_matrix_free(W);
+    chain_free(&c);
+    ck_assert_msg(all_true(MPI_COMM_WORLD, ok), "the chain's plan or answer is not as expected");
+}
+END_TEST
+
+static int stop_at_five(void *data, int64_t iteration, double error, double seconds) {
+    (void)data, (void)error, (void)seconds;
+    return iteration >= 5;
+}
+
+/* Refusals reach every rank with the same code; a callback on one rank stops all. */
+START_TEST(refusals_and_stops_reach_every_rank) {
+    const int64_t per_rank = 5, nc = per_rank * g_size, first = per_rank * g_rank;
+    const int last = g_size - 1;
+    chain c = chain_make(nc);
+    frix_mpi_context *ctx = NULL;
+    frix_mpi_problem *part = NULL;
+    frix_options *o = nsgs_options(1e-12);
+    frix_info *info = NULL;
+    int64_t row_ptr[6];
+    double r[15] = {0}, u[15] = {0}, mu[5];
+    frix_error e;
+    int ok = 1, i;
+    for (i = 0; i <= per_rank; ++i) row_ptr[i] = c.row_ptr[first + i] - c.row_ptr[first];
+    for (i = 0; i < per_rank; ++i) mu[i] = g_rank == last && i == 2 ? -1.0 : c.mu[first + i];
+    ck_assert_int_eq(frix_mpi_context_create(MPI_COMM_NULL, &ctx), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(frix_mpi_context_create(MPI_COMM_WORLD, NULL), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(frix_mpi_context_create(MPI_COMM_WORLD, &ctx), FRIX_OK);
+
+    /* A negative mu on the last rank only. */
+    e = frix_mpi_problem_local(ctx, first, per_rank, row_ptr, c.cols + c.row_ptr[first], c.vals + 9 * c.row_ptr[first],
+                               c.q + 3 * first, mu, &part);
+    ok = ok && e == FRIX_ERR_INVALID_ARGUMENT && part == NULL;
+    if (g_rank != last) ok = ok && strstr(frix_mpi_last_error_message(), "refused") != NULL;
+    ok = ok && strstr(frix_mpi_last_error_message(), "mu[2]") != NULL;
+    /* Blocks that do not follow each other (each rank claims to start one further on). */
+    e = frix_mpi_problem_local(ctx, first + 1, per_rank, row_ptr, c.cols + c.row_ptr[first],
+                               c.vals + 9 * c.row_ptr[first], c.q + 3 * first, c.mu + first, &part);
+    ok = ok && e == FRIX_ERR_DIMENSION;
+    /* A local problem that is whole on rank 0 but not block-stored, and a global one. */
+    {
+        frix_scene_params sp;
+        frix_scene scene;
+        frix_scene_problems forms;
+        frix_scene_defaults(FRIX_SCENE_STACK, &sp);
+        ck_assert_int_eq(frix_scene_build(&sp, &scene, NULL), FRIX_OK);
+        ck_assert_int_eq(frix_scene_problems_make(&scene, &forms), FRIX_OK);
+        e = frix_mpi_problem_scatter(ctx, 0, g_rank == 0 ? forms.global : NULL, NULL, &part);
+        ok = ok && e == FRIX_ERR_UNSUPPORTED && part == NULL;
+        e = frix_mpi_problem_scatter(ctx, g_size, NULL, NULL, &part);
+        ok = ok && e == FRIX_ERR_INVALID_ARGUMENT;
+        frix_scene_problems_free(&forms);
+        frix_scene_free(&scene);
+    }
+
+    /* A good part; options the distributed solve refuses; missing r. */
+    ck_assert_int_eq(frix_mpi_problem_local(ctx, first, per_rank, row_ptr, c.cols + c.row_ptr[first],
+                                            c.vals + 9 * c.row_ptr[first], c.q + 3 * first, c.mu + first, &part),
+                     FRIX_OK);
+    {
+        frix_options *drift = nsgs_options(1e-8), *other = NULL;
+        int64_t v = 0;
+        ck_assert_int_eq(frix_options_set_int(drift, FRIX_OPT_DRIFT_WINDOW, 10), FRIX_OK);
+        ok = ok && frix_mpi_solve(part, drift, r, u, NULL) == FRIX_ERR_UNSUPPORTED;
+        ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &other), FRIX_OK);
+        ok = ok && frix_mpi_solve(part, other, r, u, NULL) == FRIX_ERR_UNSUPPORTED;
+        ok = ok && frix_mpi_solve(part, o, g_rank == last ? NULL : r, u, NULL) == FRIX_ERR_INVALID_ARGUMENT;
+        ok = ok && frix_mpi_problem_get_int(part, (frix_mpi_key)99, &v) == FRIX_ERR_INVALID_ARGUMENT;
+        ok = ok && frix_mpi_gather(part, -1, r, NULL) == FRIX_ERR_INVALID_ARGUMENT;
+        frix_options_free(drift);
+        frix_options_free(other);
+    }
+    /* Rank 0's callback stops every rank after the fifth sweep. */
+    if (g_rank == 0) ck_assert_int_eq(frix_options_set_callback(o, stop_at_five, NULL), FRIX_OK);
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_mpi_solve(part, o, r, u, info), FRIX_OK);
+    ok = ok && frix_info_status(info) == FRIX_STATUS_STOPPED_BY_CALLBACK && frix_info_iterations(info) == 5;
+
+    frix_mpi_problem_free(NULL);
+    frix_mpi_context_free(NULL);
+    frix_info_free(info);
+    frix_mpi_problem_free(part);
+    frix_mpi_context_free(ctx);
+    frix_options_free(o);
+    chain_free(&c);
+    ck_assert_msg(all_true(MPI_COMM_WORLD, ok), "a refusal or a stop did not reach every rank alike");
+}
+END_TEST
+
+int main(int argc, char **argv) {
+    Suite *s = suite_create("mpi");
+    TCase *tc = tcase_create("distributed");
+    SRunner *sr;
+    int failed;
+    MPI_Init(&argc, &argv);
+    MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &g_size);
+    tcase_set_timeout(tc, 0);
+    tcase_add_test(tc, one_rank_is_the_serial_solver);
+    tcase_add_test(tc, the_ranks_converge_on_the_piles);
+    tcase_add_test(tc, the_same_bits_on_every_run);
+    tcase_add_test(tc, two_problems_on_the_halves);
+    tcase_add_test(tc, a_chain_in_blocks);
+    tcase_add_test(tc, refusals_and_stops_reach_every_rank);
+    suite_add_tcase(s, tc);
+    sr = srunner_create(s);
+    /* One process per rank: Check must not fork (MPI forbids it); CTest's timeout is the
+     * guard against a rank left waiting. */
+    srunner_set_fork_status(sr, CK_NOFORK);
+    srunner_run_all(sr, g_rank == 0 ? CK_NORMAL : CK_SILENT);
+    failed = srunner_ntests_failed(sr);
+    srunner_free(sr);
+    MPI_Finalize();
+    return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+}
