@@ -39,7 +39,10 @@ struct frix_mpi_problem {
     // The owned contacts coupled to another rank's (either way), and the others, increasing.
     std::vector<int64_t> boundary, interior;
     int colour = 0, colours = 1;
-    double q_sq = 0.0;  // sum of q_i^2 over the owned contacts (|q| over all is combined)
+    // A reduced global problem's w (the relative error's scale is |w|, not |q|); empty for a
+    // local problem.
+    std::vector<double> w;
+    const double *scale() const { return w.empty() ? q.data() : w.data(); }
 };
 
 namespace frix {

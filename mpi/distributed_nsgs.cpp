@@ -79,7 +79,7 @@ class RanksRescue : public MeasureRescue {
 class DistributedRows : public nsgs::SweepForm {
    public:
     explicit DistributedRows(const frix_mpi_problem &p)
-        : p_(p), comm_(p.ctx->comm), norm_q_(norm2_all(comm_, p.q.data(), 3 * p.owned)) {
+        : p_(p), comm_(p.ctx->comm), norm_q_(norm2_all(comm_, p.scale(), 3 * p.owned)) {
         const size_t n = p.neighbours.size();
         send_buffer_.resize(3 * p.send.size());
         requests_.reserve(2 * n);

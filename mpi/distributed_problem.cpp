@@ -7,6 +7,8 @@
 
 #include "mpi/distributed.hpp"
 #include "src/error_state.hpp"
+#include "src/monitor.hpp"
+#include "src/reduction.hpp"
 
 namespace frix {
 namespace mpi {
@@ -83,7 +85,7 @@ void colour_ranks(frix_mpi_problem &p) {
 // Builds p (ctx, first, owned set) from checked input: local columns, ghosts, exchange plan,
 // boundary, colours. Collective.
 void build(frix_mpi_problem &p, const int64_t *row_ptr, const int64_t *block_col, const double *block_val,
-           const double *q, const double *mu) {
+           const double *q, const double *mu, const double *scale) {
     const frix_mpi_context &c = *p.ctx;
     const int64_t owned = p.owned, first = p.first, blocks = owned > 0 ? row_ptr[owned] : 0;
     // Ghosts: the columns outside [first, first + owned), increasing.
@@ -124,7 +126,7 @@ void build(frix_mpi_problem &p, const int64_t *row_ptr, const int64_t *block_col
     p.view.W = &p.W;
     p.view.q = p.q.data();
     p.view.mu = p.mu.data();
-    for (int64_t i = 0; i < 3 * owned; ++i) p.q_sq += p.q[(size_t)i] * p.q[(size_t)i];
+    if (scale != q) p.w.assign(scale, scale + 3 * owned);
 
     // Ask each owner for its ghosts; what the others ask of this rank is what it sends.
     const size_t P = (size_t)c.size;
@@ -162,8 +164,10 @@ void build(frix_mpi_problem &p, const int64_t *row_ptr, const int64_t *block_col
 }
 
 // The wanted[] a rank was asked for lie in its block (the askers found it the owner).
+// scale: the vector whose norm the relative error divides by (q, or a reduced global
+// problem's w).
 frix_error make(frix_mpi_context *ctx, int64_t first, int64_t owned, const int64_t *row_ptr, const int64_t *block_col,
-                const double *block_val, const double *q, const double *mu, frix_mpi_problem **out,
+                const double *block_val, const double *q, const double *mu, const double *scale, frix_mpi_problem **out,
                 const char *where) {
     frix_error e = check_part(first, owned, row_ptr, block_col, block_val, q, mu, where);
     // The ranks' blocks, in rank order, covering 0 .. total-1.
@@ -194,8 +198,37 @@ frix_error make(frix_mpi_context *ctx, int64_t first, int64_t owned, const int64
                 break;
             }
     if (frix_error agreed = agree(ctx->comm, e, where)) return agreed;
-    build(*p, row_ptr, block_col, block_val, q, mu);
+    build(*p, row_ptr, block_col, block_val, q, mu, scale ? scale : q);
     *out = p.release();
+    return FRIX_OK;
+}
+
+// A global problem as the local one its ranks solve: W = H^T M^-1 H and q = H^T M^-1 f + w,
+// formed on the root by the serial library's reduction (M factorised once).
+frix_error reduce(const frix_problem &g, std::unique_ptr<frix_matrix> &W, std::vector<double> &q, const char *where) {
+    const int64_t m = 3 * g.nc;
+    frix_options opts;
+    frix_options *defaults = nullptr;
+    if (frix_error e = frix_options_create(FRIX_SOLVER_NSGS, &defaults)) return e;
+    opts = *defaults;
+    frix_options_free(defaults);
+    const Stopwatch clock;
+    const ReductionSize size = reduction_bound(g);
+    const ReductionMemory memory = reduction_memory(size, Monitor(opts, clock));
+    if (!memory.fits)
+        return fail(FRIX_ERR_OUT_OF_MEMORY,
+                    "%s: W = H^T M^-1 H would take at least %.3g GB, more than the %.3g GB the root may take", where,
+                    memory.needed / 1e9, memory.available / 1e9);
+    MassSolver ms;
+    if (frix_error e = ms.factor(*g.M)) return e;
+    std::vector<double> x((size_t)g.n);
+    if (frix_error e = ms.solve(g.f, x.data())) return e;
+    q.assign((size_t)m, 0.0);
+    if (m > 0) matrix_gemv_transposed(*g.H, 1.0, x.data(), 0.0, q.data());
+    for (int64_t i = 0; i < m; ++i) q[(size_t)i] += g.w[i];
+    bool stopped = false;
+    if (frix_error e = ms.congruence(*g.H, size.w_blocks, W, [] { return false; }, stopped)) return e;
+    if (!W || !W->block) return fail(FRIX_ERR_INTERNAL, "%s: the reduction did not give 3x3 blocks", where);
     return FRIX_OK;
 }
 
@@ -224,7 +257,8 @@ FRIX_API frix_error frix_mpi_problem_local(frix_mpi_context *ctx, int64_t first,
         const frix_error e =
             out ? FRIX_OK : fail(FRIX_ERR_INVALID_ARGUMENT, "frix_mpi_problem_local: out is NULL");
         if (frix_error agreed = frix::mpi::agree(ctx->comm, e, "frix_mpi_problem_local")) return agreed;
-        return frix::mpi::make(ctx, first, owned, row_ptr, block_col, block_val, q, mu, out, "frix_mpi_problem_local");
+        return frix::mpi::make(ctx, first, owned, row_ptr, block_col, block_val, q, mu, nullptr, out,
+                               "frix_mpi_problem_local");
     });
 }
 
@@ -243,15 +277,28 @@ FRIX_API frix_error frix_mpi_problem_scatter(frix_mpi_context *ctx, int root, co
         frix_error e = FRIX_OK;
         if (!out) e = fail(FRIX_ERR_INVALID_ARGUMENT, "%s: out is NULL", where);
         std::vector<int64_t> cut(P + 1, 0);
+        // The local problem the ranks get: the root's own, or its global one reduced.
+        const frix_matrix *W = nullptr;
+        const double *q_all = nullptr, *scale_all = nullptr;
+        std::unique_ptr<frix_matrix> reduced_W;
+        std::vector<double> reduced_q;
         if (!e && is_root) {
             if (!problem)
                 e = fail(FRIX_ERR_INVALID_ARGUMENT, "%s: problem is NULL on the root", where);
-            else if (problem->kind != FRIX_PROBLEM_LOCAL)
-                e = fail(FRIX_ERR_UNSUPPORTED, "%s: only local problems are distributed (this one is global)", where);
-            else if (problem->nc > 0 && !problem->W->block)
-                e = fail(FRIX_ERR_UNSUPPORTED, "%s: W must be stored in 3x3 blocks", where);
             else if (frix_error bad = frix::check_problem_vectors(*problem))
                 e = bad;
+            else if (problem->kind == FRIX_PROBLEM_GLOBAL)
+                e = frix::mpi::reduce(*problem, reduced_W, reduced_q, where);
+            else if (problem->nc > 0 && !problem->W->block)
+                e = fail(FRIX_ERR_UNSUPPORTED, "%s: W must be stored in 3x3 blocks", where);
+            if (!e && problem->kind == FRIX_PROBLEM_GLOBAL) {
+                W = reduced_W.get();
+                q_all = reduced_q.data();
+                scale_all = problem->w;
+            } else if (!e) {
+                W = problem->W;
+                q_all = problem->q;
+            }
             if (!e && starts) {
                 cut.assign(starts, starts + P + 1);
                 bool ok = cut[0] == 0 && cut[P] == problem->nc;
@@ -268,14 +315,15 @@ FRIX_API frix_error frix_mpi_problem_scatter(frix_mpi_context *ctx, int root, co
         if (frix_error agreed = frix::mpi::agree(ctx->comm, e, where)) return agreed;
         check(MPI_Bcast(cut.data(), (int)P + 1, MPI_INT64_T, root, ctx->comm), "MPI_Bcast");
         const int64_t first = cut[(size_t)ctx->rank], owned = cut[(size_t)ctx->rank + 1] - first;
+        int global = is_root && scale_all ? 1 : 0;
+        check(MPI_Bcast(&global, 1, MPI_INT, root, ctx->comm), "MPI_Bcast");
         // Counts per rank: rows, blocks, and the vectors.
-        const frix_matrix *W = is_root ? problem->W : nullptr;
         std::vector<int> rows(P), rows_at(P), blocks(P), blocks_at(P), vals(P), vals_at(P), vec3(P), vec3_at(P),
             vec1(P), vec1_at(P);
         if (is_root)
             for (size_t k = 0; k < P; ++k) {
-                const int64_t b0 = cut[k] < cut[P] ? W->row_ptr[(size_t)cut[k]] : W->nblocks();
-                const int64_t b1 = W->row_ptr[(size_t)cut[k + 1]];
+                const int64_t b0 = cut[P] > 0 ? W->row_ptr[(size_t)cut[k]] : 0;
+                const int64_t b1 = cut[P] > 0 ? W->row_ptr[(size_t)cut[k + 1]] : 0;
                 rows[k] = frix::mpi::checked_count(cut[k + 1] - cut[k]);
                 rows_at[k] = frix::mpi::checked_count(cut[k]);
                 blocks[k] = frix::mpi::checked_count(b1 - b0);
@@ -296,7 +344,8 @@ FRIX_API frix_error frix_mpi_problem_scatter(frix_mpi_context *ctx, int root, co
             for (int64_t i = 0; i < cut[P]; ++i) lengths[(size_t)i] = W->row_ptr[(size_t)i + 1] - W->row_ptr[(size_t)i];
         }
         std::vector<int64_t> my_lengths((size_t)owned), row_ptr((size_t)owned + 1, 0), block_col((size_t)my_blocks);
-        std::vector<double> block_val(9 * (size_t)my_blocks), q(3 * (size_t)owned), mu((size_t)owned);
+        std::vector<double> block_val(9 * (size_t)my_blocks), q(3 * (size_t)owned), mu((size_t)owned),
+            w(global ? 3 * (size_t)owned : 0);
         check(MPI_Scatterv(lengths.data(), rows.data(), rows_at.data(), MPI_INT64_T, my_lengths.data(), (int)owned,
                            MPI_INT64_T, root, ctx->comm),
               "MPI_Scatterv");
@@ -307,14 +356,18 @@ FRIX_API frix_error frix_mpi_problem_scatter(frix_mpi_context *ctx, int root, co
         check(MPI_Scatterv(is_root ? W->block_val.data() : nullptr, vals.data(), vals_at.data(), MPI_DOUBLE,
                            block_val.data(), 9 * my_blocks, MPI_DOUBLE, root, ctx->comm),
               "MPI_Scatterv");
-        check(MPI_Scatterv(is_root ? problem->q : nullptr, vec3.data(), vec3_at.data(), MPI_DOUBLE, q.data(),
-                           (int)(3 * owned), MPI_DOUBLE, root, ctx->comm),
+        check(MPI_Scatterv(q_all, vec3.data(), vec3_at.data(), MPI_DOUBLE, q.data(), (int)(3 * owned), MPI_DOUBLE, root,
+                           ctx->comm),
               "MPI_Scatterv");
+        if (global)
+            check(MPI_Scatterv(scale_all, vec3.data(), vec3_at.data(), MPI_DOUBLE, w.data(), (int)(3 * owned),
+                               MPI_DOUBLE, root, ctx->comm),
+                  "MPI_Scatterv");
         check(MPI_Scatterv(is_root ? problem->mu : nullptr, vec1.data(), vec1_at.data(), MPI_DOUBLE, mu.data(),
                            (int)owned, MPI_DOUBLE, root, ctx->comm),
               "MPI_Scatterv");
         return frix::mpi::make(ctx, first, owned, row_ptr.data(), block_col.data(), block_val.data(), q.data(),
-                               mu.data(), out, where);
+                               mu.data(), global ? w.data() : nullptr, out, where);
     });
 }
 

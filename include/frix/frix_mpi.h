@@ -77,11 +77,12 @@ FRIX_API frix_error frix_mpi_problem_local(frix_mpi_context *ctx, int64_t first,
                                            const int64_t *row_ptr, const int64_t *block_col,
                                            const double *block_val, const double *q, const double *mu,
                                            frix_mpi_problem **out);
-/* A whole local problem held by rank `root` (`problem` is read on root only; NULL elsewhere),
- * cut into blocks and sent to the ranks: rank k receives contacts starts[k] .. starts[k+1]-1
+/* A whole problem held by rank `root` (`problem` is read on root only; NULL elsewhere), cut
+ * into blocks and sent to the ranks: rank k receives contacts starts[k] .. starts[k+1]-1
  * (`starts`: size+1 values, read on root; NULL for blocks of equal size, the first ranks one
- * contact more). The problem's W must be stored in 3x3 blocks, as problems read from files
- * are. */
+ * contact more). A local problem's W must be stored in 3x3 blocks, as problems read from
+ * files are. A global problem is reduced on the root (W = H^T M^-1 H, q = H^T M^-1 f + w, as
+ * frix_solve reduces it for nsgs) and its error measure keeps its own scale, |w|. */
 FRIX_API frix_error frix_mpi_problem_scatter(frix_mpi_context *ctx, int root, const frix_problem *problem,
                                              const int64_t *starts, frix_mpi_problem **out);
 FRIX_API void frix_mpi_problem_free(frix_mpi_problem *p);

@@ -391,6 +391,40 @@ START_TEST(a_chain_in_blocks) {
 }
 END_TEST
 
+/* A global problem (a pyramid of spheres) reduced on rank 0 and solved by all: the gathered
+ * reactions, with the velocities they give, meet the tolerance on the global measure (scale
+ * |w|), which the ranks computed too. */
+START_TEST(a_global_problem_reduced_on_the_root) {
+    frix_scene_params sp;
+    frix_scene scene;
+    frix_scene_problems forms;
+    frix_options *o = nsgs_options(1e-8);
+    outcome d;
+    double *v, measured = 1.0;
+    int ok;
+    frix_scene_defaults(FRIX_SCENE_SPHERES, &sp);
+    sp.count = 5;
+    ck_assert_int_eq(frix_scene_build(&sp, &scene, NULL), FRIX_OK);
+    ck_assert_int_eq(frix_scene_problems_make(&scene, &forms), FRIX_OK);
+    d = solve_distributed(MPI_COMM_WORLD, forms.global, NULL, o, NULL, NULL);
+    v = calloc((size_t)scene.n, sizeof(double));
+    frix_scene_velocity(&scene, d.r, v);
+    ck_assert_int_eq(frix_problem_error(forms.global, d.r, v, &measured), FRIX_OK);
+    if (g_rank == 0)
+        printf("spheres, %d layers, %lld contacts, %d ranks: %s after %d sweeps, error %.4e (libfrix: %.4e)\n",
+               sp.count, (long long)scene.nc, g_size, frix_status_string(d.status), (int)d.iterations, d.error,
+               measured);
+    ok = d.status == FRIX_STATUS_CONVERGED && measured <= 1e-8 * (1.0 + 1e-6) &&
+         fabs(measured - d.error) <= 1e-6 * d.error;
+    free(v);
+    outcome_free(&d);
+    frix_scene_problems_free(&forms);
+    frix_scene_free(&scene);
+    frix_options_free(o);
+    ck_assert_msg(all_true(MPI_COMM_WORLD, ok), "the reduced global problem missed its tolerance");
+}
+END_TEST
+
 static int stop_at_five(void *data, int64_t iteration, double error, double seconds) {
     (void)data, (void)error, (void)seconds;
     return iteration >= 5;
@@ -425,21 +459,11 @@ START_TEST(refusals_and_stops_reach_every_rank) {
     e = frix_mpi_problem_local(ctx, first + 1, per_rank, row_ptr, c.cols + c.row_ptr[first],
                                c.vals + 9 * c.row_ptr[first], c.q + 3 * first, c.mu + first, &part);
     ok = ok && e == FRIX_ERR_DIMENSION;
-    /* A local problem that is whole on rank 0 but not block-stored, and a global one. */
-    {
-        frix_scene_params sp;
-        frix_scene scene;
-        frix_scene_problems forms;
-        frix_scene_defaults(FRIX_SCENE_STACK, &sp);
-        ck_assert_int_eq(frix_scene_build(&sp, &scene, NULL), FRIX_OK);
-        ck_assert_int_eq(frix_scene_problems_make(&scene, &forms), FRIX_OK);
-        e = frix_mpi_problem_scatter(ctx, 0, g_rank == 0 ? forms.global : NULL, NULL, &part);
-        ok = ok && e == FRIX_ERR_UNSUPPORTED && part == NULL;
-        e = frix_mpi_problem_scatter(ctx, g_size, NULL, NULL, &part);
-        ok = ok && e == FRIX_ERR_INVALID_ARGUMENT;
-        frix_scene_problems_free(&forms);
-        frix_scene_free(&scene);
-    }
+    /* A root that is not a rank; no problem on the root. */
+    e = frix_mpi_problem_scatter(ctx, g_size, NULL, NULL, &part);
+    ok = ok && e == FRIX_ERR_INVALID_ARGUMENT && part == NULL;
+    e = frix_mpi_problem_scatter(ctx, 0, NULL, NULL, &part);
+    ok = ok && e == FRIX_ERR_INVALID_ARGUMENT && part == NULL;
 
     /* A good part; options the distributed solve refuses; missing r. */
     ck_assert_int_eq(frix_mpi_problem_local(ctx, first, per_rank, row_ptr, c.cols + c.row_ptr[first],
@@ -489,6 +513,7 @@ int main(int argc, char **argv) {
     tcase_add_test(tc, the_same_bits_on_every_run);
     tcase_add_test(tc, two_problems_on_the_halves);
     tcase_add_test(tc, a_chain_in_blocks);
+    tcase_add_test(tc, a_global_problem_reduced_on_the_root);
     tcase_add_test(tc, refusals_and_stops_reach_every_rank);
     suite_add_tcase(s, tc);
     sr = srunner_create(s);
