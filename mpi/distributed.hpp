@@ -28,6 +28,9 @@ struct frix_mpi_problem {
     frix_matrix W;
     std::vector<double> q, mu;
     std::vector<int64_t> ghosts;
+    // The owned contacts' indices in the problem given (frix_mpi_problem_scatter may have
+    // renumbered them by part): what frix_mpi_gather puts them back at.
+    std::vector<int64_t> ids;
     frix_problem view;  // nc = owned, over W, q and mu: what the sweeps and measures read
 
     // The exchange. neighbours: the ranks coupled to this one (either way), increasing.

@@ -199,6 +199,8 @@ frix_error make(frix_mpi_context *ctx, int64_t first, int64_t owned, const int64
             }
     if (frix_error agreed = agree(ctx->comm, e, where)) return agreed;
     build(*p, row_ptr, block_col, block_val, q, mu, scale ? scale : q);
+    p->ids.resize((size_t)owned);
+    for (int64_t i = 0; i < owned; ++i) p->ids[(size_t)i] = first + i;
     *out = p.release();
     return FRIX_OK;
 }
@@ -263,10 +265,11 @@ FRIX_API frix_error frix_mpi_problem_local(frix_mpi_context *ctx, int64_t first,
 }
 
 FRIX_API frix_error frix_mpi_problem_scatter(frix_mpi_context *ctx, int root, const frix_problem *problem,
-                                             const int64_t *starts, frix_mpi_problem **out) {
+                                             const int *part, frix_mpi_problem **out) {
     return frix::guard("frix_mpi_problem_scatter", [&]() -> frix_error {
         using frix::fail;
         using frix::mpi::check;
+        using frix::mpi::checked_count;
         const char *where = "frix_mpi_problem_scatter";
         if (!ctx) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: ctx is NULL", where);
         if (out) *out = nullptr;
@@ -276,12 +279,15 @@ FRIX_API frix_error frix_mpi_problem_scatter(frix_mpi_context *ctx, int root, co
         const size_t P = (size_t)ctx->size;
         frix_error e = FRIX_OK;
         if (!out) e = fail(FRIX_ERR_INVALID_ARGUMENT, "%s: out is NULL", where);
-        std::vector<int64_t> cut(P + 1, 0);
-        // The local problem the ranks get: the root's own, or its global one reduced.
+        // On the root: the local problem the ranks get (the one given, or its global one
+        // reduced), its contacts in the order of the parts (order[k]: the contact the k-th
+        // sent is), and where each rank's run starts (cut).
+        std::vector<int64_t> cut(P + 1, 0), order;
         const frix_matrix *W = nullptr;
         const double *q_all = nullptr, *scale_all = nullptr;
         std::unique_ptr<frix_matrix> reduced_W;
         std::vector<double> reduced_q;
+        int64_t nc = 0;
         if (!e && is_root) {
             if (!problem)
                 e = fail(FRIX_ERR_INVALID_ARGUMENT, "%s: problem is NULL on the root", where);
@@ -291,83 +297,125 @@ FRIX_API frix_error frix_mpi_problem_scatter(frix_mpi_context *ctx, int root, co
                 e = frix::mpi::reduce(*problem, reduced_W, reduced_q, where);
             else if (problem->nc > 0 && !problem->W->block)
                 e = fail(FRIX_ERR_UNSUPPORTED, "%s: W must be stored in 3x3 blocks", where);
-            if (!e && problem->kind == FRIX_PROBLEM_GLOBAL) {
-                W = reduced_W.get();
-                q_all = reduced_q.data();
-                scale_all = problem->w;
-            } else if (!e) {
-                W = problem->W;
-                q_all = problem->q;
+            if (!e) {
+                nc = problem->nc;
+                W = problem->kind == FRIX_PROBLEM_GLOBAL ? reduced_W.get() : problem->W;
+                q_all = problem->kind == FRIX_PROBLEM_GLOBAL ? reduced_q.data() : problem->q;
+                if (problem->kind == FRIX_PROBLEM_GLOBAL) scale_all = problem->w;
             }
-            if (!e && starts) {
-                cut.assign(starts, starts + P + 1);
-                bool ok = cut[0] == 0 && cut[P] == problem->nc;
-                for (size_t k = 0; k < P && ok; ++k) ok = cut[k + 1] >= cut[k];
-                if (!ok)
-                    e = fail(FRIX_ERR_DIMENSION,
-                             "%s: starts must increase from 0 to the number of contacts (%lld), %d + 1 values",
-                             where, (long long)problem->nc, ctx->size);
+            if (!e && part) {
+                for (int64_t a = 0; a < nc && !e; ++a)
+                    if (part[a] < 0 || part[a] >= ctx->size)
+                        e = fail(FRIX_ERR_INVALID_ARGUMENT, "%s: part[%lld] = %d is not a rank (0 .. %d)", where,
+                                 (long long)a, part[a], ctx->size - 1);
+                if (!e) {  // a stable counting sort of the contacts by part
+                    for (int64_t a = 0; a < nc; ++a) ++cut[(size_t)part[a] + 1];
+                    for (size_t k = 0; k < P; ++k) cut[k + 1] += cut[k];
+                    std::vector<int64_t> next(cut.begin(), cut.end() - 1);
+                    order.resize((size_t)nc);
+                    for (int64_t a = 0; a < nc; ++a) order[(size_t)next[(size_t)part[a]]++] = a;
+                }
             } else if (!e) {
-                const int64_t n = problem->nc, base = n / (int64_t)P, extra = n % (int64_t)P;
+                const int64_t base = nc / (int64_t)P, extra = nc % (int64_t)P;
                 for (size_t k = 0; k < P; ++k) cut[k + 1] = cut[k] + base + ((int64_t)k < extra ? 1 : 0);
             }
         }
         if (frix_error agreed = frix::mpi::agree(ctx->comm, e, where)) return agreed;
         check(MPI_Bcast(cut.data(), (int)P + 1, MPI_INT64_T, root, ctx->comm), "MPI_Bcast");
+        int flags[2] = {is_root && scale_all ? 1 : 0, is_root && !order.empty() ? 1 : 0};
+        check(MPI_Bcast(flags, 2, MPI_INT, root, ctx->comm), "MPI_Bcast");
+        const bool global = flags[0] != 0, permuted = flags[1] != 0;
         const int64_t first = cut[(size_t)ctx->rank], owned = cut[(size_t)ctx->rank + 1] - first;
-        int global = is_root && scale_all ? 1 : 0;
-        check(MPI_Bcast(&global, 1, MPI_INT, root, ctx->comm), "MPI_Bcast");
-        // Counts per rank: rows, blocks, and the vectors.
-        std::vector<int> rows(P), rows_at(P), blocks(P), blocks_at(P), vals(P), vals_at(P), vec3(P), vec3_at(P),
-            vec1(P), vec1_at(P);
+
+        // The root's rows in the order sent: row lengths, their blocks (columns renumbered and
+        // increasing in each row), and the per-contact vectors. Without parts they are the
+        // problem's own arrays.
+        std::vector<int64_t> lengths, send_col, block_at;
+        std::vector<double> send_val, send_q, send_mu, send_scale;
+        const int64_t *cols = nullptr;
+        const double *vals = nullptr, *qs = q_all, *mus = is_root ? problem->mu : nullptr, *scales = scale_all;
+        if (is_root) {
+            lengths.resize((size_t)nc);
+            for (int64_t k = 0; k < nc; ++k) {
+                const int64_t a = permuted ? order[(size_t)k] : k;
+                lengths[(size_t)k] = W->row_ptr[(size_t)a + 1] - W->row_ptr[(size_t)a];
+            }
+            if (permuted) {
+                std::vector<int64_t> position((size_t)nc);
+                for (int64_t k = 0; k < nc; ++k) position[(size_t)order[(size_t)k]] = k;
+                send_col.reserve(W->block_col.size());
+                send_val.reserve(W->block_val.size());
+                send_q.resize(3 * (size_t)nc);
+                send_mu.resize((size_t)nc);
+                if (global) send_scale.resize(3 * (size_t)nc);
+                std::vector<std::pair<int64_t, int64_t>> row;  // (new column, block)
+                for (int64_t k = 0; k < nc; ++k) {
+                    const int64_t a = order[(size_t)k];
+                    row.clear();
+                    for (int64_t b = W->row_ptr[(size_t)a]; b < W->row_ptr[(size_t)a + 1]; ++b)
+                        row.emplace_back(position[(size_t)W->block_col[(size_t)b]], b);
+                    std::sort(row.begin(), row.end());
+                    for (const auto &cb : row) {
+                        send_col.push_back(cb.first);
+                        send_val.insert(send_val.end(), W->block_val.begin() + 9 * cb.second,
+                                        W->block_val.begin() + 9 * cb.second + 9);
+                    }
+                    std::copy(q_all + 3 * a, q_all + 3 * a + 3, send_q.begin() + 3 * k);
+                    send_mu[(size_t)k] = problem->mu[a];
+                    if (global) std::copy(scale_all + 3 * a, scale_all + 3 * a + 3, send_scale.begin() + 3 * k);
+                }
+                cols = send_col.data();
+                vals = send_val.data();
+                qs = send_q.data();
+                mus = send_mu.data();
+                scales = send_scale.data();
+            } else if (nc > 0) {
+                cols = W->block_col.data();
+                vals = W->block_val.data();
+            }
+            block_at.assign((size_t)nc + 1, 0);
+            for (int64_t k = 0; k < nc; ++k) block_at[(size_t)k + 1] = block_at[(size_t)k] + lengths[(size_t)k];
+        }
+        std::vector<int> rows(P), rows_at(P), blocks(P), blocks_at(P), nine(P), nine_at(P), three(P), three_at(P);
         if (is_root)
             for (size_t k = 0; k < P; ++k) {
-                const int64_t b0 = cut[P] > 0 ? W->row_ptr[(size_t)cut[k]] : 0;
-                const int64_t b1 = cut[P] > 0 ? W->row_ptr[(size_t)cut[k + 1]] : 0;
-                rows[k] = frix::mpi::checked_count(cut[k + 1] - cut[k]);
-                rows_at[k] = frix::mpi::checked_count(cut[k]);
-                blocks[k] = frix::mpi::checked_count(b1 - b0);
-                blocks_at[k] = frix::mpi::checked_count(b0);
-                vals[k] = frix::mpi::checked_count(9 * (b1 - b0));
-                vals_at[k] = frix::mpi::checked_count(9 * b0);
-                vec3[k] = frix::mpi::checked_count(3 * (cut[k + 1] - cut[k]));
-                vec3_at[k] = frix::mpi::checked_count(3 * cut[k]);
-                vec1[k] = rows[k];
-                vec1_at[k] = rows_at[k];
+                const int64_t b0 = block_at[(size_t)cut[k]], b1 = block_at[(size_t)cut[k + 1]];
+                rows[k] = checked_count(cut[k + 1] - cut[k]);
+                rows_at[k] = checked_count(cut[k]);
+                blocks[k] = checked_count(b1 - b0);
+                blocks_at[k] = checked_count(b0);
+                nine[k] = checked_count(9 * (b1 - b0));
+                nine_at[k] = checked_count(9 * b0);
+                three[k] = checked_count(3 * (cut[k + 1] - cut[k]));
+                three_at[k] = checked_count(3 * cut[k]);
             }
         int my_blocks = 0;
         check(MPI_Scatter(blocks.data(), 1, MPI_INT, &my_blocks, 1, MPI_INT, root, ctx->comm), "MPI_Scatter");
-        // Row lengths, not row_ptr: each rank's rows start at its own 0.
-        std::vector<int64_t> lengths;
-        if (is_root) {
-            lengths.resize((size_t)cut[P]);
-            for (int64_t i = 0; i < cut[P]; ++i) lengths[(size_t)i] = W->row_ptr[(size_t)i + 1] - W->row_ptr[(size_t)i];
-        }
-        std::vector<int64_t> my_lengths((size_t)owned), row_ptr((size_t)owned + 1, 0), block_col((size_t)my_blocks);
+        std::vector<int64_t> my_lengths((size_t)owned), row_ptr((size_t)owned + 1, 0), block_col((size_t)my_blocks),
+            ids((size_t)owned);
         std::vector<double> block_val(9 * (size_t)my_blocks), q(3 * (size_t)owned), mu((size_t)owned),
             w(global ? 3 * (size_t)owned : 0);
-        check(MPI_Scatterv(lengths.data(), rows.data(), rows_at.data(), MPI_INT64_T, my_lengths.data(), (int)owned,
-                           MPI_INT64_T, root, ctx->comm),
-              "MPI_Scatterv");
-        for (int64_t i = 0; i < owned; ++i) row_ptr[(size_t)i + 1] = row_ptr[(size_t)i] + my_lengths[(size_t)i];
-        check(MPI_Scatterv(is_root ? W->block_col.data() : nullptr, blocks.data(), blocks_at.data(), MPI_INT64_T,
-                           block_col.data(), my_blocks, MPI_INT64_T, root, ctx->comm),
-              "MPI_Scatterv");
-        check(MPI_Scatterv(is_root ? W->block_val.data() : nullptr, vals.data(), vals_at.data(), MPI_DOUBLE,
-                           block_val.data(), 9 * my_blocks, MPI_DOUBLE, root, ctx->comm),
-              "MPI_Scatterv");
-        check(MPI_Scatterv(q_all, vec3.data(), vec3_at.data(), MPI_DOUBLE, q.data(), (int)(3 * owned), MPI_DOUBLE, root,
-                           ctx->comm),
-              "MPI_Scatterv");
-        if (global)
-            check(MPI_Scatterv(scale_all, vec3.data(), vec3_at.data(), MPI_DOUBLE, w.data(), (int)(3 * owned),
-                               MPI_DOUBLE, root, ctx->comm),
+        const auto scatter = [&](const void *from, const std::vector<int> &counts, const std::vector<int> &at,
+                                 MPI_Datatype type, void *to, int64_t count) {
+            check(MPI_Scatterv(from, counts.data(), at.data(), type, to, checked_count(count), type, root, ctx->comm),
                   "MPI_Scatterv");
-        check(MPI_Scatterv(is_root ? problem->mu : nullptr, vec1.data(), vec1_at.data(), MPI_DOUBLE, mu.data(),
-                           (int)owned, MPI_DOUBLE, root, ctx->comm),
-              "MPI_Scatterv");
-        return frix::mpi::make(ctx, first, owned, row_ptr.data(), block_col.data(), block_val.data(), q.data(),
-                               mu.data(), global ? w.data() : nullptr, out, where);
+        };
+        scatter(lengths.data(), rows, rows_at, MPI_INT64_T, my_lengths.data(), owned);
+        for (int64_t i = 0; i < owned; ++i) row_ptr[(size_t)i + 1] = row_ptr[(size_t)i] + my_lengths[(size_t)i];
+        scatter(cols, blocks, blocks_at, MPI_INT64_T, block_col.data(), my_blocks);
+        scatter(vals, nine, nine_at, MPI_DOUBLE, block_val.data(), 9 * (int64_t)my_blocks);
+        scatter(qs, three, three_at, MPI_DOUBLE, q.data(), 3 * owned);
+        scatter(mus, rows, rows_at, MPI_DOUBLE, mu.data(), owned);
+        if (global) scatter(scales, three, three_at, MPI_DOUBLE, w.data(), 3 * owned);
+        if (permuted)
+            scatter(order.data(), rows, rows_at, MPI_INT64_T, ids.data(), owned);
+        else
+            for (int64_t i = 0; i < owned; ++i) ids[(size_t)i] = first + i;
+        if (frix_error made = frix::mpi::make(ctx, first, owned, row_ptr.data(), block_col.data(), block_val.data(),
+                                              q.data(), mu.data(), global ? w.data() : nullptr, out, where))
+            return made;
+        (*out)->ids = std::move(ids);
+        return FRIX_OK;
     });
 }
 
@@ -394,6 +442,15 @@ FRIX_API frix_error frix_mpi_problem_get_int(const frix_mpi_problem *p, frix_mpi
     });
 }
 
+FRIX_API frix_error frix_mpi_problem_ids(const frix_mpi_problem *p, int64_t *ids) {
+    return frix::guard("frix_mpi_problem_ids", [&]() -> frix_error {
+        if (!p || (p->owned > 0 && !ids))
+            return frix::fail(FRIX_ERR_INVALID_ARGUMENT, "frix_mpi_problem_ids: p and ids are required");
+        std::copy(p->ids.begin(), p->ids.end(), ids);
+        return FRIX_OK;
+    });
+}
+
 FRIX_API frix_error frix_mpi_gather(const frix_mpi_problem *p, int root, const double *x_owned, double *x_all) {
     return frix::guard("frix_mpi_gather", [&]() -> frix_error {
         using frix::fail;
@@ -407,14 +464,25 @@ FRIX_API frix_error frix_mpi_gather(const frix_mpi_problem *p, int root, const d
         else if (c.rank == root && p->total > 0 && !x_all)
             e = fail(FRIX_ERR_INVALID_ARGUMENT, "frix_mpi_gather: x_all is NULL on the root");
         if (frix_error agreed = frix::mpi::agree(c.comm, e, "frix_mpi_gather")) return agreed;
-        std::vector<int> counts((size_t)c.size), at((size_t)c.size);
+        std::vector<int> counts((size_t)c.size), at((size_t)c.size), id_counts((size_t)c.size), id_at((size_t)c.size);
         for (size_t k = 0; k < (size_t)c.size; ++k) {
+            id_counts[k] = frix::mpi::checked_count(p->starts[k + 1] - p->starts[k]);
+            id_at[k] = frix::mpi::checked_count(p->starts[k]);
             counts[k] = frix::mpi::checked_count(3 * (p->starts[k + 1] - p->starts[k]));
             at[k] = frix::mpi::checked_count(3 * p->starts[k]);
         }
-        frix::mpi::check(MPI_Gatherv(x_owned, (int)(3 * p->owned), MPI_DOUBLE, x_all, counts.data(), at.data(),
+        // The values in the order of the ranks, then each put back at its contact's index.
+        const bool is_root = c.rank == root;
+        std::vector<double> values(is_root ? 3 * (size_t)p->total : 0);
+        std::vector<int64_t> ids(is_root ? (size_t)p->total : 0);
+        frix::mpi::check(MPI_Gatherv(x_owned, (int)(3 * p->owned), MPI_DOUBLE, values.data(), counts.data(), at.data(),
                                      MPI_DOUBLE, root, c.comm),
                          "MPI_Gatherv");
+        frix::mpi::check(MPI_Gatherv(p->ids.data(), (int)p->owned, MPI_INT64_T, ids.data(), id_counts.data(),
+                                     id_at.data(), MPI_INT64_T, root, c.comm),
+                         "MPI_Gatherv");
+        for (size_t k = 0; k < ids.size(); ++k)
+            for (int i = 0; i < 3; ++i) x_all[3 * ids[k] + i] = values[3 * k + i];
         return FRIX_OK;
     });
 }

@@ -77,14 +77,24 @@ FRIX_API frix_error frix_mpi_problem_local(frix_mpi_context *ctx, int64_t first,
                                            const int64_t *row_ptr, const int64_t *block_col,
                                            const double *block_val, const double *q, const double *mu,
                                            frix_mpi_problem **out);
-/* A whole problem held by rank `root` (`problem` is read on root only; NULL elsewhere), cut
- * into blocks and sent to the ranks: rank k receives contacts starts[k] .. starts[k+1]-1
- * (`starts`: size+1 values, read on root; NULL for blocks of equal size, the first ranks one
- * contact more). A local problem's W must be stored in 3x3 blocks, as problems read from
- * files are. A global problem is reduced on the root (W = H^T M^-1 H, q = H^T M^-1 f + w, as
- * frix_solve reduces it for nsgs) and its error measure keeps its own scale, |w|. */
+/* A whole problem held by rank `root` (`problem` is read on root only; NULL elsewhere), sent
+ * to the ranks: rank k receives the contacts a with part[a] == k (`part`: one rank per
+ * contact, read on root, as frix_mpi_partition gives; NULL for blocks of equal size in the
+ * problem's order, the first ranks one contact more). The ranks' contacts are numbered rank
+ * after rank, each rank's in their order in the problem; frix_mpi_problem_ids tells which
+ * contacts a rank holds, and frix_mpi_gather puts them back in the problem's order. A local
+ * problem's W must be stored in 3x3 blocks, as problems read from files are. A global problem
+ * is reduced on the root (W = H^T M^-1 H, q = H^T M^-1 f + w, as frix_solve reduces it for
+ * nsgs) and its error measure keeps its own scale, |w|. */
 FRIX_API frix_error frix_mpi_problem_scatter(frix_mpi_context *ctx, int root, const frix_problem *problem,
-                                             const int64_t *starts, frix_mpi_problem **out);
+                                             const int *part, frix_mpi_problem **out);
+/* A part (rank) for each contact of a whole problem held by rank `root` (collective; part:
+ * nc values, written on root), so that each rank gets about as much work and as few
+ * contacts coupled to other ranks' as Scotch finds on the contact graph: contacts coupled by
+ * W, or for a global problem acting on a common dof. Scotch runs on the root, deterministic:
+ * the same parts for the same problem and number of ranks on every run. With one rank, all
+ * zeros. */
+FRIX_API frix_error frix_mpi_partition(frix_mpi_context *ctx, int root, const frix_problem *problem, int *part);
 FRIX_API void frix_mpi_problem_free(frix_mpi_problem *p);
 
 /* What a distributed problem holds (not collective). */
@@ -100,6 +110,9 @@ typedef enum frix_mpi_key FRIX_ENUM_BASE {
     FRIX_MPI_MESSAGES_SENT = 9    /* messages this rank sends in one sweep */
 } frix_mpi_key;
 FRIX_API frix_error frix_mpi_problem_get_int(const frix_mpi_problem *p, frix_mpi_key key, int64_t *value);
+/* The index in the whole problem of each of this rank's contacts (owned values): first ..
+ * first+owned-1, unless frix_mpi_problem_scatter renumbered them by part. */
+FRIX_API frix_error frix_mpi_problem_ids(const frix_mpi_problem *p, int64_t *ids);
 
 /* Solves (collective). r: this rank's 3*owned reactions, the warm start in (0 for a cold
  * start; non-finite entries are started from 0) and the result out; u: 3*owned, receives
@@ -112,7 +125,8 @@ FRIX_API frix_error frix_mpi_solve(frix_mpi_problem *p, const frix_options *opti
                                    frix_info *info);
 
 /* Gathers a per-contact vector (3 values a contact) to rank `root` (collective): each rank
- * gives its 3*owned values, root receives all 3*n in x_all (ignored elsewhere). */
+ * gives its 3*owned values, root receives all 3*n in x_all (ignored elsewhere), each contact's
+ * at its index in the whole problem (frix_mpi_problem_ids). */
 FRIX_API frix_error frix_mpi_gather(const frix_mpi_problem *p, int root, const double *x_owned, double *x_all);
 
 /* The message of this thread's last failing frix_mpi_* call. */

@@ -50,7 +50,7 @@ static frix_options *nsgs_options(double tol) {
 }
 
 /* The serial solve and the distributed one on `comm` (the whole problem scattered from rank
- * 0, blocks as `starts` says or equal), from the warm start r0 (NULL: 0). The distributed
+ * 0, its contacts dealt as `part` says, or in equal blocks), from the warm start r0 (NULL: 0). The distributed
  * result is gathered to every rank (r_dist, u_dist: 3nc). */
 typedef struct {
     frix_status status;
@@ -80,43 +80,46 @@ static outcome solve_serial(const frix_problem *p, const frix_options *o, const 
     return out;
 }
 
-static outcome solve_distributed(MPI_Comm comm, const frix_problem *p, const int64_t *starts, const frix_options *o,
+static outcome solve_distributed(MPI_Comm comm, const frix_problem *p, const int *part, const frix_options *o,
                                  const double *r0, frix_mpi_problem **keep) {
     const int64_t m = 3 * frix_problem_contacts(p);
     frix_mpi_context *ctx = NULL;
-    frix_mpi_problem *part = NULL;
+    frix_mpi_problem *dist = NULL;
     frix_info *info = NULL;
-    int64_t first = 0, owned = 0;
+    int64_t owned = 0, i, *ids;
     int rank = 0;
     outcome out;
     double *r, *u;
     MPI_Comm_rank(comm, &rank);
     ck_assert_int_eq(frix_mpi_context_create(comm, &ctx), FRIX_OK);
-    ck_assert_msg(frix_mpi_problem_scatter(ctx, 0, rank == 0 ? p : NULL, starts, &part) == FRIX_OK, "%s",
+    ck_assert_msg(frix_mpi_problem_scatter(ctx, 0, rank == 0 ? p : NULL, part, &dist) == FRIX_OK, "%s",
                   frix_mpi_last_error_message());
-    frix_mpi_problem_get_int(part, FRIX_MPI_FIRST, &first);
-    frix_mpi_problem_get_int(part, FRIX_MPI_OWNED, &owned);
+    frix_mpi_problem_get_int(dist, FRIX_MPI_OWNED, &owned);
     r = calloc((size_t)(3 * owned) + 1, sizeof(double));
     u = calloc((size_t)(3 * owned) + 1, sizeof(double));
-    if (r0) memcpy(r, r0 + 3 * first, (size_t)(3 * owned) * sizeof(double));
+    ids = calloc((size_t)owned + 1, sizeof(int64_t));
+    ck_assert_int_eq(frix_mpi_problem_ids(dist, ids), FRIX_OK);
+    if (r0)
+        for (i = 0; i < owned; ++i) memcpy(r + 3 * i, r0 + 3 * ids[i], 3 * sizeof(double));
     ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
-    ck_assert_msg(frix_mpi_solve(part, o, r, u, info) == FRIX_OK, "%s", frix_mpi_last_error_message());
+    ck_assert_msg(frix_mpi_solve(dist, o, r, u, info) == FRIX_OK, "%s", frix_mpi_last_error_message());
     out.status = frix_info_status(info);
     out.iterations = frix_info_iterations(info);
     out.error = frix_info_error(info);
     out.r = calloc((size_t)m + 1, sizeof(double));
     out.u = calloc((size_t)m + 1, sizeof(double));
-    ck_assert_int_eq(frix_mpi_gather(part, 0, r, out.r), FRIX_OK);
-    ck_assert_int_eq(frix_mpi_gather(part, 0, u, out.u), FRIX_OK);
+    ck_assert_int_eq(frix_mpi_gather(dist, 0, r, out.r), FRIX_OK);
+    ck_assert_int_eq(frix_mpi_gather(dist, 0, u, out.u), FRIX_OK);
     MPI_Bcast(out.r, (int)m, MPI_DOUBLE, 0, comm);
     MPI_Bcast(out.u, (int)m, MPI_DOUBLE, 0, comm);
     free(r);
     free(u);
+    free(ids);
     frix_info_free(info);
     if (keep)
-        *keep = part;
+        *keep = dist;
     else
-        frix_mpi_problem_free(part);
+        frix_mpi_problem_free(dist);
     frix_mpi_context_free(ctx);
     return out;
 }
@@ -267,31 +270,66 @@ START_TEST(the_ranks_converge_on_the_piles) {
 }
 END_TEST
 
-/* Two runs at one number of ranks: the same bits; and an uneven partition given by starts. */
+/* Two runs at one number of ranks: the same bits, with the contacts in equal blocks, dealt
+ * round-robin, and cut by Scotch (twice: the same parts). The parts by Scotch leave
+ * fewer boundary contacts than equal blocks of the stored order, and every part is gathered
+ * back in the problem's order (the error libfrix measures on it meets the tolerance). */
 START_TEST(the_same_bits_on_every_run) {
     frix_problem *p = shared_problem("fclib-large/Spheres-n400-seed2-s00200-nc1186.hdf5");
     frix_options *o = nsgs_options(1e-4);
     int ok = 1, pass;
     if (p) {
         const int64_t nc = frix_problem_contacts(p);
-        int64_t *starts = calloc((size_t)g_size + 1, sizeof(int64_t));
-        int k;
-        /* Rank k's share grows with k: (k + 1) / (1 + 2 + ... + size). */
-        for (k = 0; k < g_size; ++k) starts[k + 1] = starts[k] + nc * (k + 1) / ((int64_t)g_size * (g_size + 1) / 2);
-        starts[g_size] = nc;
-        for (pass = 0; pass < 2; ++pass) {
-            const int64_t *cut = pass == 0 ? NULL : starts;
-            outcome a = solve_distributed(MPI_COMM_WORLD, p, cut, o, NULL, NULL);
-            outcome b = solve_distributed(MPI_COMM_WORLD, p, cut, o, NULL, NULL);
-            if (!same_bits(&a, &b, 3 * nc) || a.status != FRIX_STATUS_CONVERGED) ok = 0;
-            outcome_free(&a);
-            outcome_free(&b);
+        int *part = calloc((size_t)nc, sizeof(int)), *again = calloc((size_t)nc, sizeof(int));
+        long long boundary[2] = {0, 0};
+        frix_mpi_context *ctx = NULL;
+        int64_t a;
+        ck_assert_int_eq(frix_mpi_context_create(MPI_COMM_WORLD, &ctx), FRIX_OK);
+        for (pass = 0; pass < 3; ++pass) {
+            frix_mpi_problem *kept = NULL;
+            int64_t mine = 0;
+            long long all = 0;
+            outcome a1, a2;
+            double measured = 1.0;
+            if (pass == 1)
+                for (a = 0; a < nc; ++a) part[a] = (int)(a % g_size);
+            if (pass == 2) {
+                ck_assert_msg(frix_mpi_partition(ctx, 0, g_rank == 0 ? p : NULL, part) == FRIX_OK, "%s",
+                              frix_mpi_last_error_message());
+                ck_assert_int_eq(frix_mpi_partition(ctx, 0, g_rank == 0 ? p : NULL, again), FRIX_OK);
+                if (g_rank == 0 && memcmp(part, again, (size_t)nc * sizeof(int)) != 0) {
+                    fprintf(stderr, "Scotch gave other parts the second time\n");
+                    ok = 0;
+                }
+            }
+            a1 = solve_distributed(MPI_COMM_WORLD, p, pass == 0 ? NULL : part, o, NULL, &kept);
+            a2 = solve_distributed(MPI_COMM_WORLD, p, pass == 0 ? NULL : part, o, NULL, NULL);
+            ck_assert_int_eq(frix_problem_error(p, a1.r, NULL, &measured), FRIX_OK);
+            if (!same_bits(&a1, &a2, 3 * nc) || a1.status != FRIX_STATUS_CONVERGED || !(measured <= 1e-4 * (1.0 + 1e-9))) {
+                fprintf(stderr, "rank %d, pass %d: same bits %d, %s, measured %.6e\n", g_rank, pass,
+                        same_bits(&a1, &a2, 3 * nc), frix_status_string(a1.status), measured);
+                ok = 0;
+            }
+            frix_mpi_problem_get_int(kept, FRIX_MPI_BOUNDARY, &mine);
+            all = (long long)mine;
+            MPI_Allreduce(MPI_IN_PLACE, &all, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+            if (pass != 1) boundary[pass / 2] = all;
+            if (g_rank == 0)
+                printf("%s, %d ranks: %lld boundary contacts, %d sweeps\n",
+                       pass == 0 ? "equal blocks" : pass == 1 ? "round-robin" : "Scotch", g_size, all,
+                       (int)a1.iterations);
+            frix_mpi_problem_free(kept);
+            outcome_free(&a1);
+            outcome_free(&a2);
         }
-        free(starts);
+        if (g_size > 1) ok = ok && boundary[1] < boundary[0];
+        frix_mpi_context_free(ctx);
+        free(part);
+        free(again);
     }
     frix_problem_free(p);
     frix_options_free(o);
-    ck_assert_msg(all_true(MPI_COMM_WORLD, ok), "two runs differ");
+    ck_assert_msg(all_true(MPI_COMM_WORLD, ok), "two runs differ, or the parts are not as expected");
 }
 END_TEST
 

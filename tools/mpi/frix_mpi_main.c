@@ -1,10 +1,12 @@
 /* frix-mpi: solves an FCLIB (or .dat) problem on the ranks of an MPI job.
  *
  *   mpirun -np N frix-mpi solve FILE [--tol T] [--max-iter N] [--time-limit S]
- *                                    [--set NAME=VALUE]... [--verbose] [--out FILE]
+ *                                    [--parts scotch|blocks] [--set NAME=VALUE]...
+ *                                    [--verbose] [--out FILE]
  *
- * Rank 0 reads the file (the HDF5 library is serial) and sends each rank its block of
- * contacts; the ranks solve with nsgs (libfrix_mpi); rank 0 gathers the reactions, measures
+ * Rank 0 reads the file (the HDF5 library is serial), the contacts are cut into one part a
+ * rank (Scotch on the contact graph; or blocks of the stored order), and
+ * rank 0 sends each rank its part; the ranks solve with nsgs (libfrix_mpi); rank 0 gathers the reactions, measures
  * them with libfrix (the error measure frix solve prints), prints the report and, with
  * --out, writes the problem with its solution. The program's communicator is MPI_COMM_WORLD;
  * the library works on a duplicate of it.
@@ -21,10 +23,12 @@
 
 static const char kUsage[] =
     "usage: mpirun -np N frix-mpi solve FILE [--tol T] [--max-iter N] [--time-limit S]\n"
-    "                                  [--set NAME=VALUE]... [--verbose] [--out FILE]\n";
+    "                                  [--parts scotch|blocks] [--set NAME=VALUE]...\n"
+    "                                  [--verbose] [--out FILE]\n";
 
 typedef struct {
     const char *file, *out;
+    int blocks; /* --parts blocks */
     double tol, time_limit;
     long long max_iter;
     int verbose;
@@ -65,6 +69,13 @@ static int parse(int argc, char **argv, args_t *a, int rank) {
             a->max_iter = strtoll(v, &end, 10);
         } else if (strcmp(o, "--out") == 0) {
             a->out = v;
+            continue;
+        } else if (strcmp(o, "--parts") == 0) {
+            if (strcmp(v, "blocks") != 0 && strcmp(v, "scotch") != 0) {
+                if (rank == 0) fprintf(stderr, "frix-mpi: --parts %s: expected scotch or blocks\n", v);
+                return 2;
+            }
+            a->blocks = strcmp(v, "blocks") == 0;
             continue;
         } else if (strcmp(o, "--set") == 0) {
             if (a->nsets == (int)(sizeof a->sets / sizeof a->sets[0])) {
@@ -161,7 +172,8 @@ static int run(const args_t *a, int rank, int size) {
     frix_mpi_problem *part = NULL;
     frix_info *info = NULL;
     double *r = NULL, *u = NULL, *r_all = NULL, *u_all = NULL;
-    int status = 2, read_ok = 1;
+    int status = 2, read_ok = 1, *parts = NULL;
+    double partition_time = 0.0;
     int64_t owned = 0, total = 0;
     long long boundary, ghosts, messages, colours;
 
@@ -172,8 +184,18 @@ static int run(const args_t *a, int rank, int size) {
     MPI_Bcast(&read_ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
     if (!read_ok) return 2;
     if (make_options(a, &opts, rank) != 0 || frix_info_create(&info) != FRIX_OK) goto done;
+    if (rank == 0 && !a->blocks) {
+        parts = (int *)calloc((size_t)frix_problem_contacts(problem) + 1, sizeof(int));
+        if (!parts) {
+            fprintf(stderr, "frix-mpi: out of memory\n");
+            MPI_Abort(MPI_COMM_WORLD, 2);
+        }
+    }
+    partition_time = MPI_Wtime();
     if (frix_mpi_context_create(MPI_COMM_WORLD, &ctx) != FRIX_OK ||
-        frix_mpi_problem_scatter(ctx, 0, problem, NULL, &part) != FRIX_OK) {
+        (!a->blocks && frix_mpi_partition(ctx, 0, problem, parts) != FRIX_OK) ||
+        (partition_time = MPI_Wtime() - partition_time,
+         frix_mpi_problem_scatter(ctx, 0, problem, parts, &part) != FRIX_OK)) {
         if (rank == 0) fprintf(stderr, "frix-mpi: %s\n", frix_mpi_last_error_message());
         goto done;
     }
@@ -214,8 +236,9 @@ static int run(const args_t *a, int rank, int size) {
         printf("%-16s %s\n", "file", a->file);
         printf("%-16s %s, %lld contacts\n", "problem", global ? "global (reduced on rank 0)" : "local",
                (long long)total);
-        printf("%-16s %d (%lld boundary contacts, %lld ghosts, %lld colours, %lld messages a sweep)\n", "ranks",
-               size, boundary, ghosts, colours, messages);
+        printf("%-16s %d, %s (%lld boundary contacts, %lld ghosts, %lld colours, %lld messages a sweep)\n",
+               "ranks", size, a->blocks ? "blocks" : "Scotch", boundary, ghosts, colours, messages);
+        if (!a->blocks) printf("%-16s %.3g s\n", "partition", partition_time);
         printf("%-16s nsgs (id %d)\n", "solver", (int)FRIX_SOLVER_NSGS);
         printf("%-16s %s\n", "status", frix_status_string(frix_info_status(info)));
         printf("%-16s %lld\n", "iterations", (long long)frix_info_iterations(info));
@@ -233,6 +256,7 @@ done:
     free(u);
     free(r_all);
     free(u_all);
+    free(parts);
     frix_info_free(info);
     frix_mpi_problem_free(part);
     frix_mpi_context_free(ctx);
