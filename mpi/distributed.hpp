@@ -5,6 +5,7 @@
 #include <frix/frix_mpi.h>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -42,8 +43,17 @@ struct frix_mpi_problem {
     // The owned contacts coupled to another rank's (either way), and the others, increasing.
     std::vector<int64_t> boundary, interior;
     int colour = 0, colours = 1;
-    // A reduced global problem's w (the relative error's scale is |w|, not |q|); empty for a
-    // local problem.
+    // Rigid bodies (frix_mpi_problem_rigid): W is empty and the sweeps keep the bodies'
+    // velocities. The bodies given are held in slots, in their order: body_ids, M^-1 (36
+    // values) and v0 = M^-1 f (6). Each held contact (owned, then ghosts) has two sides: a
+    // slot (-1: no body, or one this rank does not hold), its block G (18 values, row-major,
+    // as given) and M^-1 G^T of its body (18, column-major 6 x 3). diag: W_aa of the owned
+    // contacts (9, column-major). v: the bodies' velocities after the last solve.
+    bool rigid = false, solved = false;
+    std::vector<int64_t> body_ids, side_slot;
+    std::vector<double> minv, v0, G, mg, diag, v;
+    // A reduced global problem's w, or a rigid one's (the relative error's scale is |w|, not
+    // |q|); empty for a local problem.
     std::vector<double> w;
     const double *scale() const { return w.empty() ? q.data() : w.data(); }
 };
@@ -65,6 +75,20 @@ std::vector<double> gather_all(MPI_Comm comm, const double *mine, int count);
 
 // The bitwise or of `flags` over the ranks.
 unsigned or_all(MPI_Comm comm, unsigned flags);
+
+// The rank that owns contact g.
+int owner_of(const std::vector<int64_t> &starts, int64_t g);
+// n as an MPI count; throws Failure (FRIX_ERR_DIMENSION) beyond INT_MAX.
+int checked_count(int64_t n);
+// A problem for this rank's contacts first .. first+owned-1: the ranks' blocks gathered
+// (starts, total, ids). Collective. e is set (unless already) when the blocks are not
+// contiguous in rank order from 0.
+std::unique_ptr<frix_mpi_problem> start_part(frix_mpi_context *ctx, int64_t first, int64_t owned, frix_error &e,
+                                             const char *where);
+// The exchange of p (its ghosts set, increasing): the ghosts' owners, the send lists, the
+// neighbours, boundary and interior contacts (has_ghost: the owned contacts coupled to a
+// ghost) and the ranks' colours. Collective.
+void plan_exchange(frix_mpi_problem &p, const std::vector<char> &has_ghost);
 
 }  // namespace mpi
 }  // namespace frix

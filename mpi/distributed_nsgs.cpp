@@ -75,35 +75,43 @@ class RanksRescue : public MeasureRescue {
     int64_t nc_;
 };
 
-// The sweep and the measures over the ranks. r holds the owned reactions, then the ghosts'.
-class DistributedRows : public nsgs::SweepForm {
+// The sweep over the ranks and its measures; r holds the owned reactions, then the ghosts'.
+// The forms differ in how a contact reads its local q and what a changed reaction updates:
+// W's rows (DistributedRows) or the bodies' velocities (DistributedBodies).
+class DistributedForm : public nsgs::SweepForm {
    public:
-    explicit DistributedRows(const frix_mpi_problem &p)
+    explicit DistributedForm(const frix_mpi_problem &p)
         : p_(p), comm_(p.ctx->comm), norm_q_(norm2_all(comm_, p.scale(), 3 * p.owned)) {
         const size_t n = p.neighbours.size();
         send_buffer_.resize(3 * p.send.size());
+        ghost_in_.resize(3 * p.ghosts.size());
         requests_.reserve(2 * n);
         for (size_t k = 0; k < n; ++k) (p.neighbour_colour[k] < p.colour ? lower_ : higher_).push_back(k);
     }
 
     nsgs::SweepStats sweep(nsgs::Workspace &ws, double *r, double *) override {
         requests_.clear();
-        receive(lower_, r);
+        receive(lower_);
         const std::vector<int64_t> &b = p_.boundary, &in = p_.interior;
         nsgs::SweepStats st;
         if (p_.colour == 0) {
-            st = ws.sweep_part(r, b.data(), (int64_t)b.size());
+            st = sweep_part(ws, r, b.data(), (int64_t)b.size());
             send_all(r);
-            st.add(ws.sweep_part(r, in.data(), (int64_t)in.size()));
+            receive(higher_);
+            st.add(sweep_part(ws, r, in.data(), (int64_t)in.size()));
+            wait();
+            take(lower_, r);  // (none: colour 0 has no lower neighbour)
+            take(higher_, r);
         } else {
-            st = ws.sweep_part(r, in.data(), (int64_t)in.size());
-            check(MPI_Waitall((int)requests_.size(), requests_.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
-            requests_.clear();
-            st.add(ws.sweep_part(r, b.data(), (int64_t)b.size()));
+            st = sweep_part(ws, r, in.data(), (int64_t)in.size());
+            wait();
+            take(lower_, r);
+            st.add(sweep_part(ws, r, b.data(), (int64_t)b.size()));
             send_all(r);
+            receive(higher_);
+            wait();
+            take(higher_, r);
         }
-        receive(higher_, r);
-        check(MPI_Waitall((int)requests_.size(), requests_.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
         // The sweep's statistics over the ranks, in rank order.
         const double mine[5] = {st.dr2, st.r2, (double)st.rejected, (double)st.unsolved, (double)st.frozen};
         const std::vector<double> all = gather_all(comm_, mine, 5);
@@ -118,12 +126,30 @@ class DistributedRows : public nsgs::SweepForm {
         return total;
     }
 
-    Measures exact(const double *r, double *u) override {
+    unsigned agree(unsigned flags) override { return or_all(comm_, flags); }
+    int64_t all_contacts(int64_t) const override { return p_.total; }
+
+    // Every ghost from its owner: at the start, and after r changed outside a sweep.
+    void exchange(double *r) {
+        requests_.clear();
+        std::vector<size_t> all(p_.neighbours.size());
+        for (size_t k = 0; k < all.size(); ++k) all[k] = k;
+        receive(all);
+        send_all(r);
+        wait();
+        take(all, r);
+    }
+
+   protected:
+    // Sweeps contacts[0 .. count) of this rank.
+    virtual nsgs::SweepStats sweep_part(nsgs::Workspace &ws, double *r, const int64_t *contacts, int64_t count) = 0;
+    // Ghost g's reaction is now r_new (3 values): r's ghost slot, and what the form keeps.
+    virtual void take_ghost(int64_t g, const double *r_new, double *r) {
+        std::copy(r_new, r_new + 3, r + 3 * (p_.owned + g));
+    }
+    // The measures of this rank's (r, u), combined over the ranks in rank order.
+    Measures combine(const double *r, const double *u) {
         const int64_t nc = p_.owned;
-        if (nc > 0) {
-            matrix_gemv(p_.W, 1.0, r, 0.0, u);
-            for (int64_t i = 0; i < 3 * nc; ++i) u[i] += p_.q[(size_t)i];
-        }
         const MeasureParts mine = measure_parts(r, u, p_.mu.data(), 0, nc);
         const double packed[6] = {mine.residual_sq, mine.cone, mine.penetration, mine.complementarity, mine.r_sq, mine.u_sq};
         const std::vector<double> all = gather_all(comm_, packed, 6);
@@ -141,31 +167,28 @@ class DistributedRows : public nsgs::SweepForm {
         return measures_from_parts(total, rescue, norm_q_);
     }
 
-    unsigned agree(unsigned flags) override { return or_all(comm_, flags); }
-    int64_t all_contacts(int64_t) const override { return p_.total; }
-
-    // Every ghost from its owner: at the start, and after r changed outside a sweep.
-    void exchange(double *r) {
-        requests_.clear();
-        std::vector<size_t> all(p_.neighbours.size());
-        for (size_t k = 0; k < all.size(); ++k) all[k] = k;
-        receive(all, r);
-        send_all(r);
-        check(MPI_Waitall((int)requests_.size(), requests_.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
-        requests_.clear();
-    }
+    const frix_mpi_problem &p_;
 
    private:
-    // Receives the ghosts of the neighbours listed (indices into p.neighbours) into r.
-    void receive(const std::vector<size_t> &which, double *r) {
+    // Receives the ghosts of the neighbours listed (indices into p.neighbours).
+    void receive(const std::vector<size_t> &which) {
         for (const size_t k : which) {
             const int64_t from = p_.recv_ptr[k], to = p_.recv_ptr[k + 1];
             if (to == from) continue;
             requests_.emplace_back();
-            check(MPI_Irecv(r + 3 * (p_.owned + from), (int)(3 * (to - from)), MPI_DOUBLE, p_.neighbours[k], kTag,
+            check(MPI_Irecv(ghost_in_.data() + 3 * from, (int)(3 * (to - from)), MPI_DOUBLE, p_.neighbours[k], kTag,
                             comm_, &requests_.back()),
                   "MPI_Irecv");
         }
+    }
+    // Hands the received ghosts of the neighbours listed to the form.
+    void take(const std::vector<size_t> &which, double *r) {
+        for (const size_t k : which)
+            for (int64_t g = p_.recv_ptr[k]; g < p_.recv_ptr[k + 1]; ++g) take_ghost(g, &ghost_in_[3 * (size_t)g], r);
+    }
+    void wait() {
+        check(MPI_Waitall((int)requests_.size(), requests_.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
+        requests_.clear();
     }
     // Sends each neighbour the owned reactions it needs.
     void send_all(const double *r) {
@@ -182,12 +205,97 @@ class DistributedRows : public nsgs::SweepForm {
         }
     }
 
-    const frix_mpi_problem &p_;
     MPI_Comm comm_;
     double norm_q_;
-    std::vector<double> send_buffer_;
+    std::vector<double> send_buffer_, ghost_in_;
     std::vector<MPI_Request> requests_;
     std::vector<size_t> lower_, higher_;  // neighbours of lower and higher colours
+};
+
+// W's block rows: contact a's local q is q_a + sum_{b != a} W_ab r_b, ghosts included.
+class DistributedRows : public DistributedForm {
+   public:
+    using DistributedForm::DistributedForm;
+    Measures exact(const double *r, double *u) override {
+        if (p_.owned > 0) {
+            matrix_gemv(p_.W, 1.0, r, 0.0, u);
+            for (int64_t i = 0; i < 3 * p_.owned; ++i) u[i] += p_.q[(size_t)i];
+        }
+        return combine(r, u);
+    }
+
+   protected:
+    nsgs::SweepStats sweep_part(nsgs::Workspace &ws, double *r, const int64_t *contacts, int64_t count) override {
+        return ws.sweep_part(r, contacts, count);
+    }
+};
+
+// Rigid bodies: v = M^-1 (H r + f) kept for the bodies held; contact a reads
+// u_a = sum_s G_as v_s + w_a, and a change of r_a (or of a ghost's) adds M^-1 G_as^T dr to its
+// bodies' v.
+class DistributedBodies : public DistributedForm {
+   public:
+    explicit DistributedBodies(frix_mpi_problem &p) : DistributedForm(p), v_(p.v0) {}
+    Measures exact(const double *r, double *u) override {
+        restart(r, u);
+        for (int64_t a = 0; a < p_.owned; ++a) velocity(a, u + 3 * a);
+        return combine(r, u);
+    }
+    // v = M^-1 f + M^-1 H r over the held contacts (owned and ghosts).
+    void restart(const double *r, double *) override {
+        std::copy(p_.v0.begin(), p_.v0.end(), v_.begin());
+        const int64_t contacts = p_.owned + (int64_t)p_.ghosts.size();
+        for (int64_t c = 0; c < contacts; ++c) {
+            const double *rc = r + 3 * c;
+            if (rc[0] != 0.0 || rc[1] != 0.0 || rc[2] != 0.0) push(c, rc);
+        }
+    }
+    const std::vector<double> &velocities() const { return v_; }
+    // u of owned contact c at r = 0 (v = M^-1 f).
+    void free_velocity(int64_t c, double *u) const { velocity(c, u, p_.v0); }
+
+   protected:
+    nsgs::SweepStats sweep_part(nsgs::Workspace &ws, double *r, const int64_t *contacts, int64_t count) override {
+        const auto local_q = [this, r](int64_t a, const local::Contact &c, double *ql) {
+            const double *Wd = c.W, *ra = r + 3 * a;
+            double u[3];
+            velocity(a, u);
+            for (int e = 0; e < 3; ++e) ql[e] = u[e] - (Wd[e] * ra[0] + Wd[e + 3] * ra[1] + Wd[e + 6] * ra[2]);
+        };
+        return ws.sweep_part(r, contacts, count, local_q, [this](int64_t a, const double *dr) { push(a, dr); });
+    }
+    void take_ghost(int64_t g, const double *r_new, double *r) override {
+        double *rg = r + 3 * (p_.owned + g);
+        const double d[3] = {r_new[0] - rg[0], r_new[1] - rg[1], r_new[2] - rg[2]};
+        if (d[0] != 0.0 || d[1] != 0.0 || d[2] != 0.0) push(p_.owned + g, d);
+        std::copy(r_new, r_new + 3, rg);
+    }
+
+   private:
+    // u = sum_s G_cs v_s + w_c of owned contact c.
+    void velocity(int64_t c, double *u) const { velocity(c, u, v_); }
+    void velocity(int64_t c, double *u, const std::vector<double> &velocities) const {
+        for (int k = 0; k < 3; ++k) u[k] = p_.w[3 * (size_t)c + k];
+        for (int s = 0; s < 2; ++s) {
+            const int64_t slot = p_.side_slot[2 * (size_t)c + s];
+            if (slot < 0) continue;
+            const double *g = &p_.G[36 * (size_t)c + 18 * s], *v = &velocities[6 * (size_t)slot];
+            for (int k = 0; k < 3; ++k)
+                for (int j = 0; j < 6; ++j) u[k] += g[6 * k + j] * v[j];
+        }
+    }
+    // v += M^-1 G_cs^T dr on each side of held contact c.
+    void push(int64_t c, const double *dr) {
+        for (int s = 0; s < 2; ++s) {
+            const int64_t slot = p_.side_slot[2 * (size_t)c + s];
+            if (slot < 0) continue;
+            const double *mg = &p_.mg[36 * (size_t)c + 18 * s];
+            double *v = &v_[6 * (size_t)slot];
+            for (int i = 0; i < 6; ++i) v[i] += mg[i] * dr[0] + mg[i + 6] * dr[1] + mg[i + 12] * dr[2];
+        }
+    }
+
+    std::vector<double> v_;
 };
 
 bool finite_measures(const Measures &m) { return std::isfinite(m.relative) && std::isfinite(m.norm_u); }
@@ -202,12 +310,19 @@ frix_error solve(frix_mpi_problem &p, const frix_options &opts, double *r_out, d
     std::copy(r_out, r_out + m, r.begin());
     for (int64_t i = 0; i < m; ++i)
         if (!std::isfinite(r[(size_t)i])) r[(size_t)i] = 0.0;
+    DistributedRows rows(p);
+    std::unique_ptr<DistributedBodies> bodies(p.rigid ? new DistributedBodies(p) : nullptr);
+    DistributedForm &form = p.rigid ? (DistributedForm &)*bodies : (DistributedForm &)rows;
+    // r = 0 answers when every contact separates at rest (u = q, or H^T M^-1 f + w).
     bool approaching = false;
-    for (int64_t a = 0; a < p.owned && !approaching; ++a) approaching = p.q[3 * (size_t)a] < 0.0;
+    for (int64_t a = 0; a < p.owned && !approaching; ++a) {
+        double u[3] = {p.q[3 * (size_t)a], 0.0, 0.0};
+        if (p.rigid) bodies->free_velocity(a, u);
+        approaching = u[0] < 0.0;
+    }
     const bool separating = or_all(comm, approaching ? 1u : 0u) == 0;
     const bool cold = or_all(comm, std::any_of(r.begin(), r.begin() + m, [](double x) { return x != 0.0; }) ? 1u : 0u) == 0;
     const std::vector<double> warm_start = cold ? std::vector<double>() : std::vector<double>(r.begin(), r.begin() + m);
-    DistributedRows form(p);
     bool ran = false;
     if (p.total == 0 || separating) {
         std::fill(r.begin(), r.end(), 0.0);
@@ -216,9 +331,11 @@ frix_error solve(frix_mpi_problem &p, const frix_options &opts, double *r_out, d
     } else {
         ran = true;
         form.exchange(r.data());
-        nsgs::Workspace ws(p.view, nsgs::settings_from(opts));
+        const nsgs::Settings settings = nsgs::settings_from(opts);
+        std::unique_ptr<nsgs::Workspace> ws(p.rigid ? new nsgs::Workspace(p.diag.data(), p.mu.data(), p.owned, settings)
+                                                    : new nsgs::Workspace(p.view, settings));
         SolveContext ctx{p.view, opts, r.data(), u_out, nullptr, info, clock, nullptr, nullptr, nullptr};
-        if (frix_error e = nsgs::run_sweeps(ctx, ws, form, "nsgs")) return e;
+        if (frix_error e = nsgs::run_sweeps(ctx, *ws, form, "nsgs")) return e;
     }
     Measures meas = form.exact(r.data(), u_out);
     if (!finite_measures(meas) && ran) {
@@ -233,6 +350,10 @@ frix_error solve(frix_mpi_problem &p, const frix_options &opts, double *r_out, d
         info.status = FRIX_STATUS_DIVERGED;
     }
     std::copy(r.begin(), r.begin() + m, r_out);
+    if (p.rigid) {
+        p.v = bodies->velocities();  // at the final r: exact() above recomputed them
+        p.solved = true;
+    }
     record_measures(info, meas, opts.i(FRIX_OPT_ERROR_MEASURE));
     if (info.status == FRIX_STATUS_CONVERGED && !(info.error <= info.tolerance)) info.status = FRIX_STATUS_STAGNATED;
     return FRIX_OK;

@@ -12,6 +12,20 @@
 
 namespace frix {
 namespace mpi {
+
+int owner_of(const std::vector<int64_t> &starts, int64_t g) {
+    return (int)(std::upper_bound(starts.begin(), starts.end(), g) - starts.begin()) - 1;
+}
+
+int checked_count(int64_t n) {
+    if (n > INT_MAX) {
+        fail(FRIX_ERR_DIMENSION, "a rank's part holds %lld values, more than one MPI message carries (%d)",
+             (long long)n, INT_MAX);
+        throw Failure{FRIX_ERR_DIMENSION};
+    }
+    return (int)n;
+}
+
 namespace {
 
 // Checks one rank's input as frix_problem_local checks a whole problem; FRIX_OK or a message.
@@ -46,9 +60,6 @@ frix_error check_part(int64_t first, int64_t owned, const int64_t *row_ptr, cons
     return FRIX_OK;
 }
 
-int owner_of(const std::vector<int64_t> &starts, int64_t g) {
-    return (int)(std::upper_bound(starts.begin(), starts.end(), g) - starts.begin()) - 1;
-}
 
 // Greedy colouring of the ranks in rank order: each takes the smallest colour none of its
 // lower neighbours has. Every rank computes it from the same gathered lists.
@@ -86,7 +97,6 @@ void colour_ranks(frix_mpi_problem &p) {
 // boundary, colours. Collective.
 void build(frix_mpi_problem &p, const int64_t *row_ptr, const int64_t *block_col, const double *block_val,
            const double *q, const double *mu, const double *scale) {
-    const frix_mpi_context &c = *p.ctx;
     const int64_t owned = p.owned, first = p.first, blocks = owned > 0 ? row_ptr[owned] : 0;
     // Ghosts: the columns outside [first, first + owned), increasing.
     for (int64_t k = 0; k < blocks; ++k)
@@ -127,7 +137,14 @@ void build(frix_mpi_problem &p, const int64_t *row_ptr, const int64_t *block_col
     p.view.q = p.q.data();
     p.view.mu = p.mu.data();
     if (scale != q) p.w.assign(scale, scale + 3 * owned);
+    plan_exchange(p, has_ghost);
+}
 
+}  // namespace
+
+void plan_exchange(frix_mpi_problem &p, const std::vector<char> &has_ghost) {
+    const frix_mpi_context &c = *p.ctx;
+    const int64_t owned = p.owned, first = p.first;
     // Ask each owner for its ghosts; what the others ask of this rank is what it sends.
     const size_t P = (size_t)c.size;
     std::vector<int> asks(P, 0), asked(P, 0), ask_displs(P + 1, 0), asked_displs(P + 1, 0);
@@ -163,14 +180,8 @@ void build(frix_mpi_problem &p, const int64_t *row_ptr, const int64_t *block_col
     colour_ranks(p);
 }
 
-// The wanted[] a rank was asked for lie in its block (the askers found it the owner).
-// scale: the vector whose norm the relative error divides by (q, or a reduced global
-// problem's w).
-frix_error make(frix_mpi_context *ctx, int64_t first, int64_t owned, const int64_t *row_ptr, const int64_t *block_col,
-                const double *block_val, const double *q, const double *mu, const double *scale, frix_mpi_problem **out,
-                const char *where) {
-    frix_error e = check_part(first, owned, row_ptr, block_col, block_val, q, mu, where);
-    // The ranks' blocks, in rank order, covering 0 .. total-1.
+std::unique_ptr<frix_mpi_problem> start_part(frix_mpi_context *ctx, int64_t first, int64_t owned, frix_error &e,
+                                             const char *where) {
     const int64_t mine[2] = {first, owned};
     std::vector<int64_t> all((size_t)ctx->size * 2);
     check(MPI_Allgather(mine, 2, MPI_INT64_T, all.data(), 2, MPI_INT64_T, ctx->comm), "MPI_Allgather");
@@ -185,11 +196,26 @@ frix_error make(frix_mpi_context *ctx, int64_t first, int64_t owned, const int64
         p->starts[(size_t)k + 1] = p->starts[(size_t)k] + std::max<int64_t>(all[2 * (size_t)k + 1], 0);
     }
     p->total = p->starts[(size_t)ctx->size];
+    p->ids.resize((size_t)std::max<int64_t>(owned, 0));
+    for (int64_t i = 0; i < owned; ++i) p->ids[(size_t)i] = first + i;
     if (!e && !contiguous)
         e = fail(FRIX_ERR_DIMENSION,
                  "%s: the ranks' contacts must be contiguous blocks in rank order from 0 (this rank: first %lld, owned "
                  "%lld; rank 0 must start at 0 and each rank where the one before ends)",
                  where, (long long)first, (long long)owned);
+    return p;
+}
+
+namespace {
+
+// The wanted[] a rank was asked for lie in its block (the askers found it the owner).
+// scale: the vector whose norm the relative error divides by (q, or a reduced global
+// problem's w).
+frix_error make(frix_mpi_context *ctx, int64_t first, int64_t owned, const int64_t *row_ptr, const int64_t *block_col,
+                const double *block_val, const double *q, const double *mu, const double *scale, frix_mpi_problem **out,
+                const char *where) {
+    frix_error e = check_part(first, owned, row_ptr, block_col, block_val, q, mu, where);
+    std::unique_ptr<frix_mpi_problem> p = start_part(ctx, first, owned, e, where);
     if (!e)
         for (int64_t k = 0; k < (owned > 0 ? row_ptr[owned] : 0); ++k)
             if (block_col[k] < 0 || block_col[k] >= p->total) {
@@ -199,8 +225,6 @@ frix_error make(frix_mpi_context *ctx, int64_t first, int64_t owned, const int64
             }
     if (frix_error agreed = agree(ctx->comm, e, where)) return agreed;
     build(*p, row_ptr, block_col, block_val, q, mu, scale ? scale : q);
-    p->ids.resize((size_t)owned);
-    for (int64_t i = 0; i < owned; ++i) p->ids[(size_t)i] = first + i;
     *out = p.release();
     return FRIX_OK;
 }
@@ -232,15 +256,6 @@ frix_error reduce(const frix_problem &g, std::unique_ptr<frix_matrix> &W, std::v
     if (frix_error e = ms.congruence(*g.H, size.w_blocks, W, [] { return false; }, stopped)) return e;
     if (!W || !W->block) return fail(FRIX_ERR_INTERNAL, "%s: the reduction did not give 3x3 blocks", where);
     return FRIX_OK;
-}
-
-int checked_count(int64_t n) {
-    if (n > INT_MAX) {
-        fail(FRIX_ERR_DIMENSION, "a rank's part holds %lld values, more than one MPI message carries (%d)",
-             (long long)n, INT_MAX);
-        throw Failure{FRIX_ERR_DIMENSION};
-    }
-    return (int)n;
 }
 
 }  // namespace

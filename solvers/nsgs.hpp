@@ -178,6 +178,16 @@ class Workspace {
     // The same pass over contacts[0 .. count) only, in that order (the settings' shuffle does
     // not apply): a distributed sweep runs its contacts in parts between its messages.
     SweepStats sweep_part(double *r, const int64_t *contacts, int64_t count);
+    // sweep_part with the local q and the updates of a form that keeps something (as
+    // sweep_loop's local_q and moved).
+    template <class LocalQ, class Moved>
+    SweepStats sweep_part(double *r, const int64_t *contacts, int64_t count, LocalQ &&local_q, Moved &&moved) {
+        const local::Params lp = s_.local;
+        return sweep_contacts(
+            r, contacts, count, local_q,
+            [&lp](int64_t, local::Contact &c, const double *ql, double *rn) { return local::solve_contact(c, ql, rn, lp); },
+            moved);
+    }
     // The same pass with another one-contact step: step(a, contact, q_local, r_a) receives
     // the local q (q_a + sum_{b!=a} W_ab r_b) and r_a (3 values: the current reaction in, the
     // new one out) and returns a local::Outcome. Used by the fixed points, whose inner

@@ -241,32 +241,9 @@ class ProductForm : public SweepForm {
                 }
                 inv[j + k * j] = 1.0;
             }
-            for (int64_t c = 0; c < k; ++c) {
-                int64_t piv = c;
-                for (int64_t i = c + 1; i < k; ++i)
-                    if (std::fabs(a[i + k * c]) > std::fabs(a[piv + k * c])) piv = i;
-                if (!(std::fabs(a[piv + k * c]) > 1e-14 * scale))
-                    return fail(FRIX_ERR_NUMERICAL, "gnsgs: M is singular (its block of dofs %lld..%lld)",
-                                (long long)body_dofs_[body_ptr_[b]], (long long)body_dofs_[body_ptr_[b + 1] - 1]);
-                if (piv != c)
-                    for (int64_t j = 0; j < k; ++j) {
-                        std::swap(a[c + k * j], a[piv + k * j]);
-                        std::swap(inv[c + k * j], inv[piv + k * j]);
-                    }
-                const double d = 1.0 / a[c + k * c];
-                for (int64_t j = 0; j < k; ++j) {
-                    a[c + k * j] *= d;
-                    inv[c + k * j] *= d;
-                }
-                for (int64_t i = 0; i < k; ++i) {
-                    const double f = a[i + k * c];
-                    if (i == c || f == 0.0) continue;
-                    for (int64_t j = 0; j < k; ++j) {
-                        a[i + k * j] -= f * a[c + k * j];
-                        inv[i + k * j] -= f * inv[c + k * j];
-                    }
-                }
-            }
+            if (!linalg::invert_small(k, a.data(), inv, scale))
+                return fail(FRIX_ERR_NUMERICAL, "gnsgs: M is singular (its block of dofs %lld..%lld)",
+                            (long long)body_dofs_[body_ptr_[b]], (long long)body_dofs_[body_ptr_[b + 1] - 1]);
         }
         return FRIX_OK;
     }

@@ -77,6 +77,29 @@ FRIX_API frix_error frix_mpi_problem_local(frix_mpi_context *ctx, int64_t first,
                                            const int64_t *row_ptr, const int64_t *block_col,
                                            const double *block_val, const double *q, const double *mu,
                                            frix_mpi_problem **out);
+/* This rank's part of a global problem of rigid bodies (M v = H r + f, u = H^T v + w; M
+ * block-diagonal with one 6 x 6 block a body), in product form: W is never formed. The rank
+ * owns contacts first .. first+owned-1 (contiguous in rank order, as for
+ * frix_mpi_problem_local); contact i acts on bodies bodies[2i] and bodies[2i+1] (global body
+ * ids >= 0; -1 for a side without a body, a fixed obstacle), its velocity
+ * u_i = G_i0 v_bodies[2i] + G_i1 v_bodies[2i+1] + w_i, with G_is the 3 x 6 block of H^T at
+ * G[36i + 18s + 6k + j] (row k, column j: normal first, then the two tangents; the body's 6
+ * velocities, translation then rotation, in any fixed convention of the host's). The rank also
+ * gives every body its contacts act on (and may give more): `held` bodies, body_ids[b] with its
+ * 6 x 6 mass block M[36b ..] (symmetric positive definite) and its f[6b ..]. Ranks that give one
+ * body must give it the same M and f. The data are copied. A rank learns which other ranks'
+ * contacts act on its bodies by itself (collectively). The error's scale is |w| over all
+ * contacts, as for global problems in frix_solve; frix_mpi_problem_velocities gives v after a
+ * solve. */
+FRIX_API frix_error frix_mpi_problem_rigid(frix_mpi_context *ctx, int64_t first, int64_t owned,
+                                           const int64_t *bodies, const double *G, const double *w,
+                                           const double *mu, int64_t held, const int64_t *body_ids,
+                                           const double *M, const double *f, frix_mpi_problem **out);
+/* After frix_mpi_solve of a problem of rigid bodies: v = M^-1 (H r + f) of the bodies this rank
+ * gave, 6 values each in the order of body_ids (not collective). FRIX_ERR_INVALID_ARGUMENT for
+ * a problem of another kind or before a solve. */
+FRIX_API frix_error frix_mpi_problem_velocities(const frix_mpi_problem *p, double *v);
+
 /* A whole problem held by rank `root` (`problem` is read on root only; NULL elsewhere), sent
  * to the ranks: rank k receives the contacts a with part[a] == k (`part`: one rank per
  * contact, read on root, as frix_mpi_partition gives; NULL for blocks of equal size in the

@@ -37,6 +37,34 @@ frix_error copy_square(const char *what, int64_t n, const double *A, int64_t lda
 
 }  // namespace
 
+bool invert_small(int64_t k, double *a, double *inv, double scale) {
+    for (int64_t c = 0; c < k; ++c) {
+        int64_t piv = c;
+        for (int64_t i = c + 1; i < k; ++i)
+            if (std::fabs(a[i + k * c]) > std::fabs(a[piv + k * c])) piv = i;
+        if (!(std::fabs(a[piv + k * c]) > 1e-14 * scale)) return false;
+        if (piv != c)
+            for (int64_t j = 0; j < k; ++j) {
+                std::swap(a[c + k * j], a[piv + k * j]);
+                std::swap(inv[c + k * j], inv[piv + k * j]);
+            }
+        const double d = 1.0 / a[c + k * c];
+        for (int64_t j = 0; j < k; ++j) {
+            a[c + k * j] *= d;
+            inv[c + k * j] *= d;
+        }
+        for (int64_t i = 0; i < k; ++i) {
+            const double f = a[i + k * c];
+            if (i == c || f == 0.0) continue;
+            for (int64_t j = 0; j < k; ++j) {
+                a[i + k * j] -= f * a[c + k * j];
+                inv[i + k * j] -= f * inv[c + k * j];
+            }
+        }
+    }
+    return true;
+}
+
 frix_error DenseLU::factor(int64_t n, const double *A, int64_t lda) {
     ok_ = false;
     if (frix_error e = copy_square("dense LU", n, A, lda, lu_, n_)) return e;

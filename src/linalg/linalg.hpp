@@ -212,6 +212,11 @@ struct FactorCost {
     double bytes = 0.0;           // L's values and indices, and the workspace
 };
 frix_error cholesky_cost(const CscView &A, FactorCost *cost);
+// inv = A^-1 for a small dense k x k matrix A (column-major, overwritten; inv must hold the
+// identity on entry), by Gauss-Jordan elimination with partial pivoting: a rigid body's mass
+// block. False when a pivot is not above 1e-14 scale (A singular at that scale).
+bool invert_small(int64_t k, double *a, double *inv, double scale);
+
 // What cholesky_cost gives for a dense matrix of size n, in closed form: the analysis of a
 // complete graph would cost more than pricing is worth.
 FactorCost dense_cholesky_cost(int64_t n);
