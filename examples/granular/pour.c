@@ -1,0 +1,285 @@
+/* The scene of the granular clients (granular.c, granular_mpi.c): spheres in a box, the
+ * broad phase, the contacts' frames and their blocks of H^T. Public frix API only. */
+#include "pour.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* xorshift64*: the scene is the same on every machine for a seed. */
+static double uniform(uint64_t *s) {
+    *s ^= *s >> 12;
+    *s ^= *s << 25;
+    *s ^= *s >> 27;
+    return (double)((*s * 2685821657736338717ULL) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* The initial state: a lattice filling the box's floor, aspect times as tall as wide (to the
+ * last layer), each site jittered. */
+int make_world(int64_t n, int64_t seed, double aspect, double radius, world *w) {
+    w->n = n;
+    w->x = malloc(sizeof *w->x * 3 * (size_t)n);
+    w->v = malloc(sizeof *w->v * 6 * (size_t)n);
+    w->radius = malloc(sizeof *w->radius * (size_t)n);
+    w->mass = malloc(sizeof *w->mass * (size_t)n);
+    w->inertia = malloc(sizeof *w->inertia * (size_t)n);
+    if (!w->x || !w->v || !w->radius || !w->mass || !w->inertia) return 0;
+    uint64_t rng = 0x9E3779B97F4A7C15ULL ^ (uint64_t)(seed + 1) * 0xBF58476D1CE4E5B9ULL;
+    const double R = radius, spacing = 2.2 * R;
+    int64_t side = 1;
+    while (aspect * (double)(side * side * side) < (double)n) ++side;
+    w->rmax = R;
+    w->rmin = 0.7 * R;
+    w->box[0] = w->box[1] = (double)side * spacing;
+    for (int64_t i = 0; i < n; ++i) {
+        const int64_t ix = i % side, iy = (i / side) % side, iz = i / (side * side);
+        const double r = R * (0.7 + 0.3 * uniform(&rng));
+        w->radius[i] = r;
+        w->mass[i] = DENSITY * 4.0 / 3.0 * M_PI * r * r * r;
+        w->inertia[i] = 0.4 * w->mass[i] * r * r;
+        const double slack = 0.5 * spacing - r;
+        w->x[3 * i] = ((double)ix + 0.5) * spacing + slack * (2.0 * uniform(&rng) - 1.0);
+        w->x[3 * i + 1] = ((double)iy + 0.5) * spacing + slack * (2.0 * uniform(&rng) - 1.0);
+        w->x[3 * i + 2] = ((double)iz + 0.5) * spacing;
+        for (int k = 0; k < 6; ++k) w->v[6 * i + k] = k < 3 ? 0.05 * (2.0 * uniform(&rng) - 1.0) : 0.0;
+    }
+    return 1;
+}
+
+void free_world(world *w) {
+    free(w->x);
+    free(w->v);
+    free(w->radius);
+    free(w->mass);
+    free(w->inertia);
+}
+
+double energy(const world *w) {
+    double e = 0.0;
+    for (int64_t i = 0; i < w->n; ++i) {
+        const double *v = &w->v[6 * i];
+        e += 0.5 * w->mass[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) +
+             0.5 * w->inertia[i] * (v[3] * v[3] + v[4] * v[4] + v[5] * v[5]) + w->mass[i] * GRAVITY * w->x[3 * i + 2];
+    }
+    return e;
+}
+
+/* Tangents of normal n: t1 across the axis least aligned with n, t2 = n x t1. */
+static void make_frame(const double n[3], double frame[9]) {
+    double a[3] = {0.0, 0.0, 0.0};
+    const double ax = fabs(n[0]), ay = fabs(n[1]), az = fabs(n[2]);
+    a[ax <= ay && ax <= az ? 0 : (ay <= az ? 1 : 2)] = 1.0;
+    double t1[3] = {n[1] * a[2] - n[2] * a[1], n[2] * a[0] - n[0] * a[2], n[0] * a[1] - n[1] * a[0]};
+    const double len = sqrt(t1[0] * t1[0] + t1[1] * t1[1] + t1[2] * t1[2]);
+    for (int k = 0; k < 3; ++k) t1[k] /= len;
+    const double t2[3] = {n[1] * t1[2] - n[2] * t1[1], n[2] * t1[0] - n[0] * t1[2], n[0] * t1[1] - n[1] * t1[0]};
+    for (int k = 0; k < 3; ++k) {
+        frame[k] = n[k];
+        frame[3 + k] = t1[k];
+        frame[6 + k] = t2[k];
+    }
+}
+
+static int push(contacts *cs, int64_t a, int64_t b, double gap, const double n[3]) {
+    if (cs->count == cs->capacity) {
+        const int64_t cap = cs->capacity ? 2 * cs->capacity : 1024;
+        contact *c = realloc(cs->c, sizeof *c * (size_t)cap);
+        if (!c) return 0;
+        cs->c = c;
+        cs->capacity = cap;
+    }
+    contact *c = &cs->c[cs->count++];
+    c->a = a;
+    c->b = b;
+    c->gap = gap;
+    make_frame(n, c->frame);
+    return 1;
+}
+
+static int by_pair(const void *p, const void *q) {
+    const contact *x = p, *y = q;
+    if (x->a != y->a) return x->a < y->a ? -1 : 1;
+    return x->b < y->b ? -1 : x->b > y->b;
+}
+
+/* The contacts closer than their margin (floor + reach[a] + reach[b]; a wall has no reach),
+ * sorted by (a, b): a counting sort of the spheres into grid cells of one sphere's span plus
+ * the largest margin, then each sphere against the spheres of its
+ * 27 cells with a larger index, and against the walls. */
+int find_contacts(const world *w, double floor_margin, const double *reach, contacts *cs,
+                         int64_t **cell_start, int64_t **order,
+                         int64_t *cells_capacity) {
+    cs->count = 0;
+    const int64_t n = w->n;
+    double reach_max = 0.0;
+    for (int64_t i = 0; i < n; ++i) reach_max = fmax(reach_max, reach[i]);
+    const double cell = 2.0 * w->rmax + floor_margin + 2.0 * reach_max;
+    double zmax = 0.0;
+    for (int64_t i = 0; i < n; ++i) zmax = fmax(zmax, w->x[3 * i + 2]);
+    const int64_t nx = (int64_t)(w->box[0] / cell) + 1, ny = (int64_t)(w->box[1] / cell) + 1;
+    const int64_t nz = (int64_t)(fmax(zmax, 0.0) / cell) + 1;
+    const int64_t cells = nx * ny * nz;
+    if (cells + 1 > *cells_capacity) {
+        int64_t *s = realloc(*cell_start, sizeof *s * (size_t)(cells + 1));
+        if (!s) return 0;
+        *cell_start = s;
+        *cells_capacity = cells + 1;
+    }
+    int64_t *start = *cell_start;
+#define CLAMPED(v, hi) ((v) < 0 ? 0 : ((v) >= (hi) ? (hi) - 1 : (v)))
+#define CELL_OF(i)                                                                                 \
+    (CLAMPED((int64_t)(w->x[3 * (i)] / cell), nx) + nx * (CLAMPED((int64_t)(w->x[3 * (i) + 1] / cell), ny) + \
+                                                             ny * CLAMPED((int64_t)(w->x[3 * (i) + 2] / cell), nz)))
+    memset(start, 0, sizeof *start * (size_t)(cells + 1));
+    for (int64_t i = 0; i < n; ++i) ++start[CELL_OF(i) + 1];
+    for (int64_t c = 0; c < cells; ++c) start[c + 1] += start[c];
+    for (int64_t i = 0; i < n; ++i) (*order)[start[CELL_OF(i)]++] = i;
+    for (int64_t c = cells; c > 0; --c) start[c] = start[c - 1];
+    start[0] = 0;
+    for (int64_t i = 0; i < n; ++i) {
+        const double *xi = &w->x[3 * i];
+        const double ri = w->radius[i];
+        const int64_t cx = CLAMPED((int64_t)(xi[0] / cell), nx), cy = CLAMPED((int64_t)(xi[1] / cell), ny);
+        const int64_t cz = CLAMPED((int64_t)(xi[2] / cell), nz);
+        for (int64_t dz = -1; dz <= 1; ++dz)
+            for (int64_t dy = -1; dy <= 1; ++dy)
+                for (int64_t dx = -1; dx <= 1; ++dx) {
+                    const int64_t x = cx + dx, y = cy + dy, z = cz + dz;
+                    if (x < 0 || y < 0 || z < 0 || x >= nx || y >= ny || z >= nz) continue;
+                    const int64_t c = x + nx * (y + ny * z);
+                    for (int64_t k = start[c]; k < start[c + 1]; ++k) {
+                        const int64_t j = (*order)[k];
+                        if (j <= i) continue;
+                        const double *xj = &w->x[3 * j];
+                        double d[3] = {xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]};
+                        const double dist = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+                        const double gap = dist - ri - w->radius[j];
+                        if (gap >= floor_margin + reach[i] + reach[j] || dist == 0.0) continue;
+                        for (int q = 0; q < 3; ++q) d[q] /= dist;
+                        if (!push(cs, i, j, gap, d)) return 0;
+                    }
+                }
+        /* The walls: normals into the sphere. */
+        const double normals[WALLS][3] = {{0, 0, 1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
+        const double gaps[WALLS] = {xi[2] - ri, xi[0] - ri, w->box[0] - xi[0] - ri, xi[1] - ri, w->box[1] - xi[1] - ri};
+        for (int k = 0; k < WALLS; ++k)
+            if (gaps[k] < floor_margin + reach[i] && !push(cs, i, n + k, gaps[k], normals[k])) return 0;
+    }
+#undef CELL_OF
+#undef CLAMPED
+    qsort(cs->c, (size_t)cs->count, sizeof *cs->c, by_pair);
+    return 1;
+}
+
+void contact_blocks(const world *w, const contact *c, double G[36]) {
+    for (int side = 0; side < 2; ++side) {
+        const int64_t s = side ? c->b : c->a;
+        double *g = &G[18 * side];
+        if (s >= w->n) { /* a wall: no dofs */
+            for (int k = 0; k < 18; ++k) g[k] = 0.0;
+            continue;
+        }
+        const double sign = side ? -1.0 : 1.0;
+        /* The contact point is radius s along -n from sphere a's centre, +n from b's. */
+        double l[3];
+        for (int q = 0; q < 3; ++q) l[q] = -sign * w->radius[s] * c->frame[q];
+        for (int e = 0; e < 3; ++e) {
+            const double *t = &c->frame[3 * e];
+            const double lxt[3] = {l[1] * t[2] - l[2] * t[1], l[2] * t[0] - l[0] * t[2], l[0] * t[1] - l[1] * t[0]};
+            for (int q = 0; q < 6; ++q) g[6 * e + q] = sign * (q < 3 ? t[q] : lxt[q - 3]);
+        }
+    }
+}
+
+int64_t assemble_h(const world *w, const contacts *cs, int64_t *rows, int64_t *cols, double *vals) {
+    int64_t k = 0;
+    double G[36];
+    for (int64_t a = 0; a < cs->count; ++a) {
+        const contact *c = &cs->c[a];
+        contact_blocks(w, c, G);
+        for (int side = 0; side < 2; ++side) {
+            const int64_t s = side ? c->b : c->a;
+            if (s >= w->n) continue;
+            for (int e = 0; e < 3; ++e)
+                for (int q = 0; q < 6; ++q) {
+                    rows[k] = 6 * s + q;
+                    cols[k] = 3 * a + e;
+                    vals[k] = G[18 * side + 6 * e + q];
+                    ++k;
+                }
+        }
+    }
+    return k;
+}
+
+/* Last step's impulse of the same pair, found by binary search in last step's sorted
+ * contacts (zero for a new pair). */
+void warm_start(const contacts *now, const contacts *before, const double *r_before, double *r) {
+    for (int64_t a = 0; a < now->count; ++a) {
+        int64_t lo = 0, hi = before->count;
+        r[3 * a] = r[3 * a + 1] = r[3 * a + 2] = 0.0;
+        while (lo < hi) {
+            const int64_t mid = lo + (hi - lo) / 2;
+            const int cmp = by_pair(&before->c[mid], &now->c[a]);
+            if (cmp == 0) {
+                for (int q = 0; q < 3; ++q) r[3 * a + q] = r_before[3 * mid + q];
+                break;
+            }
+            if (cmp < 0) lo = mid + 1;
+            else hi = mid;
+        }
+    }
+}
+
+/* *p reallocated to n entries (kept as it was when that fails). */
+int grow_doubles(double **p, int64_t n) {
+    double *q = realloc(*p, sizeof *q * (size_t)n);
+    if (q) *p = q;
+    return q != NULL;
+}
+
+int grow_indices(int64_t **p, int64_t n) {
+    int64_t *q = realloc(*p, sizeof *q * (size_t)n);
+    if (q) *p = q;
+    return q != NULL;
+}
+
+
+int parse_double(const char *s, double *out) {
+    char *end = NULL;
+    errno = 0;
+    const double v = strtod(s, &end);
+    if (!*s || *end || errno || !isfinite(v)) return 0;
+    *out = v;
+    return 1;
+}
+
+int parse_int(const char *s, int64_t *out) {
+    char *end = NULL;
+    errno = 0;
+    const long long v = strtoll(s, &end, 10);
+    if (!*s || *end || errno) return 0;
+    *out = (int64_t)v;
+    return 1;
+}
+
+void scene_defaults(scene_settings *s) {
+    *s = (scene_settings){.spheres = 1000, .steps = 200, .seed = 1, .max_iter = 0, .every = 1, .h = 2e-3, .mu = 0.5,
+                          .radius = 0.01, .tol = 1e-4, .aspect = 2.0};
+}
+
+int parse_scene_option(const char *o, const char *a, scene_settings *s, int *ok) {
+    if (!strcmp(o, "--spheres")) *ok = parse_int(a, &s->spheres) && s->spheres >= 1;
+    else if (!strcmp(o, "--steps")) *ok = parse_int(a, &s->steps) && s->steps >= 0;
+    else if (!strcmp(o, "--seed")) *ok = parse_int(a, &s->seed) && s->seed >= 0;
+    else if (!strcmp(o, "--max-iter")) *ok = parse_int(a, &s->max_iter) && s->max_iter >= 1;
+    else if (!strcmp(o, "--every")) *ok = parse_int(a, &s->every) && s->every >= 1;
+    else if (!strcmp(o, "--step")) *ok = parse_double(a, &s->h) && s->h > 0.0;
+    else if (!strcmp(o, "--mu")) *ok = parse_double(a, &s->mu) && s->mu >= 0.0;
+    else if (!strcmp(o, "--radius")) *ok = parse_double(a, &s->radius) && s->radius > 0.0;
+    else if (!strcmp(o, "--aspect")) *ok = parse_double(a, &s->aspect) && s->aspect >= 0.01 && s->aspect <= 100.0;
+    else if (!strcmp(o, "--tol")) *ok = parse_double(a, &s->tol) && s->tol > 0.0;
+    else return 0;
+    return 1;
+}

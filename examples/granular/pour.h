@@ -1,0 +1,66 @@
+/* The scene of the granular clients: polydisperse spheres in a box with four walls (see
+ * granular.c for the model), the grid broad phase, contact frames and their blocks of H^T. */
+#ifndef FRIX_EXAMPLE_POUR_H
+#define FRIX_EXAMPLE_POUR_H
+
+#include <stdint.h>
+
+#define GRAVITY 9.81
+#define DENSITY 2500.0
+#define WALLS 5 /* floor, x = 0, x = Lx, y = 0, y = Ly */
+
+typedef struct {
+    int64_t n;           /* spheres */
+    double *x, *v;       /* 3 per sphere: position; 6 per sphere: velocity, angular velocity */
+    double *radius, *mass, *inertia;
+    double box[2];       /* Lx, Ly */
+    double rmax, rmin;
+} world;
+
+/* One contact: sphere a and sphere b (b >= n: wall b - n), normal into a. */
+typedef struct {
+    int64_t a, b;
+    double gap;
+    double frame[9]; /* normal, tangent 1, tangent 2 */
+} contact;
+
+typedef struct {
+    contact *c;
+    int64_t count, capacity;
+} contacts;
+
+/* What both clients take: the scene and its steps. */
+typedef struct {
+    int64_t spheres, steps, seed, max_iter, every;
+    double h, mu, radius, tol, aspect;
+} scene_settings;
+void scene_defaults(scene_settings *s);
+/* Option o with value a: 1 when it is one of these (*ok then says whether a is valid for it),
+ * else 0. */
+int parse_scene_option(const char *o, const char *a, scene_settings *s, int *ok);
+
+/* n spheres of radii in [0.7 radius, radius] on a jittered lattice `aspect` times as tall as
+ * wide, small random velocities (the same on every machine for a seed); 0 when out of memory. */
+int make_world(int64_t n, int64_t seed, double aspect, double radius, world *w);
+void free_world(world *w);
+/* Kinetic plus potential energy. */
+double energy(const world *w);
+/* The contacts closer than their margin (floor + reach[a] + reach[b]), sorted by (a, b); the
+ * grid's arrays are kept between calls. 0 when out of memory. */
+int find_contacts(const world *w, double floor_margin, const double *reach, contacts *cs, int64_t **cell_start,
+                  int64_t **order, int64_t *cells_capacity);
+/* Contact c's two 3 x 6 blocks of H^T (side 0: sphere a, side 1: sphere b; zero for a wall):
+ * G[18 side + 6 k + q] for frame vector k and dof q of the sphere (translation, rotation). */
+void contact_blocks(const world *w, const contact *c, double G[36]);
+/* H's entries (rows: dofs, 6 a sphere; columns: 3 a contact) as triplets; their count. */
+int64_t assemble_h(const world *w, const contacts *cs, int64_t *rows, int64_t *cols, double *vals);
+/* r: last step's impulse of each pair of `now` found in `before` (sorted), else 0. */
+void warm_start(const contacts *now, const contacts *before, const double *r_before, double *r);
+/* *p reallocated to n entries (kept as it was when that fails). */
+int grow_doubles(double **p, int64_t n);
+int grow_indices(int64_t **p, int64_t n);
+/* A whole string as a finite double, or as an integer: 1, or 0 (out untouched). */
+int parse_double(const char *s, double *out);
+int parse_int(const char *s, int64_t *out);
+
+#endif
