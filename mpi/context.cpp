@@ -81,6 +81,7 @@ FRIX_API void frix_mpi_context_free(frix_mpi_context *ctx) {
     if (!ctx) return;
     int finalised = 0;
     MPI_Finalized(&finalised);
+    if (!finalised) frix::mpi::release_petsc(*ctx);
     if (!finalised && ctx->comm != MPI_COMM_NULL) MPI_Comm_free(&ctx->comm);
     delete ctx;
 }

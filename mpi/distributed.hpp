@@ -15,6 +15,7 @@
 struct frix_mpi_context {
     MPI_Comm comm = MPI_COMM_NULL;  // the duplicate; never the caller's own
     int rank = 0, size = 1;
+    bool holds_petsc = false;  // this context counts among the users of the PETSc it started
 };
 
 // One rank's part of a distributed local problem. Its contacts are numbered locally: the
@@ -23,7 +24,7 @@ struct frix_mpi_context {
 // neighbour's ghosts are one run). W holds the owned block rows over these local columns, in
 // the caller's order of blocks (the order of the sums is the serial problem's).
 struct frix_mpi_problem {
-    const frix_mpi_context *ctx = nullptr;
+    frix_mpi_context *ctx = nullptr;  // a solve may start PETSc for it
     int64_t total = 0, first = 0, owned = 0;
     std::vector<int64_t> starts;  // size + 1: rank k owns starts[k] .. starts[k+1]-1
     frix_matrix W;
@@ -75,6 +76,12 @@ std::vector<double> gather_all(MPI_Comm comm, const double *mine, int count);
 
 // The bitwise or of `flags` over the ranks.
 unsigned or_all(MPI_Comm comm, unsigned flags);
+
+// PETSc for ctx (distributed_newton.cpp): started if the host has not started it (on a
+// duplicate of ctx's communicator), and finalised when the last context that started it is
+// freed.
+frix_error use_petsc(frix_mpi_context &ctx);
+void release_petsc(frix_mpi_context &ctx);
 
 // The rank that owns contact g.
 int owner_of(const std::vector<int64_t> &starts, int64_t g);

@@ -25,7 +25,8 @@
  * once without interfering. MPI must be initialised before create and finalised after free;
  * the library never initialises or finalises it. Calls on one context come from one thread.
  *
- * The solve. frix_mpi_solve runs nsgs (FRIX_SOLVER_NSGS, 500): a nonsmooth Gauss-Seidel
+ * The solve. frix_mpi_solve runs nsgs (FRIX_SOLVER_NSGS, 500), or for local problems the
+ * semismooth Newton nsn-ac (FRIX_SOLVER_NSN_AC, 504; see below). nsgs is a nonsmooth Gauss-Seidel
  * whose sweep is a Gauss-Seidel over all contacts in an order fixed by the partition. The
  * processes are coloured so that no two neighbours (ranks whose contacts are coupled through
  * W) share a colour; in a sweep a rank sweeps its interior contacts (coupled to its own
@@ -35,6 +36,17 @@
  * sweep differs, and so do the iterates: the answer meets the same tolerance. The error
  * measure is computed over all contacts, in a fixed order. Options drift_window,
  * acceleration and shuffle are refused (they steer the whole iterate at once).
+ *
+ * nsn-ac solves Alart-Curnier's equations over all ranks: each Newton system, a matrix of
+ * 3 x 3 blocks over the ranks' rows, by PETSc (KSP, MUMPS's LU), with Armijo's backtracking on
+ * 1/2 |Phi|^2 (line_search none: full steps). Options: tolerance, max_iter, time_limit,
+ * rho_strategy and rho, line_search, line_search_max_iter; the serial solver's watchdog and
+ * hybrid fallback are not distributed and are not used. Up to 2 ranks a run gives the same
+ * bits every time; from 3 ranks on, MUMPS schedules its factorisation's tasks as they come,
+ * and the last bits may change from run to run. PETSc is started on the first such
+ * solve if the host has not started it (PETSC_COMM_WORLD then a duplicate of the context's
+ * communicator, never MPI_COMM_WORLD), and finalised when the last context that needed it
+ * is freed; a PETSc the host started is the host's to finalise.
  *
  * Messages. The last failing call's message in this thread: frix_mpi_last_error_message()
  * (libfrix's frix_last_error_message() reports libfrix's own calls only).
@@ -139,7 +151,8 @@ FRIX_API frix_error frix_mpi_problem_ids(const frix_mpi_problem *p, int64_t *ids
 
 /* Solves (collective). r: this rank's 3*owned reactions, the warm start in (0 for a cold
  * start; non-finite entries are started from 0) and the result out; u: 3*owned, receives
- * W r + q. options: NULL for nsgs's defaults, else options of FRIX_SOLVER_NSGS; the same on
+ * W r + q. options: NULL for nsgs's defaults, else options of FRIX_SOLVER_NSGS or (for a
+ * problem with W) FRIX_SOLVER_NSN_AC; the same on
  * every rank (the tolerance, the limits), except the callback and log sink, which each rank
  * may set or not. A callback asking to stop, or a time limit reached, on any rank stops all.
  * Only rank 0 logs. info (may be NULL) receives what frix_solve reports: status,

@@ -1,13 +1,14 @@
-// Distributed NSGS (frix_mpi_solve): the serial nsgs iteration (run_sweeps: its stopping
-// rule, freezing, limits and callback) on a sweep and measures that span the ranks.
-//
-// A sweep is one Gauss-Seidel pass over all contacts in a fixed order. Ranks are coloured
-// so that neighbours differ (distributed_problem.cpp); the order is: the boundary contacts
-// of the ranks of colour 0, then of colour 1, ..., with each rank's interior contacts (coupled
-// to its own contacts only) anywhere in between. A rank of colour 0 sweeps its boundary, sends
-// it, then sweeps its interior; a rank of a higher colour sweeps its interior while its lower
-// neighbours' reactions travel, then its boundary, then sends. Each rank ends a sweep with
-// every ghost current, which the measures and the next sweep read.
+// The distributed sweep forms (nsgs's SweepForm over the ranks) and what the solvers share:
+// the exchange of ghost reactions and the measures over all ranks. A sweep is one
+// Gauss-Seidel pass over all contacts in a fixed order. Ranks are coloured so that neighbours
+// differ (distributed_problem.cpp); the order is: the boundary contacts of the ranks of colour
+// 0, then of colour 1, ..., with each rank's interior contacts (coupled to its own contacts
+// only) anywhere in between. A rank of colour 0 sweeps its boundary, sends it, then sweeps its
+// interior; a rank of a higher colour sweeps its interior while its lower neighbours'
+// reactions travel, then its boundary, then sends. Each rank ends a sweep with every ghost
+// current, which the measures and the next sweep read.
+#pragma once
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -21,12 +22,11 @@
 
 namespace frix {
 namespace mpi {
-namespace {
 
-constexpr int kTag = 5003;  // reactions of boundary contacts (one message per pair a sweep)
+inline constexpr int kTag = 5003;  // reactions of boundary contacts (one message per pair a sweep)
 
 // |x|_2 over the ranks' parts of x (norm2's arithmetic: plain sums, rescaled out of range).
-double norm2_all(MPI_Comm comm, const double *x, int64_t n) {
+inline double norm2_all(MPI_Comm comm, const double *x, int64_t n) {
     double s = 0.0;
     for (int64_t i = 0; i < n; ++i) s += x[i] * x[i];
     const std::vector<double> sums = gather_all(comm, &s, 1);
@@ -298,119 +298,11 @@ class DistributedBodies : public DistributedForm {
     std::vector<double> v_;
 };
 
-bool finite_measures(const Measures &m) { return std::isfinite(m.relative) && std::isfinite(m.norm_u); }
 
-// The driver (as solve_local_problem for one process): the all-separating case, the warm
-// start, the sweeps, the final measures and the status check against them.
-frix_error solve(frix_mpi_problem &p, const frix_options &opts, double *r_out, double *u_out, frix_info &info,
-                 const Stopwatch &clock) {
-    const MPI_Comm comm = p.ctx->comm;
-    const int64_t m = 3 * p.owned;
-    std::vector<double> r((size_t)(3 * (p.owned + (int64_t)p.ghosts.size())), 0.0);
-    std::copy(r_out, r_out + m, r.begin());
-    for (int64_t i = 0; i < m; ++i)
-        if (!std::isfinite(r[(size_t)i])) r[(size_t)i] = 0.0;
-    DistributedRows rows(p);
-    std::unique_ptr<DistributedBodies> bodies(p.rigid ? new DistributedBodies(p) : nullptr);
-    DistributedForm &form = p.rigid ? (DistributedForm &)*bodies : (DistributedForm &)rows;
-    // r = 0 answers when every contact separates at rest (u = q, or H^T M^-1 f + w).
-    bool approaching = false;
-    for (int64_t a = 0; a < p.owned && !approaching; ++a) {
-        double u[3] = {p.q[3 * (size_t)a], 0.0, 0.0};
-        if (p.rigid) bodies->free_velocity(a, u);
-        approaching = u[0] < 0.0;
-    }
-    const bool separating = or_all(comm, approaching ? 1u : 0u) == 0;
-    const bool cold = or_all(comm, std::any_of(r.begin(), r.begin() + m, [](double x) { return x != 0.0; }) ? 1u : 0u) == 0;
-    const std::vector<double> warm_start = cold ? std::vector<double>() : std::vector<double>(r.begin(), r.begin() + m);
-    bool ran = false;
-    if (p.total == 0 || separating) {
-        std::fill(r.begin(), r.end(), 0.0);
-        info.status = FRIX_STATUS_CONVERGED;
-        info.iterations = 0;
-    } else {
-        ran = true;
-        form.exchange(r.data());
-        const nsgs::Settings settings = nsgs::settings_from(opts);
-        std::unique_ptr<nsgs::Workspace> ws(p.rigid ? new nsgs::Workspace(p.diag.data(), p.mu.data(), p.owned, settings)
-                                                    : new nsgs::Workspace(p.view, settings));
-        SolveContext ctx{p.view, opts, r.data(), u_out, nullptr, info, clock, nullptr, nullptr, nullptr};
-        if (frix_error e = nsgs::run_sweeps(ctx, *ws, form, "nsgs")) return e;
-    }
-    Measures meas = form.exact(r.data(), u_out);
-    if (!finite_measures(meas) && ran) {
-        std::fill(r.begin(), r.end(), 0.0);
-        if (!warm_start.empty()) std::copy(warm_start.begin(), warm_start.end(), r.begin());
-        form.exchange(r.data());
-        meas = form.exact(r.data(), u_out);
-        if (!finite_measures(meas)) {
-            std::fill(r.begin(), r.end(), 0.0);
-            meas = form.exact(r.data(), u_out);
-        }
-        info.status = FRIX_STATUS_DIVERGED;
-    }
-    std::copy(r.begin(), r.begin() + m, r_out);
-    if (p.rigid) {
-        p.v = bodies->velocities();  // at the final r: exact() above recomputed them
-        p.solved = true;
-    }
-    record_measures(info, meas, opts.i(FRIX_OPT_ERROR_MEASURE));
-    if (info.status == FRIX_STATUS_CONVERGED && !(info.error <= info.tolerance)) info.status = FRIX_STATUS_STAGNATED;
-    return FRIX_OK;
-}
+// The distributed Newton (distributed_newton.cpp) from r (owned then ghost reactions, the
+// ghosts current) on a local problem; u receives W r + q; info gets status and iterations.
+frix_error run_newton(frix_mpi_problem &p, const frix_options &o, DistributedForm &form, double *r, double *u,
+                      frix_info &info, const Stopwatch &clock);
 
-// The options a distributed solve runs with: nsgs's, checked alike on every rank; only rank 0
-// logs.
-frix_error check_options(const frix_options *given, int rank, frix_options &out) {
-    const char *where = "frix_mpi_solve";
-    if (!given) {
-        frix_options *o = nullptr;
-        if (frix_error e = frix_options_create(FRIX_SOLVER_NSGS, &o)) return e;
-        out = *o;
-        frix_options_free(o);
-    } else {
-        if (given->solver_id != FRIX_SOLVER_NSGS)
-            return fail(FRIX_ERR_UNSUPPORTED, "%s: solver %d is not distributed (only nsgs, %d)", where,
-                        given->solver_id, (int)FRIX_SOLVER_NSGS);
-        out = *given;
-    }
-    if (out.i(FRIX_OPT_DRIFT_WINDOW) != 0 || out.i(FRIX_OPT_ACCELERATION) != 0 ||
-        out.i(FRIX_OPT_SHUFFLE) != FRIX_SHUFFLE_NONE)
-        return fail(FRIX_ERR_UNSUPPORTED, "%s: drift_window, acceleration and shuffle are not distributed (set them to 0)",
-                    where);
-    if (rank != 0) out.ivalue[FRIX_OPT_VERBOSITY] = 0;
-    return FRIX_OK;
-}
-
-}  // namespace
 }  // namespace mpi
 }  // namespace frix
-
-extern "C" {
-
-FRIX_API frix_error frix_mpi_solve(frix_mpi_problem *p, const frix_options *options, double *r, double *u,
-                                   frix_info *info) {
-    frix::Stopwatch clock;
-    return frix::guard("frix_mpi_solve", [&]() -> frix_error {
-        using frix::fail;
-        if (!p) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_mpi_solve: p is NULL");
-        const MPI_Comm comm = p->ctx->comm;
-        frix_options opts;
-        frix_error e = frix::mpi::check_options(options, p->ctx->rank, opts);
-        if (!e && p->owned > 0 && (!r || !u))
-            e = fail(FRIX_ERR_INVALID_ARGUMENT, "frix_mpi_solve: r and u are required (%lld entries each)",
-                     (long long)(3 * p->owned));
-        if (frix_error agreed = frix::mpi::agree(comm, e, "frix_mpi_solve")) return agreed;
-        frix_info local_info;
-        frix_info &out = info ? *info : local_info;
-        out = frix_info();
-        out.solver_id = FRIX_SOLVER_NSGS;
-        out.contacts = p->total;
-        out.tolerance = opts.d(FRIX_OPT_TOLERANCE);
-        e = frix::mpi::solve(*p, opts, r, u, out, clock);
-        out.solve_time = clock.seconds();
-        return e;
-    });
-}
-
-}  // extern "C"
