@@ -257,8 +257,11 @@ frix_error run_newton(frix_mpi_problem &p, const frix_options &o, DistributedFor
                 return e;
             if (frix_error e = agree(comm, system.solve(phi.data(), dr.data(), factored), "frix_mpi_solve")) return e;
             if (!factored) delta = delta == 0.0 ? kDeltaStart : 100.0 * delta;
-            if (!factored && delta > kDeltaMax)
-                return fail(FRIX_ERR_NUMERICAL, "nsn-ac: the Newton system stays singular however regularised");
+            if (!factored && delta > kDeltaMax) break;
+        }
+        if (!factored) {  // singular however regularised: no step is left to take
+            info.status = FRIX_STATUS_STAGNATED;
+            break;
         }
         form.exchange(dr.data());  // the ghosts' steps, from their owners
         // Armijo: theta(r + t dr) <= (1 - 2 sigma t) theta(r), t halved from 1. Without it, the
@@ -282,6 +285,11 @@ frix_error run_newton(frix_mpi_problem &p, const frix_options &o, DistributedFor
             if (t == 1.0) delta = delta < kDeltaFloor ? 0.0 : 0.1 * delta;
         } else {
             delta = std::max(10.0 * delta, kDeltaStart);
+            if (delta > kDeltaMax) {  // no step lowers the merit, however short
+                info.status = FRIX_STATUS_STAGNATED;
+                ++it;
+                break;
+            }
         }
         error = selected_error(form.exact(r, u), measure);
         info.newton_iterations = it + 1;

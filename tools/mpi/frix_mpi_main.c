@@ -1,6 +1,6 @@
 /* frix-mpi: solves an FCLIB (or .dat) problem on the ranks of an MPI job.
  *
- *   mpirun -np N frix-mpi solve FILE [--tol T] [--max-iter N] [--time-limit S]
+ *   mpirun -np N frix-mpi solve FILE [--solver nsgs|nsn-ac] [--tol T] [--max-iter N] [--time-limit S]
  *                                    [--parts scotch|blocks] [--set NAME=VALUE]...
  *                                    [--verbose] [--out FILE]
  *
@@ -22,12 +22,12 @@
 #include <string.h>
 
 static const char kUsage[] =
-    "usage: mpirun -np N frix-mpi solve FILE [--tol T] [--max-iter N] [--time-limit S]\n"
+    "usage: mpirun -np N frix-mpi solve FILE [--solver nsgs|nsn-ac] [--tol T] [--max-iter N] [--time-limit S]\n"
     "                                  [--parts scotch|blocks] [--set NAME=VALUE]...\n"
     "                                  [--verbose] [--out FILE]\n";
 
 typedef struct {
-    const char *file, *out;
+    const char *file, *out, *solver;
     int blocks; /* --parts blocks */
     double tol, time_limit;
     long long max_iter;
@@ -69,6 +69,9 @@ static int parse(int argc, char **argv, args_t *a, int rank) {
             a->max_iter = strtoll(v, &end, 10);
         } else if (strcmp(o, "--out") == 0) {
             a->out = v;
+            continue;
+        } else if (strcmp(o, "--solver") == 0) {
+            a->solver = v;
             continue;
         } else if (strcmp(o, "--parts") == 0) {
             if (strcmp(v, "blocks") != 0 && strcmp(v, "scotch") != 0) {
@@ -134,7 +137,12 @@ static int apply_set(frix_options *opts, const char *spec, int rank) {
 static int make_options(const args_t *a, frix_options **out, int rank) {
     frix_options *o = NULL;
     int i;
-    if (frix_options_create(FRIX_SOLVER_NSGS, &o) != FRIX_OK) {
+    int id = FRIX_SOLVER_NSGS;
+    if (a->solver && frix_solver_by_name(a->solver, &id) != FRIX_OK) {
+        if (rank == 0) fprintf(stderr, "frix-mpi: --solver %s: %s\n", a->solver, frix_last_error_message());
+        return 2;
+    }
+    if (frix_options_create(id, &o) != FRIX_OK) {
         if (rank == 0) fprintf(stderr, "frix-mpi: %s\n", frix_last_error_message());
         return 2;
     }
@@ -239,7 +247,7 @@ static int run(const args_t *a, int rank, int size) {
         printf("%-16s %d, %s (%lld boundary contacts, %lld ghosts, %lld colours, %lld messages a sweep)\n",
                "ranks", size, a->blocks ? "blocks" : "Scotch", boundary, ghosts, colours, messages);
         if (!a->blocks) printf("%-16s %.3g s\n", "partition", partition_time);
-        printf("%-16s nsgs (id %d)\n", "solver", (int)FRIX_SOLVER_NSGS);
+        printf("%-16s %s (id %d)\n", "solver", frix_solver_name(frix_options_solver(opts)), frix_options_solver(opts));
         printf("%-16s %s\n", "status", frix_status_string(frix_info_status(info)));
         printf("%-16s %lld\n", "iterations", (long long)frix_info_iterations(info));
         printf("%-16s %.3e (relative, tolerance %.1e)\n", "error", frix_info_error(info), tol);
