@@ -86,7 +86,7 @@ class System {
         if (frix_error e = petsc(PCSetType(pc, PCLU), "PCSetType")) return e;
         if (frix_error e = petsc(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType")) return e;
         // A sequential analysis with AMD's ordering (ICNTL(28) = 1, ICNTL(7) = 0), whose result
-        // does not depend on the run. (Over 3 ranks or more MUMPS's factorisation still
+        // does not depend on the run. (Over 2 ranks or more MUMPS's factorisation still
         // schedules its tasks dynamically: the last bits may vary from run to run.)
         Mat factor = nullptr;
         if (frix_error e = petsc(KSPSetOperators(ksp_, J_, J_), "KSPSetOperators")) return e;

@@ -41,9 +41,9 @@
  * 3 x 3 blocks over the ranks' rows, by PETSc (KSP, MUMPS's LU), with Armijo's backtracking on
  * 1/2 |Phi|^2 (line_search none: full steps). Options: tolerance, max_iter, time_limit,
  * rho_strategy and rho, line_search, line_search_max_iter; the serial solver's watchdog and
- * hybrid fallback are not distributed and are not used. Up to 2 ranks a run gives the same
- * bits every time; from 3 ranks on, MUMPS schedules its factorisation's tasks as they come,
- * and the last bits may change from run to run. PETSc is started on the first such
+ * hybrid fallback are not distributed and are not used. On one rank a run gives the same
+ * bits every time; on more, MUMPS schedules its factorisation's tasks as they come, and the
+ * last bits may change from run to run (nsgs's do not). PETSc is started on the first such
  * solve if the host has not started it (PETSC_COMM_WORLD then a duplicate of the context's
  * communicator, never MPI_COMM_WORLD), and finalised when the last context that needed it
  * is freed; a PETSc the host started is the host's to finalise.
