@@ -18,7 +18,8 @@ if(TARGET frix_mpi)
   install(TARGETS frix_mpi EXPORT frixTargets LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
   install(DIRECTORY include/frix DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 else()
-  install(DIRECTORY include/frix DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} PATTERN frix_mpi.h EXCLUDE)
+  install(DIRECTORY include/frix DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} PATTERN frix_mpi.h EXCLUDE
+          PATTERN frix_mpi_petsc.h EXCLUDE)
 endif()
 install(FILES "${CMAKE_CURRENT_BINARY_DIR}/include/frix/frix_version.h"
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/frix)

@@ -92,6 +92,12 @@ int checked_count(int64_t n);
 // contiguous in rank order from 0.
 std::unique_ptr<frix_mpi_problem> start_part(frix_mpi_context *ctx, int64_t first, int64_t owned, frix_error &e,
                                              const char *where);
+// A local problem from each rank's block rows (frix_mpi_problem_local's input, checked here);
+// scale: the vector whose norm the relative error divides by (q, or a reduced global
+// problem's w; null: q). Collective.
+frix_error make(frix_mpi_context *ctx, int64_t first, int64_t owned, const int64_t *row_ptr, const int64_t *block_col,
+                const double *block_val, const double *q, const double *mu, const double *scale, frix_mpi_problem **out,
+                const char *where);
 // The exchange of p (its ghosts set, increasing): the ghosts' owners, the send lists, the
 // neighbours, boundary and interior contacts (has_ghost: the owned contacts coupled to a
 // ghost) and the ranks' colours. Collective.

@@ -206,11 +206,6 @@ std::unique_ptr<frix_mpi_problem> start_part(frix_mpi_context *ctx, int64_t firs
     return p;
 }
 
-namespace {
-
-// The wanted[] a rank was asked for lie in its block (the askers found it the owner).
-// scale: the vector whose norm the relative error divides by (q, or a reduced global
-// problem's w).
 frix_error make(frix_mpi_context *ctx, int64_t first, int64_t owned, const int64_t *row_ptr, const int64_t *block_col,
                 const double *block_val, const double *q, const double *mu, const double *scale, frix_mpi_problem **out,
                 const char *where) {
@@ -228,6 +223,8 @@ frix_error make(frix_mpi_context *ctx, int64_t first, int64_t owned, const int64
     *out = p.release();
     return FRIX_OK;
 }
+
+namespace {
 
 // A global problem as the local one its ranks solve: W = H^T M^-1 H and q = H^T M^-1 f + w,
 // formed on the root by the serial library's reduction (M factorised once).

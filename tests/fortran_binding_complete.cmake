@@ -16,9 +16,10 @@ set(renamed
   FRIX_INFO_ERROR=FRIX_INFO_KEY_ERROR)
 set(unbound frix_plugin_api)  # the function table for C hosts that dlopen the library
 
-# frix_mpi.h is libfrix_mpi's header, which the module does not bind (it is libfrix's).
+# frix_mpi.h and frix_mpi_petsc.h are libfrix_mpi's headers, which the module does not bind
+# (it is libfrix's).
 file(GLOB headers "${FRIX_INCLUDE_DIR}/*.h")
-list(FILTER headers EXCLUDE REGEX "/frix_mpi\\.h$")
+list(FILTER headers EXCLUDE REGEX "/frix_mpi(_petsc)?\\.h$")
 set(c_text "")
 foreach(h ${headers})
   file(READ "${h}" t)

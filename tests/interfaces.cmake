@@ -30,6 +30,18 @@ if(FRIX_WITH_MPI)
              COMMAND ${CMAKE_C_COMPILER} -std=${std} ${FRIX_HEADER_FLAGS} ${FRIX_PUBLIC_INCLUDES} ${FRIX_MPI_INCLUDES}
                      "${CMAKE_CURRENT_SOURCE_DIR}/public_headers_mpi.c")
   endforeach()
+  # frix_mpi_petsc.h with PETSc's headers (C99 and C++17, as PETSc itself asks).
+  set(FRIX_PETSC_INCLUDES)
+  foreach(d ${PETSC_INCLUDE_DIRS})
+    list(APPEND FRIX_PETSC_INCLUDES -isystem "${d}")
+  endforeach()
+  add_test(NAME public_headers_mpi_petsc_c99
+           COMMAND ${CMAKE_C_COMPILER} -std=c99 ${FRIX_HEADER_FLAGS} ${FRIX_PUBLIC_INCLUDES} ${FRIX_MPI_INCLUDES}
+                   ${FRIX_PETSC_INCLUDES} -include frix/frix_mpi_petsc.h "${CMAKE_CURRENT_SOURCE_DIR}/public_headers_mpi.c")
+  add_test(NAME public_headers_mpi_petsc_c++17
+           COMMAND ${CMAKE_CXX_COMPILER} -x c++ -std=c++17 ${FRIX_HEADER_FLAGS} ${FRIX_PUBLIC_INCLUDES}
+                   ${FRIX_MPI_INCLUDES} ${FRIX_PETSC_INCLUDES} -include frix/frix_mpi_petsc.h
+                   "${CMAKE_CURRENT_SOURCE_DIR}/public_headers_mpi.c")
   foreach(std c++98 c++17)
     add_test(NAME public_headers_mpi_${std}
              COMMAND ${CMAKE_CXX_COMPILER} -x c++ -std=${std} ${FRIX_HEADER_FLAGS} ${FRIX_PUBLIC_INCLUDES}

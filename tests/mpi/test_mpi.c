@@ -1,4 +1,5 @@
-/* libfrix_mpi under mpiexec (CTest runs it at np = 1, 2, 3 and 4): one rank equals the serial
+/* libfrix_mpi under mpiexec (CTest runs it at np = 1, 2, 3 and 4; built again as a host that
+ * starts PETSc itself, FRIX_TEST_PETSC_HOST, at np = 2 and 3): one rank equals the serial
  * solver bit for bit; more ranks converge to the same tolerance, the same bits on every run;
  * two problems solve at once on the halves of a split communicator; the exchange plan of a
  * chain; refusals reach every rank. Every test is collective: each rank runs it, and the
@@ -7,6 +8,9 @@
 #include <check.h>
 #include <frix/frix.h>
 #include <frix/frix_mpi.h>
+#ifdef FRIX_TEST_PETSC_HOST
+#include <frix/frix_mpi_petsc.h>
+#endif
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -649,6 +653,80 @@ START_TEST(newton_over_the_ranks) {
 }
 END_TEST
 
+#ifdef FRIX_TEST_PETSC_HOST
+/* The host started PETSc (this program's main): the chain given as PETSc objects (an AIJ
+ * matrix, a vector) gives the problem its arrays give, to the bit; nsn-ac runs on the host's
+ * PETSc, which is still there after the context is freed. */
+START_TEST(the_hosts_petsc_objects) {
+    const int64_t per_rank = 6, nc = per_rank * g_size, first = per_rank * g_rank;
+    chain c = chain_make(nc);
+    frix_mpi_context *ctx = NULL;
+    frix_mpi_problem *from_petsc = NULL, *from_rows = NULL;
+    frix_options *o = nsgs_options(1e-10), *newton = NULL;
+    Mat W = NULL;
+    Vec q = NULL;
+    int64_t row_ptr[7], i, k;
+    double r1[18] = {0}, u1[18] = {0}, r2[18] = {0}, u2[18] = {0};
+    PetscBool still = PETSC_FALSE;
+    int ok = 1;
+    for (i = 0; i <= per_rank; ++i) row_ptr[i] = c.row_ptr[first + i] - c.row_ptr[first];
+    ck_assert_int_eq(MatCreateAIJ(MPI_COMM_WORLD, 3 * per_rank, 3 * per_rank, PETSC_DETERMINE, PETSC_DETERMINE, 9, NULL, 6,
+                                  NULL, &W), 0);
+    ck_assert_int_eq(MatCreateVecs(W, NULL, &q), 0);
+    for (i = first; i < first + per_rank; ++i) {
+        for (k = c.row_ptr[i]; k < c.row_ptr[i + 1]; ++k) {
+            int a, b;
+            for (b = 0; b < 3; ++b)
+                for (a = 0; a < 3; ++a) {
+                    const PetscInt row = (PetscInt)(3 * c.rows[k] + a), col = (PetscInt)(3 * c.cols[k] + b);
+                    ck_assert_int_eq(MatSetValue(W, row, col, c.vals[9 * k + a + 3 * b], INSERT_VALUES), 0);
+                }
+        }
+        for (k = 0; k < 3; ++k) ck_assert_int_eq(VecSetValue(q, (PetscInt)(3 * i + k), c.q[3 * i + k], INSERT_VALUES), 0);
+    }
+    ck_assert_int_eq(MatAssemblyBegin(W, MAT_FINAL_ASSEMBLY), 0);
+    ck_assert_int_eq(MatAssemblyEnd(W, MAT_FINAL_ASSEMBLY), 0);
+    ck_assert_int_eq(VecAssemblyBegin(q), 0);
+    ck_assert_int_eq(VecAssemblyEnd(q), 0);
+    ck_assert_int_eq(frix_mpi_context_create(MPI_COMM_WORLD, &ctx), FRIX_OK);
+    ck_assert_msg(frix_mpi_problem_petsc(ctx, W, q, c.mu + first, &from_petsc) == FRIX_OK, "%s",
+                  frix_mpi_last_error_message());
+    ck_assert_int_eq(frix_mpi_problem_local(ctx, first, per_rank, row_ptr, c.cols + c.row_ptr[first],
+                                            c.vals + 9 * c.row_ptr[first], c.q + 3 * first, c.mu + first, &from_rows),
+                     FRIX_OK);
+    MatDestroy(&W); /* the problem holds copies */
+    VecDestroy(&q);
+    ck_assert_int_eq(frix_mpi_solve(from_petsc, o, r1, u1, NULL), FRIX_OK);
+    ck_assert_int_eq(frix_mpi_solve(from_rows, o, r2, u2, NULL), FRIX_OK);
+    ok = memcmp(r1, r2, sizeof r1) == 0 && memcmp(u1, u2, sizeof u1) == 0;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSN_AC, &newton), FRIX_OK);
+    memset(r1, 0, sizeof r1);
+    ok = ok && frix_mpi_solve(from_petsc, newton, r1, u1, NULL) == FRIX_OK;
+    frix_mpi_problem_free(from_petsc);
+    frix_mpi_problem_free(from_rows);
+    frix_mpi_context_free(ctx);
+    PetscInitialized(&still);
+    ok = ok && still == PETSC_TRUE;
+    /* W on a communicator the context does not share is refused on every rank. */
+    if (g_size > 1) {
+        Mat alone = NULL;
+        frix_mpi_problem *none = NULL;
+        ck_assert_int_eq(frix_mpi_context_create(MPI_COMM_WORLD, &ctx), FRIX_OK);
+        ck_assert_int_eq(MatCreateAIJ(PETSC_COMM_SELF, 3, 3, 3, 3, 1, NULL, 0, NULL, &alone), 0);
+        ck_assert_int_eq(MatAssemblyBegin(alone, MAT_FINAL_ASSEMBLY), 0);
+        ck_assert_int_eq(MatAssemblyEnd(alone, MAT_FINAL_ASSEMBLY), 0);
+        ok = ok && frix_mpi_problem_petsc(ctx, alone, NULL, c.mu, &none) == FRIX_ERR_INVALID_ARGUMENT && !none;
+        MatDestroy(&alone);
+        frix_mpi_context_free(ctx);
+    }
+    frix_options_free(o);
+    frix_options_free(newton);
+    chain_free(&c);
+    ck_assert_msg(all_true(MPI_COMM_WORLD, ok), "the host's PETSc objects did not give the problem of their arrays");
+}
+END_TEST
+#endif
+
 static int stop_at_five(void *data, int64_t iteration, double error, double seconds) {
     (void)data, (void)error, (void)seconds;
     return iteration >= 5;
@@ -729,6 +807,10 @@ int main(int argc, char **argv) {
     SRunner *sr;
     int failed;
     MPI_Init(&argc, &argv);
+#ifdef FRIX_TEST_PETSC_HOST
+    /* This build is a host that starts PETSc itself: the library must use it and leave it. */
+    PetscInitialize(&argc, &argv, NULL, NULL);
+#endif
     MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
     MPI_Comm_size(MPI_COMM_WORLD, &g_size);
     tcase_set_timeout(tc, 0);
@@ -740,6 +822,9 @@ int main(int argc, char **argv) {
     tcase_add_test(tc, a_global_problem_reduced_on_the_root);
     tcase_add_test(tc, rigid_bodies_without_w);
     tcase_add_test(tc, newton_over_the_ranks);
+#ifdef FRIX_TEST_PETSC_HOST
+    tcase_add_test(tc, the_hosts_petsc_objects);
+#endif
     tcase_add_test(tc, refusals_and_stops_reach_every_rank);
     suite_add_tcase(s, tc);
     sr = srunner_create(s);
@@ -749,6 +834,9 @@ int main(int argc, char **argv) {
     srunner_run_all(sr, g_rank == 0 ? CK_NORMAL : CK_SILENT);
     failed = srunner_ntests_failed(sr);
     srunner_free(sr);
+#ifdef FRIX_TEST_PETSC_HOST
+    PetscFinalize();
+#endif
     MPI_Finalize();
     return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
 }
