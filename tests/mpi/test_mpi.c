@@ -670,8 +670,9 @@ START_TEST(the_hosts_petsc_objects) {
     PetscBool still = PETSC_FALSE;
     int ok = 1;
     for (i = 0; i <= per_rank; ++i) row_ptr[i] = c.row_ptr[first + i] - c.row_ptr[first];
-    ck_assert_int_eq(MatCreateAIJ(MPI_COMM_WORLD, 3 * per_rank, 3 * per_rank, PETSC_DETERMINE, PETSC_DETERMINE, 9, NULL, 6,
-                                  NULL, &W), 0);
+    ck_assert_int_eq(MatCreateAIJ(MPI_COMM_WORLD, (PetscInt)(3 * per_rank), (PetscInt)(3 * per_rank), PETSC_DETERMINE,
+                                  PETSC_DETERMINE, 9, NULL, 6, NULL, &W),
+                     0);
     ck_assert_int_eq(MatCreateVecs(W, NULL, &q), 0);
     for (i = first; i < first + per_rank; ++i) {
         for (k = c.row_ptr[i]; k < c.row_ptr[i + 1]; ++k) {
