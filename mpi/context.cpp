@@ -1,5 +1,7 @@
 // The context (a duplicate of the host's communicator) and the collective helpers.
+#include <algorithm>
 #include <cstring>
+#include <vector>
 #include <memory>
 #include <string>
 
@@ -36,12 +38,23 @@ frix_error agree(MPI_Comm comm, frix_error mine, const char *where) {
     return fail((frix_error)code, "%s: rank %d refused: %s", where, lowest, message.c_str());
 }
 
-std::vector<double> gather_all(MPI_Comm comm, const double *mine, int count) {
-    int size = 1;
+void reduce_all(MPI_Comm comm, double *x, int count, const char *ops) {
+    constexpr int kTag = 5004;  // the tree's messages, apart from every other exchange
+    int rank = 0, size = 1;
+    check(MPI_Comm_rank(comm, &rank), "MPI_Comm_rank");
     check(MPI_Comm_size(comm, &size), "MPI_Comm_size");
-    std::vector<double> all((size_t)size * (size_t)count);
-    check(MPI_Allgather(mine, count, MPI_DOUBLE, all.data(), count, MPI_DOUBLE, comm), "MPI_Allgather");
-    return all;
+    std::vector<double> in((size_t)count);
+    for (int step = 1; step < size; step *= 2) {
+        if (rank % (2 * step) == step) {
+            check(MPI_Send(x, count, MPI_DOUBLE, rank - step, kTag, comm), "MPI_Send");
+            break;
+        }
+        if (rank + step < size) {
+            check(MPI_Recv(in.data(), count, MPI_DOUBLE, rank + step, kTag, comm, MPI_STATUS_IGNORE), "MPI_Recv");
+            for (int i = 0; i < count; ++i) x[i] = ops[i] == 'm' ? std::max(x[i], in[(size_t)i]) : x[i] + in[(size_t)i];
+        }
+    }
+    check(MPI_Bcast(x, count, MPI_DOUBLE, 0, comm), "MPI_Bcast");
 }
 
 unsigned or_all(MPI_Comm comm, unsigned flags) {

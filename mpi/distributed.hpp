@@ -70,9 +70,12 @@ frix_error agree(MPI_Comm comm, frix_error mine, const char *where);
 // contexts' communicators return MPI's errors instead of aborting.
 void check(int rc, const char *what);
 
-// Every rank's `count` doubles, rank by rank, on every rank: sums and maxima combined from
-// them in rank order have the same bits everywhere, whatever MPI's own reduction order.
-std::vector<double> gather_all(MPI_Comm comm, const double *mine, int count);
+// x (count values) combined over the ranks, in place on every rank: x[i] summed where ops[i]
+// is 's', its maximum where 'm'. The ranks' values are combined pairwise along a binary tree
+// of a fixed shape (rank r takes in r + 1, then r + 2, r + 4, ...) and rank 0's result is
+// broadcast: the same bits on every rank and every run, whatever MPI's own reductions do,
+// in log2(ranks) messages.
+void reduce_all(MPI_Comm comm, double *x, int count, const char *ops);
 
 // The bitwise or of `flags` over the ranks.
 unsigned or_all(MPI_Comm comm, unsigned flags);

@@ -29,20 +29,15 @@ inline constexpr int kTag = 5003;  // reactions of boundary contacts (one messag
 inline double norm2_all(MPI_Comm comm, const double *x, int64_t n) {
     double s = 0.0;
     for (int64_t i = 0; i < n; ++i) s += x[i] * x[i];
-    const std::vector<double> sums = gather_all(comm, &s, 1);
-    double all = sums[0];
-    for (size_t k = 1; k < sums.size(); ++k) all += sums[k];
-    if (in_safe_range(all)) return std::sqrt(all);
-    const double mine = max_abs(x, n);
-    const std::vector<double> maxima = gather_all(comm, &mine, 1);
-    const double a = *std::max_element(maxima.begin(), maxima.end());
+    reduce_all(comm, &s, 1, "s");
+    if (in_safe_range(s)) return std::sqrt(s);
+    double a = max_abs(x, n);
+    reduce_all(comm, &a, 1, "m");
     if (a == 0.0) return 0.0;
     s = 0.0;
     for (int64_t i = 0; i < n; ++i) s += (x[i] / a) * (x[i] / a);
-    const std::vector<double> scaled = gather_all(comm, &s, 1);
-    all = scaled[0];
-    for (size_t k = 1; k < scaled.size(); ++k) all += scaled[k];
-    return a * std::sqrt(all);
+    reduce_all(comm, &s, 1, "s");
+    return a * std::sqrt(s);
 }
 
 // measures_from_parts' rescue over the ranks' contacts.
@@ -51,20 +46,16 @@ class RanksRescue : public MeasureRescue {
     RanksRescue(MPI_Comm comm, const double *r, const double *u, const double *mu, int64_t nc)
         : comm_(comm), r_(r), u_(u), mu_(mu), nc_(nc) {}
     double max_abs_ru() override {
-        const double mine = std::max(max_abs(r_, 3 * nc_), max_abs(u_, 3 * nc_));
-        const std::vector<double> all = gather_all(comm_, &mine, 1);
-        return *std::max_element(all.begin(), all.end());
+        double a = std::max(max_abs(r_, 3 * nc_), max_abs(u_, 3 * nc_));
+        reduce_all(comm_, &a, 1, "m");
+        return a;
     }
     void residual(double divisor, double &sum, double &cone) override {
-        double mine[2];
-        rescaled_residual(r_, u_, mu_, 0, nc_, divisor, mine[0], mine[1]);
-        const std::vector<double> all = gather_all(comm_, mine, 2);
-        sum = all[0];
-        cone = all[1];
-        for (size_t k = 1; 2 * k < all.size(); ++k) {
-            sum += all[2 * k];
-            cone = std::max(cone, all[2 * k + 1]);
-        }
+        double both[2];
+        rescaled_residual(r_, u_, mu_, 0, nc_, divisor, both[0], both[1]);
+        reduce_all(comm_, both, 2, "sm");
+        sum = both[0];
+        cone = both[1];
     }
     double norm_r() override { return norm2_all(comm_, r_, 3 * nc_); }
     double norm_u() override { return norm2_all(comm_, u_, 3 * nc_); }
@@ -112,17 +103,12 @@ class DistributedForm : public nsgs::SweepForm {
             wait();
             take(higher_, r);
         }
-        // The sweep's statistics over the ranks, in rank order.
-        const double mine[5] = {st.dr2, st.r2, (double)st.rejected, (double)st.unsolved, (double)st.frozen};
-        const std::vector<double> all = gather_all(comm_, mine, 5);
+        // The sweep's statistics over the ranks (the counts are exact as doubles).
+        double all[5] = {st.dr2, st.r2, (double)st.rejected, (double)st.unsolved, (double)st.frozen};
+        reduce_all(comm_, all, 5, "sssss");
         nsgs::SweepStats total;
         total.dr2 = all[0], total.r2 = all[1];
-        for (size_t k = 1; 5 * k < all.size(); ++k) total.dr2 += all[5 * k], total.r2 += all[5 * k + 1];
-        for (size_t k = 0; 5 * k < all.size(); ++k) {
-            total.rejected += (int64_t)all[5 * k + 2];
-            total.unsolved += (int64_t)all[5 * k + 3];
-            total.frozen += (int64_t)all[5 * k + 4];
-        }
+        total.rejected = (int64_t)all[2], total.unsolved = (int64_t)all[3], total.frozen = (int64_t)all[4];
         return total;
     }
 
@@ -147,22 +133,15 @@ class DistributedForm : public nsgs::SweepForm {
     virtual void take_ghost(int64_t g, const double *r_new, double *r) {
         std::copy(r_new, r_new + 3, r + 3 * (p_.owned + g));
     }
-    // The measures of this rank's (r, u), combined over the ranks in rank order.
+    // The measures of this rank's (r, u), combined over the ranks.
     Measures combine(const double *r, const double *u) {
         const int64_t nc = p_.owned;
         const MeasureParts mine = measure_parts(r, u, p_.mu.data(), 0, nc);
-        const double packed[6] = {mine.residual_sq, mine.cone, mine.penetration, mine.complementarity, mine.r_sq, mine.u_sq};
-        const std::vector<double> all = gather_all(comm_, packed, 6);
+        double all[6] = {mine.residual_sq, mine.cone, mine.penetration, mine.complementarity, mine.r_sq, mine.u_sq};
+        reduce_all(comm_, all, 6, "smmmss");
         MeasureParts total;
-        for (size_t k = 0; 6 * k < all.size(); ++k) {
-            MeasureParts part;
-            part.residual_sq = all[6 * k], part.cone = all[6 * k + 1], part.penetration = all[6 * k + 2];
-            part.complementarity = all[6 * k + 3], part.r_sq = all[6 * k + 4], part.u_sq = all[6 * k + 5];
-            if (k == 0)
-                total = part;
-            else
-                total.add(part);
-        }
+        total.residual_sq = all[0], total.cone = all[1], total.penetration = all[2];
+        total.complementarity = all[3], total.r_sq = all[4], total.u_sq = all[5];
         RanksRescue rescue(comm_, r, u, p_.mu.data(), nc);
         return measures_from_parts(total, rescue, norm_q_);
     }

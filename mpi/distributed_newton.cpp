@@ -1,7 +1,7 @@
 // The distributed semismooth Newton (nsn-ac, 504): Alart-Curnier's Phi(r, W r + q) = 0 over
 // all ranks, each Newton system J dr = -Phi solved by PETSc (a block matrix of 3 x 3 blocks
-// over the ranks' rows, KSP with MUMPS's LU), Armijo's backtracking on the merit 1/2 |Phi|^2
-// summed in rank order. PETSc is started here when the host has not started it.
+// over the ranks' rows, KSP with MUMPS's LU), Armijo's backtracking on the merit 1/2 |Phi|^2.
+// PETSc is started here when the host has not started it.
 #include <petscksp.h>
 
 #include <algorithm>
@@ -154,14 +154,12 @@ class System {
     KSP ksp_ = nullptr;
 };
 
-// 1/2 |Phi|^2 over the ranks, summed in rank order.
+// 1/2 |Phi|^2 over the ranks.
 double merit(MPI_Comm comm, const double *phi, int64_t n) {
     double s = 0.0;
     for (int64_t i = 0; i < n; ++i) s += phi[i] * phi[i];
-    const std::vector<double> all = gather_all(comm, &s, 1);
-    double total = 0.0;
-    for (const double x : all) total += x;
-    return 0.5 * total;
+    reduce_all(comm, &s, 1, "s");
+    return 0.5 * s;
 }
 
 // Phi at r (owned and ghosts current); u receives W r + q of the owned contacts.
@@ -238,10 +236,8 @@ frix_error run_newton(frix_mpi_problem &p, const frix_options &o, DistributedFor
         if (d >= 0)
             for (int i = 0; i < 3; ++i) diag_sum += std::fabs(p.W.block_val[9 * (size_t)d + 4 * i]) / 3.0;
     }
-    const std::vector<double> sums = gather_all(comm, &diag_sum, 1);
-    double w_scale = 0.0;
-    for (const double x : sums) w_scale += x;
-    w_scale = p.total > 0 ? w_scale / (double)p.total : 0.0;
+    reduce_all(comm, &diag_sum, 1, "s");
+    const double w_scale = p.total > 0 ? diag_sum / (double)p.total : 0.0;
     double delta = kDeltaStart;
     const size_t held = 3 * (p.owned + p.ghosts.size());
     std::vector<double> phi((size_t)m + 1), dr(held, 0.0), trial(held), u_trial((size_t)m + 1), phi_trial((size_t)m + 1);
