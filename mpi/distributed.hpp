@@ -101,6 +101,10 @@ std::unique_ptr<frix_mpi_problem> start_part(frix_mpi_context *ctx, int64_t firs
 frix_error make(frix_mpi_context *ctx, int64_t first, int64_t owned, const int64_t *row_ptr, const int64_t *block_col,
                 const double *block_val, const double *q, const double *mu, const double *scale, frix_mpi_problem **out,
                 const char *where);
+// All-to-all of int64 lists: out[k] goes to rank k (out has a list for every rank); returns
+// what the ranks sent here, rank by rank, rank k's at (*in_displs)[k] .. [k+1] when asked.
+std::vector<int64_t> exchange_lists(MPI_Comm comm, const std::vector<std::vector<int64_t>> &out,
+                                    std::vector<int> *in_displs = nullptr);
 // The exchange of p (its ghosts set, increasing): the ghosts' owners, the send lists, the
 // neighbours, boundary and interior contacts (has_ghost: the owned contacts coupled to a
 // ghost) and the ranks' colours. Collective.

@@ -162,14 +162,19 @@ double merit(MPI_Comm comm, const double *phi, int64_t n) {
     return 0.5 * s;
 }
 
+// Phi at (r, u) of the owned contacts.
+void phi_at(const frix_mpi_problem &p, const double *r, const double *u, const std::vector<double> &rho, double *phi) {
+    for (int64_t a = 0; a < p.owned; ++a)
+        nsn::contact_function(nsn::kAlartCurnier, r + 3 * a, u + 3 * a, p.mu[(size_t)a], rho[2 * (size_t)a],
+                              rho[2 * (size_t)a + 1], phi + 3 * a, nullptr, nullptr);
+}
+
 // Phi at r (owned and ghosts current); u receives W r + q of the owned contacts.
 void residual(const frix_mpi_problem &p, const double *r, const std::vector<double> &rho, double *u, double *phi) {
     if (p.owned == 0) return;
     matrix_gemv(p.W, 1.0, r, 0.0, u);
     for (int64_t i = 0; i < 3 * p.owned; ++i) u[i] += p.q[(size_t)i];
-    for (int64_t a = 0; a < p.owned; ++a)
-        nsn::contact_function(nsn::kAlartCurnier, r + 3 * a, u + 3 * a, p.mu[(size_t)a], rho[2 * (size_t)a],
-                              rho[2 * (size_t)a + 1], phi + 3 * a, nullptr, nullptr);
+    phi_at(p, r, u, rho, phi);
 }
 
 }  // namespace
@@ -245,7 +250,7 @@ frix_error run_newton(frix_mpi_problem &p, const frix_options &o, DistributedFor
     double error = selected_error(form.exact(r, u), measure);
     int64_t it = 0;
     for (; it < max_iter && !(error <= tol); ++it) {
-        residual(p, r, rho, u, phi.data());
+        phi_at(p, r, u, rho, phi.data());  // u = W r + q: form.exact() has just formed it
         const double theta = merit(comm, phi.data(), m);
         bool factored = false;
         while (!factored) {

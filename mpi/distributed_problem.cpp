@@ -142,29 +142,44 @@ void build(frix_mpi_problem &p, const int64_t *row_ptr, const int64_t *block_col
 
 }  // namespace
 
+std::vector<int64_t> exchange_lists(MPI_Comm comm, const std::vector<std::vector<int64_t>> &out,
+                                    std::vector<int> *in_displs) {
+    const size_t P = out.size();
+    std::vector<int> counts(P), displs(P + 1, 0), in_counts(P), at(P + 1, 0);
+    std::vector<int64_t> flat;
+    for (size_t k = 0; k < P; ++k) {
+        counts[k] = checked_count((int64_t)out[k].size());
+        displs[k + 1] = displs[k] + counts[k];
+        flat.insert(flat.end(), out[k].begin(), out[k].end());
+    }
+    check(MPI_Alltoall(counts.data(), 1, MPI_INT, in_counts.data(), 1, MPI_INT, comm), "MPI_Alltoall");
+    for (size_t k = 0; k < P; ++k) at[k + 1] = at[k] + in_counts[k];
+    std::vector<int64_t> in((size_t)at[P]);
+    check(MPI_Alltoallv(flat.data(), counts.data(), displs.data(), MPI_INT64_T, in.data(), in_counts.data(), at.data(),
+                        MPI_INT64_T, comm),
+          "MPI_Alltoallv");
+    if (in_displs) *in_displs = std::move(at);
+    return in;
+}
+
 void plan_exchange(frix_mpi_problem &p, const std::vector<char> &has_ghost) {
     const frix_mpi_context &c = *p.ctx;
     const int64_t owned = p.owned, first = p.first;
     // Ask each owner for its ghosts; what the others ask of this rank is what it sends.
     const size_t P = (size_t)c.size;
-    std::vector<int> asks(P, 0), asked(P, 0), ask_displs(P + 1, 0), asked_displs(P + 1, 0);
-    std::vector<int64_t> first_ghost(P + 1, 0);  // ghosts of rank k: first_ghost[k] .. [k+1]
-    for (const int64_t g : p.ghosts) ++asks[(size_t)owner_of(p.starts, g)];
-    for (size_t k = 0; k < P; ++k) {
-        ask_displs[k + 1] = ask_displs[k] + asks[k];
-        first_ghost[k + 1] = ask_displs[k + 1];
-    }
-    check(MPI_Alltoall(asks.data(), 1, MPI_INT, asked.data(), 1, MPI_INT, c.comm), "MPI_Alltoall");
-    for (size_t k = 0; k < P; ++k) asked_displs[k + 1] = asked_displs[k] + asked[k];
-    std::vector<int64_t> wanted((size_t)asked_displs[P]);
-    check(MPI_Alltoallv(p.ghosts.data(), asks.data(), ask_displs.data(), MPI_INT64_T, wanted.data(), asked.data(),
-                        asked_displs.data(), MPI_INT64_T, c.comm),
-          "MPI_Alltoallv");
+    std::vector<std::vector<int64_t>> asks(P);
+    for (const int64_t g : p.ghosts) asks[(size_t)owner_of(p.starts, g)].push_back(g);
+    std::vector<int> asked_displs;
+    const std::vector<int64_t> wanted = exchange_lists(c.comm, asks, &asked_displs);
     std::vector<char> sent((size_t)owned, 0);
     p.send_ptr.assign(1, 0);
     p.recv_ptr.assign(1, 0);
+    // This rank's ghosts owned by neighbour k are one run (increasing global indices):
+    // ghost slots recv_ptr[k] .. recv_ptr[k+1].
+    int64_t first_ghost = 0;
     for (size_t k = 0; k < P; ++k) {
-        if (asks[k] == 0 && asked[k] == 0) continue;
+        const int64_t runs_to = first_ghost + (int64_t)asks[k].size();
+        if (asks[k].empty() && asked_displs[k] == asked_displs[k + 1]) continue;
         p.neighbours.push_back((int)k);
         for (int e = asked_displs[k]; e < asked_displs[k + 1]; ++e) {
             const int64_t local = wanted[(size_t)e] - first;
@@ -172,9 +187,8 @@ void plan_exchange(frix_mpi_problem &p, const std::vector<char> &has_ghost) {
             sent[(size_t)local] = 1;
         }
         p.send_ptr.push_back((int64_t)p.send.size());
-        // This rank's ghosts owned by k: one run (increasing global indices).
-        p.recv_ptr.back() = first_ghost[k];
-        p.recv_ptr.push_back(first_ghost[k + 1]);
+        p.recv_ptr.push_back(runs_to);
+        first_ghost = runs_to;
     }
     for (int64_t i = 0; i < owned; ++i) (has_ghost[(size_t)i] || sent[(size_t)i] ? p.boundary : p.interior).push_back(i);
     colour_ranks(p);

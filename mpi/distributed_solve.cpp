@@ -29,9 +29,10 @@ frix_error solve(frix_mpi_problem &p, const frix_options &opts, double *r_out, d
     std::copy(r_out, r_out + m, r.begin());
     for (int64_t i = 0; i < m; ++i)
         if (!std::isfinite(r[(size_t)i])) r[(size_t)i] = 0.0;
-    DistributedRows rows(p);
-    std::unique_ptr<DistributedBodies> bodies(p.rigid ? new DistributedBodies(p) : nullptr);
-    DistributedForm &form = p.rigid ? (DistributedForm &)*bodies : (DistributedForm &)rows;
+    // The form of the problem's kind (bodies: set for rigid bodies only).
+    DistributedBodies *bodies = p.rigid ? new DistributedBodies(p) : nullptr;
+    const std::unique_ptr<DistributedForm> owner(bodies ? (DistributedForm *)bodies : new DistributedRows(p));
+    DistributedForm &form = *owner;
     // r = 0 answers when every contact separates at rest (u = q, or H^T M^-1 f + w).
     bool approaching = false;
     for (int64_t a = 0; a < p.owned && !approaching; ++a) {
@@ -50,12 +51,12 @@ frix_error solve(frix_mpi_problem &p, const frix_options &opts, double *r_out, d
     } else {
         ran = true;
         form.exchange(r.data());
-        const nsgs::Settings settings = nsgs::settings_from(opts);
-        std::unique_ptr<nsgs::Workspace> ws(p.rigid ? new nsgs::Workspace(p.diag.data(), p.mu.data(), p.owned, settings)
-                                                    : new nsgs::Workspace(p.view, settings));
         if (opts.solver_id == FRIX_SOLVER_NSN_AC) {
             if (frix_error e = run_newton(p, opts, form, r.data(), u_out, info, clock)) return e;
         } else {
+            const nsgs::Settings settings = nsgs::settings_from(opts);
+            std::unique_ptr<nsgs::Workspace> ws(p.rigid ? new nsgs::Workspace(p.diag.data(), p.mu.data(), p.owned, settings)
+                                                        : new nsgs::Workspace(p.view, settings));
             SolveContext ctx{p.view, opts, r.data(), u_out, nullptr, info, clock, nullptr, nullptr, nullptr};
             if (frix_error e = nsgs::run_sweeps(ctx, *ws, form, "nsgs")) return e;
         }

@@ -52,26 +52,6 @@ frix_error check_rigid(int64_t first, int64_t owned, const int64_t *bodies, cons
     return FRIX_OK;
 }
 
-// All-to-all of int64 lists: out[k] goes to rank k; returns what each rank sent here, rank
-// by rank.
-std::vector<int64_t> exchange_lists(MPI_Comm comm, const std::vector<std::vector<int64_t>> &out) {
-    const size_t P = out.size();
-    std::vector<int> counts(P), displs(P + 1, 0), in_counts(P), in_displs(P + 1, 0);
-    std::vector<int64_t> flat;
-    for (size_t k = 0; k < P; ++k) {
-        counts[k] = checked_count((int64_t)out[k].size());
-        displs[k + 1] = displs[k] + counts[k];
-        flat.insert(flat.end(), out[k].begin(), out[k].end());
-    }
-    check(MPI_Alltoall(counts.data(), 1, MPI_INT, in_counts.data(), 1, MPI_INT, comm), "MPI_Alltoall");
-    for (size_t k = 0; k < P; ++k) in_displs[k + 1] = in_displs[k] + in_counts[k];
-    std::vector<int64_t> in((size_t)in_displs[P]);
-    check(MPI_Alltoallv(flat.data(), counts.data(), displs.data(), MPI_INT64_T, in.data(), in_counts.data(),
-                        in_displs.data(), MPI_INT64_T, comm),
-          "MPI_Alltoallv");
-    return in;
-}
-
 // The ghosts: the other ranks' contacts on the bodies this rank holds (those its contacts act
 // on, whose velocities its sweeps read, and any other it gave, whose velocities it reports).
 // Each body's home rank (body % size) hears of every contact on it, and of every rank holding

@@ -97,10 +97,8 @@ SweepStats Workspace::sweep(double *r) {
 }
 
 SweepStats Workspace::sweep_part(double *r, const int64_t *contacts, int64_t count) {
-    const local::Params lp = s_.local;
-    return sweep_contacts(
+    return sweep_part(
         r, contacts, count, [this, r](int64_t a, const local::Contact &, double *ql) { local_q(a, r, ql); },
-        [&lp](int64_t, local::Contact &c, const double *ql, double *rn) { return local::solve_contact(c, ql, rn, lp); },
         [](int64_t, const double *) {});
 }
 
