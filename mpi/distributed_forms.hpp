@@ -90,8 +90,7 @@ class DistributedForm : public nsgs::SweepForm {
             send_all(r);
             receive(higher_);
             st.add(sweep_part(ws, r, in.data(), (int64_t)in.size()));
-            wait();
-            take(lower_, r);  // (none: colour 0 has no lower neighbour)
+            wait();  // (colour 0 has no lower neighbour)
             take(higher_, r);
         } else {
             st = sweep_part(ws, r, in.data(), (int64_t)in.size());
