@@ -12,6 +12,16 @@
 #include "src/matrix.hpp"
 #include "src/problem.hpp"
 
+// A global problem with the host's M (frix_mpi_problem_global): this rank's dofs dof_first ..
+// dof_first+dofs-1 with their rows of M (CSR, global dof columns increasing) and f, and its
+// contacts' rows of H^T (3 a contact, CSR over global dofs); dof_starts[k]: rank k's first dof.
+struct frix_mpi_global_rows {
+    int64_t dof_first = 0, dofs = 0, dof_total = 0;
+    std::vector<int64_t> dof_starts;
+    std::vector<int64_t> m_ptr, m_col, ht_ptr, ht_col;
+    std::vector<double> m_val, f, ht_val;
+};
+
 struct frix_mpi_context {
     MPI_Comm comm = MPI_COMM_NULL;  // the duplicate; never the caller's own
     int rank = 0, size = 1;
@@ -53,6 +63,9 @@ struct frix_mpi_problem {
     bool rigid = false, solved = false;
     std::vector<int64_t> body_ids, side_slot;
     std::vector<double> minv, v0, G, mg, diag, v;
+    // Set for a global problem with the host's M: W is empty, w and mu are the contacts', and a
+    // solve leaves the owned dofs' velocities in v.
+    std::unique_ptr<frix_mpi_global_rows> global;
     // A reduced global problem's w, or a rigid one's (the relative error's scale is |w|, not
     // |q|); empty for a local problem.
     std::vector<double> w;
@@ -101,6 +114,15 @@ std::unique_ptr<frix_mpi_problem> start_part(frix_mpi_context *ctx, int64_t firs
 frix_error make(frix_mpi_context *ctx, int64_t first, int64_t owned, const int64_t *row_ptr, const int64_t *block_col,
                 const double *block_val, const double *q, const double *mu, const double *scale, frix_mpi_problem **out,
                 const char *where);
+// Rank k's block first_k .. first_k+count_k-1 of `what` (contacts, dofs) from every rank's
+// (first, count): starts (size + 1 values) and whether the blocks are contiguous in rank order
+// from 0 with count >= 0. Collective.
+bool gather_blocks(MPI_Comm comm, int64_t first, int64_t count, std::vector<int64_t> &starts);
+// Where each rank's run of n items starts (cut, ranks + 1 values) and, with parts, the items
+// in the order of their parts (order: a stable sort; left empty without parts, for blocks of
+// equal size, the first ranks one more). FRIX_ERR_INVALID_ARGUMENT for a part not a rank.
+frix_error cut_by_part(const int *part, int64_t n, int ranks, std::vector<int64_t> &cut, std::vector<int64_t> &order,
+                       const char *where);
 // All-to-all of int64 lists: out[k] goes to rank k (out has a list for every rank); returns
 // what the ranks sent here, rank by rank, rank k's at (*in_displs)[k] .. [k+1] when asked.
 std::vector<int64_t> exchange_lists(MPI_Comm comm, const std::vector<std::vector<int64_t>> &out,

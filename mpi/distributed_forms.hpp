@@ -66,6 +66,20 @@ class RanksRescue : public MeasureRescue {
     int64_t nc_;
 };
 
+// The measures of the ranks' (r, u) (nc contacts on this rank) over all contacts, combined in
+// a fixed order; norm_q: the norm over all contacts of the relative error's scale.
+inline Measures measures_over_ranks(MPI_Comm comm, const double *r, const double *u, const double *mu, int64_t nc,
+                                    double norm_q) {
+    const MeasureParts mine = measure_parts(r, u, mu, 0, nc);
+    double all[6] = {mine.residual_sq, mine.cone, mine.penetration, mine.complementarity, mine.r_sq, mine.u_sq};
+    reduce_all(comm, all, 6, "smmmss");
+    MeasureParts total;
+    total.residual_sq = all[0], total.cone = all[1], total.penetration = all[2];
+    total.complementarity = all[3], total.r_sq = all[4], total.u_sq = all[5];
+    RanksRescue rescue(comm, r, u, mu, nc);
+    return measures_from_parts(total, rescue, norm_q);
+}
+
 // The sweep over the ranks and its measures; r holds the owned reactions, then the ghosts'.
 // The forms differ in how a contact reads its local q and what a changed reaction updates:
 // W's rows (DistributedRows) or the bodies' velocities (DistributedBodies).
@@ -134,15 +148,7 @@ class DistributedForm : public nsgs::SweepForm {
     }
     // The measures of this rank's (r, u), combined over the ranks.
     Measures combine(const double *r, const double *u) {
-        const int64_t nc = p_.owned;
-        const MeasureParts mine = measure_parts(r, u, p_.mu.data(), 0, nc);
-        double all[6] = {mine.residual_sq, mine.cone, mine.penetration, mine.complementarity, mine.r_sq, mine.u_sq};
-        reduce_all(comm_, all, 6, "smmmss");
-        MeasureParts total;
-        total.residual_sq = all[0], total.cone = all[1], total.penetration = all[2];
-        total.complementarity = all[3], total.r_sq = all[4], total.u_sq = all[5];
-        RanksRescue rescue(comm_, r, u, p_.mu.data(), nc);
-        return measures_from_parts(total, rescue, norm_q_);
+        return measures_over_ranks(comm_, r, u, p_.mu.data(), p_.owned, norm_q_);
     }
 
     const frix_mpi_problem &p_;
@@ -276,6 +282,12 @@ class DistributedBodies : public DistributedForm {
     std::vector<double> v_;
 };
 
+
+// The distributed global Newton (distributed_global_newton.cpp) on a global problem with the
+// host's M, from r (this rank's reactions); u receives H^T v + w, p.v the owned dofs' v; info
+// gets status, iterations, the measures and the equilibrium residual.
+frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, double *r, double *u, frix_info &info,
+                             const Stopwatch &clock);
 
 // The distributed Newton (distributed_newton.cpp) from r (owned then ghost reactions, the
 // ghosts current) on a local problem; u receives W r + q; info gets status and iterations.

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "mpi/distributed_forms.hpp"
+#include "mpi/petsc_support.hpp"
 #include "solvers/nsn_functions.hpp"
 #include "src/error_state.hpp"
 #include "src/log.hpp"
@@ -32,12 +33,7 @@ PetscShare &petsc_share() {
     return share;
 }
 
-frix_error petsc(PetscErrorCode rc, const char *what) {
-    if (rc == 0) return FRIX_OK;
-    const char *text = nullptr;
-    PetscErrorMessage(rc, &text, nullptr);
-    return fail(FRIX_ERR_INTERNAL, "nsn-ac: %s failed (PETSc error %d: %s)", what, (int)rc, text ? text : "");
-}
+frix_error petsc(PetscErrorCode rc, const char *what) { return petsc_call(rc, FRIX_ERR_INTERNAL, "nsn-ac", what); }
 
 // Armijo's sufficient decrease, as the serial line search's.
 constexpr double kArmijoSigma = 1e-4;
@@ -76,25 +72,7 @@ class System {
         if (frix_error e = petsc(MatCreateVecs(J_, &step_, &rhs_), "MatCreateVecs")) return e;
         return make_ksp();
     }
-    // KSP with MUMPS's LU; made again after a failed factorisation (MUMPS keeps the failure).
-    frix_error make_ksp() {
-        KSPDestroy(&ksp_);
-        PC pc = nullptr;
-        if (frix_error e = petsc(KSPCreate(p_.ctx->comm, &ksp_), "KSPCreate")) return e;
-        if (frix_error e = petsc(KSPSetType(ksp_, KSPPREONLY), "KSPSetType")) return e;
-        if (frix_error e = petsc(KSPGetPC(ksp_, &pc), "KSPGetPC")) return e;
-        if (frix_error e = petsc(PCSetType(pc, PCLU), "PCSetType")) return e;
-        if (frix_error e = petsc(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType")) return e;
-        // A sequential analysis with AMD's ordering (ICNTL(28) = 1, ICNTL(7) = 0), whose result
-        // does not depend on the run. (Over 2 ranks or more MUMPS's factorisation still
-        // schedules its tasks dynamically: the last bits may vary from run to run.)
-        Mat factor = nullptr;
-        if (frix_error e = petsc(KSPSetOperators(ksp_, J_, J_), "KSPSetOperators")) return e;
-        if (frix_error e = petsc(PCFactorSetUpMatSolverType(pc), "PCFactorSetUpMatSolverType")) return e;
-        if (frix_error e = petsc(PCFactorGetMatrix(pc, &factor), "PCFactorGetMatrix")) return e;
-        if (frix_error e = petsc(MatMumpsSetIcntl(factor, 28, 1), "MatMumpsSetIcntl")) return e;
-        return petsc(MatMumpsSetIcntl(factor, 7, 0), "MatMumpsSetIcntl");
-    }
+    frix_error make_ksp() { return mumps_lu(p_.ctx->comm, J_, ksp_, "nsn-ac", kMumpsAmd); }
     // J = A + B (W + shift I) at (r, u) with the contacts' rho; phi receives Phi (3 per owned
     // contact).
     frix_error assemble(const double *r, const double *u, const std::vector<double> &rho, double shift, double *phi) {
@@ -134,12 +112,8 @@ class System {
         if (frix_error e = petsc(VecGetArray(rhs_, &x), "VecGetArray")) return e;
         for (int64_t i = 0; i < 3 * p_.owned; ++i) x[i] = -phi[i];
         VecRestoreArray(rhs_, &x);
-        if (frix_error e = petsc(KSPSetOperators(ksp_, J_, J_), "KSPSetOperators")) return e;
-        if (frix_error e = petsc(KSPSolve(ksp_, rhs_, step_), "KSPSolve (MUMPS)")) return e;
-        KSPConvergedReason reason;
-        KSPGetConvergedReason(ksp_, &reason);
-        factored = reason >= 0;
-        if (!factored) return make_ksp();
+        if (frix_error e = mumps_solve(p_.ctx->comm, J_, ksp_, rhs_, step_, factored, "nsn-ac", kMumpsAmd)) return e;
+        if (!factored) return FRIX_OK;
         const PetscScalar *y = nullptr;
         if (frix_error e = petsc(VecGetArrayRead(step_, &y), "VecGetArrayRead")) return e;
         std::copy(y, y + 3 * p_.owned, dr);
@@ -178,6 +152,53 @@ void residual(const frix_mpi_problem &p, const double *r, const std::vector<doub
 }
 
 }  // namespace
+
+frix_error petsc_call(PetscErrorCode rc, frix_error code, const char *where, const char *what) {
+    if (rc == 0) return FRIX_OK;
+    const char *text = nullptr;
+    PetscErrorMessage(rc, &text, nullptr);
+    return fail(code, "%s: %s failed (PETSc error %d: %s)", where, what, (int)rc, text ? text : "");
+}
+
+frix_error mumps_lu(MPI_Comm comm, Mat A, KSP &ksp, const char *where, MumpsOrdering ordering) {
+    const auto call = [where](PetscErrorCode rc, const char *what) { return petsc_call(rc, FRIX_ERR_INTERNAL, where, what); };
+    KSPDestroy(&ksp);
+    PC pc = nullptr;
+    Mat factor = nullptr;
+    if (frix_error e = call(KSPCreate(comm, &ksp), "KSPCreate")) return e;
+    if (frix_error e = call(KSPSetType(ksp, KSPPREONLY), "KSPSetType")) return e;
+    if (frix_error e = call(KSPGetPC(ksp, &pc), "KSPGetPC")) return e;
+    if (frix_error e = call(PCSetType(pc, PCLU), "PCSetType")) return e;
+    if (frix_error e = call(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType")) return e;
+    if (frix_error e = call(KSPSetOperators(ksp, A, A), "KSPSetOperators")) return e;
+    if (frix_error e = call(PCFactorSetUpMatSolverType(pc), "PCFactorSetUpMatSolverType")) return e;
+    if (frix_error e = call(PCFactorGetMatrix(pc, &factor), "PCFactorGetMatrix")) return e;
+    // (Over 2 ranks or more MUMPS's factorisation still schedules its tasks dynamically: the
+    // last bits may vary from run to run.)
+    if (frix_error e = call(MatMumpsSetIcntl(factor, 28, 1), "MatMumpsSetIcntl")) return e;
+    return call(MatMumpsSetIcntl(factor, 7, (PetscInt)ordering), "MatMumpsSetIcntl");
+}
+
+frix_error mumps_solve(MPI_Comm comm, Mat A, KSP &ksp, Vec b, Vec x, bool &solved, const char *where,
+                       MumpsOrdering ordering) {
+    const auto call = [where](PetscErrorCode rc, const char *what) { return petsc_call(rc, FRIX_ERR_INTERNAL, where, what); };
+    if (frix_error e = call(KSPSetOperators(ksp, A, A), "KSPSetOperators")) return e;
+    if (frix_error e = call(KSPSolve(ksp, b, x), "KSPSolve (MUMPS)")) return e;
+    KSPConvergedReason reason;
+    KSPGetConvergedReason(ksp, &reason);
+    bool finite = reason >= 0;
+    if (finite) {
+        const PetscScalar *y = nullptr;
+        PetscInt n = 0;
+        if (frix_error e = call(VecGetLocalSize(x, &n), "VecGetLocalSize")) return e;
+        if (frix_error e = call(VecGetArrayRead(x, &y), "VecGetArrayRead")) return e;
+        for (PetscInt i = 0; i < n && finite; ++i) finite = std::isfinite(y[i]);
+        VecRestoreArrayRead(x, &y);
+    }
+    solved = or_all(comm, finite ? 0u : 1u) == 0;
+    if (!solved && reason < 0) return mumps_lu(comm, A, ksp, where, ordering);
+    return FRIX_OK;
+}
 
 frix_error use_petsc(frix_mpi_context &ctx) {
     if (ctx.holds_petsc) return FRIX_OK;

@@ -194,21 +194,51 @@ void plan_exchange(frix_mpi_problem &p, const std::vector<char> &has_ghost) {
     colour_ranks(p);
 }
 
+frix_error cut_by_part(const int *part, int64_t n, int ranks, std::vector<int64_t> &cut, std::vector<int64_t> &order,
+                       const char *where) {
+    const size_t P = (size_t)ranks;
+    cut.assign(P + 1, 0);
+    order.clear();
+    if (!part) {
+        const int64_t base = n / ranks, extra = n % ranks;
+        for (size_t k = 0; k < P; ++k) cut[k + 1] = cut[k] + base + ((int64_t)k < extra ? 1 : 0);
+        return FRIX_OK;
+    }
+    for (int64_t a = 0; a < n; ++a)
+        if (part[a] < 0 || part[a] >= ranks)
+            return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: part[%lld] = %d is not a rank (0 .. %d)", where, (long long)a,
+                        part[a], ranks - 1);
+    // A stable counting sort by part.
+    for (int64_t a = 0; a < n; ++a) ++cut[(size_t)part[a] + 1];
+    for (size_t k = 0; k < P; ++k) cut[k + 1] += cut[k];
+    std::vector<int64_t> next(cut.begin(), cut.end() - 1);
+    order.resize((size_t)n);
+    for (int64_t a = 0; a < n; ++a) order[(size_t)next[(size_t)part[a]]++] = a;
+    return FRIX_OK;
+}
+
+bool gather_blocks(MPI_Comm comm, int64_t first, int64_t count, std::vector<int64_t> &starts) {
+    int size = 1;
+    check(MPI_Comm_size(comm, &size), "MPI_Comm_size");
+    const int64_t mine[2] = {first, count};
+    std::vector<int64_t> all((size_t)size * 2);
+    check(MPI_Allgather(mine, 2, MPI_INT64_T, all.data(), 2, MPI_INT64_T, comm), "MPI_Allgather");
+    starts.assign((size_t)size + 1, 0);
+    bool contiguous = true;
+    for (int k = 0; k < size; ++k) {
+        contiguous = contiguous && all[2 * (size_t)k] == starts[(size_t)k] && all[2 * (size_t)k + 1] >= 0;
+        starts[(size_t)k + 1] = starts[(size_t)k] + std::max<int64_t>(all[2 * (size_t)k + 1], 0);
+    }
+    return contiguous;
+}
+
 std::unique_ptr<frix_mpi_problem> start_part(frix_mpi_context *ctx, int64_t first, int64_t owned, frix_error &e,
                                              const char *where) {
-    const int64_t mine[2] = {first, owned};
-    std::vector<int64_t> all((size_t)ctx->size * 2);
-    check(MPI_Allgather(mine, 2, MPI_INT64_T, all.data(), 2, MPI_INT64_T, ctx->comm), "MPI_Allgather");
     auto p = std::make_unique<frix_mpi_problem>();
     p->ctx = ctx;
     p->first = first;
     p->owned = owned;
-    p->starts.assign((size_t)ctx->size + 1, 0);
-    bool contiguous = true;
-    for (int k = 0; k < ctx->size; ++k) {
-        contiguous = contiguous && all[2 * (size_t)k] == p->starts[(size_t)k] && all[2 * (size_t)k + 1] >= 0;
-        p->starts[(size_t)k + 1] = p->starts[(size_t)k] + std::max<int64_t>(all[2 * (size_t)k + 1], 0);
-    }
+    const bool contiguous = gather_blocks(ctx->comm, first, owned, p->starts);
     p->total = p->starts[(size_t)ctx->size];
     p->ids.resize((size_t)std::max<int64_t>(owned, 0));
     for (int64_t i = 0; i < owned; ++i) p->ids[(size_t)i] = first + i;
@@ -329,22 +359,7 @@ FRIX_API frix_error frix_mpi_problem_scatter(frix_mpi_context *ctx, int root, co
                 q_all = problem->kind == FRIX_PROBLEM_GLOBAL ? reduced_q.data() : problem->q;
                 if (problem->kind == FRIX_PROBLEM_GLOBAL) scale_all = problem->w;
             }
-            if (!e && part) {
-                for (int64_t a = 0; a < nc && !e; ++a)
-                    if (part[a] < 0 || part[a] >= ctx->size)
-                        e = fail(FRIX_ERR_INVALID_ARGUMENT, "%s: part[%lld] = %d is not a rank (0 .. %d)", where,
-                                 (long long)a, part[a], ctx->size - 1);
-                if (!e) {  // a stable counting sort of the contacts by part
-                    for (int64_t a = 0; a < nc; ++a) ++cut[(size_t)part[a] + 1];
-                    for (size_t k = 0; k < P; ++k) cut[k + 1] += cut[k];
-                    std::vector<int64_t> next(cut.begin(), cut.end() - 1);
-                    order.resize((size_t)nc);
-                    for (int64_t a = 0; a < nc; ++a) order[(size_t)next[(size_t)part[a]]++] = a;
-                }
-            } else if (!e) {
-                const int64_t base = nc / (int64_t)P, extra = nc % (int64_t)P;
-                for (size_t k = 0; k < P; ++k) cut[k + 1] = cut[k] + base + ((int64_t)k < extra ? 1 : 0);
-            }
+            if (!e) e = frix::mpi::cut_by_part(part, nc, ctx->size, cut, order, where);
         }
         if (frix_error agreed = frix::mpi::agree(ctx->comm, e, where)) return agreed;
         check(MPI_Bcast(cut.data(), (int)P + 1, MPI_INT64_T, root, ctx->comm), "MPI_Bcast");
@@ -463,6 +478,8 @@ FRIX_API frix_error frix_mpi_problem_get_int(const frix_mpi_problem *p, frix_mpi
             case FRIX_MPI_COLOUR: *value = p->colour; return FRIX_OK;
             case FRIX_MPI_COLOURS: *value = p->colours; return FRIX_OK;
             case FRIX_MPI_MESSAGES_SENT: *value = messages; return FRIX_OK;
+            case FRIX_MPI_DOF_FIRST: *value = p->global ? p->global->dof_first : 0; return FRIX_OK;
+            case FRIX_MPI_DOFS: *value = p->global ? p->global->dofs : 0; return FRIX_OK;
         }
         return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_mpi_problem_get_int: unknown key %d", (int)key);
     });

@@ -25,6 +25,11 @@ frix_error solve(frix_mpi_problem &p, const frix_options &opts, double *r_out, d
                  const Stopwatch &clock) {
     const MPI_Comm comm = p.ctx->comm;
     const int64_t m = 3 * p.owned;
+    if (p.global) {  // (v, r) by the global Newton, from r's finite entries
+        for (int64_t i = 0; i < m; ++i)
+            if (!std::isfinite(r_out[i])) r_out[i] = 0.0;
+        return run_global_newton(p, opts, r_out, u_out, info, clock);
+    }
     std::vector<double> r((size_t)(3 * (p.owned + (int64_t)p.ghosts.size())), 0.0);
     std::copy(r_out, r_out + m, r.begin());
     for (int64_t i = 0; i < m; ++i)
@@ -89,14 +94,23 @@ frix_error check_options(const frix_options *given, const frix_mpi_problem &p, f
     const char *where = "frix_mpi_solve";
     if (!given) {
         frix_options *o = nullptr;
-        if (frix_error e = frix_options_create(FRIX_SOLVER_NSGS, &o)) return e;
+        if (frix_error e = frix_options_create(p.global ? FRIX_SOLVER_GLOBAL_NSN_AC : FRIX_SOLVER_NSGS, &o)) return e;
         out = *o;
         frix_options_free(o);
     } else {
-        if (given->solver_id != FRIX_SOLVER_NSGS && given->solver_id != FRIX_SOLVER_NSN_AC)
-            return fail(FRIX_ERR_UNSUPPORTED, "%s: solver %d is not distributed (nsgs, %d, and nsn-ac, %d, are)", where,
-                        given->solver_id, (int)FRIX_SOLVER_NSGS, (int)FRIX_SOLVER_NSN_AC);
-        if (given->solver_id == FRIX_SOLVER_NSN_AC && p.rigid)
+        const int id = given->solver_id;
+        if (id != FRIX_SOLVER_NSGS && id != FRIX_SOLVER_NSN_AC && id != FRIX_SOLVER_GLOBAL_NSN_AC)
+            return fail(FRIX_ERR_UNSUPPORTED,
+                        "%s: solver %d is not distributed (nsgs, %d, nsn-ac, %d, and gnsn-ac, %d, are)", where, id,
+                        (int)FRIX_SOLVER_NSGS, (int)FRIX_SOLVER_NSN_AC, (int)FRIX_SOLVER_GLOBAL_NSN_AC);
+        if (p.global && id != FRIX_SOLVER_GLOBAL_NSN_AC)
+            return fail(FRIX_ERR_UNSUPPORTED,
+                        "%s: a global problem with the host's M runs gnsn-ac (%d): W = H^T M^-1 H is not formed", where,
+                        (int)FRIX_SOLVER_GLOBAL_NSN_AC);
+        if (!p.global && id == FRIX_SOLVER_GLOBAL_NSN_AC)
+            return fail(FRIX_ERR_UNSUPPORTED, "%s: gnsn-ac runs on global problems with the host's M (frix_mpi_problem_global)",
+                        where);
+        if (id == FRIX_SOLVER_NSN_AC && p.rigid)
             return fail(FRIX_ERR_UNSUPPORTED, "%s: nsn-ac needs W's rows; a problem of rigid bodies runs nsgs", where);
         out = *given;
     }

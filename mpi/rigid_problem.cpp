@@ -264,9 +264,10 @@ FRIX_API frix_error frix_mpi_problem_rigid(frix_mpi_context *ctx, int64_t first,
 
 FRIX_API frix_error frix_mpi_problem_velocities(const frix_mpi_problem *p, double *v) {
     return frix::guard("frix_mpi_problem_velocities", [&]() -> frix_error {
-        if (!p || !p->rigid || !p->solved || (!p->v.empty() && !v))
+        if (!p || !(p->rigid || p->global) || !p->solved || (!p->v.empty() && !v))
             return frix::fail(FRIX_ERR_INVALID_ARGUMENT,
-                              "frix_mpi_problem_velocities: a problem of rigid bodies, solved, and v are required");
+                              "frix_mpi_problem_velocities: a global problem (rigid bodies or the host's M), solved, and "
+                              "v are required");
         std::copy(p->v.begin(), p->v.end(), v);
         return FRIX_OK;
     });

@@ -123,20 +123,12 @@ double dot(const double *x, const double *y, int64_t n) {
     return s;
 }
 
-constexpr double kM1 = 0.01, kArmijo = 1e-4;
-constexpr int kStallSteps = 25;
-constexpr double kDeltaStart = 1e-6, kDeltaFloor = 1e-8;
-// After a step that no line search accepts, rho is cut by kRhoCut, at most kMaxRhoCuts times.
-constexpr double kRhoCut = 0.1;
-constexpr int kMaxRhoCuts = 4;
-
 // How much the lumped blocks H_a^T diag(M)^-1 H_a underrate W's diagonal blocks: the median,
 // over up to kRhoSamples contacts spread over the problem, of trace(H_a^T M^-1 H_a) over
 // trace(H_a^T diag(M)^-1 H_a), with M^-1 from the driver's factorisation (3 solves a contact).
 // 1 for a diagonal M (rigid bodies with diagonal inertia); far above on a stiff deformable
 // body, where diag(M)^-1 ignores that the body moves as a whole (an elastic grid with
 // k = 1e12: about 4e5).
-constexpr int kRhoSamples = 8;
 double lumped_underrate(const frix_problem &p, const Csc &H,
                         const std::function<frix_error(const double *, double *)> &solve_mass,
                         const std::vector<double> &lumped_trace) {
@@ -149,9 +141,6 @@ double lumped_underrate(const frix_problem &p, const Csc &H,
     std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
     return ratios[ratios.size() / 2];
 }
-
-// Below this the lumped blocks are taken as they are (rigid bodies: the rho of before).
-constexpr double kUnderrateToCorrect = 2.0;
 
 frix_error solve(SolveContext &ctx) {
     const frix_problem &p = ctx.problem;

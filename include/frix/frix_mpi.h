@@ -108,9 +108,36 @@ FRIX_API frix_error frix_mpi_problem_rigid(frix_mpi_context *ctx, int64_t first,
                                            const double *mu, int64_t held, const int64_t *body_ids,
                                            const double *M, const double *f, frix_mpi_problem **out);
 /* After frix_mpi_solve of a problem of rigid bodies: v = M^-1 (H r + f) of the bodies this rank
- * gave, 6 values each in the order of body_ids (not collective). FRIX_ERR_INVALID_ARGUMENT for
- * a problem of another kind or before a solve. */
+ * gave, 6 values each in the order of body_ids; of a global problem with the host's M: v of
+ * this rank's dofs (not collective). FRIX_ERR_INVALID_ARGUMENT for a local problem or before
+ * a solve. */
 FRIX_API frix_error frix_mpi_problem_velocities(const frix_mpi_problem *p, double *v);
+
+/* This rank's part of a global problem M v = H r + f, u = H^T v + w, whose M is the host's own
+ * distributed matrix (deformable bodies, FEM: any sparse M with M v = H r + f solvable), on
+ * its rows: W = H^T M^-1 H is never formed and M never factorised alone. The rank owns dofs
+ * dof_first .. dof_first+dofs-1 and contacts first .. first+owned-1, each a contiguous block in
+ * rank order from 0, as for frix_mpi_problem_local (either count may be 0). It gives its
+ * rows of M in CSR: row i (dof dof_first+i) holds the values M_val[k] in the columns M_col[k]
+ * (global dofs, increasing), k = M_row_ptr[i] .. M_row_ptr[i+1]-1, and f (dofs values); its
+ * contacts' rows of H^T in CSR, 3 a contact (normal first, then the two tangents): row j holds
+ * Ht_val[k] in columns Ht_col[k] (global dofs, increasing), k = Ht_row_ptr[j] ..
+ * Ht_row_ptr[j+1]-1; w (3*owned values) and mu (owned). The data are copied. frix_mpi_solve
+ * runs the global Newton gnsn-ac (FRIX_SOLVER_GLOBAL_NSN_AC, 607) on it, with MUMPS on its
+ * Jacobian over the ranks' rows of (v, r); the error's scale is |w|, as in frix_solve, and
+ * converged means the equilibrium residual |M v - H r - f| (relative) meets the tolerance
+ * too. frix_mpi_problem_velocities gives the owned dofs' v. */
+FRIX_API frix_error frix_mpi_problem_global(frix_mpi_context *ctx, int64_t dof_first, int64_t dofs,
+                                            const int64_t *M_row_ptr, const int64_t *M_col, const double *M_val,
+                                            const double *f, int64_t first, int64_t owned, const int64_t *Ht_row_ptr,
+                                            const int64_t *Ht_col, const double *Ht_val, const double *w,
+                                            const double *mu, frix_mpi_problem **out);
+/* A whole global problem held by rank `root` (read there only), sent to the ranks as
+ * frix_mpi_problem_global's parts without reducing it: the dofs in blocks of equal size in
+ * their order (the first ranks one more), the contacts by `part` as frix_mpi_problem_scatter
+ * sends them (NULL: blocks). FRIX_ERR_INVALID_ARGUMENT for a local problem. */
+FRIX_API frix_error frix_mpi_problem_scatter_global(frix_mpi_context *ctx, int root, const frix_problem *problem,
+                                                    const int *part, frix_mpi_problem **out);
 
 /* A whole problem held by rank `root` (`problem` is read on root only; NULL elsewhere), sent
  * to the ranks: rank k receives the contacts a with part[a] == k (`part`: one rank per
@@ -142,7 +169,9 @@ typedef enum frix_mpi_key FRIX_ENUM_BASE {
     FRIX_MPI_NEIGHBOURS = 6,      /* ranks this rank exchanges reactions with */
     FRIX_MPI_COLOUR = 7,          /* this rank's colour in the sweep's order */
     FRIX_MPI_COLOURS = 8,         /* colours of all ranks */
-    FRIX_MPI_MESSAGES_SENT = 9    /* messages this rank sends in one sweep */
+    FRIX_MPI_MESSAGES_SENT = 9,   /* messages this rank sends in one sweep */
+    FRIX_MPI_DOF_FIRST = 10,      /* a global problem with the host's M: this rank's first dof */
+    FRIX_MPI_DOFS = 11            /* and its dofs (0 for other problems) */
 } frix_mpi_key;
 FRIX_API frix_error frix_mpi_problem_get_int(const frix_mpi_problem *p, frix_mpi_key key, int64_t *value);
 /* The index in the whole problem of each of this rank's contacts (owned values): first ..
@@ -151,8 +180,11 @@ FRIX_API frix_error frix_mpi_problem_ids(const frix_mpi_problem *p, int64_t *ids
 
 /* Solves (collective). r: this rank's 3*owned reactions, the warm start in (0 for a cold
  * start; non-finite entries are started from 0) and the result out; u: 3*owned, receives
- * W r + q. options: NULL for nsgs's defaults, else options of FRIX_SOLVER_NSGS or (for a
- * problem with W) FRIX_SOLVER_NSN_AC; the same on
+ * W r + q (H^T v + w for global problems). options: NULL for nsgs's defaults (gnsn-ac's for a
+ * global problem with the host's M), else options of FRIX_SOLVER_NSGS or (for a problem with
+ * W) FRIX_SOLVER_NSN_AC, or for a global problem with the host's M FRIX_SOLVER_GLOBAL_NSN_AC
+ * (options tolerance, max_iter, time_limit, rho_strategy, rho, line_search,
+ * line_search_max_iter, as for frix_solve); the same on
  * every rank (the tolerance, the limits), except the callback and log sink, which each rank
  * may set or not. A callback asking to stop, or a time limit reached, on any rank stops all.
  * Only rank 0 logs. info (may be NULL) receives what frix_solve reports: status,

@@ -1,6 +1,6 @@
 /* frix-mpi: solves an FCLIB (or .dat) problem on the ranks of an MPI job.
  *
- *   mpirun -np N frix-mpi solve FILE [--solver nsgs|nsn-ac] [--tol T] [--max-iter N] [--time-limit S]
+ *   mpirun -np N frix-mpi solve FILE [--solver nsgs|nsn-ac|gnsn-ac] [--tol T] [--max-iter N] [--time-limit S]
  *                                    [--parts scotch|blocks] [--set NAME=VALUE]...
  *                                    [--verbose] [--out FILE]
  *
@@ -22,7 +22,7 @@
 #include <string.h>
 
 static const char kUsage[] =
-    "usage: mpirun -np N frix-mpi solve FILE [--solver nsgs|nsn-ac] [--tol T] [--max-iter N] [--time-limit S]\n"
+    "usage: mpirun -np N frix-mpi solve FILE [--solver nsgs|nsn-ac|gnsn-ac] [--tol T] [--max-iter N] [--time-limit S]\n"
     "                                  [--parts scotch|blocks] [--set NAME=VALUE]...\n"
     "                                  [--verbose] [--out FILE]\n";
 
@@ -179,7 +179,9 @@ static int run(const args_t *a, int rank, int size) {
     frix_mpi_context *ctx = NULL;
     frix_mpi_problem *part = NULL;
     frix_info *info = NULL;
-    double *r = NULL, *u = NULL, *r_all = NULL, *u_all = NULL;
+    double *r = NULL, *u = NULL, *r_all = NULL, *u_all = NULL, *v = NULL, *v_all = NULL;
+    int *v_counts = NULL, *v_at = NULL, global_rows = 0;
+    int64_t dofs = 0, n = 0;
     int status = 2, read_ok = 1, *parts = NULL;
     double partition_time = 0.0;
     int64_t owned = 0, total = 0;
@@ -199,16 +201,29 @@ static int run(const args_t *a, int rank, int size) {
             MPI_Abort(MPI_COMM_WORLD, 2);
         }
     }
+    /* gnsn-ac takes a global problem's rows of M and H^T as they are; the others its W. */
+    global_rows = frix_options_solver(opts) == FRIX_SOLVER_GLOBAL_NSN_AC;
     partition_time = MPI_Wtime();
     if (frix_mpi_context_create(MPI_COMM_WORLD, &ctx) != FRIX_OK ||
         (!a->blocks && frix_mpi_partition(ctx, 0, problem, parts) != FRIX_OK) ||
         (partition_time = MPI_Wtime() - partition_time,
-         frix_mpi_problem_scatter(ctx, 0, problem, parts, &part) != FRIX_OK)) {
+         (global_rows ? frix_mpi_problem_scatter_global : frix_mpi_problem_scatter)(ctx, 0, problem, parts, &part) !=
+             FRIX_OK)) {
         if (rank == 0) fprintf(stderr, "frix-mpi: %s\n", frix_mpi_last_error_message());
         goto done;
     }
     frix_mpi_problem_get_int(part, FRIX_MPI_OWNED, &owned);
     frix_mpi_problem_get_int(part, FRIX_MPI_CONTACTS, &total);
+    frix_mpi_problem_get_int(part, FRIX_MPI_DOFS, &dofs);
+    if (rank == 0 && global_rows) n = frix_problem_dofs(problem);
+    v = (double *)calloc((size_t)(dofs + 1), sizeof(double));
+    v_counts = (int *)calloc((size_t)size, sizeof(int));
+    v_at = (int *)calloc((size_t)size, sizeof(int));
+    if (rank == 0) v_all = (double *)calloc((size_t)(n + 1), sizeof(double));
+    if (!v || !v_counts || !v_at || (rank == 0 && !v_all)) {
+        fprintf(stderr, "frix-mpi: out of memory (rank %d)\n", rank);
+        MPI_Abort(MPI_COMM_WORLD, 2);
+    }
     r = (double *)calloc((size_t)(3 * owned + 1), sizeof(double));
     u = (double *)calloc((size_t)(3 * owned + 1), sizeof(double));
     if (rank == 0) {
@@ -231,29 +246,43 @@ static int run(const args_t *a, int rank, int size) {
         if (rank == 0) fprintf(stderr, "frix-mpi: %s\n", frix_mpi_last_error_message());
         goto done;
     }
+    if (global_rows) { /* v: the ranks' dofs, in rank order */
+        int i, mine = (int)dofs;
+        frix_mpi_problem_velocities(part, v);
+        MPI_Gather(&mine, 1, MPI_INT, v_counts, 1, MPI_INT, 0, MPI_COMM_WORLD);
+        for (i = 1; i < size; ++i) v_at[i] = v_at[i - 1] + v_counts[i - 1];
+        MPI_Gatherv(v, mine, MPI_DOUBLE, v_all, v_counts, v_at, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    }
     status = frix_info_status(info) == FRIX_STATUS_CONVERGED ? 0 : 1;
     if (rank == 0) {
         double error = 0.0, tol = 0.0;
         frix_options_get_double(opts, FRIX_OPT_TOLERANCE, &tol);
         const int global = frix_problem_get_kind(problem) == FRIX_PROBLEM_GLOBAL;
-        if (!global && frix_problem_error(problem, r_all, NULL, &error) != FRIX_OK) {
+        if ((!global || global_rows) &&
+            frix_problem_error(problem, r_all, global_rows ? v_all : NULL, &error) != FRIX_OK) {
             fprintf(stderr, "frix-mpi: %s\n", frix_last_error_message());
             status = 2;
             goto done;
         }
         printf("%-16s %s\n", "file", a->file);
-        printf("%-16s %s, %lld contacts\n", "problem", global ? "global (reduced on rank 0)" : "local",
+        printf("%-16s %s, %lld contacts\n", "problem",
+               global_rows ? "global (M's and H^T's rows on the ranks)" : global ? "global (reduced on rank 0)" : "local",
                (long long)total);
-        printf("%-16s %d, %s (%lld boundary contacts, %lld ghosts, %lld colours, %lld messages a sweep)\n",
-               "ranks", size, a->blocks ? "blocks" : "Scotch", boundary, ghosts, colours, messages);
+        if (global_rows)
+            printf("%-16s %d, contacts by %s, dofs in blocks\n", "ranks", size, a->blocks ? "blocks" : "Scotch");
+        else
+            printf("%-16s %d, %s (%lld boundary contacts, %lld ghosts, %lld colours, %lld messages a sweep)\n",
+                   "ranks", size, a->blocks ? "blocks" : "Scotch", boundary, ghosts, colours, messages);
         if (!a->blocks) printf("%-16s %.3g s\n", "partition", partition_time);
         printf("%-16s %s (id %d)\n", "solver", frix_solver_name(frix_options_solver(opts)), frix_options_solver(opts));
         printf("%-16s %s\n", "status", frix_status_string(frix_info_status(info)));
         printf("%-16s %lld\n", "iterations", (long long)frix_info_iterations(info));
         printf("%-16s %.3e (relative, tolerance %.1e)\n", "error", frix_info_error(info), tol);
-        if (!global) printf("%-16s %.3e (the gathered r, measured by libfrix)\n", "check", error);
+        if (!global || global_rows)
+            printf("%-16s %.3e (the gathered %s, measured by libfrix)\n", "check", error, global_rows ? "r and v" : "r");
         printf("%-16s %.3g s\n", "time", frix_info_solve_time(info));
-        if (a->out && frix_fclib_write(a->out, problem, r_all, u_all, NULL, 0, NULL, NULL, NULL) != FRIX_OK) {
+        if (a->out &&
+            frix_fclib_write(a->out, problem, r_all, u_all, global_rows ? v_all : NULL, 0, NULL, NULL, NULL) != FRIX_OK) {
             fprintf(stderr, "frix-mpi: %s\n", frix_last_error_message());
             status = 2;
         }
@@ -264,6 +293,10 @@ done:
     free(u);
     free(r_all);
     free(u_all);
+    free(v);
+    free(v_all);
+    free(v_counts);
+    free(v_at);
     free(parts);
     frix_info_free(info);
     frix_mpi_problem_free(part);

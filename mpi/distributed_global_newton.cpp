@@ -1,0 +1,561 @@
+// The distributed global Newton (gnsn-ac, 607) on a global problem with the host's M: the
+// serial gnsn-ac's iteration (solvers/global_newton.cpp) over the ranks' rows of (v, r), each
+// rank holding its dofs' rows of M v - H r - f = 0 and its contacts' rows of
+// Phi(r, H^T v + w) = 0. The Jacobian [[M, -H], [B H^T, A]] is one PETSc matrix over the
+// ranks' rows (rank k's dofs, then its contacts' 3 rows each), solved by MUMPS's LU.
+#include <petscksp.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <vector>
+
+#include "mpi/distributed_forms.hpp"
+#include "mpi/petsc_support.hpp"
+#include "solvers/global_newton.hpp"
+#include "solvers/newton.hpp"
+#include "solvers/nsn_functions.hpp"
+#include "src/error_state.hpp"
+#include "src/log.hpp"
+#include "src/monitor.hpp"
+
+namespace frix {
+namespace mpi {
+namespace {
+
+using namespace gnewton;
+
+frix_error petsc(PetscErrorCode rc, const char *what) { return petsc_call(rc, FRIX_ERR_INTERNAL, "gnsn-ac", what); }
+
+constexpr unsigned kStopAsked = 1u, kOutOfTime = 2u;
+
+double dot_all(MPI_Comm comm, const double *x, const double *y, int64_t n) {
+    double s = 0.0;
+    for (int64_t i = 0; i < n; ++i) s += x[i] * y[i];
+    reduce_all(comm, &s, 1, "s");
+    return s;
+}
+
+// The PETSc side: M and H^T as the ranks gave them, the Jacobian of a fixed pattern, and the
+// products with this rank's parts of v (dofs) and r (3 a contact).
+class GlobalSystem {
+   public:
+    explicit GlobalSystem(const frix_mpi_problem &p) : p_(p), g_(*p.global), comm_(p.ctx->comm) {}
+    ~GlobalSystem() {
+        KSPDestroy(&ksp_);
+        KSPDestroy(&mass_ksp_);
+        for (Vec *v : {&dofs_in_, &dofs_out_, &rows_in_, &rows_out_, &rhs_, &step_}) VecDestroy(v);
+        for (Mat *m : {&M_, &Ht_, &J_}) MatDestroy(m);
+    }
+
+    frix_error setup() {
+        const int64_t n = g_.dofs, m = 3 * p_.owned;
+        std::vector<PetscInt> ptr, col;
+        if (frix_error e = csr(g_.m_ptr, g_.m_col, ptr, col)) return e;
+        if (frix_error e = petsc(MatCreateMPIAIJWithArrays(comm_, (PetscInt)n, (PetscInt)n, PETSC_DETERMINE,
+                                                           PETSC_DETERMINE, ptr.data(), col.data(), g_.m_val.data(), &M_),
+                                 "MatCreateMPIAIJWithArrays (M)"))
+            return e;
+        if (frix_error e = csr(g_.ht_ptr, g_.ht_col, ptr, col)) return e;
+        if (frix_error e = petsc(MatCreateMPIAIJWithArrays(comm_, (PetscInt)m, (PetscInt)n, PETSC_DETERMINE,
+                                                           (PetscInt)g_.dof_total, ptr.data(), col.data(),
+                                                           g_.ht_val.data(), &Ht_),
+                                 "MatCreateMPIAIJWithArrays (H^T)"))
+            return e;
+        if (frix_error e = petsc(MatCreateVecs(Ht_, &dofs_in_, &rows_out_), "MatCreateVecs")) return e;
+        if (frix_error e = petsc(MatCreateVecs(Ht_, &dofs_out_, &rows_in_), "MatCreateVecs")) return e;
+        // Each rank's rows of (v, r) start at offset_[k]: its dofs, then its contacts'.
+        const int ranks = p_.ctx->size, me = p_.ctx->rank;
+        offset_.assign((size_t)ranks + 1, 0);
+        for (int k = 0; k <= ranks; ++k) offset_[(size_t)k] = g_.dof_starts[(size_t)k] + 3 * p_.starts[(size_t)k];
+        contact_row_ = offset_[(size_t)me] + n;
+        if (offset_.back() > (int64_t)PETSC_MAX_INT)
+            return fail(FRIX_ERR_DIMENSION, "gnsn-ac: %lld unknowns exceed PETSc's indices (PetscInt)",
+                        (long long)offset_.back());
+        // Contact a's row i of the Jacobian: B_a H_a^T over the dofs of its rows of H^T (their
+        // union, with the 3 values of H^T there), then A_a + delta B_a over its own r.
+        cols_ptr_.assign(1, 0);
+        for (int64_t a = 0; a < p_.owned; ++a) {
+            std::vector<int64_t> dofs;
+            for (int64_t k = g_.ht_ptr[3 * (size_t)a]; k < g_.ht_ptr[3 * (size_t)a + 3]; ++k)
+                dofs.push_back(g_.ht_col[(size_t)k]);
+            std::sort(dofs.begin(), dofs.end());
+            dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end());
+            for (const int64_t j : dofs) {
+                cols_.push_back(row_of_dof(j));
+                double h[3] = {0.0, 0.0, 0.0};
+                for (int c = 0; c < 3; ++c) {
+                    const size_t k0 = (size_t)g_.ht_ptr[3 * (size_t)a + c], k1 = (size_t)g_.ht_ptr[3 * (size_t)a + c + 1];
+                    const auto it = std::lower_bound(g_.ht_col.begin() + k0, g_.ht_col.begin() + k1, j);
+                    if (it != g_.ht_col.begin() + k1 && *it == j) h[c] = g_.ht_val[(size_t)(it - g_.ht_col.begin())];
+                }
+                h_.insert(h_.end(), h, h + 3);
+            }
+            for (int c = 0; c < 3; ++c) cols_.push_back((PetscInt)(contact_row_ + 3 * a + c));
+            cols_ptr_.push_back((int64_t)cols_.size());
+        }
+        // The pattern, preallocated; then M and -H, which stay.
+        const PetscInt local = (PetscInt)(n + m);
+        Mat pattern = nullptr;
+        if (frix_error e = petsc(MatCreate(comm_, &pattern), "MatCreate")) return e;
+        frix_error e = petsc(MatSetType(pattern, MATPREALLOCATOR), "MatSetType");
+        if (!e) e = petsc(MatSetSizes(pattern, local, local, PETSC_DETERMINE, PETSC_DETERMINE), "MatSetSizes");
+        if (!e) e = petsc(MatSetUp(pattern), "MatSetUp");
+        if (!e) e = insert_fixed(pattern);
+        if (!e) e = insert_contacts(pattern, nullptr, nullptr, 0.0);
+        if (!e) e = petsc(MatAssemblyBegin(pattern, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+        if (!e) e = petsc(MatAssemblyEnd(pattern, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+        if (!e) e = petsc(MatCreate(comm_, &J_), "MatCreate");
+        if (!e) e = petsc(MatSetSizes(J_, local, local, PETSC_DETERMINE, PETSC_DETERMINE), "MatSetSizes");
+        if (!e) e = petsc(MatSetType(J_, MATAIJ), "MatSetType");
+        if (!e) e = petsc(MatPreallocatorPreallocate(pattern, PETSC_TRUE, J_), "MatPreallocatorPreallocate");
+        MatDestroy(&pattern);
+        if (e) return e;
+        if (frix_error e2 = insert_fixed(J_)) return e2;
+        if (frix_error e2 = petsc(MatCreateVecs(J_, &step_, &rhs_), "MatCreateVecs")) return e2;
+        // M's pattern is a mesh's on a deformable body: nested dissection, as the serial gnsn-ac.
+        return mumps_lu(comm_, J_, ksp_, "gnsn-ac", kMumpsMetis);
+    }
+
+    // out = M x, x and out on this rank's dofs.
+    frix_error mult_M(const double *x, double *out) { return apply(M_, false, dofs_in_, dofs_out_, x, out); }
+    // out = H x = (H^T)^T x: x on this rank's contacts, out on its dofs.
+    frix_error mult_H(const double *x, double *out) { return apply(Ht_, true, rows_in_, dofs_out_, x, out); }
+    // out = H^T x: x on this rank's dofs, out on its contacts.
+    frix_error mult_Ht(const double *x, double *out) { return apply(Ht_, false, dofs_in_, rows_out_, x, out); }
+
+    // The lumped Delassus blocks H_a^T diag(M)^-1 H_a of the owned contacts (9 values each,
+    // column-major), as the serial gnsn-ac takes them (1 / M_jj for M_jj > 0, else 0).
+    frix_error lumped_blocks(std::vector<double> &blocks) {
+        blocks.assign(9 * (size_t)p_.owned, 0.0);
+        Vec scale = nullptr;
+        Mat scaled = nullptr;
+        frix_error e = petsc(MatCreateVecs(M_, &scale, nullptr), "MatCreateVecs");
+        if (!e) e = petsc(MatGetDiagonal(M_, scale), "MatGetDiagonal");
+        if (!e) {
+            PetscScalar *d = nullptr;
+            e = petsc(VecGetArray(scale, &d), "VecGetArray");
+            for (int64_t j = 0; !e && j < g_.dofs; ++j) d[j] = d[j] > 0.0 ? std::sqrt(1.0 / d[j]) : 0.0;
+            if (!e) VecRestoreArray(scale, &d);
+        }
+        if (!e) e = petsc(MatDuplicate(Ht_, MAT_COPY_VALUES, &scaled), "MatDuplicate");
+        if (!e) e = petsc(MatDiagonalScale(scaled, nullptr, scale), "MatDiagonalScale");
+        const PetscInt row0 = (PetscInt)(3 * p_.first);
+        for (int64_t a = 0; !e && a < p_.owned; ++a) {
+            std::vector<std::vector<std::pair<PetscInt, double>>> rows(3);
+            for (int c = 0; c < 3 && !e; ++c) {
+                const PetscInt row = row0 + (PetscInt)(3 * a + c);
+                PetscInt count = 0;
+                const PetscInt *cols = nullptr;
+                const PetscScalar *vals = nullptr;
+                e = petsc(MatGetRow(scaled, row, &count, &cols, &vals), "MatGetRow");
+                if (e) break;
+                for (PetscInt k = 0; k < count; ++k) rows[(size_t)c].emplace_back(cols[k], vals[k]);
+                MatRestoreRow(scaled, row, &count, &cols, &vals);
+            }
+            for (int c1 = 0; c1 < 3 && !e; ++c1)
+                for (int c2 = 0; c2 < 3; ++c2) {
+                    const auto &x = rows[(size_t)c1], &y = rows[(size_t)c2];
+                    double sum = 0.0;
+                    for (size_t i = 0, k = 0; i < x.size() && k < y.size();) {
+                        if (x[i].first < y[k].first) ++i;
+                        else if (y[k].first < x[i].first) ++k;
+                        else sum += x[i++].second * y[k++].second;
+                    }
+                    blocks[9 * (size_t)a + (size_t)c1 + 3 * (size_t)c2] = sum;
+                }
+        }
+        MatDestroy(&scaled);
+        VecDestroy(&scale);
+        return e;
+    }
+
+    // trace(H_a^T M^-1 H_a) for contact a of the whole problem (every rank calls it with the
+    // same a), by MUMPS's LU of M; NaN when M does not factorise.
+    frix_error exact_trace(int64_t a, double &trace) {
+        trace = 0.0;
+        if (!mass_ksp_)
+            if (frix_error e = mumps_lu(comm_, M_, mass_ksp_, "gnsn-ac", kMumpsMetis)) return e;
+        std::vector<double> unit(3 * (size_t)p_.owned), b((size_t)g_.dofs), x((size_t)g_.dofs);
+        for (int c = 0; c < 3; ++c) {
+            std::fill(unit.begin(), unit.end(), 0.0);
+            if (a >= p_.first && a < p_.first + p_.owned) unit[3 * (size_t)(a - p_.first) + (size_t)c] = 1.0;
+            if (frix_error e = mult_H(unit.data(), b.data())) return e;
+            bool solved = false;
+            if (frix_error e = solve_with(M_, mass_ksp_, b.data(), x.data(), dofs_in_, dofs_out_, solved)) return e;
+            if (!solved) {
+                trace = NAN;
+                return FRIX_OK;
+            }
+            trace += dot_all(comm_, b.data(), x.data(), g_.dofs);
+        }
+        return FRIX_OK;
+    }
+
+    // The contacts' rows of J at A, B (9 values a contact each, column-major) and delta.
+    frix_error assemble(const std::vector<double> &A, const std::vector<double> &B, double delta) {
+        if (frix_error e = insert_contacts(J_, A.data(), B.data(), delta)) return e;
+        if (frix_error e = petsc(MatAssemblyBegin(J_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin")) return e;
+        return petsc(MatAssemblyEnd(J_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+    }
+
+    // x = J^-1 b over this rank's rows (dofs, then contacts); solved as mumps_solve's.
+    frix_error solve(const double *b, double *x, bool &solved) {
+        return solve_with(J_, ksp_, b, x, rhs_, step_, solved);
+    }
+
+   private:
+    frix_error csr(const std::vector<int64_t> &ptr, const std::vector<int64_t> &col, std::vector<PetscInt> &ptr_out,
+                   std::vector<PetscInt> &col_out) {
+        for (const int64_t x : {ptr.back(), g_.dof_total})
+            if (x > (int64_t)PETSC_MAX_INT)
+                return fail(FRIX_ERR_DIMENSION, "gnsn-ac: %lld entries exceed PETSc's indices (PetscInt)", (long long)x);
+        ptr_out.assign(ptr.begin(), ptr.end());
+        col_out.assign(col.begin(), col.end());
+        return FRIX_OK;
+    }
+    PetscInt row_of_dof(int64_t j) const {
+        const int k = owner_of(g_.dof_starts, j);
+        return (PetscInt)(offset_[(size_t)k] + j - g_.dof_starts[(size_t)k]);
+    }
+    // M's rows and -H (in the rows of the dofs of H^T's columns, any rank's).
+    frix_error insert_fixed(Mat target) {
+        for (int64_t i = 0; i < g_.dofs; ++i) {
+            const PetscInt row = row_of_dof(g_.dof_first + i);
+            for (int64_t k = g_.m_ptr[(size_t)i]; k < g_.m_ptr[(size_t)i + 1]; ++k) {
+                const PetscInt col = row_of_dof(g_.m_col[(size_t)k]);
+                if (frix_error e = petsc(MatSetValue(target, row, col, g_.m_val[(size_t)k], INSERT_VALUES), "MatSetValue"))
+                    return e;
+            }
+        }
+        for (int64_t k = 0; k < 3 * p_.owned; ++k) {
+            const PetscInt col = (PetscInt)(contact_row_ + k);
+            for (int64_t e = g_.ht_ptr[(size_t)k]; e < g_.ht_ptr[(size_t)k + 1]; ++e)
+                if (frix_error err = petsc(MatSetValue(target, row_of_dof(g_.ht_col[(size_t)e]), col,
+                                                       -g_.ht_val[(size_t)e], INSERT_VALUES),
+                                           "MatSetValue"))
+                    return err;
+        }
+        return FRIX_OK;
+    }
+    // The contacts' rows (zeros without A and B: the pattern).
+    frix_error insert_contacts(Mat target, const double *A, const double *B, double delta) {
+        std::vector<double> vals;
+        for (int64_t a = 0; a < p_.owned; ++a) {
+            const int64_t c0 = cols_ptr_[(size_t)a], c1 = cols_ptr_[(size_t)a + 1], dofs = c1 - c0 - 3;
+            const double *Aa = A ? A + 9 * a : nullptr, *Ba = B ? B + 9 * a : nullptr;
+            for (int i = 0; i < 3; ++i) {
+                vals.assign((size_t)(c1 - c0), 0.0);
+                if (Ba) {
+                    const double *h = &h_[3 * (size_t)(c0 - 3 * a)];
+                    for (int64_t d = 0; d < dofs; ++d)
+                        vals[(size_t)d] = Ba[i] * h[3 * d] + Ba[i + 3] * h[3 * d + 1] + Ba[i + 6] * h[3 * d + 2];
+                    for (int c = 0; c < 3; ++c) vals[(size_t)(dofs + c)] = Aa[i + 3 * c] + delta * Ba[i + 3 * c];
+                }
+                const PetscInt row = (PetscInt)(contact_row_ + 3 * a + i);
+                if (frix_error e = petsc(MatSetValues(target, 1, &row, (PetscInt)(c1 - c0), &cols_[(size_t)c0],
+                                                      vals.data(), INSERT_VALUES),
+                                         "MatSetValues"))
+                    return e;
+            }
+        }
+        return FRIX_OK;
+    }
+    // (A rank with no rows passes no array: PETSc is given a place that it never reads.)
+    frix_error apply(Mat A, bool transposed, Vec in, Vec out, const double *x, double *y) {
+        double none[1];
+        if (frix_error e = petsc(VecPlaceArray(in, x ? x : none), "VecPlaceArray")) return e;
+        frix_error e = petsc(VecPlaceArray(out, y ? y : none), "VecPlaceArray");
+        if (!e) {
+            e = petsc(transposed ? MatMultTranspose(A, in, out) : MatMult(A, in, out), "MatMult");
+            VecResetArray(out);
+        }
+        VecResetArray(in);
+        return e;
+    }
+    frix_error solve_with(Mat A, KSP &ksp, const double *b, double *x, Vec in, Vec out, bool &solved) {
+        double none[1];
+        if (frix_error e = petsc(VecPlaceArray(in, b ? b : none), "VecPlaceArray")) return e;
+        frix_error e = petsc(VecPlaceArray(out, x ? x : none), "VecPlaceArray");
+        if (!e) {
+            e = mumps_solve(comm_, A, ksp, in, out, solved, "gnsn-ac", kMumpsMetis);
+            VecResetArray(out);
+        }
+        VecResetArray(in);
+        return e;
+    }
+
+    const frix_mpi_problem &p_;
+    const frix_mpi_global_rows &g_;
+    MPI_Comm comm_;
+    Mat M_ = nullptr, Ht_ = nullptr, J_ = nullptr;
+    Vec dofs_in_ = nullptr, dofs_out_ = nullptr, rows_in_ = nullptr, rows_out_ = nullptr, rhs_ = nullptr,
+        step_ = nullptr;
+    KSP ksp_ = nullptr, mass_ksp_ = nullptr;
+    std::vector<int64_t> offset_;
+    int64_t contact_row_ = 0;
+    // Contact a's columns cols_[cols_ptr_[a] ..]: its dofs, then its own 3; h_: H^T's 3 values
+    // at each of the dofs (3 per column, in the same order as cols_ less the own 3 a contact).
+    std::vector<int64_t> cols_ptr_;
+    std::vector<PetscInt> cols_;
+    std::vector<double> h_;
+};
+
+// The newton's iterate (v, r) with what the steps and measures read.
+struct State {
+    std::vector<double> v, r, u, res, mv, hr, phi, A, B;
+};
+
+}  // namespace
+
+frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, double *r_io, double *u_out,
+                             frix_info &info, const Stopwatch &clock) {
+    const MPI_Comm comm = p.ctx->comm;
+    const frix_mpi_global_rows &g = *p.global;
+    const newton::Settings s = newton::settings_from(o, FRIX_SOLVER_NSN_AC);
+    const Monitor monitor(o, clock);
+    const double tol = monitor.tolerance();
+    const int64_t max_iter = monitor.max_iterations(), n = g.dofs, nc = p.owned, m = 3 * nc;
+    if (frix_error e = agree(comm, use_petsc(*p.ctx), "frix_mpi_solve")) return e;
+    GlobalSystem sys(p);
+    if (frix_error e = agree(comm, sys.setup(), "frix_mpi_solve")) return e;
+
+    // rho from the lumped blocks, corrected where they underrate W's (as the serial gnsn-ac).
+    std::vector<double> lumped;
+    if (frix_error e = agree(comm, sys.lumped_blocks(lumped), "frix_mpi_solve")) return e;
+    double underrate = 1.0;
+    if (s.rho_strategy != FRIX_RHO_CONSTANT && p.total > 0) {
+        const int count = (int)std::min<int64_t>(kRhoSamples, p.total);
+        std::vector<double> ratios;
+        for (int k = 0; k < count; ++k) {
+            const int64_t a = (int64_t)k * p.total / count;
+            double exact = 0.0, lumped_trace = 0.0;
+            if (frix_error e = agree(comm, sys.exact_trace(a, exact), "frix_mpi_solve")) return e;
+            if (a >= p.first && a < p.first + nc) {
+                const double *Wd = &lumped[9 * (size_t)(a - p.first)];
+                lumped_trace = Wd[0] + Wd[4] + Wd[8];
+            }
+            reduce_all(comm, &lumped_trace, 1, "s");
+            if (lumped_trace > 0.0 && std::isfinite(exact)) ratios.push_back(exact / lumped_trace);
+        }
+        if (!ratios.empty()) {
+            std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+            underrate = ratios[ratios.size() / 2];
+        }
+    }
+    const double correction = underrate > kUnderrateToCorrect ? underrate : 1.0;
+    if (s.verbosity >= 1 && underrate != 1.0)
+        log_line(&o, "global newton (distributed): the lumped blocks underrate W's by %.3g%s", underrate,
+                 correction != 1.0 ? ": rho corrected" : "");
+    std::vector<double> rho_n((size_t)nc), rho_t((size_t)nc);
+    double wscale = 0.0;
+    for (int64_t a = 0; a < nc; ++a) {
+        double Wd[9], fro = 0.0;
+        for (int k = 0; k < 9; ++k) Wd[k] = correction * lumped[9 * (size_t)a + (size_t)k], fro += Wd[k] * Wd[k];
+        nsn::contact_rho(s.rho_strategy, s.rho, Wd, &rho_n[(size_t)a], &rho_t[(size_t)a]);
+        wscale += std::sqrt(fro);
+    }
+    reduce_all(comm, &wscale, 1, "s");
+    wscale = p.total > 0 && wscale > 0.0 ? wscale / (double)p.total : 1.0;
+
+    State x;
+    x.v.assign((size_t)n, 0.0);  // v from 0, as the serial gnsn-ac
+    x.r.assign(r_io, r_io + m);
+    x.u.resize((size_t)m);
+    x.res.resize((size_t)n);
+    x.mv.resize((size_t)n);
+    x.hr.resize((size_t)n);
+    x.phi.resize((size_t)m);
+    x.A.resize(9 * (size_t)nc);
+    x.B.resize(9 * (size_t)nc);
+    const double norm_w = norm2_all(comm, p.w.data(), m), norm_f = norm2_all(comm, g.f.data(), n);
+    frix_error failed = FRIX_OK;
+    // res = M v - H r - f, u = H^T v + w, Phi (A and B when asked); the merit over the ranks.
+    auto evaluate = [&](State &st, bool jacobian) -> double {
+        if (!failed) failed = sys.mult_M(st.v.data(), st.mv.data());
+        if (!failed) failed = sys.mult_H(st.r.data(), st.hr.data());
+        if (!failed) failed = sys.mult_Ht(st.v.data(), st.u.data());
+        for (int64_t j = 0; j < n; ++j) st.res[(size_t)j] = st.mv[(size_t)j] - st.hr[(size_t)j] - g.f[(size_t)j];
+        for (int64_t i = 0; i < m; ++i) st.u[(size_t)i] += p.w[(size_t)i];
+        for (int64_t a = 0; a < nc; ++a)
+            nsn::contact_function(nsn::kAlartCurnier, &st.r[3 * (size_t)a], &st.u[3 * (size_t)a], p.mu[(size_t)a],
+                                  rho_n[(size_t)a], rho_t[(size_t)a], &st.phi[3 * (size_t)a],
+                                  jacobian ? &st.A[9 * (size_t)a] : nullptr, jacobian ? &st.B[9 * (size_t)a] : nullptr);
+        double both[2] = {0.0, 0.0};
+        for (const double d : st.res) both[0] += d * d;
+        for (const double d : st.phi) both[1] += d * d;
+        reduce_all(comm, both, 2, "ss");
+        return 0.5 * (both[0] + both[1]);
+    };
+    double equilibrium = 0.0;
+    Measures measures;
+    // The error of (r, u) over all contacts, and the equilibrium residual relative to
+    // max(|f|, |M v|, |H r|) (frix_solve's).
+    auto error_of = [&](const State &st) {
+        measures = measures_over_ranks(comm, st.r.data(), st.u.data(), p.mu.data(), nc, norm_w);
+        const double res = norm2_all(comm, st.res.data(), n);
+        const double scale = std::max({norm_f, norm2_all(comm, st.mv.data(), n), norm2_all(comm, st.hr.data(), n)});
+        equilibrium = scale > DBL_EPSILON ? res / scale : res;
+        return std::max(selected_error(measures, s.measure), equilibrium);
+    };
+    auto stopped = [&]() { return agree(comm, failed, "frix_mpi_solve"); };
+
+    double psi = evaluate(x, true);
+    if (frix_error e = stopped()) return e;
+    newton::MeritHistory history(psi);
+    double err = error_of(x);
+    State best = x;
+    double best_err = err, ref_err = err, delta = 0.0;
+    int since_progress = 0, failures = 0, rho_cuts = 0;
+    int64_t accepted_steps = 0, it = 0, ls_steps = 0;
+    const int64_t N = n + m;
+    std::vector<double> rhs((size_t)N), dx((size_t)N), Mdv((size_t)n), Hdr((size_t)n), Htdv((size_t)m);
+    State trial = x;
+    info.status = FRIX_STATUS_MAX_ITER;
+    while (true) {
+        if (err <= tol) {
+            info.status = FRIX_STATUS_CONVERGED;
+            break;
+        }
+        if (!std::isfinite(err)) {
+            info.status = FRIX_STATUS_DIVERGED;
+            break;
+        }
+        if (it >= max_iter) break;
+        if (or_all(comm, monitor.out_of_time() ? kOutOfTime : 0u) & kOutOfTime) {
+            info.status = FRIX_STATUS_TIME_LIMIT;
+            break;
+        }
+        for (int64_t j = 0; j < n; ++j) rhs[(size_t)j] = -x.res[(size_t)j];
+        for (int64_t i = 0; i < m; ++i) rhs[(size_t)(n + i)] = -x.phi[(size_t)i];
+        bool factored = false;
+        for (int attempt = 0; attempt < 12 && !factored; ++attempt) {
+            if (frix_error e = agree(comm, sys.assemble(x.A, x.B, delta * wscale), "frix_mpi_solve")) return e;
+            if (frix_error e = agree(comm, sys.solve(rhs.data(), dx.data(), factored), "frix_mpi_solve")) return e;
+            if (!factored) delta = delta == 0.0 ? kDeltaStart : delta * 100.0;
+        }
+        if (!factored) {
+            info.status = FRIX_STATUS_NUMERICAL_FAILURE;
+            break;
+        }
+        ++it;
+        const double *dv = dx.data(), *dr = dx.data() + n;
+        failed = sys.mult_M(dv, Mdv.data());
+        if (!failed) failed = sys.mult_H(dr, Hdr.data());
+        if (!failed) failed = sys.mult_Ht(dv, Htdv.data());
+        if (frix_error e = stopped()) return e;
+        // Slope of the merit: res . (M dv - H dr) + Phi . (A dr + B H^T dv).
+        double slope = 0.0;
+        for (int64_t j = 0; j < n; ++j) slope += x.res[(size_t)j] * (Mdv[(size_t)j] - Hdr[(size_t)j]);
+        for (int64_t a = 0; a < nc; ++a) {
+            const double *Aa = &x.A[9 * (size_t)a], *Ba = &x.B[9 * (size_t)a], *d = dr + 3 * a, *du = &Htdv[3 * (size_t)a];
+            for (int i = 0; i < 3; ++i)
+                slope += x.phi[3 * (size_t)a + (size_t)i] * (Aa[i] * d[0] + Aa[i + 3] * d[1] + Aa[i + 6] * d[2] +
+                                                             Ba[i] * du[0] + Ba[i + 3] * du[1] + Ba[i + 6] * du[2]);
+        }
+        reduce_all(comm, &slope, 1, "s");
+        double t = 1.0;
+        bool accepted = s.line_search == FRIX_LINE_SEARCH_NONE;
+        if (!accepted && slope < 0.0) {
+            const double c = s.line_search == FRIX_LINE_SEARCH_GOLDSTEIN_PRICE ? kM1 : kArmijo;
+            const double ref = s.line_search == FRIX_LINE_SEARCH_NONMONOTONE ? history.reference(psi) : psi;
+            double best_t = 0.0, best_psi = psi;
+            for (int k = 0; k < s.ls_max_iter; ++k) {
+                // The equilibrium rows are linear: res + t (M dv - H dr).
+                double both[2] = {0.0, 0.0};
+                for (int64_t j = 0; j < n; ++j) {
+                    const double d = x.res[(size_t)j] + t * (Mdv[(size_t)j] - Hdr[(size_t)j]);
+                    both[0] += d * d;
+                }
+                for (int64_t i = 0; i < m; ++i) {
+                    trial.r[(size_t)i] = x.r[(size_t)i] + t * dr[i];
+                    trial.u[(size_t)i] = x.u[(size_t)i] + t * Htdv[(size_t)i];
+                }
+                for (int64_t a = 0; a < nc; ++a)
+                    nsn::contact_function(nsn::kAlartCurnier, &trial.r[3 * (size_t)a], &trial.u[3 * (size_t)a],
+                                          p.mu[(size_t)a], rho_n[(size_t)a], rho_t[(size_t)a],
+                                          &trial.phi[3 * (size_t)a], nullptr, nullptr);
+                for (const double d : trial.phi) both[1] += d * d;
+                reduce_all(comm, both, 2, "ss");
+                ++ls_steps;
+                const double pt = 0.5 * (both[0] + both[1]);
+                if (pt < best_psi) best_psi = pt, best_t = t;
+                if (pt <= ref + c * t * slope) {
+                    accepted = true;
+                    break;
+                }
+                t *= 0.5;
+            }
+            if (!accepted && best_t > 0.0) {
+                t = best_t;
+                accepted = true;
+            }
+        }
+        if (accepted) {
+            for (int64_t j = 0; j < n; ++j) x.v[(size_t)j] += t * dv[j];
+            for (int64_t i = 0; i < m; ++i) x.r[(size_t)i] += t * dr[i];
+            psi = evaluate(x, true);
+            if (frix_error e = stopped()) return e;
+            history.push(psi);
+            err = error_of(x);
+            failures = 0;
+            ++accepted_steps;
+            if (t == 1.0) delta = delta < kDeltaFloor ? 0.0 : delta * 0.1;
+        } else {
+            ++failures;
+            delta = std::max(delta * 10.0, kDeltaStart);
+            // Until a step is accepted, rho may still be far too large: try smaller.
+            if (rho_cuts < kMaxRhoCuts && accepted_steps == 0) {
+                ++rho_cuts;
+                for (int64_t a = 0; a < nc; ++a) rho_n[(size_t)a] *= kRhoCut, rho_t[(size_t)a] *= kRhoCut;
+                psi = evaluate(x, true);
+                if (frix_error e = stopped()) return e;
+                history = newton::MeritHistory(psi);
+                failures = 0;
+            }
+        }
+        if (s.verbosity >= 2)
+            log_line(&o, "global newton (distributed): step %lld t %.3g error %.3e equilibrium %.3e delta %.1e",
+                     (long long)it, t, err, equilibrium, delta);
+        if (or_all(comm, monitor.report(it, err) ? kStopAsked : 0u) & kStopAsked) {
+            info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
+            break;
+        }
+        if (err < best_err) {
+            best_err = err;
+            best.v = x.v;
+            best.r = x.r;
+        }
+        if (best_err < 0.5 * ref_err) {
+            ref_err = best_err;
+            since_progress = 0;
+        } else if (++since_progress >= kStallSteps || failures >= 3) {
+            info.status = FRIX_STATUS_STAGNATED;
+            break;
+        }
+    }
+    if (!(err <= best_err)) {  // also when the last iterate is not finite
+        x.v = best.v;
+        x.r = best.r;
+        evaluate(x, false);
+        if (frix_error e = stopped()) return e;
+        err = error_of(x);
+    }
+    std::copy(x.r.begin(), x.r.end(), r_io);
+    std::copy(x.u.begin(), x.u.end(), u_out);
+    p.v = x.v;
+    p.solved = true;
+    info.iterations = it;
+    info.newton_iterations = it;
+    info.line_search_steps = ls_steps;
+    record_measures(info, measures, s.measure);
+    info.equilibrium = equilibrium;
+    if (info.status == FRIX_STATUS_CONVERGED && !(err <= tol)) info.status = FRIX_STATUS_STAGNATED;
+    if (s.verbosity >= 1)
+        log_line(&o, "global newton (distributed): %s after %lld steps", frix_status_string(info.status),
+                 (long long)it);
+    return FRIX_OK;
+}
+
+}  // namespace mpi
+}  // namespace frix
