@@ -405,8 +405,9 @@ frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, double 
     newton::MeritHistory history(psi);
     double err = error_of(x);
     State best = x;
-    double best_err = err, ref_err = err, delta = 0.0;
-    int since_progress = 0, failures = 0, rho_cuts = 0;
+    Progress progress(err);
+    double delta = 0.0;
+    int failures = 0, rho_cuts = 0;
     int64_t accepted_steps = 0, it = 0, ls_steps = 0;
     const int64_t N = n + m;
     std::vector<double> rhs((size_t)N), dx((size_t)N), Mdv((size_t)n), Hdr((size_t)n), Htdv((size_t)m);
@@ -447,29 +448,23 @@ frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, double 
         // Slope of the merit: res . (M dv - H dr) + Phi . (A dr + B H^T dv).
         double slope = 0.0;
         for (int64_t j = 0; j < n; ++j) slope += x.res[(size_t)j] * (Mdv[(size_t)j] - Hdr[(size_t)j]);
-        for (int64_t a = 0; a < nc; ++a) {
-            const double *Aa = &x.A[9 * (size_t)a], *Ba = &x.B[9 * (size_t)a], *d = dr + 3 * a, *du = &Htdv[3 * (size_t)a];
-            for (int i = 0; i < 3; ++i)
-                slope += x.phi[3 * (size_t)a + (size_t)i] * (Aa[i] * d[0] + Aa[i + 3] * d[1] + Aa[i + 6] * d[2] +
-                                                             Ba[i] * du[0] + Ba[i + 3] * du[1] + Ba[i + 6] * du[2]);
-        }
+        slope = add_contacts_slope(slope, x.phi.data(), x.A.data(), x.B.data(), dr, Htdv.data(), nc);
         reduce_all(comm, &slope, 1, "s");
         double t = 1.0;
         bool accepted = s.line_search == FRIX_LINE_SEARCH_NONE;
         if (!accepted && slope < 0.0) {
             const double c = s.line_search == FRIX_LINE_SEARCH_GOLDSTEIN_PRICE ? kM1 : kArmijo;
             const double ref = s.line_search == FRIX_LINE_SEARCH_NONMONOTONE ? history.reference(psi) : psi;
-            double best_t = 0.0, best_psi = psi;
-            for (int k = 0; k < s.ls_max_iter; ++k) {
-                // The equilibrium rows are linear: res + t (M dv - H dr).
+            // The merit over the ranks at (v, r) + step (dv, dr); the equilibrium rows are linear.
+            const auto merit = [&](double step) {
                 double both[2] = {0.0, 0.0};
                 for (int64_t j = 0; j < n; ++j) {
-                    const double d = x.res[(size_t)j] + t * (Mdv[(size_t)j] - Hdr[(size_t)j]);
+                    const double d = x.res[(size_t)j] + step * (Mdv[(size_t)j] - Hdr[(size_t)j]);
                     both[0] += d * d;
                 }
                 for (int64_t i = 0; i < m; ++i) {
-                    trial.r[(size_t)i] = x.r[(size_t)i] + t * dr[i];
-                    trial.u[(size_t)i] = x.u[(size_t)i] + t * Htdv[(size_t)i];
+                    trial.r[(size_t)i] = x.r[(size_t)i] + step * dr[i];
+                    trial.u[(size_t)i] = x.u[(size_t)i] + step * Htdv[(size_t)i];
                 }
                 for (int64_t a = 0; a < nc; ++a)
                     nsn::contact_function(nsn::kAlartCurnier, &trial.r[3 * (size_t)a], &trial.u[3 * (size_t)a],
@@ -477,19 +472,10 @@ frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, double 
                                           &trial.phi[3 * (size_t)a], nullptr, nullptr);
                 for (const double d : trial.phi) both[1] += d * d;
                 reduce_all(comm, both, 2, "ss");
-                ++ls_steps;
-                const double pt = 0.5 * (both[0] + both[1]);
-                if (pt < best_psi) best_psi = pt, best_t = t;
-                if (pt <= ref + c * t * slope) {
-                    accepted = true;
-                    break;
-                }
-                t *= 0.5;
-            }
-            if (!accepted && best_t > 0.0) {
-                t = best_t;
-                accepted = true;
-            }
+                return 0.5 * (both[0] + both[1]);
+            };
+            t = backtrack(merit, psi, ref, c, slope, s.ls_max_iter, ls_steps);
+            accepted = t > 0.0;
         }
         if (accepted) {
             for (int64_t j = 0; j < n; ++j) x.v[(size_t)j] += t * dv[j];
@@ -521,20 +507,16 @@ frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, double 
             info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
             break;
         }
-        if (err < best_err) {
-            best_err = err;
+        if (progress.improved(err)) {
             best.v = x.v;
             best.r = x.r;
         }
-        if (best_err < 0.5 * ref_err) {
-            ref_err = best_err;
-            since_progress = 0;
-        } else if (++since_progress >= kStallSteps || failures >= 3) {
+        if (progress.stalled(failures)) {
             info.status = FRIX_STATUS_STAGNATED;
             break;
         }
     }
-    if (!(err <= best_err)) {  // also when the last iterate is not finite
+    if (!(err <= progress.best())) {  // also when the last iterate is not finite
         x.v = best.v;
         x.r = best.r;
         evaluate(x, false);

@@ -7,6 +7,7 @@
 
 #include "mpi/distributed.hpp"
 #include "src/error_state.hpp"
+#include "src/problem.hpp"
 #include "src/monitor.hpp"
 #include "src/reduction.hpp"
 
@@ -51,13 +52,8 @@ frix_error check_part(int64_t first, int64_t owned, const int64_t *row_ptr, cons
     for (int64_t k = 0; k < 9 * blocks; ++k)
         if (!std::isfinite(block_val[k]))
             return fail(FRIX_ERR_NOT_FINITE, "%s: block_val[%lld] is not finite", where, (long long)k);
-    for (int64_t k = 0; k < 3 * owned; ++k)
-        if (!std::isfinite(q[k])) return fail(FRIX_ERR_NOT_FINITE, "%s: q[%lld] is not finite", where, (long long)k);
-    for (int64_t a = 0; a < owned; ++a)
-        if (!std::isfinite(mu[a]) || mu[a] < 0.0)
-            return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: mu[%lld] = %g must be finite and >= 0", where, (long long)a,
-                        mu[a]);
-    return FRIX_OK;
+    if (frix_error e = check_vector(where, "q", q, 3 * owned)) return e;
+    return check_mu(where, mu, owned);
 }
 
 

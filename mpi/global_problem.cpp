@@ -8,6 +8,7 @@
 
 #include "mpi/distributed.hpp"
 #include "src/error_state.hpp"
+#include "src/problem.hpp"
 #include "src/reduction.hpp"
 
 namespace frix {
@@ -42,14 +43,6 @@ frix_error check_csr(const char *where, const char *name, int64_t rows, const in
     return FRIX_OK;
 }
 
-frix_error check_vector(const char *where, const char *name, const double *x, int64_t n) {
-    if (n > 0 && !x) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: %s is required", where, name);
-    for (int64_t i = 0; i < n; ++i)
-        if (!std::isfinite(x[i]))
-            return fail(FRIX_ERR_NOT_FINITE, "%s: %s[%lld] is not finite", where, name, (long long)i);
-    return FRIX_OK;
-}
-
 // The rows as one rank gives them (frix_mpi_problem_global's arguments).
 struct GlobalPart {
     int64_t dof_first, dofs;
@@ -71,11 +64,7 @@ frix_error make_global(frix_mpi_context *ctx, const GlobalPart &in, const int64_
         e = fail(FRIX_ERR_INVALID_ARGUMENT, "%s: out is NULL", where);
     if (!e) e = check_vector(where, "f", in.f, in.dofs);
     if (!e) e = check_vector(where, "w", in.w, 3 * in.owned);
-    if (!e && in.owned > 0 && !in.mu) e = fail(FRIX_ERR_INVALID_ARGUMENT, "%s: mu is required", where);
-    for (int64_t a = 0; !e && a < in.owned; ++a)
-        if (!std::isfinite(in.mu[a]) || in.mu[a] < 0.0)
-            e = fail(FRIX_ERR_INVALID_ARGUMENT, "%s: mu[%lld] = %g must be finite and >= 0", where, (long long)a,
-                     in.mu[a]);
+    if (!e) e = check_mu(where, in.mu, in.owned);
     std::unique_ptr<frix_mpi_problem> p = start_part(ctx, in.first, in.owned, e, where);
     auto g = std::make_unique<frix_mpi_global_rows>();
     const bool contiguous = gather_blocks(ctx->comm, in.dof_first, in.dofs, g->dof_starts);

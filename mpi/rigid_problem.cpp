@@ -9,6 +9,7 @@
 
 #include "mpi/distributed.hpp"
 #include "src/error_state.hpp"
+#include "src/problem.hpp"
 #include "src/linalg/linalg.hpp"
 
 namespace frix {
@@ -34,10 +35,7 @@ frix_error check_rigid(int64_t first, int64_t owned, const int64_t *bodies, cons
     if (!all_finite(G, 36 * owned) || !all_finite(w, 3 * owned) || !all_finite(M, 36 * held) ||
         !all_finite(f, 6 * held))
         return fail(FRIX_ERR_NOT_FINITE, "%s: G, w, M and f must be finite", where);
-    for (int64_t a = 0; a < owned; ++a)
-        if (!std::isfinite(mu[a]) || mu[a] < 0.0)
-            return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: mu[%lld] = %g must be finite and >= 0", where, (long long)a,
-                        mu[a]);
+    if (frix_error e = check_mu(where, mu, owned)) return e;
     std::vector<int64_t> ids(body_ids, body_ids + held);
     std::sort(ids.begin(), ids.end());
     for (size_t b = 0; b < ids.size(); ++b)

@@ -242,8 +242,9 @@ frix_error solve(SolveContext &ctx) {
     double psi = evaluate(r, v, u, res.data(), phi.data(), true);
     newton::MeritHistory history(psi);
     double err = error_of();
-    double best_err = err, ref_err = err, delta = 0.0;
-    int since_progress = 0, failures = 0, rho_cuts = 0;
+    Progress progress(err);
+    double delta = 0.0;
+    int failures = 0, rho_cuts = 0;
     int64_t accepted_steps = 0;
     int64_t it = 0, ls_steps = 0;
     info.status = FRIX_STATUS_MAX_ITER;
@@ -288,12 +289,7 @@ frix_error solve(SolveContext &ctx) {
         // Slope of the merit: res . (M dv - H dr) + Phi . (A dr + B H^T dv).
         double slope = 0.0;
         for (int64_t j = 0; j < n; ++j) slope += res[j] * (Mdv[j] - Hdr[j]);
-        for (int64_t a = 0; a < nc; ++a) {
-            const double *Aa = &A[9 * a], *Ba = &B[9 * a], *d = dr + 3 * a, *du = &Htdv[3 * a];
-            for (int i = 0; i < 3; ++i)
-                slope += phi[3 * a + i] * (Aa[i] * d[0] + Aa[i + 3] * d[1] + Aa[i + 6] * d[2] +
-                                           Ba[i] * du[0] + Ba[i + 3] * du[1] + Ba[i + 6] * du[2]);
-        }
+        slope = add_contacts_slope(slope, phi.data(), A.data(), B.data(), dr, Htdv.data(), nc);
         double t = 1.0;
         bool accepted = s.line_search == FRIX_LINE_SEARCH_NONE;
         if (!accepted && slope < 0.0) {
@@ -301,29 +297,19 @@ frix_error solve(SolveContext &ctx) {
             // Non-monotone: against the largest of the last merits, so that a full step may
             // climb for a while over the kinks of the merit.
             const double ref = s.line_search == FRIX_LINE_SEARCH_NONMONOTONE ? history.reference(psi) : psi;
-            double best_t = 0.0, best_psi = psi;
-            for (int k = 0; k < s.ls_max_iter; ++k) {
-                for (int64_t j = 0; j < n; ++j) rest[j] = res[j] + t * (Mdv[j] - Hdr[j]);
+            const auto merit = [&](double step) {
+                for (int64_t j = 0; j < n; ++j) rest[j] = res[j] + step * (Mdv[j] - Hdr[j]);
                 for (int64_t i = 0; i < m; ++i) {
-                    rt[i] = r[i] + t * dr[i];
-                    ut[i] = u[i] + t * Htdv[i];
+                    rt[i] = r[i] + step * dr[i];
+                    ut[i] = u[i] + step * Htdv[i];
                 }
                 for (int64_t a = 0; a < nc; ++a)
-                    nsn::contact_function(nsn::kAlartCurnier, &rt[3 * a], &ut[3 * a], p.mu[a],
-                                          rho_n[a], rho_t[a], &phit[3 * a], nullptr, nullptr);
-                ++ls_steps;
-                const double pt = 0.5 * (dot(rest.data(), rest.data(), n) + dot(phit.data(), phit.data(), m));
-                if (pt < best_psi) best_psi = pt, best_t = t;
-                if (pt <= ref + c * t * slope) {
-                    accepted = true;
-                    break;
-                }
-                t *= 0.5;
-            }
-            if (!accepted && best_t > 0.0) {
-                t = best_t;
-                accepted = true;
-            }
+                    nsn::contact_function(nsn::kAlartCurnier, &rt[3 * a], &ut[3 * a], p.mu[a], rho_n[a], rho_t[a],
+                                          &phit[3 * a], nullptr, nullptr);
+                return 0.5 * (dot(rest.data(), rest.data(), n) + dot(phit.data(), phit.data(), m));
+            };
+            t = backtrack(merit, psi, ref, c, slope, s.ls_max_iter, ls_steps);
+            accepted = t > 0.0;
         }
         if (accepted) {
             for (int64_t j = 0; j < n; ++j) v[j] += t * dv[j];
@@ -357,20 +343,16 @@ frix_error solve(SolveContext &ctx) {
             info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
             break;
         }
-        if (err < best_err) {
-            best_err = err;
+        if (progress.improved(err)) {
             std::copy(r, r + m, best_r.begin());
             std::copy(v, v + n, best_v.begin());
         }
-        if (best_err < 0.5 * ref_err) {
-            ref_err = best_err;
-            since_progress = 0;
-        } else if (++since_progress >= kStallSteps || failures >= 3) {
+        if (progress.stalled(failures)) {
             info.status = FRIX_STATUS_STAGNATED;
             break;
         }
     }
-    if (!(err <= best_err)) {  // also when the last iterate is not finite
+    if (!(err <= progress.best())) {  // also when the last iterate is not finite
         std::copy(best_r.begin(), best_r.end(), r);
         std::copy(best_v.begin(), best_v.end(), v);
     }

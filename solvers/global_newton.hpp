@@ -4,6 +4,8 @@
 // method with semismooth Newton on v and M + rho H J H^T factorised.
 #pragma once
 
+#include <cstdint>
+
 #include "src/solver_api.hpp"
 
 namespace frix {
@@ -26,6 +28,61 @@ constexpr int kMaxRhoCuts = 4;
 // which the lumped blocks are taken as they are (rigid bodies: the rho of before).
 constexpr int kRhoSamples = 8;
 constexpr double kUnderrateToCorrect = 2.0;
+
+// The best error of a run and whether the run has stalled: kStallSteps steps without halving
+// the best error, or 3 steps in a row that no line search accepted.
+class Progress {
+   public:
+    explicit Progress(double error) : best_(error), reference_(error) {}
+    // Whether error is the best yet (the caller keeps its iterate).
+    bool improved(double error) {
+        if (!(error < best_)) return false;
+        best_ = error;
+        return true;
+    }
+    bool stalled(int failures) {
+        if (best_ < 0.5 * reference_) {
+            reference_ = best_;
+            since_ = 0;
+            return false;
+        }
+        return ++since_ >= kStallSteps || failures >= 3;
+    }
+    double best() const { return best_; }
+
+   private:
+    double best_, reference_;
+    int since_ = 0;
+};
+
+// slope plus the contacts' part of the merit's slope along (dr, H^T dv): Phi . (A dr + B H^T dv),
+// A and B 9 values a contact (column-major).
+inline double add_contacts_slope(double slope, const double *phi, const double *A, const double *B, const double *dr,
+                                 const double *Htdv, int64_t nc) {
+    for (int64_t a = 0; a < nc; ++a) {
+        const double *Aa = A + 9 * a, *Ba = B + 9 * a, *d = dr + 3 * a, *du = Htdv + 3 * a;
+        for (int i = 0; i < 3; ++i)
+            slope += phi[3 * a + i] * (Aa[i] * d[0] + Aa[i + 3] * d[1] + Aa[i + 6] * d[2] + Ba[i] * du[0] +
+                                       Ba[i + 3] * du[1] + Ba[i + 6] * du[2]);
+    }
+    return slope;
+}
+
+// Backtracking from t = 1, halved after each of at most max_trials trials: the first t with
+// merit(t) <= ref + c t slope, else the t of the lowest merit below psi, else 0 (no step).
+// trials counts the merits taken.
+template <class Merit>
+double backtrack(const Merit &merit, double psi, double ref, double c, double slope, int max_trials,
+                 int64_t &trials) {
+    double t = 1.0, best_t = 0.0, best_psi = psi;
+    for (int k = 0; k < max_trials; ++k, t *= 0.5) {
+        const double pt = merit(t);
+        ++trials;
+        if (pt < best_psi) best_psi = pt, best_t = t;
+        if (pt <= ref + c * t * slope) return t;
+    }
+    return best_t;
+}
 }  // namespace gnewton
 extern const SolverEntry kGlobalAdmmEntry;
 extern const SolverEntry kGlobalAlNewtonEntry;

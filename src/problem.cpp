@@ -6,9 +6,7 @@
 
 #include "error_state.hpp"
 
-namespace {
-
-using frix::fail;
+namespace frix {
 
 frix_error check_vector(const char *where, const char *name, const double *x, int64_t n) {
     if (n > 0 && !x) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: %s is NULL", where, name);
@@ -26,6 +24,14 @@ frix_error check_mu(const char *where, const double *mu, int64_t nc) {
                         (long long)a, mu[a]);
     return FRIX_OK;
 }
+
+}  // namespace frix
+
+namespace {
+
+using frix::check_mu;
+using frix::check_vector;
+using frix::fail;
 
 frix_error check_nc(const char *where, int64_t nc) {
     if (nc < 0 || nc > (int64_t(1) << 40))

@@ -50,6 +50,10 @@ frix_error make_owned_global_problem(std::unique_ptr<frix_matrix> M,
                                      std::vector<double> w, std::vector<double> mu,
                                      frix_problem **out);
 
+// x (n values, named `name` in the message) given and finite; mu (nc values) finite and >= 0.
+frix_error check_vector(const char *where, const char *name, const double *x, int64_t n);
+frix_error check_mu(const char *where, const double *mu, int64_t nc);
+
 // Re-checks the vectors a caller may have changed in place since creation (q/f/w, mu).
 frix_error check_problem_vectors(const frix_problem &p);
 
