@@ -50,13 +50,24 @@ class GlobalSystem {
 
     frix_error setup() {
         const int64_t n = g_.dofs, m = 3 * p_.owned;
-        std::vector<PetscInt> ptr, col;
-        if (frix_error e = csr(g_.m_ptr, g_.m_col, ptr, col)) return e;
+        // Each rank's rows of (v, r) start at offset_[k]: its dofs, then its contacts'.
+        const int ranks = p_.ctx->size, me = p_.ctx->rank;
+        offset_.assign((size_t)ranks + 1, 0);
+        for (int k = 0; k <= ranks; ++k) offset_[(size_t)k] = g_.dof_starts[(size_t)k] + 3 * p_.starts[(size_t)k];
+        contact_row_ = offset_[(size_t)me] + n;
+        // PETSc's indices (PetscInt) must hold the unknowns and each rank's entries: agreed
+        // before any collective PETSc call.
+        const int64_t largest = std::max({offset_.back(), g_.m_ptr.back(), g_.ht_ptr.back()});
+        if (or_all(comm_, largest > (int64_t)PETSC_MAX_INT ? 1u : 0u))
+            return fail(FRIX_ERR_DIMENSION, "gnsn-ac: the problem exceeds PETSc's indices (PetscInt, at most %lld)",
+                        (long long)PETSC_MAX_INT);
+        std::vector<PetscInt> ptr(g_.m_ptr.begin(), g_.m_ptr.end()), col(g_.m_col.begin(), g_.m_col.end());
         if (frix_error e = petsc(MatCreateMPIAIJWithArrays(comm_, (PetscInt)n, (PetscInt)n, PETSC_DETERMINE,
                                                            PETSC_DETERMINE, ptr.data(), col.data(), g_.m_val.data(), &M_),
                                  "MatCreateMPIAIJWithArrays (M)"))
             return e;
-        if (frix_error e = csr(g_.ht_ptr, g_.ht_col, ptr, col)) return e;
+        ptr.assign(g_.ht_ptr.begin(), g_.ht_ptr.end());
+        col.assign(g_.ht_col.begin(), g_.ht_col.end());
         if (frix_error e = petsc(MatCreateMPIAIJWithArrays(comm_, (PetscInt)m, (PetscInt)n, PETSC_DETERMINE,
                                                            (PetscInt)g_.dof_total, ptr.data(), col.data(),
                                                            g_.ht_val.data(), &Ht_),
@@ -64,14 +75,6 @@ class GlobalSystem {
             return e;
         if (frix_error e = petsc(MatCreateVecs(Ht_, &dofs_in_, &rows_out_), "MatCreateVecs")) return e;
         if (frix_error e = petsc(MatCreateVecs(Ht_, &dofs_out_, &rows_in_), "MatCreateVecs")) return e;
-        // Each rank's rows of (v, r) start at offset_[k]: its dofs, then its contacts'.
-        const int ranks = p_.ctx->size, me = p_.ctx->rank;
-        offset_.assign((size_t)ranks + 1, 0);
-        for (int k = 0; k <= ranks; ++k) offset_[(size_t)k] = g_.dof_starts[(size_t)k] + 3 * p_.starts[(size_t)k];
-        contact_row_ = offset_[(size_t)me] + n;
-        if (offset_.back() > (int64_t)PETSC_MAX_INT)
-            return fail(FRIX_ERR_DIMENSION, "gnsn-ac: %lld unknowns exceed PETSc's indices (PetscInt)",
-                        (long long)offset_.back());
         // Contact a's row i of the Jacobian: B_a H_a^T over the dofs of its rows of H^T (their
         // union, with the 3 values of H^T there), then A_a + delta B_a over its own r.
         cols_ptr_.assign(1, 0);
@@ -205,15 +208,6 @@ class GlobalSystem {
     }
 
    private:
-    frix_error csr(const std::vector<int64_t> &ptr, const std::vector<int64_t> &col, std::vector<PetscInt> &ptr_out,
-                   std::vector<PetscInt> &col_out) {
-        for (const int64_t x : {ptr.back(), g_.dof_total})
-            if (x > (int64_t)PETSC_MAX_INT)
-                return fail(FRIX_ERR_DIMENSION, "gnsn-ac: %lld entries exceed PETSc's indices (PetscInt)", (long long)x);
-        ptr_out.assign(ptr.begin(), ptr.end());
-        col_out.assign(col.begin(), col.end());
-        return FRIX_OK;
-    }
     PetscInt row_of_dof(int64_t j) const {
         const int k = owner_of(g_.dof_starts, j);
         return (PetscInt)(offset_[(size_t)k] + j - g_.dof_starts[(size_t)k]);

@@ -26,7 +26,8 @@
  * the library never initialises or finalises it. Calls on one context come from one thread.
  *
  * The solve. frix_mpi_solve runs nsgs (FRIX_SOLVER_NSGS, 500), or for local problems the
- * semismooth Newton nsn-ac (FRIX_SOLVER_NSN_AC, 504; see below). nsgs is a nonsmooth Gauss-Seidel
+ * semismooth Newton nsn-ac (FRIX_SOLVER_NSN_AC, 504; see below), or for global problems with
+ * the host's M (frix_mpi_problem_global) the global Newton gnsn-ac (607). nsgs is a nonsmooth Gauss-Seidel
  * whose sweep is a Gauss-Seidel over all contacts in an order fixed by the partition. The
  * processes are coloured so that no two neighbours (ranks whose contacts are coupled through
  * W) share a colour; in a sweep a rank sweeps its interior contacts (coupled to its own
