@@ -93,7 +93,7 @@ void reduce_all(MPI_Comm comm, double *x, int count, const char *ops);
 // The bitwise or of `flags` over the ranks.
 unsigned or_all(MPI_Comm comm, unsigned flags);
 
-// PETSc for ctx (distributed_newton.cpp): started if the host has not started it (on a
+// PETSc for ctx (petsc_support.cpp): started if the host has not started it (on a
 // duplicate of ctx's communicator), and finalised when the last context that started it is
 // freed.
 frix_error use_petsc(frix_mpi_context &ctx);

@@ -1,7 +1,8 @@
 // frix_mpi_solve: the driver of a distributed solve (as solve_local_problem is for one
 // process: the all-separating case, the warm start, the solver, the final measures and the
 // status check against them), and the solvers it runs: nsgs's iteration (run_sweeps) on a
-// distributed form, or the distributed Newton (distributed_newton.cpp).
+// distributed form, or the distributed Newtons (distributed_newton.cpp, and
+// distributed_global_newton.cpp for global problems with the host's M).
 #include <algorithm>
 #include <cmath>
 #include <memory>
