@@ -400,34 +400,26 @@ frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, double 
     double err = error_of(x);
     State best = x;
     Progress progress(err);
-    double delta = 0.0;
-    int failures = 0, rho_cuts = 0;
-    int64_t accepted_steps = 0, it = 0, ls_steps = 0;
+    int64_t it = 0, ls_steps = 0;
     const int64_t N = n + m;
     std::vector<double> rhs((size_t)N), dx((size_t)N), Mdv((size_t)n), Hdr((size_t)n), Htdv((size_t)m);
     State trial = x;
     info.status = FRIX_STATUS_MAX_ITER;
     while (true) {
-        if (err <= tol) {
-            info.status = FRIX_STATUS_CONVERGED;
-            break;
-        }
-        if (!std::isfinite(err)) {
-            info.status = FRIX_STATUS_DIVERGED;
-            break;
-        }
-        if (it >= max_iter) break;
-        if (or_all(comm, monitor.out_of_time() ? kOutOfTime : 0u) & kOutOfTime) {
-            info.status = FRIX_STATUS_TIME_LIMIT;
+        const frix_status stop = status_before_step(err, tol, it, max_iter, [&] {
+            return (or_all(comm, monitor.out_of_time() ? kOutOfTime : 0u) & kOutOfTime) != 0;
+        });
+        if (stop != FRIX_STATUS_NOT_RUN) {
+            info.status = stop;
             break;
         }
         for (int64_t j = 0; j < n; ++j) rhs[(size_t)j] = -x.res[(size_t)j];
         for (int64_t i = 0; i < m; ++i) rhs[(size_t)(n + i)] = -x.phi[(size_t)i];
         bool factored = false;
         for (int attempt = 0; attempt < 12 && !factored; ++attempt) {
-            if (frix_error e = agree(comm, sys.assemble(x.A, x.B, delta * wscale), "frix_mpi_solve")) return e;
+            if (frix_error e = agree(comm, sys.assemble(x.A, x.B, progress.delta() * wscale), "frix_mpi_solve")) return e;
             if (frix_error e = agree(comm, sys.solve(rhs.data(), dx.data(), factored), "frix_mpi_solve")) return e;
-            if (!factored) delta = delta == 0.0 ? kDeltaStart : delta * 100.0;
+            if (!factored) progress.factorisation_failed();
         }
         if (!factored) {
             info.status = FRIX_STATUS_NUMERICAL_FAILURE;
@@ -478,25 +470,16 @@ frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, double 
             if (frix_error e = stopped()) return e;
             history.push(psi);
             err = error_of(x);
-            failures = 0;
-            ++accepted_steps;
-            if (t == 1.0) delta = delta < kDeltaFloor ? 0.0 : delta * 0.1;
-        } else {
-            ++failures;
-            delta = std::max(delta * 10.0, kDeltaStart);
-            // Until a step is accepted, rho may still be far too large: try smaller.
-            if (rho_cuts < kMaxRhoCuts && accepted_steps == 0) {
-                ++rho_cuts;
-                for (int64_t a = 0; a < nc; ++a) rho_n[(size_t)a] *= kRhoCut, rho_t[(size_t)a] *= kRhoCut;
-                psi = evaluate(x, true);
-                if (frix_error e = stopped()) return e;
-                history = newton::MeritHistory(psi);
-                failures = 0;
-            }
+            progress.step_taken(t);
+        } else if (progress.step_rejected()) {  // until a step is accepted, rho may be far too large
+            for (int64_t a = 0; a < nc; ++a) rho_n[(size_t)a] *= kRhoCut, rho_t[(size_t)a] *= kRhoCut;
+            psi = evaluate(x, true);
+            if (frix_error e = stopped()) return e;
+            history = newton::MeritHistory(psi);
         }
         if (s.verbosity >= 2)
             log_line(&o, "global newton (distributed): step %lld t %.3g error %.3e equilibrium %.3e delta %.1e",
-                     (long long)it, t, err, equilibrium, delta);
+                     (long long)it, t, err, equilibrium, progress.delta());
         if (or_all(comm, monitor.report(it, err) ? kStopAsked : 0u) & kStopAsked) {
             info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
             break;
@@ -505,7 +488,7 @@ frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, double 
             best.v = x.v;
             best.r = x.r;
         }
-        if (progress.stalled(failures)) {
+        if (progress.stalled()) {
             info.status = FRIX_STATUS_STAGNATED;
             break;
         }

@@ -243,34 +243,23 @@ frix_error solve(SolveContext &ctx) {
     newton::MeritHistory history(psi);
     double err = error_of();
     Progress progress(err);
-    double delta = 0.0;
-    int failures = 0, rho_cuts = 0;
-    int64_t accepted_steps = 0;
     int64_t it = 0, ls_steps = 0;
     info.status = FRIX_STATUS_MAX_ITER;
     while (true) {
-        if (err <= tol) {
-            info.status = FRIX_STATUS_CONVERGED;
-            break;
-        }
-        if (!std::isfinite(err)) {
-            info.status = FRIX_STATUS_DIVERGED;
-            break;
-        }
-        if (it >= max_iter) break;
-        if (monitor.out_of_time()) {
-            info.status = FRIX_STATUS_TIME_LIMIT;
+        const frix_status stop = status_before_step(err, tol, it, max_iter, [&] { return monitor.out_of_time(); });
+        if (stop != FRIX_STATUS_NOT_RUN) {
+            info.status = stop;
             break;
         }
         bool factored = false;
         for (int attempt = 0; attempt < 12 && !factored && !lu.refused(); ++attempt) {
-            jac.assemble(A, B, delta * wscale);
+            jac.assemble(A, B, progress.delta() * wscale);
             if (lu.stats().symbolic == 0)
                 if (frix_error e = lu.analyze(jac.J.view())) return e;
             const frix_error e = lu.factor(jac.J.view());
             if (e == FRIX_ERR_OUT_OF_MEMORY) return e;
             factored = e == FRIX_OK && lu.rcond() > 1e-15;
-            if (!factored) delta = delta == 0.0 ? kDeltaStart : delta * 100.0;
+            if (!factored) progress.factorisation_failed();
         }
         if (!factored) {
             info.status = lu.refused() ? lu.refused() : FRIX_STATUS_NUMERICAL_FAILURE;
@@ -317,28 +306,20 @@ frix_error solve(SolveContext &ctx) {
             psi = evaluate(r, v, u, res.data(), phi.data(), true);
             history.push(psi);
             err = error_of();
-            failures = 0;
-            ++accepted_steps;
-            if (t == 1.0) delta = delta < kDeltaFloor ? 0.0 : delta * 0.1;
-        } else {
-            ++failures;
-            delta = std::max(delta * 10.0, kDeltaStart);
+            progress.step_taken(t);
+        } else if (progress.step_rejected()) {
             // rho can still be far too large (a calibration missed by the 8 samples, or a
             // constant rho: 1e5 on the elastic grid with k = 1e8, where 1e3 converges), and
             // no step lowers the merit then. Until a step is accepted, try smaller (later, a
             // failed step is a kink, not a scale: on the rigid spheres-in-a-box cuts end at
             // 1.5e-3 instead of 4e-7).
-            if (rho_cuts < kMaxRhoCuts && accepted_steps == 0) {
-                ++rho_cuts;
-                for (int64_t a = 0; a < nc; ++a) rho_n[a] *= kRhoCut, rho_t[a] *= kRhoCut;
-                psi = evaluate(r, v, u, res.data(), phi.data(), true);
-                history = newton::MeritHistory(psi);  // (merits of another rho)
-                failures = 0;
-            }
+            for (int64_t a = 0; a < nc; ++a) rho_n[a] *= kRhoCut, rho_t[a] *= kRhoCut;
+            psi = evaluate(r, v, u, res.data(), phi.data(), true);
+            history = newton::MeritHistory(psi);  // (merits of another rho)
         }
         if (s.verbosity >= 2)
             log_line(&o, "global newton: step %lld t %.3g error %.3e equilibrium %.3e delta %.1e",
-                     (long long)it, t, err, equilibrium, delta);
+                     (long long)it, t, err, equilibrium, progress.delta());
         if (monitor.report(it, err)) {
             info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
             break;
@@ -347,7 +328,7 @@ frix_error solve(SolveContext &ctx) {
             std::copy(r, r + m, best_r.begin());
             std::copy(v, v + n, best_v.begin());
         }
-        if (progress.stalled(failures)) {
+        if (progress.stalled()) {
             info.status = FRIX_STATUS_STAGNATED;
             break;
         }

@@ -4,6 +4,8 @@
 // method with semismooth Newton on v and M + rho H J H^T factorised.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 #include "src/solver_api.hpp"
@@ -29,30 +31,64 @@ constexpr int kMaxRhoCuts = 4;
 constexpr int kRhoSamples = 8;
 constexpr double kUnderrateToCorrect = 2.0;
 
-// The best error of a run and whether the run has stalled: kStallSteps steps without halving
-// the best error, or 3 steps in a row that no line search accepted.
+// The status that ends a run before its next step (err: the current error, it: steps taken),
+// or FRIX_STATUS_NOT_RUN to take it. out_of_time() is asked last, when nothing else ends
+// the run (it may be collective: every rank reaches it alike).
+template <class OutOfTime>
+frix_status status_before_step(double err, double tol, int64_t it, int64_t max_iter, const OutOfTime &out_of_time) {
+    if (err <= tol) return FRIX_STATUS_CONVERGED;
+    if (!std::isfinite(err)) return FRIX_STATUS_DIVERGED;
+    if (it >= max_iter) return FRIX_STATUS_MAX_ITER;
+    if (out_of_time()) return FRIX_STATUS_TIME_LIMIT;
+    return FRIX_STATUS_NOT_RUN;
+}
+
+// What the steps decide for the next ones: the Jacobian's regularisation delta (times the
+// blocks' scale), the cuts of rho, the best error and whether the run has stalled.
 class Progress {
    public:
     explicit Progress(double error) : best_(error), reference_(error) {}
+    double delta() const { return delta_; }
+    // The Jacobian did not factorise: delta from kDeltaStart, a hundredfold each time.
+    void factorisation_failed() { delta_ = delta_ == 0.0 ? kDeltaStart : delta_ * 100.0; }
+    // A step of length t was taken: a full one lowers delta tenfold (to 0 below kDeltaFloor).
+    void step_taken(double t) {
+        failures_ = 0;
+        ++taken_;
+        if (t == 1.0) delta_ = delta_ < kDeltaFloor ? 0.0 : delta_ * 0.1;
+    }
+    // No line search accepted the step: delta rises tenfold. True when rho is to be cut by
+    // kRhoCut: while no step has been taken, at most kMaxRhoCuts times (later a failed step
+    // is a kink, not a scale).
+    bool step_rejected() {
+        ++failures_;
+        delta_ = std::max(delta_ * 10.0, kDeltaStart);
+        if (rho_cuts_ >= kMaxRhoCuts || taken_ > 0) return false;
+        ++rho_cuts_;
+        failures_ = 0;
+        return true;
+    }
     // Whether error is the best yet (the caller keeps its iterate).
     bool improved(double error) {
         if (!(error < best_)) return false;
         best_ = error;
         return true;
     }
-    bool stalled(int failures) {
+    // kStallSteps steps without halving the best error, or 3 rejected steps in a row.
+    bool stalled() {
         if (best_ < 0.5 * reference_) {
             reference_ = best_;
             since_ = 0;
             return false;
         }
-        return ++since_ >= kStallSteps || failures >= 3;
+        return ++since_ >= kStallSteps || failures_ >= 3;
     }
     double best() const { return best_; }
 
    private:
-    double best_, reference_;
-    int since_ = 0;
+    double delta_ = 0.0, best_, reference_;
+    int since_ = 0, failures_ = 0, rho_cuts_ = 0;
+    int64_t taken_ = 0;
 };
 
 // slope plus the contacts' part of the merit's slope along (dr, H^T dv): Phi . (A dr + B H^T dv),
