@@ -23,8 +23,8 @@
 #include <numeric>
 #include <vector>
 
+#include "solvers/lorentz.hpp"
 #include "solvers/newton.hpp"
-#include "solvers/nsn_functions.hpp"
 #include "src/error_state.hpp"
 #include "src/linalg/linalg.hpp"
 #include "src/log.hpp"
@@ -37,37 +37,19 @@ namespace ipm {
 
 namespace {
 
+using lorentz::jnorm2;
+using lorentz::jordan;
+using lorentz::jordan_solve;
+using lorentz::max_step_lorentz;
+using lorentz::mul3;
+using lorentz::SystemPattern;
+
 // Fraction of the largest step to the boundary taken (the usual 0.99).
 constexpr double kToBoundary = 0.99;
 // The IPM hands over to Newton after this many iterations without halving its best error,
 // or when its step falls below kMinStep.
 constexpr int kStallIterations = 30;
 constexpr double kMinStep = 1e-10;
-
-inline double jnorm2(const double *x) { return x[0] * x[0] - x[1] * x[1] - x[2] * x[2]; }
-
-// Largest a > 0 with x + a dx in L (x in int L); +inf if the ray stays inside.
-double max_step_lorentz(const double *x, const double *dx) {
-    double amax = dx[0] < 0.0 ? -x[0] / dx[0] : INFINITY;
-    const double a2 = jnorm2(dx), a1 = 2.0 * (x[0] * dx[0] - x[1] * dx[1] - x[2] * dx[2]);
-    const double a0 = jnorm2(x);
-    if (a2 == 0.0) {
-        if (a1 < 0.0) amax = std::min(amax, -a0 / a1);
-        return amax;
-    }
-    const double disc = a1 * a1 - 4.0 * a2 * a0;
-    if (disc < 0.0) return amax;
-    const double sq = std::sqrt(disc);
-    double t1 = (-a1 - sq) / (2.0 * a2), t2 = (-a1 + sq) / (2.0 * a2);
-    if (t1 > t2) std::swap(t1, t2);
-    // a2 < 0: the quadratic is negative outside [t1, t2] (0 inside); a2 > 0: inside (t1, t2).
-    if (a2 < 0.0) {
-        if (t2 > 0.0) amax = std::min(amax, t2);
-    } else if (t1 > 0.0) {
-        amax = std::min(amax, t1);
-    }
-    return amax;
-}
 
 // Nesterov-Todd scaling of x, y in int L: the symmetric G with G x = G^-1 y, and G^-1 (both
 // row-major 3x3). G = beta (2 v v^T - J), J = diag(1, -1, -1).
@@ -88,64 +70,6 @@ void nt_scaling(const double *x, const double *y, double *G, double *Gi) {
             Gi[3 * i + j] = (2.0 * J[i] * v[i] * v[j] * J[j] - d) / beta;
         }
 }
-
-inline void mul3(const double *A, const double *x, double *y) {  // row-major A
-    for (int i = 0; i < 3; ++i) y[i] = A[3 * i] * x[0] + A[3 * i + 1] * x[1] + A[3 * i + 2] * x[2];
-}
-
-// Jordan product of L: x∘y = (x.y, x0 y1 + y0 x1).
-inline void jordan(const double *x, const double *y, double *z) {
-    z[0] = x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
-    z[1] = x[0] * y[1] + y[0] * x[1];
-    z[2] = x[0] * y[2] + y[0] * x[2];
-}
-
-// t with l∘t = c (l in int L).
-inline void jordan_solve(const double *l, const double *c, double *t) {
-    const double det = l[0] * l[0] - l[1] * l[1] - l[2] * l[2];
-    t[0] = (l[0] * c[0] - l[1] * c[1] - l[2] * c[2]) / det;
-    t[1] = (c[1] - t[0] * l[1]) / l[0];
-    t[2] = (c[2] - t[0] * l[2]) / l[0];
-}
-
-// CSC pattern of W + block diagonal, with, for every entry, where its W value comes from
-// (an index into W's block values; kZero for a diagonal entry W does not store) and, for the
-// diagonal blocks, the position of each of the 9 entries. The tangential rows of frictionless
-// contacts are the identity rows of dr_T = 0: their entries are kZero or kOne, whatever W has.
-struct SystemPattern {
-    static constexpr int64_t kZero = -1, kOne = -2;
-    std::vector<int64_t> colptr, rowind, w_source, diag_pos;  // diag_pos: 9 per contact
-    void build(const frix_matrix &W, const double *mu, int64_t nc) {
-        const int64_t m = 3 * nc;
-        std::vector<std::vector<std::pair<int64_t, int64_t>>> cols(m);  // (row, source)
-        for (int64_t a = 0; a < nc; ++a) {
-            if (W.diag_index[a] < 0)
-                for (int j = 0; j < 3; ++j)
-                    for (int i = 0; i < 3; ++i) cols[3 * a + j].push_back({3 * a + i, kZero});
-            for (int64_t b = W.row_ptr[a]; b < W.row_ptr[a + 1]; ++b) {
-                const int64_t c = W.block_col[b];
-                for (int j = 0; j < 3; ++j)
-                    for (int i = 0; i < 3; ++i)  // block values are column-major
-                        cols[3 * c + j].push_back({3 * a + i, 9 * b + i + 3 * j});
-            }
-        }
-        colptr.assign(m + 1, 0);
-        rowind.clear();
-        w_source.clear();
-        diag_pos.assign(9 * nc, -1);
-        for (int64_t j = 0; j < m; ++j) {
-            std::sort(cols[j].begin(), cols[j].end());
-            for (const auto &e : cols[j]) {
-                const int64_t a = j / 3;
-                if (e.first / 3 == a) diag_pos[9 * a + 3 * (e.first % 3) + j % 3] = (int64_t)rowind.size();
-                rowind.push_back(e.first);
-                const bool fixed_row = e.first % 3 != 0 && !(mu[e.first / 3] > 0.0);
-                w_source.push_back(fixed_row ? (e.first == j ? kOne : kZero) : e.second);
-            }
-            colptr[j + 1] = (int64_t)rowind.size();
-        }
-    }
-};
 
 // What a persistent solver keeps (solve_cache.hpp): the system's pattern and its symbolic
 // analysis, valid while W's pattern and the set of frictionless contacts stay; and the Newton
@@ -233,16 +157,7 @@ void Solver::scalings() {
 }
 
 frix_error Solver::assemble_and_factor() {
-    const frix_matrix &W = *p_.W;
-    const int64_t nnz = (int64_t)pat_.rowind.size();
-    for (int64_t k = 0; k < nnz; ++k) {
-        const int64_t src = pat_.w_source[k];
-        values_[k] = src >= 0 ? W.block_val[src] : src == SystemPattern::kOne ? 1.0 : 0.0;
-    }
-    // D's tangential rows are zero on frictionless contacts: their identity rows stay.
-    for (int64_t a = 0; a < nc_; ++a)
-        for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) values_[pat_.diag_pos[9 * a + 3 * i + j]] += D_[9 * a + 3 * i + j];
+    pat_.assemble(*p_.W, D_.data(), values_);
     linalg::CscView A{m_, m_, pat_.colptr.data(), pat_.rowind.data(), values_.data()};
     if (!analysed_) {
         if (frix_error e = lu_.analyze(A)) return e;
@@ -479,22 +394,16 @@ frix_error Solver::run() {
     int64_t newton_steps = 0, line_search = 0;
     if (handed_over) {
         // Semismooth Newton (Alart-Curnier, spectral rho) from the best interior iterate.
-        newton::Settings s;
-        s.formulation = nsn::kAlartCurnier;
-        s.rho_strategy = FRIX_RHO_SPECTRAL;
-        s.measure = measure;
-        s.verbosity = verbosity;
-        s.log = &o;
-        newton::Engine &engine = newton::engine_for(kept_.polish, ctx_.cache, W, p_.mu, nc_, s);
-        newton::RunResult res;
         if (verbosity >= 1)
             log_line(&o, "ipm: %lld iterations, best error %.3e; Newton from there",
                      (long long)ipm_iterations, best_err);
-        if (frix_error e = engine.run(ctx_.r, p_.q, 0.0, tol, lim, res)) return e;
+        newton::RunResult res;
+        newton::Counters counters;
+        if (frix_error e = newton::finish_interior_point(kept_.polish, ctx_, tol, lim, res, counters, fs))
+            return e;
         info.status = res.status;
-        newton_steps = engine.counters.newton;
-        line_search = engine.counters.line_search;
-        fs = fs + engine.factor_stats();
+        newton_steps = counters.newton;
+        line_search = counters.line_search;
     }
     info.iterations = iterations;
     info.newton_iterations = newton_steps;

@@ -32,6 +32,7 @@ const frix::SolverEntry *const kSolvers[] = {
     &frix::kAdmmEntry,
     &frix::kAutoEntry,
     &frix::kIpmEntry,
+    &frix::kIpmAnmEntry,
     &frix::kGlobalAdmmEntry,
     &frix::kGlobalAlNewtonEntry,
     &frix::kGlobalNsgsEntry,

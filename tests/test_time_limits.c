@@ -91,8 +91,8 @@ END_TEST
 
 /* The solvers that factorise: a memory limit below any factor's size stops them before their first. */
 static int factorises(const char *name) {
-    static const char *const names[] = {"prox", "nsn-ac", "nsn-fb", "nsn-nm", "gnsn-ac", "admm", "ipm",
-                                        "gadmm", "gnsn-al"};
+    static const char *const names[] = {"prox", "nsn-ac", "nsn-fb",  "nsn-nm", "gnsn-ac",
+                                        "admm", "ipm",    "ipm-anm", "gadmm",  "gnsn-al"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k)
         if (strcmp(name, names[k]) == 0) return 1;
     return 0;

@@ -34,8 +34,10 @@ enum {
                                       solvers above on each (see docs/auto.md) */
     FRIX_SOLVER_GLOBAL_AL_NEWTON = 901, /* global problems: augmented Lagrangian, Newton on v,
                                            M + rho H J H^T factorised, no W */
-    FRIX_SOLVER_GLOBAL_NSGS = 902  /* global problems with block-diagonal M (rigid bodies):
+    FRIX_SOLVER_GLOBAL_NSGS = 902, /* global problems with block-diagonal M (rigid bodies):
                                       NSGS on H and M^-1 H, no W */
+    FRIX_SOLVER_IPM_ANM = 903      /* interior-point path followed by Taylor series, then
+                                      Newton from its best point */
 };
 
 FRIX_API int64_t frix_solver_count(void);
