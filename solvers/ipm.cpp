@@ -71,17 +71,7 @@ void nt_scaling(const double *x, const double *y, double *G, double *Gi) {
         }
 }
 
-// What a persistent solver keeps (solve_cache.hpp): the system's pattern and its symbolic
-// analysis, valid while W's pattern and the set of frictionless contacts stay; and the Newton
-// engine that finishes a run.
-struct KeptState : CachedState {
-    SystemPattern pat;
-    linalg::SparseLU lu;
-    bool analysed = false;
-    uint64_t w_pattern = 0;
-    std::vector<char> frictionless;  // per contact, of the pattern
-    newton::KeptEngine polish;
-};
+using KeptState = lorentz::KeptSystem;
 
 class Solver {
    public:
@@ -276,15 +266,7 @@ frix_error Solver::run() {
     g_.assign(m, 0.0);
     rhs_.assign(m, 0.0);
     std::vector<double> dr(m), du(m), ds(nc_), wr(m);
-    std::vector<char> frictionless(nc_);
-    for (int64_t a = 0; a < nc_; ++a) frictionless[a] = !friction(a);
-    const uint64_t w_pattern = ctx_.cache ? ctx_.cache->w_pattern : 0;
-    if (!ctx_.cache || !analysed_ || kept_.w_pattern != w_pattern || kept_.frictionless != frictionless) {
-        pat_.build(W, p_.mu, nc_);
-        analysed_ = false;
-        kept_.w_pattern = w_pattern;
-        kept_.frictionless = std::move(frictionless);
-    }
+    kept_.refresh(ctx_.cache, W, p_.mu, nc_);
     const linalg::FactorStats stats_before = lu_.stats();
     lu_.set_budget(monitor.budget());
     values_.assign(pat_.rowind.size(), 0.0);

@@ -9,7 +9,10 @@
 #include <utility>
 #include <vector>
 
+#include "solvers/newton.hpp"
+#include "src/linalg/linalg.hpp"
 #include "src/matrix.hpp"
+#include "src/solve_cache.hpp"
 
 namespace frix {
 namespace lorentz {
@@ -106,6 +109,29 @@ struct SystemPattern {
         }
         for (int64_t a = 0; a < nc; ++a)
             for (int i = 0; i < 9; ++i) values[diag_pos[9 * a + i]] += D[9 * a + i];
+    }
+};
+
+// What a persistent interior-point solver keeps (solve_cache.hpp): the system's pattern and
+// its symbolic analysis, valid while W's pattern and the set of frictionless contacts stay;
+// and the Newton engine that finishes a run.
+struct KeptSystem : CachedState {
+    SystemPattern pat;
+    linalg::SparseLU lu;
+    bool analysed = false;
+    uint64_t w_pattern = 0;
+    std::vector<char> frictionless;  // per contact, of the pattern
+    newton::KeptEngine polish;
+    // Builds the pattern afresh (and forgets the analysis) unless the kept one fits.
+    void refresh(const SolveCache *cache, const frix_matrix &W, const double *mu, int64_t nc) {
+        std::vector<char> now(nc);
+        for (int64_t a = 0; a < nc; ++a) now[a] = !(mu[a] > 0.0);
+        const uint64_t pattern = cache ? cache->w_pattern : 0;
+        if (cache && analysed && w_pattern == pattern && frictionless == now) return;
+        pat.build(W, mu, nc);
+        analysed = false;
+        w_pattern = pattern;
+        frictionless = std::move(now);
     }
 };
 

@@ -73,14 +73,7 @@ struct Point {
     }
 };
 
-struct KeptState : CachedState {
-    SystemPattern pat;
-    linalg::SparseLU lu;
-    bool analysed = false;
-    uint64_t w_pattern = 0;
-    std::vector<char> frictionless;
-    newton::KeptEngine polish;
-};
+using KeptState = lorentz::KeptSystem;
 
 class Solver {
    public:
@@ -271,15 +264,7 @@ frix_error Solver::run() {
     const double tol = monitor.tolerance();
     const int64_t max_iter = monitor.max_iterations(), measure = o.i(FRIX_OPT_ERROR_MEASURE);
     const int verbosity = (int)o.i(FRIX_OPT_VERBOSITY);
-    std::vector<char> frictionless(nc_);
-    for (int64_t a = 0; a < nc_; ++a) frictionless[a] = !friction(a);
-    const uint64_t w_pattern = ctx_.cache ? ctx_.cache->w_pattern : 0;
-    if (!ctx_.cache || !kept_.analysed || kept_.w_pattern != w_pattern || kept_.frictionless != frictionless) {
-        kept_.pat.build(W, p_.mu, nc_);
-        kept_.analysed = false;
-        kept_.w_pattern = w_pattern;
-        kept_.frictionless = std::move(frictionless);
-    }
+    kept_.refresh(ctx_.cache, W, p_.mu, nc_);
     const linalg::FactorStats stats_before = kept_.lu.stats();
     kept_.lu.set_budget(monitor.budget());
     T_.assign(9 * nc_, 0.0);
