@@ -164,8 +164,8 @@ static void same_answers(int solver, int global) {
     free_sequence(&s);
 }
 
-static const int kSolvers[] = {FRIX_SOLVER_NSGS,  FRIX_SOLVER_NSN_AC, FRIX_SOLVER_PROX,
-                               FRIX_SOLVER_ADMM,  FRIX_SOLVER_IPM,    FRIX_SOLVER_AUTO};
+static const int kSolvers[] = {FRIX_SOLVER_NSGS, FRIX_SOLVER_NSN_AC,  FRIX_SOLVER_PROX, FRIX_SOLVER_ADMM,
+                               FRIX_SOLVER_IPM,  FRIX_SOLVER_IPM_ANM, FRIX_SOLVER_AUTO};
 
 START_TEST(test_same_answers_local) { same_answers(kSolvers[_i], 0); }
 END_TEST
@@ -326,7 +326,8 @@ START_TEST(test_new_pattern) {
     frix_info *info = NULL, *one = NULL;
     ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
     ck_assert_int_eq(frix_info_create(&one), FRIX_OK);
-    const int solvers[] = {FRIX_SOLVER_NSN_AC, FRIX_SOLVER_PROX, FRIX_SOLVER_ADMM, FRIX_SOLVER_IPM, FRIX_SOLVER_AUTO};
+    const int solvers[] = {FRIX_SOLVER_NSN_AC, FRIX_SOLVER_PROX,     FRIX_SOLVER_ADMM,
+                           FRIX_SOLVER_IPM,    FRIX_SOLVER_IPM_ANM, FRIX_SOLVER_AUTO};
     for (size_t j = 0; j < sizeof solvers / sizeof *solvers; ++j) {
         frix_options *o = NULL;
         ck_assert_int_eq(frix_options_create(solvers[j], &o), FRIX_OK);
