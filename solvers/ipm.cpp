@@ -24,13 +24,10 @@
 #include <vector>
 
 #include "solvers/lorentz.hpp"
-#include "solvers/newton.hpp"
 #include "src/error_state.hpp"
 #include "src/linalg/linalg.hpp"
 #include "src/log.hpp"
 #include "src/matrix.hpp"
-#include "src/measures.hpp"
-#include "src/monitor.hpp"
 
 namespace frix {
 namespace ipm {
@@ -246,9 +243,6 @@ frix_error Solver::run() {
     const frix_options &o = ctx_.options;
     const frix_matrix &W = *p_.W;
     frix_info &info = ctx_.info;
-    const Monitor monitor(ctx_);
-    const double tol = monitor.tolerance();
-    const int64_t max_iter = monitor.max_iterations(), measure = o.i(FRIX_OPT_ERROR_MEASURE);
     const int verbosity = (int)o.i(FRIX_OPT_VERBOSITY);
     const int64_t m = m_;
     r_.assign(m, 0.0);
@@ -266,62 +260,24 @@ frix_error Solver::run() {
     g_.assign(m, 0.0);
     rhs_.assign(m, 0.0);
     std::vector<double> dr(m), du(m), ds(nc_), wr(m);
-    kept_.refresh(ctx_.cache, W, p_.mu, nc_);
-    const linalg::FactorStats stats_before = lu_.stats();
-    lu_.set_budget(monitor.budget());
+    lorentz::Run run(ctx_, kept_, kStallIterations);
     values_.assign(pat_.rowind.size(), 0.0);
 
-    // Interior start on the cones' axes, scaled like the problem: |q|_inf for velocities,
-    // |q|_inf / mean W_NN for forces.
-    double qinf = 0.0, wnn = 0.0;
-    for (int64_t i = 0; i < m; ++i) qinf = std::max(qinf, std::fabs(p_.q[i]));
-    for (int64_t a = 0; a < nc_; ++a)
-        if (W.diag_index[a] >= 0) wnn += std::fabs(W.block_val[9 * W.diag_index[a]]);
-    wnn = wnn > 0.0 ? wnn / (double)nc_ : 1.0;
-    const double u0 = qinf > 0.0 ? qinf : 1.0, r0 = u0 / wnn;
+    // Interior start on the cones' axes, scaled like the problem.
+    const lorentz::StartScales scale = lorentz::start_scales(p_);
     for (int64_t a = 0; a < nc_; ++a) {
-        r_[3 * a] = r0;
-        u_[3 * a] = u0;
-        s_[a] = u0;
+        r_[3 * a] = scale.force;
+        u_[3 * a] = scale.velocity;
+        s_[a] = scale.velocity;
     }
     double nu = 0.0;  // cone pairs (each a barrier weight of 1)
     for (int64_t a = 0; a < nc_; ++a) nu += friction(a) ? 2.0 : 1.0;
 
-    int64_t iterations = 0, ipm_iterations = 0;
-    // The warm start cannot seed an interior point, but it is the answer if it meets the
-    // tolerance already, and the fallback if nothing better is found.
-    std::vector<double> best(ctx_.r, ctx_.r + m);
-    double best_err = selected_error(local_measures(p_, ctx_.r, ctx_.u), measure);
-    if (!std::isfinite(best_err)) best_err = INFINITY;
-    double ref_err = INFINITY;
-    int since_progress = 0;
-    newton::Limits lim{o, ctx_.clock, &iterations, max_iter};
-    info.status = FRIX_STATUS_MAX_ITER;
     bool handed_over = false;
-    while (!(best_err <= tol)) {
-        const double err = selected_error(local_measures(p_, r_.data(), ctx_.u), measure);
-        if (err < best_err) {
-            best_err = err;
-            std::copy(r_.begin(), r_.end(), best.begin());
-        }
-        if (err <= tol) {
-            info.status = FRIX_STATUS_CONVERGED;
-            break;
-        }
-        if (iterations > 0 && lim.report(err)) {
-            info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
-            break;
-        }
-        if (iterations >= max_iter) break;
-        if (lim.out_of_time()) {
-            info.status = FRIX_STATUS_TIME_LIMIT;
-            break;
-        }
-        if (best_err < 0.5 * ref_err) {
-            ref_err = best_err;
-            since_progress = 0;
-        } else if (++since_progress >= kStallIterations) {
-            handed_over = true;
+    for (;;) {
+        const lorentz::Run::Next next = run.check(r_.data());
+        if (next != lorentz::Run::kIterate) {
+            handed_over = next == lorentz::Run::kHandOver;
             break;
         }
         matrix_gemv(W, 1.0, r_.data(), 0.0, wr.data());
@@ -354,12 +310,11 @@ frix_error Solver::run() {
         bool finite = std::isfinite(alpha);
         for (int64_t i = 0; i < m && finite; ++i) finite = std::isfinite(dr[i]) && std::isfinite(du[i]);
         for (int64_t a = 0; a < nc_ && finite; ++a) finite = std::isfinite(ds[a]);
-        ++iterations;
-        ++ipm_iterations;
+        run.count_iteration();
         if (verbosity >= 2)
             log_line(&o, "ipm: iteration %lld gap/nu %.3e |u - Wr - q| %.3e error %.3e step %.3g",
-                     (long long)ipm_iterations, tau, std::sqrt(std::inner_product(pres_.begin(), pres_.end(), pres_.begin(), 0.0)),
-                     err, alpha);
+                     (long long)run.iterations(), tau, std::sqrt(std::inner_product(pres_.begin(), pres_.end(), pres_.begin(), 0.0)),
+                     run.last_error(), alpha);
         if (!finite || alpha < kMinStep) {
             handed_over = true;
             break;
@@ -370,31 +325,15 @@ frix_error Solver::run() {
         }
         for (int64_t a = 0; a < nc_; ++a) s_[a] += alpha * ds[a];
     }
-    if (best_err <= tol) info.status = FRIX_STATUS_CONVERGED;
-    std::copy(best.begin(), best.end(), ctx_.r);
-    linalg::FactorStats fs = lu_.stats() - stats_before;
-    int64_t newton_steps = 0, line_search = 0;
-    if (handed_over) {
-        // Semismooth Newton (Alart-Curnier, spectral rho) from the best interior iterate.
-        if (verbosity >= 1)
-            log_line(&o, "ipm: %lld iterations, best error %.3e; Newton from there",
-                     (long long)ipm_iterations, best_err);
-        newton::RunResult res;
-        newton::Counters counters;
-        if (frix_error e = newton::finish_interior_point(kept_.polish, ctx_, tol, lim, res, counters, fs))
-            return e;
-        info.status = res.status;
-        newton_steps = counters.newton;
-        line_search = counters.line_search;
-    }
-    info.iterations = iterations;
-    info.newton_iterations = newton_steps;
-    info.line_search_steps = line_search;
-    Monitor::record_factorizations(info, fs);
+    const int64_t ipm_iterations = run.iterations();
+    if (handed_over && verbosity >= 1)
+        log_line(&o, "ipm: %lld iterations, best error %.3e; Newton from there", (long long)ipm_iterations,
+                 run.best_error());
+    if (frix_error e = run.end(handed_over)) return e;
     if (verbosity >= 1)
         log_line(&o, "ipm: %s after %lld iterations (%lld interior-point, %lld Newton)",
-                 frix_status_string(info.status), (long long)iterations,
-                 (long long)ipm_iterations, (long long)newton_steps);
+                 frix_status_string(info.status), (long long)info.iterations, (long long)ipm_iterations,
+                 (long long)run.newton_steps());
     return FRIX_OK;
 }
 

@@ -1,6 +1,7 @@
 // The building blocks of the interior-point solvers (ipm.cpp, path_following.cpp): per
-// contact a pair of Lorentz-cone vectors, L = {(t, x): |x| <= t}, and the sparse system
-// (W + D) dr = g left once u and the cone unknowns are eliminated contact by contact.
+// contact a pair of Lorentz-cone vectors, L = {(t, x): |x| <= t}, the sparse system
+// (W + D) dr = g left once u and the cone unknowns are eliminated contact by contact, and the
+// rules of a run (lorentz.cpp): its start's scales, its stops, and Newton's finish.
 #pragma once
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include "src/linalg/linalg.hpp"
 #include "src/matrix.hpp"
 #include "src/solve_cache.hpp"
+#include "src/solver_api.hpp"
 
 namespace frix {
 namespace lorentz {
@@ -133,6 +135,51 @@ struct KeptSystem : CachedState {
         w_pattern = pattern;
         frictionless = std::move(now);
     }
+};
+
+// The scales of an interior start: |q|_inf for velocities (1 if q = 0), that over the mean
+// |W_NN| for forces.
+struct StartScales {
+    double force = 1.0, velocity = 1.0;
+};
+StartScales start_scales(const frix_problem &p);
+
+// The rules an interior-point run checks before each of its iterations, and its end. An
+// interior point cannot start from the warm start: that is the best iterate until a better
+// one is seen, and the answer at once if it meets the tolerance. The run hands over to Newton
+// (Alart-Curnier, spectral rho) from its best iterate when its error has not halved for
+// `stall_after` iterations, or when the solver says so; iterations count its own, then
+// Newton's steps.
+class Run {
+   public:
+    enum Next { kIterate, kStop, kHandOver };
+    // Also refreshes the kept system for this problem and gives its LU the solve's limits.
+    Run(SolveContext &ctx, KeptSystem &kept, int stall_after);
+    // Measures r (3 per contact) and keeps it if it is the best so far; then whether to
+    // iterate, to stop (converged, the callback, max_iter, the time limit: the status is in
+    // ctx.info) or to hand over to Newton.
+    Next check(const double *r);
+    void count_iteration() { ++iterations_; }
+    int64_t iterations() const { return iterations_; }
+    double best_error() const { return best_err_; }
+    double last_error() const { return last_err_; }  // of the r check() measured last
+    // The best iterate into ctx.r, Newton from it when `hand_over`, and the run's counters
+    // (iterations, Newton's steps, the factorisations of the kept LU and Newton's) in ctx.info.
+    frix_error end(bool hand_over);
+    int64_t newton_steps() const { return newton_steps_; }
+
+   private:
+    SolveContext &ctx_;
+    KeptSystem &kept_;
+    const int stall_after_;
+    const double tol_;
+    const int64_t measure_;
+    int64_t iterations_ = 0, newton_steps_ = 0;
+    newton::Limits lim_;
+    linalg::FactorStats stats_before_;
+    std::vector<double> best_;
+    double best_err_, last_err_ = INFINITY, ref_err_ = INFINITY;
+    int since_progress_ = 0;
 };
 
 }  // namespace lorentz

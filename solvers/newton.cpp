@@ -79,23 +79,6 @@ Engine &engine_for(KeptEngine &kept, const SolveCache *cache, const frix_matrix 
     return *kept.engine;
 }
 
-frix_error finish_interior_point(KeptEngine &kept, SolveContext &ctx, double tol, Limits &lim,
-                                 RunResult &res, Counters &counters, linalg::FactorStats &fs) {
-    const frix_options &o = ctx.options;
-    const frix_problem &p = ctx.problem;
-    Settings s;
-    s.formulation = nsn::kAlartCurnier;
-    s.rho_strategy = FRIX_RHO_SPECTRAL;
-    s.measure = o.i(FRIX_OPT_ERROR_MEASURE);
-    s.verbosity = (int)o.i(FRIX_OPT_VERBOSITY);
-    s.log = &o;
-    Engine &engine = engine_for(kept, ctx.cache, *p.W, p.mu, p.nc, s);
-    if (frix_error e = engine.run(ctx.r, p.q, 0.0, tol, lim, res)) return e;
-    counters = engine.counters;
-    fs = fs + engine.factor_stats();
-    return FRIX_OK;
-}
-
 bool Limits::out_of_time() const { return Monitor(options, clock).out_of_time(); }
 
 bool Limits::report(double error) {

@@ -163,11 +163,5 @@ struct KeptEngine : CachedState {
 Engine &engine_for(KeptEngine &kept, const SolveCache *cache, const frix_matrix &W, const double *mu,
                    int64_t nc, const Settings &s);
 
-// The finish of the interior-point solvers (ipm, ipm-anm): semismooth Newton (Alart-Curnier,
-// spectral rho) from their best point ctx.r, on the solve's error measure. Its counters are
-// returned and its factorisations added to fs.
-frix_error finish_interior_point(KeptEngine &kept, SolveContext &ctx, double tol, Limits &lim,
-                                 RunResult &res, Counters &counters, linalg::FactorStats &fs);
-
 }  // namespace newton
 }  // namespace frix

@@ -27,13 +27,10 @@
 #include <vector>
 
 #include "solvers/lorentz.hpp"
-#include "solvers/newton.hpp"
 #include "src/error_state.hpp"
 #include "src/linalg/linalg.hpp"
 #include "src/log.hpp"
 #include "src/matrix.hpp"
-#include "src/measures.hpp"
-#include "src/monitor.hpp"
 
 namespace frix {
 namespace path_following {
@@ -115,7 +112,7 @@ class Solver {
     double r_scale_ = 1.0, s_scale_ = 1.0;
     Point at_;                            // the factorised point
     std::vector<double> T_, D_, values_;  // per contact: T = L(x)^-1 L(y) diag(mu, 1, 1), D
-    std::vector<double> rhs_, dr_;
+    std::vector<double> t_, rhs_;         // per contact, in solve(): L(x)^-1 b's Jordan part
 };
 
 void Solver::residual(const Point &X, std::vector<double> &R) const {
@@ -221,7 +218,7 @@ frix_error Solver::solve(const std::vector<double> &b, Point &d) {
             rhs_[3 * a + 2] = ba[2];
             continue;
         }
-        double t[3];
+        double *t = &t_[3 * a];
         jordan_solve(x, ba, t);
         const double s = at_.s[a];
         rhs_[3 * a] = p_.mu[a] * (t[0] - 0.5 * ba[3] / s - (y[1] * t[1] + y[2] * t[2]) / s);
@@ -235,10 +232,9 @@ frix_error Solver::solve(const std::vector<double> &b, Point &d) {
             d.s[a] = ba[3];
             continue;
         }
-        double x[3], y[3], t[3], Tdr[3];
-        cone_x(at_, a, x);
+        double y[3], Tdr[3];
         cone_y(at_, a, true, y);
-        jordan_solve(x, ba, t);
+        const double *t = &t_[3 * a];
         mul3(&T_[9 * a], &d.r[3 * a], Tdr);
         const double s = at_.s[a];
         d.s[a] = 0.5 * ba[3] / s + (y[1] * (t[1] - Tdr[1]) + y[2] * (t[2] - Tdr[2])) / s;
@@ -258,28 +254,19 @@ double Solver::dot(const Point &A, const Point &B) const {
 
 frix_error Solver::run() {
     const frix_options &o = ctx_.options;
-    const frix_matrix &W = *p_.W;
     frix_info &info = ctx_.info;
-    const Monitor monitor(ctx_);
-    const double tol = monitor.tolerance();
-    const int64_t max_iter = monitor.max_iterations(), measure = o.i(FRIX_OPT_ERROR_MEASURE);
     const int verbosity = (int)o.i(FRIX_OPT_VERBOSITY);
-    kept_.refresh(ctx_.cache, W, p_.mu, nc_);
-    const linalg::FactorStats stats_before = kept_.lu.stats();
-    kept_.lu.set_budget(monitor.budget());
+    lorentz::Run run(ctx_, kept_, kStallSteps);
     T_.assign(9 * nc_, 0.0);
     D_.assign(9 * nc_, 0.0);
+    t_.assign(m_, 0.0);
     rhs_.assign(m_, 0.0);
 
     // Interior start, scaled like the problem (as ipm's): r on the cones' axes, s so that y
     // lies inside L by at least the velocity scale.
-    double qinf = 0.0, wnn = 0.0;
-    for (int64_t i = 0; i < m_; ++i) qinf = std::max(qinf, std::fabs(p_.q[i]));
-    for (int64_t a = 0; a < nc_; ++a)
-        if (W.diag_index[a] >= 0) wnn += std::fabs(W.block_val[9 * W.diag_index[a]]);
-    wnn = wnn > 0.0 ? wnn / (double)nc_ : 1.0;
-    s_scale_ = qinf > 0.0 ? qinf : 1.0;
-    r_scale_ = s_scale_ / wnn;
+    const lorentz::StartScales scale = lorentz::start_scales(p_);
+    s_scale_ = scale.velocity;
+    r_scale_ = scale.force;
     Point X;
     X.resize(nc_);
     for (int64_t a = 0; a < nc_; ++a) X.r[3 * a] = r_scale_;
@@ -298,37 +285,12 @@ frix_error Solver::run() {
     Point y, Y, d;  // y: J y = R0; Y: a trial point; d: a correction
     y.resize(nc_);
     d.resize(nc_);
-    std::vector<double> u(m_);
-    std::vector<double> best(ctx_.r, ctx_.r + m_);
-    double best_err = selected_error(local_measures(p_, ctx_.r, u.data()), measure);
-    if (!std::isfinite(best_err)) best_err = INFINITY;
-    double ref_err = INFINITY;
-    int since_progress = 0;
-    int64_t iterations = 0, path_steps = 0;
-    newton::Limits lim{o, ctx_.clock, &iterations, max_iter};
-    info.status = FRIX_STATUS_MAX_ITER;
     bool handed_over = false;
     const char *why = "";
-    while (!(best_err <= tol)) {
-        const double err = selected_error(local_measures(p_, X.r.data(), u.data()), measure);
-        if (err < best_err) {
-            best_err = err;
-            std::copy(X.r.begin(), X.r.end(), best.begin());
-        }
-        if (err <= tol) break;
-        if (iterations > 0 && lim.report(err)) {
-            info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
-            break;
-        }
-        if (iterations >= max_iter) break;
-        if (lim.out_of_time()) {
-            info.status = FRIX_STATUS_TIME_LIMIT;
-            break;
-        }
-        if (best_err < 0.5 * ref_err) {
-            ref_err = best_err;
-            since_progress = 0;
-        } else if (++since_progress >= kStallSteps) {
+    for (;;) {
+        const lorentz::Run::Next next = run.check(X.r.data());
+        if (next == lorentz::Run::kStop) break;
+        if (next == lorentz::Run::kHandOver) {
             handed_over = true;
             why = "the error stopped falling";
             break;
@@ -349,14 +311,13 @@ frix_error Solver::run() {
             why = "a singular Jacobian";
             break;
         }
-        ++iterations;
-        ++path_steps;
+        run.count_iteration();
         // Order 1: the unit tangent (X_1, lambda_1) = lambda_1 (y, 1), J y = R0, oriented as
         // the last one (lambda falling at the start).
         if (frix_error e = solve(R0, y)) return e;
         y.lambda = 1.0;
         double l1 = 1.0 / std::sqrt(dot(y, y));
-        if (path_steps > 1) {
+        if (run.iterations() > 1) {
             const double turn = l1 * (dot(y, U[1]));
             if (turn < 0.0) l1 = -l1;
         } else {
@@ -441,46 +402,32 @@ frix_error Solver::run() {
             if (frix_error e = solve(b, d)) return e;
             double t = 1.0;
             Point Z = Y;
-            for (int cut = 0; cut < 20; ++cut, t *= 0.5) {
+            bool inside_z = false;
+            for (int cut = 0; cut < 20 && !inside_z; ++cut, t *= 0.5) {
                 for (int64_t i = 0; i < m_; ++i) {
                     Z.r[i] = Y.r[i] + t * d.r[i];
                     Z.wr[i] = Y.wr[i] + t * d.wr[i];
                 }
                 for (int64_t a = 0; a < nc_; ++a) Z.s[a] = Y.s[a] + t * d.s[a];
-                if (interior(Z)) break;
+                inside_z = interior(Z);
             }
-            if (!interior(Z)) break;
+            if (!inside_z) break;
             Y = std::move(Z);
         }
         if (verbosity >= 2)
             log_line(&o, "ipm-anm: step %lld lambda %.3e length %.3g off the path %.3e error %.3e",
-                     (long long)path_steps, Y.lambda, step, off_path, err);
+                     (long long)run.iterations(), Y.lambda, step, off_path, run.last_error());
         X = std::move(Y);
     }
-    if (best_err <= tol) info.status = FRIX_STATUS_CONVERGED;
-    std::copy(best.begin(), best.end(), ctx_.r);
-    linalg::FactorStats fs = kept_.lu.stats() - stats_before;
-    int64_t newton_steps = 0, line_search = 0;
-    if (handed_over) {
-        if (verbosity >= 1)
-            log_line(&o, "ipm-anm: %lld steps (%s), lambda %.3e, best error %.3e; Newton from there",
-                     (long long)path_steps, why, X.lambda, best_err);
-        newton::RunResult res;
-        newton::Counters counters;
-        if (frix_error e = newton::finish_interior_point(kept_.polish, ctx_, tol, lim, res, counters, fs))
-            return e;
-        info.status = res.status;
-        newton_steps = counters.newton;
-        line_search = counters.line_search;
-    }
-    info.iterations = iterations;
-    info.newton_iterations = newton_steps;
-    info.line_search_steps = line_search;
-    Monitor::record_factorizations(info, fs);
+    const int64_t path_steps = run.iterations();
+    if (handed_over && verbosity >= 1)
+        log_line(&o, "ipm-anm: %lld steps (%s), lambda %.3e, best error %.3e; Newton from there",
+                 (long long)path_steps, why, X.lambda, run.best_error());
+    if (frix_error e = run.end(handed_over)) return e;
     if (verbosity >= 1)
         log_line(&o, "ipm-anm: %s after %lld iterations (%lld path steps, %lld Newton)",
-                 frix_status_string(info.status), (long long)iterations, (long long)path_steps,
-                 (long long)newton_steps);
+                 frix_status_string(info.status), (long long)info.iterations, (long long)path_steps,
+                 (long long)run.newton_steps());
     return FRIX_OK;
 }
 
