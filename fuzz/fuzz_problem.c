@@ -216,7 +216,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
             if (frix_problem_measure(p, r, global ? v : NULL, NULL, check) != FRIX_OK)
                 finding("the returned r cannot be measured", p, solver, info);
             if (st == FRIX_STATUS_CONVERGED &&
-                (frix_info_get_double(check, FRIX_INFO_ERROR_RELATIVE, &error) != FRIX_OK || !(error <= 1e-8)))
+                (frix_info_get_double(check, FRIX_INFO_ERROR_SCALED, &error) != FRIX_OK || !(error <= 1e-8)))
                 finding("converged, but the measured error is above the tolerance", p, solver, info);
         } else if (err != FRIX_ERR_UNSUPPORTED && err != FRIX_ERR_NUMERICAL && err != FRIX_ERR_NOT_FINITE) {
             /* an accepted problem is solvable or says why not */

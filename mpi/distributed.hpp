@@ -69,6 +69,9 @@ struct frix_mpi_problem {
     // A reduced global problem's w, or a rigid one's (the relative error's scale is |w|, not
     // |q|); empty for a local problem.
     std::vector<double> w;
+    // The owned contacts' weights of the default error measure (frix_problem::weight): W_aa's
+    // normal entry; empty (1) for a global problem with the host's M.
+    std::vector<double> weight;
     const double *scale() const { return w.empty() ? q.data() : w.data(); }
 };
 

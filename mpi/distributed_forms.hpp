@@ -68,14 +68,20 @@ class RanksRescue : public MeasureRescue {
 
 // The measures of the ranks' (r, u) (nc contacts on this rank) over all contacts, combined in
 // a fixed order; norm_q: the norm over all contacts of the relative error's scale.
-inline Measures measures_over_ranks(MPI_Comm comm, const double *r, const double *u, const double *mu, int64_t nc,
-                                    double norm_q) {
-    const MeasureParts mine = measure_parts(r, u, mu, 0, nc);
-    double all[6] = {mine.residual_sq, mine.cone, mine.penetration, mine.complementarity, mine.r_sq, mine.u_sq};
-    reduce_all(comm, all, 6, "smmmss");
+inline Measures measures_over_ranks(MPI_Comm comm, const double *r, const double *u, const double *mu,
+                                    const std::vector<double> &weight, int64_t nc, double norm_q) {
+    const MeasureParts mine = measure_parts(r, u, mu, weight.empty() ? nullptr : weight.data(), 0, nc);
+    double all[7] = {mine.residual_sq, mine.cone,      mine.penetration,  mine.complementarity,
+                     mine.r_sq,        mine.u_sq,      mine.scaled_scale};
+    reduce_all(comm, all, 7, "smmmssm");
     MeasureParts total;
     total.residual_sq = all[0], total.cone = all[1], total.penetration = all[2];
     total.complementarity = all[3], total.r_sq = all[4], total.u_sq = all[5];
+    // The scaled residual's squares, each rank's on the largest scale: then a plain sum.
+    total.scaled_scale = all[6];
+    double ssq = all[6] > 0.0 ? mine.scaled_ssq * (mine.scaled_scale / all[6]) * (mine.scaled_scale / all[6]) : 0.0;
+    reduce_all(comm, &ssq, 1, "s");
+    total.scaled_ssq = all[6] > 0.0 ? ssq : 1.0;
     RanksRescue rescue(comm, r, u, mu, nc);
     return measures_from_parts(total, rescue, norm_q);
 }
@@ -148,7 +154,7 @@ class DistributedForm : public nsgs::SweepForm {
     }
     // The measures of this rank's (r, u), combined over the ranks.
     Measures combine(const double *r, const double *u) {
-        return measures_over_ranks(comm_, r, u, p_.mu.data(), p_.owned, norm_q_);
+        return measures_over_ranks(comm_, r, u, p_.mu.data(), p_.weight, p_.owned, norm_q_);
     }
 
     const frix_mpi_problem &p_;

@@ -128,6 +128,8 @@ frix_error extract_island(const frix_problem &p, const std::vector<int64_t> &isl
     frix_problem *raw = nullptr;
     if (frix_error e = make_owned_local_problem(std::move(sub), std::move(q), std::move(mu), &raw)) return e;
     out.reset(raw);
+    // The whole problem's weights (those of a global problem when W is its reduction).
+    for (int64_t k = 0; k < n; ++k) raw->weight[(size_t)k] = p.weight[(size_t)island[(size_t)k]];
     return FRIX_OK;
 }
 

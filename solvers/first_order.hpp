@@ -63,7 +63,7 @@ class Loop {
 
     // The selected error of (r, u), u = W r + q already computed (no product).
     double error_ru(const double *r, const double *u) const {
-        return selected_error(measures_from_ru(r, u, p.mu, p.nc, norm_q), measure);
+        return selected_error(measures_from_ru(r, u, p.mu, p.weight.data(), p.nc, norm_q), measure);
     }
     // The same, computing u = W r + q into u.
     double error(const double *r, double *u) const {

@@ -78,6 +78,7 @@ frix_error Run::end(bool hand_over) {
         s.measure = measure_;
         s.verbosity = (int)o.i(FRIX_OPT_VERBOSITY);
         s.log = &o;
+        s.weight = p.weight.data();
         newton::Engine &engine = newton::engine_for(kept_.polish, ctx_.cache, *p.W, p.mu, p.nc, s);
         newton::RunResult res;
         if (frix_error e = engine.run(ctx_.r, p.q, 0.0, tol_, lim_, res)) return e;

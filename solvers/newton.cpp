@@ -293,7 +293,7 @@ double Engine::full_step_error(const double *r, const double *u, const double *d
         rt[i] = r[i] + d[i];
         ut[i] = u[i] + du[i];
     }
-    return selected_error(measures_from_ru(rt, ut, mu_, nc_, norm_q), s_.measure);
+    return selected_error(measures_from_ru(rt, ut, mu_, s_.weight, nc_, norm_q), s_.measure);
 }
 
 frix_error Engine::run(double *r, const double *q, double shift, double tol, Limits &lim,
@@ -312,7 +312,7 @@ frix_error Engine::run(double *r, const double *q, double shift, double tol, Lim
         for (int64_t i = 0; i < m; ++i) u[i] += q[i];
     };
     auto error_of = [&]() {
-        return selected_error(measures_from_ru(r, u.data(), mu_, nc_, norm_q), s_.measure);
+        return selected_error(measures_from_ru(r, u.data(), mu_, s_.weight, nc_, norm_q), s_.measure);
     };
 
     velocity();
@@ -551,13 +551,14 @@ frix_error solve(SolveContext &ctx, int solver_id) {
     const frix_problem &p = ctx.problem;
     const frix_options &o = ctx.options;
     if (!p.W || !p.W->block) return fail(FRIX_ERR_INTERNAL, "newton: W is not stored as 3x3 blocks");
-    const Settings s = settings_from(o, solver_id);
+    Settings s = settings_from(o, solver_id);
     const Monitor monitor(ctx);
     const double tol = monitor.tolerance();
     frix_info &info = ctx.info;
     int64_t iterations = 0;
     Limits lim{o, ctx.clock, &iterations, monitor.max_iterations()};
     Kept<KeptEngine> kept(ctx.cache, solver_id);
+    s.weight = p.weight.data();
     Engine &engine = engine_for(*kept, ctx.cache, *p.W, p.mu, p.nc, s);
     RunResult res;
     std::unique_ptr<nsgs::Workspace> gs;  // made on the first fallback only

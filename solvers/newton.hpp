@@ -33,6 +33,7 @@ struct Settings {
     int64_t hybrid_sweeps = 50;
     int watchdog = 0;           // steps of a full-step excursion (option watchdog; 0: none)
     int64_t measure = 0;        // frix_error_measure
+    const double *weight = nullptr;  // the problem's contact weights (frix_problem::weight)
     int verbosity = 0;
     const frix_options *log = nullptr;  // where progress lines go (null: stderr)
 };

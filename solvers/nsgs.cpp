@@ -284,7 +284,7 @@ class VelocityForm : public SweepForm {
     SweepStats sweep(Workspace &ws, double *r, double *u) override { return ws.sweep_velocity(r, u); }
     Measures exact(const double *r, double *u) override { return local_measures(p_, r, u); }
     bool kept(const double *r, double *u, Measures &m) override {
-        m = measures_from_ru(r, u, p_.mu, p_.nc, norm_q_);
+        m = measures_from_ru(r, u, p_.mu, p_.weight.data(), p_.nc, norm_q_);
         return true;
     }
     void restart(const double *r, double *u) override {

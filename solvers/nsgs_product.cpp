@@ -31,7 +31,8 @@ constexpr int64_t kMinDomain = 256;
 // M^-1 as dense blocks, one per body, and each contact's H_a and M^-1 H_a on its bodies' dofs.
 class ProductForm : public SweepForm {
    public:
-    ProductForm(const frix_problem &p, int threads) : p_(p), norm_w_(norm2(p.w, 3 * p.nc)), team_(threads) {}
+    ProductForm(const frix_problem &p, int threads)
+        : p_(p), norm_w_(norm2(p.w, 3 * p.nc)), free_(free_velocity(p)), team_(threads) {}
 
     frix_error setup() {
         if (frix_error e = to_csc(*p_.M, M_)) return e;
@@ -53,10 +54,12 @@ class ProductForm : public SweepForm {
         form_contacts();
         w_.resize(3 * (size_t)p_.nc);
         mu_.resize((size_t)p_.nc);
+        weight_.resize((size_t)p_.nc);
         for (int64_t k = 0; k < p_.nc; ++k) {
             const int64_t a = contact_of_slot_[(size_t)k];
             std::copy(p_.w + 3 * a, p_.w + 3 * a + 3, &w_[3 * (size_t)k]);
             mu_[(size_t)k] = p_.mu[a];
+            weight_[(size_t)k] = p_.weight.empty() ? 1.0 : p_.weight[(size_t)a];
         }
         renumber_dofs();
         std::vector<double> v0((size_t)p_.n);
@@ -76,6 +79,7 @@ class ProductForm : public SweepForm {
     const std::vector<int64_t> &contact_of_slot() const { return contact_of_slot_; }
     const double *slot_w() const { return w_.data(); }
     const double *slot_mu() const { return mu_.data(); }
+    const std::vector<double> &slot_weight() const { return weight_; }
     int64_t colours() const { return slots_.colours(); }
     int64_t domains() const { return slots_.domains(); }
     // W_aa = H_a^T M^-1 H_a, 9 per contact, column-major.
@@ -173,12 +177,12 @@ class ProductForm : public SweepForm {
             for (int64_t d = begin; d < end; ++d) {
                 const int64_t first = slots_.domain_ptr[(size_t)d], last = slots_.domain_ptr[(size_t)d + 1];
                 for (int64_t a = first; a < last; ++a) contact_velocity(a, v_.data(), u + 3 * a);
-                parts_[(size_t)d] = measure_parts(r, u, mu_.data(), first, last);
+                parts_[(size_t)d] = measure_parts(r, u, mu_.data(), weight_.data(), first, last);
             }
         });
         MeasureParts all;
         for (const MeasureParts &part : parts_) all.add(part);
-        return measures_from_parts(all, r, u, mu_.data(), p_.nc, norm_w_);
+        return measures_from_parts(all, r, u, mu_.data(), p_.nc, norm_w_, free_);
     }
 
     frix_error find_bodies() {
@@ -358,7 +362,7 @@ class ProductForm : public SweepForm {
     std::vector<double> v_;       // in the sweeps' numbering of the dofs
     std::vector<double> v_last_;  // v at the previous extrapolation's r (momentum)
     std::vector<int64_t> slot_of_dof_;
-    double norm_w_;
+    double norm_w_, free_;
     Csc M_, H_;
     std::vector<int64_t> body_of_, body_ptr_, body_dofs_, place_, inverse_ptr_;
     std::vector<double> inverse_, v0_;
@@ -369,7 +373,7 @@ class ProductForm : public SweepForm {
     std::vector<int64_t> bodies_ptr_, contact_bodies_;  // the bodies of each contact
     std::vector<int64_t> contact_of_slot_;
     Domains slots_;  // the domains and colours as ranges of slots
-    std::vector<double> w_, mu_;
+    std::vector<double> w_, mu_, weight_;
     std::vector<MeasureParts> parts_;  // per domain, for measures_from_v
     ThreadTeam team_;
 };
@@ -393,6 +397,7 @@ frix_error solve(SolveContext &ctx) {
     slots.f = p.f;
     slots.w = form.slot_w();
     slots.mu = form.slot_mu();
+    slots.weight = form.slot_weight();
     SolveContext inner{slots, ctx.options, r.data(), u.data(), ctx.v, ctx.info, ctx.clock, ctx.solve_mass, ctx.mass,
                        ctx.cache};
     if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1)

@@ -36,7 +36,7 @@ frix_error solve(SolveContext &ctx) {
     const frix_options &o = ctx.options;
     if (!p.W || !p.W->block) return fail(FRIX_ERR_INTERNAL, "prox: W is not stored as 3x3 blocks");
     const int inner_id = (int)o.i(FRIX_OPT_INNER_SOLVER);
-    const newton::Settings s = newton::settings_from(o, inner_id);
+    newton::Settings s = newton::settings_from(o, inner_id);
     const Monitor monitor(ctx);
     const double tol = monitor.tolerance();
     const int64_t max_iter = monitor.max_iterations();
@@ -46,6 +46,7 @@ frix_error solve(SolveContext &ctx) {
     frix_info &info = ctx.info;
 
     Kept<newton::KeptEngine> kept(ctx.cache, FRIX_SOLVER_PROX);
+    s.weight = p.weight.data();
     newton::Engine &engine = newton::engine_for(*kept, ctx.cache, *p.W, p.mu, p.nc, s);
     engine.full_step_on_failure = true;
     const double scale = engine.w_scale();

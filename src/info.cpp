@@ -44,6 +44,7 @@ FRIX_API frix_error frix_info_get_double(const frix_info *info, frix_info_key ke
         case FRIX_INFO_ERROR: *value = info->error; return FRIX_OK;
         case FRIX_INFO_ERROR_RELATIVE: *value = info->error_relative; return FRIX_OK;
         case FRIX_INFO_ERROR_Q_RELATIVE: *value = info->error_q_relative; return FRIX_OK;
+        case FRIX_INFO_ERROR_SCALED: *value = info->error_scaled; return FRIX_OK;
         case FRIX_INFO_RESIDUAL_ABSOLUTE: *value = info->residual_absolute; return FRIX_OK;
         case FRIX_INFO_CONE_VIOLATION: *value = info->cone_violation; return FRIX_OK;
         case FRIX_INFO_PENETRATION: *value = info->penetration; return FRIX_OK;

@@ -55,6 +55,7 @@ struct frix_info {
     double error = NAN;
     double error_relative = NAN;
     double error_q_relative = NAN;
+    double error_scaled = NAN;
     double residual_absolute = NAN;
     double cone_violation = NAN;
     double penetration = NAN;

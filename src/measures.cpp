@@ -57,7 +57,67 @@ double norm2(const double *x, int64_t n) {
     return a * std::sqrt(s);
 }
 
+namespace {
+
+// scale^2 * ssq += x^2, kept without overflow or underflow (LAPACK's dnrm2 update).
+void add_square(double x, double &scale, double &ssq) {
+    x = std::fabs(x);
+    if (x == 0.0) return;
+    if (scale < x) {
+        ssq = 1.0 + ssq * (scale / x) * (scale / x);
+        scale = x;
+    } else {
+        ssq += (x / scale) * (x / scale);
+    }
+}
+
+// |s - P_K(s - u^)| for one contact, written so that no term of s cancels against another:
+// with |s| >> |u^| (a runaway r) the plain formula rounds the residual to 0.
+double stable_natural_residual(const double *s, const double *u, double mu) {
+    const double ut = std::hypot(u[1], u[2]);
+    const double uh[3] = {u[0] + mu * ut, u[1], u[2]};
+    const double x[3] = {s[0] - uh[0], s[1] - uh[1], s[2] - uh[2]};
+    const double xt = std::hypot(x[1], x[2]);
+    if (xt <= mu * x[0]) return std::sqrt(uh[0] * uh[0] + uh[1] * uh[1] + uh[2] * uh[2]);  // P_K(x) = x
+    if (mu * xt <= -x[0]) return std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);    // P_K(x) = 0
+    // P_K(x) = a (1, mu x_t / |x_t|), a = (x_n + mu |x_t|) / (1 + mu^2); the differences of
+    // norms by |a|^2 - |b|^2 = (a - b)(a + b).
+    const double st = std::hypot(s[1], s[2]);
+    const double xt_minus_st = xt + st > 0.0
+                                   ? (uh[1] * uh[1] + uh[2] * uh[2] - 2.0 * (s[1] * uh[1] + s[2] * uh[2])) / (xt + st)
+                                   : 0.0;
+    const double gap = st - mu * s[0];                                         // <= 0 inside K
+    const double delta = (-uh[0] + mu * xt_minus_st + mu * gap) / (1.0 + mu * mu);  // a - s_n
+    const double rn = -delta;
+    const double lateral = xt_minus_st + gap;  // |x_t| - mu s_n
+    double rt[2];
+    for (int i = 0; i < 2; ++i)
+        rt[i] = (s[1 + i] * lateral + mu * s[0] * uh[1 + i]) / xt - mu * delta * x[1 + i] / xt;
+    return std::sqrt(rn * rn + rt[0] * rt[0] + rt[1] * rt[1]);
+}
+
+// |s - P_K(s - u^)| for s = w r (one contact): computed on (s, u) / max|.|, where every
+// square is in range, and scaled back (the residual is positively homogeneous).
+double scaled_contact_residual(const double *r, const double *u, double mu, double w) {
+    const double s[3] = {w * r[0], w * r[1], w * r[2]};
+    double c = 0.0;
+    for (int i = 0; i < 3; ++i) c = std::max({c, std::fabs(s[i]), std::fabs(u[i])});
+    if (c == 0.0 || !std::isfinite(c)) return c;
+    const double x[3] = {s[0] / c, s[1] / c, s[2] / c}, y[3] = {u[0] / c, u[1] / c, u[2] / c};
+    return c * stable_natural_residual(x, y, mu);
+}
+
+}  // namespace
+
 void MeasureParts::add(const MeasureParts &o) {
+    if (o.scaled_scale > 0.0) {
+        if (scaled_scale < o.scaled_scale) {
+            scaled_ssq = o.scaled_ssq + scaled_ssq * (scaled_scale / o.scaled_scale) * (scaled_scale / o.scaled_scale);
+            scaled_scale = o.scaled_scale;
+        } else {
+            scaled_ssq += o.scaled_ssq * (o.scaled_scale / scaled_scale) * (o.scaled_scale / scaled_scale);
+        }
+    }
     residual_sq += o.residual_sq;
     cone = std::max(cone, o.cone);
     penetration = std::max(penetration, o.penetration);
@@ -66,11 +126,13 @@ void MeasureParts::add(const MeasureParts &o) {
     u_sq += o.u_sq;
 }
 
-MeasureParts measure_parts(const double *r, const double *u, const double *mu, int64_t first, int64_t end) {
+MeasureParts measure_parts(const double *r, const double *u, const double *mu, const double *weight, int64_t first,
+                           int64_t end) {
     MeasureParts m;
     rescaled_residual(r, u, mu, first, end, 1.0, m.residual_sq, m.cone);
     for (int64_t a = first; a < end; ++a) {
         const double *ra = r + 3 * a, *ua = u + 3 * a;
+        add_square(scaled_contact_residual(ra, ua, mu[a], weight ? weight[a] : 1.0), m.scaled_scale, m.scaled_ssq);
         m.penetration = std::max(m.penetration, -ua[0]);
         const double uhat_n = ua[0] + mu[a] * std::hypot(ua[1], ua[2]);
         m.complementarity = std::max(m.complementarity, std::fabs(ra[0] * uhat_n + ra[1] * ua[1] + ra[2] * ua[2]));
@@ -101,12 +163,12 @@ class WholeRescue : public MeasureRescue {
 }  // namespace
 
 Measures measures_from_parts(const MeasureParts &all, const double *r, const double *u, const double *mu,
-                             int64_t nc, double norm_q) {
+                             int64_t nc, double norm_q, double free) {
     WholeRescue rescue(r, u, mu, nc);
-    return measures_from_parts(all, rescue, norm_q);
+    return measures_from_parts(all, rescue, norm_q, free);
 }
 
-Measures measures_from_parts(const MeasureParts &all, MeasureRescue &rescue, double norm_q) {
+Measures measures_from_parts(const MeasureParts &all, MeasureRescue &rescue, double norm_q, double free) {
     Measures m;
     m.residual_absolute = std::sqrt(all.residual_sq);
     m.cone_violation = all.cone;
@@ -121,24 +183,41 @@ Measures measures_from_parts(const MeasureParts &all, MeasureRescue &rescue, dou
             m.cone_violation = cone * a;
         }
     }
+    m.residual_scaled = all.scaled_scale * std::sqrt(all.scaled_ssq);
     m.penetration = all.penetration;
     m.complementarity = all.complementarity;
     m.norm_r = in_safe_range(all.r_sq) ? std::sqrt(all.r_sq) : rescue.norm_r();
     m.norm_u = in_safe_range(all.u_sq) ? std::sqrt(all.u_sq) : rescue.norm_u();
-    return with_norm_q(m, norm_q);
+    return with_norm_q(m, norm_q, free);
 }
 
-Measures measures_from_ru(const double *r, const double *u, const double *mu, int64_t nc,
-                          double norm_q) {
-    return measures_from_parts(measure_parts(r, u, mu, 0, nc), r, u, mu, nc, norm_q);
+Measures measures_from_ru(const double *r, const double *u, const double *mu, const double *weight, int64_t nc,
+                          double norm_q, double free) {
+    return measures_from_parts(measure_parts(r, u, mu, weight, 0, nc), r, u, mu, nc, norm_q, free);
 }
 
-Measures with_norm_q(Measures m, double norm_q) {
+namespace {
+
+// a / b for b > 0, DBL_MAX where that overflows: an error stays finite.
+double clamped_ratio(double a, double b) {
+    const double x = a / b;
+    return std::isfinite(x) ? x : DBL_MAX;
+}
+
+}  // namespace
+
+Measures with_norm_q(Measures m, double norm_q, double free) {
     m.norm_q = norm_q;
+    m.norm_free = free >= 0.0 ? free : norm_q;
     // Siconos 4.4 divides only when the scale is meaningful (fc3d_compute_error).
     const double scale = std::max({m.norm_q, m.norm_r, m.norm_u});
     m.relative = scale > DBL_EPSILON ? m.residual_absolute / scale : m.residual_absolute;
-    m.q_relative = norm_q > DBL_EPSILON ? m.residual_absolute / norm_q : m.residual_absolute;
+    // No absolute fallback below DBL_EPSILON: a problem scaled by 1e-17 keeps its relative
+    // error. Only q = 0 (then r = 0 solves it) leaves the bare residual.
+    m.q_relative = norm_q > 0.0 ? clamped_ratio(m.residual_absolute, norm_q) : m.residual_absolute;
+    const double velocity = std::max(m.norm_free, m.norm_u);
+    m.scaled = velocity > 0.0 ? clamped_ratio(m.residual_scaled, velocity)
+                              : (m.residual_scaled > 0.0 ? DBL_MAX : 0.0);
     return m;
 }
 
@@ -147,16 +226,21 @@ Measures local_measures(const frix_problem &p, const double *r, double *u) {
     if (m == 0) return Measures{};
     matrix_gemv(*p.W, 1.0, r, 0.0, u);
     for (int64_t i = 0; i < m; ++i) u[i] += p.q[i];
-    return measures_from_ru(r, u, p.mu, p.nc, norm2(p.q, m));
+    return measures_from_ru(r, u, p.mu, p.weight.data(), p.nc, norm2(p.q, m));
 }
 
 double selected_error(const Measures &m, int64_t measure_kind) {
-    return measure_kind == FRIX_MEASURE_Q_RELATIVE ? m.q_relative : m.relative;
+    switch (measure_kind) {
+        case FRIX_MEASURE_RELATIVE: return m.relative;
+        case FRIX_MEASURE_Q_RELATIVE: return m.q_relative;
+        default: return m.scaled;
+    }
 }
 
 void record_measures(frix_info &info, const Measures &m, int64_t measure_kind) {
     info.error_relative = m.relative;
     info.error_q_relative = m.q_relative;
+    info.error_scaled = m.scaled;
     info.residual_absolute = m.residual_absolute;
     info.cone_violation = m.cone_violation;
     info.penetration = m.penetration;
@@ -194,7 +278,7 @@ Measures global_measures(const frix_problem &p, const double *r, const double *v
     if (m > 0) matrix_gemv_transposed(*p.H, 1.0, v, 0.0, u);
     for (int64_t i = 0; i < m; ++i) u[i] += p.w[i];
     if (equilibrium) *equilibrium = equilibrium_residual(p, r, v);
-    return measures_from_ru(r, u, p.mu, p.nc, norm2(p.w, m));
+    return measures_from_ru(r, u, p.mu, p.weight.data(), p.nc, norm2(p.w, m), free_velocity(p));
 }
 
 }  // namespace frix
@@ -221,14 +305,14 @@ frix_error measure(const char *where, const frix_problem *p, const double *r, co
     }
     info.contacts = p->nc;
     if (p->kind == FRIX_PROBLEM_LOCAL) {
-        frix::record_measures(info, frix::local_measures(*p, r, u), FRIX_MEASURE_RELATIVE);
+        frix::record_measures(info, frix::local_measures(*p, r, u), FRIX_MEASURE_SCALED);
         return FRIX_OK;
     }
     for (int64_t i = 0; i < p->n; ++i)
         if (!std::isfinite(v[i]))
             return fail(FRIX_ERR_NOT_FINITE, "%s: v[%lld] is not finite", where, (long long)i);
     frix::record_measures(info, frix::global_measures(*p, r, v, u, &info.equilibrium),
-                          FRIX_MEASURE_RELATIVE);
+                          FRIX_MEASURE_SCALED);
     return FRIX_OK;
 }
 
@@ -250,7 +334,7 @@ FRIX_API frix_error frix_problem_error(const frix_problem *problem, const double
         if (!error) return frix::fail(FRIX_ERR_INVALID_ARGUMENT, "frix_problem_error: error is NULL");
         frix_info info;
         if (frix_error e = measure("frix_problem_error", problem, r, v, nullptr, info)) return e;
-        *error = info.error_relative;
+        *error = info.error_scaled;
         return FRIX_OK;
     });
 }

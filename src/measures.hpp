@@ -12,33 +12,46 @@ namespace frix {
 struct Measures {
     double residual_absolute = 0;  // sqrt(sum_a |r_a - P_K(r_a - u^_a)|^2)
     double relative = 0;           // residual / max(|q|, |r|, |u|), if that max > DBL_EPSILON
-    double q_relative = 0;         // residual / |q|, if |q| > DBL_EPSILON (else the residual)
+    double q_relative = 0;         // residual / |q|, if |q| > 0 (else the residual)
+    // The default measure (FRIX_MEASURE_SCALED): each contact's reaction in velocity units,
+    // s_a = w_a r_a (w_a = contact_weights), residual_scaled = sqrt(sum_a |s_a - P_K(s_a -
+    // u^_a)|^2), and scaled = residual_scaled / max(|q|, |u|) (|q|: the free velocity's norm,
+    // for a global problem frix_problem::free_velocity). Unit-consistent (length, mass
+    // and time units cancel) and, having no |r| below the line, out of reach of a runaway r.
+    double residual_scaled = 0;
+    double scaled = 0;
     double cone_violation = 0;     // max_a dist(r_a, K_a)
     double penetration = 0;        // max_a max(0, -u_N,a)
     double complementarity = 0;    // max_a |r_a . u^_a|
     double norm_q = 0, norm_r = 0, norm_u = 0;
+    double norm_free = 0;  // the scaled measure's velocity floor (see measures_from_ru)
 };
 
 // |x|_2, without overflow or underflow for values far from 1 (problems scaled by 1e+-200).
 double norm2(const double *x, int64_t n);
 
-// All measures of (r, u), with u = W r + q (or H^T v + w) already computed by the caller and
-// norm_q = |q|_2 (|w|_2 for a global problem).
-Measures measures_from_ru(const double *r, const double *u, const double *mu, int64_t nc,
-                          double norm_q);
+// All measures of (r, u), with u = W r + q (or H^T v + w) already computed by the caller,
+// norm_q = |q|_2 (|w|_2 for a global problem) and weight the problem's contact weights.
+// free: the norm of the velocity without contact forces, the scaled measure's floor (|q| for
+// a local problem, frix_problem::free_velocity); negative: norm_q.
+Measures measures_from_ru(const double *r, const double *u, const double *mu, const double *weight, int64_t nc,
+                          double norm_q, double free = -1.0);
 
 // measures_from_ru's sums and maxima over contacts [first, end): threads may measure ranges
 // apart and combine them (add) in a fixed order, so that the result does not depend on how
 // many there are.
 struct MeasureParts {
     double residual_sq = 0, cone = 0, penetration = 0, complementarity = 0, r_sq = 0, u_sq = 0;
+    // The scaled residual's sum of squares as scale^2 * ssq (LAPACK's dnrm2): never overflows.
+    double scaled_scale = 0, scaled_ssq = 1;
     void add(const MeasureParts &o);
 };
-MeasureParts measure_parts(const double *r, const double *u, const double *mu, int64_t first, int64_t end);
+MeasureParts measure_parts(const double *r, const double *u, const double *mu, const double *weight, int64_t first,
+                           int64_t end);
 // The measures from the parts of all nc contacts (sums out of the safe range are redone on
 // r and u rescaled).
 Measures measures_from_parts(const MeasureParts &all, const double *r, const double *u, const double *mu,
-                             int64_t nc, double norm_q);
+                             int64_t nc, double norm_q, double free = -1.0);
 
 // What measures_from_parts redoes over all contacts when a sum of the parts left the safe
 // range (a problem scaled by 1e+-200): for contacts held apart (by the processes of a
@@ -54,7 +67,7 @@ class MeasureRescue {
     virtual double norm_r() = 0;
     virtual double norm_u() = 0;
 };
-Measures measures_from_parts(const MeasureParts &all, MeasureRescue &rescue, double norm_q);
+Measures measures_from_parts(const MeasureParts &all, MeasureRescue &rescue, double norm_q, double free = -1.0);
 
 // The sum over contacts [first, end) of the squared natural-map residual of (r, u) / divisor,
 // and the largest distance of r_a / divisor to its cone.
@@ -67,7 +80,8 @@ bool in_safe_range(double sum_of_squares);
 
 // m's errors on another scale: norm_q replaced (a reduced problem's answer measured as the
 // global problem's, |w| for |q|: the residual, r and u are the same).
-Measures with_norm_q(Measures m, double norm_q);
+// free as in measures_from_ru (negative: norm_q).
+Measures with_norm_q(Measures m, double norm_q, double free = -1.0);
 
 // Computes u = W r + q (into u) and the measures of a local problem.
 Measures local_measures(const frix_problem &p, const double *r, double *u);

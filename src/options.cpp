@@ -40,7 +40,7 @@ const KeySpec kKeys[] = {
     {FRIX_OPT_MAX_ITER, "max_iter", true, 1.0, 1e9, 1000.0},
     {FRIX_OPT_TIME_LIMIT, "time_limit", false, 0.0, 1e9, 0.0},
     {FRIX_OPT_VERBOSITY, "verbosity", true, 0.0, 3.0, 0.0},
-    {FRIX_OPT_ERROR_MEASURE, "error_measure", true, 0.0, 1.0, 0.0},
+    {FRIX_OPT_ERROR_MEASURE, "error_measure", true, 0.0, 2.0, 2.0},
     {FRIX_OPT_LOCAL_SOLVER, "local_solver", true, 550.0, 565.0, 562.0, kLocalSolvers},
     {FRIX_OPT_LOCAL_TOLERANCE, "local_tolerance", false, 0.0, 1.0, 1e-12},
     {FRIX_OPT_LOCAL_MAX_ITER, "local_max_iter", true, 1.0, 1e6, 20.0},

@@ -45,6 +45,7 @@ void copy_views(const frix_problem &from, frix_problem &to) {
     to.f = from.f;
     to.w = from.w;
     to.mu = from.mu;
+    to.weight = from.weight;
 }
 
 frix_error create(const frix_problem *problem, const frix_options *options, frix_persistent **out) {
@@ -111,6 +112,7 @@ FRIX_API frix_error frix_persistent_update_local(frix_persistent *ps, const frix
         }
         ps->problem.q = next.q;
         ps->problem.mu = next.mu;
+        if (W) frix::set_contact_weights(ps->problem);
         return FRIX_OK;
     });
 }
@@ -146,6 +148,7 @@ FRIX_API frix_error frix_persistent_update_global(frix_persistent *ps, const fri
         ps->problem.f = next.f;
         ps->problem.w = next.w;
         ps->problem.mu = next.mu;
+        if (M || H) frix::set_contact_weights(ps->problem);
         return FRIX_OK;
     });
 }

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "error_state.hpp"
+#include "measures.hpp"
 
 namespace frix {
 
@@ -93,6 +94,7 @@ frix_error make_local_problem(const frix_matrix *W, const double *q, const doubl
     p->W = W;
     p->q = q;
     p->mu = mu;
+    set_contact_weights(*p);
     *out = p.release();
     return FRIX_OK;
 }
@@ -113,6 +115,7 @@ frix_error make_global_problem(const frix_matrix *M, const frix_matrix *H, const
     p->f = f;
     p->w = w;
     p->mu = mu;
+    set_contact_weights(*p);
     *out = p.release();
     return FRIX_OK;
 }
@@ -158,6 +161,53 @@ frix_error make_owned_global_problem(std::unique_ptr<frix_matrix> M, std::unique
     p.w = p.owned_w.data();
     p.mu = p.owned_mu.data();
     return FRIX_OK;
+}
+
+void set_contact_weights(frix_problem &p) {
+    std::vector<double> &w = p.weight;
+    w.assign((size_t)p.nc, 0.0);
+    if (p.kind == FRIX_PROBLEM_LOCAL && p.W) {
+        for_each_entry(*p.W, [&](int64_t row, int64_t col, double value) {
+            if (row == col && row % 3 == 0) w[(size_t)(row / 3)] += value;
+        });
+    } else if (p.kind == FRIX_PROBLEM_GLOBAL && p.M) {
+        std::vector<double> mass((size_t)p.n, 0.0);
+        for_each_entry(*p.M, [&](int64_t row, int64_t col, double value) {
+            if (row == col) mass[(size_t)row] += value;
+        });
+        if (p.H)
+            for_each_entry(*p.H, [&](int64_t row, int64_t col, double value) {
+                const double m = mass[(size_t)row];
+                if (col % 3 == 0 && m > 0.0) w[(size_t)(col / 3)] += value * value / m;
+            });
+    }
+    double sum = 0.0;
+    int64_t count = 0;
+    for (double x : w)
+        if (x > 0.0 && std::isfinite(x)) {
+            sum += x;
+            ++count;
+        }
+    const double fill = count > 0 && std::isfinite(sum / (double)count) ? sum / (double)count : 1.0;
+    for (double &x : w)
+        if (!(x > 0.0 && std::isfinite(x))) x = fill;
+}
+
+double free_velocity(const frix_problem &p) {
+    const int64_t m = 3 * p.nc;
+    if (p.kind != FRIX_PROBLEM_GLOBAL || !p.M) return p.kind == FRIX_PROBLEM_LOCAL ? norm2(p.q, m) : 0.0;
+    std::vector<double> mass((size_t)p.n, 0.0);
+    for_each_entry(*p.M, [&](int64_t row, int64_t col, double value) {
+        if (row == col) mass[(size_t)row] += value;
+    });
+    std::vector<double> free(p.w, p.w + m);
+    if (p.H)
+        for_each_entry(*p.H, [&](int64_t row, int64_t col, double value) {
+            const double d = mass[(size_t)row];
+            if (d > 0.0) free[(size_t)col] += value * (p.f[row] / d);
+        });
+    const double norm_free = norm2(free.data(), m);
+    return std::max(norm2(p.w, m), std::isfinite(norm_free) ? norm_free : 0.0);
 }
 
 frix_error check_problem_vectors(const frix_problem &p) {

@@ -26,6 +26,11 @@ struct frix_problem {
 
     std::string title;
 
+    // Per contact, the velocity a unit normal reaction produces at it (velocity / force): the
+    // default error measure's unit of r (measures.hpp). Set when the problem is made or
+    // updated (set_contact_weights); a view made by hand fills it or leaves it empty (1).
+    std::vector<double> weight;
+
     // Owned storage, used only by problems that own their data (see make_owned_* below).
     std::unique_ptr<frix_matrix> owned_W, owned_M, owned_H;
     std::vector<double> owned_q, owned_f, owned_w, owned_mu;
@@ -53,6 +58,16 @@ frix_error make_owned_global_problem(std::unique_ptr<frix_matrix> M,
 // x (n values, named `name` in the message) given and finite; mu (nc values) finite and >= 0.
 frix_error check_vector(const char *where, const char *name, const double *x, int64_t n);
 frix_error check_mu(const char *where, const double *mu, int64_t nc);
+
+// p.weight from the problem's matrices: local, W_aa[0][0]; global, sum_i H_i,3a^2 / M_ii (the
+// same with M's diagonal for M^-1: cheap, and exact for a diagonal M). A value that is not
+// positive and finite (a contact W or H does not reach) takes the mean of the others, or 1.
+void set_contact_weights(frix_problem &p);
+
+// A global problem's velocity at the contacts without contact forces, the default measure's
+// floor (a local problem's is |q|): max(|w|, |H^T D^-1 f + w|), D = M's diagonal. Computed
+// when asked: f and w may change in place between solves.
+double free_velocity(const frix_problem &p);
 
 // Re-checks the vectors a caller may have changed in place since creation (q/f/w, mu).
 frix_error check_problem_vectors(const frix_problem &p);

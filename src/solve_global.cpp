@@ -39,11 +39,11 @@ constexpr int kTightenedPasses = 2;
 frix_error tighten_to_global_measure(const frix_problem &p, const frix_problem &local, const frix_options &opts,
                                      const SolverEntry &entry, double *r, double *u, frix_info &info,
                                      const Stopwatch &clock, SolveCache *local_cache, Measures &measures) {
-    const double tol = opts.d(FRIX_OPT_TOLERANCE), norm_w = norm2(p.w, 3 * p.nc);
+    const double tol = opts.d(FRIX_OPT_TOLERANCE), norm_w = norm2(p.w, 3 * p.nc), free = free_velocity(p);
     const int64_t measure = opts.i(FRIX_OPT_ERROR_MEASURE), max_iter = opts.i(FRIX_OPT_MAX_ITER);
     for (int pass = 0; pass < kTightenedPasses && info.status == FRIX_STATUS_CONVERGED; ++pass) {
         // The global measure of (r, M^-1 (H r + f)) up to rounding: u = W r + q = H^T v + w.
-        const double global = selected_error(with_norm_q(measures, norm_w), measure);
+        const double global = selected_error(with_norm_q(measures, norm_w, free), measure);
         if (!(global > tol) || !(info.error > 0.0) || !(global > info.error) || info.iterations >= max_iter) break;
         frix_options tighter = opts;
         tighter.dvalue[FRIX_OPT_TOLERANCE] = 0.5 * tol * info.error / global;
@@ -107,6 +107,8 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
     frix_problem *local = nullptr;
     if (frix_error e = make_local_problem(W.get(), q.data(), p.mu, p.nc, &local)) return e;
     std::unique_ptr<frix_problem> local_owner(local);
+    // The global problem's weights: the reduced answer is measured as the global one is.
+    local->weight = p.weight;
     const double setup_time = setup.seconds();
     SolveCache *local_cache = nullptr;
     if (kept) {

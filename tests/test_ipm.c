@@ -106,7 +106,7 @@ START_TEST(ipm_is_deterministic) {
     if (!p) return;
     const int64_t m = frix_problem_contact_dofs(p);
     double *r1 = calloc((size_t)m, sizeof *r1), *r2 = calloc((size_t)m, sizeof *r2);
-    frix_options *o = ipm_options(kSolvers[_i]);
+    frix_options *o = frix_test_siconos_measure(ipm_options(kSolvers[_i]));
     frix_info *i1 = NULL, *i2 = NULL;
     ck_assert_int_eq(frix_info_create(&i1), FRIX_OK);
     ck_assert_int_eq(frix_info_create(&i2), FRIX_OK);

@@ -104,6 +104,7 @@ START_TEST(test_no_factorisation_past_the_memory_limit) {
     const int global = global_only(id);
     frix_options *o = NULL;
     ck_assert_int_eq(frix_options_create(id, &o), FRIX_OK);
+    frix_test_siconos_measure(o);
     /* 64 kB: the smallest factor here (ADMM's Cholesky of W + rho I) takes megabytes. The
      * global problem gets 500 kB: room for M's factor (some 150 kB, the driver's), not for
      * gnsn-ac's LU of the (v, r) system. */

@@ -41,6 +41,8 @@ typedef enum frix_info_key FRIX_ENUM_BASE {
     FRIX_INFO_PENETRATION = 105,    /* max over contacts of max(0, -u_N) */
     FRIX_INFO_COMPLEMENTARITY = 106, /* max over contacts of |r_a . u^_a| */
     FRIX_INFO_EQUILIBRIUM = 107,    /* global: |Mv - Hr - f| / max(|f|, |Mv|, |Hr|); NaN for local */
+    FRIX_INFO_ERROR_SCALED = 108,   /* the default measure, FRIX_MEASURE_SCALED: natural-map residual
+                                       of (w_a r_a, u^_a) / max(|q|, |u|) */
     FRIX_INFO_SOLVE_TIME = 120,     /* seconds, wall clock, whole frix_solve call */
     FRIX_INFO_TOLERANCE = 121,      /* the tolerance the solve was asked for */
     FRIX_INFO_FACTORIZATION_TIME = 122, /* seconds in symbolic analyses and factorisations */

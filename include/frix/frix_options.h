@@ -27,7 +27,9 @@ typedef enum frix_option_key FRIX_ENUM_BASE {
                                      factorisation that would overrun it (priced from its
                                      symbolic analysis) is not started */
     FRIX_OPT_VERBOSITY = 4,       /* int 0..3: 0 prints nothing; higher levels print to stderr */
-    FRIX_OPT_ERROR_MEASURE = 5,   /* int, frix_error_measure: the measure compared with the tolerance */
+    FRIX_OPT_ERROR_MEASURE = 5,   /* int, frix_error_measure: the measure compared with the tolerance
+                                     (default FRIX_MEASURE_SCALED; by name: scaled, siconos,
+                                     q_relative) */
     FRIX_OPT_LOCAL_SOLVER = 6,    /* int: one-contact solver id (FRIX_LOCAL_*) */
     FRIX_OPT_LOCAL_TOLERANCE = 7, /* double: one-contact solver tolerance */
     FRIX_OPT_LOCAL_MAX_ITER = 8,  /* int: one-contact solver iteration limit */
@@ -108,7 +110,12 @@ typedef enum frix_error_measure FRIX_ENUM_BASE {
     /* The Siconos 4.4 measure: natural-map residual / max(|q|, |r|, |u|). */
     FRIX_MEASURE_RELATIVE = 0,
     /* The same residual / |q| (Acary, Bremond, Huber 2018). */
-    FRIX_MEASURE_Q_RELATIVE = 1
+    FRIX_MEASURE_Q_RELATIVE = 1,
+    /* The default: the natural-map residual with each contact's reaction in velocity units,
+     * s_a = w_a r_a (w_a its normal self-compliance W_aa[0][0]; for a global problem
+     * sum_i H_i,a^2 / M_ii), divided by max(|q|, |u|). A change of units does not change it,
+     * and a runaway r cannot satisfy it. */
+    FRIX_MEASURE_SCALED = 2
 } frix_error_measure;
 
 typedef enum frix_shuffle FRIX_ENUM_BASE {

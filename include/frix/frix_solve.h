@@ -30,7 +30,8 @@ FRIX_API frix_error frix_solve(const frix_problem *problem, const frix_options *
 
 /* ---- Error measures of a given (r[, v]) without solving: fills the measure keys of info
  * (FRIX_INFO_ERROR* , _CONE_VIOLATION, _PENETRATION, _COMPLEMENTARITY, _EQUILIBRIUM), and
- * FRIX_INFO_ERROR with the relative measure. u (optional, 3nc) receives W r + q. */
+ * FRIX_INFO_ERROR with the default measure (FRIX_MEASURE_SCALED). u (optional, 3nc) receives
+ * W r + q. */
 FRIX_API frix_error frix_problem_measure(const frix_problem *problem, const double *r,
                                          const double *v, double *u, frix_info *info);
 /* Existence check of a local or global problem: looks for a strictly feasible z (W z + q
@@ -44,7 +45,7 @@ FRIX_API frix_error frix_problem_measure(const frix_problem *problem, const doub
  * time_limit out of range; the problem's vectors are checked again as by frix_solve. */
 FRIX_API frix_error frix_problem_check_existence(const frix_problem *problem, double time_limit,
                                                  frix_info *info);
-/* Just the default measure (FRIX_INFO_ERROR_RELATIVE). */
+/* Just the default measure (FRIX_INFO_ERROR_SCALED). */
 FRIX_API frix_error frix_problem_error(const frix_problem *problem, const double *r,
                                        const double *v, double *error);
 

@@ -165,7 +165,7 @@ _info_text_lock = threading.Lock()
 _INFO_INT = {"iterations": 2, "newton_iterations": 5, "line_search_steps": 6,
              "factorizations": 7, "symbolic_analyses": 8, "hybrid_sweeps": 9,
              "inner_iterations": 10, "islands": 11, "switches": 12}
-_MEASURES = {"error_relative": 101, "error_q_relative": 102, "residual_absolute": 103,
+_MEASURES = {"error_scaled": 108, "error_relative": 101, "error_q_relative": 102, "residual_absolute": 103,
              "cone_violation": 104, "penetration": 105, "complementarity": 106,
              "equilibrium": 107}
 _TIMES = {"factorization": 122, "setup": 123, "reduction": 125}

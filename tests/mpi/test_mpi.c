@@ -18,6 +18,23 @@
 #include <unistd.h>
 
 #include "elastic_grid.h"
+
+/* The distributed solves are compared with the serial ones on Siconos's measure, the default
+ * these cases were written on: the distributed global forms do not yet weight the default
+ * measure as the serial ones do (a rigid part by W_aa, a global one not at all). */
+static void pin_siconos_measure(frix_options *o) {
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_ERROR_MEASURE, FRIX_MEASURE_RELATIVE), FRIX_OK);
+}
+
+/* frix_problem_error on Siconos's measure. */
+static frix_error siconos_error(const frix_problem *p, const double *r, const double *v, double *error) {
+    frix_info *info = NULL;
+    frix_error e = frix_info_create(&info);
+    if (!e) e = frix_problem_measure(p, r, v, NULL, info);
+    if (!e) e = frix_info_get_double(info, FRIX_INFO_ERROR_RELATIVE, error);
+    frix_info_free(info);
+    return e;
+}
 #include "scenes.h"
 
 #ifndef FRIX_SHARED_DIR
@@ -50,6 +67,7 @@ static frix_problem *shared_problem(const char *relative) {
 static frix_options *nsgs_options(double tol) {
     frix_options *o = NULL;
     ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS, &o), FRIX_OK);
+    pin_siconos_measure(o);
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, tol), FRIX_OK);
     return o;
 }
@@ -259,7 +277,7 @@ START_TEST(the_ranks_converge_on_the_piles) {
         if (p) {
             outcome d = solve_distributed(MPI_COMM_WORLD, p, NULL, o, NULL, NULL);
             double measured = 0.0;
-            ck_assert_int_eq(frix_problem_error(p, d.r, NULL, &measured), FRIX_OK);
+            ck_assert_int_eq(siconos_error(p, d.r, NULL, &measured), FRIX_OK);
             if (g_rank == 0)
                 printf("%s, %d ranks: %s after %d sweeps, error %.4e (libfrix: %.4e)\n", files[f], g_size,
                        frix_status_string(d.status), (int)d.iterations, d.error, measured);
@@ -309,7 +327,7 @@ START_TEST(the_same_bits_on_every_run) {
             }
             a1 = solve_distributed(MPI_COMM_WORLD, p, pass == 0 ? NULL : part, o, NULL, &kept);
             a2 = solve_distributed(MPI_COMM_WORLD, p, pass == 0 ? NULL : part, o, NULL, NULL);
-            ck_assert_int_eq(frix_problem_error(p, a1.r, NULL, &measured), FRIX_OK);
+            ck_assert_int_eq(siconos_error(p, a1.r, NULL, &measured), FRIX_OK);
             if (!same_bits(&a1, &a2, 3 * nc) || a1.status != FRIX_STATUS_CONVERGED || !(measured <= 1e-4 * (1.0 + 1e-9))) {
                 fprintf(stderr, "rank %d, pass %d: same bits %d, %s, measured %.6e\n", g_rank, pass,
                         same_bits(&a1, &a2, 3 * nc), frix_status_string(a1.status), measured);
@@ -415,7 +433,7 @@ START_TEST(a_chain_in_blocks) {
          memcmp(r, s.r + 3 * first, (size_t)(3 * per_rank) * sizeof(double)) == 0;
     {
         double measured = 1.0;
-        ck_assert_int_eq(frix_problem_error(p, s.r, NULL, &measured), FRIX_OK);
+        ck_assert_int_eq(siconos_error(p, s.r, NULL, &measured), FRIX_OK);
         ok = ok && measured <= 1e-10 * (1.0 + 1e-9);
     }
     outcome_free(&s);
@@ -452,7 +470,7 @@ START_TEST(a_global_problem_reduced_on_the_root) {
     d = solve_distributed(MPI_COMM_WORLD, forms.global, NULL, o, NULL, NULL);
     v = calloc((size_t)scene.n, sizeof(double));
     frix_scene_velocity(&scene, d.r, v);
-    ck_assert_int_eq(frix_problem_error(forms.global, d.r, v, &measured), FRIX_OK);
+    ck_assert_int_eq(siconos_error(forms.global, d.r, v, &measured), FRIX_OK);
     if (g_rank == 0)
         printf("spheres, %d layers, %lld contacts, %d ranks: %s after %d sweeps, error %.4e (libfrix: %.4e)\n",
                sp.count, (long long)scene.nc, g_size, frix_status_string(d.status), (int)d.iterations, d.error,
@@ -536,7 +554,7 @@ START_TEST(rigid_bodies_without_w) {
             ck_assert_int_eq(frix_mpi_gather(p, 0, r, r_all), FRIX_OK);
             MPI_Bcast(r_all, (int)(3 * nc), MPI_DOUBLE, 0, MPI_COMM_WORLD);
             frix_scene_velocity(&scene, r_all, v);
-            ck_assert_int_eq(frix_problem_error(forms.global, r_all, v, &measured), FRIX_OK);
+            ck_assert_int_eq(siconos_error(forms.global, r_all, v, &measured), FRIX_OK);
             ck_assert_int_eq(frix_mpi_problem_velocities(p, v_ranks), FRIX_OK);
             for (i = 0; i < 6 * held; ++i) {
                 const double exact = v[6 * ids[i / 6] + i % 6];
@@ -599,6 +617,7 @@ static int newton_case(MPI_Comm comm, const frix_problem *p, double tol, int use
     MPI_Comm_rank(comm, &rank);
     MPI_Comm_size(comm, &size);
     ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSN_AC, &o), FRIX_OK);
+    pin_siconos_measure(o);
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, tol), FRIX_OK);
     if (use_parts) {
         frix_mpi_context *ctx = NULL;
@@ -609,7 +628,7 @@ static int newton_case(MPI_Comm comm, const frix_problem *p, double tol, int use
     }
     a = solve_distributed(comm, p, part, o, NULL, NULL);
     b = solve_distributed(comm, p, part, o, NULL, NULL);
-    ck_assert_int_eq(frix_problem_error(p, a.r, NULL, &measured), FRIX_OK);
+    ck_assert_int_eq(siconos_error(p, a.r, NULL, &measured), FRIX_OK);
     if (rank == 0)
         printf("nsn-ac, %s, %d ranks: %s after %d Newton steps, error %.4e (libfrix: %.4e)\n", what, size,
                frix_status_string(a.status), (int)a.iterations, a.error, measured);
@@ -672,6 +691,7 @@ static void global_outcome_free(global_outcome *o) {
 static frix_options *gnsn_options(double tol) {
     frix_options *o = NULL;
     ck_assert_int_eq(frix_options_create(FRIX_SOLVER_GLOBAL_NSN_AC, &o), FRIX_OK);
+    pin_siconos_measure(o);
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, tol), FRIX_OK);
     return o;
 }
@@ -765,7 +785,7 @@ static int global_case(MPI_Comm comm, const frix_problem *p, double tol, int use
         vmax = fmax(vmax, fabs(v[i]));
     }
     ck_assert_int_eq(frix_problem_measure(p, a.r, a.v, NULL, info), FRIX_OK);
-    measured = frix_info_error(info);
+    ck_assert_int_eq(frix_info_get_double(info, FRIX_INFO_ERROR_RELATIVE, &measured), FRIX_OK);
     frix_info_get_double(info, FRIX_INFO_EQUILIBRIUM, &equilibrium);
     if (rank == 0)
         printf("gnsn-ac, %s, %d ranks: %s after %d Newton steps, error %.4e, equilibrium %.2e (libfrix: %.4e, %.2e); "
@@ -948,6 +968,7 @@ START_TEST(the_hosts_petsc_objects) {
     ck_assert_int_eq(frix_mpi_solve(from_rows, o, r2, u2, NULL), FRIX_OK);
     ok = memcmp(r1, r2, sizeof r1) == 0 && memcmp(u1, u2, sizeof u1) == 0;
     ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSN_AC, &newton), FRIX_OK);
+    pin_siconos_measure(newton);
     memset(r1, 0, sizeof r1);
     ok = ok && frix_mpi_solve(from_petsc, newton, r1, u1, NULL) == FRIX_OK;
     frix_mpi_problem_free(from_petsc);
@@ -1115,6 +1136,7 @@ START_TEST(refusals_and_stops_reach_every_rank) {
         ck_assert_int_eq(frix_options_set_int(drift, FRIX_OPT_DRIFT_WINDOW, 10), FRIX_OK);
         ok = ok && frix_mpi_solve(part, drift, r, u, NULL) == FRIX_ERR_UNSUPPORTED;
         ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &other), FRIX_OK);
+        pin_siconos_measure(other);
         ok = ok && frix_mpi_solve(part, other, r, u, NULL) == FRIX_ERR_UNSUPPORTED;
         ok = ok && frix_mpi_solve(part, o, g_rank == last ? NULL : r, u, NULL) == FRIX_ERR_INVALID_ARGUMENT;
         ok = ok && frix_mpi_problem_get_int(part, (frix_mpi_key)99, &v) == FRIX_ERR_INVALID_ARGUMENT;
