@@ -22,6 +22,22 @@ void reraise(frix_error code, const std::string &context) {
     raise(code, "%s: %s", context.c_str(), detail.c_str());
 }
 
+std::string printable(const std::string &text) {
+    std::string out;
+    out.reserve(text.size());
+    for (const char c : text) {
+        const auto byte = static_cast<unsigned char>(c);
+        if (byte < 0x20 || byte == 0x7f) {
+            char escape[5];
+            std::snprintf(escape, sizeof escape, "\\x%02x", byte);
+            out += escape;
+        } else {
+            out += c;
+        }
+    }
+    return out;
+}
+
 void raise_from_core(frix_error code, const std::string &context) {
     reraise(code == FRIX_ERR_OUT_OF_MEMORY ? code : FRIX_ERR_FORMAT, context);
 }

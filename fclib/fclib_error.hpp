@@ -23,4 +23,9 @@ namespace frix::fclib {
 // The same, keeping the core's code: for failures that are not about file content.
 [[noreturn]] void reraise(frix_error code, const std::string &context);
 
+// Text from a file (a title, a link target, a token) with its control characters (bytes
+// below 0x20, and 0x7f) written as \xHH: it ends up in messages and titles that callers
+// print, where raw escape sequences would drive the terminal.
+std::string printable(const std::string &text);
+
 }  // namespace frix::fclib

@@ -39,11 +39,20 @@ void check_indices(const FileReader &file, const std::string &name, const Index 
                   static_cast<long long>(idx[k]), static_cast<long long>(bound), what);
 }
 
-void check_length(const FileReader &file, const std::string &name, size_t have, int64_t need,
-                  const char *why) {
-    if (static_cast<int64_t>(have) < need)
-        raise(FRIX_ERR_FORMAT, "'%s': dataset %s has %zu entries, expected at least %lld (%s)",
-              file.path(), name.c_str(), have, static_cast<long long>(need), why);
+// An index or value array holds the matrix's first nnz entries; it may be longer (up to the
+// capacity nzmax, as real files store it), and then only those nnz entries are read. An
+// array longer than the capacity the group declares is not a matrix frix reads.
+void check_length(const FileReader &file, const MatrixHeader &h, const std::string &name,
+                  int64_t nnz, const char *why) {
+    const int64_t have = file.length(name);
+    if (have < nnz)
+        raise(FRIX_ERR_FORMAT, "'%s': dataset %s has %lld entries, expected at least %lld (%s)",
+              file.path(), name.c_str(), static_cast<long long>(have), static_cast<long long>(nnz),
+              why);
+    if (have > h.nzmax)
+        raise(FRIX_ERR_FORMAT, "'%s': dataset %s has %lld entries, more than nzmax %lld of %s",
+              file.path(), name.c_str(), static_cast<long long>(have),
+              static_cast<long long>(h.nzmax), h.group.c_str());
 }
 
 void check_values(const FileReader &file, const std::string &name, const std::vector<double> &x,
@@ -102,10 +111,10 @@ std::unique_ptr<frix_matrix> read_matrix(const FileReader &file, const MatrixHea
             raise(FRIX_ERR_FORMAT, "'%s': %s holds %lld entries (last of p) but nzmax is %lld",
                   file.path(), h.group.c_str(), static_cast<long long>(nnz),
                   static_cast<long long>(h.nzmax));
-        const Index idx = file.read_ints(i_name);
-        check_length(file, i_name, idx.size(), nnz, "last entry of p");
-        const std::vector<double> x = file.read_doubles(x_name);
-        check_length(file, x_name, x.size(), nnz, "last entry of p");
+        check_length(file, h, i_name, nnz, "last entry of p");
+        check_length(file, h, x_name, nnz, "last entry of p");
+        const Index idx = file.read_first_ints(i_name, nnz);
+        const std::vector<double> x = file.read_first_doubles(x_name, nnz);
         check_indices(file, i_name, idx, nnz, inner, csc ? "rows" : "columns");
         check_values(file, x_name, x, nnz);
         err = csc ? frix_matrix_from_csc(h.m, h.n, p.data(), idx.data(), x.data(), &raw)
@@ -118,12 +127,12 @@ std::unique_ptr<frix_matrix> read_matrix(const FileReader &file, const MatrixHea
             raise(FRIX_ERR_FORMAT, "'%s': %s holds %lld triplets (nz) but nzmax is %lld",
                   file.path(), h.group.c_str(), static_cast<long long>(nnz),
                   static_cast<long long>(h.nzmax));
-        const Index rows = file.read_ints(i_name);
-        check_length(file, i_name, rows.size(), nnz, "the triplet count nz");
-        const Index cols = file.read_ints(p_name);
-        check_length(file, p_name, cols.size(), nnz, "the triplet count nz");
-        const std::vector<double> x = file.read_doubles(x_name);
-        check_length(file, x_name, x.size(), nnz, "the triplet count nz");
+        check_length(file, h, i_name, nnz, "the triplet count nz");
+        check_length(file, h, p_name, nnz, "the triplet count nz");
+        check_length(file, h, x_name, nnz, "the triplet count nz");
+        const Index rows = file.read_first_ints(i_name, nnz);
+        const Index cols = file.read_first_ints(p_name, nnz);
+        const std::vector<double> x = file.read_first_doubles(x_name, nnz);
         check_indices(file, i_name, rows, nnz, h.m, "rows");
         check_indices(file, p_name, cols, nnz, h.n, "columns");
         check_values(file, x_name, x, nnz);

@@ -104,7 +104,7 @@ ProblemPtr read_global(const FileReader &file) {
 void read_title(const FileReader &file, const std::string &root, frix_problem &problem) {
     const std::string name = root + "/info/title";
     if (!file.exists(name)) return;  // info is optional in FCLIB
-    const std::string title = file.read_text(name);
+    const std::string title = printable(file.read_text(name));
     const frix_error err = frix_problem_set_title(&problem, title.c_str());
     if (err != FRIX_OK) reraise(err, std::string("'") + file.path() + "': " + name);
 }

@@ -23,9 +23,11 @@ void read_solution_group(const FileReader &file, const std::string &group,
     const int64_t m = 3 * problem.nc;
     const bool global = problem.kind == FRIX_PROBLEM_GLOBAL;
     std::vector<double> rr, uu, vv;
-    if (r != nullptr) rr = file.read_vector(group + "/r", m, "3 x contacts of the problem");
-    if (u != nullptr) uu = file.read_vector(group + "/u", m, "3 x contacts of the problem");
-    if (global && v != nullptr) vv = file.read_vector(group + "/v", problem.n, "dofs of the problem");
+    const Unwritten unwritten = Unwritten::read_fill;
+    if (r != nullptr) rr = file.read_vector(group + "/r", m, "3 x contacts of the problem", unwritten);
+    if (u != nullptr) uu = file.read_vector(group + "/u", m, "3 x contacts of the problem", unwritten);
+    if (global && v != nullptr)
+        vv = file.read_vector(group + "/v", problem.n, "dofs of the problem", unwritten);
     std::copy(rr.begin(), rr.end(), r);
     std::copy(uu.begin(), uu.end(), u);
     std::copy(vv.begin(), vv.end(), v);

@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include "fclib_error.hpp"
+
 namespace frix::fclib {
 
 Handle &Handle::operator=(Handle &&other) noexcept {
@@ -58,7 +60,8 @@ herr_t keep_innermost(unsigned n, const H5E_error2_t *err, void *data) {
 std::string hdf5_error_detail() {
     std::string detail;
     H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, keep_innermost, &detail);
-    return detail;
+    // HDF5 quotes names from the file in some descriptions.
+    return printable(detail);
 }
 
 long hdf5_signature_offset(std::FILE *file) {

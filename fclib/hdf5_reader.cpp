@@ -2,23 +2,35 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 
 #include "fclib_error.hpp"
+#include "input_file.hpp"
 
 namespace frix::fclib {
 
 namespace {
 
-// A dataset may declare more entries than it stores (unwritten datasets read as their fill
-// value: real files have /solution/r stored that way) and compressed data is smaller than
-// its extent, but deflate never exceeds ~1000:1. Anything beyond this bound is a forged
-// extent, refused before a buffer of that size is allocated.
-constexpr double kMaxExpansion = 4096.0;
-constexpr double kMaxUnstoredBytes = 64.0 * 1024 * 1024;
+// What one reader may allocate for a file's data in all: 64 bytes per byte of the file
+// (compressed data expands, int32 widens to int64) plus 64 MiB for small files.
+constexpr double kAllocationPerFileByte = 64.0;
+constexpr double kAllocationSlack = 64.0 * 1024 * 1024;
+// HDF5 itself stops after 16 soft links in a row (H5L_NUM_LINKS).
+constexpr int kMaxSoftLinks = 16;
+constexpr size_t kMaxLinkValue = 4096;
+// Where external raw data and virtual-dataset sources would be looked for: /dev/null is
+// not a directory, so nothing under it can ever be opened.
+constexpr const char *kNoSourceDirectory = "/dev/null/";
+
+// Refuses every external link traversal: the file is read alone.
+herr_t refuse_external_link(const char *, const char *, const char *, const char *, unsigned *,
+                            hid_t, void *) {
+    return -1;
+}
 
 const char *class_name(H5T_class_t c) {
     switch (c) {
@@ -35,8 +47,8 @@ const char *class_name(H5T_class_t c) {
 
 // H5Oopen + H5Iget_type rather than H5Oget_info_by_name, whose signature changed
 // between HDF5 1.10 and 1.12.
-H5I_type_t object_type(hid_t file, const std::string &name) {
-    Handle object(H5Oopen(file, name.c_str(), H5P_DEFAULT), H5Oclose);
+H5I_type_t object_type(hid_t file, const std::string &name, hid_t links) {
+    Handle object(H5Oopen(file, name.c_str(), links), H5Oclose);
     return object.valid() ? H5Iget_type(object.get()) : H5I_BADID;
 }
 
@@ -99,55 +111,115 @@ struct FileReader::Dataset {
 
 FileReader::FileReader(const char *path) : path_(path) {
     // Checked before HDF5 so the common failures read plainly ("No such file or directory")
-    // instead of as HDF5's internal error stack.
-    struct stat st;
-    if (stat(path, &st) != 0)
-        raise(FRIX_ERR_IO, "cannot open '%s': %s", path, std::strerror(errno));
-    if (S_ISDIR(st.st_mode)) raise(FRIX_ERR_IO, "cannot open '%s': it is a directory", path);
-    std::FILE *probe = std::fopen(path, "rb");
-    if (probe == nullptr) raise(FRIX_ERR_IO, "cannot open '%s': %s", path, std::strerror(errno));
-    const char *corrupt = corrupt_superblock(probe, static_cast<uint64_t>(st.st_size));
-    std::fclose(probe);
+    // instead of as HDF5's internal error stack, and so that HDF5 never opens a FIFO or a
+    // device.
+    InputFile probe = open_regular_file(path);
+    file_size_ = probe.size;
+    allocation_limit_ = kAllocationPerFileByte * static_cast<double>(file_size_) + kAllocationSlack;
+    const char *corrupt = corrupt_superblock(probe.file.get(), file_size_);
     if (corrupt != nullptr) raise(FRIX_ERR_FORMAT, "cannot read '%s': a corrupt HDF5 superblock (%s)", path, corrupt);
+    if (hdf5_signature_offset(probe.file.get()) < 0) raise(FRIX_ERR_IO, "cannot read '%s': not an HDF5 file", path);
 
-#if H5_VERSION_GE(1, 12, 0)
-    const htri_t is_hdf5 = H5Fis_accessible(path, H5P_DEFAULT);
-#else
-    const htri_t is_hdf5 = H5Fis_hdf5(path);
-#endif
-    if (is_hdf5 == 0) raise(FRIX_ERR_IO, "cannot read '%s': not an HDF5 file", path);
-    file_ = file_handle(H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT));
+    auto setup_failed = [&]() {
+        const std::string detail = hdf5_error_detail();
+        raise(FRIX_ERR_IO, "cannot read '%s': cannot set up HDF5: %s", path, detail.c_str());
+    };
+    links_ = plist_handle(H5Pcreate(H5P_LINK_ACCESS));
+    access_ = plist_handle(H5Pcreate(H5P_DATASET_ACCESS));
+    Handle file_access = plist_handle(H5Pcreate(H5P_FILE_ACCESS));
+    if (!links_.valid() || !access_.valid() || !file_access.valid() ||
+        H5Pset_elink_cb(links_.get(), refuse_external_link, nullptr) < 0 ||
+        H5Pset_elink_cb(access_.get(), refuse_external_link, nullptr) < 0 ||
+        H5Pset_efile_prefix(access_.get(), kNoSourceDirectory) < 0 ||
+        H5Pset_virtual_prefix(access_.get(), kNoSourceDirectory) < 0 ||
+        H5Pset_fapl_sec2(file_access.get()) < 0)
+        setup_failed();
+
+    file_ = file_handle(H5Fopen(path, H5F_ACC_RDONLY, file_access.get()));
     if (!file_.valid()) {
         const std::string detail = hdf5_error_detail();
         raise(FRIX_ERR_IO, "cannot read '%s' as an HDF5 file: %s", path,
               detail.empty() ? "unknown HDF5 error" : detail.c_str());
     }
+    // HDF5 opened the path again: it must still be the file checked above.
+    void *handle = nullptr;
+    struct stat opened;
+    if (H5Fget_vfd_handle(file_.get(), file_access.get(), &handle) < 0 || handle == nullptr ||
+        fstat(*static_cast<int *>(handle), &opened) != 0 || opened.st_dev != probe.device ||
+        opened.st_ino != probe.inode)
+        raise(FRIX_ERR_IO, "cannot read '%s': the file was replaced while being opened", path);
 }
 
-bool FileReader::exists(const std::string &name) const {
+void FileReader::check_link(const std::string &name, int depth) const {
+    H5L_info_t info;
+    if (H5Lget_info(file_.get(), name.c_str(), &info, links_.get()) < 0) {
+        const std::string detail = hdf5_error_detail();
+        raise(FRIX_ERR_IO, "'%s': cannot query link %s: %s", path(), printable(name).c_str(),
+              detail.c_str());
+    }
+    if (info.type == H5L_TYPE_HARD) return;
+    if (info.type != H5L_TYPE_SOFT && info.type != H5L_TYPE_EXTERNAL)
+        raise(FRIX_ERR_FORMAT, "'%s': %s is a user-defined link (type %d), which frix does not follow",
+              path(), printable(name).c_str(), static_cast<int>(info.type));
+    if (info.u.val_size == 0 || info.u.val_size > kMaxLinkValue)
+        raise(FRIX_ERR_FORMAT, "'%s': link %s has a target of %zu bytes", path(),
+              printable(name).c_str(), info.u.val_size);
+    std::vector<char> value(info.u.val_size + 1, '\0');
+    if (H5Lget_val(file_.get(), name.c_str(), value.data(), info.u.val_size, links_.get()) < 0) {
+        const std::string detail = hdf5_error_detail();
+        raise(FRIX_ERR_IO, "'%s': cannot read link %s: %s", path(), printable(name).c_str(),
+              detail.c_str());
+    }
+    if (info.type == H5L_TYPE_EXTERNAL) {
+        const char *other_file = nullptr, *other_object = nullptr;
+        unsigned flags = 0;
+        if (H5Lunpack_elink_val(value.data(), info.u.val_size, &flags, &other_file, &other_object) < 0)
+            other_file = other_object = "?";
+        raise(FRIX_ERR_FORMAT,
+              "'%s': %s is an external link (to %s in '%s'); frix reads nothing outside the file",
+              path(), printable(name).c_str(), printable(other_object).c_str(),
+              printable(other_file).c_str());
+    }
+    // A soft link names a path in this file, relative to the group holding the link; that
+    // path must itself exist and be made of links frix follows.
+    const std::string target(value.data());
+    if (depth >= kMaxSoftLinks)
+        raise(FRIX_ERR_FORMAT, "'%s': soft link %s is the %dth soft link in a row (a loop?)", path(),
+              printable(name).c_str(), depth + 1);
+    const std::string parent = name.substr(0, name.find_last_of('/'));
+    const std::string absolute = !target.empty() && target[0] == '/' ? target : parent + "/" + target;
+    if (!walk_links(absolute, depth + 1))
+        raise(FRIX_ERR_FORMAT, "'%s': %s is a soft link to %s, which does not exist in the file",
+              path(), printable(name).c_str(), printable(target).c_str());
+}
+
+bool FileReader::walk_links(const std::string &name, int depth) const {
     // H5Lexists fails (rather than answering no) when an intermediate group is missing, so
-    // the path is checked one component at a time.
+    // the path is checked one component at a time, each link before anything goes through it.
     std::string::size_type pos = 0;
     while (pos != std::string::npos) {
         pos = name.find('/', pos + 1);
         const std::string prefix = name.substr(0, pos);
-        if (prefix.empty() || prefix == "/") continue;
-        if (H5Lexists(file_.get(), prefix.c_str(), H5P_DEFAULT) <= 0) return false;
+        if (prefix.empty() || prefix == "/" || prefix.back() == '/') continue;
+        if (H5Lexists(file_.get(), prefix.c_str(), links_.get()) <= 0) return false;
+        check_link(prefix, depth);
         if (pos != std::string::npos) {
             // Only groups can have children; a dataset in the middle of the path means no.
-            if (object_type(file_.get(), prefix) != H5I_GROUP) return false;
+            if (object_type(file_.get(), prefix, links_.get()) != H5I_GROUP) return false;
         }
     }
     return true;
 }
 
+bool FileReader::exists(const std::string &name) const { return walk_links(name, 0); }
+
 bool FileReader::is_group(const std::string &name) const {
-    return exists(name) && object_type(file_.get(), name) == H5I_GROUP;
+    return exists(name) && object_type(file_.get(), name, links_.get()) == H5I_GROUP;
 }
 
 int64_t FileReader::link_count(const std::string &group) const {
     H5G_info_t info;
-    if (H5Gget_info_by_name(file_.get(), group.c_str(), &info, H5P_DEFAULT) < 0) {
+    if (H5Gget_info_by_name(file_.get(), group.c_str(), &info, links_.get()) < 0) {
         const std::string detail = hdf5_error_detail();
         raise(FRIX_ERR_IO, "'%s': cannot list group %s: %s", path(), group.c_str(),
               detail.c_str());
@@ -158,7 +230,7 @@ int64_t FileReader::link_count(const std::string &group) const {
 FileReader::Dataset FileReader::open_dataset(const std::string &name) const {
     if (!exists(name)) raise(FRIX_ERR_FORMAT, "'%s': dataset %s is missing", path(), name.c_str());
     Dataset d;
-    d.id = dataset_handle(H5Dopen2(file_.get(), name.c_str(), H5P_DEFAULT));
+    d.id = dataset_handle(H5Dopen2(file_.get(), name.c_str(), access_.get()));
     if (!d.id.valid()) {
         if (is_group(name))
             raise(FRIX_ERR_FORMAT, "'%s': %s is a group, expected a dataset", path(), name.c_str());
@@ -166,13 +238,29 @@ FileReader::Dataset FileReader::open_dataset(const std::string &name) const {
         raise(FRIX_ERR_IO, "'%s': cannot open dataset %s: %s", path(), name.c_str(),
               detail.c_str());
     }
-    d.type = type_handle(H5Dget_type(d.id.get()));
-    Handle space = space_handle(H5Dget_space(d.id.get()));
-    if (!d.type.valid() || !space.valid()) {
+    auto query_failed = [&]() {
         const std::string detail = hdf5_error_detail();
         raise(FRIX_ERR_IO, "'%s': cannot query dataset %s: %s", path(), name.c_str(),
               detail.c_str());
-    }
+    };
+    // Where the data lives, before anything else is asked of the dataset: only in this file.
+    Handle creation = plist_handle(H5Dget_create_plist(d.id.get()));
+    if (!creation.valid()) query_failed();
+    const H5D_layout_t layout = H5Pget_layout(creation.get());
+    if (layout == H5D_VIRTUAL)
+        raise(FRIX_ERR_FORMAT,
+              "'%s': dataset %s is a virtual dataset (its data lives in other datasets or files), "
+              "which frix does not read",
+              path(), name.c_str());
+    if (H5Pget_external_count(creation.get()) != 0)
+        raise(FRIX_ERR_FORMAT,
+              "'%s': dataset %s stores its data in external files; frix reads nothing outside "
+              "the file",
+              path(), name.c_str());
+
+    d.type = type_handle(H5Dget_type(d.id.get()));
+    Handle space = space_handle(H5Dget_space(d.id.get()));
+    if (!d.type.valid() || !space.valid()) query_failed();
     d.cls = H5Tget_class(d.type.get());
 
     switch (H5Sget_simple_extent_type(space.get())) {
@@ -196,13 +284,59 @@ FileReader::Dataset FileReader::open_dataset(const std::string &name) const {
                   name.c_str());
     }
 
-    const double declared = static_cast<double>(d.count) *
-                            static_cast<double>(H5Tget_size(d.type.get()));
-    const double stored = static_cast<double>(H5Dget_storage_size(d.id.get()));
-    if (declared > kMaxExpansion * stored + kMaxUnstoredBytes)
-        raise(FRIX_ERR_FORMAT, "'%s': dataset %s declares %lld entries but stores only %.0f bytes",
-              path(), name.c_str(), static_cast<long long>(d.count), stored);
+    // Numbers are read as 8-byte int64 or double whatever their size in the file, so they
+    // count at that size.
+    const size_t file_bytes = H5Tget_size(d.type.get());
+    const bool numeric = d.cls == H5T_INTEGER || d.cls == H5T_FLOAT;
+    const double element = static_cast<double>(numeric ? std::max<size_t>(file_bytes, 8) : file_bytes);
+    const double declared = static_cast<double>(d.count) * element;
+    if (declared > allocation_limit_)
+        raise(FRIX_ERR_FORMAT,
+              "'%s': dataset %s declares %lld entries (%.0f bytes) but stores only %llu bytes, "
+              "more than a file of %llu bytes can back (at most %.0f bytes)",
+              path(), name.c_str(), static_cast<long long>(d.count), declared,
+              static_cast<unsigned long long>(H5Dget_storage_size(d.id.get())),
+              static_cast<unsigned long long>(file_size_), allocation_limit_);
+    // HDF5 reads a chunked dataset one whole chunk at a time, whatever its extent.
+    if (layout == H5D_CHUNKED) {
+        hsize_t chunk[H5S_MAX_RANK] = {0};
+        const int chunk_rank = H5Pget_chunk(creation.get(), H5S_MAX_RANK, chunk);
+        if (chunk_rank < 0) query_failed();
+        double chunk_bytes = element;
+        for (int k = 0; k < chunk_rank; ++k) chunk_bytes *= static_cast<double>(chunk[k]);
+        if (chunk_bytes > allocation_limit_)
+            raise(FRIX_ERR_FORMAT,
+                  "'%s': dataset %s has chunks of %.0f bytes, more than a file of %llu bytes "
+                  "can back (at most %.0f bytes)",
+                  path(), name.c_str(), chunk_bytes, static_cast<unsigned long long>(file_size_),
+                  allocation_limit_);
+    }
     return d;
+}
+
+void FileReader::check_written(const Dataset &d, const std::string &name, Unwritten unwritten) const {
+    if (unwritten == Unwritten::read_fill) return;
+    H5D_space_status_t status;
+    if (H5Dget_space_status(d.id.get(), &status) < 0) {
+        const std::string detail = hdf5_error_detail();
+        raise(FRIX_ERR_IO, "'%s': cannot query dataset %s: %s", path(), name.c_str(),
+              detail.c_str());
+    }
+    // Unwritten data would read as HDF5's fill value: zeros that the file never held.
+    if (status == H5D_SPACE_STATUS_NOT_ALLOCATED)
+        raise(FRIX_ERR_FORMAT, "'%s': dataset %s was never written", path(), name.c_str());
+    if (status == H5D_SPACE_STATUS_PART_ALLOCATED)
+        raise(FRIX_ERR_FORMAT, "'%s': dataset %s was only partly written", path(), name.c_str());
+}
+
+void FileReader::charge(const std::string &name, double bytes) const {
+    if (allocated_ + bytes > allocation_limit_)
+        raise(FRIX_ERR_FORMAT,
+              "'%s': reading dataset %s (%.0f bytes) would take the memory allocated for the "
+              "file to %.0f bytes, more than a file of %llu bytes can back (at most %.0f bytes)",
+              path(), name.c_str(), bytes, allocated_ + bytes,
+              static_cast<unsigned long long>(file_size_), allocation_limit_);
+    allocated_ += bytes;
 }
 
 int64_t FileReader::length(const std::string &name) const {
@@ -214,8 +348,8 @@ int64_t FileReader::length(const std::string &name) const {
 }
 
 template <class T>
-std::vector<T> FileReader::read_numeric(const std::string &name, hid_t memtype,
-                                        bool integer) const {
+std::vector<T> FileReader::read_numeric(const std::string &name, hid_t memtype, bool integer,
+                                        int64_t count, Unwritten unwritten) const {
     Dataset d = open_dataset(name);
     // Integers are read into doubles without loss below 2^53; floats are never silently
     // truncated into indices.
@@ -223,40 +357,64 @@ std::vector<T> FileReader::read_numeric(const std::string &name, hid_t memtype,
     if (!ok)
         raise(FRIX_ERR_FORMAT, "'%s': dataset %s is %s, expected %s", path(), name.c_str(),
               class_name(d.cls), integer ? "integers" : "floating-point numbers");
-    std::vector<T> values(static_cast<size_t>(d.count));
-    if (d.count > 0 &&
-        H5Dread(d.id.get(), memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) < 0) {
+    const bool whole = count < 0;
+    if (whole) count = d.count;
+    if (count > d.count)
+        raise(FRIX_ERR_FORMAT, "'%s': dataset %s has %lld entries, expected at least %lld", path(),
+              name.c_str(), static_cast<long long>(d.count), static_cast<long long>(count));
+    if (count == 0) return {};
+    check_written(d, name, unwritten);
+    charge(name, static_cast<double>(count) * sizeof(T));
+    std::vector<T> values(static_cast<size_t>(count));
+
+    auto read_failed = [&]() {
         const std::string detail = hdf5_error_detail();
         raise(FRIX_ERR_IO, "'%s': cannot read dataset %s: %s", path(), name.c_str(),
               detail.c_str());
+    };
+    if (whole) {
+        if (H5Dread(d.id.get(), memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) < 0)
+            read_failed();
+        return values;
     }
+    const hsize_t start = 0, first = static_cast<hsize_t>(count);
+    Handle file_space = space_handle(H5Dget_space(d.id.get()));
+    Handle memory_space = space_handle(H5Screate_simple(1, &first, nullptr));
+    if (!file_space.valid() || !memory_space.valid() ||
+        H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, &start, nullptr, &first, nullptr) < 0 ||
+        H5Dread(d.id.get(), memtype, memory_space.get(), file_space.get(), H5P_DEFAULT, values.data()) < 0)
+        read_failed();
     return values;
 }
 
 std::vector<int64_t> FileReader::read_ints(const std::string &name) const {
-    return read_numeric<int64_t>(name, H5T_NATIVE_INT64, true);
+    return read_numeric<int64_t>(name, H5T_NATIVE_INT64, true, -1, Unwritten::refuse);
 }
 
-std::vector<double> FileReader::read_doubles(const std::string &name) const {
-    return read_numeric<double>(name, H5T_NATIVE_DOUBLE, false);
+std::vector<int64_t> FileReader::read_first_ints(const std::string &name, int64_t count) const {
+    return read_numeric<int64_t>(name, H5T_NATIVE_INT64, true, count, Unwritten::refuse);
+}
+
+std::vector<double> FileReader::read_first_doubles(const std::string &name, int64_t count) const {
+    return read_numeric<double>(name, H5T_NATIVE_DOUBLE, false, count, Unwritten::refuse);
 }
 
 int64_t FileReader::read_int_scalar(const std::string &name) const {
-    const std::vector<int64_t> v = read_ints(name);
-    if (v.size() != 1)
-        raise(FRIX_ERR_FORMAT, "'%s': dataset %s has %zu entries, expected 1", path(),
-              name.c_str(), v.size());
-    return v[0];
+    const int64_t n = length(name);
+    if (n != 1)
+        raise(FRIX_ERR_FORMAT, "'%s': dataset %s has %lld entries, expected 1", path(),
+              name.c_str(), static_cast<long long>(n));
+    return read_ints(name)[0];
 }
 
 std::vector<double> FileReader::read_vector(const std::string &name, int64_t expected,
-                                            const char *expected_from) const {
+                                            const char *expected_from, Unwritten unwritten) const {
     const int64_t n = length(name);
     if (n != expected)
         raise(FRIX_ERR_FORMAT, "'%s': dataset %s has %lld entries, expected %lld (%s)", path(),
               name.c_str(), static_cast<long long>(n), static_cast<long long>(expected),
               expected_from);
-    std::vector<double> v = read_doubles(name);
+    std::vector<double> v = read_numeric<double>(name, H5T_NATIVE_DOUBLE, false, -1, unwritten);
     for (size_t k = 0; k < v.size(); ++k)
         if (!std::isfinite(v[k]))
             raise(FRIX_ERR_FORMAT, "'%s': dataset %s: entry %zu is %g", path(), name.c_str(), k,
@@ -272,6 +430,7 @@ std::string FileReader::read_text(const std::string &name) const {
     if (d.count != 1)
         raise(FRIX_ERR_FORMAT, "'%s': dataset %s holds %lld strings, expected 1", path(),
               name.c_str(), static_cast<long long>(d.count));
+    check_written(d, name, Unwritten::refuse);
 
     auto read_failed = [&]() {
         const std::string detail = hdf5_error_detail();
@@ -284,6 +443,7 @@ std::string FileReader::read_text(const std::string &name) const {
     if (!memtype.valid()) read_failed();
     std::string text;
     if (H5Tis_variable_str(d.type.get()) > 0) {
+        // HDF5 sizes the string from its heap object, which the file holds in full.
         char *value = nullptr;
         if (H5Dread(d.id.get(), memtype.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &value) < 0)
             read_failed();
@@ -294,8 +454,10 @@ std::string FileReader::read_text(const std::string &name) const {
 #else
         H5Dvlen_reclaim(memtype.get(), space.get(), H5P_DEFAULT, &value);
 #endif
+        charge(name, static_cast<double>(text.size()));
     } else {
         const size_t size = H5Tget_size(d.type.get());
+        charge(name, static_cast<double>(size) + 1);
         std::vector<char> buffer(size + 1, '\0');
         if (H5Dread(d.id.get(), memtype.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()) < 0)
             read_failed();
