@@ -363,7 +363,7 @@ START_TEST(test_usage_errors) {
     const char *b5[] = {"solve", FRIX_TEST_TMPDIR, NULL}; /* a directory */
     expect_usage_error(b5, "cannot read");
 
-    /* An unwritable output: the report is printed, then the failure. */
+    /* An unwritable output: refused before the solve (test_outputs covers the cases). */
     const char *b6[] = {"solve", TINY, "--output", FRIX_TEST_TMPDIR "/no/such/dir/x.hdf5", NULL};
     cli_run w = run_cli(b6);
     ck_assert_int_eq(w.code, 2);

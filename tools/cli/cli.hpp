@@ -45,6 +45,13 @@ using InfoPtr = std::unique_ptr<frix_info, InfoDeleter>;
 // frix_read_problem (FCLIB or Siconos .dat), or fail with "cannot read PATH: <reason>".
 ProblemPtr read_problem(const std::string &path);
 
+// Fails ("cannot write OUTPUT: ...") unless frix_fclib_write can replace `output` without
+// losing data: its directory exists and is writable, and an existing file there (behind a
+// symbolic link: the file linked to) is a regular, writable file and not `input` (the file
+// the command reads; same device and inode, so hard and symbolic links count too) unless
+// `force`. Called before any long work, so a solve never ends in a predictable write error.
+void check_output(const std::string &output, const std::string &input, bool force);
+
 // The non-empty pieces of text between the separators.
 std::vector<std::string> split(const std::string &text, char sep);
 

@@ -8,7 +8,7 @@ namespace frix_cli {
 int cmd_convert(int argc, char **argv) {
     ArgCursor args("convert", argc, argv);
     std::string in, out, title;
-    bool have_title = false;
+    bool have_title = false, force = false;
     while (!args.done()) {
         if (args.flag("--help") || args.flag("-h")) {
             print_convert_help(stdout);
@@ -16,6 +16,8 @@ int cmd_convert(int argc, char **argv) {
         }
         if (args.option("--title", title)) {
             have_title = true;
+        } else if (args.flag("--force")) {
+            force = true;
         } else if (args.at_option()) {
             args.unknown_option();
         } else if (in.empty()) {
@@ -28,6 +30,8 @@ int cmd_convert(int argc, char **argv) {
     }
     if (in.empty() || out.empty()) usage_error("convert", "give an input file and an output file");
 
+    // OUT = IN would replace the input (a .dat by HDF5): refused unless --force.
+    check_output(out, in, force);
     ProblemPtr p = read_problem(in);
     if (have_title) {
         const frix_error err = frix_problem_set_title(p.get(), title.c_str());

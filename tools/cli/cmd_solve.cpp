@@ -28,6 +28,7 @@ struct SolveArgs {
     std::string solver = "auto";
     std::vector<Setting> settings;
     bool json = false;
+    bool force = false;  // --force: --output may name FILE itself
     int verbosity = 0;
     // The progress line: by default on a terminal only; --progress forces it (one line per
     // update), --quiet turns it off.
@@ -123,6 +124,8 @@ SolveArgs parse(int argc, char **argv, bool &help) {
             a.output = v;
         } else if (args.flag("--json")) {
             a.json = true;
+        } else if (args.flag("--force")) {
+            a.force = true;
         } else if (args.flag("--progress")) {
             a.progress_forced = true;
         } else if (args.flag("--quiet") || args.flag("-q")) {
@@ -246,7 +249,16 @@ std::string existence_text(const Report &r) {
 }
 
 const char *measure_name(int64_t measure) {
-    return measure == FRIX_MEASURE_Q_RELATIVE ? "q_relative" : "relative";
+    return measure == FRIX_MEASURE_Q_RELATIVE ? "q_relative" : measure == FRIX_MEASURE_RELATIVE ? "siconos" : "scaled";
+}
+
+// What the error is relative to, in one line of the report.
+const char *measure_meaning(int64_t measure) {
+    switch (measure) {
+        case FRIX_MEASURE_Q_RELATIVE: return "natural-map residual / |q|";
+        case FRIX_MEASURE_RELATIVE: return "Siconos: natural-map residual / max(|q|, |r|, |u|)";
+        default: return "residual of (W_aa r, u^), in velocity units, / max(|q|, |u|)";
+    }
 }
 
 void print_json(const Report &r) {
@@ -313,12 +325,14 @@ void print_text(const Report &r) {
     std::printf("%-16s %lld\n", "iterations", static_cast<long long>(r.iterations));
     std::printf("%-16s %.3e (%s, tolerance %.1e)\n", "error", r.error, measure_name(r.measure),
                 r.tolerance);
+    std::printf("%-16s %s\n", "  relative to", measure_meaning(r.measure));
     if (r.setup_time > 0.0)
         std::printf("%-16s %.3g s (setup %.3g s, then the solver %.3g s)\n", "time", r.time, r.setup_time,
                     r.time - r.setup_time);
     else
         std::printf("%-16s %.3g s\n", "time", r.time);
     std::printf("%-16s %.3e\n", "error / |q|", r.error_q_relative);
+    std::printf("%-16s %.3e\n", "siconos error", r.error_relative);
     std::printf("%-16s %.3e\n", "residual", r.residual);
     std::printf("%-16s %.3e\n", "cone violation", r.cone_violation);
     std::printf("%-16s %.3e\n", "penetration", r.penetration);
@@ -355,8 +369,10 @@ int cmd_solve(int argc, char **argv) {
     // existence check after a failure each get what is left of it.
     const auto start = std::chrono::steady_clock::now();
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-    // Options first: a usage mistake is reported before any file is touched.
+    // Options first: a usage mistake is reported before any file is touched. Then the
+    // output: a solve that may take hours must not end in a write error known from the start.
     OptionsPtr opts = make_options(a);
+    if (!a.output.empty()) check_output(a.output, a.file, a.force);
     ProblemPtr problem = read_problem(a.file);
     double limit = 0.0;
     if (frix_options_get_double(opts.get(), FRIX_OPT_TIME_LIMIT, &limit) != FRIX_OK) limit = 0.0;

@@ -1,9 +1,51 @@
 // Helpers shared by the subcommands.
 #include "cli.hpp"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <climits>
+#include <cstring>
 #include <sstream>
 
 namespace frix_cli {
+namespace {
+
+std::string directory_of(const std::string &path) {
+    const auto slash = path.find_last_of('/');
+    if (slash == std::string::npos) return ".";
+    if (slash == 0) return "/";
+    return path.substr(0, slash);
+}
+
+// The file a write to `path` replaces: symbolic links in the last component followed, as
+// frix_fclib_write follows them (it keeps a link a link), so the checks see that file.
+// A link that cannot be followed is left to the writer to report.
+std::string resolve_links(const std::string &path) {
+    std::string p = path;
+    for (int hops = 0; hops < 40; ++hops) {  // 40: the kernel's own limit (ELOOP)
+        struct stat st;
+        if (lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return p;
+        char link[PATH_MAX + 1];
+        const ssize_t n = readlink(p.c_str(), link, sizeof link);
+        if (n <= 0 || static_cast<std::size_t>(n) >= sizeof link) return p;
+        const std::string to(link, static_cast<std::size_t>(n));
+        p = to[0] == '/' || p.find('/') == std::string::npos ? to : directory_of(p) + "/" + to;
+    }
+    return p;
+}
+
+const char *kind_of(mode_t mode) {
+    if (S_ISDIR(mode)) return "a directory";
+    if (S_ISFIFO(mode)) return "a FIFO";
+    if (S_ISCHR(mode)) return "a character device";
+    if (S_ISBLK(mode)) return "a block device";
+    if (S_ISSOCK(mode)) return "a socket";
+    return "of another kind";
+}
+
+}  // namespace
 
 void fail(const std::string &message, int code) {
     // One line on stderr, whatever the library's message contains.
@@ -11,6 +53,35 @@ void fail(const std::string &message, int code) {
     for (char &c : line)
         if (c == '\n' || c == '\r') c = ' ';
     throw Failure{code, line};
+}
+
+void check_output(const std::string &output, const std::string &input, bool force) {
+    const std::string target = resolve_links(output);
+    const std::string it = target == output ? "it" : target + " (where it links)";
+    auto refuse = [&](const std::string &why) { fail("cannot write " + output + ": " + why); };
+    // lstat only: a FIFO or device is recognised without being opened (opening a FIFO
+    // blocks until a reader comes).
+    struct stat out;
+    if (lstat(target.c_str(), &out) == 0) {
+        if (!S_ISREG(out.st_mode))
+            refuse(it + " is " + kind_of(out.st_mode) + ", not a regular file");
+        struct stat in;
+        if (!force && !input.empty() && stat(input.c_str(), &in) == 0 && in.st_dev == out.st_dev &&
+            in.st_ino == out.st_ino)
+            refuse(it + " is the input file " + input + " (give --force to replace it)");
+        // Root passes access() on any file, so no write bit for anyone is read-only too.
+        if (access(target.c_str(), W_OK) != 0 || (out.st_mode & 0222) == 0)
+            refuse(it + " is read-only");
+    } else if (errno != ENOENT) {
+        refuse(std::strerror(errno));
+    }
+    // The new file is written next to the target and renamed over it.
+    const std::string dir = directory_of(target);
+    struct stat d;
+    if (stat(dir.c_str(), &d) != 0) refuse("directory " + dir + ": " + std::strerror(errno));
+    if (!S_ISDIR(d.st_mode)) refuse(dir + " is not a directory");
+    if (access(dir.c_str(), W_OK | X_OK) != 0)
+        refuse("directory " + dir + " is not writable: " + std::strerror(errno));
 }
 
 std::vector<std::string> split(const std::string &text, char sep) {
