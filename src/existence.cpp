@@ -338,6 +338,7 @@ struct Result {
     Outcome outcome;
     frix_existence verdict;
     double margin;
+    bool indefinite = false;  // W's symmetric part showed a negative curvature
 };
 
 // One run of the search (see the top of the file) on one Operator.
@@ -358,7 +359,7 @@ class Search {
 
     Result run() {
         const Norm norm = estimate_norm(op_);
-        if (norm.indefinite && op_.metric() == Metric::OfW) return needs_diagonal_metric();
+        if (norm.indefinite && op_.metric() == Metric::OfW) return indefinite();
         // K = 0 (no coupling at all): any step is a non-move and every y a certificate.
         norm_ = norm.value > 0.0 && std::isfinite(norm.value) ? norm.value : 1.0;
         L_ = norm_;
@@ -373,7 +374,7 @@ class Search {
             if (!std::isfinite(f_ext)) return undetermined();
             op_.directions(y_.data(), dz_.data(), Ky_.data());
             const double yKy = dot(y_, Ky_), yy = dot(y_, y_);
-            if (op_.metric() == Metric::OfW && yKy < -kIndefinite * norm_ * yy) return needs_diagonal_metric();
+            if (op_.metric() == Metric::OfW && yKy < -kIndefinite * norm_ * yy) return indefinite();
             if (does_no_work(yKy, yy)) {
                 const double t_before = t_;
                 if (judge_certificate()) {
@@ -403,6 +404,7 @@ class Search {
     static Result needs_diagonal_metric() {
         return {Outcome::NeedsDiagonalMetric, FRIX_EXISTENCE_NOT_CHECKED, NAN};
     }
+    static Result indefinite() { return {Outcome::NeedsDiagonalMetric, FRIX_EXISTENCE_NOT_CHECKED, NAN, true}; }
 
     // y_ is a candidate certificate: |y.K y| <= eps |K| |y|^2, and |K y|^2 <= eps |K|^2 |y|^2,
     // which follows from the first when K is PSD and excludes the cancellations of an
@@ -541,9 +543,17 @@ frix_existence check_existence(const frix_problem &p, double time_limit, double 
         const Operator op(p, Metric::OfW);
         r = Search(op, budget).run();
     }
+    bool indefinite = false;
     if (r.outcome == Outcome::NeedsDiagonalMetric) {
+        indefinite = r.indefinite;
         const Operator op(p, Metric::Diagonal);
         r = Search(op, budget).run();
+    }
+    // A strictly feasible z proves a solution only when W's symmetric part is PSD (W = -I
+    // has one and no solution): with a negative curvature seen, the check cannot tell.
+    if (indefinite && r.verdict == FRIX_EXISTENCE_GUARANTEED && !all_separating(p)) {
+        out = NAN;
+        return FRIX_EXISTENCE_UNDETERMINED;
     }
     if (r.verdict != FRIX_EXISTENCE_GUARANTEED && all_separating(p)) {
         out = 0.0;  // no strictly feasible point found, but r = 0 is a solution

@@ -185,16 +185,19 @@ START_TEST(test_one_contact_without_normal_stiffness) {
     const double Wns[9] = {0, 1, 0, 0, 1, 0, 0, 0, 1};
     expect_doubtful(one_contact(Wns, pressed, 0.5), -1.0 / contact_rms(pressed, 1));
     /* Its transpose: W y = 0 for y = (1, 0, 0) but W^T y != 0, and u_N = z_T1 + q_N takes
-     * any value. The reaction that does no work is no certificate here. */
+     * any value. The reaction that does no work is no certificate here; and its symmetric
+     * part is indefinite, so a reachable u is no proof either. */
     const double Wt[9] = {0, 0, 0, 1, 1, 0, 0, 0, 1};
-    expect_guaranteed(one_contact(Wt, pressed, 0.5), INFINITY);
+    ck_assert_int_eq(one_contact(Wt, pressed, 0.5).verdict, FRIX_EXISTENCE_UNDETERMINED);
     /* Non-symmetric and invertible (its symmetric part is positive definite): any u is
      * reachable, so any margin. */
     const double Winv[9] = {2, -1, 0, 1, 2, 0, 0, 0, 1};
     expect_guaranteed(one_contact(Winv, pressed, 0.5), INFINITY);
-    /* Symmetric but indefinite: not a Delassus operator, yet W z + q reaches every u. */
-    const double Windef[9] = {-1, 0, 0, 0, 1, 0, 0, 0, 1};
-    expect_guaranteed(one_contact(Windef, pressed, 0.5), INFINITY);
+    /* Symmetric but indefinite: W z + q reaches every u, but a strictly feasible z proves a
+     * solution only for a PSD W (W = -I with q_N < 0 has none: u_N = q_N - r_N < 0). */
+    const double Windef[9] = {-1, 0, 0, 0, 1, 0, 0, 0, 1}, Wneg[9] = {-1, 0, 0, 0, -1, 0, 0, 0, -1};
+    ck_assert_int_eq(one_contact(Windef, pressed, 0.5).verdict, FRIX_EXISTENCE_UNDETERMINED);
+    ck_assert_int_eq(one_contact(Wneg, pressed, 0.5).verdict, FRIX_EXISTENCE_UNDETERMINED);
 }
 END_TEST
 

@@ -375,3 +375,40 @@ def test_no_existence_check_after_a_callback_stop():
     assert res.existence == frix.Existence.NOT_CHECKED
     res = frix.solve(p, solver="nsgs", tol=1e-300, max_iter=3)
     assert res.status == frix.Status.MAX_ITER and res.existence != frix.Existence.NOT_CHECKED
+
+
+def _problems_without_solution():
+    """Small problems that have no solution (issue 49's family): a free body squeezed by two
+    opposite contacts, W = diag(0, 1, 1) and W = 0 with q_N < 0, W = -I, and a contact that H
+    does not reach with w_N < 0."""
+    H = np.zeros((3, 6))
+    H[:, 0:3] = np.eye(3)
+    H[:, 3:6] = np.diag([-1.0, 1.0, 1.0])
+    squeeze = frix.Problem(H.T @ H, np.array([-1.0, 0, 0, -1, 0, 0]), np.array([0.5, 0.5]))
+    Hu = np.zeros((3, 6))
+    Hu[:, 0:3] = np.eye(3)
+    unreached = frix.Problem.from_global(np.eye(3), Hu, np.zeros(3), np.array([1.0, 0, 0, -1, 0, 0]),
+                                         np.array([0.5, 0.5]))
+    return {
+        "squeezed body": squeeze,
+        "W = diag(0, 1, 1)": frix.Problem(np.diag([0.0, 1, 1]), np.array([-1.0, 0, 0]), np.array([0.5])),
+        "W = 0": frix.Problem(np.zeros((3, 3)), np.array([-1.0, 0, 0]), np.array([0.5])),
+        "W = -I": frix.Problem(-np.eye(3), np.array([-1.0, 0, 0]), np.array([0.5])),
+        "unreached contact": unreached,
+    }
+
+
+def test_no_solver_converges_without_a_solution():
+    """Every registered solver, on every problem of the family: never converged (a runaway r
+    must not satisfy the default measure)."""
+    false_verdicts = []
+    for name, problem in _problems_without_solution().items():
+        for solver in frix.solvers():
+            try:
+                res = frix.solve(problem, solver=solver.name, tol=1e-8, max_iter=2000, time_limit=5,
+                                 check_existence=False)
+            except frix.UnsupportedError:
+                continue
+            if res.converged:
+                false_verdicts.append(f"{solver.name} on {name}: error {res.error:.2e}")
+    assert not false_verdicts, false_verdicts
