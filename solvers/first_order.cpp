@@ -65,7 +65,9 @@ Loop::Loop(SolveContext &c, const char *solver_name)
       m(3 * c.problem.nc) {}
 
 double Loop::scale(double norm_r, double norm_u) const {
-    const double s = measure == FRIX_MEASURE_Q_RELATIVE ? norm_q : std::max({norm_q, norm_r, norm_u});
+    const double s = measure == FRIX_MEASURE_Q_RELATIVE ? norm_q
+                     : measure == FRIX_MEASURE_RELATIVE ? std::max({norm_q, norm_r, norm_u})
+                                                        : std::max(norm_q, norm_u);
     return s > DBL_EPSILON ? s : 1.0;
 }
 

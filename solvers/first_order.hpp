@@ -69,8 +69,8 @@ class Loop {
     double error(const double *r, double *u) const {
         return selected_error(local_measures(p, r, u), measure);
     }
-    // The scale the selected measure divides by: max(|q|, |r|, |u|) or |q| (at least
-    // DBL_EPSILON's worth, as the measures module does).
+    // The scale the selected measure divides by: max(|q|, |u|) (scaled), max(|q|, |r|, |u|)
+    // (Siconos's) or |q|; 1 below DBL_EPSILON.
     double scale(double norm_r, double norm_u) const;
     bool out_of_time() const { return Monitor(ctx).out_of_time(); }
     // Calls the callback (if any) with iteration `it` and `estimate`; true if it asks to stop.

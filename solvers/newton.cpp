@@ -84,7 +84,8 @@ bool Limits::out_of_time() const { return Monitor(options, clock).out_of_time();
 bool Limits::report(double error) {
     // Once the callback asked to stop it is not called again, though the caller (PROX's outer
     // step after an inner solve) may still report before it gets to stop.
-    if (!stop_requested && Monitor(options, clock).report(*iterations, error)) stop_requested = true;
+    if (!stop_requested && (ctx ? Monitor(*ctx) : Monitor(options, clock)).report(*iterations, error))
+        stop_requested = true;
     return stop_requested;
 }
 
@@ -557,6 +558,7 @@ frix_error solve(SolveContext &ctx, int solver_id) {
     frix_info &info = ctx.info;
     int64_t iterations = 0;
     Limits lim{o, ctx.clock, &iterations, monitor.max_iterations()};
+    lim.ctx = &ctx;
     Kept<KeptEngine> kept(ctx.cache, solver_id);
     s.weight = p.weight.data();
     Engine &engine = engine_for(*kept, ctx.cache, *p.W, p.mu, p.nc, s);

@@ -73,6 +73,9 @@ struct Limits {
     int64_t *iterations;  // the solve's iteration counter (the callback's count), advanced here
     int64_t max_iter;     // on *iterations
     bool stop_requested = false;
+    // The solve's context, when the iterate is ctx->r: the Monitor then also watches it
+    // for a runaway (Monitor::report).
+    const SolveContext *ctx = nullptr;
     bool out_of_time() const;
     // Calls the callback; true if it asks to stop.
     bool report(double error);

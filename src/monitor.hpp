@@ -16,7 +16,8 @@ namespace frix {
 class Monitor {
    public:
     Monitor(const frix_options &o, const Stopwatch &clock) : o_(o), clock_(clock) {}
-    explicit Monitor(const SolveContext &ctx) : Monitor(ctx.options, ctx.clock) {}
+    // With the solve's context, report() also watches ctx.r for a runaway (runs_away).
+    explicit Monitor(const SolveContext &ctx) : o_(ctx.options), clock_(ctx.clock), ctx_(&ctx) {}
 
     // The error the solve must reach (option tolerance, on the solve's error measure) and its
     // iteration limit (option max_iter): read here, so that every solver stops on the same rule.
@@ -69,7 +70,15 @@ class Monitor {
 
     // The user's callback after iteration `iteration` with the current error estimate: true
     // if it asks to stop. Without a callback, false.
+    // With a context, every kRunawayEvery iterations it also checks whether ctx.r has run
+    // away: then it asks to stop and marks the run (frix_info::ran_away), which the driver
+    // reports as diverged.
     bool report(int64_t iteration, double error) const {
+        if (ctx_ && ctx_->runaway_bound > 0.0 && iteration % kRunawayEvery == 0 &&
+            runs_away(ctx_->problem, ctx_->r, ctx_->runaway_bound)) {
+            ctx_->info.ran_away = true;
+            return true;
+        }
         return o_.callback && o_.callback(o_.callback_data, iteration, error, clock_.seconds()) != 0;
     }
 
@@ -110,8 +119,11 @@ class Monitor {
     // Without the option memory_limit, a factorisation smaller than this is not checked (the
     // check reads the system's counters; no machine we run on lacks 64 MB).
     static constexpr double kMemoryAskedAbove = 64e6;
+    // A runaway check costs a pass over r: every this many iterations.
+    static constexpr int64_t kRunawayEvery = 8;
     const frix_options &o_;
     const Stopwatch &clock_;
+    const SolveContext *ctx_ = nullptr;
 };
 
 }  // namespace frix

@@ -7,12 +7,51 @@
 #include <vector>
 
 #include "error_state.hpp"
+#include "existence.hpp"
 #include "measures.hpp"
 #include "solver_api.hpp"
 
 using frix::fail;
 
+namespace {
+
+// The share of a time limit kept for the existence check of a failed solve: a run that ends
+// at its limit still says whether a solution exists at all.
+constexpr double kExistenceShare = 0.05;
+// The least time the check is given when a limit leaves it less (a few FISTA steps).
+constexpr double kExistenceMinSeconds = 1e-3;
+
+// A failed run (not stopped by the caller) without a verdict on existence gets one.
+void check_existence_after_failure(const frix_problem &p, const frix_options &o, const frix::Stopwatch &clock,
+                                   frix_info &info) {
+    if (info.status == FRIX_STATUS_CONVERGED || info.status == FRIX_STATUS_STOPPED_BY_CALLBACK ||
+        info.existence != FRIX_EXISTENCE_NOT_CHECKED || !o.i(FRIX_OPT_EXISTENCE_CHECK) || p.nc == 0)
+        return;
+    const double tl = o.d(FRIX_OPT_TIME_LIMIT);
+    const double budget = tl > 0.0 ? std::max(tl - clock.seconds(), kExistenceMinSeconds) : 0.0;
+    double margin = NAN;
+    info.existence = frix::check_existence(p, budget, &margin);
+    info.existence_margin = margin;
+}
+
+}  // namespace
+
 namespace frix {
+
+double runaway_bound(const frix_problem &p) {
+    const double floor = p.kind == FRIX_PROBLEM_LOCAL ? norm2(p.q, 3 * p.nc) : free_velocity(p);
+    return std::isfinite(floor) ? kRunawayFactor * floor : 0.0;
+}
+
+bool runs_away(const frix_problem &p, const double *r, double bound) {
+    if (!r || !(bound > 0.0)) return false;
+    for (int64_t a = 0; a < p.nc; ++a) {
+        const double w = p.weight.empty() ? 1.0 : p.weight[(size_t)a];
+        const double *ra = r + 3 * a;
+        if (!(w * std::max({std::fabs(ra[0]), std::fabs(ra[1]), std::fabs(ra[2])}) <= bound)) return true;
+    }
+    return false;
+}
 
 frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
                                const SolverEntry &entry, double *r, double *u, frix_info &info,
@@ -40,6 +79,7 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
         if (std::any_of(r, r + m, [](double x) { return x != 0.0; })) warm_start.assign(r, r + m);
         ran = true;
         frix::SolveContext ctx{p, opts, r, u, nullptr, info, clock, nullptr, nullptr, cache};
+        ctx.runaway_bound = runaway_bound(p);
         if (frix_error e = entry.solve(ctx)) return e;
         // A solver whose iterates ran away past the doubles (no solution to approach) has
         // diverged: the fallback below answers with a finite r.
@@ -62,7 +102,21 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
             meas = frix::local_measures(p, r, u);
         }
         info.status = FRIX_STATUS_DIVERGED;
+    } else if (ran && info.status != FRIX_STATUS_CONVERGED && runs_away(p, r, runaway_bound(p))) {
+        // A finite runaway: diverged. The start is returned unless the runaway's error is
+        // below half of the start's: an r of 1e150 is no answer to hand a caller.
+        const int64_t kind = opts.i(FRIX_OPT_ERROR_MEASURE);
+        std::vector<double> start = warm_start.empty() ? std::vector<double>((size_t)m, 0.0) : warm_start;
+        std::vector<double> u_start((size_t)m);
+        const frix::Measures at_start = frix::local_measures(p, start.data(), u_start.data());
+        if (finite(at_start) && selected_error(at_start, kind) <= 2.0 * selected_error(meas, kind)) {
+            std::copy(start.begin(), start.end(), r);
+            std::copy(u_start.begin(), u_start.end(), u);
+            meas = at_start;
+        }
+        info.status = FRIX_STATUS_DIVERGED;
     }
+    if (info.ran_away && info.status == FRIX_STATUS_STOPPED_BY_CALLBACK) info.status = FRIX_STATUS_DIVERGED;
     frix::record_measures(info, meas, opts.i(FRIX_OPT_ERROR_MEASURE));
     if (measures) *measures = meas;
     // The status must agree with the final, independent measure.
@@ -106,17 +160,22 @@ frix_error solve_problem(const char *caller, const frix_problem *problem, const 
     out.contacts = problem->nc;
     out.tolerance = options->d(FRIX_OPT_TOLERANCE);
 
+    // The solver runs within all but the existence check's share of a time limit.
+    frix_options run = *options;
+    const double tl = options->d(FRIX_OPT_TIME_LIMIT);
+    if (tl > 0.0 && options->i(FRIX_OPT_EXISTENCE_CHECK)) run.dvalue[FRIX_OPT_TIME_LIMIT] = tl * (1.0 - kExistenceShare);
     frix_error err;
     if (problem->kind == FRIX_PROBLEM_GLOBAL) {
         if (problem->n > 0 && !v)
             return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: v is required for a global problem (%lld entries)", caller,
                         (long long)problem->n);
-        err = solve_global_problem(*problem, *options, *entry, r, u, v, out, clock, cache);
+        err = solve_global_problem(*problem, run, *entry, r, u, v, out, clock, cache);
     } else if (!entry->solves_local) {
         err = fail(FRIX_ERR_UNSUPPORTED, "%s: solver %s solves global problems only", caller, entry->name);
     } else {
-        err = solve_local_problem(*problem, *options, *entry, r, u, out, clock, cache);
+        err = solve_local_problem(*problem, run, *entry, r, u, out, clock, cache);
     }
+    if (!err) check_existence_after_failure(*problem, *options, clock, out);
     out.solve_time = clock.seconds();
     return err;
 }

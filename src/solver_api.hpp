@@ -75,7 +75,21 @@ struct SolveContext {
     // call was there (see above); the driver measures r itself when it is not set.
     bool has_measured = false;
     Measures measured{};
+    // Set by the driver: the bound past which r runs away (runaway_bound); 0: no check.
+    double runaway_bound = 0.0;
 };
+
+// A run whose reactions, in velocity units (w_a |r_a|, frix_problem::weight), exceed this many
+// times the problem's free velocity has run away: no solution is that far from the data's
+// scale (a solution scales with q), and a problem without one lets r grow without end.
+constexpr double kRunawayFactor = 1e8;
+
+// kRunawayFactor times the free velocity's norm of p (|q|, or free_velocity for a global
+// problem); 0 when that is 0 (then r = 0 solves the problem, and nothing is checked).
+double runaway_bound(const frix_problem &p);
+
+// Whether r (3 nc entries) has run away past `bound` (> 0).
+bool runs_away(const frix_problem &p, const double *r, double bound);
 
 using SolverFn = frix_error (*)(SolveContext &ctx);
 

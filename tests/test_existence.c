@@ -498,6 +498,42 @@ START_TEST(test_cli_existence_line) {
 }
 END_TEST
 
+/* Every failed run says whether a solution exists, a time limit or not: frix_solve keeps a
+ * share of the limit for the check. W = diag(0, 1, 1) with q_N = -1 has no solution. */
+START_TEST(test_failed_runs_report_existence) {
+    const double W_dense[9] = {0, 0, 0, 0, 1, 0, 0, 0, 1}, q[3] = {-1, 0, 0}, mu = 0.5;
+    frix_matrix *W = NULL;
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_matrix_from_dense(3, 3, W_dense, 3, &W), FRIX_OK);
+    ck_assert_int_eq(frix_problem_local(W, q, &mu, 1, &p), FRIX_OK);
+    const int solvers[] = {FRIX_SOLVER_NSGS, FRIX_SOLVER_AUTO, FRIX_SOLVER_NSN_AC};
+    for (int k = 0; k < 3; ++k)
+        for (int limited = 0; limited < 2; ++limited) {
+            frix_options *o = NULL;
+            frix_info *info = NULL;
+            double r[3] = {0, 0, 0}, u[3];
+            ck_assert_int_eq(frix_options_create(solvers[k], &o), FRIX_OK);
+            if (limited) {
+                ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 1000000000), FRIX_OK);
+                ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TIME_LIMIT, 0.3), FRIX_OK);
+            }
+            ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+            ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
+            int64_t existence = -1;
+            ck_assert_int_eq(frix_info_get_int(info, FRIX_INFO_EXISTENCE, &existence), FRIX_OK);
+            ck_assert_int_ne(frix_info_status(info), FRIX_STATUS_CONVERGED);
+            ck_assert_msg(existence == FRIX_EXISTENCE_DOUBTFUL, "%s%s: %s, existence %s",
+                          frix_solver_name(solvers[k]), limited ? " (time limit)" : "",
+                          frix_status_string(frix_info_status(info)), frix_existence_describe((frix_existence)existence));
+            if (limited) ck_assert_double_le(frix_info_solve_time(info), 0.3 * 1.5);
+            frix_info_free(info);
+            frix_options_free(o);
+        }
+    frix_problem_free(p);
+    frix_matrix_free(W);
+}
+END_TEST
+
 static Suite *existence_suite(void) {
     Suite *s = suite_create("existence");
     TCase *tc = tcase_create("closed_form");
@@ -510,6 +546,7 @@ static Suite *existence_suite(void) {
     tcase_add_test(tc, test_budget);
     tcase_add_test(tc, test_q_strictly_feasible);
     tcase_add_test(tc, test_bad_input);
+    tcase_add_test(tc, test_failed_runs_report_existence);
     suite_add_tcase(s, tc);
     TCase *real = tcase_create("real");
     tcase_add_test(real, test_real_problems);
