@@ -123,6 +123,15 @@ frix_error build(const char *where, int64_t nrows, int64_t ncols, int64_t n, con
         build_blocks(*A, n, rows, cols, vals);
     else
         build_csc(*A, n, rows, cols, vals);
+    // Duplicates are summed: finite terms can overflow (1.7e308 + 1.7e308), and every product
+    // with A would then be Inf or NaN.
+    int64_t bad_row = -1, bad_col = -1;
+    frix::for_each_entry(*A, [&](int64_t r, int64_t c, double x) {
+        if (bad_row < 0 && !std::isfinite(x)) bad_row = r, bad_col = c;
+    });
+    if (bad_row >= 0)
+        return fail(FRIX_ERR_NOT_FINITE, "%s: the entries given at (%lld, %lld) sum to a value that is not finite",
+                    where, (long long)bad_row, (long long)bad_col);
     *out = A.release();
     return FRIX_OK;
 }

@@ -56,6 +56,20 @@ static void dense_to_csc(const double *A, int m, int n, int64_t *cp, int64_t *ri
     }
 }
 
+/* Duplicates are summed; a sum that overflows is refused, in both storages. */
+START_TEST(test_duplicates_summing_past_the_doubles) {
+    const int64_t rows[2] = {0, 0}, cols[2] = {0, 0};
+    const double big[2] = {1.7e308, 1.7e308}, fine[2] = {1.0, 2.0};
+    frix_matrix *A = NULL;
+    ck_assert_int_eq(frix_matrix_from_triplets(3, 3, 2, rows, cols, big, &A), FRIX_ERR_NOT_FINITE);
+    ck_assert_ptr_null(A);
+    ck_assert_int_eq(frix_matrix_from_triplets(2, 2, 2, rows, cols, big, &A), FRIX_ERR_NOT_FINITE);
+    ck_assert_ptr_null(A);
+    ck_assert_int_eq(frix_matrix_from_triplets(3, 3, 2, rows, cols, fine, &A), FRIX_OK);
+    frix_matrix_free(A);
+}
+END_TEST
+
 START_TEST(test_all_constructors_agree) {
     int64_t cp[7], ri[36];
     double v[36];
@@ -288,6 +302,7 @@ int main(void) {
     tcase_add_test(tc, test_bad_input);
     tcase_add_test(tc, test_empty_matrix);
     tcase_add_test(tc, test_matrix_from_columns);
+    tcase_add_test(tc, test_duplicates_summing_past_the_doubles);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }
