@@ -13,6 +13,17 @@ for f in include/frix/frix.h include/frix/frix_version.h include/frix/frix_plugi
          lib/libfrix.so.0 lib/libfrix.a lib/pkgconfig/frix.pc lib/cmake/frix/frix-config.cmake; do
     [ -e "$prefix/$f" ] || { echo "not installed: $f"; exit 1; }
 done
+# With libfrix_mpi: its header, frix-mpi and the CMake component's targets, apart from
+# frixTargets.cmake (which must not name MPI: a project without MPI loads it).
+if [ -e "$prefix/lib/libfrix_mpi.so.0" ]; then
+    for f in include/frix/frix_mpi.h bin/frix-mpi lib/cmake/frix/frix_mpi-targets.cmake; do
+        [ -e "$prefix/$f" ] || { echo "not installed: $f"; exit 1; }
+    done
+fi
+if grep -n 'MPI::' "$prefix/lib/cmake/frix/frixTargets.cmake"; then
+    echo "frixTargets.cmake names MPI"
+    exit 1
+fi
 "$prefix/bin/frix" --version
 
 for way in cmake pkgconfig; do

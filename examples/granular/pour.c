@@ -269,6 +269,20 @@ void scene_defaults(scene_settings *s) {
                           .radius = 0.01, .tol = 1e-4, .aspect = 2.0};
 }
 
+void scene_help(FILE *out) {
+    fputs("  --spheres N      spheres poured (default 1000)\n"
+          "  --aspect A       the lattice they start on is A times as tall as wide (0.01 to 100, default 2)\n"
+          "  --steps S        time steps run, numbered 0 to S-1 (default 200)\n"
+          "  --step H         time step, seconds (default 2e-3)\n"
+          "  --mu MU          friction coefficient of every contact (default 0.5)\n"
+          "  --radius R       largest radius, metres; radii are in [0.7 R, R] (default 0.01)\n"
+          "  --seed K         seed of the lattice jitter and the velocities (default 1)\n"
+          "  --tol T          tolerance of every step's solve (default 1e-4)\n"
+          "  --max-iter I     iteration limit of every step's solve (default: the solver's)\n"
+          "  --every K        print a line every K steps, and for the last step (default 1)\n",
+          out);
+}
+
 int parse_scene_option(const char *o, const char *a, scene_settings *s, int *ok) {
     if (!strcmp(o, "--spheres")) *ok = parse_int(a, &s->spheres) && s->spheres >= 1;
     else if (!strcmp(o, "--steps")) *ok = parse_int(a, &s->steps) && s->steps >= 0;

@@ -4,6 +4,7 @@
 #define FRIX_EXAMPLE_POUR_H
 
 #include <stdint.h>
+#include <stdio.h>
 
 #define GRAVITY 9.81
 #define DENSITY 2500.0
@@ -38,6 +39,8 @@ void scene_defaults(scene_settings *s);
 /* Option o with value a: 1 when it is one of these (*ok then says whether a is valid for it),
  * else 0. */
 int parse_scene_option(const char *o, const char *a, scene_settings *s, int *ok);
+/* The scene options, one line each with its default, for --help. */
+void scene_help(FILE *out);
 
 /* n spheres of radii in [0.7 radius, radius] on a jittered lattice `aspect` times as tall as
  * wide, small random velocities (the same on every machine for a seed); 0 when out of memory. */

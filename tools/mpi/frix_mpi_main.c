@@ -1,14 +1,18 @@
 /* frix-mpi: solves an FCLIB (or .dat) problem on the ranks of an MPI job.
  *
  *   mpirun -np N frix-mpi solve FILE [--solver nsgs|nsn-ac|gnsn-ac] [--tol T] [--max-iter N] [--time-limit S]
- *                                    [--parts scotch|blocks] [--set NAME=VALUE]...
- *                                    [--verbose] [--out FILE]
+ *                                    [--set NAME=VALUE]... [--parts scotch|blocks]
+ *                                    [--output FILE] [--json] [--verbose]
+ *
+ * The options of `frix solve` keep their names and meaning (--out is accepted for --output),
+ * and --json prints one object with the fields of `frix solve --json` (those a distributed
+ * solve has) plus an "mpi" object: the ranks, the parts and the distribution.
  *
  * Rank 0 reads the file (the HDF5 library is serial), the contacts are cut into one part a
  * rank (Scotch on the contact graph; or blocks of the stored order), and
  * rank 0 sends each rank its part; the ranks solve with nsgs (libfrix_mpi); rank 0 gathers the reactions, measures
  * them with libfrix (the error measure frix solve prints), prints the report and, with
- * --out, writes the problem with its solution. The program's communicator is MPI_COMM_WORLD;
+ * --output, writes the problem with its solution. The program's communicator is MPI_COMM_WORLD;
  * the library works on a duplicate of it.
  *
  * Exit status: 0 converged, 1 the solve ran but did not converge, 2 usage error, unreadable
@@ -16,6 +20,7 @@
 #include <frix/frix.h>
 #include <frix/frix_mpi.h>
 
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -23,37 +28,66 @@
 
 static const char kUsage[] =
     "usage: mpirun -np N frix-mpi solve FILE [--solver nsgs|nsn-ac|gnsn-ac] [--tol T] [--max-iter N] [--time-limit S]\n"
-    "                                  [--parts scotch|blocks] [--set NAME=VALUE]...\n"
-    "                                  [--verbose] [--out FILE]\n";
+    "                                  [--set NAME=VALUE]... [--parts scotch|blocks]\n"
+    "                                  [--output FILE] [--json] [--verbose]\n";
+
+static const char kHelp[] =
+    "Solves FILE (FCLIB .hdf5 or Siconos .dat) on the ranks of the job (libfrix_mpi).\n"
+    "  --solver NAME|ID     nsgs (default), nsn-ac, or gnsn-ac (a global problem's rows on the ranks)\n"
+    "  --tol T              stop when the error is at most T\n"
+    "  --max-iter N         at most N sweeps (Newton steps)\n"
+    "  --time-limit S       stop after S seconds\n"
+    "  --set NAME=VALUE     any other solver option, by name (see frix solvers NAME)\n"
+    "  --parts scotch|blocks  cut the contacts by Scotch (default) or in blocks of their order\n"
+    "  --output FILE        write the problem with its solution (FCLIB); --out, -o: the same\n"
+    "  --json               one JSON object on stdout, the fields of frix solve --json\n"
+    "  --verbose            the solver's log (rank 0)\n"
+    "Exit status: 0 converged, 1 not converged, 2 usage error or refused input.\n";
 
 typedef struct {
     const char *file, *out, *solver;
     int blocks; /* --parts blocks */
     double tol, time_limit;
     long long max_iter;
-    int verbose;
+    int verbose, json;
     const char *sets[64];
     int nsets;
 } args_t;
 
-/* 0, or 2 with a message on rank 0. */
+/* 0; 2 with a message on rank 0; 3 for --help (printed on rank 0). */
 static int parse(int argc, char **argv, args_t *a, int rank) {
     int i;
     memset(a, 0, sizeof *a);
     a->tol = -1.0;
     a->time_limit = -1.0;
     a->max_iter = -1;
+    for (i = 1; i < argc; ++i)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            if (rank == 0) printf("%s%s", kUsage, kHelp);
+            return 3;
+        }
     if (argc < 3 || strcmp(argv[1], "solve") != 0) {
         if (rank == 0) fputs(kUsage, stderr);
         return 2;
     }
-    a->file = argv[2];
-    for (i = 3; i < argc; ++i) {
+    for (i = 2; i < argc; ++i) {
         const char *o = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
         char *end = NULL;
-        if (strcmp(o, "--verbose") == 0) {
+        if (o[0] != '-' || o[1] == '\0') {
+            if (a->file) {
+                if (rank == 0) fprintf(stderr, "frix-mpi: expected one FILE, got %s and %s\n%s", a->file, o, kUsage);
+                return 2;
+            }
+            a->file = o;
+            continue;
+        }
+        if (strcmp(o, "--verbose") == 0 || strcmp(o, "-v") == 0) {
             a->verbose = 1;
+            continue;
+        }
+        if (strcmp(o, "--json") == 0) {
+            a->json = 1;
             continue;
         }
         if (!v) {
@@ -67,7 +101,11 @@ static int parse(int argc, char **argv, args_t *a, int rank) {
             a->time_limit = strtod(v, &end);
         } else if (strcmp(o, "--max-iter") == 0) {
             a->max_iter = strtoll(v, &end, 10);
-        } else if (strcmp(o, "--out") == 0) {
+        } else if (strcmp(o, "--output") == 0 || strcmp(o, "--out") == 0 || strcmp(o, "-o") == 0) {
+            if (*v == '\0') {
+                if (rank == 0) fprintf(stderr, "frix-mpi: %s needs a file name\n", o);
+                return 2;
+            }
             a->out = v;
             continue;
         } else if (strcmp(o, "--solver") == 0) {
@@ -95,6 +133,10 @@ static int parse(int argc, char **argv, args_t *a, int rank) {
             if (rank == 0) fprintf(stderr, "frix-mpi: %s: '%s' is not a number\n", o, v);
             return 2;
         }
+    }
+    if (!a->file) {
+        if (rank == 0) fprintf(stderr, "frix-mpi: expected one FILE\n%s", kUsage);
+        return 2;
     }
     return 0;
 }
@@ -171,6 +213,211 @@ static long long over_ranks(const frix_mpi_problem *p, frix_mpi_key key, MPI_Op 
     v = (long long)mine;
     MPI_Reduce(&v, &all, 1, MPI_LONG_LONG, op, 0, MPI_COMM_WORLD);
     return all;
+}
+
+/* What rank 0 reports. */
+typedef struct {
+    const frix_problem *problem;
+    const frix_options *opts;
+    const frix_info *info;
+    int global_rows, ranks, checked, written;
+    double check, partition_time; /* partition_time: NaN without Scotch */
+    int64_t existence;            /* frix_existence: checked on rank 0 after a failed solve */
+    double existence_margin;
+    long long boundary, ghosts, colours, messages;
+    int64_t total;
+} report_t;
+
+/* frix solve's names (tools/cli/common.cpp status_token, cmd_solve.cpp measure_name). */
+static const char *status_token(frix_status s) {
+    switch (s) {
+        case FRIX_STATUS_NOT_RUN: return "not_run";
+        case FRIX_STATUS_CONVERGED: return "converged";
+        case FRIX_STATUS_MAX_ITER: return "max_iter";
+        case FRIX_STATUS_TIME_LIMIT: return "time_limit";
+        case FRIX_STATUS_STAGNATED: return "stagnated";
+        case FRIX_STATUS_DIVERGED: return "diverged";
+        case FRIX_STATUS_NUMERICAL_FAILURE: return "numerical_failure";
+        case FRIX_STATUS_STOPPED_BY_CALLBACK: return "stopped_by_callback";
+        case FRIX_STATUS_MEMORY_LIMIT: return "memory_limit";
+    }
+    return "unknown";
+}
+
+static const char *measure_name(int64_t m) {
+    return m == FRIX_MEASURE_Q_RELATIVE ? "q_relative" : m == FRIX_MEASURE_RELATIVE ? "siconos" : "scaled";
+}
+
+static double info_double(const frix_info *info, frix_info_key key) {
+    double v = NAN;
+    if (frix_info_get_double(info, key, &v) != FRIX_OK) return NAN;
+    return v;
+}
+
+static int64_t info_int(const frix_info *info, frix_info_key key) {
+    int64_t v = 0;
+    if (frix_info_get_int(info, key, &v) != FRIX_OK) return 0;
+    return v;
+}
+
+/* JSON output: the members of one object on one line. `first` tracks the comma. */
+static int json_first = 1;
+
+static void json_key(const char *key) {
+    if (!json_first) putchar(',');
+    json_first = 0;
+    if (key) printf("\"%s\":", key);
+}
+
+static void json_string(const char *key, const char *v) {
+    const unsigned char *c;
+    json_key(key);
+    putchar('"');
+    for (c = (const unsigned char *)v; *c; ++c) {
+        if (*c == '"' || *c == '\\')
+            printf("\\%c", *c);
+        else if (*c < 0x20)
+            printf("\\u%04x", *c);
+        else
+            putchar(*c);
+    }
+    putchar('"');
+}
+
+/* Non-finite numbers are null, so the line is always valid JSON. */
+static void json_number(const char *key, double v) {
+    json_key(key);
+    if (isfinite(v))
+        printf("%.17g", v);
+    else
+        fputs("null", stdout);
+}
+
+static void json_integer(const char *key, long long v) {
+    json_key(key);
+    printf("%lld", v);
+}
+
+static void json_open(const char *key) {
+    json_key(key);
+    putchar('{');
+    json_first = 1;
+}
+
+static void json_close(void) {
+    putchar('}');
+    json_first = 0;
+}
+
+static void print_json(const args_t *a, const report_t *r) {
+    const frix_status s = frix_info_status(r->info);
+    const int id = frix_options_solver(r->opts);
+    const char *name = frix_solver_name(id);
+    const char *trace = frix_info_trace(r->info);
+    int64_t measure = FRIX_MEASURE_SCALED;
+    frix_options_get_int(r->opts, FRIX_OPT_ERROR_MEASURE, &measure);
+    json_first = 1;
+    putchar('{');
+    json_string("file", a->file);
+    json_string("kind", frix_problem_get_kind(r->problem) == FRIX_PROBLEM_GLOBAL ? "global" : "local");
+    json_integer("contacts", (long long)frix_problem_contacts(r->problem));
+    json_integer("contact_dofs", (long long)frix_problem_contact_dofs(r->problem));
+    json_integer("dofs", (long long)frix_problem_dofs(r->problem));
+    json_string("solver", name ? name : "?");
+    json_integer("solver_id", id);
+    json_string("status", status_token(s));
+    json_string("status_text", frix_status_string(s));
+    json_key("converged");
+    fputs(s == FRIX_STATUS_CONVERGED ? "true" : "false", stdout);
+    json_integer("iterations", (long long)frix_info_iterations(r->info));
+    json_number("error", frix_info_error(r->info));
+    json_string("error_measure", measure_name(measure));
+    json_number("tolerance", info_double(r->info, FRIX_INFO_TOLERANCE));
+    json_number("time", frix_info_solve_time(r->info));
+    json_string("existence", frix_existence_describe((frix_existence)r->existence));
+    json_number("existence_margin", r->existence_margin);
+    json_open("measures");
+    json_number("error_relative", info_double(r->info, FRIX_INFO_ERROR_RELATIVE));
+    json_number("error_q_relative", info_double(r->info, FRIX_INFO_ERROR_Q_RELATIVE));
+    json_number("residual_absolute", info_double(r->info, FRIX_INFO_RESIDUAL_ABSOLUTE));
+    json_number("cone_violation", info_double(r->info, FRIX_INFO_CONE_VIOLATION));
+    json_number("penetration", info_double(r->info, FRIX_INFO_PENETRATION));
+    json_number("complementarity", info_double(r->info, FRIX_INFO_COMPLEMENTARITY));
+    json_number("equilibrium", info_double(r->info, FRIX_INFO_EQUILIBRIUM));
+    json_close();
+    json_open("linear_algebra");
+    json_integer("newton_iterations", (long long)info_int(r->info, FRIX_INFO_NEWTON_ITERATIONS));
+    json_integer("line_search_steps", (long long)info_int(r->info, FRIX_INFO_LINE_SEARCH_STEPS));
+    json_integer("hybrid_sweeps", (long long)info_int(r->info, FRIX_INFO_HYBRID_SWEEPS));
+    json_integer("factorizations", (long long)info_int(r->info, FRIX_INFO_FACTORIZATIONS));
+    json_integer("symbolic_analyses", (long long)info_int(r->info, FRIX_INFO_SYMBOLIC_ANALYSES));
+    json_number("factorization_time", info_double(r->info, FRIX_INFO_FACTORIZATION_TIME));
+    json_number("setup_time", info_double(r->info, FRIX_INFO_SETUP_TIME));
+    json_number("reduction_time", info_double(r->info, FRIX_INFO_REDUCTION_TIME));
+    json_close();
+    json_key("trace");
+    putchar('[');
+    json_first = 1;
+    while (trace && *trace) { /* one string a line */
+        const char *nl = strchr(trace, '\n');
+        size_t len = nl ? (size_t)(nl - trace) : strlen(trace);
+        char line[1024];
+        if (len >= sizeof line) len = sizeof line - 1;
+        memcpy(line, trace, len);
+        line[len] = '\0';
+        if (len > 0) json_string(NULL, line);
+        trace = nl ? nl + 1 : trace + strlen(trace);
+    }
+    putchar(']');
+    json_first = 0;
+    if (r->written)
+        json_string("output", a->out);
+    else {
+        json_key("output");
+        fputs("null", stdout);
+    }
+    json_open("mpi");
+    json_integer("ranks", r->ranks);
+    json_string("parts", a->blocks ? "blocks" : "scotch");
+    json_string("form", r->global_rows ? "global" : "W");
+    json_number("partition_time", r->partition_time);
+    json_integer("boundary_contacts", r->boundary);
+    json_integer("ghosts", r->ghosts);
+    json_integer("colours", r->colours);
+    json_integer("messages_per_sweep", r->messages);
+    json_number("check", r->checked ? r->check : NAN);
+    json_close();
+    puts("}");
+}
+
+static void print_text(const args_t *a, const report_t *r) {
+    double tol = 0.0;
+    int64_t measure = FRIX_MEASURE_SCALED;
+    const int global = frix_problem_get_kind(r->problem) == FRIX_PROBLEM_GLOBAL;
+    frix_options_get_double(r->opts, FRIX_OPT_TOLERANCE, &tol);
+    frix_options_get_int(r->opts, FRIX_OPT_ERROR_MEASURE, &measure);
+    printf("%-16s %s\n", "file", a->file);
+    printf("%-16s %s, %lld contacts\n", "problem",
+           r->global_rows ? "global (M's and H^T's rows on the ranks)" : global ? "global (reduced on rank 0)" : "local",
+           (long long)r->total);
+    if (r->global_rows)
+        printf("%-16s %d, contacts by %s, dofs in blocks\n", "ranks", r->ranks, a->blocks ? "blocks" : "Scotch");
+    else
+        printf("%-16s %d, %s (%lld boundary contacts, %lld ghosts, %lld colours, %lld messages a sweep)\n", "ranks",
+               r->ranks, a->blocks ? "blocks" : "Scotch", r->boundary, r->ghosts, r->colours, r->messages);
+    if (!a->blocks) printf("%-16s %.3g s\n", "partition", r->partition_time);
+    printf("%-16s %s (id %d)\n", "solver", frix_solver_name(frix_options_solver(r->opts)), frix_options_solver(r->opts));
+    printf("%-16s %s\n", "status", frix_status_string(frix_info_status(r->info)));
+    if (r->existence != FRIX_EXISTENCE_NOT_CHECKED)
+        printf("%-16s %s (margin %.2e)\n", "existence", frix_existence_describe((frix_existence)r->existence),
+               r->existence_margin);
+    printf("%-16s %lld\n", "iterations", (long long)frix_info_iterations(r->info));
+    printf("%-16s %.3e (%s, tolerance %.1e)\n", "error", frix_info_error(r->info), measure_name(measure), tol);
+    if (r->checked)
+        printf("%-16s %.3e (the gathered %s, measured by libfrix)\n", "check", r->check,
+               r->global_rows ? "r and v" : "r");
+    printf("%-16s %.3g s\n", "time", frix_info_solve_time(r->info));
+    if (r->written) printf("%-16s %s\n", "written to", a->out);
 }
 
 static int run(const args_t *a, int rank, int size) {
@@ -255,37 +502,53 @@ static int run(const args_t *a, int rank, int size) {
     }
     status = frix_info_status(info) == FRIX_STATUS_CONVERGED ? 0 : 1;
     if (rank == 0) {
-        double error = 0.0, tol = 0.0;
-        frix_options_get_double(opts, FRIX_OPT_TOLERANCE, &tol);
+        report_t rep;
         const int global = frix_problem_get_kind(problem) == FRIX_PROBLEM_GLOBAL;
-        if ((!global || global_rows) &&
-            frix_problem_error(problem, r_all, global_rows ? v_all : NULL, &error) != FRIX_OK) {
+        rep.check = NAN;
+        rep.checked = !global || global_rows;
+        if (rep.checked && frix_problem_error(problem, r_all, global_rows ? v_all : NULL, &rep.check) != FRIX_OK) {
             fprintf(stderr, "frix-mpi: %s\n", frix_last_error_message());
             status = 2;
             goto done;
         }
-        printf("%-16s %s\n", "file", a->file);
-        printf("%-16s %s, %lld contacts\n", "problem",
-               global_rows ? "global (M's and H^T's rows on the ranks)" : global ? "global (reduced on rank 0)" : "local",
-               (long long)total);
-        if (global_rows)
-            printf("%-16s %d, contacts by %s, dofs in blocks\n", "ranks", size, a->blocks ? "blocks" : "Scotch");
-        else
-            printf("%-16s %d, %s (%lld boundary contacts, %lld ghosts, %lld colours, %lld messages a sweep)\n",
-                   "ranks", size, a->blocks ? "blocks" : "Scotch", boundary, ghosts, colours, messages);
-        if (!a->blocks) printf("%-16s %.3g s\n", "partition", partition_time);
-        printf("%-16s %s (id %d)\n", "solver", frix_solver_name(frix_options_solver(opts)), frix_options_solver(opts));
-        printf("%-16s %s\n", "status", frix_status_string(frix_info_status(info)));
-        printf("%-16s %lld\n", "iterations", (long long)frix_info_iterations(info));
-        printf("%-16s %.3e (relative, tolerance %.1e)\n", "error", frix_info_error(info), tol);
-        if (!global || global_rows)
-            printf("%-16s %.3e (the gathered %s, measured by libfrix)\n", "check", error, global_rows ? "r and v" : "r");
-        printf("%-16s %.3g s\n", "time", frix_info_solve_time(info));
-        if (a->out &&
-            frix_fclib_write(a->out, problem, r_all, u_all, global_rows ? v_all : NULL, 0, NULL, NULL, NULL) != FRIX_OK) {
-            fprintf(stderr, "frix-mpi: %s\n", frix_last_error_message());
-            status = 2;
+        rep.problem = problem;
+        rep.opts = opts;
+        rep.info = info;
+        rep.global_rows = global_rows;
+        rep.ranks = size;
+        rep.partition_time = a->blocks ? NAN : partition_time;
+        rep.boundary = boundary;
+        rep.ghosts = ghosts;
+        rep.colours = colours;
+        rep.messages = messages;
+        rep.total = total;
+        /* A failed solve says whether a solution exists at all (as frix solve), on rank 0. */
+        rep.existence = FRIX_EXISTENCE_NOT_CHECKED;
+        rep.existence_margin = NAN;
+        if (status != 0) {
+            frix_info *checked = NULL;
+            if (frix_info_create(&checked) == FRIX_OK && frix_problem_check_existence(problem, 0.0, checked) == FRIX_OK) {
+                frix_info_get_int(checked, FRIX_INFO_EXISTENCE, &rep.existence);
+                rep.existence_margin = info_double(checked, FRIX_INFO_EXISTENCE_MARGIN);
+            }
+            frix_info_free(checked);
         }
+        /* Written whatever the status (as frix solve): a non-converged iterate is worth a look. */
+        rep.written = 0;
+        if (a->out) {
+            if (frix_fclib_write(a->out, problem, r_all, u_all, global_rows ? v_all : NULL, 0, NULL, NULL, NULL) !=
+                FRIX_OK) {
+                fprintf(stderr, "frix-mpi: cannot write %s: %s\n", a->out, frix_last_error_message());
+                status = 2;
+            } else {
+                rep.written = 1;
+            }
+        }
+        if (a->json)
+            print_json(a, &rep);
+        else
+            print_text(a, &rep);
+        fflush(stdout);
     }
 done:
     MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);
@@ -313,7 +576,10 @@ int main(int argc, char **argv) {
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &size);
     status = parse(argc, argv, &a, rank);
-    if (status == 0) status = run(&a, rank, size);
+    if (status == 0)
+        status = run(&a, rank, size);
+    else if (status == 3) /* --help */
+        status = 0;
     MPI_Finalize();
     return status;
 }
