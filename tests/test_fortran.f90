@@ -290,6 +290,25 @@ program test_fortran
   err = frix_problem_local(W, q, mu, 1_c_int64_t, shape)
   call round_trip('one contact', shape, r, [0d0])
 
+  ! Choice options by name: set from text, a name read back, a refusal, and numbers still.
+  err = frix_options_create(FRIX_SOLVER_NSGS, opts2)
+  err = frix_options_set_by_name(opts2, frix_cstr('shuffle'), frix_cstr('each_sweep'))
+  n64 = -1
+  if (err == FRIX_OK) err = frix_options_get_int(opts2, FRIX_OPT_SHUFFLE, n64)
+  call check('shuffle set by name', err == FRIX_OK .and. n64 == FRIX_SHUFFLE_EACH_SWEEP)
+  call check('choice name', frix_fstr(frix_option_choice_name(FRIX_OPT_SHUFFLE, &
+       int(FRIX_SHUFFLE_ONCE, c_int64_t))) == 'once' .and. &
+       .not. c_associated(frix_option_choice_name(FRIX_OPT_TOLERANCE, 0_c_int64_t)))
+  err = frix_option_choice_by_name(FRIX_OPT_ERROR_MEASURE, frix_cstr('siconos'), n64)
+  call check('choice by name', err == FRIX_OK .and. n64 == FRIX_MEASURE_RELATIVE)
+  err = frix_options_set_by_name(opts2, frix_cstr('shuffle'), frix_cstr('sometimes'))
+  call check('unknown choice refused', err == FRIX_ERR_OPTION_RANGE .and. &
+       index(frix_last_error(), 'each_sweep') > 0)
+  err = frix_options_set_by_name(opts2, frix_cstr('local_solver'), frix_cstr('550'))
+  if (err == FRIX_OK) err = frix_options_get_int(opts2, FRIX_OPT_LOCAL_SOLVER, n64)
+  call check('choice option set by number text', err == FRIX_OK .and. n64 == FRIX_LOCAL_NEWTON_AC)
+  call frix_options_free(opts2)
+
   call frix_info_free(info)
   call frix_options_free(opts)
   call frix_problem_free(p)

@@ -200,6 +200,120 @@ START_TEST(test_log_sink) {
 }
 END_TEST
 
+/* Every option whose values are choices names them, both ways; frix_options_set_by_name takes
+ * a name or a number; refusals state the value given and the real bounds. */
+START_TEST(test_choice_names) {
+    static const struct {
+        frix_option_key key;
+        int64_t value;
+        const char *name;
+    } named[] = {
+        {FRIX_OPT_SHUFFLE, FRIX_SHUFFLE_NONE, "none"},
+        {FRIX_OPT_SHUFFLE, FRIX_SHUFFLE_ONCE, "once"},
+        {FRIX_OPT_SHUFFLE, FRIX_SHUFFLE_EACH_SWEEP, "each_sweep"},
+        {FRIX_OPT_RHO_STRATEGY, FRIX_RHO_CONSTANT, "constant"},
+        {FRIX_OPT_RHO_STRATEGY, FRIX_RHO_SPECTRAL, "spectral"},
+        {FRIX_OPT_RHO_STRATEGY, FRIX_RHO_SPLIT, "split"},
+        {FRIX_OPT_LINE_SEARCH, FRIX_LINE_SEARCH_NONE, "none"},
+        {FRIX_OPT_LINE_SEARCH, FRIX_LINE_SEARCH_GOLDSTEIN_PRICE, "goldstein_price"},
+        {FRIX_OPT_LINE_SEARCH, FRIX_LINE_SEARCH_ARMIJO, "armijo"},
+        {FRIX_OPT_LINE_SEARCH, FRIX_LINE_SEARCH_NONMONOTONE, "nonmonotone"},
+        {FRIX_OPT_HYBRID, FRIX_HYBRID_NONE, "none"},
+        {FRIX_OPT_HYBRID, FRIX_HYBRID_NSGS, "nsgs"},
+        {FRIX_OPT_ERROR_MEASURE, FRIX_MEASURE_RELATIVE, "siconos"},
+        {FRIX_OPT_ERROR_MEASURE, FRIX_MEASURE_Q_RELATIVE, "q_relative"},
+        {FRIX_OPT_ERROR_MEASURE, FRIX_MEASURE_SCALED, "scaled"},
+        {FRIX_OPT_LOCAL_SOLVER, FRIX_LOCAL_PROJECTION, "projection"},
+        {FRIX_OPT_LOCAL_SOLVER, FRIX_LOCAL_PROJECTION_ITERATED, "projection_iterated"},
+        {FRIX_OPT_LOCAL_SOLVER, FRIX_LOCAL_CLOSED_FORM, "closed_form"},
+        {FRIX_OPT_LOCAL_SOLVER, FRIX_LOCAL_NEWTON_AC, "newton_ac"},
+        {FRIX_OPT_LOCAL_SOLVER, FRIX_LOCAL_NEWTON_AC_GP, "newton_ac_gp"},
+        {FRIX_OPT_LOCAL_SOLVER, FRIX_LOCAL_NEWTON_FB, "newton_fb"},
+        {FRIX_OPT_LOCAL_SOLVER, FRIX_LOCAL_HYBRID, "hybrid"},
+        {FRIX_OPT_INNER_SOLVER, FRIX_SOLVER_NSN_AC, "nsn-ac"},
+        {FRIX_OPT_INNER_SOLVER, FRIX_SOLVER_NSN_FB, "nsn-fb"},
+        {FRIX_OPT_INNER_SOLVER, FRIX_SOLVER_NSN_NM, "nsn-nm"},
+    };
+    for (size_t k = 0; k < sizeof named / sizeof named[0]; ++k) {
+        const char *n = frix_option_choice_name(named[k].key, named[k].value);
+        ck_assert_msg(n && strcmp(n, named[k].name) == 0, "%s %lld: %s", frix_option_name(named[k].key),
+                      (long long)named[k].value, n ? n : "NULL");
+        int64_t v = -1;
+        ck_assert_int_eq(frix_option_choice_by_name(named[k].key, named[k].name, &v), FRIX_OK);
+        ck_assert_int_eq(v, named[k].value);
+    }
+    int64_t v = -1;
+    ck_assert_int_eq(frix_option_choice_by_name(FRIX_OPT_SHUFFLE, "Each-Sweep", &v), FRIX_OK);
+    ck_assert_int_eq(v, FRIX_SHUFFLE_EACH_SWEEP);
+    ck_assert_int_eq(frix_option_choice_by_name(FRIX_OPT_ERROR_MEASURE, "relative", &v), FRIX_OK);
+    ck_assert_int_eq(v, FRIX_MEASURE_RELATIVE);
+    ck_assert_int_eq(frix_option_choice_by_name(FRIX_OPT_SHUFFLE, "sometimes", &v), FRIX_ERR_OPTION_RANGE);
+    ck_assert_msg(strstr(frix_last_error_message(), "once = 1"), "%s", frix_last_error_message());
+    ck_assert_int_eq(frix_option_choice_by_name(FRIX_OPT_TOLERANCE, "once", &v), FRIX_ERR_OPTION_RANGE);
+    ck_assert_int_eq(frix_option_choice_by_name((frix_option_key)999, "once", &v), FRIX_ERR_UNKNOWN_OPTION);
+    ck_assert_int_eq(frix_option_choice_by_name(FRIX_OPT_SHUFFLE, NULL, &v), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_ptr_null(frix_option_choice_name(FRIX_OPT_TOLERANCE, 0));
+    ck_assert_ptr_null(frix_option_choice_name(FRIX_OPT_SHUFFLE, 3));
+    ck_assert_ptr_null(frix_option_choice_name(FRIX_OPT_INNER_SOLVER, FRIX_SOLVER_NSGS));
+
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_by_name(o, "shuffle", "once"), FRIX_OK);
+    ck_assert_int_eq(frix_options_get_int(o, FRIX_OPT_SHUFFLE, &v), FRIX_OK);
+    ck_assert_int_eq(v, FRIX_SHUFFLE_ONCE);
+    ck_assert_int_eq(frix_options_set_by_name(o, "shuffle", "2"), FRIX_OK); /* numbers still */
+    ck_assert_int_eq(frix_options_get_int(o, FRIX_OPT_SHUFFLE, &v), FRIX_OK);
+    ck_assert_int_eq(v, FRIX_SHUFFLE_EACH_SWEEP);
+    ck_assert_int_eq(frix_options_set_by_name(o, "error_measure", "siconos"), FRIX_OK);
+    ck_assert_int_eq(frix_options_get_int(o, FRIX_OPT_ERROR_MEASURE, &v), FRIX_OK);
+    ck_assert_int_eq(v, FRIX_MEASURE_RELATIVE);
+    ck_assert_int_eq(frix_options_set_by_name(o, "max_iter", "77"), FRIX_OK);
+    ck_assert_int_eq(frix_options_get_int(o, FRIX_OPT_MAX_ITER, &v), FRIX_OK);
+    ck_assert_int_eq(v, 77);
+    ck_assert_int_eq(frix_options_set_by_name(o, "relaxation", "0.5"), FRIX_OK);
+    double d = 0;
+    ck_assert_int_eq(frix_options_get_double(o, FRIX_OPT_RELAXATION, &d), FRIX_OK);
+    ck_assert_double_eq(d, 0.5);
+    ck_assert_int_eq(frix_options_set_by_name(o, "tolerance", "1e-310"), FRIX_OK); /* a number */
+    ck_assert_int_eq(frix_options_set_by_name(o, "shuffle", "sometimes"), FRIX_ERR_OPTION_RANGE);
+    ck_assert_msg(strstr(frix_last_error_message(), "each_sweep"), "%s", frix_last_error_message());
+    ck_assert_int_eq(frix_options_set_by_name(o, "shuffle", " 1"), FRIX_ERR_OPTION_RANGE);
+    ck_assert_int_eq(frix_options_set_by_name(o, "max_iter", "12abc"), FRIX_ERR_OPTION_RANGE);
+    ck_assert_int_eq(frix_options_set_by_name(o, "rho", "1"), FRIX_ERR_UNKNOWN_OPTION); /* not nsgs's */
+    ck_assert_int_eq(frix_options_set_by_name(o, "nosuch", "1"), FRIX_ERR_UNKNOWN_OPTION);
+    ck_assert_int_eq(frix_options_set_by_name(o, "inner_solver", "nsn-ac"), FRIX_ERR_UNKNOWN_OPTION);
+
+    /* Refusals: the value as given, the bounds as integers for int keys. */
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 1000000001), FRIX_ERR_OPTION_RANGE);
+    ck_assert_msg(strstr(frix_last_error_message(), "max_iter = 1000000001 is outside [1, 1000000000]"),
+                  "%s", frix_last_error_message());
+    ck_assert_int_eq(frix_options_set_by_name(o, "max_iter", "99999999999999999999"), FRIX_ERR_OPTION_RANGE);
+    ck_assert_msg(strstr(frix_last_error_message(), "max_iter = 99999999999999999999 is outside [1, 1000000000]"),
+                  "%s", frix_last_error_message());
+    ck_assert_int_eq(frix_options_set_by_name(o, "tolerance", "1e400"), FRIX_ERR_OPTION_RANGE);
+    ck_assert_msg(strstr(frix_last_error_message(), "tolerance = 1e400 is outside [0, 1]"), "%s",
+                  frix_last_error_message());
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_SEED, 9007199254740993LL), FRIX_ERR_OPTION_RANGE);
+    ck_assert_msg(strstr(frix_last_error_message(), "seed = 9007199254740993 is outside [0, 9007199254740992]"),
+                  "%s", frix_last_error_message());
+    ck_assert_int_eq(frix_options_get_int(o, FRIX_OPT_MAX_ITER, &v), FRIX_OK);
+    ck_assert_int_eq(v, 77); /* refused values leave the previous one */
+    frix_options_free(o);
+
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_ADMM, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_RHO, 1e-310), FRIX_ERR_OPTION_RANGE);
+    ck_assert_msg(strstr(frix_last_error_message(), "rho = 1e-310 is outside [1e-300, 1e+300]"), "%s",
+                  frix_last_error_message());
+    frix_options_free(o);
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_PROX, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_by_name(o, "inner_solver", "nsn-fb"), FRIX_OK);
+    ck_assert_int_eq(frix_options_get_int(o, FRIX_OPT_INNER_SOLVER, &v), FRIX_OK);
+    ck_assert_int_eq(v, FRIX_SOLVER_NSN_FB);
+    ck_assert_int_eq(frix_options_set_by_name(o, "inner_solver", "nsgs"), FRIX_ERR_OPTION_RANGE);
+    frix_options_free(o);
+}
+END_TEST
+
 int main(void) {
     Suite *s = suite_create("options");
     TCase *tc = tcase_create("core");
@@ -208,6 +322,7 @@ int main(void) {
     tcase_add_test(tc, test_registry);
     tcase_add_test(tc, test_strings_and_version);
     tcase_add_test(tc, test_log_sink);
+    tcase_add_test(tc, test_choice_names);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

@@ -409,6 +409,29 @@ module frix
       integer(c_int), intent(out) :: key
       integer(c_int) :: frix_option_by_name
     end function
+    ! Choice names of options (shuffle, line_search, error_measure, ...): the name of a value
+    ! (a C string, c_null_ptr if none), the value of a name, and an option set from text (a
+    ! choice name or a number), e.g. frix_options_set_by_name(opts, frix_cstr('shuffle'),
+    ! frix_cstr('once')).
+    function frix_option_choice_name(key, value) bind(C, name='frix_option_choice_name')
+      import :: c_ptr, c_int, c_int64_t
+      integer(c_int), value :: key
+      integer(c_int64_t), value :: value
+      type(c_ptr) :: frix_option_choice_name
+    end function
+    function frix_option_choice_by_name(key, name, value) bind(C, name='frix_option_choice_by_name')
+      import :: c_int, c_char, c_int64_t
+      integer(c_int), value :: key
+      character(kind=c_char), intent(in) :: name(*)
+      integer(c_int64_t), intent(out) :: value
+      integer(c_int) :: frix_option_choice_by_name
+    end function
+    function frix_options_set_by_name(opts, key, value) bind(C, name='frix_options_set_by_name')
+      import :: c_ptr, c_int, c_char
+      type(c_ptr), value :: opts
+      character(kind=c_char), intent(in) :: key(*), value(*)
+      integer(c_int) :: frix_options_set_by_name
+    end function
     ! fn: c_funloc of a function with the interface frix_progress_fn (c_null_funptr removes
     ! the callback); user_data is handed back to it unchanged.
     function frix_options_set_callback(opts, fn, user_data) &

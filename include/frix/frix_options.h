@@ -178,6 +178,24 @@ FRIX_API frix_error frix_options_bounds(const frix_options *opts, frix_option_ke
 FRIX_API const char *frix_option_name(frix_option_key key);
 FRIX_API frix_error frix_option_by_name(const char *name, frix_option_key *key);
 
+/* Options whose values are choices (error_measure, local_solver, shuffle, rho_strategy,
+ * line_search, hybrid, inner_solver) name them: frix_option_choice_name(FRIX_OPT_SHUFFLE,
+ * FRIX_SHUFFLE_ONCE) is "once"; the names are the enumerators' in lower case without their
+ * prefix ("each_sweep", "goldstein_price", "newton_ac"; error_measure: "scaled", "siconos"
+ * (also "relative"), "q_relative"), and inner_solver's are the registry's solver names. NULL
+ * if the key has no named values or value is none of them. */
+FRIX_API const char *frix_option_choice_name(frix_option_key key, int64_t value);
+/* The value named `name` (case and '-' / '_' ignored), or FRIX_ERR_OPTION_RANGE naming the
+ * choices; FRIX_ERR_UNKNOWN_OPTION for an unknown key. */
+FRIX_API frix_error frix_option_choice_by_name(frix_option_key key, const char *name,
+                                               int64_t *value);
+/* Sets the option named `key` (frix_option_name) from text, for command lines and
+ * configuration files: a choice name (frix_option_choice_by_name), an integer (exact for int
+ * keys) or a number, with the checks of frix_options_set_int / _set_double. A number beyond
+ * the doubles (1e400) is FRIX_ERR_OPTION_RANGE, as is text that is none of these. */
+FRIX_API frix_error frix_options_set_by_name(frix_options *opts, const char *key,
+                                             const char *value);
+
 /* fn may be NULL to remove the callback. */
 FRIX_API frix_error frix_options_set_callback(frix_options *opts, frix_progress_fn fn,
                                               void *user_data);

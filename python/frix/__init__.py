@@ -12,6 +12,7 @@ docs/python.md describes the package; every function and class has a docstring.
 import ctypes
 import enum
 import os
+import signal
 import threading
 import warnings
 import weakref
@@ -181,13 +182,30 @@ def _vector(x, n, name):
     library borrows it), else one converted copy, with a ConversionWarning."""
     given = np.asarray(x)
     a = given.reshape(-1) if given.ndim != 1 else given
-    if a.dtype != np.float64 or not a.flags.c_contiguous or not np.shares_memory(a, given):
+    # (An empty array shares no memory with anything, not even itself: nothing is copied.)
+    copied = a.size > 0 and not np.shares_memory(a, given)
+    if a.dtype != np.float64 or not a.flags.c_contiguous or copied:
         warnings.warn(f"frix: {name} converted to a contiguous float64 array (a copy)",
                       ConversionWarning, stacklevel=3)
         a = np.ascontiguousarray(a, dtype=np.float64)
     if a.shape[0] != n:
-        raise DimensionError(-2, f"frix: {name} has {a.shape[0]} entries, {n} expected")
+        raise DimensionError(-2, f"frix: {name} has {a.shape[0]} entries, expected {n}")
     return a
+
+
+def _c_string(value, what):
+    """value (str, bytes or a path) as the NUL-terminated bytes of a C string. An embedded NUL
+    is refused: C would read the text only up to it, a different path or name than given."""
+    b = os.fsencode(value) if isinstance(value, (bytes, os.PathLike)) else str(value).encode()
+    if b"\0" in b:
+        raise InvalidArgumentError(-1, f"frix: {what} contains a NUL character: {value!r}")
+    return b
+
+
+def _contacts_of(axis_size, mu):
+    """nc from a matrix of 3nc rows or columns (W, H), which the other inputs are checked
+    against; from mu where that size is no multiple of 3 (the library then names the matrix)."""
+    return axis_size // 3 if axis_size % 3 == 0 else np.asarray(mu).reshape(-1).shape[0]
 
 
 def _indices(x):
@@ -267,7 +285,7 @@ def _with_values(pattern, values):
     fmt, shape, a, b, n = pattern
     v = np.asarray(values, dtype=np.float64).reshape(-1)
     if v.shape[0] != n:
-        raise DimensionError(-2, f"frix: W_values has {v.shape[0]} entries, {n} expected")
+        raise DimensionError(-2, f"frix: W_values has {v.shape[0]} entries, expected {n}")
     if fmt == "coo":
         return sp.coo_matrix((v, (a, b)), shape=shape)
     return (sp.csr_matrix if fmt == "csr" else sp.csc_matrix)((v, b, a), shape=shape)
@@ -316,8 +334,8 @@ class Problem(_Closing):
     def __init__(self, W, q, mu):
         self._init_state()
         mu_a = np.asarray(mu)
-        nc = mu_a.reshape(-1).shape[0]
         self._matrices.append(_matrix(W, "W"))
+        nc = _contacts_of(lib.frix_matrix_rows(self._matrices[0]), mu_a)
         self._q = _vector(q, 3 * nc, "q")
         self._mu = _vector(mu_a, nc, "mu")
         self._pattern = _pattern_of(W)
@@ -333,10 +351,10 @@ class Problem(_Closing):
         self = cls.__new__(cls)
         self._init_state()
         mu_a = np.asarray(mu)
-        nc = mu_a.reshape(-1).shape[0]
         self._matrices.append(_matrix(M, "M"))
         self._matrices.append(_matrix(H, "H"))
         n = lib.frix_matrix_rows(self._matrices[0])
+        nc = _contacts_of(lib.frix_matrix_cols(self._matrices[1]), mu_a)
         self._f = _vector(f, n, "f")
         self._w = _vector(w, 3 * nc, "w")
         self._mu = _vector(mu_a, nc, "mu")
@@ -434,7 +452,7 @@ class Problem(_Closing):
 
     @title.setter
     def title(self, value):
-        _check(lib.frix_problem_set_title(self._live(), str(value).encode()))
+        _check(lib.frix_problem_set_title(self._live(), _c_string(value, "the title")))
 
     def _copy_of(self, getter, n):
         """A read-only copy of one of the library's vectors (None where the kind has none)."""
@@ -492,7 +510,7 @@ class Problem(_Closing):
             u = _vector(solution.u, m, "solution.u")
             if self.kind == "global" and getattr(solution, "v", None) is not None:
                 v = _vector(solution.v, self.dofs, "solution.v")
-        _check(lib.frix_fclib_write(os.fsencode(path), self._live(), _ptr(r), _ptr(u), _ptr(v),
+        _check(lib.frix_fclib_write(_c_string(path, "the path"), self._live(), _ptr(r), _ptr(u), _ptr(v),
                                     0, None, None, None))
 
     def __repr__(self):
@@ -505,7 +523,7 @@ class Problem(_Closing):
 def load(path):
     """Reads a problem from an FCLIB file (.hdf5, local or global) or a Siconos .dat file."""
     handle = ctypes.c_void_p()
-    _check(lib.frix_read_problem(os.fsencode(path), ctypes.byref(handle)))
+    _check(lib.frix_read_problem(_c_string(path, "the path"), ctypes.byref(handle)))
     return Problem._owning(handle.value)
 
 
@@ -513,7 +531,7 @@ def load_solution(path, problem):
     """The solution stored in an FCLIB file (as `problem.save(path, solution=...)` or `frix solve
     --output` writes it): (r, u, v), v None for a local problem."""
     r, u, v = _start(problem, None)
-    _check(lib.frix_fclib_read_solution(os.fsencode(path), problem._live(), _ptr(r), _ptr(u), _ptr(v)))
+    _check(lib.frix_fclib_read_solution(_c_string(path, "the path"), problem._live(), _ptr(r), _ptr(u), _ptr(v)))
     return r, u, v
 
 
@@ -535,7 +553,7 @@ def _solver_id(solver):
     if isinstance(solver, (int, np.integer)):
         return int(solver)
     sid = ctypes.c_int(0)
-    _check(lib.frix_solver_by_name(str(solver).encode(), ctypes.byref(sid)))
+    _check(lib.frix_solver_by_name(_c_string(solver, "the solver name"), ctypes.byref(sid)))
     return sid.value
 
 
@@ -544,8 +562,17 @@ def _solver_id(solver):
 _in_callback = threading.local()
 
 
+def _on_main_thread():
+    return threading.current_thread() is threading.main_thread()
+
+
 class _Options(_Handle):
-    """A frix_options handle built from keyword options (validated by the library)."""
+    """A frix_options handle built from keyword options (validated by the library).
+
+    Its progress callback is installed whenever the solve may need it: for the caller's
+    callback, and on the main thread also without one, so that Ctrl-C stops the solve. Python
+    runs signal handlers only between bytecodes of the main thread, and while the library
+    solves the main thread runs none but the callback's."""
 
     def __init__(self, solver, settings, callback):
         handle = ctypes.c_void_p()
@@ -558,7 +585,7 @@ class _Options(_Handle):
             for name, value in settings.items():
                 if value is not None:
                     self.set(name, value)
-            if callback is not None:
+            if callback is not None or _on_main_thread():
                 self._fn = _lib.PROGRESS_FN(self._on_progress)
                 _check(lib.frix_options_set_callback(self.handle, self._fn, None))
         except BaseException:
@@ -567,28 +594,60 @@ class _Options(_Handle):
 
     def set(self, name, value):
         key = ctypes.c_int(0)
-        _check(lib.frix_option_by_name(str(name).encode(), ctypes.byref(key)))
+        cname = _c_string(name, "the option name")
+        _check(lib.frix_option_by_name(cname, ctypes.byref(key)))
+        if isinstance(value, (str, bytes)):
+            # A choice by name (shuffle="once") or a number as text: the library reads it.
+            _check(lib.frix_options_set_by_name(self.handle, cname,
+                                                _c_string(value, f"the value of option '{name}'")))
+            return
         lower, upper, is_int = ctypes.c_double(), ctypes.c_double(), ctypes.c_int()
         _check(lib.frix_options_bounds(self.handle, key.value, ctypes.byref(lower), ctypes.byref(upper),
                                        ctypes.byref(is_int)))
         if is_int.value:
-            if not float(value).is_integer():  # (True and False are 1 and 0)
+            try:
+                integral = float(value).is_integer()  # (True and False are 1 and 0)
+            except OverflowError:  # an int beyond the doubles is integral
+                integral = isinstance(value, (int, np.integer))
+            if not integral:
                 raise OptionRangeError(-9, f"frix: option '{name}' takes an integer, not {value!r}")
-            _check(lib.frix_options_set_int(self.handle, key.value, int(value)))
+            v = int(value)
+            # Checked here, before the conversion to int64_t wraps it (2**64 + 5 would be 5).
+            if not lower.value <= v <= upper.value:
+                raise OptionRangeError(-9, f"frix: option '{name}' = {v} is outside "
+                                           f"[{int(lower.value)}, {int(upper.value)}]")
+            _check(lib.frix_options_set_int(self.handle, key.value, v))
         else:
-            _check(lib.frix_options_set_double(self.handle, key.value, float(value)))
+            try:
+                v = float(value)
+            except OverflowError:
+                raise OptionRangeError(-9, f"frix: option '{name}' = {value!r} is outside "
+                                           f"[{lower.value:g}, {upper.value:g}]") from None
+            _check(lib.frix_options_set_double(self.handle, key.value, v))
 
     def _on_progress(self, _data, iteration, error, elapsed):
         # Called from the solving thread (or auto's workers) with the GIL taken back by ctypes;
-        # an exception stops the solve and is raised again once it has returned.
+        # an exception stops the solve and is raised again once it has returned. Ctrl-C's
+        # handler (_SigintStop) runs as this function is entered and only sets its flag.
+        if _SigintStop.interrupted:
+            return 1
+        if self.callback is None:
+            return 0
         _in_callback.active = True
         try:
-            return 1 if self.callback(iteration, error, elapsed) else 0
+            stop = self.callback(iteration, error, elapsed)
         except BaseException as e:  # noqa: BLE001 (re-raised after the solve)
             self.exception = e
             return 1
         finally:
             _in_callback.active = False
+        return 1 if stop or _SigintStop.interrupted else 0
+
+    def raise_pending(self):
+        """After a solve: the callback's exception, raised again."""
+        if self.exception is not None:
+            e, self.exception = self.exception, None
+            raise e
 
     def close(self):
         if getattr(self, "handle", None):
@@ -597,6 +656,51 @@ class _Options(_Handle):
 
     def __del__(self):
         self.close()
+
+
+class _SigintStop:
+    """Around one solve on the main thread: Ctrl-C (SIGINT) stops it and raises
+    KeyboardInterrupt once the library has returned.
+
+    Python's own handler would raise inside the progress callback, where ctypes can only print
+    the exception and go on. So the first solve on the main thread replaces Python's handler
+    (signal.default_int_handler) with one that, during a solve, sets a flag the callback
+    returns as a stop, and outside solves is Python's handler itself. It stays (setting a
+    handler costs more than a small solve); another handler than Python's is left in place."""
+    depth = 0            # solves in progress on the main thread (a callback may solve again)
+    interrupted = False  # Ctrl-C during one of them
+
+    def __init__(self, opts):
+        self.opts = opts
+        self.armed = opts._fn is not None and _on_main_thread()
+
+    @staticmethod
+    def handler(signum, frame):
+        if _SigintStop.depth > 0:
+            _SigintStop.interrupted = True
+        else:
+            signal.default_int_handler(signum, frame)
+
+    def __enter__(self):
+        if self.armed:
+            current = signal.getsignal(signal.SIGINT)
+            if current is signal.default_int_handler:
+                signal.signal(signal.SIGINT, _SigintStop.handler)
+            elif current is not _SigintStop.handler:
+                self.armed = False
+        if self.armed:
+            _SigintStop.depth += 1
+        return self
+
+    def __exit__(self, exc_type, exc, tb):
+        if not self.armed:
+            return False
+        _SigintStop.depth -= 1
+        if _SigintStop.interrupted:
+            _SigintStop.interrupted = False
+            self.opts.exception = None  # (the interrupt wins over the callback's exception)
+            raise KeyboardInterrupt
+        return False
 
 
 # ---- Results.
@@ -760,7 +864,7 @@ def _start(problem, r0):
     m, n = problem.contact_dofs, problem.dofs
     r = np.zeros(m) if r0 is None else np.array(r0, dtype=np.float64, copy=True).reshape(-1)
     if r.shape[0] != m:
-        raise DimensionError(-2, f"frix: r0 has {r.shape[0]} entries, {m} expected")
+        raise DimensionError(-2, f"frix: r0 has {r.shape[0]} entries, expected {m}")
     u = np.zeros(m)
     v = np.zeros(n) if problem.kind == "global" else None
     return r, u, v
@@ -779,9 +883,13 @@ def solve(problem, solver="auto", tol=None, max_iter=None, time_limit=None, r0=N
     solver: a name or id of frix.solvers() (or Siconos's spelling); tol, max_iter, time_limit
     and any option of that solver by name (see frix.solvers() and `frix solvers NAME`): the
     library validates each one and raises UnknownOptionError or OptionRangeError with its
-    message. r0: the warm start (copied; default 0). callback(iteration, error, elapsed): called
+    message. An option whose values are choices takes their names too: shuffle="once",
+    error_measure="siconos", local_solver="newton_ac" (`frix solvers NAME` lists them).
+    r0: the warm start (copied; default 0). callback(iteration, error, elapsed): called
     after each iteration; a true return stops the solve (status STOPPED_BY_CALLBACK), an
-    exception stops it and is raised again. The GIL is released while the library runs.
+    exception stops it and is raised again. Ctrl-C stops a solve on the main thread after the
+    iteration in progress and raises KeyboardInterrupt, with or without a callback. The GIL is
+    released while the library runs.
     check_existence: when the solve ends without a solution (not stopped by the callback or
     the time limit) and no check ran yet (auto runs its own), whether to check whether a
     solution exists at all (at most about 2 s) for Result.existence.
@@ -791,10 +899,10 @@ def solve(problem, solver="auto", tol=None, max_iter=None, time_limit=None, r0=N
     try:
         r, u, v = _start(problem, r0)
         info = _Info()
-        code = lib.frix_solve(handle, opts.handle, r.ctypes.data, u.ctypes.data,
-                              None if v is None else v.ctypes.data, info.handle)
-        if opts.exception is not None:
-            raise opts.exception
+        with _SigintStop(opts):
+            code = lib.frix_solve(handle, opts.handle, r.ctypes.data, u.ctypes.data,
+                                  None if v is None else v.ctypes.data, info.handle)
+        opts.raise_pending()
         _check(code)
         return _result(handle, info, r, u, v, check_existence)
     finally:
@@ -862,13 +970,12 @@ class Solver(_Closing):
                     r0 = np.asarray(r0, dtype=np.float64).reshape(-1)
                     if r0.shape != self._r.shape:
                         raise DimensionError(-2, f"frix: r0 has {r0.shape[0]} entries, "
-                                                 f"{self._r.shape[0]} expected")
+                                                 f"expected {self._r.shape[0]}")
                 self._r[:] = r0
             info = self._pool.take()
-            code = lib.frix_persistent_solve(self._handle, *self._addresses, info.handle)
-            if self._opts.exception is not None:
-                e, self._opts.exception = self._opts.exception, None
-                raise e
+            with _SigintStop(self._opts):
+                code = lib.frix_persistent_solve(self._handle, *self._addresses, info.handle)
+            self._opts.raise_pending()
             _check(code)
             # (No existence check here: after an update the problem handle's data is not the
             # solver's; auto runs its own when it fails.)

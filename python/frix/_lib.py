@@ -79,6 +79,9 @@ _declare("frix_options_bounds", c_int, c_void_p, c_int, c_double_p, c_double_p, 
 _declare("frix_option_name", c_char_p, c_int)
 _declare("frix_option_by_name", c_int, c_char_p, POINTER(c_int))
 _declare("frix_options_set_callback", c_int, c_void_p, PROGRESS_FN, c_void_p)
+_declare("frix_options_set_by_name", c_int, c_void_p, c_char_p, c_char_p)
+_declare("frix_option_choice_name", c_char_p, c_int, c_int64)
+_declare("frix_option_choice_by_name", c_int, c_int, c_char_p, c_int64_p)
 
 _declare("frix_info_create", c_int, POINTER(c_void_p))
 _declare("frix_info_free", None, c_void_p)

@@ -2,8 +2,11 @@
 // flags, "--" to end the options, and strict number parsing.
 #pragma once
 
+#include <frix/frix_options.h>
+
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace frix_cli {
 
@@ -34,10 +37,24 @@ private:
     bool options_ended_ = false;
 };
 
-// Whole-string conversions; anything else (empty, trailing text, NaN/Inf, overflow) is a
-// usage error naming the command and option.
+// Whole-string conversions; anything else (empty, trailing text, NaN/Inf) is a usage error
+// naming the command and option. For a label that names an option of `frix solve` ("--tol",
+// "--set NAME"), a number beyond the doubles or 64-bit integers is refused with the option's
+// bounds, a double below the doubles' range reads as the nearest one (the library then judges
+// its range), and an option whose values are choices takes their names too
+// (frix_option_choice_by_name: "--set shuffle=once").
 double parse_double(const char *command, const std::string &option, const std::string &text);
 std::int64_t parse_int(const char *command, const std::string &option, const std::string &text);
+
+// The named values of an option key (shuffle: none 0, once 1, each_sweep 2), in the order of
+// their values; empty for a key whose values have no names.
+struct OptionChoice {
+    std::string name;
+    std::int64_t value;
+};
+std::vector<OptionChoice> option_choices(frix_option_key key);
+// "none, once, each_sweep", "" for a key without choices.
+std::string choice_names(frix_option_key key);
 
 // "frix SUB: <what> (see 'frix SUB --help')" as a usage Failure.
 [[noreturn]] void usage_error(const char *command, const std::string &what);

@@ -14,10 +14,17 @@ namespace {
 constexpr int kLastOptionKeyScanned = 127;
 
 struct OptionRow {
+    frix_option_key key;
     const char *name;
     bool is_int;
     double value, lower, upper;
 };
+
+// "once" for shuffle's value 1: the name of an option's value, "" where it has none.
+std::string value_name(const OptionRow &r, double v) {
+    const char *n = r.is_int && std::isfinite(v) ? frix_option_choice_name(r.key, static_cast<int64_t>(v)) : nullptr;
+    return n ? n : "";
+}
 
 // The first line of a description, cut after its first sentence when that line is long.
 std::string summary(const char *text) {
@@ -49,7 +56,7 @@ std::vector<OptionRow> accepted_options(int id) {
     if (frix_options_create(id, &o) != FRIX_OK) return rows;
     for (int k = 1; k <= kLastOptionKeyScanned; ++k) {
         auto key = static_cast<frix_option_key>(k);
-        OptionRow row{frix_option_name(key), false, 0, 0, 0};
+        OptionRow row{key, frix_option_name(key), false, 0, 0, 0};
         int is_int = 0;
         if (!row.name || frix_options_bounds(o, key, &row.lower, &row.upper, &is_int) != FRIX_OK)
             continue;
@@ -123,6 +130,18 @@ int describe_one(const std::string &which, bool json) {
             w.number("default", r.value);
             w.number("min", r.lower);
             w.number("max", r.upper);
+            const std::vector<OptionChoice> choices = option_choices(r.key);
+            if (!choices.empty()) {
+                w.string("default_name", value_name(r, r.value));
+                w.begin_array("choices");
+                for (const OptionChoice &c : choices) {
+                    w.begin_object();
+                    w.string("name", c.name);
+                    w.integer("value", c.value);
+                    w.end_object();
+                }
+                w.end_array();
+            }
             w.end_object();
         }
         w.end_array();
@@ -134,11 +153,23 @@ int describe_one(const std::string &which, bool json) {
     if (!rows.empty()) {
         std::printf("\nOptions (frix solve --set NAME=VALUE):\n");
         std::printf("  %-16s %-7s %-12s %s\n", "name", "type", "default", "range");
-        for (const OptionRow &r : rows)
-            std::printf("  %-16s %-7s %-12s [%s, %s]\n", r.name, r.is_int ? "int" : "double",
-                        format_value(r.value, r.is_int).c_str(),
-                        format_value(r.lower, r.is_int).c_str(),
-                        format_value(r.upper, r.is_int).c_str());
+        for (const OptionRow &r : rows) {
+            // An option whose values are choices shows its default by name and, for its
+            // range, its names (which --set takes as well as the numbers) with their values.
+            std::string names;
+            for (const OptionChoice &c : option_choices(r.key))
+                names += (names.empty() ? "" : ", ") + c.name + " (" + std::to_string(c.value) + ")";
+            const std::string dflt = value_name(r, r.value);
+            if (!names.empty())
+                std::printf("  %-16s %-7s %-12s %s\n", r.name, "int",
+                            (dflt.empty() ? format_value(r.value, r.is_int) : dflt).c_str(),
+                            names.c_str());
+            else
+                std::printf("  %-16s %-7s %-12s [%s, %s]\n", r.name, r.is_int ? "int" : "double",
+                            format_value(r.value, r.is_int).c_str(),
+                            format_value(r.lower, r.is_int).c_str(),
+                            format_value(r.upper, r.is_int).c_str());
+        }
     }
     return kExitConverged;
 }
