@@ -539,6 +539,148 @@ START_TEST(test_siconos_comparator) {
 }
 END_TEST
 
+/* ==== Issue 49: the bench reads no problem itself; each run reads its own, in its child ====
+ * A bad file costs its own rows only (status unreadable, the reader's message as the note,
+ * left out of the tables), and the per-run time limit covers the read. */
+
+/* A valid Siconos .dat local problem of nc contacts, W = I stored dense: 9 nc^2 numbers (tens
+ * of MB), slow to read, trivial to solve. */
+static void write_slow_dat(const char *path, int nc) {
+    FILE *f = fopen(path, "wb");
+    ck_assert_msg(f != NULL, "cannot write %s", path);
+    const int n = 3 * nc;
+    fprintf(f, "3 %d\n0 %d %d\n%d %d\n", nc, n, n, n, n);
+    char *col = malloc(2 * (size_t)n);
+    ck_assert_ptr_nonnull(col);
+    for (int i = 0; i < n; ++i) col[2 * i] = '0', col[2 * i + 1] = ' ';
+    col[2 * n - 1] = '\n';
+    for (int j = 0; j < n; ++j) {
+        col[2 * j] = '1';
+        ck_assert_int_eq(fwrite(col, 1, 2 * (size_t)n, f), 2 * (size_t)n);
+        col[2 * j] = '0';
+    }
+    free(col);
+    for (int a = 0; a < nc; ++a) fputs("-1 0 0 ", f);
+    fputs("\n", f);
+    for (int a = 0; a < nc; ++a) fputs("0.5 ", f);
+    fputs("\n", f);
+    ck_assert_int_eq(fclose(f), 0);
+}
+
+/* Writes a slow .dat at `path` and returns how long `frix info` takes to read it here (the
+ * machine's speed decides: the file grows until the read takes at least 0.25 s, or nc 1500). */
+static double make_slow_dat(const char *path) {
+    double seconds = 0;
+    for (int nc = 1000; nc <= 1500; nc += 500) {
+        write_slow_dat(path, nc);
+        const char *info[] = {"info", path, NULL};
+        const double t0 = now();
+        ck_assert_int_eq(cli_exit_code(info), 0);
+        seconds = now() - t0;
+        if (seconds >= 0.25) break;
+    }
+    return seconds;
+}
+
+START_TEST(test_bad_file_costs_its_row) {
+    fresh_dir(TMP "/bad/problems");
+    make_problem(TMP "/bad/problems/a-good.hdf5");
+    /* A truncated copy of a good file, and a .dat with a NUL byte: both refused by the reader. */
+    char *good = NULL;
+    {
+        FILE *f = fopen(TMP "/bad/problems/a-good.hdf5", "rb");
+        ck_assert_ptr_nonnull(f);
+        fseek(f, 0, SEEK_END);
+        long size = ftell(f);
+        fseek(f, 0, SEEK_SET);
+        good = malloc((size_t)size);
+        ck_assert_int_eq(fread(good, 1, (size_t)size, f), (size_t)size);
+        fclose(f);
+        FILE *t = fopen(TMP "/bad/problems/b-truncated.hdf5", "wb");
+        ck_assert_ptr_nonnull(t);
+        fwrite(good, 1, (size_t)size / 2, t);
+        fclose(t);
+        free(good);
+    }
+    FILE *d = fopen(TMP "/bad/nul.dat", "wb");
+    ck_assert_ptr_nonnull(d);
+    fwrite("3 1\n0 3 3\n3 3\n1 0\0 0", 1, 20, d);
+    fclose(d);
+    const char *args[] = {"bench", TMP "/bad/problems", TMP "/bad/nul.dat", "--solvers", "nsgs", "--time-limit", "10",
+                          "--out", TMP "/bad/out", "--no-plots", NULL};
+    cli_run r = run_cli(args);
+    ck_assert_msg(r.code == 0, "exit %d: %s", r.code, r.err);
+    run_free(&r);
+
+    csv *runs = csv_read(TMP "/bad/out/runs.csv");
+    ck_assert_int_eq(runs->rows, 4);
+    int a = csv_find(runs, "problem", "a-good.hdf5", NULL, NULL);
+    int b = csv_find(runs, "problem", "b-truncated.hdf5", NULL, NULL);
+    int n = csv_find(runs, "problem", "nul.dat", NULL, NULL);
+    ck_assert(a > 0 && b > 0 && n > 0);
+    ck_assert_str_eq(csv_get(runs, a, "status"), "converged");
+    ck_assert_str_eq(csv_get(runs, a, "contacts"), "2"); /* the sizes come from the run's read */
+    ck_assert_str_eq(csv_get(runs, a, "dofs"), "6");
+    for (int k = 0; k < 2; ++k) {
+        int row = k == 0 ? b : n;
+        ck_assert_str_eq(csv_get(runs, row, "status"), "unreadable");
+        ck_assert_msg(strstr(csv_get(runs, row, "note"), "cannot read ") != NULL, "note: %s",
+                      csv_get(runs, row, "note"));
+        ck_assert_str_eq(csv_get(runs, row, "contacts"), ""); /* not known: never read */
+    }
+    ck_assert_msg(strstr(csv_get(runs, n, "note"), "NUL") != NULL || strstr(csv_get(runs, n, "note"), "nul") != NULL,
+                  "note: %s", csv_get(runs, n, "note"));
+    csv_free(runs);
+    /* Left out of the tables: the one good problem is all there is to solve. */
+    char *md = slurp(TMP "/bad/out/summary.md");
+    ck_assert_msg(strstr(md, "| nsgs | 1/1 |") != NULL, "summary: %s", md);
+    ck_assert_msg(strstr(md, "Left out, as no run could read them: b-truncated.hdf5") != NULL, "summary: %s", md);
+    free(md);
+}
+END_TEST
+
+START_TEST(test_time_limit_covers_read) {
+    fresh_dir(TMP "/slow");
+    const char *dat = TMP "/slow/slow.dat";
+    const double read = make_slow_dat(dat);
+    /* A limit well below the read: the run must be stopped while reading. */
+    double limit = read / 5;
+    if (limit > 0.05) limit = 0.05;
+    char limit_text[32];
+    snprintf(limit_text, sizeof limit_text, "%g", limit);
+
+    /* No grace: killed at the limit, mid-read; the campaign does not wait for the read. */
+    const char *kill_args[] = {"bench", dat, "--solvers", "nsgs", "--time-limit", limit_text, "--grace", "0",
+                               "--out", TMP "/slow/killed", "--no-plots", NULL};
+    cli_run r = run_cli(kill_args);
+    ck_assert_msg(r.code == 0, "exit %d: %s", r.code, r.err);
+    run_free(&r);
+    csv *runs = csv_read(TMP "/slow/killed/runs.csv");
+    ck_assert_int_eq(runs->rows, 2);
+    ck_assert_str_eq(csv_get(runs, 1, "status"), "timeout");
+    ck_assert_msg(strstr(csv_get(runs, 1, "note"), "while reading the problem") != NULL, "note: %s",
+                  csv_get(runs, 1, "note"));
+    const double killed_after = atof(csv_get(runs, 1, "time"));
+    ck_assert_msg(killed_after < read, "killed after %g s, the read takes %g s", killed_after, read);
+    csv_free(runs);
+
+    /* With grace the read ends, past the limit: the run reports it and does not solve. */
+    const char *late_args[] = {"bench", dat, "--solvers", "nsgs", "--time-limit", limit_text, "--grace", "60",
+                               "--out", TMP "/slow/late", "--no-plots", NULL};
+    r = run_cli(late_args);
+    ck_assert_msg(r.code == 0, "exit %d: %s", r.code, r.err);
+    run_free(&r);
+    runs = csv_read(TMP "/slow/late/runs.csv");
+    ck_assert_str_eq(csv_get(runs, 1, "status"), "time_limit");
+    ck_assert_msg(strstr(csv_get(runs, 1, "note"), "reading the problem took") != NULL, "note: %s",
+                  csv_get(runs, 1, "note"));
+    ck_assert_str_eq(csv_get(runs, 1, "iterations"), "0");
+    csv_free(runs);
+    unlink(dat);
+}
+END_TEST
+/* ==== end of the issue 49 block ==== */
+
 int main(void) {
     Suite *s = suite_create("bench");
     TCase *tc = tcase_create("bench");
@@ -550,6 +692,8 @@ int main(void) {
     tcase_add_test(tc, test_best_per_problem);
     tcase_add_test(tc, test_isolation);
     tcase_add_test(tc, test_siconos_comparator);
+    tcase_add_test(tc, test_bad_file_costs_its_row);
+    tcase_add_test(tc, test_time_limit_covers_read);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

@@ -521,6 +521,72 @@ START_TEST(test_solve_global_shared) {
 }
 END_TEST
 
+/* Options whose values are choices take their names in --set (the numbers still work), `frix
+ * solvers NAME` lists the names, and range messages state the value given and the real
+ * bounds (integers in full for int keys; 1e-310 is a number, 1e400 beyond the doubles). */
+START_TEST(test_choice_names_and_range_messages) {
+    make_tiny_problem();
+    const char *a1[] = {"solve", TINY, "--solver", "nsgs", "--set", "shuffle=once", "--set",
+                        "local_solver=newton_ac", "--set", "error_measure=siconos", "--json", NULL};
+    cli_run r = run_cli(a1);
+    ck_assert_msg(r.code == 0 && strstr(r.out, "\"status\":\"converged\""), "exit %d: %s%s", r.code,
+                  r.out, r.err);
+    run_free(&r);
+    const char *a2[] = {"solve", TINY, "--solver", "nsgs", "--set", "shuffle=2", NULL};
+    r = run_cli(a2);
+    ck_assert_msg(r.code == 0, "exit %d: %s%s", r.code, r.out, r.err);
+    run_free(&r);
+    const char *a3[] = {"solve", TINY, "--solver", "nsgs", "--set", "shuffle=sometimes", NULL};
+    expect_usage_error(a3, "none, once, each_sweep, got 'sometimes'");
+    const char *a4[] = {"solve", TINY, "--solver", "prox", "--set", "inner_solver=nsn-fb", NULL};
+    r = run_cli(a4);
+    ck_assert_msg(r.code == 0 || r.code == 1, "exit %d: %s%s", r.code, r.out, r.err);
+    run_free(&r);
+
+    const char *s1[] = {"solvers", "nsgs", NULL};
+    r = run_cli(s1);
+    ck_assert_msg(r.code == 0 && strstr(r.out, "none (0), once (1), each_sweep (2)") &&
+                      strstr(r.out, "siconos (0), q_relative (1), scaled (2)") &&
+                      strstr(r.out, "closed_form (562)"),
+                  "%s", r.out);
+    run_free(&r);
+    const char *s2[] = {"solvers", "nsn-ac", "--json", NULL};
+    r = run_cli(s2);
+    ck_assert_msg(r.code == 0 && json_valid(r.out) &&
+                      strstr(r.out, "\"default_name\":\"goldstein_price\",\"choices\":[{\"name\":\"none\",\"value\":0}"),
+                  "%s", r.out);
+    run_free(&r);
+
+    const char *m1[] = {"solve", TINY, "--max-iter", "1000000001", NULL};
+    expect_usage_error(m1, "max_iter = 1000000001 is outside [1, 1000000000]");
+    const char *m2[] = {"solve", TINY, "--max-iter", "99999999999999999999", NULL};
+    expect_usage_error(m2, "--max-iter 99999999999999999999 is outside [1, 1000000000]");
+    const char *m3[] = {"solve", TINY, "--tol", "1e400", NULL};
+    expect_usage_error(m3, "--tol 1e400 is outside [0, 1]");
+    const char *m4[] = {"solve", TINY, "--solver", "admm", "--set", "rho=1e-310", NULL};
+    expect_usage_error(m4, "rho = 1e-310 is outside [1e-300, 1e+300]");
+    /* 1e-310 is a finite tolerance inside [0, 1]: taken as it is. */
+    const char *m5[] = {"solve", TINY, "--solver", "nsgs", "--tol", "1e-310", "--max-iter", "3", NULL};
+    r = run_cli(m5);
+    ck_assert_msg((r.code == 0 || r.code == 1) && strstr(r.out, "tolerance 1.0e-310"), "exit %d: %s%s",
+                  r.code, r.out, r.err);
+    run_free(&r);
+}
+END_TEST
+
+/* The progress line states the tolerance the solve must reach. */
+START_TEST(test_progress_shows_the_target_shared) {
+    const char *a1[] = {"solve", ROCKPILE, "--solver", "nsgs", "--tol", "1e-9", "--max-iter",
+                        "1000000000", "--time-limit", "1.3", "--progress", NULL};
+    cli_run r = run_cli(a1);
+    ck_assert_msg(r.code == 1 && strstr(r.err, "frix solve: ") && strstr(r.err, " (target 1e-09)\n"),
+                  "exit %d, progress lines: '%s'", r.code, r.err);
+    run_free(&r);
+}
+END_TEST
+
+static void add_issue49_tests(Suite *s); /* the issue 49 block, at the end */
+
 static Suite *cli_suite(void) {
     Suite *s = suite_create("cli");
     TCase *basic = tcase_create("basic");
@@ -528,7 +594,9 @@ static Suite *cli_suite(void) {
     tcase_add_test(basic, test_solvers);
     tcase_add_test(basic, test_tiny_problem);
     tcase_add_test(basic, test_usage_errors);
+    tcase_add_test(basic, test_choice_names_and_range_messages);
     suite_add_tcase(s, basic);
+    add_issue49_tests(s);
 
     struct stat st;
     if (stat(SHARED_FCLIB, &st) == 0 && S_ISDIR(st.st_mode)) {
@@ -538,6 +606,7 @@ static Suite *cli_suite(void) {
         tcase_add_test(shared, test_not_converged_shared);
         tcase_add_test(shared, test_progress_shared);
         tcase_add_test(shared, test_solve_global_shared);
+        tcase_add_test(shared, test_progress_shows_the_target_shared);
         suite_add_tcase(s, shared);
     } else {
         printf("test_cli: %s not found: skipping the shared-data tests\n", SHARED_FCLIB);
@@ -550,3 +619,187 @@ int main(void) {
     unlink(TINY);
     return frix_run_suite(cli_suite());
 }
+
+/* ==== Issue 49: the time limit covers the read; out-of-memory and memory-limit messages ====
+ * (a block of its own: other tests are appended above it) */
+
+#include <sys/resource.h>
+#include <time.h>
+
+#define SLOW_DAT FRIX_TEST_TMPDIR "/cli_slow_read.dat"
+
+static double slow_read_now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* A valid Siconos .dat local problem of nc contacts, W = I stored dense: 9 nc^2 numbers (tens
+ * of MB), slow to read, trivial to solve. */
+static void write_slow_read_dat(int nc) {
+    FILE *f = fopen(SLOW_DAT, "wb");
+    ck_assert_ptr_nonnull(f);
+    const int n = 3 * nc;
+    fprintf(f, "3 %d\n0 %d %d\n%d %d\n", nc, n, n, n, n);
+    char *col = malloc(2 * (size_t)n);
+    ck_assert_ptr_nonnull(col);
+    for (int i = 0; i < n; ++i) col[2 * i] = '0', col[2 * i + 1] = ' ';
+    col[2 * n - 1] = '\n';
+    for (int j = 0; j < n; ++j) {
+        col[2 * j] = '1';
+        ck_assert_int_eq(fwrite(col, 1, 2 * (size_t)n, f), 2 * (size_t)n);
+        col[2 * j] = '0';
+    }
+    free(col);
+    for (int a = 0; a < nc; ++a) fputs("-1 0 0 ", f);
+    fputs("\n", f);
+    for (int a = 0; a < nc; ++a) fputs("0.5 ", f);
+    fputs("\n", f);
+    ck_assert_int_eq(fclose(f), 0);
+}
+
+/* Writes SLOW_DAT and returns how long `frix info` takes to read it here (the machine's speed
+ * decides: the file grows until the read takes at least 0.25 s, or nc 1500). */
+static double make_slow_read_dat(void) {
+    double seconds = 0;
+    for (int nc = 1000; nc <= 1500; nc += 500) {
+        write_slow_read_dat(nc);
+        const char *info[] = {"info", SLOW_DAT, NULL};
+        const double t0 = slow_read_now();
+        cli_run r = run_cli(info);
+        seconds = slow_read_now() - t0;
+        ck_assert_msg(r.code == 0, "info: exit %d: %s", r.code, r.err);
+        run_free(&r);
+        if (seconds >= 0.25) break;
+    }
+    return seconds;
+}
+
+START_TEST(test_time_limit_covers_read) {
+    const double read = make_slow_read_dat();
+    double limit = read / 5;
+    if (limit > 0.05) limit = 0.05;
+    char limit_text[32];
+    snprintf(limit_text, sizeof limit_text, "%g", limit);
+    const char *args[] = {"solve", SLOW_DAT, "--time-limit", limit_text, NULL};
+    const double t0 = slow_read_now();
+    cli_run r = run_cli(args);
+    const double wall = slow_read_now() - t0;
+    /* Ended like a solve stopped by its time limit (exit 1), with one line saying why. */
+    ck_assert_msg(r.code == 1, "exit %d: %s%s", r.code, r.out, r.err);
+    char expected[512];
+    snprintf(expected, sizeof expected, "frix: reading %s took longer than the time limit of %s s", SLOW_DAT,
+             limit_text);
+    ck_assert_msg(strncmp(r.err, expected, strlen(expected)) == 0, "stderr: %s", r.err);
+    ck_assert_msg(strchr(r.err, '\n') == r.err + strlen(r.err) - 1, "stderr is not one line: %s", r.err);
+    ck_assert_str_eq(r.out, "");
+    ck_assert_msg(wall < read, "stopped after %g s, the read alone takes %g s", wall, read);
+    run_free(&r);
+
+    /* Under a limit it respects, the file read in a child solves as the one read in place. */
+    make_tiny_problem();
+    const char *plain[] = {"solve", TINY, "--json", NULL};
+    const char *limited[] = {"solve", TINY, "--json", "--time-limit", "60", NULL};
+    cli_run p = run_cli(plain), l = run_cli(limited);
+    ck_assert_msg(p.code == 0 && l.code == 0, "exit %d, %d: %s %s", p.code, l.code, p.err, l.err);
+    ck_assert_str_eq(l.err, "");
+    const char *keys[] = {"\"iterations\":", "\"error\":", "\"contacts\":", "\"status\":"};
+    for (int k = 0; k < 4; ++k) {
+        const char *a = strstr(p.out, keys[k]), *b = strstr(l.out, keys[k]);
+        ck_assert(a && b);
+        size_t n = strcspn(a, ",}");
+        ck_assert_msg(n == strcspn(b, ",}") && strncmp(a, b, n) == 0, "%s: %s vs %s", keys[k], a, b);
+    }
+    run_free(&p);
+    run_free(&l);
+
+    /* The reader's refusal comes back from the child as it is: exit 2, "cannot read". */
+    make_text_file();
+    const char *bad[] = {"solve", TEXT_FILE, "--time-limit", "60", NULL};
+    expect_usage_error(bad, "cannot read " TEXT_FILE ": ");
+}
+END_TEST
+
+/* Runs `frix ARGS` with its address space limited to `bytes` (OpenBLAS on one thread: its
+ * thread pool would spin on a failed allocation), stderr into *err. Returns the exit code, or
+ * 128 + signal. */
+static int run_with_address_limit(const char *const *args, double bytes, char **err) {
+    const char *err_path = FRIX_TEST_TMPDIR "/cli_ulimit.err";
+    const char *argv[16];
+    int argc = 0;
+    argv[argc++] = FRIX_CLI;
+    for (; args[argc - 1] != NULL; ++argc) argv[argc] = args[argc - 1];
+    argv[argc] = NULL;
+    fflush(stdout);
+    fflush(stderr);
+    pid_t pid = fork();
+    ck_assert_int_ge(pid, 0);
+    if (pid == 0) {
+        int fo = open("/dev/null", O_WRONLY), fe = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        struct rlimit lim = {(rlim_t)bytes, (rlim_t)bytes};
+        if (fo < 0 || fe < 0 || dup2(fo, 1) < 0 || dup2(fe, 2) < 0 || setrlimit(RLIMIT_AS, &lim) != 0) _exit(126);
+        setenv("OPENBLAS_NUM_THREADS", "1", 1);
+        execv(FRIX_CLI, (char *const *)argv);
+        _exit(127);
+    }
+    int status = 0;
+    ck_assert_int_eq(waitpid(pid, &status, 0), pid);
+    *err = slurp(err_path);
+    unlink(err_path);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+START_TEST(test_out_of_memory_message) {
+    write_slow_read_dat(1000); /* its dense W takes 72 MB while it is read */
+    const char *args[] = {"solve", SLOW_DAT, NULL};
+    const char *limited[] = {"solve", SLOW_DAT, "--time-limit", "60", NULL};
+    /* The smallest limit, in 32 MB steps, under which frix starts at all: too small for the
+     * file, whatever the libraries take on this machine. */
+    int tested = 0;
+    for (double mb = 64; mb <= 2048 && !tested; mb += 32) {
+        char *err = NULL;
+        const int code = run_with_address_limit(args, mb * 1048576.0, &err);
+        if (code == 127 || strstr(err, "error while loading shared libraries")) {
+            free(err);
+            continue;
+        }
+        ck_assert_msg(code == 2, "under %g MB: exit %d: %s", mb, code, err);
+        /* What ran out, the limit, and what to do. */
+        ck_assert_msg(strstr(err, "out of memory") && strstr(err, "limited to") && strstr(err, "ulimit -v") &&
+                          strstr(err, "smaller problem"),
+                      "under %g MB: %s", mb, err);
+        free(err);
+        /* The same from the reading child of a time-limited solve. */
+        ck_assert_int_eq(run_with_address_limit(limited, mb * 1048576.0, &err), 2);
+        ck_assert_msg(strstr(err, "out of memory") && strstr(err, "ulimit -v"), "under %g MB: %s", mb, err);
+        free(err);
+        tested = 1;
+    }
+    ck_assert_msg(tested, "frix did not start under any limit up to 2 GB");
+    unlink(SLOW_DAT);
+}
+END_TEST
+
+START_TEST(test_memory_limit_message) {
+    make_tiny_problem();
+    /* ipm factorises: with 1 byte allowed it stops before the first factorisation. */
+    const char *args[] = {"solve", TINY, "--solver", "ipm", "--set", "memory_limit=1", NULL};
+    cli_run r = run_cli(args);
+    ck_assert_msg(r.code == 1, "exit %d: %s%s", r.code, r.out, r.err);
+    ck_assert_msg(strstr(r.out, "memory limit reached") != NULL, "%s", r.out);
+    /* Which limit, what the error shown is, what to do. */
+    ck_assert_msg(strstr(r.err, "memory limit of 1 B") && strstr(r.err, "is the start") &&
+                      strstr(r.err, "--set memory_limit=BYTES") && strstr(r.err, "nsgs"),
+                  "stderr: %s", r.err);
+    run_free(&r);
+}
+END_TEST
+
+static void add_issue49_tests(Suite *s) {
+    TCase *tc = tcase_create("issue49");
+    tcase_add_test(tc, test_time_limit_covers_read);
+    tcase_add_test(tc, test_out_of_memory_message);
+    tcase_add_test(tc, test_memory_limit_message);
+    suite_add_tcase(s, tc);
+}
+/* ==== end of the issue 49 block ==== */

@@ -13,11 +13,12 @@ namespace frix_cli {
 // One row of runs.csv: one (problem, solver) run.
 struct RunRecord {
     std::string problem, family;
-    std::int64_t contacts = 0, dofs = 0;
+    std::int64_t contacts = 0, dofs = 0;  // -1: not known (no run could read the problem)
     std::string solver;
     int solver_id = 0;
     // converged | max_iter | time_limit | stagnated | diverged | numerical_failure (frix) |
-    // inaccurate | failed (Siconos) | timeout | crash(SIGNAME) | error | unsupported
+    // inaccurate | failed (Siconos) | timeout | crash(SIGNAME) | error | unsupported |
+    // unreadable (the run's reader refused the file; the note says why)
     std::string status;
     std::int64_t iterations = 0;
     double error = 0, time = 0;        // frix's relative measure; seconds of solve

@@ -20,7 +20,8 @@ std::vector<std::string> runs_header() {
 std::string number_text(double v) { return std::isnan(v) ? "" : frix_bench::exact(v); }
 
 std::vector<std::string> run_fields(const RunRecord &r) {
-    return {r.problem, r.family, std::to_string(r.contacts), std::to_string(r.dofs), r.solver,
+    const auto count = [](std::int64_t n) { return n < 0 ? std::string() : std::to_string(n); };
+    return {r.problem, r.family, count(r.contacts), count(r.dofs), r.solver,
             r.status, std::to_string(r.iterations), number_text(r.error), number_text(r.time),
             std::to_string(r.solver_id), number_text(r.tolerance), number_text(r.time_limit),
             std::to_string(r.max_iter), number_text(r.reported_error), r.note, number_text(r.peak_memory_mb),

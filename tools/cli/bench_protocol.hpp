@@ -1,6 +1,9 @@
 // The lines a `frix bench` child run writes to its parent through a pipe (the parent reads
 // them as they come, so the trace of a run that is later killed is not lost):
 //
+//   P <contacts> <dofs> <stored blocks>   the problem, once read (frix's runs only: the bench
+//                                         reads no problem itself, a hostile file then costs
+//                                         only its own runs)
 //   T <iteration> <elapsed s> <error>     one point of the trace (thinned, see TraceThinner)
 //   R <status> <iterations> <error> <time s> <reported error>   the result, once
 //   N <text>                              a note (one line), e.g. a library message
@@ -98,6 +101,10 @@ inline std::string result_line(const std::string &status, std::int64_t iteration
            exact(time) + "\t" + exact(reported_error) + "\n";
 }
 
+inline std::string problem_line(std::int64_t contacts, std::int64_t dofs, double stored_blocks) {
+    return "P\t" + std::to_string(contacts) + "\t" + std::to_string(dofs) + "\t" + exact(stored_blocks) + "\n";
+}
+
 inline std::string note_line(const std::string &text) { return "N\t" + one_line(text) + "\n"; }
 
 // The error field of a global problem's run, frix's and Siconos's alike: the larger of the
@@ -154,7 +161,7 @@ class RepeatTimer {
 
 // The parent's side: one parsed line.
 struct ProtocolLine {
-    char kind = 0;  // 'T', 'R', 'N', or 0 for a line that is none of them
+    char kind = 0;  // 'P', 'T', 'R', 'N', 'M', or 0 for a line that is none of them
     std::vector<std::string> fields;
 };
 

@@ -119,11 +119,25 @@ struct Campaign {
     double tolerance = NAN, time_limit = NAN;
     std::int64_t max_iter = 0;
     std::vector<std::string> unsupported;  // solvers that could run none of the problems
+    std::vector<std::string> unreadable;   // "problem (the reader's message)", left out
 };
 
 Campaign index(std::vector<RunRecord> runs) {
     Campaign c;
-    c.runs = std::move(runs);
+    // A problem no run could read is left out of every table and profile: it is a bad file,
+    // not a problem the solvers failed on (a hostile file must not move the profiles).
+    std::map<std::string, bool> all_unreadable;
+    for (const RunRecord &r : runs) {
+        auto it = all_unreadable.emplace(r.problem, true).first;
+        it->second = it->second && r.status == "unreadable";
+    }
+    std::set<std::string> listed;
+    for (const RunRecord &r : runs) {
+        if (!all_unreadable.at(r.problem))
+            c.runs.push_back(r);
+        else if (listed.insert(r.problem).second)
+            c.unreadable.push_back(r.problem + " (" + r.note + ")");
+    }
     for (const RunRecord &r : c.runs) {
         push_unique(c.problems, r.problem);
         push_unique(c.solvers, r.solver);
@@ -412,6 +426,8 @@ std::string summary_md(const Campaign &c) {
         return s;
     };
     if (!unsolved.empty()) md += "\nSolved by no solver: " + join(unsolved) + ".\n";
+    if (!c.unreadable.empty())
+        md += "\nLeft out, as no run could read them: " + join(c.unreadable) + ".\n";
     if (!c.unsupported.empty())
         md += "\nLeft out, as they take none of these problems (e.g. global-only solvers): " +
               join(c.unsupported) + ".\n";
@@ -484,6 +500,8 @@ std::map<std::string, std::vector<ProfileStep>> performance_profile(
 
 std::string bench_report(const std::string &dir, bool plots, const std::string &self_dir) {
     Campaign c = index(read_runs(dir + "/runs.csv"));
+    if (c.runs.empty() && !c.unreadable.empty())
+        fail("bench: no run could read any problem of " + dir + "/runs.csv, e.g. " + c.unreadable.front());
     if (c.runs.empty()) fail("bench: " + dir + "/runs.csv has no runs");
     if (c.solvers.empty()) fail("bench: no solver in " + dir + "/runs.csv could run any problem");
     TraceMap traces = read_traces(dir + "/traces.csv");

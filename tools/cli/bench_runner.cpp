@@ -148,7 +148,11 @@ void Runner::consume(Child &c, bool eof) {
         frix_bench::ProtocolLine line = frix_bench::parse_line(c.buffer.substr(pos, nl - pos));
         pos = std::min(nl + 1, c.buffer.size());
         const auto &f = line.fields;
-        if (line.kind == 'T' && f.size() >= 3) {
+        if (line.kind == 'P' && f.size() >= 3) {
+            c.out.contacts = std::atoll(f[0].c_str());
+            c.out.dofs = std::atoll(f[1].c_str());
+            c.out.stored_blocks = frix_bench::to_double(f[2]);
+        } else if (line.kind == 'T' && f.size() >= 3) {
             c.out.trace.push_back({std::atoll(f[0].c_str()), frix_bench::to_double(f[1]),
                                    frix_bench::to_double(f[2])});
         } else if (line.kind == 'R' && f.size() >= 5) {

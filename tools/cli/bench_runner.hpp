@@ -32,6 +32,11 @@ struct RunOutcome {
                                // as it said it, or the system's for a run that did not
     std::string note;
     std::vector<TracePoint> trace;
+    // The problem's sizes as the run read them (its P line); -1 and NaN: the run did not say
+    // (it did not get that far, or it is Siconos's, which does not say).
+    std::int64_t contacts = -1, dofs = -1;
+    double stored_blocks = NAN;
+    bool problem_read() const { return contacts >= 0; }
 };
 
 class Runner {

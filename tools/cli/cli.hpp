@@ -26,10 +26,21 @@ struct Failure {
 };
 [[noreturn]] void fail(const std::string &message, int code = kExitUsage);
 
-// The library's message for a failed call (falls back to the code's description).
+// The library's message for a failed call (falls back to the code's description); for
+// FRIX_ERR_OUT_OF_MEMORY followed by out_of_memory_advice().
 std::string library_message(frix_error err);
+// What ran out and what to do: the process's limit ('ulimit -v', or the machine's memory)
+// and what it holds, then the remedies (a larger limit, a smaller problem, memory_limit).
+std::string out_of_memory_advice();
+// Why a solve ended with FRIX_STATUS_MEMORY_LIMIT: the limit in force (option memory_limit,
+// or what the process may use), what the reported iterate is, and what to do.
+std::string memory_limit_note(const frix_options *options, int64_t iterations);
+// "12.3 MB": bytes in decimal units, for messages.
+std::string bytes_text(double bytes);
 
 struct ProblemDeleter {
+    // What a problem built from arrays borrows (frix_problem_local/global), freed after it.
+    std::shared_ptr<void> borrowed;
     void operator()(frix_problem *p) const { frix_problem_free(p); }
 };
 struct OptionsDeleter {
@@ -44,6 +55,11 @@ using InfoPtr = std::unique_ptr<frix_info, InfoDeleter>;
 
 // frix_read_problem (FCLIB or Siconos .dat), or fail with "cannot read PATH: <reason>".
 ProblemPtr read_problem(const std::string &path);
+// The same within `seconds_left` of a command's `time_limit`: read in a child process that
+// sends the problem back and is killed when time runs out (a slow or huge file cannot hold
+// the command past its limit); then fail with "reading PATH took longer than the time limit
+// of T s" and kExitNotConverged, as a solve stopped by its time limit ends.
+ProblemPtr read_problem(const std::string &path, double time_limit, double seconds_left);
 
 // Fails ("cannot write OUTPUT: ...") unless frix_fclib_write can replace `output` without
 // losing data: its directory exists and is writable, and an existing file there (behind a

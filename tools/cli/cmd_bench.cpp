@@ -14,9 +14,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -45,8 +47,10 @@ struct Solver {
 
 struct Problem {
     std::string path, name, family;
-    std::int64_t contacts = 0, dofs = 0;
-    double stored_blocks = 0.0;  // see RunRecord
+    // From the first run that read the problem (the bench reads none itself); -1 and NaN
+    // until then, and for a problem no run could read.
+    std::int64_t contacts = -1, dofs = -1;
+    double stored_blocks = NAN;  // see RunRecord
 };
 
 volatile std::sig_atomic_t g_interrupted = 0;
@@ -200,8 +204,10 @@ std::string base_name(const std::string &path) {
     return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
-// A directory gives its *.hdf5 files (sorted); a file is taken as given. Each problem is
-// read once here for its sizes; one that cannot be read is reported and left out.
+// A directory gives its *.hdf5 files (sorted); a file is taken as given. No problem is read
+// here: each run reads its own in its child process, within the run's time limit, so that a
+// file that hangs, crashes or refuses the reader costs its own rows only. A path that does
+// not exist is reported and left out (stat opens nothing, so a FIFO cannot block it).
 std::vector<Problem> collect_problems(const std::vector<std::string> &paths) {
     std::vector<std::string> files;
     for (const std::string &p : paths) {
@@ -233,23 +239,14 @@ std::vector<Problem> collect_problems(const std::vector<std::string> &paths) {
             pr.name = base_name(dir) + "/" + pr.name;
         }
         pr.family = problem_family(pr.name);
-        ProblemPtr p;
-        try {
-            p = read_problem(f);
-        } catch (const Failure &e) {
-            std::fprintf(stderr, "frix: bench: left out: %s\n", e.message.c_str());
+        struct stat st;
+        if (::stat(f.c_str(), &st) != 0) {
+            std::fprintf(stderr, "frix: bench: left out: cannot read %s: %s\n", f.c_str(), std::strerror(errno));
             continue;
         }
-        pr.contacts = frix_problem_contacts(p.get());
-        const bool global = frix_problem_get_kind(p.get()) == FRIX_PROBLEM_GLOBAL;
-        pr.dofs = global ? frix_problem_dofs(p.get()) : frix_problem_contact_dofs(p.get());
-        const auto entries = [](const frix_matrix *m) { return m ? (double)std::max<std::int64_t>(0, frix_matrix_nnz(m)) : 0.0; };
-        pr.stored_blocks = (global ? entries(frix_problem_M(p.get())) + entries(frix_problem_H(p.get()))
-                                   : entries(frix_problem_W(p.get()))) /
-                           9.0;
         out.push_back(pr);
     }
-    if (out.empty()) usage_error("bench", "no readable problem among the paths given");
+    if (out.empty()) usage_error("bench", "no problem among the paths given");
     return out;
 }
 
@@ -365,9 +362,9 @@ int run_campaign(const BenchArgs &a) {
             RunSpec spec;
             spec.index = next;
             spec.log_path = logs + "/run-" + std::to_string(next) + ".log";
-            // frix's solvers stop themselves at the limit and get the grace to report;
-            // Siconos's have no time limit: past it (plus reading the problem) they only
-            // burn the campaign's time, so they are killed sooner.
+            // The limit counts from the child's start, reading the problem included. frix's
+            // solvers stop themselves at it and get the grace to report; Siconos's have no
+            // time limit: past it they only burn the campaign's time, so they are killed sooner.
             spec.wall_limit = a.time_limit + (s.siconos ? std::min(a.grace, 1.0) : a.grace);
             std::snprintf(num, sizeof num, "%.17g", a.tol);
             std::string tol = num;
@@ -388,8 +385,19 @@ int run_campaign(const BenchArgs &a) {
             ++next;
         }
         for (RunOutcome &o : runner.poll(0.25)) {
-            const Problem &p = problems[o.index / solvers.size()];
+            Problem &p = problems[o.index / solvers.size()];
             const Solver &s = solvers[o.index % solvers.size()];
+            if (o.problem_read() && p.contacts < 0) {
+                p.contacts = o.contacts;
+                p.dofs = o.dofs;
+                p.stored_blocks = o.stored_blocks;
+            }
+            // frix's runs say when they have read the problem; one killed before is stopped
+            // by the time limit while reading (a huge or slow file), not while solving.
+            if (o.status == "timeout" && !s.siconos && !o.problem_read()) o.note += " while reading the problem";
+            // frix-siconos reads with frix's reader and says so in the same words.
+            if (s.siconos && o.status == "error" && o.note.find("cannot read " + p.path + ": ") != std::string::npos)
+                o.status = "unreadable";
             RunRecord &r = records[o.index];
             r = {p.name, p.family, p.contacts, p.dofs, s.name, s.id, o.status, o.iterations,
                  o.error, o.time, a.tol, a.time_limit, a.max_iter, o.reported_error, o.note,
@@ -445,6 +453,14 @@ int run_campaign(const BenchArgs &a) {
 
     std::string runs_text = csv_row(runs_header()), traces_text = csv_row(traces_header());
     for (std::size_t k = 0; k < total; ++k) {
+        // A run that ended before any other had read its problem (Siconos's, one killed
+        // while reading) gets the sizes another run read.
+        const Problem &p = problems[k / solvers.size()];
+        if (records[k].contacts < 0 && p.contacts >= 0) {
+            records[k].contacts = p.contacts;
+            records[k].dofs = p.dofs;
+            records[k].stored_blocks = p.stored_blocks;
+        }
         runs_text += csv_row(run_fields(records[k]));
         for (const TracePoint &t : traces[k])
             traces_text += csv_row({records[k].problem, records[k].solver, std::to_string(t.iteration),

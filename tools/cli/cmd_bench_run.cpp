@@ -1,6 +1,8 @@
 // `frix bench-run FILE --solver NAME --tol T --max-iter N --time-limit S --fd FD` (hidden):
-// one run of a `frix bench` campaign, in a child process of its own. It streams the trace
-// and then the result to FD in the bench protocol (bench_protocol.hpp).
+// one run of a `frix bench` campaign, in a child process of its own. It reads FILE, says its
+// sizes, then streams the trace and the result to FD in the bench protocol
+// (bench_protocol.hpp). An unreadable FILE is the result "unreadable" with the reader's
+// message as the note.
 //
 // For the bench's own tests, FRIX_BENCH_FAULT=hang|crash[:TEXT][,...] makes the runs whose
 // "FILE SOLVER" contains TEXT (all runs without it) hang or abort instead of solving: that
@@ -12,8 +14,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
@@ -120,14 +124,52 @@ int cmd_bench_run(int argc, char **argv) {
     Stream stream{{}, fd};
     frix_options_set_callback(opts.get(), on_progress, &stream);
 
-    ProblemPtr problem = read_problem(file);
+    // The problem is read here, in the run's own process, and never by the bench: a file
+    // that hangs, crashes or refuses the reader costs this run alone. The time limit covers
+    // the read (the bench's wall-clock limit counts from this process's start): the solver
+    // gets what is left of it.
+    const auto read_start = std::chrono::steady_clock::now();
+    ProblemPtr problem;
+    try {
+        problem = read_problem(file);
+    } catch (const Failure &e) {
+        frix_bench::write_line(fd, frix_bench::note_line(e.message));
+        frix_bench::write_line(fd, frix_bench::result_line("unreadable", 0, NAN, NAN, NAN));
+        frix_bench::write_line(fd, frix_bench::peak_memory_line());
+        return kExitUsage;
+    }
+    const double read_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count();
+    const bool global = frix_problem_get_kind(problem.get()) == FRIX_PROBLEM_GLOBAL;
+    const auto entries = [](const frix_matrix *a) {
+        return a ? static_cast<double>(std::max<int64_t>(0, frix_matrix_nnz(a))) : 0.0;
+    };
+    const double stored = global ? entries(frix_problem_M(problem.get())) + entries(frix_problem_H(problem.get()))
+                                 : entries(frix_problem_W(problem.get()));
+    frix_bench::write_line(fd, frix_bench::problem_line(frix_problem_contacts(problem.get()),
+                                                        global ? frix_problem_dofs(problem.get())
+                                                               : frix_problem_contact_dofs(problem.get()),
+                                                        stored / 9.0));
+    if (time_limit > 0) {
+        const double left = time_limit - read_time;
+        if (!(left > 0)) {
+            char note[160];
+            std::snprintf(note, sizeof note, "reading the problem took %.3g s, the whole time limit of %g s",
+                          read_time, time_limit);
+            frix_bench::write_line(fd, frix_bench::note_line(note));
+            frix_bench::write_line(fd, frix_bench::result_line("time_limit", 0, NAN, read_time, NAN));
+            frix_bench::write_line(fd, frix_bench::peak_memory_line());
+            return kExitNotConverged;
+        }
+        set_option(opts.get(), FRIX_OPT_TIME_LIMIT, left, "--time-limit");
+    }
     const int64_t m = frix_problem_contact_dofs(problem.get()), n = frix_problem_dofs(problem.get());
     std::vector<double> r(static_cast<std::size_t>(std::max<int64_t>(m, 1)), 0.0);
     std::vector<double> u(r.size(), 0.0), vel(static_cast<std::size_t>(std::max<int64_t>(n, 1)), 0.0);
-    double *vp = frix_problem_get_kind(problem.get()) == FRIX_PROBLEM_GLOBAL ? vel.data() : nullptr;
+    double *vp = global ? vel.data() : nullptr;
 
     frix_info *raw_info = nullptr;
-    if (frix_info_create(&raw_info) != FRIX_OK) fail("bench-run: out of memory");
+    err = frix_info_create(&raw_info);
+    if (err != FRIX_OK) fail("bench-run: " + library_message(err));
     InfoPtr info(raw_info);
     err = frix_solve(problem.get(), opts.get(), r.data(), u.data(), vp, info.get());
     if (err != FRIX_OK) {
@@ -146,7 +188,7 @@ int cmd_bench_run(int argc, char **argv) {
     const double reported = frix_info_error(info.get());
     double error = NAN;
     if (frix_info_get_double(info.get(), FRIX_INFO_ERROR_RELATIVE, &error) != FRIX_OK) error = NAN;
-    if (frix_problem_get_kind(problem.get()) == FRIX_PROBLEM_GLOBAL) {
+    if (global) {
         double equilibrium = NAN;
         if (frix_info_get_double(info.get(), FRIX_INFO_EQUILIBRIUM, &equilibrium) != FRIX_OK) equilibrium = NAN;
         error = frix_bench::global_error(error, equilibrium);
@@ -161,6 +203,8 @@ int cmd_bench_run(int argc, char **argv) {
         if (frix_solve(problem.get(), opts.get(), r.data(), u.data(), vp, info.get()) != FRIX_OK) break;
         timer.add(frix_info_solve_time(info.get()));
     }
+    if (status == FRIX_STATUS_MEMORY_LIMIT)
+        frix_bench::write_line(fd, frix_bench::note_line(memory_limit_note(opts.get(), iterations)));
     frix_bench::write_line(fd, frix_bench::result_line(status_token(status), iterations, error,
                                                        timer.median(), reported));
     frix_bench::write_line(fd, frix_bench::peak_memory_line());

@@ -36,12 +36,14 @@ struct SolveArgs {
 };
 
 // A solve that lasts shows where it is on stderr: after the first second, the elapsed time,
-// the iterations and the last error the solver reported (for auto, its current stage's, not
-// the whole problem's). On a terminal one line, redrawn at most 5 times a second and erased
-// at the end; otherwise (--progress) one line per second.
+// the iterations, the last error the solver reported (for auto, its current stage's, not
+// the whole problem's) and the tolerance it must reach. Auto's current stage is not shown:
+// the public API gives the stages only after the solve (frix_info_stage_*). On a terminal
+// one line, redrawn at most 5 times a second and erased at the end; otherwise (--progress)
+// one line per second.
 class SolveProgress {
 public:
-    explicit SolveProgress(bool tty) : tty_(tty) {}
+    SolveProgress(bool tty, double tolerance) : tty_(tty), tolerance_(tolerance) {}
     static int callback(void *data, int64_t iteration, double error, double elapsed) {
         static_cast<SolveProgress *>(data)->update(iteration, error, elapsed);
         return 0;
@@ -54,15 +56,16 @@ public:
 private:
     void update(int64_t iteration, double error, double elapsed) {
         if (elapsed < kFirstDraw || elapsed - last_draw_ < (tty_ ? 0.2 : 1.0)) return;
-        std::fprintf(stderr, "%sfrix solve: %.1f s, %lld iterations, error %.3e%s",
+        std::fprintf(stderr, "%sfrix solve: %.1f s, %lld iterations, error %.3e (target %.3g)%s",
                      tty_ ? "\r\033[K" : "", elapsed, static_cast<long long>(iteration), error,
-                     tty_ ? "" : "\n");
+                     tolerance_, tty_ ? "" : "\n");
         std::fflush(stderr);
         last_draw_ = elapsed;
         drawn_ = true;
     }
     static constexpr double kFirstDraw = 1.0;  // shorter solves print nothing
     bool tty_;
+    double tolerance_;
     bool drawn_ = false;
     double last_draw_ = -1.0;
 };
@@ -373,9 +376,10 @@ int cmd_solve(int argc, char **argv) {
     // output: a solve that may take hours must not end in a write error known from the start.
     OptionsPtr opts = make_options(a);
     if (!a.output.empty()) check_output(a.output, a.file, a.force);
-    ProblemPtr problem = read_problem(a.file);
     double limit = 0.0;
     if (frix_options_get_double(opts.get(), FRIX_OPT_TIME_LIMIT, &limit) != FRIX_OK) limit = 0.0;
+    // Under a limit the file is read in a child process, stopped when the limit runs out.
+    ProblemPtr problem = limit > 0.0 ? read_problem(a.file, limit, limit - elapsed()) : read_problem(a.file);
     if (limit > 0.0)  // at least a moment for the solve, which then returns at once
         frix_options_set_double(opts.get(), FRIX_OPT_TIME_LIMIT, std::max(limit - elapsed(), 1e-6));
 
@@ -400,7 +404,9 @@ int cmd_solve(int argc, char **argv) {
     if (err != FRIX_OK) fail("solve: " + library_message(err));
     // The solver's own messages (--verbose) replace the progress line.
     const bool tty = ::isatty(2) != 0;
-    SolveProgress progress(tty && !a.progress_forced);
+    double tolerance = NAN;
+    frix_options_get_double(opts.get(), FRIX_OPT_TOLERANCE, &tolerance);
+    SolveProgress progress(tty && !a.progress_forced, tolerance);
     if (a.progress_forced || (tty && !a.quiet && a.verbosity == 0))
         frix_options_set_callback(opts.get(), SolveProgress::callback, &progress);
     err = frix_solve(problem.get(), opts.get(), r.data(), u.data(), vp, info.get());
@@ -424,6 +430,9 @@ int cmd_solve(int argc, char **argv) {
         print_json(rep);
     else
         print_text(rep);
+    // "memory limit reached" alone does not say which limit, nor that the error is the start's.
+    if (rep.status == FRIX_STATUS_MEMORY_LIMIT)
+        std::fprintf(stderr, "frix: solve: memory limit reached: %s.\n", memory_limit_note(opts.get(), rep.iterations).c_str());
     if (!write_error.empty()) fail(write_error);
     return rep.status == FRIX_STATUS_CONVERGED ? kExitConverged : kExitNotConverged;
 }

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <exception>
 #include <new>
+#include <string>
 
 namespace frix_cli {
 namespace {
@@ -70,7 +71,16 @@ int main(int argc, char **argv) {
         return f.code;
     } catch (const std::bad_alloc &) {
         std::fflush(stdout);
-        std::fprintf(stderr, "frix: out of memory\n");
+        // Unwound, the failed allocation's memory is free again: the advice can be built
+        // (and is left out if it cannot).
+        std::string advice;
+        try {
+            advice = " (" + out_of_memory_advice() + ")";
+        } catch (...) {
+            advice.clear();
+        }
+        std::fprintf(stderr, "frix: %s%sout of memory%s\n", argc > 1 ? argv[1] : "", argc > 1 ? ": " : "",
+                     advice.c_str());
         return kExitUsage;
     } catch (const std::exception &e) {
         std::fflush(stdout);
