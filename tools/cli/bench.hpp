@@ -30,7 +30,12 @@ struct RunRecord {
     // The problem's own storage in 3x3 blocks: W's stored entries / 9 (local), M's and H's
     // (global); NaN: not known (older campaigns).
     double stored_blocks = NAN;
+    double error_scaled = NAN;  // frix's default measure of the r returned (NaN: older campaigns)
     bool converged() const { return status == "converged"; }
+    // Whether the answer meets the tolerance by frix's measure of Siconos's kind, and by the
+    // default one: the same yardstick for both libraries' runs, whatever each stopped on.
+    bool meets_siconos_measure() const { return error <= tolerance * (1.0 + 1e-9); }
+    bool meets_default_measure() const { return error_scaled <= tolerance * (1.0 + 1e-9); }
 };
 
 struct TracePoint {

@@ -14,7 +14,7 @@ namespace frix_cli {
 std::vector<std::string> runs_header() {
     return {"problem", "family", "contacts", "dofs", "solver", "status", "iterations", "error",
             "time", "solver_id", "tolerance", "time_limit", "max_iter", "reported_error", "note",
-            "peak_memory_mb", "stored_blocks"};
+            "peak_memory_mb", "stored_blocks", "error_scaled"};
 }
 
 std::string number_text(double v) { return std::isnan(v) ? "" : frix_bench::exact(v); }
@@ -25,7 +25,7 @@ std::vector<std::string> run_fields(const RunRecord &r) {
             r.status, std::to_string(r.iterations), number_text(r.error), number_text(r.time),
             std::to_string(r.solver_id), number_text(r.tolerance), number_text(r.time_limit),
             std::to_string(r.max_iter), number_text(r.reported_error), r.note, number_text(r.peak_memory_mb),
-            number_text(r.stored_blocks)};
+            number_text(r.stored_blocks), number_text(r.error_scaled)};
 }
 
 std::vector<std::string> traces_header() {

@@ -5,7 +5,9 @@
 //                                         reads no problem itself, a hostile file then costs
 //                                         only its own runs)
 //   T <iteration> <elapsed s> <error>     one point of the trace (thinned, see TraceThinner)
-//   R <status> <iterations> <error> <time s> <reported error>   the result, once
+//   R <status> <iterations> <error> <time s> <reported error> <scaled error>   the result, once
+//     (error: frix's measure of Siconos's kind; scaled error: frix's default measure; for a
+//     global problem each the larger of it and the equilibrium residual)
 //   N <text>                              a note (one line), e.g. a library message
 //   M <bytes>                             the run's peak resident memory, after R (VmHWM:
 //                                         the program's own, from its exec)
@@ -96,9 +98,9 @@ inline double peak_resident_bytes() {
 inline std::string peak_memory_line() { return "M\t" + exact(peak_resident_bytes()) + "\n"; }
 
 inline std::string result_line(const std::string &status, std::int64_t iterations, double error,
-                               double time, double reported_error) {
+                               double time, double reported_error, double error_scaled) {
     return "R\t" + status + "\t" + std::to_string(iterations) + "\t" + exact(error) + "\t" +
-           exact(time) + "\t" + exact(reported_error) + "\n";
+           exact(time) + "\t" + exact(reported_error) + "\t" + exact(error_scaled) + "\n";
 }
 
 inline std::string problem_line(std::int64_t contacts, std::int64_t dofs, double stored_blocks) {

@@ -162,6 +162,7 @@ void Runner::consume(Child &c, bool eof) {
             c.out.error = frix_bench::to_double(f[2]);
             c.out.time = frix_bench::to_double(f[3]);
             c.out.reported_error = frix_bench::to_double(f[4]);
+            c.out.error_scaled = f.size() >= 6 ? frix_bench::to_double(f[5]) : NAN;
         } else if (line.kind == 'N' && !f.empty()) {
             c.out.note = f[0];
         } else if (line.kind == 'M' && !f.empty()) {

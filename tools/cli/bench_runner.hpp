@@ -26,7 +26,7 @@ struct RunOutcome {
     std::size_t index = 0;
     std::string status;  // from the child's result line, or timeout / crash(SIG) / error
     std::int64_t iterations = 0;
-    double error = 0, time = 0, reported_error = 0;
+    double error = 0, time = 0, reported_error = 0, error_scaled = NAN;
     double wall = 0;     // seconds from start to end, as seen from here
     double peak_memory = NAN;  // bytes: the child's peak resident memory (problem read included)
                                // as it said it, or the system's for a run that did not

@@ -401,7 +401,7 @@ int run_campaign(const BenchArgs &a) {
             RunRecord &r = records[o.index];
             r = {p.name, p.family, p.contacts, p.dofs, s.name, s.id, o.status, o.iterations,
                  o.error, o.time, a.tol, a.time_limit, a.max_iter, o.reported_error, o.note,
-                 o.peak_memory / 1e6, p.stored_blocks};
+                 o.peak_memory / 1e6, p.stored_blocks, o.error_scaled};
             // One rule for all: a result after the time limit does not count as converged
             // (frix's solvers stop themselves at it; Siconos's are only killed later).
             if (r.converged() && r.time > a.time_limit) {

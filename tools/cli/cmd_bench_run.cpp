@@ -134,7 +134,7 @@ int cmd_bench_run(int argc, char **argv) {
         problem = read_problem(file);
     } catch (const Failure &e) {
         frix_bench::write_line(fd, frix_bench::note_line(e.message));
-        frix_bench::write_line(fd, frix_bench::result_line("unreadable", 0, NAN, NAN, NAN));
+        frix_bench::write_line(fd, frix_bench::result_line("unreadable", 0, NAN, NAN, NAN, NAN));
         frix_bench::write_line(fd, frix_bench::peak_memory_line());
         return kExitUsage;
     }
@@ -156,7 +156,7 @@ int cmd_bench_run(int argc, char **argv) {
             std::snprintf(note, sizeof note, "reading the problem took %.3g s, the whole time limit of %g s",
                           read_time, time_limit);
             frix_bench::write_line(fd, frix_bench::note_line(note));
-            frix_bench::write_line(fd, frix_bench::result_line("time_limit", 0, NAN, read_time, NAN));
+            frix_bench::write_line(fd, frix_bench::result_line("time_limit", 0, NAN, read_time, NAN, NAN));
             frix_bench::write_line(fd, frix_bench::peak_memory_line());
             return kExitNotConverged;
         }
@@ -176,22 +176,24 @@ int cmd_bench_run(int argc, char **argv) {
         const bool unsupported = err == FRIX_ERR_UNSUPPORTED;
         frix_bench::write_line(fd, frix_bench::note_line(library_message(err)));
         frix_bench::write_line(fd, frix_bench::result_line(unsupported ? "unsupported" : "error",
-                                                           0, NAN, NAN, NAN));
+                                                           0, NAN, NAN, NAN, NAN));
         frix_bench::write_line(fd, frix_bench::peak_memory_line());
         return kExitUsage;
     }
-    // The error column is always the relative measure (Siconos's too), for a global problem
-    // frix_bench::global_error. The solver's own stopping measure, which an option may
-    // change, is the reported one.
+    // The error column is always frix's measure of Siconos's kind, error_scaled the default
+    // one (both for Siconos's runs too), for a global problem frix_bench::global_error. The
+    // solver's own stopping measure, which an option may change, is the reported one.
     const frix_status status = frix_info_status(info.get());
     const int64_t iterations = frix_info_iterations(info.get());
     const double reported = frix_info_error(info.get());
-    double error = NAN;
+    double error = NAN, error_scaled = NAN;
     if (frix_info_get_double(info.get(), FRIX_INFO_ERROR_RELATIVE, &error) != FRIX_OK) error = NAN;
+    if (frix_info_get_double(info.get(), FRIX_INFO_ERROR_SCALED, &error_scaled) != FRIX_OK) error_scaled = NAN;
     if (global) {
         double equilibrium = NAN;
         if (frix_info_get_double(info.get(), FRIX_INFO_EQUILIBRIUM, &equilibrium) != FRIX_OK) equilibrium = NAN;
         error = frix_bench::global_error(error, equilibrium);
+        error_scaled = frix_bench::global_error(error_scaled, equilibrium);
     }
     // Short solves again, without the trace, for the median time (RepeatTimer).
     frix_bench::RepeatTimer timer;
@@ -206,7 +208,7 @@ int cmd_bench_run(int argc, char **argv) {
     if (status == FRIX_STATUS_MEMORY_LIMIT)
         frix_bench::write_line(fd, frix_bench::note_line(memory_limit_note(opts.get(), iterations)));
     frix_bench::write_line(fd, frix_bench::result_line(status_token(status), iterations, error,
-                                                       timer.median(), reported));
+                                                       timer.median(), reported, error_scaled));
     frix_bench::write_line(fd, frix_bench::peak_memory_line());
     return status == FRIX_STATUS_CONVERGED ? kExitConverged : kExitNotConverged;
 }

@@ -204,7 +204,7 @@ int run(int argc, char **argv) {
                          " is a local problem: use an FC3D solver (see 'frix-siconos --list')";
         if (a.fd >= 0) {
             frix_bench::write_line(a.fd, frix_bench::note_line(why));
-            frix_bench::write_line(a.fd, frix_bench::result_line("unsupported", 0, NAN, NAN, NAN));
+            frix_bench::write_line(a.fd, frix_bench::result_line("unsupported", 0, NAN, NAN, NAN, NAN));
             frix_bench::write_line(a.fd, frix_bench::peak_memory_line());
             return kExitUsage;
         }
@@ -244,17 +244,18 @@ int run(int argc, char **argv) {
         // The result line has one error field, from which the bench ranks every run whatever
         // its status: for a global problem frix_bench::global_error. Both measures are in the
         // note, which runs.csv keeps.
-        double error = res.error;
+        double error = res.error, error_scaled = res.error_scaled;
         if (global && res.ran) {
             char eq[96];
             std::snprintf(eq, sizeof eq, "error %.3e, equilibrium %.3e (error column: the larger)",
                           res.error, res.equilibrium);
             note = note.empty() ? std::string(eq) : note + "; " + eq;
             error = frix_bench::global_error(res.error, res.equilibrium);
+            error_scaled = frix_bench::global_error(res.error_scaled, res.equilibrium);
         }
         if (!note.empty()) frix_bench::write_line(a.fd, frix_bench::note_line(note));
         frix_bench::write_line(a.fd, frix_bench::result_line(status, res.iterations, error,
-                                                             res.time, res.siconos_error));
+                                                             res.time, res.siconos_error, error_scaled));
         frix_bench::write_line(a.fd, frix_bench::peak_memory_line());
     } else if (a.json) {
         JsonWriter w;

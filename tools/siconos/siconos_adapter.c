@@ -270,17 +270,19 @@ static GlobalFrictionContactProblem *global_problem(const frix_problem *problem,
     return gfc;
 }
 
-/* frix's measures of a global answer: the relative error of (r, u = H^T v + w), written to
- * u, and the equilibrium residual of (r, v). NaN where frix cannot measure it (r or v not
- * finite). */
-static void measure_global(const frix_problem *problem, const double *r, const double *v,
+/* frix's measures of an answer: the relative and the default (scaled) errors of (r, u = W r +
+ * q or H^T v + w), u written, and for a global problem the equilibrium residual of (r, v).
+ * NaN where frix cannot measure it (r or v not finite). */
+static void measure_answer(const frix_problem *problem, const double *r, const double *v,
                            double *u, frix_siconos_result *res) {
     frix_info *info = NULL;
     if (frix_info_create(&info) != FRIX_OK) return;
     if (frix_problem_measure(problem, r, v, u, info) == FRIX_OK) {
         if (frix_info_get_double(info, FRIX_INFO_ERROR_RELATIVE, &res->error) != FRIX_OK)
             res->error = NAN;
-        if (frix_info_get_double(info, FRIX_INFO_EQUILIBRIUM, &res->equilibrium) != FRIX_OK)
+        if (frix_info_get_double(info, FRIX_INFO_ERROR_SCALED, &res->error_scaled) != FRIX_OK)
+            res->error_scaled = NAN;
+        if (v && frix_info_get_double(info, FRIX_INFO_EQUILIBRIUM, &res->equilibrium) != FRIX_OK)
             res->equilibrium = NAN;
     }
     frix_info_free(info);
@@ -292,6 +294,7 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
     memset(res, 0, sizeof *res);
     res->siconos_error = NAN;
     res->error = NAN;
+    res->error_scaled = NAN;
     res->equilibrium = NAN;
     res->time = NAN;
     const int global_solver = frix_siconos_solver_is_global(solver_id);
@@ -324,7 +327,7 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
 
     if (nc == 0) { /* nothing to solve; Siconos's structures do not expect it */
         res->ran = 1;
-        res->error = res->siconos_error = res->time = 0;
+        res->error = res->error_scaled = res->siconos_error = res->time = 0;
         if (global) { /* v = M^-1 f, a linear solve that frix does: no contact problem here */
             if (frix_solve(problem, NULL, r, u, v, NULL) != FRIX_OK) {
                 res->ran = 0;
@@ -332,7 +335,7 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
                          frix_last_error_message());
                 return -1;
             }
-            measure_global(problem, r, v, u, res);
+            measure_answer(problem, r, v, u, res);
         }
         return 0;
     }
@@ -412,12 +415,6 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
 
     /* One measure for both: frix's, of the r (and v) Siconos returned; u recomputed as
      * W r + q, or H^T v + w. */
-    if (ran && global) {
-        measure_global(problem, r, v, u, res);
-    } else if (ran) {
-        if (frix_problem_error(problem, r, NULL, &res->error) != FRIX_OK) res->error = NAN;
-        if (frix_matrix_gemv(frix_problem_W(problem), 1.0, r, 0.0, u) == FRIX_OK)
-            for (int64_t k = 0; k < m; ++k) u[k] += frix_problem_q(problem)[k];
-    }
+    if (ran) measure_answer(problem, r, global ? v : NULL, u, res);
     return ran ? 0 : -1;
 }

@@ -52,7 +52,8 @@ typedef struct frix_siconos_result {
     int info;             /* the driver's return: 0 when Siconos considers it converged */
     int64_t iterations;   /* iparam[SICONOS_IPARAM_ITER_DONE] */
     double siconos_error; /* dparam[SICONOS_DPARAM_RESIDU]: Siconos's own error */
-    double error;         /* frix's relative measure of the returned r (and v) */
+    double error;         /* frix's measure of Siconos's kind (relative) of the returned r (and v) */
+    double error_scaled;  /* frix's default measure (FRIX_MEASURE_SCALED) of the same */
     double equilibrium;   /* global: frix's |M v - H r - f| / max(|f|, |M v|, |H r|); NaN local */
     double time;          /* seconds of wall clock around the driver only */
     int64_t callbacks;    /* how many times the iteration callback was called */
