@@ -1172,7 +1172,7 @@ frix_error solve_reduced(SolveContext &ctx) { return solve_local(ctx); }
 
 frix_error solve(SolveContext &ctx);
 
-const frix_option_key kExtraKeys[] = {FRIX_OPT_THREADS, FRIX_OPT_EXISTENCE_CHECK, (frix_option_key)0};
+const frix_option_key kExtraKeys[] = {FRIX_OPT_THREADS, (frix_option_key)0};
 const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 1e9}, {(frix_option_key)0, 0.0}};
 
 }  // namespace

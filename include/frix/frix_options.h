@@ -67,8 +67,10 @@ typedef enum frix_option_key FRIX_ENUM_BASE {
                                      at once, and gnsgs (902) and auto's route through it to
                                      sweep domains of contacts at once (default 1; results do
                                      not depend on it) */
-    FRIX_OPT_EXISTENCE_CHECK = 29, /* int 0/1: when the solve fails, check whether a solution
-                                     exists (frix_problem_check_existence; default 1) */
+    FRIX_OPT_EXISTENCE_CHECK = 29, /* int 0/1, every solver: when the solve fails (not stopped
+                                     by the callback), check whether a solution exists
+                                     (frix_problem_check_existence; default 1), within 5 % of
+                                     a time limit kept for it */
     /* NSGS (500, 501) */
     FRIX_OPT_DRIFT_WINDOW = 30,   /* int >= 0: every k sweeps, a steady drift of r is carried
                                      ahead to the next loss of contact; 0 = never (default) */

@@ -822,7 +822,7 @@ def _stages(info):
 
 
 # Statuses after which the existence check does not run: a solution, the caller's stop, or
-# the caller's time limit (which the check would overrun; auto skips it there too).
+# the caller's time limit (frix_solve checked within it already, with the share it kept).
 _NO_EXISTENCE_CHECK = (Status.CONVERGED, Status.STOPPED_BY_CALLBACK, Status.TIME_LIMIT)
 
 
@@ -890,10 +890,12 @@ def solve(problem, solver="auto", tol=None, max_iter=None, time_limit=None, r0=N
     exception stops it and is raised again. Ctrl-C stops a solve on the main thread after the
     iteration in progress and raises KeyboardInterrupt, with or without a callback. The GIL is
     released while the library runs.
-    check_existence: when the solve ends without a solution (not stopped by the callback or
-    the time limit) and no check ran yet (auto runs its own), whether to check whether a
-    solution exists at all (at most about 2 s) for Result.existence.
+    check_existence: when the solve ends without a solution (not stopped by the callback),
+    whether the library checks whether a solution exists at all (at most about 2 s, or 5 % of
+    a time limit) for Result.existence (the option existence_check).
     """
+    if not check_existence:
+        solver_options.setdefault("existence_check", 0)
     opts = _Options(solver, _settings(tol, max_iter, time_limit, solver_options), callback)
     handle = problem._use()
     try:

@@ -379,8 +379,8 @@ def test_no_existence_check_after_a_callback_stop():
 
 def _problems_without_solution():
     """Small problems that have no solution (issue 49's family): a free body squeezed by two
-    opposite contacts, W = diag(0, 1, 1) and W = 0 with q_N < 0, W = -I, and a contact that H
-    does not reach with w_N < 0."""
+    opposite contacts, W = diag(0, 1, 1) and W = 0 with q_N < 0, W = -I, a contact that H
+    does not reach with w_N < 0, and a global problem with an empty M."""
     H = np.zeros((3, 6))
     H[:, 0:3] = np.eye(3)
     H[:, 3:6] = np.diag([-1.0, 1.0, 1.0])
@@ -389,12 +389,15 @@ def _problems_without_solution():
     Hu[:, 0:3] = np.eye(3)
     unreached = frix.Problem.from_global(np.eye(3), Hu, np.zeros(3), np.array([1.0, 0, 0, -1, 0, 0]),
                                          np.array([0.5, 0.5]))
+    no_dofs = frix.Problem.from_global(sp.csc_matrix((0, 0)), sp.csc_matrix((0, 3)), np.zeros(0),
+                                       np.array([-1.0, 0, 0]), np.array([0.5]))
     return {
         "squeezed body": squeeze,
         "W = diag(0, 1, 1)": frix.Problem(np.diag([0.0, 1, 1]), np.array([-1.0, 0, 0]), np.array([0.5])),
         "W = 0": frix.Problem(np.zeros((3, 3)), np.array([-1.0, 0, 0]), np.array([0.5])),
         "W = -I": frix.Problem(-np.eye(3), np.array([-1.0, 0, 0]), np.array([0.5])),
         "unreached contact": unreached,
+        "global, without dofs": no_dofs,
     }
 
 
