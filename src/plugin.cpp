@@ -94,7 +94,7 @@ namespace {
 // Version 1 ends where version 2's members begin; a host of version 1 never reads past it.
 const frix_plugin_table kTableV1 = {
     offsetof(frix_plugin_table, persistent_create), 1, FRIX_VERSION_NUMBER, FRIX_TABLE_V1_FUNCTIONS,
-    nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
+    nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
 };
 
 #define FRIX_TABLE_V2_FUNCTIONS \
@@ -108,16 +108,28 @@ const frix_plugin_table kTableV1 = {
 // Version 2 ends where version 3's members begin.
 const frix_plugin_table kTableV2 = {
     offsetof(frix_plugin_table, persistent_set_contacts_local), 2, FRIX_VERSION_NUMBER, FRIX_TABLE_V2_FUNCTIONS,
-    nullptr, nullptr,
+    nullptr, nullptr, nullptr, nullptr, nullptr,
 };
 
+#define FRIX_TABLE_V3_FUNCTIONS \
+    FRIX_TABLE_V2_FUNCTIONS,\
+    frix_persistent_set_contacts_local,\
+    frix_persistent_set_contacts_global
+
+// Version 3 ends where version 4's members begin.
 const frix_plugin_table kTableV3 = {
+    offsetof(frix_plugin_table, option_choice_name), 3, FRIX_VERSION_NUMBER, FRIX_TABLE_V3_FUNCTIONS,
+    nullptr, nullptr, nullptr,
+};
+
+const frix_plugin_table kTableV4 = {
     sizeof(frix_plugin_table),
-    3,
+    4,
     FRIX_VERSION_NUMBER,
-    FRIX_TABLE_V2_FUNCTIONS,
-    frix_persistent_set_contacts_local,
-    frix_persistent_set_contacts_global,
+    FRIX_TABLE_V3_FUNCTIONS,
+    frix_option_choice_name,
+    frix_option_choice_by_name,
+    frix_options_set_by_name,
 };
 
 }  // namespace
@@ -128,6 +140,7 @@ extern "C" FRIX_API const frix_plugin_table *frix_plugin_api(int requested_abi_v
         if (requested_abi_version == 1) table = &kTableV1;
         else if (requested_abi_version == 2) table = &kTableV2;
         else if (requested_abi_version == 3) table = &kTableV3;
+        else if (requested_abi_version == 4) table = &kTableV4;
         else
             return frix::fail(FRIX_ERR_UNSUPPORTED,
                               "frix_plugin_api: table ABI version %d requested; libfrix %s serves "

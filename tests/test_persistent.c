@@ -448,16 +448,23 @@ START_TEST(test_threads_share_data) {
 END_TEST
 
 START_TEST(test_plugin_table_versions) {
-    const frix_plugin_table *v1 = frix_plugin_api(1), *v2 = frix_plugin_api(2), *v3 = frix_plugin_api(3);
+    const frix_plugin_table *v1 = frix_plugin_api(1), *v2 = frix_plugin_api(2), *v3 = frix_plugin_api(3),
+                            *v4 = frix_plugin_api(4);
     ck_assert_ptr_nonnull(v1);
     ck_assert_ptr_nonnull(v2);
     ck_assert_ptr_nonnull(v3);
+    ck_assert_ptr_nonnull(v4);
+    ck_assert_int_eq(v4->abi_version, 4);
     ck_assert_int_eq(v1->abi_version, 1);
     ck_assert_int_eq(v2->abi_version, 2);
     ck_assert_int_eq(v3->abi_version, 3);
     ck_assert_uint_eq(v1->size, offsetof(frix_plugin_table, persistent_create));
     ck_assert_uint_eq(v2->size, offsetof(frix_plugin_table, persistent_set_contacts_local));
-    ck_assert_uint_eq(v3->size, sizeof(frix_plugin_table));
+    ck_assert_uint_eq(v3->size, offsetof(frix_plugin_table, option_choice_name));
+    ck_assert_uint_eq(v4->size, sizeof(frix_plugin_table));
+    ck_assert(!FRIX_PLUGIN_HAS(v3, options_set_by_name));
+    ck_assert(FRIX_PLUGIN_HAS(v4, options_set_by_name));
+    ck_assert_ptr_eq(v4->options_set_by_name, frix_options_set_by_name);
     ck_assert(FRIX_PLUGIN_HAS(v1, info_stage_note));
     ck_assert(!FRIX_PLUGIN_HAS(v1, persistent_create));
     ck_assert(FRIX_PLUGIN_HAS(v2, persistent_update_global));
@@ -466,7 +473,7 @@ START_TEST(test_plugin_table_versions) {
     ck_assert_ptr_eq(v2->persistent_solve, frix_persistent_solve);
     ck_assert_ptr_eq(v3->persistent_set_contacts_global, frix_persistent_set_contacts_global);
     ck_assert_ptr_eq(v1->solve, v2->solve);
-    ck_assert_ptr_null(frix_plugin_api(4));
+    ck_assert_ptr_null(frix_plugin_api(5));
     ck_assert_ptr_null(frix_plugin_api(0));
 }
 END_TEST

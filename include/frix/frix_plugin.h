@@ -40,9 +40,10 @@ extern "C" {
 /* The table layout this header describes. A new version is a longer table: the members of
  * the versions before it, in the same places, and a new group after them. The library serves
  * every version it has had (version 1: up to info_stage_note; version 2: the persistent
- * solver too; version 3: its set_contacts), each with its own size and abi_version, so a host asks for the version its
- * header has and gets nothing it does not know. */
-#define FRIX_PLUGIN_ABI_VERSION 3
+ * solver too; version 3: its set_contacts; version 4: options' choices by name), each with its
+ * own size and abi_version, so a host asks for the version its header has and gets nothing it
+ * does not know. */
+#define FRIX_PLUGIN_ABI_VERSION 4
 
 /* Non-zero if the loaded table has `member` (a table from an older library may end
  * before it). */
@@ -196,6 +197,11 @@ typedef struct frix_plugin_table {
                                                 const double *q, const double *mu, int64_t nc);
     frix_error (*persistent_set_contacts_global)(frix_persistent *ps, const frix_matrix *H,
                                                  const double *w, const double *mu, int64_t nc);
+
+    /* ---- Table version 4: options' choices by name (frix_options.h). */
+    const char *(*option_choice_name)(frix_option_key key, int64_t value);
+    frix_error (*option_choice_by_name)(frix_option_key key, const char *name, int64_t *value);
+    frix_error (*options_set_by_name)(frix_options *opts, const char *key, const char *text);
 
     /* New members go here, at the end, and nowhere else. */
 } frix_plugin_table;
