@@ -91,6 +91,7 @@ inline Measures measures_over_ranks(MPI_Comm comm, const double *r, const double
 // W's rows (DistributedRows) or the bodies' velocities (DistributedBodies).
 class DistributedForm : public nsgs::SweepForm {
    public:
+    bool restores() const override { return false; }
     explicit DistributedForm(const frix_mpi_problem &p)
         : p_(p), comm_(p.ctx->comm), norm_q_(norm2_all(comm_, p.scale(), 3 * p.owned)) {
         const size_t n = p.neighbours.size();

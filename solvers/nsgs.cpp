@@ -371,6 +371,10 @@ frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const c
     DriftExtrapolation drift(o.i(FRIX_OPT_DRIFT_WINDOW), m, r);
     Momentum momentum(o.i(FRIX_OPT_ACCELERATION) != 0, m, r);
 
+    // The best r of the full checks, returned when the run ends worse (ctx.return_best).
+    std::vector<double> best_r;
+    double best_error = INFINITY;
+    const bool keep_best = ctx.return_best && form.restores();
     double tol_light = tol;
     int64_t it = 0, evaluations = 0;
     info.status = FRIX_STATUS_MAX_ITER;
@@ -412,6 +416,10 @@ frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const c
                 const double e = full_error();
                 checked_last = true;
                 last_full = e;
+                if (keep_best && e < best_error) {
+                    best_error = e;
+                    best_r.assign(r, r + m);
+                }
                 if (!first_only) estimate = e;
                 if (e <= tol) {
                     info.status = FRIX_STATUS_CONVERGED;
@@ -450,6 +458,16 @@ frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const c
     // The iteration limit may fall between two full checks.
     if (info.status == FRIX_STATUS_MAX_ITER && !checked_last && exact_error() <= tol)
         info.status = FRIX_STATUS_CONVERGED;
+    if (info.status != FRIX_STATUS_CONVERGED && !best_r.empty()) {
+        bool finite_r = true;
+        for (int64_t i = 0; i < m && finite_r; ++i) finite_r = std::isfinite(r[i]);
+        const double final_error = !finite_r ? INFINITY : at_r ? selected_error(last, measure) : exact_error();
+        if (best_error < final_error) {
+            std::copy(best_r.begin(), best_r.end(), r);
+            form.restart(r, u);
+            exact_error();
+        }
+    }
     info.iterations = it;
     hand_over();
     if (verbosity >= 1)

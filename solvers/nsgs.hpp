@@ -396,6 +396,9 @@ class SweepForm {
     virtual void restart(const double *r, double *u) { (void)r, (void)u; }
     // Whether exact()'s measures are the local ones the driver would compute (and may take).
     virtual bool measures_are_local() const { return true; }
+    // Whether run_sweeps may put an earlier r back (its best) and restart() from it; not
+    // where r's ghosts are other processes' (a distributed solve).
+    virtual bool restores() const { return true; }
     // Momentum (run_sweeps, option acceleration): after each sweep, r moves from x, the
     // sweep's result, to y = P_K(line), line = x + beta (x - x_prev), where x_prev is the r
     // of the previous call; the kept state follows. A form that keeps something affine in r

@@ -400,6 +400,7 @@ frix_error solve(SolveContext &ctx) {
     slots.weight = form.slot_weight();
     SolveContext inner{slots, ctx.options, r.data(), u.data(), ctx.v, ctx.info, ctx.clock, ctx.solve_mass, ctx.mass,
                        ctx.cache};
+    inner.return_best = ctx.return_best;
     if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1)
         log_line(&ctx.options, "gnsgs: %lld contacts in %lld domains of %lld colours, %lld threads", (long long)p.nc,
                  (long long)form.domains(), (long long)form.colours(), (long long)ctx.options.i(FRIX_OPT_THREADS));

@@ -55,7 +55,7 @@ bool runs_away(const frix_problem &p, const double *r, double bound) {
 
 frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
                                const SolverEntry &entry, double *r, double *u, frix_info &info,
-                               const Stopwatch &clock, SolveCache *cache, Measures *measures) {
+                               const Stopwatch &clock, SolveCache *cache, Measures *measures, bool return_best) {
     const int64_t m = 3 * p.nc;
     bool separating = true;
     for (int64_t a = 0; a < p.nc && separating; ++a) separating = p.q[3 * a] >= 0.0;
@@ -80,6 +80,7 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
         ran = true;
         frix::SolveContext ctx{p, opts, r, u, nullptr, info, clock, nullptr, nullptr, cache};
         ctx.runaway_bound = runaway_bound(p);
+        ctx.return_best = return_best;
         if (frix_error e = entry.solve(ctx)) return e;
         // A solver whose iterates ran away past the doubles (no solution to approach) has
         // diverged: the fallback below answers with a finite r.
@@ -173,7 +174,7 @@ frix_error solve_problem(const char *caller, const frix_problem *problem, const 
     } else if (!entry->solves_local) {
         err = fail(FRIX_ERR_UNSUPPORTED, "%s: solver %s solves global problems only", caller, entry->name);
     } else {
-        err = solve_local_problem(*problem, run, *entry, r, u, out, clock, cache);
+        err = solve_local_problem(*problem, run, *entry, r, u, out, clock, cache, nullptr, true);
     }
     if (!err) check_existence_after_failure(*problem, *options, clock, out);
     out.solve_time = clock.seconds();

@@ -77,6 +77,10 @@ struct SolveContext {
     Measures measured{};
     // Set by the driver: the bound past which r runs away (runaway_bound); 0: no check.
     double runaway_bound = 0.0;
+    // Set by frix_solve for the caller's own solve: a solver that did not converge returns
+    // the best iterate it measured rather than its last. Not for the stages of a solver that
+    // runs others (auto), which go on from where a stage ended.
+    bool return_best = false;
 };
 
 // A run whose reactions, in velocity units (w_a |r_a|, frix_problem::weight), exceed this many
@@ -125,7 +129,7 @@ const SolverEntry &solver_at(int64_t index);
 frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
                                const SolverEntry &entry, double *r, double *u, frix_info &info,
                                const Stopwatch &clock, SolveCache *cache = nullptr,
-                               Measures *measures = nullptr);
+                               Measures *measures = nullptr, bool return_best = false);
 
 // The driver's global path (src/solve_global.cpp): runs `entry` natively if it solves global
 // problems, through the reduction W = H^T M^-1 H otherwise. r, u (3nc) and v (n) as in
