@@ -29,6 +29,7 @@
 
 #include "error_state.hpp"
 #include "coulomb.hpp"
+#include "linalg/linalg.hpp"
 #include "matrix.hpp"
 #include "measures.hpp"
 #include "solver_api.hpp"
@@ -77,6 +78,10 @@ constexpr double kIndefinite = 1e-6;
 // The step 1/L may shrink this far below 1/|K| (backtracking makes up for a low estimate of
 // |K|): further means the direction does not descend, which a PSD K rules out.
 constexpr double kMaxStepShrink = 1e6;
+// A witness is confirmed by a Cholesky factorisation of W's symmetric part (Jacobi-scaled,
+// shifted by kIndefinite times its Gershgorin bound: the noise of assembled W's) when that
+// costs at most this many flops (about a second); larger ones keep the search's own tests.
+constexpr double kPsdCheckMaxFlops = 1e9;
 // u is recomputed from z this often: the updates u += K y / L drift by rounding.
 constexpr int64_t kResyncEvery = 100;
 
@@ -511,6 +516,68 @@ class Search {
     Vec z_, z_prev_, z_ext_, z_new_, dz_;                 // z space
 };
 
+enum class Psd { Yes, No, Unknown };
+
+// Whether a local problem's W has a positive semidefinite symmetric part, within kIndefinite
+// (see kPsdCheckMaxFlops): the factorisation of S = D (W + W^T)/2 D + delta I, D = diag(S)^-1/2,
+// exists exactly when S's least eigenvalue is above -delta. A congruence keeps the signs.
+Psd symmetric_part_psd(const frix_problem &p) {
+    const frix_matrix &W = *p.W;
+    const int64_t m = 3 * p.nc;
+    Vec diag((size_t)m, 0.0);
+    frix::for_each_entry(W, [&](int64_t i, int64_t j, double v) {
+        if (i == j) diag[(size_t)i] += v;
+    });
+    Vec d((size_t)m);
+    for (int64_t i = 0; i < m; ++i) d[(size_t)i] = diag[(size_t)i] > 0.0 ? 1.0 / std::sqrt(diag[(size_t)i]) : 1.0;
+    // The upper triangle of D (W + W^T)/2 D as (column, row, value) terms, then by columns.
+    struct Term {
+        int64_t col, row;
+        double value;
+    };
+    std::vector<Term> terms;
+    Vec row_sum((size_t)m, 0.0);
+    frix::for_each_entry(W, [&](int64_t i, int64_t j, double v) {
+        // (W + W^T)/2 takes half of each off-diagonal entry from each side, the diagonal whole.
+        const double s = (i == j ? 1.0 : 0.5) * v * d[(size_t)i] * d[(size_t)j];
+        terms.push_back({std::max(i, j), std::min(i, j), s});
+        row_sum[(size_t)i] += std::fabs(s);
+        row_sum[(size_t)j] += std::fabs(s);
+    });
+    const double bound = m > 0 ? *std::max_element(row_sum.begin(), row_sum.end()) : 0.0;
+    if (!std::isfinite(bound)) return Psd::Unknown;
+    const double shift = kIndefinite * std::max(bound, DBL_MIN);
+    for (int64_t i = 0; i < m; ++i) terms.push_back({i, i, shift});
+    std::sort(terms.begin(), terms.end(),
+              [](const Term &a, const Term &b) { return a.col != b.col ? a.col < b.col : a.row < b.row; });
+    std::vector<int64_t> colptr((size_t)m + 1, 0), rowind;
+    Vec values;
+    for (std::size_t k = 0; k < terms.size(); ++k) {
+        const Term &t = terms[k];
+        if (k > 0 && terms[k - 1].col == t.col && terms[k - 1].row == t.row) {
+            values.back() += t.value;
+            continue;
+        }
+        rowind.push_back(t.row);
+        values.push_back(t.value);
+        ++colptr[(size_t)t.col + 1];
+    }
+    for (int64_t j = 0; j < m; ++j) colptr[(size_t)j + 1] += colptr[(size_t)j];
+    frix::linalg::CscView S;
+    S.rows = S.cols = m;
+    S.colptr = colptr.data();
+    S.rowind = rowind.data();
+    S.values = values.data();
+    frix::linalg::SparseCholesky cholesky;
+    cholesky.set_budget([](const frix::linalg::FactorPrice &price) {
+        return price.flops <= kPsdCheckMaxFlops ? FRIX_STATUS_NOT_RUN : FRIX_STATUS_TIME_LIMIT;
+    });
+    const frix_error e = cholesky.factor(S);
+    frix::clear_error();
+    if (e == FRIX_OK) return Psd::Yes;
+    return e == FRIX_ERR_NUMERICAL && !cholesky.refused() ? Psd::No : Psd::Unknown;
+}
+
 // Every contact separates at r = 0 (q_N >= 0): r = 0 solves a local problem.
 bool all_separating(const frix_problem &p) {
     if (p.kind != FRIX_PROBLEM_LOCAL) return false;
@@ -550,8 +617,10 @@ frix_existence check_existence(const frix_problem &p, double time_limit, double 
         r = Search(op, budget).run();
     }
     // A strictly feasible z proves a solution only when W's symmetric part is PSD (W = -I
-    // has one and no solution): with a negative curvature seen, the check cannot tell.
-    if (indefinite && r.verdict == FRIX_EXISTENCE_GUARANTEED && !all_separating(p)) {
+    // has one and no solution): with a negative curvature seen, or a factorisation that
+    // finds one, the check cannot tell.
+    if (r.verdict == FRIX_EXISTENCE_GUARANTEED && p.kind == FRIX_PROBLEM_LOCAL && !all_separating(p) &&
+        (indefinite || symmetric_part_psd(p) == Psd::No)) {
         out = NAN;
         return FRIX_EXISTENCE_UNDETERMINED;
     }

@@ -198,6 +198,11 @@ START_TEST(test_one_contact_without_normal_stiffness) {
     const double Windef[9] = {-1, 0, 0, 0, 1, 0, 0, 0, 1}, Wneg[9] = {-1, 0, 0, 0, -1, 0, 0, 0, -1};
     ck_assert_int_eq(one_contact(Windef, pressed, 0.5).verdict, FRIX_EXISTENCE_UNDETERMINED);
     ck_assert_int_eq(one_contact(Wneg, pressed, 0.5).verdict, FRIX_EXISTENCE_UNDETERMINED);
+    /* A negative curvature that neither the power iterations (the dominant eigenvalue is 1)
+     * nor the search's reactions (in the cone, y_N >= |y_T| / mu) meet: the factorisation of
+     * W's symmetric part finds it. */
+    const double Wtangent[9] = {1, 0, 0, 0, -0.01, 0, 0, 0, 1};
+    ck_assert_int_eq(one_contact(Wtangent, pressed, 0.5).verdict, FRIX_EXISTENCE_UNDETERMINED);
 }
 END_TEST
 
