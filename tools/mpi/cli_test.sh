@@ -56,9 +56,11 @@ run solve "$problem" --max-iter 2 --json > "$work/max_iter.json" || status=$?
 [ "$status" -eq 1 ] || fail "--max-iter 2: exit $status, expected 1"
 json "$work/max_iter.json" "j['status'] == 'max_iter' and j['iterations'] == 2 and not j['converged'] and j['existence'] != 'not checked'"
 
-# --tol, --time-limit and --set reach the solver.
+# --tol, --time-limit and --set reach the solver, --set by number or by a choice's name.
 run solve "$problem" --tol 1e-3 --time-limit 60 --set error_measure=0 --json > "$work/set.json"
 json "$work/set.json" "j['tolerance'] == 1e-3 and j['error_measure'] == 'siconos' and j['converged']"
+run solve "$problem" --set error_measure=q_relative --json > "$work/set-name.json"
+json "$work/set-name.json" "j['error_measure'] == 'q_relative'"
 
 # --solver: gnsn-ac on a global problem (a granular step), its rows on the ranks.
 "$granular" --spheres 60 --steps 20 --quiet --dump-step 19 --dump "$work/global.hdf5"

@@ -145,33 +145,16 @@ static int parse(int argc, char **argv, args_t *a, int rank) {
 static int apply_set(frix_options *opts, const char *spec, int rank) {
     char name[64];
     const char *eq = strchr(spec, '=');
-    frix_option_key key;
-    double lo, hi;
-    int is_int;
-    char *end = NULL;
     if (!eq || (size_t)(eq - spec) >= sizeof name) {
         if (rank == 0) fprintf(stderr, "frix-mpi: --set %s: expected NAME=VALUE\n", spec);
         return 2;
     }
     memcpy(name, spec, (size_t)(eq - spec));
     name[eq - spec] = '\0';
-    if (frix_option_by_name(name, &key) != FRIX_OK ||
-        frix_options_bounds(opts, key, &lo, &hi, &is_int) != FRIX_OK) {
+    /* A number, or a choice's name (shuffle=once), with frix solve's checks and messages. */
+    if (frix_options_set_by_name(opts, name, eq + 1) != FRIX_OK) {
         if (rank == 0) fprintf(stderr, "frix-mpi: --set %s: %s\n", spec, frix_last_error_message());
         return 2;
-    }
-    if (is_int) {
-        long long v = strtoll(eq + 1, &end, 10);
-        if (end == eq + 1 || *end != '\0' || frix_options_set_int(opts, key, v) != FRIX_OK) {
-            if (rank == 0) fprintf(stderr, "frix-mpi: --set %s: %s\n", spec, end == eq + 1 || *end ? "not an integer" : frix_last_error_message());
-            return 2;
-        }
-    } else {
-        double v = strtod(eq + 1, &end);
-        if (end == eq + 1 || *end != '\0' || frix_options_set_double(opts, key, v) != FRIX_OK) {
-            if (rank == 0) fprintf(stderr, "frix-mpi: --set %s: %s\n", spec, end == eq + 1 || *end ? "not a number" : frix_last_error_message());
-            return 2;
-        }
     }
     return 0;
 }
