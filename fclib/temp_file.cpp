@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "fclib_error.hpp"
+#include "input_file.hpp"
 
 namespace frix::fclib {
 
@@ -61,15 +62,6 @@ std::string resolve_links(const std::string &path) {
     raise(FRIX_ERR_IO, "cannot write '%s': %s", path.c_str(), std::strerror(ELOOP));
 }
 
-const char *kind_of(mode_t mode) {
-    if (S_ISDIR(mode)) return "a directory";
-    if (S_ISFIFO(mode)) return "a FIFO";
-    if (S_ISCHR(mode)) return "a character device";
-    if (S_ISBLK(mode)) return "a block device";
-    if (S_ISSOCK(mode)) return "a socket";
-    return "of another kind";
-}
-
 }  // namespace
 
 TempFile::TempFile(const std::string &target) : target_(target), resolved_(resolve_links(target)) {
@@ -81,7 +73,7 @@ TempFile::TempFile(const std::string &target) : target_(target), resolved_(resol
     const bool exists = lstat(resolved_.c_str(), &st) == 0;
     if (exists && !S_ISREG(st.st_mode))
         raise(FRIX_ERR_IO, "cannot write '%s': %s is %s, not a regular file", target.c_str(),
-              it.c_str(), kind_of(st.st_mode));
+              it.c_str(), file_kind(st.st_mode));
     // access() is the permission check proper; root passes it on any file, so a file with
     // no write bit for anyone also counts as read-only.
     if (exists && (access(resolved_.c_str(), W_OK) != 0 || (st.st_mode & 0222) == 0))
