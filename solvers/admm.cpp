@@ -438,7 +438,7 @@ frix_error solve(SolveContext &ctx) {
             log_line(&L.o, "admm: iteration %lld rho %.3e primal %.3e dual %.3e%s%.3e",
                      (long long)it, rho / wmean, prim, dual, checked ? " full " : " tol_light ",
                      checked ? err : tol_light);
-        if (status == FRIX_STATUS_NOT_RUN) status = L.limits(it, estimate);
+        if (status == FRIX_STATUS_NOT_RUN) status = L.limits(it, estimate, z.data());
         if (status != FRIX_STATUS_NOT_RUN) break;
 
         // Residual balancing: rho <- rho sqrt(primal / dual) when that changes it 5-fold. A

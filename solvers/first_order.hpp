@@ -74,11 +74,14 @@ class Loop {
     double scale(double norm_r, double norm_u) const;
     bool out_of_time() const { return Monitor(ctx).out_of_time(); }
     // Calls the callback (if any) with iteration `it` and `estimate`; true if it asks to stop.
-    bool report(int64_t it, double estimate) const { return Monitor(ctx).report(it, estimate); }
+    // r: the iterate, when the solver keeps it apart from ctx.r (the Monitor watches it).
+    bool report(int64_t it, double estimate, const double *r = nullptr) const {
+        return Monitor(ctx).report(it, estimate, r);
+    }
     // After iteration `it` (not converged): the status that stops the loop, or
     // FRIX_STATUS_NOT_RUN to go on (callback, time limit, iteration limit, in that order).
-    frix_status limits(int64_t it, double estimate) const {
-        if (report(it, estimate)) return FRIX_STATUS_STOPPED_BY_CALLBACK;
+    frix_status limits(int64_t it, double estimate, const double *r = nullptr) const {
+        if (report(it, estimate, r)) return FRIX_STATUS_STOPPED_BY_CALLBACK;
         if (out_of_time()) return FRIX_STATUS_TIME_LIMIT;
         if (it >= max_iter) return FRIX_STATUS_MAX_ITER;
         return FRIX_STATUS_NOT_RUN;

@@ -435,7 +435,7 @@ frix_error solve(SolveContext &ctx, Kind kind) {
                      name, (long long)outer, (long long)k, inner_tol, err);
         if (err <= L.tol) status = FRIX_STATUS_CONVERGED;
         else if (!std::isfinite(err)) status = FRIX_STATUS_DIVERGED;
-        else status = L.limits(outer, err);
+        else status = L.limits(outer, err, r);
         if (status == FRIX_STATUS_NOT_RUN && timed_out) status = FRIX_STATUS_TIME_LIMIT;
     }
     info.status = status;

@@ -263,7 +263,7 @@ frix_error solve(SolveContext &ctx, Method method) {
             log_line(&L.o, "%s: iteration %lld rho %.3e light %.3e%s%.3e", name,
                      (long long)it, rk * wmax, light, checked ? " full " : " tol_light ",
                      checked ? estimate : tol_light);
-        const frix_status stop = L.limits(it, estimate);
+        const frix_status stop = L.limits(it, estimate, r);
         if (status == FRIX_STATUS_NOT_RUN) status = stop;
     }
     std::copy(r, r + m, ctx.r);

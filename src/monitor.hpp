@@ -70,12 +70,12 @@ class Monitor {
 
     // The user's callback after iteration `iteration` with the current error estimate: true
     // if it asks to stop. Without a callback, false.
-    // With a context, every kRunawayEvery iterations it also checks whether ctx.r has run
-    // away: then it asks to stop and marks the run (frix_info::ran_away), which the driver
-    // reports as diverged.
-    bool report(int64_t iteration, double error) const {
+    // With a context, every kRunawayEvery iterations it also checks whether the iterate has
+    // run away (r, for a solver that iterates on its own copy; else ctx.r): then it asks to
+    // stop and marks the run (frix_info::ran_away), which the driver reports as diverged.
+    bool report(int64_t iteration, double error, const double *r = nullptr) const {
         if (ctx_ && ctx_->runaway_bound > 0.0 && iteration % kRunawayEvery == 0 &&
-            runs_away(ctx_->problem, ctx_->r, ctx_->runaway_bound)) {
+            runs_away(ctx_->problem, r ? r : ctx_->r, ctx_->runaway_bound)) {
             ctx_->info.ran_away = true;
             return true;
         }

@@ -428,3 +428,14 @@ def test_nsgs_returns_its_best_iterate():
     longer = frix.solve(problem, solver="nsgs", tol=1e-12, max_iter=300, check_existence=False)
     assert not longer.converged
     assert longer.error <= first.error
+
+
+@pytest.mark.parametrize("solver", ["nsgs", "nsn-fb", "vi-fpp", "vi-eg", "hp", "admm"])
+def test_runaway_ends_diverged_early(solver):
+    """W = diag(0, 1, 1), q_N = -1: r_N grows without end. The Monitor stops the run within a
+    few hundred iterations of a 100000 limit and it ends diverged."""
+    problem = frix.Problem(np.diag([0.0, 1.0, 1.0]), np.array([-1.0, 0.0, 0.0]), np.array([0.5]))
+    res = frix.solve(problem, solver=solver, tol=1e-8, max_iter=100000, check_existence=False)
+    assert res.status == frix.Status.DIVERGED, res.status
+    assert res.iterations < 1000, res.iterations
+    assert np.all(np.isfinite(res.r))
