@@ -80,8 +80,9 @@ constexpr double kIndefinite = 1e-6;
 constexpr double kMaxStepShrink = 1e6;
 // A witness is confirmed by a Cholesky factorisation of W's symmetric part (Jacobi-scaled,
 // shifted by kIndefinite times its Gershgorin bound: the noise of assembled W's) when that
-// costs at most this many flops (about a second); larger ones keep the search's own tests.
-constexpr double kPsdCheckMaxFlops = 1e9;
+// costs at most this many flops (about a second) and bytes; larger ones keep the search's own
+// tests.
+constexpr double kPsdCheckMaxFlops = 1e9, kPsdCheckMaxBytes = 256e6;
 // u is recomputed from z this often: the updates u += K y / L drift by rounding.
 constexpr int64_t kResyncEvery = 100;
 
@@ -570,6 +571,7 @@ Psd symmetric_part_psd(const frix_problem &p) {
     S.values = values.data();
     frix::linalg::SparseCholesky cholesky;
     cholesky.set_budget([](const frix::linalg::FactorPrice &price) {
+        if (!(price.bytes <= kPsdCheckMaxBytes)) return FRIX_STATUS_MEMORY_LIMIT;
         return price.flops <= kPsdCheckMaxFlops ? FRIX_STATUS_NOT_RUN : FRIX_STATUS_TIME_LIMIT;
     });
     const frix_error e = cholesky.factor(S);
