@@ -43,7 +43,9 @@ struct frix_mpi_problem {
     // The owned contacts' indices in the problem given (frix_mpi_problem_scatter may have
     // renumbered them by part): what frix_mpi_gather puts them back at.
     std::vector<int64_t> ids;
-    frix_problem view;  // nc = owned, over W, q and mu: what the sweeps and measures read
+    frix_problem view;  // nc = owned, over W, q and mu: what the sweeps and measures read; its
+                        // weight: the owned contacts' W_aa normal entries (empty, so 1, for
+                        // a global problem with the host's M)
 
     // The exchange. neighbours: the ranks coupled to this one (either way), increasing.
     // For neighbour k: the owned contacts it needs, send[send_ptr[k] .. send_ptr[k+1]), and
@@ -69,9 +71,6 @@ struct frix_mpi_problem {
     // A reduced global problem's w, or a rigid one's (the relative error's scale is |w|, not
     // |q|); empty for a local problem.
     std::vector<double> w;
-    // The owned contacts' weights of the default error measure (frix_problem::weight): W_aa's
-    // normal entry; empty (1) for a global problem with the host's M.
-    std::vector<double> weight;
     const double *scale() const { return w.empty() ? q.data() : w.data(); }
 };
 

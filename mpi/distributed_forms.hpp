@@ -155,7 +155,7 @@ class DistributedForm : public nsgs::SweepForm {
     }
     // The measures of this rank's (r, u), combined over the ranks.
     Measures combine(const double *r, const double *u) {
-        return measures_over_ranks(comm_, r, u, p_.mu.data(), p_.weight, p_.owned, norm_q_);
+        return measures_over_ranks(comm_, r, u, p_.mu.data(), p_.view.weight, p_.owned, norm_q_);
     }
 
     const frix_mpi_problem &p_;

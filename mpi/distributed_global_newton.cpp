@@ -386,7 +386,7 @@ frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, double 
     // The error of (r, u) over all contacts, and the equilibrium residual relative to
     // max(|f|, |M v|, |H r|) (frix_solve's).
     auto error_of = [&](const State &st) {
-        measures = measures_over_ranks(comm, st.r.data(), st.u.data(), p.mu.data(), p.weight, nc, norm_w);
+        measures = measures_over_ranks(comm, st.r.data(), st.u.data(), p.mu.data(), p.view.weight, nc, norm_w);
         const double res = norm2_all(comm, st.res.data(), n);
         const double scale = std::max({norm_f, norm2_all(comm, st.mv.data(), n), norm2_all(comm, st.hr.data(), n)});
         equilibrium = scale > DBL_EPSILON ? res / scale : res;

@@ -133,7 +133,6 @@ void build(frix_mpi_problem &p, const int64_t *row_ptr, const int64_t *block_col
     p.view.q = p.q.data();
     p.view.mu = p.mu.data();
     frix::set_contact_weights(p.view);
-    p.weight = p.view.weight;
     if (scale != q) p.w.assign(scale, scale + 3 * owned);
     plan_exchange(p, has_ghost);
 }

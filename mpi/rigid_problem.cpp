@@ -200,8 +200,8 @@ frix_error form_bodies(frix_mpi_problem &p, const std::vector<int64_t> &bodies, 
                     p.diag[9 * (size_t)c + k + 3 * l] += t;
                 }
         }
-    p.weight.resize((size_t)p.owned);
-    for (int64_t c = 0; c < p.owned; ++c) p.weight[(size_t)c] = p.diag[9 * (size_t)c];
+    p.view.weight.resize((size_t)p.owned);
+    for (int64_t c = 0; c < p.owned; ++c) p.view.weight[(size_t)c] = p.diag[9 * (size_t)c];
     return FRIX_OK;
 }
 

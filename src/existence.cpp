@@ -32,6 +32,7 @@
 #include "linalg/linalg.hpp"
 #include "matrix.hpp"
 #include "measures.hpp"
+#include "reduction.hpp"
 #include "solver_api.hpp"
 
 namespace {
@@ -175,7 +176,8 @@ class Operator {
     Operator(const frix_problem &p, Metric metric)
         : p_(p), nc_(p.nc), m_(3 * p.nc), n_(p.kind == FRIX_PROBLEM_LOCAL ? 3 * p.nc : p.n),
           metric_(metric), work_m_(m_) {
-        if (p.kind == FRIX_PROBLEM_GLOBAL) set_inverse_mass_diagonal();
+        // diag(M)^-1 where that diagonal is positive (1 elsewhere): the metric of v.
+        if (p.kind == FRIX_PROBLEM_GLOBAL) dof_metric_ = frix::inverse_mass_diagonal(p, 1.0);
         set_contact_scales();
         if (p.kind == FRIX_PROBLEM_LOCAL && metric == Metric::Diagonal) {
             dof_metric_.resize(n_);
@@ -256,34 +258,10 @@ class Operator {
             frix::matrix_gemv(*p_.H, 1.0, y, 0.0, z);
     }
 
-    // diag(M)^-1 where that diagonal is positive (1 elsewhere): the metric of v.
-    void set_inverse_mass_diagonal() {
-        Vec diag(n_, 0.0);
-        for_each_entry(*p_.M, [&](int64_t i, int64_t j, double v) {
-            if (i == j) diag[i] += v;
-        });
-        dof_metric_.assign(n_, 1.0);
-        for (int64_t j = 0; j < n_; ++j)
-            if (diag[j] > 0.0 && std::isfinite(1.0 / diag[j])) dof_metric_[j] = 1.0 / diag[j];
-    }
-
-    // The diagonal of W (local) or of H^T diag(M)^-1 H (global).
-    Vec delassus_diagonal() const {
-        Vec diag(m_, 0.0);
-        if (p_.kind == FRIX_PROBLEM_GLOBAL) {
-            for_each_entry(*p_.H, [&](int64_t i, int64_t j, double v) { diag[j] += v * v * dof_metric_[i]; });
-        } else {
-            for_each_entry(*p_.W, [&](int64_t i, int64_t j, double v) {
-                if (i == j) diag[i] += v;
-            });
-        }
-        return diag;
-    }
-
     // d_a from the contact's mean diagonal; contacts without a usable one (no coupling, or
     // an overflow) take the mean of the others, so that they weigh like a typical contact.
     void set_contact_scales() {
-        const Vec diag = delassus_diagonal();
+        const Vec diag = frix::delassus_diagonal(p_, dof_metric_);
         Vec mean(nc_);
         double sum = 0.0;
         int64_t counted = 0;
@@ -525,56 +503,46 @@ enum class Psd { Yes, No, Unknown };
 Psd symmetric_part_psd(const frix_problem &p) {
     const frix_matrix &W = *p.W;
     const int64_t m = 3 * p.nc;
-    Vec diag((size_t)m, 0.0);
-    frix::for_each_entry(W, [&](int64_t i, int64_t j, double v) {
-        if (i == j) diag[(size_t)i] += v;
-    });
+    const Vec diag = frix::matrix_diagonal(W);
     Vec d((size_t)m);
     for (int64_t i = 0; i < m; ++i) d[(size_t)i] = diag[(size_t)i] > 0.0 ? 1.0 / std::sqrt(diag[(size_t)i]) : 1.0;
-    // The upper triangle of D (W + W^T)/2 D as (column, row, value) terms, then by columns.
-    struct Term {
-        int64_t col, row;
-        double value;
-    };
-    std::vector<Term> terms;
-    Vec row_sum((size_t)m, 0.0);
+    // D (W + W^T)/2 D as terms, each entry half at (i, j) and half at (j, i) (the triplet
+    // builder sums them), then the shift on the diagonal; CHOLMOD reads the upper triangle.
+    std::vector<int64_t> rows, cols;
+    Vec values, row_sum((size_t)m, 0.0);
     frix::for_each_entry(W, [&](int64_t i, int64_t j, double v) {
-        // (W + W^T)/2 takes half of each off-diagonal entry from each side, the diagonal whole.
-        const double s = (i == j ? 1.0 : 0.5) * v * d[(size_t)i] * d[(size_t)j];
-        terms.push_back({std::max(i, j), std::min(i, j), s});
-        row_sum[(size_t)i] += std::fabs(s);
-        row_sum[(size_t)j] += std::fabs(s);
+        const double half = 0.5 * v * d[(size_t)i] * d[(size_t)j];
+        rows.insert(rows.end(), {i, j});
+        cols.insert(cols.end(), {j, i});
+        values.insert(values.end(), {half, half});
+        // The bound counts a diagonal entry twice, an off-diagonal one once in each row.
+        const double entry = i == j ? 2.0 * half : half;
+        row_sum[(size_t)i] += std::fabs(entry);
+        row_sum[(size_t)j] += std::fabs(entry);
     });
     const double bound = m > 0 ? *std::max_element(row_sum.begin(), row_sum.end()) : 0.0;
     if (!std::isfinite(bound)) return Psd::Unknown;
     const double shift = kIndefinite * std::max(bound, DBL_MIN);
-    for (int64_t i = 0; i < m; ++i) terms.push_back({i, i, shift});
-    std::sort(terms.begin(), terms.end(),
-              [](const Term &a, const Term &b) { return a.col != b.col ? a.col < b.col : a.row < b.row; });
-    std::vector<int64_t> colptr((size_t)m + 1, 0), rowind;
-    Vec values;
-    for (std::size_t k = 0; k < terms.size(); ++k) {
-        const Term &t = terms[k];
-        if (k > 0 && terms[k - 1].col == t.col && terms[k - 1].row == t.row) {
-            values.back() += t.value;
-            continue;
-        }
-        rowind.push_back(t.row);
-        values.push_back(t.value);
-        ++colptr[(size_t)t.col + 1];
+    for (int64_t i = 0; i < m; ++i) {
+        rows.push_back(i);
+        cols.push_back(i);
+        values.push_back(shift);
     }
-    for (int64_t j = 0; j < m; ++j) colptr[(size_t)j + 1] += colptr[(size_t)j];
-    frix::linalg::CscView S;
-    S.rows = S.cols = m;
-    S.colptr = colptr.data();
-    S.rowind = rowind.data();
-    S.values = values.data();
+    frix_matrix *raw = nullptr;
+    const frix_error built = frix_matrix_from_triplets(m, m, (int64_t)values.size(), rows.data(), cols.data(),
+                                                       values.data(), &raw);
+    const std::unique_ptr<frix_matrix> S_blocks(raw);
+    frix::Csc S;
+    if (built != FRIX_OK || frix::to_csc(*S_blocks, S) != FRIX_OK) {
+        frix::clear_error();
+        return Psd::Unknown;
+    }
     frix::linalg::SparseCholesky cholesky;
     cholesky.set_budget([](const frix::linalg::FactorPrice &price) {
         if (!(price.bytes <= kPsdCheckMaxBytes)) return FRIX_STATUS_MEMORY_LIMIT;
         return price.flops <= kPsdCheckMaxFlops ? FRIX_STATUS_NOT_RUN : FRIX_STATUS_TIME_LIMIT;
     });
-    const frix_error e = cholesky.factor(S);
+    const frix_error e = cholesky.factor(S.view());
     frix::clear_error();
     if (e == FRIX_OK) return Psd::Yes;
     return e == FRIX_ERR_NUMERICAL && !cholesky.refused() ? Psd::No : Psd::Unknown;

@@ -236,6 +236,14 @@ void index_diagonal_blocks(frix_matrix &A) {
     }
 }
 
+std::vector<double> matrix_diagonal(const frix_matrix &A) {
+    std::vector<double> diag((size_t)std::min(A.rows, A.cols), 0.0);
+    for_each_entry(A, [&](int64_t i, int64_t j, double v) {
+        if (i == j) diag[(size_t)i] += v;
+    });
+    return diag;
+}
+
 void matrix_gemv(const frix_matrix &A, double alpha, const double *x, double beta, double *y) {
     if (A.block) {
         for (int64_t k = 0; k < A.block_rows; ++k) {

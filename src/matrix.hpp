@@ -155,6 +155,9 @@ frix_error block_cholesky_cost(const frix_matrix &W, linalg::FactorCost *cost);
 // diag_index of a block-CSR matrix from its rows (sorted block columns); all -1 unless square.
 void index_diagonal_blocks(frix_matrix &A);
 
+// A's diagonal (min(rows, cols) values; an entry stored twice counts twice), either storage.
+std::vector<double> matrix_diagonal(const frix_matrix &A);
+
 // y = alpha*A*x + beta*y for either storage; no argument checks (internal callers).
 void matrix_gemv(const frix_matrix &A, double alpha, const double *x, double beta, double *y);
 // y = (A - A^T) x / 2 (A square), the skew part of A times x; work holds n values.

@@ -59,15 +59,15 @@ double norm2(const double *x, int64_t n) {
 
 namespace {
 
-// scale^2 * ssq += x^2, kept without overflow or underflow (LAPACK's dnrm2 update).
-void add_square(double x, double &scale, double &ssq) {
-    x = std::fabs(x);
-    if (x == 0.0) return;
-    if (scale < x) {
-        ssq = 1.0 + ssq * (scale / x) * (scale / x);
-        scale = x;
+// scale^2 * ssq += other_scale^2 * other_ssq, kept without overflow or underflow (LAPACK's
+// dnrm2 update; one square x^2 is (|x|, 1)).
+void add_scaled_squares(double &scale, double &ssq, double other_scale, double other_ssq) {
+    if (other_scale == 0.0) return;  // (a NaN goes on into ssq, as it should)
+    if (scale < other_scale) {
+        ssq = other_ssq + ssq * (scale / other_scale) * (scale / other_scale);
+        scale = other_scale;
     } else {
-        ssq += (x / scale) * (x / scale);
+        ssq += other_ssq * (other_scale / scale) * (other_scale / scale);
     }
 }
 
@@ -110,14 +110,7 @@ double scaled_contact_residual(const double *r, const double *u, double mu, doub
 }  // namespace
 
 void MeasureParts::add(const MeasureParts &o) {
-    if (o.scaled_scale > 0.0) {
-        if (scaled_scale < o.scaled_scale) {
-            scaled_ssq = o.scaled_ssq + scaled_ssq * (scaled_scale / o.scaled_scale) * (scaled_scale / o.scaled_scale);
-            scaled_scale = o.scaled_scale;
-        } else {
-            scaled_ssq += o.scaled_ssq * (o.scaled_scale / scaled_scale) * (o.scaled_scale / scaled_scale);
-        }
-    }
+    add_scaled_squares(scaled_scale, scaled_ssq, o.scaled_scale, o.scaled_ssq);
     residual_sq += o.residual_sq;
     cone = std::max(cone, o.cone);
     penetration = std::max(penetration, o.penetration);
@@ -132,7 +125,8 @@ MeasureParts measure_parts(const double *r, const double *u, const double *mu, c
     rescaled_residual(r, u, mu, first, end, 1.0, m.residual_sq, m.cone);
     for (int64_t a = first; a < end; ++a) {
         const double *ra = r + 3 * a, *ua = u + 3 * a;
-        add_square(scaled_contact_residual(ra, ua, mu[a], weight ? weight[a] : 1.0), m.scaled_scale, m.scaled_ssq);
+        add_scaled_squares(m.scaled_scale, m.scaled_ssq,
+                           std::fabs(scaled_contact_residual(ra, ua, mu[a], weight ? weight[a] : 1.0)), 1.0);
         m.penetration = std::max(m.penetration, -ua[0]);
         const double uhat_n = ua[0] + mu[a] * std::hypot(ua[1], ua[2]);
         m.complementarity = std::max(m.complementarity, std::fabs(ra[0] * uhat_n + ra[1] * ua[1] + ra[2] * ua[2]));

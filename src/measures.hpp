@@ -14,9 +14,9 @@ struct Measures {
     double relative = 0;           // residual / max(|q|, |r|, |u|), if that max > DBL_EPSILON
     double q_relative = 0;         // residual / |q|, if |q| > 0 (else the residual)
     // The default measure (FRIX_MEASURE_SCALED): each contact's reaction in velocity units,
-    // s_a = w_a r_a (w_a = contact_weights), residual_scaled = sqrt(sum_a |s_a - P_K(s_a -
+    // s_a = w_a r_a (w_a = frix_problem::weight), residual_scaled = sqrt(sum_a |s_a - P_K(s_a -
     // u^_a)|^2), and scaled = residual_scaled / max(|q|, |u|) (|q|: the free velocity's norm,
-    // for a global problem frix_problem::free_velocity). Unit-consistent (length, mass
+    // for a global problem free_velocity(p)). Unit-consistent (length, mass
     // and time units cancel) and, having no |r| below the line, out of reach of a runaway r.
     double residual_scaled = 0;
     double scaled = 0;
@@ -33,7 +33,7 @@ double norm2(const double *x, int64_t n);
 // All measures of (r, u), with u = W r + q (or H^T v + w) already computed by the caller,
 // norm_q = |q|_2 (|w|_2 for a global problem) and weight the problem's contact weights.
 // free: the norm of the velocity without contact forces, the scaled measure's floor (|q| for
-// a local problem, frix_problem::free_velocity); negative: norm_q.
+// a local problem, free_velocity(p)); negative: norm_q.
 Measures measures_from_ru(const double *r, const double *u, const double *mu, const double *weight, int64_t nc,
                           double norm_q, double free = -1.0);
 

@@ -163,24 +163,28 @@ frix_error make_owned_global_problem(std::unique_ptr<frix_matrix> M, std::unique
     return FRIX_OK;
 }
 
+std::vector<double> inverse_mass_diagonal(const frix_problem &p, double otherwise) {
+    std::vector<double> inverse = p.M ? matrix_diagonal(*p.M) : std::vector<double>((size_t)p.n, 0.0);
+    for (double &x : inverse) x = x > 0.0 && std::isfinite(1.0 / x) ? 1.0 / x : otherwise;
+    return inverse;
+}
+
+std::vector<double> delassus_diagonal(const frix_problem &p, const std::vector<double> &inverse_mass) {
+    if (p.kind == FRIX_PROBLEM_LOCAL) return p.W ? matrix_diagonal(*p.W) : std::vector<double>((size_t)(3 * p.nc), 0.0);
+    std::vector<double> diag((size_t)(3 * p.nc), 0.0);
+    if (p.H)
+        for_each_entry(*p.H, [&](int64_t i, int64_t j, double v) { diag[(size_t)j] += v * v * inverse_mass[(size_t)i]; });
+    return diag;
+}
+
 void set_contact_weights(frix_problem &p) {
+    // A dof whose mass is not positive moves nothing here (0), unlike the existence check's
+    // metric, which gives it 1.
+    const std::vector<double> diag =
+        delassus_diagonal(p, p.kind == FRIX_PROBLEM_GLOBAL ? inverse_mass_diagonal(p, 0.0) : std::vector<double>());
     std::vector<double> &w = p.weight;
     w.assign((size_t)p.nc, 0.0);
-    if (p.kind == FRIX_PROBLEM_LOCAL && p.W) {
-        for_each_entry(*p.W, [&](int64_t row, int64_t col, double value) {
-            if (row == col && row % 3 == 0) w[(size_t)(row / 3)] += value;
-        });
-    } else if (p.kind == FRIX_PROBLEM_GLOBAL && p.M) {
-        std::vector<double> mass((size_t)p.n, 0.0);
-        for_each_entry(*p.M, [&](int64_t row, int64_t col, double value) {
-            if (row == col) mass[(size_t)row] += value;
-        });
-        if (p.H)
-            for_each_entry(*p.H, [&](int64_t row, int64_t col, double value) {
-                const double m = mass[(size_t)row];
-                if (col % 3 == 0 && m > 0.0) w[(size_t)(col / 3)] += value * value / m;
-            });
-    }
+    for (int64_t a = 0; a < p.nc; ++a) w[(size_t)a] = diag[(size_t)(3 * a)];
     double sum = 0.0;
     int64_t count = 0;
     for (double x : w)
@@ -196,10 +200,7 @@ void set_contact_weights(frix_problem &p) {
 double free_velocity(const frix_problem &p) {
     const int64_t m = 3 * p.nc;
     if (p.kind != FRIX_PROBLEM_GLOBAL || !p.M) return p.kind == FRIX_PROBLEM_LOCAL ? norm2(p.q, m) : 0.0;
-    std::vector<double> mass((size_t)p.n, 0.0);
-    for_each_entry(*p.M, [&](int64_t row, int64_t col, double value) {
-        if (row == col) mass[(size_t)row] += value;
-    });
+    const std::vector<double> mass = matrix_diagonal(*p.M);
     std::vector<double> free(p.w, p.w + m);
     if (p.H)
         for_each_entry(*p.H, [&](int64_t row, int64_t col, double value) {

@@ -59,9 +59,17 @@ frix_error make_owned_global_problem(std::unique_ptr<frix_matrix> M,
 frix_error check_vector(const char *where, const char *name, const double *x, int64_t n);
 frix_error check_mu(const char *where, const double *mu, int64_t nc);
 
-// p.weight from the problem's matrices: local, W_aa[0][0]; global, sum_i H_i,3a^2 / M_ii (the
-// same with M's diagonal for M^-1: cheap, and exact for a diagonal M). A value that is not
-// positive and finite (a contact W or H does not reach) takes the mean of the others, or 1.
+// 1 / M_ii where M's diagonal is positive with a finite inverse, `otherwise` elsewhere: the
+// diagonal that stands for M^-1 where M^-1 is not formed (a global problem).
+std::vector<double> inverse_mass_diagonal(const frix_problem &p, double otherwise);
+
+// The diagonal of W (local), or of H^T diag(inverse_mass) H (global, inverse_mass as from
+// inverse_mass_diagonal): 3 nc values.
+std::vector<double> delassus_diagonal(const frix_problem &p, const std::vector<double> &inverse_mass);
+
+// p.weight from the problem's matrices: delassus_diagonal's normal entries (M's diagonal for
+// M^-1 in a global problem: cheap, and exact for a diagonal M). A value that is not positive
+// and finite (a contact W or H does not reach) takes the mean of the others, or 1.
 void set_contact_weights(frix_problem &p);
 
 // A global problem's velocity at the contacts without contact forces, the default measure's

@@ -38,9 +38,8 @@ void check_existence_after_failure(const frix_problem &p, const frix_options &o,
 
 namespace frix {
 
-double runaway_bound(const frix_problem &p) {
-    const double floor = p.kind == FRIX_PROBLEM_LOCAL ? norm2(p.q, 3 * p.nc) : free_velocity(p);
-    return std::isfinite(floor) ? kRunawayFactor * floor : 0.0;
+double runaway_bound(double free_velocity_norm) {
+    return std::isfinite(free_velocity_norm) ? kRunawayFactor * free_velocity_norm : 0.0;
 }
 
 bool runs_away(const frix_problem &p, const double *r, double bound) {
@@ -64,6 +63,7 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
     // it is r = 0 (the usual cold start: no allocation for it).
     std::vector<double> warm_start;
     bool ran = false, has_measured = false, non_finite = false;
+    double bound = 0.0;  // runaway_bound, for a problem a solver ran on
     frix::Measures measured;
     if (p.nc == 0 || separating) {
         // r = 0 is then the exact solution: u = q has u_N >= 0, so u^ lies in K*.
@@ -79,7 +79,7 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
         if (std::any_of(r, r + m, [](double x) { return x != 0.0; })) warm_start.assign(r, r + m);
         ran = true;
         frix::SolveContext ctx{p, opts, r, u, nullptr, info, clock, nullptr, nullptr, cache};
-        ctx.runaway_bound = runaway_bound(p);
+        ctx.runaway_bound = bound = runaway_bound(norm2(p.q, m));
         ctx.return_best = return_best;
         if (frix_error e = entry.solve(ctx)) return e;
         // A solver whose iterates ran away past the doubles (no solution to approach) has
@@ -92,25 +92,21 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
     // divides by |u| = Inf).
     auto finite = [](const frix::Measures &x) { return std::isfinite(x.relative) && std::isfinite(x.norm_u); };
     frix::Measures meas = has_measured ? measured : (non_finite ? frix::Measures{} : frix::local_measures(p, r, u));
-    if ((non_finite || !finite(meas)) && ran) {
-        if (warm_start.empty())
-            std::fill(r, r + m, 0.0);
-        else
-            std::copy(warm_start.begin(), warm_start.end(), r);
-        meas = frix::local_measures(p, r, u);
-        if (!finite(meas)) {
-            std::fill(r, r + m, 0.0);  // u = q then: finite, since q was checked
-            meas = frix::local_measures(p, r, u);
-        }
-        info.status = FRIX_STATUS_DIVERGED;
-    } else if (ran && info.status != FRIX_STATUS_CONVERGED && runs_away(p, r, runaway_bound(p))) {
-        // A finite runaway: diverged. The start is returned unless the runaway's error is
-        // below half of the start's: an r of 1e150 is no answer to hand a caller.
+    // Diverged: an r that left the doubles or overflows u, or a finite runaway.
+    const bool broken = ran && (non_finite || !finite(meas));
+    if (broken || (ran && info.status != FRIX_STATUS_CONVERGED && runs_away(p, r, bound))) {
+        // The start is returned (r = 0 where the start overflows too: u = q then, finite since
+        // q was checked), a finite runaway's r only where its error is below half of the
+        // start's: an r of 1e150 is no answer to hand a caller.
         const int64_t kind = opts.i(FRIX_OPT_ERROR_MEASURE);
         std::vector<double> start = warm_start.empty() ? std::vector<double>((size_t)m, 0.0) : warm_start;
         std::vector<double> u_start((size_t)m);
-        const frix::Measures at_start = frix::local_measures(p, start.data(), u_start.data());
-        if (finite(at_start) && selected_error(at_start, kind) <= 2.0 * selected_error(meas, kind)) {
+        frix::Measures at_start = frix::local_measures(p, start.data(), u_start.data());
+        if (broken && !finite(at_start)) {
+            std::fill(start.begin(), start.end(), 0.0);
+            at_start = frix::local_measures(p, start.data(), u_start.data());
+        }
+        if (broken || (finite(at_start) && selected_error(at_start, kind) <= 2.0 * selected_error(meas, kind))) {
             std::copy(start.begin(), start.end(), r);
             std::copy(u_start.begin(), u_start.end(), u);
             meas = at_start;

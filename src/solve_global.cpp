@@ -201,7 +201,7 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
             return ms.solve(b, x);
         };
         SolveContext ctx{p, opts, r, u, v, native, clock, &solve_mass, &ms, cache};
-        ctx.runaway_bound = runaway_bound(p);
+        ctx.runaway_bound = runaway_bound(free_velocity(p));
         if (frix_error e = entry.solve(ctx)) return e;
         if (native.ran_away && native.status == FRIX_STATUS_STOPPED_BY_CALLBACK) native.status = FRIX_STATUS_DIVERGED;
         native.setup_time += info.setup_time;
@@ -242,7 +242,7 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
             return fail(FRIX_ERR_NUMERICAL, "frix_solve: M^-1 f overflows: M is too ill-conditioned");
         info.status = FRIX_STATUS_DIVERGED;
     }
-    if (finite && info.status != FRIX_STATUS_CONVERGED && runs_away(p, r, runaway_bound(p)))
+    if (finite && info.status != FRIX_STATUS_CONVERGED && runs_away(p, r, runaway_bound(meas.norm_free)))
         info.status = FRIX_STATUS_DIVERGED;
     record_measures(info, meas, opts.i(FRIX_OPT_ERROR_MEASURE));
     if (info.status == FRIX_STATUS_CONVERGED && !meets_global_tolerance(info, info.tolerance))

@@ -88,9 +88,10 @@ struct SolveContext {
 // scale (a solution scales with q), and a problem without one lets r grow without end.
 constexpr double kRunawayFactor = 1e8;
 
-// kRunawayFactor times the free velocity's norm of p (|q|, or free_velocity for a global
-// problem); 0 when that is 0 (then r = 0 solves the problem, and nothing is checked).
-double runaway_bound(const frix_problem &p);
+// kRunawayFactor times the norm of a problem's free velocity (|q|, or free_velocity(p) for a
+// global problem; Measures::norm_free); 0 when that is 0 (then r = 0 solves the problem, and
+// nothing is checked) or not finite.
+double runaway_bound(double free_velocity_norm);
 
 // Whether r (3 nc entries) has run away past `bound` (> 0).
 bool runs_away(const frix_problem &p, const double *r, double bound);
