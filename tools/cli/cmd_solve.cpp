@@ -251,8 +251,10 @@ std::string existence_text(const Report &r) {
     }
 }
 
+// The measure's name as options take it (scaled, siconos, q_relative).
 const char *measure_name(int64_t measure) {
-    return measure == FRIX_MEASURE_Q_RELATIVE ? "q_relative" : measure == FRIX_MEASURE_RELATIVE ? "siconos" : "scaled";
+    const char *name = frix_option_choice_name(FRIX_OPT_ERROR_MEASURE, measure);
+    return name ? name : "unknown";
 }
 
 // What the error is relative to, in one line of the report.

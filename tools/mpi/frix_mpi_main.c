@@ -228,7 +228,8 @@ static const char *status_token(frix_status s) {
 }
 
 static const char *measure_name(int64_t m) {
-    return m == FRIX_MEASURE_Q_RELATIVE ? "q_relative" : m == FRIX_MEASURE_RELATIVE ? "siconos" : "scaled";
+    const char *name = frix_option_choice_name(FRIX_OPT_ERROR_MEASURE, m);
+    return name ? name : "unknown";
 }
 
 static double info_double(const frix_info *info, frix_info_key key) {
