@@ -37,7 +37,7 @@ static inline double frix_test_error_of(const frix_problem *p, const double *r, 
 }
 #endif
 
-static int frix_run_suite(Suite *s) {
+static inline int frix_run_suite(Suite *s) {
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);
     int failed = srunner_ntests_failed(sr);

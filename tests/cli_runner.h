@@ -79,4 +79,28 @@ static inline void run_free(cli_run *r) {
     free(r->err);
 }
 
+/* A valid Siconos .dat local problem of nc contacts, W = I stored dense: 9 nc^2 numbers (tens
+ * of MB), slow to read, trivial to solve. */
+static inline void frix_test_write_slow_dat(const char *path, int nc) {
+    FILE *f = fopen(path, "wb");
+    ck_assert_msg(f != NULL, "cannot write %s", path);
+    const int n = 3 * nc;
+    fprintf(f, "3 %d\n0 %d %d\n%d %d\n", nc, n, n, n, n);
+    char *col = malloc(2 * (size_t)n);
+    ck_assert_ptr_nonnull(col);
+    for (int i = 0; i < n; ++i) col[2 * i] = '0', col[2 * i + 1] = ' ';
+    col[2 * n - 1] = '\n';
+    for (int j = 0; j < n; ++j) {
+        col[2 * j] = '1';
+        ck_assert_int_eq(fwrite(col, 1, 2 * (size_t)n, f), 2 * (size_t)n);
+        col[2 * j] = '0';
+    }
+    free(col);
+    for (int a = 0; a < nc; ++a) fputs("-1 0 0 ", f);
+    fputs("\n", f);
+    for (int a = 0; a < nc; ++a) fputs("0.5 ", f);
+    fputs("\n", f);
+    ck_assert_int_eq(fclose(f), 0);
+}
+
 #endif

@@ -634,36 +634,12 @@ static double slow_read_now(void) {
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-/* A valid Siconos .dat local problem of nc contacts, W = I stored dense: 9 nc^2 numbers (tens
- * of MB), slow to read, trivial to solve. */
-static void write_slow_read_dat(int nc) {
-    FILE *f = fopen(SLOW_DAT, "wb");
-    ck_assert_ptr_nonnull(f);
-    const int n = 3 * nc;
-    fprintf(f, "3 %d\n0 %d %d\n%d %d\n", nc, n, n, n, n);
-    char *col = malloc(2 * (size_t)n);
-    ck_assert_ptr_nonnull(col);
-    for (int i = 0; i < n; ++i) col[2 * i] = '0', col[2 * i + 1] = ' ';
-    col[2 * n - 1] = '\n';
-    for (int j = 0; j < n; ++j) {
-        col[2 * j] = '1';
-        ck_assert_int_eq(fwrite(col, 1, 2 * (size_t)n, f), 2 * (size_t)n);
-        col[2 * j] = '0';
-    }
-    free(col);
-    for (int a = 0; a < nc; ++a) fputs("-1 0 0 ", f);
-    fputs("\n", f);
-    for (int a = 0; a < nc; ++a) fputs("0.5 ", f);
-    fputs("\n", f);
-    ck_assert_int_eq(fclose(f), 0);
-}
-
 /* Writes SLOW_DAT and returns how long `frix info` takes to read it here (the machine's speed
  * decides: the file grows until the read takes at least 0.25 s, or nc 1500). */
 static double make_slow_read_dat(void) {
     double seconds = 0;
     for (int nc = 1000; nc <= 1500; nc += 500) {
-        write_slow_read_dat(nc);
+        frix_test_write_slow_dat(SLOW_DAT, nc);
         const char *info[] = {"info", SLOW_DAT, NULL};
         const double t0 = slow_read_now();
         cli_run r = run_cli(info);
@@ -755,7 +731,7 @@ START_TEST(test_out_of_memory_message) {
 #if defined(__SANITIZE_ADDRESS__)
     return; /* AddressSanitizer reserves terabytes of address space: no limit can be set */
 #else
-    write_slow_read_dat(1000); /* its dense W takes 72 MB while it is read */
+    frix_test_write_slow_dat(SLOW_DAT, 1000); /* its dense W takes 72 MB while it is read */
     const char *args[] = {"solve", SLOW_DAT, NULL};
     const char *limited[] = {"solve", SLOW_DAT, "--time-limit", "60", NULL};
     /* The smallest limit, in 32 MB steps, under which frix starts at all: too small for the

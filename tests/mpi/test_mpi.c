@@ -17,14 +17,12 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "../check_main.h"
 #include "elastic_grid.h"
 
 /* The distributed solves are compared with the serial ones on Siconos's measure, the default
- * these cases were written on: the distributed global forms do not yet weight the default
- * measure as the serial ones do (a rigid part by W_aa, a global one not at all). */
-static void pin_siconos_measure(frix_options *o) {
-    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_ERROR_MEASURE, FRIX_MEASURE_RELATIVE), FRIX_OK);
-}
+ * these cases were written on (frix_test_siconos_measure): the distributed global forms do not
+ * yet weight the default measure as the serial ones do (a global one not at all). */
 
 /* frix_problem_error on Siconos's measure. */
 static frix_error siconos_error(const frix_problem *p, const double *r, const double *v, double *error) {
@@ -67,7 +65,7 @@ static frix_problem *shared_problem(const char *relative) {
 static frix_options *nsgs_options(double tol) {
     frix_options *o = NULL;
     ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS, &o), FRIX_OK);
-    pin_siconos_measure(o);
+    frix_test_siconos_measure(o);
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, tol), FRIX_OK);
     return o;
 }
@@ -617,7 +615,7 @@ static int newton_case(MPI_Comm comm, const frix_problem *p, double tol, int use
     MPI_Comm_rank(comm, &rank);
     MPI_Comm_size(comm, &size);
     ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSN_AC, &o), FRIX_OK);
-    pin_siconos_measure(o);
+    frix_test_siconos_measure(o);
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, tol), FRIX_OK);
     if (use_parts) {
         frix_mpi_context *ctx = NULL;
@@ -691,7 +689,7 @@ static void global_outcome_free(global_outcome *o) {
 static frix_options *gnsn_options(double tol) {
     frix_options *o = NULL;
     ck_assert_int_eq(frix_options_create(FRIX_SOLVER_GLOBAL_NSN_AC, &o), FRIX_OK);
-    pin_siconos_measure(o);
+    frix_test_siconos_measure(o);
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, tol), FRIX_OK);
     return o;
 }
@@ -968,7 +966,7 @@ START_TEST(the_hosts_petsc_objects) {
     ck_assert_int_eq(frix_mpi_solve(from_rows, o, r2, u2, NULL), FRIX_OK);
     ok = memcmp(r1, r2, sizeof r1) == 0 && memcmp(u1, u2, sizeof u1) == 0;
     ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSN_AC, &newton), FRIX_OK);
-    pin_siconos_measure(newton);
+    frix_test_siconos_measure(newton);
     memset(r1, 0, sizeof r1);
     ok = ok && frix_mpi_solve(from_petsc, newton, r1, u1, NULL) == FRIX_OK;
     frix_mpi_problem_free(from_petsc);
@@ -1136,7 +1134,7 @@ START_TEST(refusals_and_stops_reach_every_rank) {
         ck_assert_int_eq(frix_options_set_int(drift, FRIX_OPT_DRIFT_WINDOW, 10), FRIX_OK);
         ok = ok && frix_mpi_solve(part, drift, r, u, NULL) == FRIX_ERR_UNSUPPORTED;
         ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &other), FRIX_OK);
-        pin_siconos_measure(other);
+        frix_test_siconos_measure(other);
         ok = ok && frix_mpi_solve(part, other, r, u, NULL) == FRIX_ERR_UNSUPPORTED;
         ok = ok && frix_mpi_solve(part, o, g_rank == last ? NULL : r, u, NULL) == FRIX_ERR_INVALID_ARGUMENT;
         ok = ok && frix_mpi_problem_get_int(part, (frix_mpi_key)99, &v) == FRIX_ERR_INVALID_ARGUMENT;
