@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 
 #include "info.hpp"
 #include "linalg/linalg.hpp"
@@ -21,8 +22,15 @@ class Monitor {
 
     // The error the solve must reach (option tolerance, on the solve's error measure) and its
     // iteration limit (option max_iter): read here, so that every solver stops on the same rule.
-    double tolerance() const { return o_.d(FRIX_OPT_TOLERANCE); }
-    int64_t max_iterations() const { return o_.i(FRIX_OPT_MAX_ITER); }
+    double tolerance() const { return std::isnan(tol_) ? o_.d(FRIX_OPT_TOLERANCE) : tol_; }
+    int64_t max_iterations() const { return max_iter_ < 0 ? o_.i(FRIX_OPT_MAX_ITER) : max_iter_; }
+    // A run inside a solve (an inner solve, a stage) stops on its own tolerance and
+    // iteration limit instead of the options'; the time limit and the callback stay.
+    Monitor &with_limits(double tol, int64_t max_iter) {
+        tol_ = tol;
+        max_iter_ = max_iter;
+        return *this;
+    }
     bool out_of_iterations(int64_t done) const { return done >= max_iterations(); }
 
     // The time limit (option time_limit > 0) is reached.
@@ -82,6 +90,29 @@ class Monitor {
         return o_.callback && o_.callback(o_.callback_data, iteration, error, clock_.seconds()) != 0;
     }
 
+    // Whether a flag raised on this process is raised anywhere: none (the default) on one
+    // process; the distributed solvers pass an OR over ranks, so that every rank decides alike.
+    using Agree = std::function<bool(bool)>;
+
+    // The one place a run's status is decided (the convergence test of PETSc's SNES). After
+    // iteration `it` (the caller's count, against max_iterations()) whose error is `error` (on
+    // the measure the tolerance is on): CONVERGED (error <= tolerance()), DIVERGED (error not
+    // finite), then limits(); FRIX_STATUS_NOT_RUN to go on. r: as for report().
+    frix_status verdict(int64_t it, double error, const double *r = nullptr, const Agree &agree = nullptr) const {
+        if (error <= tolerance()) return FRIX_STATUS_CONVERGED;
+        if (!std::isfinite(error)) return FRIX_STATUS_DIVERGED;
+        return limits(it, error, r, agree);
+    }
+    // The same without the error test, for an iteration whose error is only an estimate the
+    // solver confirms apart: STOPPED_BY_CALLBACK (report() with `estimate`: the callback, or a
+    // runaway), TIME_LIMIT, MAX_ITER, in that order; FRIX_STATUS_NOT_RUN to go on.
+    frix_status limits(int64_t it, double estimate, const double *r = nullptr, const Agree &agree = nullptr) const {
+        if (agreed(report(it, estimate, r), agree)) return FRIX_STATUS_STOPPED_BY_CALLBACK;
+        if (agreed(out_of_time(), agree)) return FRIX_STATUS_TIME_LIMIT;
+        if (out_of_iterations(it)) return FRIX_STATUS_MAX_ITER;
+        return FRIX_STATUS_NOT_RUN;
+    }
+
     // The factorisations of a solve: set into info, or added to what it already counts.
     static void record_factorizations(frix_info &info, const linalg::FactorStats &fs) {
         info.factorizations = fs.numeric;
@@ -106,6 +137,7 @@ class Monitor {
     }
 
    private:
+    static bool agreed(bool flag, const Agree &agree) { return agree ? agree(flag) : flag; }
     // A first factorisation is priced at a share of a dense LU's rate: CHOLMOD's flop count
     // is exact and its supernodes run dense kernels, at about the dense rate (a smaller share
     // refused factorisations that fitted); UMFPACK's is an upper bound that overstates the
@@ -124,6 +156,8 @@ class Monitor {
     const frix_options &o_;
     const Stopwatch &clock_;
     const SolveContext *ctx_ = nullptr;
+    double tol_ = NAN;
+    int64_t max_iter_ = -1;
 };
 
 }  // namespace frix
