@@ -1,7 +1,7 @@
 /* A deformable body, posed in the global form only: an nx x ny x nz grid of nodes (3 velocity
  * dofs each, unit spacing) joined to their 6 neighbours by springs, one implicit step of size
- * h = 0.01 with unit nodal masses and spring stiffness k (1e4 in docs/auto.md's figures; 1e8
- * makes M ill-conditioned) as in an FEM code:
+ * h = 0.01 with unit nodal masses and spring stiffness k (1e4 in the figures of
+ * notes/2026-11-26-fem-hosts.md; 1e8 makes M ill-conditioned) as in an FEM code:
  *
  *   M = I + h^2 k L   (L the grid's graph Laplacian, for each direction),
  *   f = M v_prev + h F_ext,   v_prev = (0.5, 0.1, -1) at every node, F_ext gravity,
@@ -11,7 +11,8 @@
  * node a lies gap x (a pseudo-random number in [0, 1)) above it and w_T = gap (0.2 (i - nx/2),
  * 0.1 (j - ny/2)) (a shearing plane), so that nodes stick, slide and separate.
  * M^-1 couples every node of a direction, so W = H^T M^-1 H would be dense: 3 (nx ny)^2
- * entries; `frix_scene elastic-grid` writes such problems, docs/auto.md uses them.
+ * entries; `frix_scene elastic-grid` writes such problems, the global campaign of
+ * docs/reports/benchmarks.md uses them.
  * Uses the public frix API only. */
 #ifndef FRIX_ELASTIC_GRID_H
 #define FRIX_ELASTIC_GRID_H

@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# The scaling benchmark of docs/benchmarks.md: piles of the granular client from about 10^3 to
+# The scaling benchmark of docs/reports/benchmarks.md: piles of the granular client from about 10^3 to
 # 10^6 contacts (tools/bench/granular_scale_set.sh), time to 1e-4 and 1e-6 for auto and nsgs
 # (through W), gnsgs (without W), each of auto and gnsgs on 1 and 2 threads, and Siconos 4.4's
 # GFC3D_NSGS_WR and GFC3D_ADMM as far as they finish; then the log-log plot of time against
 # contacts with each solver's fitted slope (tools/bench/scaling_plot.py), spliced between the
-# scaling markers of docs/benchmarks.md, the plot and runs.csv copied to docs/benchmarks/scaling/.
+# scaling markers of docs/reports/benchmarks.md (after a line naming this tool and the day), the
+# plot and runs.csv copied to docs/reports/benchmarks/scaling/.
 #
 #   tools/bench/granular_scaling.sh [BUILD_DIR]      (from the repository root; default: build)
 #
@@ -26,6 +27,7 @@ for tol in $tols; do
         --max-iter 1000000000 --out "$work/$tol" --no-plots -q
     runs+=("$work/$tol/runs.csv")
 done
-mkdir -p docs/benchmarks/scaling
-for tol in $tols; do cp "$work/$tol/runs.csv" "docs/benchmarks/scaling/runs-$tol.csv"; done
-/usr/bin/python3 "$here/scaling_plot.py" docs/benchmarks/scaling docs/benchmarks.md "${runs[@]}"
+figures=docs/reports/benchmarks/scaling
+mkdir -p "$figures"
+for tol in $tols; do cp "$work/$tol/runs.csv" "$figures/runs-$tol.csv"; done
+/usr/bin/python3 "$here/scaling_plot.py" "$figures" docs/reports/benchmarks.md "${runs[@]}"

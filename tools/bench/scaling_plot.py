@@ -7,9 +7,10 @@ Each runs.csv is one campaign (one tolerance) of `frix bench` over piles of the 
 client. Writes OUT_DIR/scaling.png and .svg: solve time against contacts, log-log, one panel
 per tolerance, each solver's converged runs with the slope of a least-squares line through
 them in the legend. Splices a table per tolerance (time or status per pile, and the slope)
-between the scaling markers of BENCHMARKS_MD.
+between the scaling markers of BENCHMARKS_MD, after a line naming the tool and the day (UTC).
 """
 import csv
+import datetime
 import math
 import os
 import sys
@@ -100,7 +101,9 @@ def main():
     campaigns = [campaign(read(p)) for p in csvs]
     os.makedirs(out_dir, exist_ok=True)
     plot(out_dir, campaigns)
-    body = "".join(table(*c) for c in campaigns)
+    day = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d")
+    body = f"\nGenerated on {day} by `tools/bench/granular_scaling.sh`.\n"
+    body += "".join(table(*c) for c in campaigns)
     text = open(md_path).read()
     if BEGIN not in text or END not in text:
         sys.exit(f"scaling_plot.py: {md_path} has no {BEGIN} ... {END} markers")
