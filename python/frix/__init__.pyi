@@ -1,4 +1,5 @@
-"""Type stubs of the frix package (see __init__.py for the docstrings)."""
+"""Type stubs of the frix package (the modules have the docstrings; python/tests/test_stubs.py
+checks every signature here against the package)."""
 import enum
 import os
 from typing import Any, Callable, Dict, List, NamedTuple, Optional, Tuple, Union

@@ -22,10 +22,16 @@ c_int64_p = POINTER(c_int64)
 PROGRESS_FN = ctypes.CFUNCTYPE(c_int, c_void_p, c_int64, c_double, c_double)
 
 
+# The functions declared below, which python/tests/test_headers.py (CTest's
+# python_prototypes_match_headers) checks against the headers' prototypes.
+DECLARED = []
+
+
 def _declare(name, restype, *argtypes):
     fn = getattr(lib, name)
     fn.restype = restype
     fn.argtypes = list(argtypes)
+    DECLARED.append(name)
 
 
 _declare("frix_version_string", c_char_p)
@@ -100,7 +106,6 @@ _declare("frix_info_stage_note", c_char_p, c_void_p, c_int64)
 # The solves take the arrays' addresses as plain pointers: building typed ctypes pointers
 # would cost more than a one-contact solve.
 _declare("frix_solve", c_int, c_void_p, c_void_p, c_void_p, c_void_p, c_void_p, c_void_p)
-_declare("frix_problem_check_existence", c_int, c_void_p, c_double, c_void_p)
 
 _declare("frix_persistent_create", c_int, c_void_p, c_void_p, POINTER(c_void_p))
 _declare("frix_persistent_free", None, c_void_p)

@@ -1,0 +1,250 @@
+"""Problems: frix.Problem (local or global, from numpy or scipy, or read from a file), load and
+load_solution."""
+import ctypes
+import threading
+
+import numpy as np
+
+from . import _constants as C
+from ._convert import _c_string, _contacts_of, _matrix, _pattern_of, _ptr, _vector
+from ._handle import _Closing
+from ._lib import lib, text
+from .errors import DimensionError, InvalidArgumentError, _check, _refusal
+
+
+def _vector_property(attr, getter, size, doc):
+    """One of a problem's vectors: the array it was given (attr), else a read-only copy of the
+    library's (getter) of `size` entries."""
+    def get(self):
+        given = getattr(self, attr)
+        return given if given is not None else self._copy_of(getter, getattr(self, size))
+    return property(get, doc=doc)
+
+
+class Problem(_Closing):
+    """A local problem, Problem(W, q, mu): u = W r + q with W of 3nc x 3nc (a numpy array or
+    any scipy.sparse matrix or array), q of 3nc and mu of nc entries. A global one:
+    Problem.from_global(M, H, f, w, mu). Read from a file: frix.load(path).
+
+    q, mu (and f, w) are borrowed, not copied, when they are float64 and contiguous: the
+    problem keeps them alive and reads them at every solve, so a time-stepping script may
+    change them in place between solves. W, M and H are copied into the library's storage.
+    """
+
+    def __init__(self, W, q, mu):
+        self._init_state()
+        mu_a = np.asarray(mu)
+        self._matrices.append(_matrix(W, "W"))
+        nc = _contacts_of(lib.frix_matrix_rows(self._matrices[0]), mu_a)
+        self._q = _vector(q, 3 * nc, "q")
+        self._mu = _vector(mu_a, nc, "mu")
+        self._pattern = _pattern_of(W)
+        handle = ctypes.c_void_p()
+        _check(lib.frix_problem_local(self._matrices[0], _ptr(self._q), _ptr(self._mu), nc,
+                                      ctypes.byref(handle)))
+        self._handle = handle.value
+
+    @classmethod
+    def from_global(cls, M, H, f, w, mu):
+        """A global problem: M v = H r + f, u = H^T v + w (M: n x n, H: n x 3nc, f: n, w: 3nc,
+        mu: nc)."""
+        self = cls.__new__(cls)
+        self._init_state()
+        mu_a = np.asarray(mu)
+        self._matrices.append(_matrix(M, "M"))
+        self._matrices.append(_matrix(H, "H"))
+        n = lib.frix_matrix_rows(self._matrices[0])
+        nc = _contacts_of(lib.frix_matrix_cols(self._matrices[1]), mu_a)
+        self._f = _vector(f, n, "f")
+        self._w = _vector(w, 3 * nc, "w")
+        self._mu = _vector(mu_a, nc, "mu")
+        handle = ctypes.c_void_p()
+        _check(lib.frix_problem_global(self._matrices[0], self._matrices[1], _ptr(self._f),
+                                       _ptr(self._w), _ptr(self._mu), nc, ctypes.byref(handle)))
+        self._handle = handle.value
+        return self
+
+    @classmethod
+    def _owning(cls, handle):
+        """A problem that owns its data (read from a file)."""
+        self = cls.__new__(cls)
+        self._init_state()
+        self._handle = handle
+        return self
+
+    def _init_state(self):
+        self._handle = None
+        self._matrices = []
+        self._q = self._mu = self._f = self._w = None
+        self._pattern = None
+        # Solves in progress and open Solvers read the problem: it is freed only without them.
+        self._users = 0
+        self._users_lock = threading.Lock()
+        self._close_pending = False
+
+    def _use(self):
+        """The handle, for a solve or a Solver that reads the problem until _release()."""
+        with self._users_lock:
+            handle = self._live()
+            self._users += 1
+        return handle
+
+    def _release(self):
+        with self._users_lock:
+            self._users -= 1
+            free = self._close_pending and self._users == 0
+        if free:
+            self._free()
+
+    def close(self):
+        """Frees the library's problem now (also done when the object is collected). Refused
+        while a solve of it runs or a frix.Solver made from it is open."""
+        with self._users_lock:
+            if self._users > 0:
+                raise _refusal(InvalidArgumentError,
+                               "frix: the problem is in use (a solve, or an open Solver)")
+        self._free()
+
+    def _free(self):
+        if self._handle:
+            lib.frix_problem_free(self._handle)
+            self._handle = None
+        for m in self._matrices:
+            lib.frix_matrix_free(m)
+        self._matrices = []
+
+    def __del__(self):
+        if not hasattr(self, "_users_lock"):
+            return
+        if self._users > 0:
+            self._close_pending = True  # (a collected cycle): freed by its last user
+        else:
+            self._free()
+
+    def _live(self):
+        if not self._handle:
+            raise _refusal(InvalidArgumentError, "frix: the problem was closed")
+        return self._handle
+
+    @property
+    def kind(self):
+        """'local' or 'global'."""
+        return "local" if lib.frix_problem_get_kind(self._live()) == C.FRIX_PROBLEM_LOCAL else "global"
+
+    @property
+    def contacts(self):
+        """Number of contacts nc."""
+        return lib.frix_problem_contacts(self._live())
+
+    @property
+    def contact_dofs(self):
+        """Size of r and u: 3 nc."""
+        return lib.frix_problem_contact_dofs(self._live())
+
+    @property
+    def dofs(self):
+        """Size of v: n for a global problem, 0 for a local one."""
+        return lib.frix_problem_dofs(self._live())
+
+    @property
+    def title(self):
+        """The problem's free-text title (FCLIB files carry one)."""
+        return text(lib.frix_problem_title(self._live()))
+
+    @title.setter
+    def title(self, value):
+        _check(lib.frix_problem_set_title(self._live(), _c_string(value, "the title")))
+
+    def _copy_of(self, getter, n):
+        """A read-only copy of one of the library's vectors (None where the kind has none)."""
+        p = getter(self._live())
+        if not p:
+            return None
+        a = np.ctypeslib.as_array(p, shape=(n,)).copy() if n else np.zeros(0)
+        a.flags.writeable = False
+        return a
+
+    q = _vector_property("_q", lib.frix_problem_q, "contact_dofs",
+                         "q (local problems): the array given, or a read-only copy of the library's.")
+    mu = _vector_property("_mu", lib.frix_problem_mu, "contacts", "mu, one per contact.")
+    f = _vector_property("_f", lib.frix_problem_f, "dofs", "f (global problems).")
+    w = _vector_property("_w", lib.frix_problem_w, "contact_dofs", "w (global problems).")
+
+    def _sparse(self, getter):
+        import scipy.sparse as sp
+        m = getter(self._live())
+        if not m:
+            return None
+        nnz = ctypes.c_int64(0)
+        _check(lib.frix_matrix_to_csc(m, ctypes.byref(nnz), None, None, None))
+        cols = lib.frix_matrix_cols(m)
+        colptr = np.zeros(cols + 1, dtype=np.int64)
+        rowind = np.zeros(max(nnz.value, 1), dtype=np.int64)
+        values = np.zeros(max(nnz.value, 1))
+        _check(lib.frix_matrix_to_csc(m, ctypes.byref(nnz), _ptr(colptr, ctypes.c_int64),
+                                      _ptr(rowind, ctypes.c_int64), _ptr(values)))
+        return sp.csc_matrix((values[:nnz.value], rowind[:nnz.value], colptr),
+                             shape=(lib.frix_matrix_rows(m), cols))
+
+    @property
+    def W(self):
+        """W as a scipy.sparse CSC matrix (a copy; local problems)."""
+        return self._sparse(lib.frix_problem_W)
+
+    @property
+    def M(self):
+        """M as a scipy.sparse CSC matrix (a copy; global problems)."""
+        return self._sparse(lib.frix_problem_M)
+
+    @property
+    def H(self):
+        """H as a scipy.sparse CSC matrix (a copy; global problems)."""
+        return self._sparse(lib.frix_problem_H)
+
+    def save(self, path, solution=None):
+        """Writes the problem to a new FCLIB file at path, with a solution when given (a
+        Result, or anything with r, u and, for a global problem, v)."""
+        r = u = v = None
+        if solution is not None:
+            m = self.contact_dofs
+            r = _vector(solution.r, m, "solution.r")
+            u = _vector(solution.u, m, "solution.u")
+            if self.kind == "global" and getattr(solution, "v", None) is not None:
+                v = _vector(solution.v, self.dofs, "solution.v")
+        _check(lib.frix_fclib_write(_c_string(path, "the path"), self._live(), _ptr(r), _ptr(u), _ptr(v),
+                                    0, None, None, None))
+
+    def __repr__(self):
+        if not self._handle:
+            return "<frix.Problem (closed)>"
+        extra = f", {self.dofs} dofs" if self.kind == "global" else ""
+        return f"<frix.Problem {self.kind}, {self.contacts} contacts{extra}>"
+
+
+def load(path):
+    """Reads a problem from an FCLIB file (.hdf5, local or global) or a Siconos .dat file."""
+    handle = ctypes.c_void_p()
+    _check(lib.frix_read_problem(_c_string(path, "the path"), ctypes.byref(handle)))
+    return Problem._owning(handle.value)
+
+
+def load_solution(path, problem):
+    """The solution stored in an FCLIB file (as `problem.save(path, solution=...)` or `frix solve
+    --output` writes it): (r, u, v), v None for a local problem."""
+    r, u, v = _start(problem, None)
+    _check(lib.frix_fclib_read_solution(_c_string(path, "the path"), problem._live(), _ptr(r), _ptr(u),
+                                        _ptr(v)))
+    return r, u, v
+
+
+def _start(problem, r0):
+    """The arrays of a solve of problem: r from r0 (copied; 0 when None), u, and v for a
+    global problem (None for a local one)."""
+    m, n = problem.contact_dofs, problem.dofs
+    r = np.zeros(m) if r0 is None else np.array(r0, dtype=np.float64, copy=True).reshape(-1)
+    if r.shape[0] != m:
+        raise _refusal(DimensionError, f"frix: r0 has {r.shape[0]} entries, expected {m}")
+    u = np.zeros(m)
+    v = np.zeros(n) if problem.kind == "global" else None
+    return r, u, v
+

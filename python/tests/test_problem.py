@@ -1,0 +1,82 @@
+"""Problems: every input format, vectors borrowed or converted, FCLIB files, and handles that
+are not copied."""
+import warnings
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+import frix
+
+
+def test_every_input_format_gives_the_same_r(two_contacts):
+    W, q, mu = two_contacts
+    reference = frix.solve(frix.Problem(W, q, mu), solver="nsgs", tol=1e-12).r
+    inputs = [np.asfortranarray(W)]
+    for fmt in ("csr", "csc", "coo", "bsr"):
+        inputs.append(sp.csr_matrix(W).asformat(fmt))
+        inputs.append(sp.csr_array(W).asformat(fmt))
+    inputs.append(sp.dia_matrix(W))
+    for A in inputs:
+        res = frix.solve(frix.Problem(A, q, mu), solver="nsgs", tol=1e-12)
+        assert res.converged, type(A)
+        np.testing.assert_allclose(res.r, reference, rtol=0, atol=1e-12, err_msg=str(type(A)))
+
+
+def test_vectors_borrowed_without_copy_and_converted_with_a_warning(two_contacts):
+    W, q, mu = two_contacts
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # float64 contiguous: no conversion, no warning
+        p = frix.Problem(sp.csr_matrix(W), q, mu)
+    assert p.q is q and p.mu is mu
+    assert np.shares_memory(p.q, q)
+    # Changed in place, the problem sees the new q at the next solve.
+    before = frix.solve(p, solver="nsgs", tol=1e-12).r.copy()
+    q[0] = -2.0
+    after = frix.solve(p, solver="nsgs", tol=1e-12).r
+    assert not np.allclose(before, after)
+    # Other dtypes are converted once, with a warning.
+    with pytest.warns(frix.ConversionWarning):
+        p32 = frix.Problem(W, q.astype(np.float32), mu)
+    assert p32.q.dtype == np.float64 and not np.shares_memory(p32.q, q)
+    # Index arrays of int32 give the same problem.
+    A32 = sp.csr_matrix(W)
+    A32.indices = A32.indices.astype(np.int32)
+    A32.indptr = A32.indptr.astype(np.int32)
+    np.testing.assert_array_equal(frix.Problem(A32, q, mu).W.toarray(), frix.Problem(W, q, mu).W.toarray())
+
+
+def test_no_conversion_warning_for_empty_arrays():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        p = frix.Problem(np.zeros((0, 0)), np.zeros(0), np.zeros(0))  # a contact-free step
+        res = frix.solve(p)
+        assert res.converged and res.r.shape == (0,)
+        g = frix.Problem.from_global(np.eye(2), np.zeros((2, 0)), np.ones(2), np.zeros(0),
+                                     np.zeros(0))
+        assert frix.solve(g).converged
+
+
+def test_fclib_round_trip(tmp_path, fclib):
+    p = frix.load(fclib / "converted" / "Confeti-ex03-Fc3D-SBM.from_dat.hdf5")
+    res = frix.solve(p, tol=1e-10)
+    out = tmp_path / "confeti.hdf5"
+    p.save(out, solution=res)
+    back = frix.load(out)
+    assert back.contacts == p.contacts and back.kind == "local"
+    np.testing.assert_array_equal(back.q, p.q)
+    np.testing.assert_array_equal(back.mu, p.mu)
+    assert (back.W != p.W).nnz == 0
+    np.testing.assert_array_equal(frix.solve(back, tol=1e-10).r, res.r)
+
+
+def test_handles_are_not_copied(two_contacts):
+    import copy
+    import pickle
+    p = frix.Problem(*two_contacts)
+    res = frix.solve(p)
+    for obj in (p, res, frix.Solver(p)):
+        with pytest.raises(TypeError):
+            copy.copy(obj)
+        with pytest.raises(TypeError):
+            pickle.dumps(obj)
