@@ -74,7 +74,7 @@ const int64_t kLocalSolvers[] = {FRIX_LOCAL_PROJECTION, FRIX_LOCAL_PROJECTION_IT
                                  FRIX_LOCAL_HYBRID, 0};
 
 // The Newton solvers PROX may run inside.
-const int64_t kInnerSolvers[] = {504, 513, 520, 0};
+const int64_t kInnerSolvers[] = {FRIX_SOLVER_NSN_AC, FRIX_SOLVER_NSN_FB, FRIX_SOLVER_NSN_NM, 0};
 
 // Common defaults: the tolerance our users ask for (FCLIB comparisons use 1e-8), and
 // limits that a solver's entry may override.

@@ -1,5 +1,5 @@
-/* Shared by the tests that run the `frix` executable (FRIX_CLI) in a child process, and that
- * read whole files. Include after the system headers (needs _POSIX_C_SOURCE). */
+/* Shared by the tests that run the `frix` executable (FRIX_CLI) in a child process. Include
+ * after the system headers (needs _POSIX_C_SOURCE). */
 #ifndef FRIX_CLI_RUNNER_H
 #define FRIX_CLI_RUNNER_H
 
@@ -10,29 +10,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "files.h"
+
 typedef struct {
     int code; /* exit code, or 128 + signal */
     char *out, *err;
 } cli_run;
-
-static inline char *slurp(const char *path) {
-    FILE *f = fopen(path, "rb");
-    ck_assert_msg(f != NULL, "cannot open %s", path);
-    size_t cap = 4096, len = 0, n;
-    char *buf = malloc(cap);
-    ck_assert_ptr_nonnull(buf);
-    while ((n = fread(buf + len, 1, cap - len - 1, f)) > 0) {
-        len += n;
-        if (cap - len < 2) {
-            cap *= 2;
-            buf = realloc(buf, cap);
-            ck_assert_ptr_nonnull(buf);
-        }
-    }
-    buf[len] = '\0';
-    fclose(f);
-    return buf;
-}
 
 /* Runs `program` with the NULL-terminated arguments; stdout and stderr go through files
  * (no pipe can fill up and block the child). */
@@ -64,8 +47,8 @@ static inline cli_run run_program(const char *program, const char *const *args) 
     ck_assert_int_eq(waitpid(pid, &status, 0), pid);
     cli_run r;
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = slurp(out_path);
-    r.err = slurp(err_path);
+    r.out = slurp(out_path, NULL);
+    r.err = slurp(err_path, NULL);
     unlink(out_path);
     unlink(err_path);
     return r;

@@ -1,4 +1,4 @@
-/* Bad input, beyond the cases of test_fclib, test_problem, test_matrix and test_options:
+/* Bad input, beyond the cases of test_fclib_*, test_problem, test_matrix and test_options:
  * FCLIB files truncated at many lengths and corrupted at many places (local and global,
  * with solutions and guesses), global files with a dataset missing, wrong sizes or non-finite
  * values, NaN/Inf through every matrix constructor, enormous declared sizes (allocation must
@@ -50,27 +50,6 @@ static const char *tmp_path(const char *name) {
     char *out = buf[next++ % 8];
     snprintf(out, sizeof buf[0], "%s/bad_%s", FRIX_TEST_TMPDIR, name);
     return out;
-}
-
-static char *slurp_bytes(const char *path, long *size) {
-    FILE *f = fopen(path, "rb");
-    ck_assert_msg(f != NULL, "cannot open %s", path);
-    fseek(f, 0, SEEK_END);
-    *size = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *data = malloc((size_t)*size + 1);
-    ck_assert_ptr_nonnull(data);
-    ck_assert_int_eq(fread(data, 1, (size_t)*size, f), (size_t)*size);
-    data[*size] = '\0';
-    fclose(f);
-    return data;
-}
-
-static void spit(const char *path, const char *data, long size) {
-    FILE *f = fopen(path, "wb");
-    ck_assert_msg(f != NULL, "cannot create %s", path);
-    ck_assert_int_eq(fwrite(data, 1, (size_t)size, f), (size_t)size);
-    fclose(f);
 }
 
 /* A deterministic generator (no rand(): the same inputs every run). */
@@ -155,7 +134,7 @@ START_TEST(test_truncated_files) {
         const char *good = tmp_path(global ? "good_global.hdf5" : "good_local.hdf5");
         write_scene_file(good, global);
         long size = 0;
-        char *data = slurp_bytes(good, &size);
+        char *data = slurp(good, &size);
         const char *cut = tmp_path("truncated.hdf5");
         int refused = 0, n = 0;
         for (long len = 0; len < size; len += len < 64 ? 8 : 1 + size / 97) {
@@ -179,7 +158,7 @@ START_TEST(test_corrupted_files) {
         const char *good = tmp_path(global ? "good_global.hdf5" : "good_local.hdf5");
         write_scene_file(good, global);
         long size = 0;
-        char *data = slurp_bytes(good, &size);
+        char *data = slurp(good, &size);
         char *bad = malloc((size_t)size);
         const char *path = tmp_path("corrupted.hdf5");
         int n = 0, refused = 0, io = 0, format = 0;
@@ -265,7 +244,7 @@ START_TEST(test_global_file_defects) {
     const char *good = tmp_path("defect_base.hdf5"), *path = tmp_path("defect.hdf5");
     write_scene_file(good, 1);
     long size = 0;
-    char *data = slurp_bytes(good, &size);
+    char *data = slurp(good, &size);
     frix_problem *base = NULL;
     ck_assert_int_eq(frix_fclib_read(good, &base), FRIX_OK);
     const int64_t n = frix_problem_dofs(base), m = frix_problem_contact_dofs(base), nc = m / 3;
@@ -695,11 +674,11 @@ START_TEST(test_cli_bad_input) {
     write_scene_file(good, 0);
     write_scene_file(global, 1);
     long size = 0;
-    char *data = slurp_bytes(good, &size);
+    char *data = slurp(good, &size);
     const char *cut = tmp_path("cli_truncated.hdf5"), *nanmu = tmp_path("cli_nanmu.hdf5");
     spit(cut, data, size / 3);
     long gsize = 0;
-    char *gdata = slurp_bytes(global, &gsize);
+    char *gdata = slurp(global, &gsize);
     spit(nanmu, gdata, gsize);
     double mus[8] = {0.5, NAN, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5};
     replace_doubles(nanmu, "/fclib_global/vectors/mu", mus, 8);
@@ -722,7 +701,7 @@ START_TEST(test_cli_bad_input) {
         const char *a4[] = {"solve", bad_files[i], "--output", target, NULL};
         expect_cli_refusal(a4, bad_files[i]);
         long after_size = 0;
-        char *after = slurp_bytes(target, &after_size);
+        char *after = slurp(target, &after_size);
         ck_assert_int_eq(after_size, size);
         ck_assert(memcmp(after, data, (size_t)size) == 0);
         free(after);

@@ -22,13 +22,6 @@
 
 /* ---- Files and processes ------------------------------------------------------------- */
 
-static void write_text(const char *path, const char *text) {
-    FILE *f = fopen(path, "wb");
-    ck_assert_msg(f != NULL, "cannot write %s", path);
-    fputs(text, f);
-    fclose(f);
-}
-
 static int exists(const char *path) {
     struct stat st;
     return stat(path, &st) == 0;
@@ -106,7 +99,7 @@ typedef struct {
 } csv;
 
 static csv *csv_read(const char *path) {
-    char *text = slurp(path);
+    char *text = slurp(path, NULL);
     csv *c = calloc(1, sizeof *c);
     ck_assert_ptr_nonnull(c);
     char buf[4096];
@@ -187,7 +180,7 @@ START_TEST(test_csv_files) {
                           "--time-limit", "5", "--out", TMP "/csv/out", "--no-plots", NULL};
     ck_assert_int_eq(cli_exit_code(args), 0);
 
-    char *raw = slurp(TMP "/csv/out/runs.csv");
+    char *raw = slurp(TMP "/csv/out/runs.csv", NULL);
     const char *header = "problem,family,contacts,dofs,solver,status,iterations,error,time,";
     ck_assert_msg(strncmp(raw, header, strlen(header)) == 0, "header: %.120s", raw);
     ck_assert_msg(strstr(raw, "\n\"odd, \"\"name\"\".hdf5\",other,2,6,nsgs,converged,") != NULL,
@@ -224,7 +217,7 @@ START_TEST(test_csv_files) {
 
     ck_assert(exists(TMP "/csv/out/profile.csv"));
     ck_assert(exists(TMP "/csv/out/work_precision.csv"));
-    char *md = slurp(TMP "/csv/out/summary.md");
+    char *md = slurp(TMP "/csv/out/summary.md", NULL);
     ck_assert_msg(strstr(md, "| nsgs | 1/1 |") != NULL, "summary: %s", md);
     ck_assert_msg(strstr(md, "peak memory per contact (kB)") != NULL, "summary: %s", md);
     free(md);
@@ -341,10 +334,10 @@ static const char kBestRuns[] =
 
 START_TEST(test_best_per_problem) {
     fresh_dir(TMP "/best");
-    write_text(TMP "/best/runs.csv", kBestRuns);
+    spit_text(TMP "/best/runs.csv", kBestRuns);
     const char *args[] = {"bench", "--report", TMP "/best", "--no-plots", NULL};
     ck_assert_int_eq(cli_exit_code(args), 0);
-    char *md = slurp(TMP "/best/summary.md");
+    char *md = slurp(TMP "/best/summary.md", NULL);
     const char *rows[] = {"| P1 | 7 | 2 | nsgs 1 | 2.00 | siconos:NSGS 8 | 0.25 |",
                           "| P2 | 9 | 4 | admm 2 | 2.00 | none | - |",
                           "| P3 | 11 | unsolved | nsgs 3 | - | none | - |",
@@ -361,8 +354,8 @@ END_TEST
 
 START_TEST(test_profile_known_values) {
     fresh_dir(TMP "/profile");
-    write_text(TMP "/profile/runs.csv", kRuns);
-    write_text(TMP "/profile/traces.csv", kTraces);
+    spit_text(TMP "/profile/runs.csv", kRuns);
+    spit_text(TMP "/profile/traces.csv", kTraces);
     const char *args[] = {"bench", "--report", TMP "/profile", "--no-plots", NULL};
     ck_assert_int_eq(cli_exit_code(args), 0);
 
@@ -406,7 +399,7 @@ START_TEST(test_profile_known_values) {
     ck_assert_str_eq(csv_get(w, r, "reached"), "3");
     csv_free(w);
 
-    char *md = slurp(TMP "/profile/summary.md");
+    char *md = slurp(TMP "/profile/summary.md", NULL);
     ck_assert_msg(strstr(md, "| A | 2/4 | 1 | 0 | 1 |") != NULL, "summary: %s", md);
     ck_assert_msg(strstr(md, "| B | 2/4 | 1 | 1 | 0 |") != NULL, "summary: %s", md);
     ck_assert_msg(strstr(md, "Solved by no solver: P,4.") != NULL, "summary: %s", md);
@@ -446,7 +439,7 @@ START_TEST(test_isolation) {
     ck_assert_str_eq(csv_get(runs, b, "status"), "crash(SIGABRT)");
     ck_assert_str_eq(csv_get(runs, c, "status"), "converged");
     csv_free(runs);
-    char *md = slurp(TMP "/iso/out/summary.md");
+    char *md = slurp(TMP "/iso/out/summary.md", NULL);
     ck_assert_msg(strstr(md, "| nsgs | 1/3 | 1/3 | 1/3 | 1 | 1 | 0 |") != NULL, "summary: %s", md);
     free(md);
 }
@@ -485,7 +478,7 @@ START_TEST(test_siconos_comparator) {
     ck_assert_double_le(atof(csv_get(runs, r, "error")), 1e-10); /* frix's measure of Siconos's r */
     ck_assert_int_gt(csv_find(runs, "solver", "siconos:NSN_AC", "status", "converged"), 0);
     csv_free(runs);
-    char *md = slurp(TMP "/sic/out/summary.md");
+    char *md = slurp(TMP "/sic/out/summary.md", NULL);
     ck_assert_msg(strstr(md, "| 500 | nsgs | 1 | siconos:NSGS | 1 | 1 |") != NULL, "summary: %s", md);
     free(md);
 
@@ -562,26 +555,11 @@ START_TEST(test_bad_file_costs_its_row) {
     fresh_dir(TMP "/bad/problems");
     make_problem(TMP "/bad/problems/a-good.hdf5");
     /* A truncated copy of a good file, and a .dat with a NUL byte: both refused by the reader. */
-    char *good = NULL;
-    {
-        FILE *f = fopen(TMP "/bad/problems/a-good.hdf5", "rb");
-        ck_assert_ptr_nonnull(f);
-        fseek(f, 0, SEEK_END);
-        long size = ftell(f);
-        fseek(f, 0, SEEK_SET);
-        good = malloc((size_t)size);
-        ck_assert_int_eq(fread(good, 1, (size_t)size, f), (size_t)size);
-        fclose(f);
-        FILE *t = fopen(TMP "/bad/problems/b-truncated.hdf5", "wb");
-        ck_assert_ptr_nonnull(t);
-        fwrite(good, 1, (size_t)size / 2, t);
-        fclose(t);
-        free(good);
-    }
-    FILE *d = fopen(TMP "/bad/nul.dat", "wb");
-    ck_assert_ptr_nonnull(d);
-    fwrite("3 1\n0 3 3\n3 3\n1 0\0 0", 1, 20, d);
-    fclose(d);
+    long size = 0;
+    char *good = slurp(TMP "/bad/problems/a-good.hdf5", &size);
+    spit(TMP "/bad/problems/b-truncated.hdf5", good, size / 2);
+    free(good);
+    spit(TMP "/bad/nul.dat", "3 1\n0 3 3\n3 3\n1 0\0 0", 20);
     const char *args[] = {"bench", TMP "/bad/problems", TMP "/bad/nul.dat", "--solvers", "nsgs", "--time-limit", "10",
                           "--out", TMP "/bad/out", "--no-plots", NULL};
     cli_run r = run_cli(args);
@@ -608,7 +586,7 @@ START_TEST(test_bad_file_costs_its_row) {
                   "note: %s", csv_get(runs, n, "note"));
     csv_free(runs);
     /* Left out of the tables: the one good problem is all there is to solve. */
-    char *md = slurp(TMP "/bad/out/summary.md");
+    char *md = slurp(TMP "/bad/out/summary.md", NULL);
     ck_assert_msg(strstr(md, "| nsgs | 1/1 |") != NULL, "summary: %s", md);
     ck_assert_msg(strstr(md, "Left out, as no run could read them: b-truncated.hdf5") != NULL, "summary: %s", md);
     free(md);

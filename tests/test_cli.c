@@ -141,12 +141,7 @@ static void make_tiny_problem(void) {
     frix_matrix_free(W);
 }
 
-static void make_text_file(void) {
-    FILE *f = fopen(TEXT_FILE, "w");
-    ck_assert_ptr_nonnull(f);
-    fputs("this is not an HDF5 file\n", f);
-    fclose(f);
-}
+static void make_text_file(void) { spit_text(TEXT_FILE, "this is not an HDF5 file\n"); }
 
 /* Reads back a file written by `frix solve --output` and returns the error of its
  * solution, recomputed by the library from the stored problem and r (and v). */
@@ -721,7 +716,7 @@ static int run_with_address_limit(const char *const *args, double bytes, char **
     }
     int status = 0;
     ck_assert_int_eq(waitpid(pid, &status, 0), pid);
-    *err = slurp(err_path);
+    *err = slurp(err_path, NULL);
     unlink(err_path);
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }

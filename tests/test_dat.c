@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "check_main.h"
+#include "files.h"
 
 #define DAT_DIR FRIX_SHARED_DIR "/fclib/dat"
 #define CONVERTED_DIR FRIX_SHARED_DIR "/fclib/converted"
@@ -28,13 +29,6 @@ static const char *tmp_path(const char *name) {
     char *out = buf[next++ % 4];
     snprintf(out, sizeof buf[0], "%s/dat_%s", FRIX_TEST_TMPDIR, name);
     return out;
-}
-
-static void write_text(const char *path, const char *text) {
-    FILE *f = fopen(path, "w");
-    ck_assert_ptr_nonnull(f);
-    fputs(text, f);
-    fclose(f);
 }
 
 /* Dense column-major copy of a matrix (explicit zeros and stored zeros alike are 0). */
@@ -248,7 +242,7 @@ END_TEST
 /* The layout by hand: a global problem with a sparse-block M of unequal blocks and a dense H. */
 START_TEST(small_files_by_hand) {
     const char *local = tmp_path("local.dat");
-    write_text(local, "3 1\n0 3 3\n3 3\n2 0 0  1 3 0  0 0 4\n-1 0 0\n0.5\n");
+    spit_text(local, "3 1\n0 3 3\n3 3\n2 0 0  1 3 0  0 0 4\n-1 0 0\n0.5\n");
     frix_problem *p = NULL;
     ck_assert_int_eq(frix_read_problem(local, &p), FRIX_OK);
     double W[9];
@@ -258,7 +252,7 @@ START_TEST(small_files_by_hand) {
     frix_problem_free(p);
 
     const char *global = tmp_path("global.dat");
-    write_text(global,
+    spit_text(global,
                "3 1\n"
                "1 4 4  2 2 2  1 4  1 4  3 2  0 1 2  0 1\n"      /* M: 1x1 and 3x3 blocks */
                "0  5\n"                                          /* block 0 */
@@ -281,7 +275,7 @@ END_TEST
 
 static void expect_error(const char *name, const char *text, frix_error code, const char *needle) {
     const char *path = tmp_path(name);
-    write_text(path, text);
+    spit_text(path, text);
     frix_problem *p = (frix_problem *)0x1;
     frix_error err = frix_read_problem(path, &p);
     const char *msg = frix_last_error_message();

@@ -435,21 +435,21 @@ typedef struct {
 /* Each solver of the issue on problems it solves to 1e-8 in well under a second (0.1 s at
  * most: the suite also runs under valgrind). */
 static const fclib_case kFclibCases[] = {
-    {506, "converted/Rover4613.from_dat.hdf5"},
-    {506, "local/LMGC_100_PR_PerioBox-i00361-60-03000.hdf5"},
-    {507, "converted/NESpheres_10_1.from_dat.hdf5"},
-    {507, "converted/Confeti-ex03-Fc3D-SBM.from_dat.hdf5"},
-    {508, "converted/GFC3D_TwoRods1.from_dat.hdf5"},
-    {508, "converted/Box_Stacks-i0035-31-0.reduced.hdf5"},
-    {503, "converted/OneObject-i100000-316.from_dat.hdf5"},
-    {503, "local/LMGC_100_PR_PerioBox-i00361-60-03000.hdf5"},
-    {516, "converted/Capsules-i101-404.from_dat.hdf5"},
-    {516, "converted/OneObject-i1028-138.from_dat.hdf5"},
-    {523, "local/local_problem_test.hdf5"},
-    {523, "converted/OneObject-i100000-316.from_dat.hdf5"},
-    {523, "converted/Confeti-ex03-Fc3D-SBM.from_dat.hdf5"},
-    {501, "local/Capsules-i125-1213.hdf5"},
-    {501, "converted/Rover1040.from_dat.hdf5"},
+    {FRIX_SOLVER_VI_FPP, "converted/Rover4613.from_dat.hdf5"},
+    {FRIX_SOLVER_VI_FPP, "local/LMGC_100_PR_PerioBox-i00361-60-03000.hdf5"},
+    {FRIX_SOLVER_VI_EG, "converted/NESpheres_10_1.from_dat.hdf5"},
+    {FRIX_SOLVER_VI_EG, "converted/Confeti-ex03-Fc3D-SBM.from_dat.hdf5"},
+    {FRIX_SOLVER_HP, "converted/GFC3D_TwoRods1.from_dat.hdf5"},
+    {FRIX_SOLVER_HP, "converted/Box_Stacks-i0035-31-0.reduced.hdf5"},
+    {FRIX_SOLVER_TFP, "converted/OneObject-i100000-316.from_dat.hdf5"},
+    {FRIX_SOLVER_TFP, "local/LMGC_100_PR_PerioBox-i00361-60-03000.hdf5"},
+    {FRIX_SOLVER_ACLM, "converted/Capsules-i101-404.from_dat.hdf5"},
+    {FRIX_SOLVER_ACLM, "converted/OneObject-i1028-138.from_dat.hdf5"},
+    {FRIX_SOLVER_ADMM, "local/local_problem_test.hdf5"},
+    {FRIX_SOLVER_ADMM, "converted/OneObject-i100000-316.from_dat.hdf5"},
+    {FRIX_SOLVER_ADMM, "converted/Confeti-ex03-Fc3D-SBM.from_dat.hdf5"},
+    {FRIX_SOLVER_NSGS_VELOCITY, "local/Capsules-i125-1213.hdf5"},
+    {FRIX_SOLVER_NSGS_VELOCITY, "converted/Rover1040.from_dat.hdf5"},
 };
 #define N_FCLIB_CASES ((int)(sizeof kFclibCases / sizeof kFclibCases[0]))
 
@@ -478,12 +478,12 @@ START_TEST(nsgs_variants) {
     if (!p) return;
     const int64_t m = frix_problem_contact_dofs(p);
     double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u);
-    frix_options *o = options_for(500, 1e-8);
+    frix_options *o = options_for(FRIX_SOLVER_NSGS, 1e-8);
     const outcome plain = run(p, o, r, u);
     ck_assert_int_eq(plain.status, FRIX_STATUS_CONVERGED);
     frix_options_free(o);
 
-    o = options_for(501, 1e-8);
+    o = options_for(FRIX_SOLVER_NSGS_VELOCITY, 1e-8);
     ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_FREEZING, 0), FRIX_OK);
     memset(r, 0, (size_t)m * sizeof *r);
     const outcome velocity = run(p, o, r, u);
@@ -498,7 +498,7 @@ START_TEST(nsgs_variants) {
     ck_assert(frozen.error <= 1e-8);
     frix_options_free(o);
 
-    o = options_for(500, 1e-8);
+    o = options_for(FRIX_SOLVER_NSGS, 1e-8);
     ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_FREEZING, 10), FRIX_OK);
     ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_ERROR_FREQUENCY, 5), FRIX_OK);
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_RELAXATION, 1.2), FRIX_OK);
@@ -528,13 +528,13 @@ START_TEST(first_order_options) {
         frix_option_key key[2];
         double value[2];
     } settings[] = {
-        {506, {FRIX_OPT_RHO_ADAPTIVE, FRIX_OPT_RHO}, {0, 0.5}},
-        {507, {FRIX_OPT_RHO_ADAPTIVE, FRIX_OPT_RHO}, {0, 0.3}},
-        {508, {FRIX_OPT_RHO, (frix_option_key)0}, {2.0, 0}},
-        {523, {FRIX_OPT_ACCELERATION, (frix_option_key)0}, {0, 0}},
-        {523, {FRIX_OPT_RHO_ADAPTIVE, FRIX_OPT_RHO}, {0, 0.1}},
-        {503, {FRIX_OPT_INNER_MAX_ITER, (frix_option_key)0}, {5, 0}},
-        {516, {FRIX_OPT_INNER_TOLERANCE_RATIO, FRIX_OPT_LOCAL_MAX_ITER}, {0.5, 5}},
+        {FRIX_SOLVER_VI_FPP, {FRIX_OPT_RHO_ADAPTIVE, FRIX_OPT_RHO}, {0, 0.5}},
+        {FRIX_SOLVER_VI_EG, {FRIX_OPT_RHO_ADAPTIVE, FRIX_OPT_RHO}, {0, 0.3}},
+        {FRIX_SOLVER_HP, {FRIX_OPT_RHO, (frix_option_key)0}, {2.0, 0}},
+        {FRIX_SOLVER_ADMM, {FRIX_OPT_ACCELERATION, (frix_option_key)0}, {0, 0}},
+        {FRIX_SOLVER_ADMM, {FRIX_OPT_RHO_ADAPTIVE, FRIX_OPT_RHO}, {0, 0.1}},
+        {FRIX_SOLVER_TFP, {FRIX_OPT_INNER_MAX_ITER, (frix_option_key)0}, {5, 0}},
+        {FRIX_SOLVER_ACLM, {FRIX_OPT_INNER_TOLERANCE_RATIO, FRIX_OPT_LOCAL_MAX_ITER}, {0.5, 5}},
     };
     for (size_t k = 0; k < sizeof settings / sizeof settings[0]; ++k) {
         frix_options *o = options_for(settings[k].id, 1e-8);
@@ -554,7 +554,7 @@ START_TEST(first_order_options) {
         frix_options_free(o);
     }
     /* Keys a solver does not read are refused. */
-    frix_options *o = options_for(506, 1e-8);
+    frix_options *o = options_for(FRIX_SOLVER_VI_FPP, 1e-8);
     ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_ACCELERATION, 0), FRIX_ERR_UNKNOWN_OPTION);
     ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_RHO_ADAPTIVE, 2), FRIX_ERR_OPTION_RANGE);
     frix_options_free(o);
@@ -574,7 +574,7 @@ START_TEST(admm_per_contact_penalty) {
     if (!scaled_problem_load(&sp, "converted/OneObject-i100000-316.from_dat.hdf5", 2.0)) return;
     const int64_t m = frix_problem_contact_dofs(sp.p);
     double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u);
-    frix_options *o = options_for(523, 1e-8);
+    frix_options *o = options_for(FRIX_SOLVER_ADMM, 1e-8);
     ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 3000), FRIX_OK);
     const outcome one = run(sp.p, o, r, u);
     ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_RHO_STRATEGY, FRIX_RHO_SPECTRAL), FRIX_OK);
@@ -586,8 +586,8 @@ START_TEST(admm_per_contact_penalty) {
                   "one penalty: %s, %g after %lld iterations", frix_status_string(one.status), one.error,
                   (long long)one.iterations);
     /* rho_strategy 0 is the default: the same iterates as without the key. */
-    frix_options *d = options_for(523, 1e-8);
-    frix_options *c = options_for(523, 1e-8);
+    frix_options *d = options_for(FRIX_SOLVER_ADMM, 1e-8);
+    frix_options *c = options_for(FRIX_SOLVER_ADMM, 1e-8);
     ck_assert_int_eq(frix_options_set_int(c, FRIX_OPT_RHO_STRATEGY, FRIX_RHO_CONSTANT), FRIX_OK);
     memset(r, 0, (size_t)m * sizeof *r);
     const outcome by_default = run(sp.original, d, r, u);
@@ -611,9 +611,19 @@ START_TEST(names_and_ids) {
     const struct {
         const char *name;
         int id;
-    } names[] = {{"nsgs-v", 501}, {"tfp", 503}, {"vi-fpp", 506}, {"vi-eg", 507}, {"hp", 508},
-                 {"aclm", 516},   {"admm", 523}, {"FRICTION_3D_VI_FPP", 506}, {"FC3D_ACLMFP", 516},
-                 {"SICONOS_FRICTION_3D_ADMM", 523}, {"FC3D_NSGSV", 501}, {"FC3D_TFP", 503}, {"FC3D_HP", 508}};
+    } names[] = {{"nsgs-v", FRIX_SOLVER_NSGS_VELOCITY},
+                 {"tfp", FRIX_SOLVER_TFP},
+                 {"vi-fpp", FRIX_SOLVER_VI_FPP},
+                 {"vi-eg", FRIX_SOLVER_VI_EG},
+                 {"hp", FRIX_SOLVER_HP},
+                 {"aclm", FRIX_SOLVER_ACLM},
+                 {"admm", FRIX_SOLVER_ADMM},
+                 {"FRICTION_3D_VI_FPP", FRIX_SOLVER_VI_FPP},
+                 {"FC3D_ACLMFP", FRIX_SOLVER_ACLM},
+                 {"SICONOS_FRICTION_3D_ADMM", FRIX_SOLVER_ADMM},
+                 {"FC3D_NSGSV", FRIX_SOLVER_NSGS_VELOCITY},
+                 {"FC3D_TFP", FRIX_SOLVER_TFP},
+                 {"FC3D_HP", FRIX_SOLVER_HP}};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k) {
         int id = 0;
         ck_assert_msg(frix_solver_by_name(names[k].name, &id) == FRIX_OK, "%s", names[k].name);

@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "check_main.h"
+#include "files.h"
 
 static const char *tmp_path(const char *name) {
     static char buf[8][1024];
@@ -410,10 +411,7 @@ END_TEST
 
 static const char *write_dat(const char *name, const char *text, size_t size) {
     const char *path = tmp_path(name);
-    FILE *f = fopen(path, "wb");
-    ck_assert(f != NULL);
-    ck_assert_int_eq(fwrite(text, 1, size, f), size);
-    fclose(f);
+    spit(path, text, (long)size);
     return path;
 }
 

@@ -440,8 +440,8 @@ START_TEST(newton_options) {
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_PROX_ALPHA, 1.0), FRIX_ERR_UNKNOWN_OPTION);
     frix_options_free(o);
     ck_assert_int_eq(frix_options_create(FRIX_SOLVER_PROX, &o), FRIX_OK);
-    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_INNER_SOLVER, 513), FRIX_OK);
-    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_INNER_SOLVER, 500), FRIX_ERR_OPTION_RANGE);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_INNER_SOLVER, FRIX_SOLVER_NSN_FB), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_INNER_SOLVER, FRIX_SOLVER_NSGS), FRIX_ERR_OPTION_RANGE);
     frix_options_free(o);
     int id = 0;
     ck_assert_int_eq(frix_solver_by_name("FC3D_NSN_AC", &id), FRIX_OK);
@@ -517,7 +517,8 @@ START_TEST(nsgs_hybrid_as_robust_as_projection) {
         frix_options *o = NULL;
         ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS, &o), FRIX_OK);
         frix_test_siconos_measure(o);
-        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_LOCAL_SOLVER, k == 0 ? 553 : 565), FRIX_OK);
+        const frix_local_solver local = k == 0 ? FRIX_LOCAL_PROJECTION_ITERATED : FRIX_LOCAL_HYBRID;
+        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_LOCAL_SOLVER, local), FRIX_OK);
         double *r = calloc((size_t)frix_problem_contact_dofs(p) + 1, sizeof *r);
         frix_info *info = solve(p, o, r);
         ck_assert_msg(frix_info_status(info) == FRIX_STATUS_CONVERGED, "%s with %d: %s", file,

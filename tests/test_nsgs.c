@@ -15,7 +15,7 @@
 
 static frix_options *nsgs_options(double tol) {
     frix_options *o = NULL;
-    ck_assert_int_eq(frix_options_create(500, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS, &o), FRIX_OK);
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, tol), FRIX_OK);
     return o;
 }
@@ -142,7 +142,7 @@ START_TEST(drift_window_carries_load_transfer_ahead) {
     frix_problem *p = load("converted/RockPile_tob1.from_dat.hdf5");
     if (!p) return;
     frix_options *o = NULL;
-    ck_assert_int_eq(frix_options_create(501, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS_VELOCITY, &o), FRIX_OK);
     ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 1000000), FRIX_OK);
     ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_DRIFT_WINDOW, 1000), FRIX_OK);
     double *r = zeros(p);
@@ -166,7 +166,7 @@ START_TEST(acceleration_cuts_sweeps_on_a_pile) {
     if (!p) return;
     const int64_t m = frix_problem_contact_dofs(p);
     frix_options *o = NULL;
-    ck_assert_int_eq(frix_options_create(501, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS_VELOCITY, &o), FRIX_OK);
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-4), FRIX_OK);
     int64_t is_on = -1;
     ck_assert_int_eq(frix_options_get_int(o, FRIX_OPT_ACCELERATION, &is_on), FRIX_OK);

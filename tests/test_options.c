@@ -85,7 +85,7 @@ START_TEST(test_registry) {
     ck_assert(found);
     ck_assert_int_eq(frix_solver_id_at(-1), -1);
     ck_assert_int_eq(frix_solver_id_at(frix_solver_count()), -1);
-    ck_assert_str_eq(frix_solver_name(500), "nsgs");
+    ck_assert_str_eq(frix_solver_name(FRIX_SOLVER_NSGS), "nsgs");
     ck_assert_ptr_null(frix_solver_name(499));
     const char *names[] = {"nsgs", "NSGS", "FRICTION_3D_NSGS", "fc3d_nsgs", "SICONOS_FRICTION_3D_NSGS", "500"};
     for (int i = 0; i < 6; ++i) {

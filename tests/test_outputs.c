@@ -84,30 +84,9 @@ static void expect_title(const char *path, const char *title) {
     frix_problem_free(p);
 }
 
-static void write_text(const char *path, const char *text) {
-    FILE *f = fopen(path, "w");
-    ck_assert_ptr_nonnull(f);
-    fputs(text, f);
-    fclose(f);
-}
-
-/* The whole file, for byte-for-byte comparisons (any content, NUL bytes included). */
-static char *read_all(const char *path, long *size) {
-    FILE *f = fopen(path, "rb");
-    ck_assert_msg(f != NULL, "cannot open %s", path);
-    ck_assert_int_eq(fseek(f, 0, SEEK_END), 0);
-    *size = ftell(f);
-    rewind(f);
-    char *buf = malloc((size_t)*size + 1);
-    ck_assert_ptr_nonnull(buf);
-    ck_assert_int_eq(fread(buf, 1, (size_t)*size, f), (size_t)*size);
-    fclose(f);
-    return buf;
-}
-
 static void expect_same_bytes(const char *path, const char *before, long before_size) {
     long size = 0;
-    char *now = read_all(path, &size);
+    char *now = slurp(path, &size);
     ck_assert_msg(size == before_size && memcmp(now, before, (size_t)size) == 0,
                   "%s was changed (%ld bytes, was %ld)", path, size, before_size);
     free(now);
@@ -281,7 +260,7 @@ START_TEST(test_write_refuses_read_only) {
     write_problem(ro, "keep");
     ck_assert_int_eq(chmod(ro, 0444), 0);
     long size = 0;
-    char *before = read_all(ro, &size);
+    char *before = slurp(ro, &size);
     expect_write_refused(ro, "read-only");
     expect_same_bytes(ro, before, size);
     struct stat st;
@@ -304,7 +283,7 @@ START_TEST(test_cli_output_is_input) {
     snprintf(in, sizeof in, "%s", in_dir("in.hdf5"));
     write_problem(in, "input");
     long size = 0;
-    char *before = read_all(in, &size);
+    char *before = slurp(in, &size);
     char hard[1200], sym[1200];
     snprintf(hard, sizeof hard, "%s", in_dir("hard.hdf5"));
     snprintf(sym, sizeof sym, "%s", in_dir("sym.hdf5"));
@@ -352,7 +331,7 @@ START_TEST(test_cli_dat_input_kept) {
     char dat[1200];
     snprintf(dat, sizeof dat, "%s", in_dir("p.dat"));
     const char *text = "3 1\n0 3 3\n3 3\n2 0 0  1 3 0  0 0 4\n-1 0 0\n0.5\n";
-    write_text(dat, text);
+    spit_text(dat, text);
     ck_assert_int_eq(symlink("p.dat", in_dir("p.hdf5")), 0);
 
     const char *c1[] = {"convert", dat, dat, NULL};
@@ -430,7 +409,7 @@ START_TEST(test_cli_output_read_only) {
     write_problem(ro, "keep");
     ck_assert_int_eq(chmod(ro, 0444), 0);
     long size = 0;
-    char *before = read_all(ro, &size);
+    char *before = slurp(ro, &size);
     const char *c1[] = {"convert", in, ro, NULL};
     expect_refused(c1, "read-only");
     const char *s1[] = {"solve", in, "--output", ro, NULL};
@@ -512,11 +491,11 @@ START_TEST(test_cli_failed_write_keeps_old_file) {
     char out[1200];
     snprintf(out, sizeof out, "%s", in_dir("out.hdf5"));
     write_problem(in, "input");
-    write_text(out, "the previous output\n");
+    spit_text(out, "the previous output\n");
     long size = 0;
-    char *before = read_all(out, &size);
+    char *before = slurp(out, &size);
     long in_size = 0;
-    free(read_all(in, &in_size));
+    free(slurp(in, &in_size));
     /* ulimit -f 2: 1 KiB or 2 KiB (by the shell's block size), above the CLI's one-line
      * message and below the file it writes (which is in's size). */
     ck_assert_int_gt(in_size, 2048);

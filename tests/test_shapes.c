@@ -429,7 +429,7 @@ START_TEST(test_command_line) {
     expect_cli(bench_args, 0, NULL, s.name);
     char csv_path[700];
     snprintf(csv_path, sizeof csv_path, "%s/runs.csv", dir);
-    char *csv = slurp(csv_path);
+    char *csv = slurp(csv_path, NULL);
     /* One header line and one row per solver, each converged. */
     int rows = 0, converged = 0;
     for (char *line = strchr(csv, '\n'); line && line[1]; line = strchr(line + 1, '\n')) {

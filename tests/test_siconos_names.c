@@ -64,7 +64,7 @@ END_TEST
 
 START_TEST(siconos_local_solver_ids) {
     frix_options *o = NULL;
-    ck_assert_int_eq(frix_options_create(500, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS, &o), FRIX_OK);
     const int ids[] = {552, 553, 562};
     for (size_t k = 0; k < 3; ++k)
         ck_assert_msg(frix_options_set_int(o, FRIX_OPT_LOCAL_SOLVER, ids[k]) == FRIX_OK, "%d: %s",

@@ -65,6 +65,24 @@ void ArgCursor::unknown_option() const {
     usage_error(command_, std::string("unknown option '") + argv_[index_] + "'");
 }
 
+HelpJsonArgs parse_help_json_args(const char *command, int argc, char **argv) {
+    ArgCursor args(command, argc, argv);
+    HelpJsonArgs a;
+    while (!args.done()) {
+        if (args.flag("--help") || args.flag("-h")) {
+            a.help = true;
+            return a;
+        } else if (args.flag("--json")) {
+            a.json = true;
+        } else if (args.at_option()) {
+            args.unknown_option();
+        } else if (!args.done()) {
+            a.positional.push_back(args.positional());
+        }
+    }
+    return a;
+}
+
 namespace {
 
 // The option key a label of `frix solve` names ("--tol", "--max-iter", "--set relaxation"),

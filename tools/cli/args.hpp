@@ -37,6 +37,15 @@ private:
     bool options_ended_ = false;
 };
 
+// The arguments of a command that takes --help (-h), --json and positional arguments only
+// (info, solvers). On --help the rest is not read; an unknown option is a usage error.
+struct HelpJsonArgs {
+    bool help = false;
+    bool json = false;
+    std::vector<std::string> positional;
+};
+HelpJsonArgs parse_help_json_args(const char *command, int argc, char **argv);
+
 // Whole-string conversions; anything else (empty, trailing text, NaN/Inf) is a usage error
 // naming the command and option. For a label that names an option of `frix solve` ("--tol",
 // "--set NAME"), a number beyond the doubles or 64-bit integers is refused with the option's

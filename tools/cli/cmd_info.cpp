@@ -178,24 +178,14 @@ void print_text(const Facts &f) {
 }  // namespace
 
 int cmd_info(int argc, char **argv) {
-    ArgCursor args("info", argc, argv);
-    bool json = false;
-    std::vector<std::string> files;
-    while (!args.done()) {
-        if (args.flag("--help") || args.flag("-h")) {
-            print_info_help(stdout);
-            return kExitConverged;
-        } else if (args.flag("--json")) {
-            json = true;
-        } else if (args.at_option()) {
-            args.unknown_option();
-        } else if (!args.done()) {
-            files.push_back(args.positional());
-        }
+    const HelpJsonArgs args = parse_help_json_args("info", argc, argv);
+    if (args.help) {
+        print_info_help(stdout);
+        return kExitConverged;
     }
-    if (files.size() != 1) usage_error("info", "expected one FILE.hdf5");
-    Facts f = gather(files[0]);
-    if (json)
+    if (args.positional.size() != 1) usage_error("info", "expected one FILE.hdf5");
+    Facts f = gather(args.positional[0]);
+    if (args.json)
         print_json(f);
     else
         print_text(f);

@@ -177,23 +177,13 @@ int describe_one(const std::string &which, bool json) {
 }  // namespace
 
 int cmd_solvers(int argc, char **argv) {
-    ArgCursor args("solvers", argc, argv);
-    bool json = false;
-    std::vector<std::string> names;
-    while (!args.done()) {
-        if (args.flag("--help") || args.flag("-h")) {
-            print_solvers_help(stdout);
-            return kExitConverged;
-        } else if (args.flag("--json")) {
-            json = true;
-        } else if (args.at_option()) {
-            args.unknown_option();
-        } else if (!args.done()) {
-            names.push_back(args.positional());
-        }
+    const HelpJsonArgs args = parse_help_json_args("solvers", argc, argv);
+    if (args.help) {
+        print_solvers_help(stdout);
+        return kExitConverged;
     }
-    if (names.size() > 1) usage_error("solvers", "expected at most one solver name");
-    return names.empty() ? list_all(json) : describe_one(names[0], json);
+    if (args.positional.size() > 1) usage_error("solvers", "expected at most one solver name");
+    return args.positional.empty() ? list_all(args.json) : describe_one(args.positional[0], args.json);
 }
 
 }  // namespace frix_cli
