@@ -99,7 +99,7 @@ const KeySpec kKeys[] = {
     {FRIX_OPT_PROX_ALPHA, "prox_alpha", false, 0.0, 1e300, 0.0},
     {FRIX_OPT_PROX_SIGMA, "prox_sigma", false, 1e-300, 1e300, 5.0},
     {FRIX_OPT_PROX_NU, "prox_nu", false, 1e-3, 10.0, 1.0},
-    {FRIX_OPT_INNER_SOLVER, "inner_solver", true, 504.0, 520.0, 504.0, kInnerSolvers, nullptr, true},
+    {FRIX_OPT_INNER_SOLVER, "inner_solver", true, FRIX_SOLVER_NSN_AC, FRIX_SOLVER_NSN_NM, FRIX_SOLVER_NSN_AC, kInnerSolvers, nullptr, true},
     {FRIX_OPT_FREEZING, "freezing", true, 0.0, 1e6, 0.0},
     {FRIX_OPT_ERROR_FREQUENCY, "error_frequency", true, 1.0, 1e6, 1.0},
     {FRIX_OPT_RHO_ADAPTIVE, "rho_adaptive", true, 0.0, 1.0, 1.0},
