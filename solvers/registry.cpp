@@ -4,7 +4,7 @@
 #include <cstring>
 #include <string>
 
-#include "solvers/auto.hpp"
+#include "solvers/auto/auto.hpp"
 #include "solvers/first_order.hpp"
 #include "solvers/global_newton.hpp"
 #include "solvers/newton.hpp"

@@ -1,9 +1,18 @@
-// The result record: creation and reads by key.
+// The result record: creation, reads by key, and one run's ledger made of several (absorb).
 #include "info.hpp"
 
 #include "error_state.hpp"
+#include "monitor.hpp"
 
 using frix::fail;
+
+void frix_info::absorb(const frix_info &earlier) {
+    frix::Monitor::add_work(*this, earlier);
+    iterations += earlier.iterations;
+    switches += earlier.switches;
+    if (islands == 0) islands = earlier.islands;
+    trace.insert(trace.begin(), earlier.trace.begin(), earlier.trace.end());
+}
 
 extern "C" {
 

@@ -5,12 +5,18 @@
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace frix {
 
 struct TraceEvent;
+// A note's own figures beyond TraceEvent's numbers (auto's analysis): only the recording
+// solver's `format` reads them.
+struct TraceDetail {
+    virtual ~TraceDetail() = default;
+};
 // How a record becomes its line of the trace: the recording solver's own function.
 using TraceFormatter = std::string (*)(const frix_info &info, const TraceEvent &event);
 
@@ -30,14 +36,7 @@ struct TraceEvent {
     int64_t random_starts = 0;    // > 0: the run went from that many random starts
     int64_t iterations = 0;
     double seconds = 0.0, error = 0.0, value = 0.0;  // a note's numbers mean what `format` says
-};
-
-// What a solver's analysis of the problem found (auto's: sizes, ranges, islands).
-struct AnalysisSummary {
-    int64_t contacts = 0, blocks = 0, islands = 0, largest_island = 0, dofs = 0;
-    double diag_min = 0.0, diag_max = 0.0, mu_min = 0.0, mu_max = 0.0, rank_ratio = 0.0;
-    // Global problems: the bound on the entries of W = H^T M^-1 H, and those of M and H.
-    double reduced_entries = 0.0, input_entries = 0.0;
+    std::shared_ptr<const TraceDetail> detail;       // null for most records
 };
 
 // The trace's text (src/trace.cpp): all of it, or one record's line.
@@ -80,8 +79,12 @@ struct frix_info {
     // The Monitor stopped the run because r ran away: the driver reports it as diverged.
     bool ran_away = false;
     double existence_margin = NAN;
-    frix::AnalysisSummary analysis;
     std::vector<frix::TraceEvent> trace;
     mutable std::string trace_text;  // formatted by frix_info_trace
     mutable std::string stage_note;  // formatted by frix_info_stage_note
+
+    // One run made of several: `earlier`'s work comes before this one's. The counters (work,
+    // iterations, switches) add up, the trace reads earlier's records first, and the islands
+    // are earlier's where this run found none. The status and measures stay this run's.
+    void absorb(const frix_info &earlier);
 };

@@ -54,10 +54,8 @@ frix_error tighten_to_global_measure(const frix_problem &p, const frix_problem &
         more.tolerance = tighter.dvalue[FRIX_OPT_TOLERANCE];
         if (frix_error e = solve_local_problem(local, tighter, entry, r, u, more, clock, local_cache, &measures))
             return e;
-        Monitor::add_work(more, info);
-        more.iterations += info.iterations;
-        more.tolerance = info.tolerance;
-        more.trace.insert(more.trace.begin(), info.trace.begin(), info.trace.end());
+        more.absorb(info);
+        more.tolerance = info.tolerance;  // the caller's, not the tightened pass's
         info = std::move(more);
     }
     return FRIX_OK;

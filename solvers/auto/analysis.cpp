@@ -1,5 +1,5 @@
 // Problem analysis and island extraction for the auto solver.
-#include "solvers/auto_analysis.hpp"
+#include "solvers/auto/analysis.hpp"
 
 #include <algorithm>
 #include <cmath>

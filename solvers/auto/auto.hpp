@@ -1,5 +1,5 @@
 // auto (id 900), the default solver: problem analysis, islands and a watched sequence of the
-// other solvers (auto.cpp, auto_analysis.cpp).
+// other solvers (the files of solvers/auto/, auto.cpp first).
 #pragma once
 
 #include "src/solver_api.hpp"

@@ -1,0 +1,87 @@
+// auto (id 900), frix's default solver: one solver that is both robust and fast.
+//
+// No single method wins everywhere (docs/benchmarks.md): NSGS is the fastest on small and
+// well-conditioned problems and stalls on stiff ones; Newton converges in a few steps near a
+// solution and wanders on rank-deficient rigid problems; PROX and ADMM solve nearly
+// everything, slowly. auto therefore
+//   1. analyses the problem (analysis.cpp: sizes, |W_aa| and mu ranges, islands) and solves
+//      each large island as a part of its own, the small ones together, on several threads
+//      when the caller allows them (parts.cpp);
+//   2. runs on each part, from the best iterate so far, NSGS while its rate promises the
+//      tolerance soon, then rounds of Newton, NSGS, ADMM and PROX (the IPM first on large
+//      parts) with budgets that double every round (part.cpp, its constants in policy.hpp,
+//      their prices in pricing.cpp); a watchdog stops a stage that stalls (watchdog.cpp), and
+//      every stage is recorded in the trace (trace.cpp);
+//   3. combines the parts exactly: the whole problem is measured, and the parts are solved
+//      again, tighter, until it meets the tolerance;
+//   4. when it fails, checks whether a solution exists at all and says so.
+// Global problems go through the reduction W = H^T M^-1 H with the same strategy, or a route
+// without W where W would be dense (global_routes.cpp). docs/auto.md describes the strategy
+// for users.
+#include "solvers/auto/auto.hpp"
+
+#include "solvers/auto/routes.hpp"
+#include "solvers/auto/trace.hpp"
+#include "src/existence.hpp"
+
+namespace frix {
+namespace autosolve {
+
+namespace {
+
+// When a solve failed (not stopped by the caller), whether a solution exists at all: within
+// what is left of the caller's time limit, and not once it is spent (frix solve then checks
+// on its own, outside the solve).
+void check_existence_on_failure(SolveContext &ctx) {
+    frix_info &info = ctx.info;
+    if (info.status == FRIX_STATUS_CONVERGED || info.status == FRIX_STATUS_STOPPED_BY_CALLBACK ||
+        !ctx.options.i(FRIX_OPT_EXISTENCE_CHECK))
+        return;
+    const double tl = ctx.options.d(FRIX_OPT_TIME_LIMIT);
+    const double left = tl > 0.0 ? tl - ctx.clock.seconds() : 0.0;
+    if (tl > 0.0 && left <= 0.0) return;
+    double margin = NAN;
+    info.existence = check_existence(ctx.problem, left, &margin);
+    info.existence_margin = margin;
+    info.trace.push_back(trace_event(kExistence));
+}
+
+frix_error solve(SolveContext &ctx) {
+    const bool global = ctx.problem.kind == FRIX_PROBLEM_GLOBAL;
+    if (frix_error e = global ? solve_global(ctx) : solve_local(ctx)) return e;
+    check_existence_on_failure(ctx);
+    return FRIX_OK;
+}
+
+const frix_option_key kExtraKeys[] = {FRIX_OPT_THREADS, (frix_option_key)0};
+const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 1e9}, {(frix_option_key)0, 0.0}};
+
+}  // namespace
+
+#define FRIX_AUTO_DESCRIPTION                                                                       \
+    "The default solver. Analyses the problem (sizes, the ranges of |W_aa| and mu, the islands: "   \
+    "groups of contacts that do not interact, each large one solved as a part of its own, the "    \
+    "small ones together, with threads > 1 at once), then runs on each part NSGS while its "       \
+    "convergence rate promises the tolerance soon, and otherwise rounds of semismooth Newton "     \
+    "(Alart-Curnier; on parts of at most 64 contacts also from seeded random starts), NSGS (one " \
+    "chain over the rounds, steady drifts of r carried ahead), ADMM and PROX (from the best "    \
+    "iterate so far), with budgets that double every round (each at most half of the "           \
+    "iterations left) and a watchdog "                                                            \
+    "stopping any stage that stalls; deterministic (iteration counts, " \
+    "not seconds). Global problems are reduced to W = H^T M^-1 H, with Newton on (v, r) as the "   \
+    "fallback; where a dense W is priced above the route without it (or would overrun the time "  \
+    "or memory limit), gadmm then gnsn-al, which never form W. Every stage is in "                 \
+    "frix_info_trace; on failure an existence check says whether a solution may not exist. "      \
+    "Options: threads, existence_check (and the common ones). See docs/auto.md."
+
+const SolverEntry kAutoReductionEntry = {FRIX_SOLVER_AUTO, "auto", nullptr, FRIX_AUTO_DESCRIPTION,
+                                         solve_local,      true,   false,   kExtraKeys,
+                                         kDefaults};
+
+}  // namespace autosolve
+
+const SolverEntry kAutoEntry = {FRIX_SOLVER_AUTO,          "auto", nullptr, FRIX_AUTO_DESCRIPTION,
+                                autosolve::solve,          true,   true,    autosolve::kExtraKeys,
+                                autosolve::kDefaults};
+
+}  // namespace frix

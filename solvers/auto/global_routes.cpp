@@ -1,0 +1,286 @@
+// auto on a global problem (routes.hpp). The reduction route runs the local strategy on
+// W = H^T M^-1 H and, where the global measure (error and equilibrium) is not met, Newton on
+// (v, r) from its result; the two share the caller's max_iter (the reduction half of it). Where
+// W would be large, rigid bodies first get NSGS without W (gnsgs); where a dense W (a
+// deformable body) is priced above the route without it, or would overrun the time or memory
+// limit, that route goes first (613, then 901; 607 alone where M has no Cholesky factor).
+// Every route keeps one ledger in ctx.info: each run adds its work to the earlier ones'.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "solvers/auto/routes.hpp"
+#include "solvers/auto/stage.hpp"
+#include "solvers/global_newton.hpp"
+#include "solvers/nsgs.hpp"
+#include "src/log.hpp"
+#include "src/reduction.hpp"
+
+namespace frix::autosolve {
+
+namespace {
+
+// A global answer (r, v) set aside while another route runs from elsewhere: the caller gets
+// the better of the two by the global measure (the larger of the error and the equilibrium
+// residual), as auto's local stages keep their best iterate.
+struct GlobalAnswer {
+    std::vector<double> r, v;
+    double error, equilibrium;
+    GlobalAnswer(const SolveContext &ctx, const frix_info &info)
+        : r(ctx.r, ctx.r + 3 * ctx.problem.nc), v(ctx.v, ctx.v + ctx.problem.n), error(info.error),
+          equilibrium(info.equilibrium) {}
+    static double score(double error, double equilibrium) {
+        const double s = std::max(error, equilibrium);
+        return std::isfinite(s) ? s : INFINITY;
+    }
+    // Puts the set-aside (r, v) back, whatever the caller holds.
+    void put_back(SolveContext &ctx) const {
+        std::copy(r.begin(), r.end(), ctx.r);
+        std::copy(v.begin(), v.end(), ctx.v);
+    }
+    // Puts the set-aside answer back where it is better than the one the route left, with its
+    // error and equilibrium (the driver measures the answer returned again in full).
+    void restore_if_better(SolveContext &ctx, frix_info &info) const {
+        if (info.status == FRIX_STATUS_CONVERGED || !(score(error, equilibrium) < score(info.error, info.equilibrium)))
+            return;
+        put_back(ctx);
+        info.error = error;
+        info.equilibrium = equilibrium;
+    }
+};
+
+// The route a global problem takes, from its sizes and (where W would be large) its prices.
+struct RouteChoice {
+    frix_status refused = FRIX_STATUS_NOT_RUN;  // the limit forming W would overrun
+    bool w_free = false;   // the route without W is priced below forming W, and fits
+    bool product = false;  // rigid bodies with a large W: NSGS without W first
+    RoutePrices prices;
+};
+
+RouteChoice choose_route(const SolveContext &ctx, const ReductionSize &size) {
+    const frix_problem &p = ctx.problem;
+    RouteChoice c;
+    if (size.w_entries > kReductionMaxEntries && size.w_entries > kReductionMaxGrowth * size.input_entries) {
+        linalg::FactorPrice price;
+        if (ctx.mass && ctx.mass->congruence_price(*p.H, &price)) {
+            c.refused = Monitor(ctx).affords(price);
+            c.w_free = price_w_free_route(p, price, size.w_blocks, &c.prices) &&
+                       Monitor(ctx).fits_memory(c.prices.without_w_bytes) &&
+                       (c.refused || c.prices.without_w < c.prices.with_w);
+            if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1)
+                log_line(&ctx.options, "auto: forming W priced %.3g flops, the route without W %.3g", c.prices.with_w,
+                         c.prices.without_w);
+        } else if (!reduction_memory(size, Monitor(ctx)).fits) {
+            c.refused = FRIX_STATUS_MEMORY_LIMIT;  // not priced (M factorised by LU): W's blocks against the memory
+        }
+    }
+    // Rigid bodies with a large W: W's entries against M^-1 H's.
+    c.product = !c.w_free && size.largest_component <= nsgs::kMaxRigidBodyDofs &&
+                size.w_entries > kReductionMaxEntries && size.w_entries > size.product_entries;
+    return c;
+}
+
+// The figures of a global problem that auto's records show.
+AnalysisSummary global_figures(const frix_problem &p, const ReductionSize &size) {
+    AnalysisSummary s;
+    s.dofs = p.n;
+    s.contacts = p.nc;
+    s.rank_ratio = p.n > 0 ? 3.0 * (double)p.nc / (double)p.n : 0.0;
+    s.reduced_entries = size.w_entries;
+    s.input_entries = size.input_entries;
+    return s;
+}
+
+class GlobalRoutes {
+   public:
+    GlobalRoutes(SolveContext &ctx, SolveCache *reduction, const AnalysisSummary &figures)
+        : ctx_(ctx), info_(ctx.info), reduction_(reduction), figures_(figures) {}
+
+    frix_error product_then_reduce(int64_t max_iter, bool may_reduce);
+    frix_error reduce_then_newton(int64_t max_iter, int64_t reduction_iter);
+    frix_error without_w(int64_t max_iter, const RouteChoice &choice);
+
+   private:
+    frix_error run(const SolverEntry &entry, int64_t max_iter, Watchdog *dog = nullptr);
+    frix_error reduced_solve(const frix_info &like, int64_t max_iter);
+    frix_error w_free_route(int64_t max_iter);
+    frix_error reduce_after(int64_t left, const GlobalAnswer *from);
+    // Whether a route may go on after a run that did not converge: not stopped, time and
+    // `left` iterations left.
+    bool may_go_on(bool stopped, int64_t left) const {
+        return info_.status != FRIX_STATUS_CONVERGED && !stopped && !Monitor(ctx_).out_of_time() && left > 0;
+    }
+
+    SolveContext &ctx_;
+    frix_info &info_;  // the ledger of the routes run so far
+    SolveCache *reduction_;
+    const AnalysisSummary figures_;
+};
+
+// A solver of global problems (`entry`: 607, 613, 901, gnsgs) from ctx's (r, v), for at most
+// max_iter iterations (and its own limit), on the caller's clock, tolerance, measure and
+// callback (`dog`, when given, watches it and passes the callback on). Its run joins the
+// ledger, its record the trace. Converged is the driver's verdict on the returned (r, v)
+// (error and equilibrium), whatever the solver's own stopping test said.
+frix_error GlobalRoutes::run(const SolverEntry &entry, int64_t max_iter, Watchdog *dog) {
+    const double tol = Monitor(ctx_).tolerance();
+    frix_options o = stage_options(entry, ctx_.options, tol, max_iter, nullptr);
+    if (dog) {
+        o.callback = &Watchdog::callback;
+        o.callback_data = dog;
+    }
+    frix_info run;
+    run.solver_id = info_.solver_id;
+    run.contacts = info_.contacts;
+    run.tolerance = info_.tolerance;
+    const double t0 = ctx_.clock.seconds();
+    if (frix_error e = solve_global_problem(ctx_.problem, o, entry, ctx_.r, ctx_.u, ctx_.v, run, ctx_.clock,
+                                            reduction_, ctx_.mass))
+        return e;
+    if (meets_global_tolerance(run, tol)) run.status = FRIX_STATUS_CONVERGED;
+    TraceEvent stage = trace_event(kStage);
+    stage.solver_id = entry.id;
+    stage.status = run.status;
+    stage.why = dog && dog->stopped_by_watchdog ? dog->why : nullptr;
+    stage.iterations = run.iterations;
+    stage.seconds = ctx_.clock.seconds() - t0;
+    stage.error = run.error;
+    run.absorb(info_);
+    run.trace.push_back(stage);
+    info_ = std::move(run);
+    return FRIX_OK;
+}
+
+// The local strategy on W = H^T M^-1 H for at most max_iter iterations: the ledger becomes its
+// run (`like`'s solver, contacts and tolerance), whose analysis records get the global
+// problem's figures. The reduced problem's own tolerance test is not the global one: the
+// global measure of (r, v) decides, both ways.
+frix_error GlobalRoutes::reduced_solve(const frix_info &like, int64_t max_iter) {
+    frix_options reduction = ctx_.options;
+    reduction.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, max_iter);
+    frix_info reduced;
+    reduced.solver_id = like.solver_id;
+    reduced.contacts = like.contacts;
+    reduced.tolerance = like.tolerance;
+    if (frix_error e = solve_global_problem(ctx_.problem, reduction, kAutoReductionEntry, ctx_.r, ctx_.u, ctx_.v,
+                                            reduced, ctx_.clock, reduction_, ctx_.mass))
+        return e;
+    info_ = std::move(reduced);
+    add_global_figures(info_.trace, figures_);
+    if (meets_global_tolerance(info_, Monitor(ctx_).tolerance())) info_.status = FRIX_STATUS_CONVERGED;
+    return FRIX_OK;
+}
+
+// The reduction route with `reduction_iter` of its `max_iter` iterations, then, where the
+// global measure is not met, Newton on (v, r) (607) from its result with what is left; the
+// better of the two answers is kept. The existence check is the caller's.
+frix_error GlobalRoutes::reduce_then_newton(int64_t max_iter, int64_t reduction_iter) {
+    const frix_info earlier = std::move(info_);
+    if (frix_error e = reduced_solve(earlier, reduction_iter)) return e;
+    const int64_t left = max_iter - info_.iterations;
+    if (may_go_on(info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK, left)) {
+        TraceEvent fallback = trace_event(kGlobalFallback);
+        fallback.status = info_.status;
+        fallback.error = info_.error;
+        fallback.value = info_.equilibrium;
+        fallback.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
+        info_.trace.push_back(fallback);
+        const GlobalAnswer reduced(ctx_, info_);
+        if (frix_error e = run(kGlobalNsnAcEntry, left)) return e;
+        reduced.restore_if_better(ctx_, info_);
+        info_.switches += 1;
+    }
+    info_.absorb(earlier);
+    return FRIX_OK;
+}
+
+// After a route that missed the tolerance: the reduction route with `left` iterations, from
+// `from` (null: from the route's answer), the better of the two answers kept.
+frix_error GlobalRoutes::reduce_after(int64_t left, const GlobalAnswer *from) {
+    const GlobalAnswer answer(ctx_, info_);
+    if (from) from->put_back(ctx_);
+    if (frix_error e = reduce_then_newton(left, left / 2)) return e;
+    answer.restore_if_better(ctx_, info_);
+    info_.switches += 1;
+    return FRIX_OK;
+}
+
+// Rigid bodies whose W would be large and hold more entries than M^-1 H: NSGS without W
+// (gnsgs, the caller's threads) with half the iterations, under the NSGS rate watch from
+// kProductPatience sweeps on; where it misses the tolerance, the reduction route from its
+// answer with what is left (where forming W fits the limits: `may_reduce`).
+frix_error GlobalRoutes::product_then_reduce(int64_t max_iter, bool may_reduce) {
+    Shared shared(ctx_.options, ctx_.clock);
+    Watchdog dog(shared, Watch::Rate, Monitor(ctx_).tolerance(), 0, kProductPatience);
+    if (frix_error e = run(kGlobalNsgsEntry, std::max<int64_t>(1, max_iter / 2), &dog)) return e;
+    const int64_t left = max_iter - info_.iterations;
+    if (!may_reduce || !may_go_on(shared.stop_requested.load(), left)) {
+        if (info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK && dog.stopped_by_watchdog)
+            info_.status = FRIX_STATUS_STAGNATED;
+        return FRIX_OK;
+    }
+    return reduce_after(left, nullptr);
+}
+
+// The route without W: ADMM on (v, r) (613) with at most half of max_iter, then, where it
+// misses the tolerance, the augmented Lagrangian Newton (901) from its result with the rest.
+frix_error GlobalRoutes::w_free_route(int64_t max_iter) {
+    if (frix_error e = run(kGlobalAdmmEntry, std::clamp<int64_t>(max_iter / 2, 1, kWFreeAdmmIterations))) return e;
+    const int64_t left = max_iter - info_.iterations;
+    if (!may_go_on(info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK, left)) return FRIX_OK;
+    const GlobalAnswer admm(ctx_, info_);
+    if (frix_error e = run(kGlobalAlNewtonEntry, std::min(left, kWFreeNewtonSteps))) return e;
+    admm.restore_if_better(ctx_, info_);
+    info_.switches += 1;
+    return FRIX_OK;
+}
+
+// Where W is not formed: the route without it, both stages on M + H S H^T. Where they miss the
+// tolerance (a body so stiff that M's rounding bounds the equilibrium of their answer) and
+// forming W fits the limits, the reduction from the caller's start, not from their answer: on
+// such a body r is far from unique, and the reduction's own path leads where the equilibrium's
+// rounding is smaller relative to H r. Where forming W would overrun a limit and M + H H^T has
+// no Cholesky factor or would not fit either: Newton on (v, r) alone.
+frix_error GlobalRoutes::without_w(int64_t max_iter, const RouteChoice &choice) {
+    TraceEvent direct = summary_event(kGlobalDirect, figures_);
+    direct.status = choice.refused;
+    direct.value = choice.prices.with_w / choice.prices.without_w;
+    direct.solver_id = choice.w_free ? FRIX_SOLVER_GLOBAL_ADMM : FRIX_SOLVER_GLOBAL_NSN_AC;
+    info_.trace.push_back(direct);
+    if (!choice.w_free) return run(kGlobalNsnAcEntry, max_iter);
+    const GlobalAnswer start(ctx_, info_);
+    if (frix_error e = w_free_route(max_iter)) return e;
+    const int64_t left = max_iter - info_.iterations;
+    if (choice.refused || !may_go_on(info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK, left)) return FRIX_OK;
+    TraceEvent after = trace_event(kGlobalReduceAfter);
+    after.status = info_.status;
+    after.error = info_.error;
+    after.value = info_.equilibrium;
+    info_.trace.push_back(after);
+    return reduce_after(left, &start);
+}
+
+}  // namespace
+
+frix_error solve_global(SolveContext &ctx) {
+    const frix_problem &p = ctx.problem;
+    // A persistent solver keeps the driver's states of the reductions below (their own cache,
+    // which follows the versions of the caller's M and H).
+    Kept<KeptAuto> kept(ctx.cache, FRIX_SOLVER_AUTO);
+    kept.keep();
+    SolveCache *reduction = nullptr;
+    if (ctx.cache) {
+        reduction = &kept->reduction;
+        reduction->m_values = ctx.cache->m_values;
+        reduction->h_values = ctx.cache->h_values;
+    }
+    const ReductionSize size = reduction_size(p);
+    const int64_t max_iter = Monitor(ctx).max_iterations();
+    const RouteChoice choice = choose_route(ctx, size);
+    GlobalRoutes routes(ctx, reduction, global_figures(p, size));
+    if (choice.product) return routes.product_then_reduce(max_iter, !choice.refused);
+    if (!choice.refused && !choice.w_free) return routes.reduce_then_newton(max_iter, max_iter / 2);
+    return routes.without_w(max_iter, choice);
+}
+
+}  // namespace frix::autosolve
