@@ -1,6 +1,6 @@
 // auto (id 900), frix's default solver: one solver that is both robust and fast.
 //
-// No single method wins everywhere (docs/benchmarks.md): NSGS is the fastest on small and
+// No single method wins everywhere (docs/reports/benchmarks.md): NSGS is the fastest on small and
 // well-conditioned problems and stalls on stiff ones; Newton converges in a few steps near a
 // solution and wanders on rank-deficient rigid problems; PROX and ADMM solve nearly
 // everything, slowly. auto therefore
