@@ -81,6 +81,15 @@ namespace mpi {
 // with its message (a rank that did not refuse reports where it came from).
 frix_error agree(MPI_Comm comm, frix_error mine, const char *where);
 
+// FRIX_ERR_UNSUPPORTED, naming both releases, unless a handle the host's libfrix made (its
+// header `given`) has the layout of this library's copy (`own`): read by that layout, a
+// record of another release would be corrupt (src/handle_header.hpp). `what` names it.
+frix_error check_release(const HandleHeader &given, const HandleHeader &own, const char *where, const char *what);
+template <class Record>
+frix_error check_release(const Record &handle, const char *where, const char *what) {
+    return check_release(handle.header, header_of<Record>(), where, what);
+}
+
 // Throws Failure (FRIX_ERR_INTERNAL, with MPI's message) unless rc is MPI_SUCCESS: the
 // contexts' communicators return MPI's errors instead of aborting.
 void check(int rc, const char *what);

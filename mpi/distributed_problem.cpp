@@ -344,6 +344,8 @@ FRIX_API frix_error frix_mpi_problem_scatter(frix_mpi_context *ctx, int root, co
         if (!e && is_root) {
             if (!problem)
                 e = fail(FRIX_ERR_INVALID_ARGUMENT, "%s: problem is NULL on the root", where);
+            else if (frix_error other = frix::mpi::check_release(*problem, where, "problem"))
+                e = other;
             else if (frix_error bad = frix::check_problem_vectors(*problem))
                 e = bad;
             else if (problem->kind == FRIX_PROBLEM_GLOBAL)

@@ -93,6 +93,7 @@ frix_error solve(frix_mpi_problem &p, const frix_options &opts, double *r_out, d
 // only rank 0 logs.
 frix_error check_options(const frix_options *given, const frix_mpi_problem &p, frix_options &out) {
     const char *where = "frix_mpi_solve";
+    if (frix_error e = given ? check_release(*given, where, "options") : FRIX_OK) return e;
     if (!given) {
         frix_options *o = nullptr;
         if (frix_error e = frix_options_create(p.global ? FRIX_SOLVER_GLOBAL_NSN_AC : FRIX_SOLVER_NSGS, &o)) return e;
@@ -139,6 +140,7 @@ FRIX_API frix_error frix_mpi_solve(frix_mpi_problem *p, const frix_options *opti
         const MPI_Comm comm = p->ctx->comm;
         frix_options opts;
         frix_error e = frix::mpi::check_options(options, *p, opts);
+        if (!e && info) e = frix::mpi::check_release(*info, "frix_mpi_solve", "info");
         if (!e && p->owned > 0 && (!r || !u))
             e = fail(FRIX_ERR_INVALID_ARGUMENT, "frix_mpi_solve: r and u are required (%lld entries each)",
                      (long long)(3 * p->owned));

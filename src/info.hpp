@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "handle_header.hpp"
+
 namespace frix {
 
 struct TraceEvent;
@@ -46,6 +48,7 @@ std::string format_event(const frix_info &info, const TraceEvent &event);
 }  // namespace frix
 
 struct frix_info {
+    frix::HandleHeader header = frix::header_of<frix_info>();  // first, in every release
     frix_status status = FRIX_STATUS_NOT_RUN;
     int64_t iterations = 0;
     int solver_id = 0;

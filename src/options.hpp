@@ -5,15 +5,21 @@
 
 #include <cstdint>
 
+#include "handle_header.hpp"
+
 namespace frix {
 constexpr int kMaxOptionKey = 32;  // highest frix_option_key value
 struct SolverEntry;
 }
 
 struct frix_options {
+    frix::HandleHeader header = frix::header_of<frix_options>();  // first, in every release
     int solver_id = 0;
     // Slot k holds key k (slot 0 unused); ints are stored in ivalue, doubles in dvalue.
     int64_t ivalue[frix::kMaxOptionKey + 1] = {};
+#ifdef FRIX_TEST_NEXT_RELEASE
+    int64_t next_release_slots[8] = {};  // test only: the longer record of a later release
+#endif
     double dvalue[frix::kMaxOptionKey + 1] = {};
     frix_progress_fn callback = nullptr;
     void *callback_data = nullptr;

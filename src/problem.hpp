@@ -9,9 +9,11 @@
 #include <string>
 #include <vector>
 
+#include "handle_header.hpp"
 #include "matrix.hpp"
 
 struct frix_problem {
+    frix::HandleHeader header = frix::header_of<frix_problem>();  // first, in every release
     frix_problem_kind kind = FRIX_PROBLEM_LOCAL;
     int64_t nc = 0;  // contacts; r and u have 3*nc entries
     int64_t n = 0;   // global: dofs (size of v); local: 0

@@ -64,13 +64,36 @@ if(FRIX_ABIDW AND FRIX_ABIDIFF)
   foreach(d ${FRIX_ABI_HEADERS})
     list(APPEND FRIX_ABIDW_ARGS --headers-dir "${d}")
   endforeach()
+  set(FRIX_ABIDW_OPTIONS ${FRIX_ABIDW_ARGS} --drop-private-types --exported-interfaces-only
+      --type-id-style hash --no-corpus-path --no-comp-dir-path --short-locs)
   add_custom_target(abi-baseline
-    COMMAND ${FRIX_ABIDW} ${FRIX_ABIDW_ARGS} --drop-private-types --exported-interfaces-only
-            --type-id-style hash --no-corpus-path --no-comp-dir-path --short-locs
-            --out-file "${FRIX_ABI_BASELINE}" $<TARGET_FILE:frix>
+    COMMAND ${FRIX_ABIDW} ${FRIX_ABIDW_OPTIONS} --out-file "${FRIX_ABI_BASELINE}" $<TARGET_FILE:frix>
     DEPENDS frix
     COMMENT "Writing the ABI baseline abi/libfrix.so.0.abi"
     VERBATIM)
+  # libfrix_mpi.so against abi/libfrix_mpi.so.0.abi, the same way (the types of frix_mpi.h;
+  # MPI's and PETSc's handles are opaque pointers to it); abi-baseline-mpi regenerates it.
+  # The baseline is Open MPI's (MPI_Comm is a pointer there, an int in MPICH's ABI).
+  if(FRIX_WITH_MPI)
+    include(CheckSymbolExists)
+    set(CMAKE_REQUIRED_INCLUDES ${MPI_C_INCLUDE_DIRS})
+    check_symbol_exists(OPEN_MPI "mpi.h" FRIX_MPI_IS_OPEN_MPI)
+    unset(CMAKE_REQUIRED_INCLUDES)
+  endif()
+  if(FRIX_WITH_MPI AND NOT FRIX_MPI_IS_OPEN_MPI)
+    message(STATUS "MPI is not Open MPI: the abi_check_mpi test (an Open MPI baseline) is left out")
+  elseif(FRIX_WITH_MPI)
+    set(FRIX_ABI_MPI_BASELINE "${PROJECT_SOURCE_DIR}/abi/libfrix_mpi.so.0.abi")
+    add_test(NAME abi_check_mpi
+             COMMAND sh "${CMAKE_CURRENT_SOURCE_DIR}/abi_check.sh" $<TARGET_FILE:frix_mpi>
+                     "${FRIX_ABI_MPI_BASELINE}" "${PROJECT_SOURCE_DIR}/abi/frix.suppr"
+                     "${FRIX_TEST_TMP}/abi_mpi" ${FRIX_ABI_HEADERS})
+    add_custom_target(abi-baseline-mpi
+      COMMAND ${FRIX_ABIDW} ${FRIX_ABIDW_OPTIONS} --out-file "${FRIX_ABI_MPI_BASELINE}" $<TARGET_FILE:frix_mpi>
+      DEPENDS frix_mpi
+      COMMENT "Writing the ABI baseline abi/libfrix_mpi.so.0.abi"
+      VERBATIM)
+  endif()
 else()
   message(STATUS "abidw/abidiff not found (Debian abigail-tools): the abi_check test is left out")
 endif()

@@ -4,8 +4,16 @@
  * (rank of the host's communicator) passes the contacts it owns, a contiguous block of the
  * global numbering, and their block rows of W; the processes then solve together, each
  * receiving the reactions of its own contacts. The serial library (libfrix) is unchanged;
- * options and info are its handles (frix_options_create, frix_info_create, of the same
- * version), and the error and status codes are its own.
+ * options, info and whole problems are its handles (frix_options_create, frix_info_create,
+ * frix_problem_local, ...), and the error and status codes are its own.
+ *
+ * One release. libfrix and libfrix_mpi must come from the same release (the same version,
+ * built from the same source): libfrix_mpi reads libfrix's handles by their internal layout,
+ * which changes between releases. Every call that receives a handle (frix_mpi_solve's options and
+ * info, the problem of frix_mpi_partition, frix_mpi_problem_scatter and
+ * frix_mpi_problem_scatter_global) first checks that it comes from a libfrix of its own
+ * release, and otherwise returns FRIX_ERR_UNSUPPORTED, on every rank, with a message naming
+ * both versions; nothing of the handle is read or written then.
  *
  *   frix_mpi_context *ctx;                    (the host's communicator, duplicated)
  *   frix_mpi_context_create(host_comm, &ctx);
@@ -75,6 +83,8 @@ typedef struct frix_mpi_problem frix_mpi_problem;
 FRIX_API frix_error frix_mpi_context_create(MPI_Comm comm, frix_mpi_context **out);
 /* Frees the duplicate (collective). Free the context's problems first. */
 FRIX_API void frix_mpi_context_free(frix_mpi_context *ctx);
+/* This process's rank in the context's communicator, and the number of its ranks (not
+ * collective); -1 and 0 for a NULL context. */
 FRIX_API int frix_mpi_context_rank(const frix_mpi_context *ctx);
 FRIX_API int frix_mpi_context_size(const frix_mpi_context *ctx);
 
