@@ -296,6 +296,159 @@ frix_error reduce(const frix_problem &g, std::unique_ptr<frix_matrix> &W, std::v
     return FRIX_OK;
 }
 
+// What the root sends: the local problem the ranks get (the one given, or its global one
+// reduced), its contacts in the order of the parts (order[k]: the contact the k-th sent is),
+// and where each rank's run starts (cut: on every rank).
+struct RootProblem {
+    std::vector<int64_t> cut, order;
+    const frix_matrix *W = nullptr;
+    const double *q = nullptr, *mu = nullptr, *scale = nullptr;  // scale: a global problem's w
+    std::unique_ptr<frix_matrix> reduced_W;
+    std::vector<double> reduced_q;
+    int64_t nc = 0;
+};
+
+// On the root: checks the problem, reduces a global one, and orders the contacts by part.
+frix_error prepare_root(const frix_problem *problem, const int *part, int ranks, RootProblem &root,
+                        const char *where) {
+    if (!problem) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: problem is NULL on the root", where);
+    if (frix_error other = check_release(*problem, where, "problem")) return other;
+    if (frix_error bad = check_problem_vectors(*problem)) return bad;
+    const bool global = problem->kind == FRIX_PROBLEM_GLOBAL;
+    if (global) {
+        if (frix_error e = reduce(*problem, root.reduced_W, root.reduced_q, where)) return e;
+    } else if (problem->nc > 0 && !problem->W->block) {
+        return fail(FRIX_ERR_UNSUPPORTED, "%s: W must be stored in 3x3 blocks", where);
+    }
+    root.nc = problem->nc;
+    root.W = global ? root.reduced_W.get() : problem->W;
+    root.q = global ? root.reduced_q.data() : problem->q;
+    root.mu = problem->mu;
+    if (global) root.scale = problem->w;
+    return cut_by_part(part, root.nc, ranks, root.cut, root.order, where);
+}
+
+// The root's rows in the order sent: row lengths, their blocks (columns renumbered and
+// increasing in each row), and the per-contact vectors. Without parts they are the problem's
+// own arrays. Empty on the other ranks.
+struct SentRows {
+    std::vector<int64_t> lengths, block_at;  // block_at: where each row's blocks start
+    std::vector<int64_t> col_store;
+    std::vector<double> val_store, q_store, mu_store, scale_store;
+    const int64_t *cols = nullptr;
+    const double *vals = nullptr, *q = nullptr, *mu = nullptr, *scale = nullptr;
+};
+
+// The rows in the order of the parts, each row's blocks by increasing new column.
+void permute_rows(const RootProblem &root, bool global, SentRows &out) {
+    const frix_matrix *W = root.W;
+    const int64_t nc = root.nc;
+    std::vector<int64_t> position((size_t)nc);
+    for (int64_t k = 0; k < nc; ++k) position[(size_t)root.order[(size_t)k]] = k;
+    out.col_store.reserve(W->block_col.size());
+    out.val_store.reserve(W->block_val.size());
+    out.q_store.resize(3 * (size_t)nc);
+    out.mu_store.resize((size_t)nc);
+    if (global) out.scale_store.resize(3 * (size_t)nc);
+    std::vector<std::pair<int64_t, int64_t>> row;  // (new column, block)
+    for (int64_t k = 0; k < nc; ++k) {
+        const int64_t a = root.order[(size_t)k];
+        row.clear();
+        for (int64_t b = W->row_ptr[(size_t)a]; b < W->row_ptr[(size_t)a + 1]; ++b)
+            row.emplace_back(position[(size_t)W->block_col[(size_t)b]], b);
+        std::sort(row.begin(), row.end());
+        for (const auto &cb : row) {
+            out.col_store.push_back(cb.first);
+            out.val_store.insert(out.val_store.end(), W->block_val.begin() + 9 * cb.second,
+                                 W->block_val.begin() + 9 * cb.second + 9);
+        }
+        std::copy(root.q + 3 * a, root.q + 3 * a + 3, out.q_store.begin() + 3 * k);
+        out.mu_store[(size_t)k] = root.mu[a];
+        if (global) std::copy(root.scale + 3 * a, root.scale + 3 * a + 3, out.scale_store.begin() + 3 * k);
+    }
+    out.cols = out.col_store.data();
+    out.vals = out.val_store.data();
+    out.q = out.q_store.data();
+    out.mu = out.mu_store.data();
+    out.scale = out.scale_store.data();
+}
+
+void rows_to_send(const RootProblem &root, bool permuted, bool global, SentRows &out) {
+    const frix_matrix *W = root.W;
+    const int64_t nc = root.nc;
+    out.q = root.q;
+    out.mu = root.mu;
+    out.scale = root.scale;
+    out.lengths.resize((size_t)nc);
+    for (int64_t k = 0; k < nc; ++k) {
+        const int64_t a = permuted ? root.order[(size_t)k] : k;
+        out.lengths[(size_t)k] = W->row_ptr[(size_t)a + 1] - W->row_ptr[(size_t)a];
+    }
+    if (permuted) {
+        permute_rows(root, global, out);
+    } else if (nc > 0) {
+        out.cols = W->block_col.data();
+        out.vals = W->block_val.data();
+    }
+    out.block_at.assign((size_t)nc + 1, 0);
+    for (int64_t k = 0; k < nc; ++k) out.block_at[(size_t)k + 1] = out.block_at[(size_t)k] + out.lengths[(size_t)k];
+}
+
+// Each rank's share of what is scattered, and where it starts: rows (and per-contact
+// scalars), blocks, block values (9 a block), per-contact vectors (3 a contact).
+struct Shares {
+    std::vector<int> rows, rows_at, blocks, blocks_at, nine, nine_at, three, three_at;
+    explicit Shares(size_t P)
+        : rows(P), rows_at(P), blocks(P), blocks_at(P), nine(P), nine_at(P), three(P), three_at(P) {}
+    // On the root, from the ranks' runs of contacts (cut) and of blocks (block_at).
+    void count(const std::vector<int64_t> &cut, const std::vector<int64_t> &block_at) {
+        for (size_t k = 0; k < rows.size(); ++k) {
+            const int64_t b0 = block_at[(size_t)cut[k]], b1 = block_at[(size_t)cut[k + 1]];
+            rows[k] = checked_count(cut[k + 1] - cut[k]);
+            rows_at[k] = checked_count(cut[k]);
+            blocks[k] = checked_count(b1 - b0);
+            blocks_at[k] = checked_count(b0);
+            nine[k] = checked_count(9 * (b1 - b0));
+            nine_at[k] = checked_count(9 * b0);
+            three[k] = checked_count(3 * (cut[k + 1] - cut[k]));
+            three_at[k] = checked_count(3 * cut[k]);
+        }
+    }
+};
+
+// This rank's part as received, and the problem made of it (collective).
+frix_error receive_part(frix_mpi_context *ctx, int root, const SentRows &sent, const Shares &shares,
+                        const std::vector<int64_t> &order, int64_t first, int64_t owned, bool global, bool permuted,
+                        frix_mpi_problem **out, const char *where) {
+    int my_blocks = 0;
+    check(MPI_Scatter(shares.blocks.data(), 1, MPI_INT, &my_blocks, 1, MPI_INT, root, ctx->comm), "MPI_Scatter");
+    std::vector<int64_t> my_lengths((size_t)owned), row_ptr((size_t)owned + 1, 0), block_col((size_t)my_blocks),
+        ids((size_t)owned);
+    std::vector<double> block_val(9 * (size_t)my_blocks), q(3 * (size_t)owned), mu((size_t)owned),
+        w(global ? 3 * (size_t)owned : 0);
+    const auto scatter = [&](const void *from, const std::vector<int> &counts, const std::vector<int> &at,
+                             MPI_Datatype type, void *to, int64_t count) {
+        check(MPI_Scatterv(from, counts.data(), at.data(), type, to, checked_count(count), type, root, ctx->comm),
+              "MPI_Scatterv");
+    };
+    scatter(sent.lengths.data(), shares.rows, shares.rows_at, MPI_INT64_T, my_lengths.data(), owned);
+    for (int64_t i = 0; i < owned; ++i) row_ptr[(size_t)i + 1] = row_ptr[(size_t)i] + my_lengths[(size_t)i];
+    scatter(sent.cols, shares.blocks, shares.blocks_at, MPI_INT64_T, block_col.data(), my_blocks);
+    scatter(sent.vals, shares.nine, shares.nine_at, MPI_DOUBLE, block_val.data(), 9 * (int64_t)my_blocks);
+    scatter(sent.q, shares.three, shares.three_at, MPI_DOUBLE, q.data(), 3 * owned);
+    scatter(sent.mu, shares.rows, shares.rows_at, MPI_DOUBLE, mu.data(), owned);
+    if (global) scatter(sent.scale, shares.three, shares.three_at, MPI_DOUBLE, w.data(), 3 * owned);
+    if (permuted)
+        scatter(order.data(), shares.rows, shares.rows_at, MPI_INT64_T, ids.data(), owned);
+    else
+        for (int64_t i = 0; i < owned; ++i) ids[(size_t)i] = first + i;
+    if (frix_error made = make(ctx, first, owned, row_ptr.data(), block_col.data(), block_val.data(), q.data(),
+                               mu.data(), global ? w.data() : nullptr, out, where))
+        return made;
+    (*out)->ids = std::move(ids);
+    return FRIX_OK;
+}
+
 }  // namespace
 }  // namespace mpi
 }  // namespace frix
@@ -322,7 +475,6 @@ FRIX_API frix_error frix_mpi_problem_scatter(frix_mpi_context *ctx, int root, co
     return frix::guard("frix_mpi_problem_scatter", [&]() -> frix_error {
         using frix::fail;
         using frix::mpi::check;
-        using frix::mpi::checked_count;
         const char *where = "frix_mpi_problem_scatter";
         if (!ctx) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: ctx is NULL", where);
         if (out) *out = nullptr;
@@ -332,130 +484,24 @@ FRIX_API frix_error frix_mpi_problem_scatter(frix_mpi_context *ctx, int root, co
         const size_t P = (size_t)ctx->size;
         frix_error e = FRIX_OK;
         if (!out) e = fail(FRIX_ERR_INVALID_ARGUMENT, "%s: out is NULL", where);
-        // On the root: the local problem the ranks get (the one given, or its global one
-        // reduced), its contacts in the order of the parts (order[k]: the contact the k-th
-        // sent is), and where each rank's run starts (cut).
-        std::vector<int64_t> cut(P + 1, 0), order;
-        const frix_matrix *W = nullptr;
-        const double *q_all = nullptr, *scale_all = nullptr;
-        std::unique_ptr<frix_matrix> reduced_W;
-        std::vector<double> reduced_q;
-        int64_t nc = 0;
-        if (!e && is_root) {
-            if (!problem)
-                e = fail(FRIX_ERR_INVALID_ARGUMENT, "%s: problem is NULL on the root", where);
-            else if (frix_error other = frix::mpi::check_release(*problem, where, "problem"))
-                e = other;
-            else if (frix_error bad = frix::check_problem_vectors(*problem))
-                e = bad;
-            else if (problem->kind == FRIX_PROBLEM_GLOBAL)
-                e = frix::mpi::reduce(*problem, reduced_W, reduced_q, where);
-            else if (problem->nc > 0 && !problem->W->block)
-                e = fail(FRIX_ERR_UNSUPPORTED, "%s: W must be stored in 3x3 blocks", where);
-            if (!e) {
-                nc = problem->nc;
-                W = problem->kind == FRIX_PROBLEM_GLOBAL ? reduced_W.get() : problem->W;
-                q_all = problem->kind == FRIX_PROBLEM_GLOBAL ? reduced_q.data() : problem->q;
-                if (problem->kind == FRIX_PROBLEM_GLOBAL) scale_all = problem->w;
-            }
-            if (!e) e = frix::mpi::cut_by_part(part, nc, ctx->size, cut, order, where);
-        }
+        frix::mpi::RootProblem on_root;
+        on_root.cut.assign(P + 1, 0);
+        if (!e && is_root) e = frix::mpi::prepare_root(problem, part, ctx->size, on_root, where);
         if (frix_error agreed = frix::mpi::agree(ctx->comm, e, where)) return agreed;
+        std::vector<int64_t> &cut = on_root.cut;
         check(MPI_Bcast(cut.data(), (int)P + 1, MPI_INT64_T, root, ctx->comm), "MPI_Bcast");
-        int flags[2] = {is_root && scale_all ? 1 : 0, is_root && !order.empty() ? 1 : 0};
+        int flags[2] = {is_root && on_root.scale ? 1 : 0, is_root && !on_root.order.empty() ? 1 : 0};
         check(MPI_Bcast(flags, 2, MPI_INT, root, ctx->comm), "MPI_Bcast");
         const bool global = flags[0] != 0, permuted = flags[1] != 0;
         const int64_t first = cut[(size_t)ctx->rank], owned = cut[(size_t)ctx->rank + 1] - first;
-
-        // The root's rows in the order sent: row lengths, their blocks (columns renumbered and
-        // increasing in each row), and the per-contact vectors. Without parts they are the
-        // problem's own arrays.
-        std::vector<int64_t> lengths, send_col, block_at;
-        std::vector<double> send_val, send_q, send_mu, send_scale;
-        const int64_t *cols = nullptr;
-        const double *vals = nullptr, *qs = q_all, *mus = is_root ? problem->mu : nullptr, *scales = scale_all;
+        frix::mpi::SentRows sent;
+        frix::mpi::Shares shares(P);
         if (is_root) {
-            lengths.resize((size_t)nc);
-            for (int64_t k = 0; k < nc; ++k) {
-                const int64_t a = permuted ? order[(size_t)k] : k;
-                lengths[(size_t)k] = W->row_ptr[(size_t)a + 1] - W->row_ptr[(size_t)a];
-            }
-            if (permuted) {
-                std::vector<int64_t> position((size_t)nc);
-                for (int64_t k = 0; k < nc; ++k) position[(size_t)order[(size_t)k]] = k;
-                send_col.reserve(W->block_col.size());
-                send_val.reserve(W->block_val.size());
-                send_q.resize(3 * (size_t)nc);
-                send_mu.resize((size_t)nc);
-                if (global) send_scale.resize(3 * (size_t)nc);
-                std::vector<std::pair<int64_t, int64_t>> row;  // (new column, block)
-                for (int64_t k = 0; k < nc; ++k) {
-                    const int64_t a = order[(size_t)k];
-                    row.clear();
-                    for (int64_t b = W->row_ptr[(size_t)a]; b < W->row_ptr[(size_t)a + 1]; ++b)
-                        row.emplace_back(position[(size_t)W->block_col[(size_t)b]], b);
-                    std::sort(row.begin(), row.end());
-                    for (const auto &cb : row) {
-                        send_col.push_back(cb.first);
-                        send_val.insert(send_val.end(), W->block_val.begin() + 9 * cb.second,
-                                        W->block_val.begin() + 9 * cb.second + 9);
-                    }
-                    std::copy(q_all + 3 * a, q_all + 3 * a + 3, send_q.begin() + 3 * k);
-                    send_mu[(size_t)k] = problem->mu[a];
-                    if (global) std::copy(scale_all + 3 * a, scale_all + 3 * a + 3, send_scale.begin() + 3 * k);
-                }
-                cols = send_col.data();
-                vals = send_val.data();
-                qs = send_q.data();
-                mus = send_mu.data();
-                scales = send_scale.data();
-            } else if (nc > 0) {
-                cols = W->block_col.data();
-                vals = W->block_val.data();
-            }
-            block_at.assign((size_t)nc + 1, 0);
-            for (int64_t k = 0; k < nc; ++k) block_at[(size_t)k + 1] = block_at[(size_t)k] + lengths[(size_t)k];
+            frix::mpi::rows_to_send(on_root, permuted, global, sent);
+            shares.count(cut, sent.block_at);
         }
-        std::vector<int> rows(P), rows_at(P), blocks(P), blocks_at(P), nine(P), nine_at(P), three(P), three_at(P);
-        if (is_root)
-            for (size_t k = 0; k < P; ++k) {
-                const int64_t b0 = block_at[(size_t)cut[k]], b1 = block_at[(size_t)cut[k + 1]];
-                rows[k] = checked_count(cut[k + 1] - cut[k]);
-                rows_at[k] = checked_count(cut[k]);
-                blocks[k] = checked_count(b1 - b0);
-                blocks_at[k] = checked_count(b0);
-                nine[k] = checked_count(9 * (b1 - b0));
-                nine_at[k] = checked_count(9 * b0);
-                three[k] = checked_count(3 * (cut[k + 1] - cut[k]));
-                three_at[k] = checked_count(3 * cut[k]);
-            }
-        int my_blocks = 0;
-        check(MPI_Scatter(blocks.data(), 1, MPI_INT, &my_blocks, 1, MPI_INT, root, ctx->comm), "MPI_Scatter");
-        std::vector<int64_t> my_lengths((size_t)owned), row_ptr((size_t)owned + 1, 0), block_col((size_t)my_blocks),
-            ids((size_t)owned);
-        std::vector<double> block_val(9 * (size_t)my_blocks), q(3 * (size_t)owned), mu((size_t)owned),
-            w(global ? 3 * (size_t)owned : 0);
-        const auto scatter = [&](const void *from, const std::vector<int> &counts, const std::vector<int> &at,
-                                 MPI_Datatype type, void *to, int64_t count) {
-            check(MPI_Scatterv(from, counts.data(), at.data(), type, to, checked_count(count), type, root, ctx->comm),
-                  "MPI_Scatterv");
-        };
-        scatter(lengths.data(), rows, rows_at, MPI_INT64_T, my_lengths.data(), owned);
-        for (int64_t i = 0; i < owned; ++i) row_ptr[(size_t)i + 1] = row_ptr[(size_t)i] + my_lengths[(size_t)i];
-        scatter(cols, blocks, blocks_at, MPI_INT64_T, block_col.data(), my_blocks);
-        scatter(vals, nine, nine_at, MPI_DOUBLE, block_val.data(), 9 * (int64_t)my_blocks);
-        scatter(qs, three, three_at, MPI_DOUBLE, q.data(), 3 * owned);
-        scatter(mus, rows, rows_at, MPI_DOUBLE, mu.data(), owned);
-        if (global) scatter(scales, three, three_at, MPI_DOUBLE, w.data(), 3 * owned);
-        if (permuted)
-            scatter(order.data(), rows, rows_at, MPI_INT64_T, ids.data(), owned);
-        else
-            for (int64_t i = 0; i < owned; ++i) ids[(size_t)i] = first + i;
-        if (frix_error made = frix::mpi::make(ctx, first, owned, row_ptr.data(), block_col.data(), block_val.data(),
-                                              q.data(), mu.data(), global ? w.data() : nullptr, out, where))
-            return made;
-        (*out)->ids = std::move(ids);
-        return FRIX_OK;
+        return frix::mpi::receive_part(ctx, root, sent, shares, on_root.order, first, owned, global, permuted,
+                                       out, where);
     });
 }
 

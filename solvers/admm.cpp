@@ -38,7 +38,6 @@ namespace {
 constexpr int64_t kDenseMax = 240;        // unknowns factorised dense at most
 constexpr double kSymmetryTol = 1e-12;    // relative to max |W_ij|: symmetric
 constexpr double kSkewMax = 1e-2;         // relative to max |W_ij|: Cholesky of the symmetric part
-constexpr double kRestartEta = 0.999;     // Nesterov restart threshold
 constexpr int64_t kBalancePeriod = 25;
 constexpr double kBalanceFactor = 5.0;    // rho changes only by this factor or more
 constexpr double kRhoMin = 1e-6, kRhoMax = 1e6;  // relative to mean |W_aa|
@@ -242,249 +241,287 @@ struct KeptSystem : CachedState {
     int64_t nc = -1;
 };
 
-frix_error solve(SolveContext &ctx) {
-    fo::Loop L(ctx, "admm");
-    const frix_problem &p = L.p;
-    if (!p.W || !p.W->block) return fail(FRIX_ERR_INTERNAL, "admm: W is not stored as 3x3 blocks");
-    const int64_t nc = p.nc, m = L.m;
-    const bool adaptive = L.o.i(FRIX_OPT_RHO_ADAPTIVE) != 0;
-    const bool accelerate = L.o.i(FRIX_OPT_ACCELERATION) != 0;
-    double wmax, wmean;
-    fo::diagonal_scales(p, &wmax, &wmean);
-    double rho = L.o.d(FRIX_OPT_RHO) * wmean;
-    Kept<KeptSystem> kept(ctx.cache, FRIX_SOLVER_ADMM);
-    // Contact a's penalty is rho * weight[a]: 1 (FRIX_RHO_CONSTANT), or |W_aa|_2 / mean_a
-    // |W_aa|_2 (per contact): the same as ADMM with one rho on the problem scaled so that
-    // every |W_aa|_2 is equal, which is what keeps it working when contacts differ in
-    // stiffness by decades.
-    std::vector<double> weight((size_t)nc, 1.0);
-    if (L.o.i(FRIX_OPT_RHO_STRATEGY) != FRIX_RHO_CONSTANT)
-        for (int64_t a = 0; a < nc; ++a) {
-            const double n = fo::contact_diagonal_norm(p, a);
-            if (n > 0.0 && std::isfinite(n)) weight[(size_t)a] = n / wmean;
-        }
-    frix_info &info = ctx.info;
+// The sums of squares over the contacts one iteration's residuals come from (update_z_and_y).
+struct Residuals {
+    double prim2 = 0.0, dual2 = 0.0, nz2 = 0.0, ny2 = 0.0, comb = 0.0;
+};
 
-    double *r = ctx.r;
-    std::vector<double> u(m), x(m), z(m), y(m), zh(m), yh(m), z_old(m), y_old(m), rhs(m), s(nc, 0.0);
+// One solve: the iterates, the systems W + rho R and the steps of the iteration.
+class Solver {
+   public:
+    Solver(SolveContext &ctx, KeptSystem &kept);
+    // Runs the solve into ctx.info and ctx.r; false when the kept systems are not worth
+    // keeping (the first factorisation was refused or failed).
+    bool run();
+
+   private:
+    void set_weights();
+    void start_dual(bool warm);
+    frix_status prepare_systems();
+    ShiftedSystem *current(std::unique_ptr<ShiftedSystem> &system, uint64_t &values);
+    frix_status iterate();
+    bool update_x();
+    Residuals update_z_and_y();
+    frix_status stop_test(double light, double prim, double dual);
+    frix_status balance_rho(double prim, double dual);
+    frix_status refactor();
+    void finish(frix_status status);
+
+    SolveContext &ctx_;
+    const first_order::Loop L_;
+    const frix_problem &p_;
+    const int64_t nc_, m_;
+    KeptSystem &kept_;
+    const Monitor monitor_;
+    const bool adaptive_, accelerate_;
+    const uint64_t w_values_;
+    double wmax_ = 0.0, wmean_ = 0.0, rho_ = 0.0;
+    // Contact a's penalty is rho * weight[a] (see set_weights).
+    std::vector<double> weight_;
+    std::vector<double> u_, x_, z_, y_, rhs_, s_;
+    first_order::RestartedNesterov momentum_;
+    ShiftedSystem *sys_ = nullptr;
+    linalg::FactorStats start_before_, adapted_before_;
+    bool skew_ = false;
+    std::vector<double> kx_, kx_prev_, work_;  // K x (previous x), K x_prev, scratch
+    double err_ = 0.0, tol_light_ = 0.0;
+    int64_t it_ = 0, changes_ = 0, since_change_ = 0;
+};
+
+Solver::Solver(SolveContext &ctx, KeptSystem &kept)
+    : ctx_(ctx),
+      L_(ctx, "admm"),
+      p_(ctx.problem),
+      nc_(ctx.problem.nc),
+      m_(L_.m),
+      kept_(kept),
+      monitor_(ctx),
+      adaptive_(L_.o.i(FRIX_OPT_RHO_ADAPTIVE) != 0),
+      accelerate_(L_.o.i(FRIX_OPT_ACCELERATION) != 0),
+      w_values_(ctx.cache ? ctx.cache->w_values : 0),
+      u_(m_), x_(m_), z_(m_), y_(m_), rhs_(m_), s_(nc_, 0.0),
+      momentum_(accelerate_, m_) {
+    first_order::diagonal_scales(p_, &wmax_, &wmean_);
+    rho_ = L_.o.d(FRIX_OPT_RHO) * wmean_;
+    set_weights();
+}
+
+// Contact a's penalty is rho * weight[a]: 1 (FRIX_RHO_CONSTANT), or |W_aa|_2 / mean_a |W_aa|_2
+// (per contact): the same as ADMM with one rho on the problem scaled so that every |W_aa|_2
+// is equal, which is what keeps it working when contacts differ in stiffness by decades.
+void Solver::set_weights() {
+    weight_.assign((size_t)nc_, 1.0);
+    if (L_.o.i(FRIX_OPT_RHO_STRATEGY) == FRIX_RHO_CONSTANT) return;
+    for (int64_t a = 0; a < nc_; ++a) {
+        const double n = first_order::contact_diagonal_norm(p_, a);
+        if (n > 0.0 && std::isfinite(n)) weight_[(size_t)a] = n / wmean_;
+    }
+}
+
+bool Solver::run() {
+    frix_info &info = ctx_.info;
+    double *r = ctx_.r;
     // Warm start: z = P_K(r), y = -u^(r) / rho (the fixed point if r is a solution).
-    std::copy(r, r + m, z.begin());
-    fo::project_on_cones(p, z.data());
-    double err = L.error(z.data(), u.data());
-    if (L.warm(r) && err <= L.tol) {
-        kept.keep();
-        std::copy(z.begin(), z.end(), r);
+    std::copy(r, r + m_, z_.begin());
+    first_order::project_on_cones(p_, z_.data());
+    err_ = L_.error(z_.data(), u_.data());
+    if (L_.warm(r) && err_ <= L_.tol) {
+        std::copy(z_.begin(), z_.end(), r);
         info.status = FRIX_STATUS_CONVERGED;
         info.iterations = 0;
-        return FRIX_OK;
+        return true;
     }
-    const bool warm = L.warm(r);
-    for (int64_t a = 0; a < nc; ++a) {  // s holds |u_T|; the De Saxce term is mu s
-        const double *ua = &u[3 * a];
-        s[a] = std::sqrt(ua[1] * ua[1] + ua[2] * ua[2]);
-        for (int i = 0; i < 3; ++i)
-            y[3 * a + i] = warm ? -(ua[i] + (i == 0 ? p.mu[a] * s[a] : 0.0)) / (rho * weight[(size_t)a]) : 0.0;
+    start_dual(L_.warm(r));
+    if (const frix_status refused = prepare_systems()) {
+        info.status = refused;
+        info.iterations = 0;
+        return false;
     }
+    momentum_.reset(z_.data(), y_.data());
+    finish(iterate());
+    return true;
+}
 
-    // Two systems: every solve starts at the same rho, and a persistent solver keeps that
-    // factorisation in `start` apart from the one rho adapts to (the solve after would
-    // otherwise find the last solve's rho factorised, not the one it starts with). Each is
-    // refilled with W's values when they changed, its analyses kept while the pattern stays.
-    if (!ctx.cache || kept->nc != nc) {
-        kept->start.reset();
-        kept->adapted.reset();
-        kept->nc = nc;
+// s = |u_T| (the De Saxce term is mu s) and y = -u^ / rho at a warm start (0 otherwise).
+void Solver::start_dual(bool warm) {
+    for (int64_t a = 0; a < nc_; ++a) {
+        const double *ua = &u_[3 * a];
+        s_[a] = std::sqrt(ua[1] * ua[1] + ua[2] * ua[2]);
+        for (int i = 0; i < 3; ++i)
+            y_[3 * a + i] = warm ? -(ua[i] + (i == 0 ? p_.mu[a] * s_[a] : 0.0)) / (rho_ * weight_[(size_t)a]) : 0.0;
     }
-    const uint64_t w_values = ctx.cache ? ctx.cache->w_values : 0;
-    const Monitor monitor(ctx);
-    // The system for this solve: W's values, and this solve's time limit as the budget of
-    // its factorisations.
-    auto current = [&](std::unique_ptr<ShiftedSystem> &system, uint64_t &values) {
-        if (!system) system = std::make_unique<ShiftedSystem>(*p.W);
-        else if (values != w_values) system->refill(*p.W);
-        values = w_values;
-        system->set_budget(monitor.budget());
-        return system.get();
-    };
+}
+
+// Two systems: every solve starts at the same rho, and a persistent solver keeps that
+// factorisation in `start` apart from the one rho adapts to (the solve after would otherwise
+// find the last solve's rho factorised, not the one it starts with). Each is refilled with
+// W's values when they changed, its analyses kept while the pattern stays. Returns the limit
+// the first factorisation would overrun, or its failure; FRIX_STATUS_NOT_RUN when factorised.
+frix_status Solver::prepare_systems() {
+    if (!ctx_.cache || kept_.nc != nc_) {
+        kept_.start.reset();
+        kept_.adapted.reset();
+        kept_.nc = nc_;
+    }
     // Under a time or memory limit the first factorisation is priced before W + rho I is
     // even assembled (on a large W that and the ordering take long too): one that would
     // overrun a limit is not started.
-    if (!kept->start && m > kDenseMax && (monitor.time_limited() || monitor.memory_limited())) {
+    if (!kept_.start && m_ > kDenseMax && (monitor_.time_limited() || monitor_.memory_limited())) {
         linalg::FactorCost cost;
-        if (block_cholesky_cost(*p.W, &cost) != FRIX_OK) {
-            clear_error();
-        } else if (const frix_status over = monitor.affords({cost.flops, NAN, cost.bytes})) {
-            info.status = over;
-            info.iterations = 0;
-            return FRIX_OK;
-        }
+        if (block_cholesky_cost(*p_.W, &cost) != FRIX_OK) clear_error();
+        else if (const frix_status over = monitor_.affords({cost.flops, NAN, cost.bytes})) return over;
     }
-    ShiftedSystem *sys = current(kept->start, kept->start_values);
-    const linalg::FactorStats start_before = kept->start->stats(),
-                              adapted_before = kept->adapted ? kept->adapted->stats() : linalg::FactorStats();
-    const bool skew = sys->skew();
-    std::vector<double> kx, kx_prev, work;  // K x (previous x), K x_prev, scratch
-    if (skew) {
-        kx.assign(m, 0.0);
-        kx_prev.assign(m, 0.0);
-        work.assign(m, 0.0);
-        sys->skew_product(*p.W, z.data(), kx.data(), work.data());  // x_prev ~ z for the first step
+    sys_ = current(kept_.start, kept_.start_values);
+    start_before_ = kept_.start->stats();
+    adapted_before_ = kept_.adapted ? kept_.adapted->stats() : linalg::FactorStats();
+    skew_ = sys_->skew();
+    if (skew_) {
+        kx_.assign(m_, 0.0);
+        kx_prev_.assign(m_, 0.0);
+        work_.assign(m_, 0.0);
+        sys_->skew_product(*p_.W, z_.data(), kx_.data(), work_.data());  // x_prev ~ z for the first step
     }
-    if (frix_error e = sys->factor(rho, weight)) {
-        (void)e;
-        info.status = sys->refused() ? sys->refused() : FRIX_STATUS_NUMERICAL_FAILURE;
-        info.iterations = 0;
-        return FRIX_OK;
-    }
-    zh = z;
-    yh = y;
-    z_old = z;
-    y_old = y;
-    double alpha = 1.0, c_prev = INFINITY, tol_light = L.tol;
-    int64_t it = 0, restarts = 0, changes = 0, since_change = 0;
+    return refactor();
+}
+
+// The system for this solve: W's values, and this solve's time limit as the budget of its
+// factorisations.
+ShiftedSystem *Solver::current(std::unique_ptr<ShiftedSystem> &system, uint64_t &values) {
+    if (!system) system = std::make_unique<ShiftedSystem>(*p_.W);
+    else if (values != w_values_) system->refill(*p_.W);
+    values = w_values_;
+    system->set_budget(monitor_.budget());
+    return system.get();
+}
+
+// Factorises the system at the current rho: FRIX_STATUS_NOT_RUN, or the limit it would
+// overrun, or a numerical failure.
+frix_status Solver::refactor() {
+    if (sys_->factor(rho_, weight_) == FRIX_OK) return FRIX_STATUS_NOT_RUN;
+    return sys_->refused() ? sys_->refused() : FRIX_STATUS_NUMERICAL_FAILURE;
+}
+
+frix_status Solver::iterate() {
+    tol_light_ = L_.tol;
     frix_status status = FRIX_STATUS_NOT_RUN;
     while (status == FRIX_STATUS_NOT_RUN) {
-        ++it;
-        ++since_change;
-        // x-update: (W + rho I) x = -(q + s) + rho (z^ - y^), with K x at the previous x when
-        // only S + rho I is factorised.
-        for (int64_t a = 0; a < nc; ++a)
-            for (int i = 0; i < 3; ++i) {
-                const int64_t k = 3 * a + i;
-                rhs[k] = -(p.q[k] + (i == 0 ? p.mu[a] * s[a] : 0.0)) + rho * weight[(size_t)a] * (zh[k] - yh[k]);
-                if (skew) rhs[k] -= kx[k];
-            }
-        if (frix_error e = sys->solve(rhs.data(), x.data())) {
-            (void)e;
-            status = FRIX_STATUS_NUMERICAL_FAILURE;
-            break;
-        }
-        // u = W x + q = -(mu s e_N) + rho (z^ - y^ - x) + K (x - x_prev).
-        if (skew) {
-            for (int64_t k = 0; k < m; ++k) kx_prev[k] = kx[k];
-            sys->skew_product(*p.W, x.data(), kx.data(), work.data());
-        }
-        // z-update and dual update; u = W x + q = -(mu s e_N) + rho (z^ - y^ - x).
-        double prim2 = 0.0, dual2 = 0.0, nz2 = 0.0, ny2 = 0.0, comb = 0.0;
-        for (int64_t a = 0; a < nc; ++a) {
-            double *za = &z[3 * a];
-            for (int i = 0; i < 3; ++i) za[i] = x[3 * a + i] + yh[3 * a + i];
-            coulomb::project_on_cone(za, p.mu[a]);
-            const double w = weight[(size_t)a];
-            double ua[3];
-            for (int i = 0; i < 3; ++i) {
-                const int64_t k = 3 * a + i;
-                y[k] = yh[k] + x[k] - z[k];
-                ua[i] = rho * w * (zh[k] - yh[k] - x[k]) - (i == 0 ? p.mu[a] * s[a] : 0.0);
-                if (skew) ua[i] += kx[k] - kx_prev[k];
-                const double dz = w * (z[k] - zh[k]), wy = w * y[k];
-                prim2 += (x[k] - z[k]) * (x[k] - z[k]);
-                dual2 += dz * dz;
-                comb += w * ((y[k] - yh[k]) * (y[k] - yh[k]) + (z[k] - zh[k]) * (z[k] - zh[k]));
-                nz2 += z[k] * z[k];
-                ny2 += wy * wy;
-            }
-            s[a] = std::sqrt(ua[1] * ua[1] + ua[2] * ua[2]);
-        }
-        if (!std::isfinite(prim2 + dual2 + nz2 + ny2)) {
-            status = FRIX_STATUS_DIVERGED;
-            break;
-        }
+        ++it_;
+        ++since_change_;
+        if (!update_x()) return FRIX_STATUS_NUMERICAL_FAILURE;
+        const Residuals res = update_z_and_y();
+        if (!std::isfinite(res.prim2 + res.dual2 + res.nz2 + res.ny2)) return FRIX_STATUS_DIVERGED;
         // Relative residuals: primal against |z|, dual against max(|u^| = rho |R y|, |q|).
-        const double nz = std::max(std::sqrt(nz2), 1e-300);
-        const double nu = std::max({rho * std::sqrt(ny2), L.norm_q, 1e-300});
-        const double prim = std::sqrt(prim2) / nz, dual = rho * std::sqrt(dual2) / nu;
-        const double light = std::max(prim, dual);
-
-        // Nesterov extrapolation with restart: while the combined residual decreases,
-        // extrapolate from (z, y); otherwise drop the momentum.
-        if (!accelerate) {
-            zh = z;
-            yh = y;
-        } else if (comb < kRestartEta * c_prev) {
-            const double alpha_next = 0.5 * (1.0 + std::sqrt(1.0 + 4.0 * alpha * alpha));
-            const double beta = (alpha - 1.0) / alpha_next;
-            for (int64_t k = 0; k < m; ++k) {
-                zh[k] = z[k] + beta * (z[k] - z_old[k]);
-                yh[k] = y[k] + beta * (y[k] - y_old[k]);
-            }
-            alpha = alpha_next;
-            c_prev = comb;
-            z_old = z;
-            y_old = y;
-        } else {
-            // The momentum is dropped: the next step starts from (z, y) itself.
-            alpha = 1.0;
-            zh = z;
-            yh = y;
-            z_old = z;
-            y_old = y;
-            c_prev = comb;
-            ++restarts;
-        }
-
-        // Stopping: the full error of z, confirmed by the measures module.
-        double estimate = light;
-        bool checked = false;
-        if (light <= tol_light || it % kFullCheckPeriod == 0) {
-            err = L.error(z.data(), u.data());
-            checked = true;
-            estimate = err;
-            if (err <= L.tol) status = FRIX_STATUS_CONVERGED;
-            else if (!std::isfinite(err)) status = FRIX_STATUS_DIVERGED;
-            else if (light > 0.0) tol_light = light / err * L.tol;
-        }
-        if (L.verbosity >= 2 || (L.verbosity >= 1 && checked))
-            log_line(&L.o, "admm: iteration %lld rho %.3e primal %.3e dual %.3e%s%.3e",
-                     (long long)it, rho / wmean, prim, dual, checked ? " full " : " tol_light ",
-                     checked ? err : tol_light);
-        if (status == FRIX_STATUS_NOT_RUN) status = L.limits(it, estimate, z.data());
-        if (status != FRIX_STATUS_NOT_RUN) break;
-
-        // Residual balancing: rho <- rho sqrt(primal / dual) when that changes it 5-fold. A
-        // primal residual of exactly 0 (x inside the cones, y = 0: the iteration is a plain
-        // proximal step, as slow as rho is large) lowers rho by kZeroPrimalStep.
-        if (adaptive && since_change >= kBalancePeriod && dual > 0.0) {
-            const double balanced = prim == 0.0 ? rho / kZeroPrimalStep : rho * std::sqrt(prim / dual);
-            const double target = std::clamp(balanced, kRhoMin * wmean, kRhoMax * wmean);
-            if (target > kBalanceFactor * rho || target * kBalanceFactor < rho) {
-                const double ratio = rho / target;
-                for (int64_t k = 0; k < m; ++k) {  // the unscaled dual rho y stays
-                    y[k] *= ratio;
-                    y_old[k] = y[k];
-                    yh[k] = y[k];
-                    zh[k] = z[k];
-                    z_old[k] = z[k];
-                }
-                rho = target;
-                alpha = 1.0;
-                c_prev = INFINITY;
-                since_change = 0;
-                ++changes;
-                // The start's factorisation stays for the next solve.
-                if (ctx.cache) sys = current(kept->adapted, kept->adapted_values);
-                if (frix_error e = sys->factor(rho, weight)) {
-                    (void)e;
-                    status = sys->refused() ? sys->refused() : FRIX_STATUS_NUMERICAL_FAILURE;
-                    break;
-                }
-            }
-        }
+        const double nz = std::max(std::sqrt(res.nz2), 1e-300);
+        const double nu = std::max({rho_ * std::sqrt(res.ny2), L_.norm_q, 1e-300});
+        const double prim = std::sqrt(res.prim2) / nz, dual = rho_ * std::sqrt(res.dual2) / nu;
+        momentum_.advance(res.comb, z_.data(), y_.data());
+        status = stop_test(std::max(prim, dual), prim, dual);
+        if (status == FRIX_STATUS_NOT_RUN) status = balance_rho(prim, dual);
     }
-    // z (in K) is the result; after a failure the last z is still finite.
+    return status;
+}
+
+// x-update: (W + rho I) x = -(q + s) + rho (z^ - y^), with K x at the previous x when only
+// S + rho I is factorised; then K x at the new x. False if the solve failed.
+bool Solver::update_x() {
+    const double *zh = momentum_.x_hat(), *yh = momentum_.y_hat();
+    for (int64_t a = 0; a < nc_; ++a)
+        for (int i = 0; i < 3; ++i) {
+            const int64_t k = 3 * a + i;
+            rhs_[k] = -(p_.q[k] + (i == 0 ? p_.mu[a] * s_[a] : 0.0)) + rho_ * weight_[(size_t)a] * (zh[k] - yh[k]);
+            if (skew_) rhs_[k] -= kx_[k];
+        }
+    if (sys_->solve(rhs_.data(), x_.data()) != FRIX_OK) return false;
+    if (skew_) {
+        for (int64_t k = 0; k < m_; ++k) kx_prev_[k] = kx_[k];
+        sys_->skew_product(*p_.W, x_.data(), kx_.data(), work_.data());
+    }
+    return true;
+}
+
+// z-update and dual update, and s from u = W x + q = -(mu s e_N) + rho (z^ - y^ - x)
+// + K (x - x_prev).
+Residuals Solver::update_z_and_y() {
+    const double *zh = momentum_.x_hat(), *yh = momentum_.y_hat();
+    Residuals res;
+    for (int64_t a = 0; a < nc_; ++a) {
+        double *za = &z_[3 * a];
+        for (int i = 0; i < 3; ++i) za[i] = x_[3 * a + i] + yh[3 * a + i];
+        coulomb::project_on_cone(za, p_.mu[a]);
+        const double w = weight_[(size_t)a];
+        double ua[3];
+        for (int i = 0; i < 3; ++i) {
+            const int64_t k = 3 * a + i;
+            y_[k] = yh[k] + x_[k] - z_[k];
+            ua[i] = rho_ * w * (zh[k] - yh[k] - x_[k]) - (i == 0 ? p_.mu[a] * s_[a] : 0.0);
+            if (skew_) ua[i] += kx_[k] - kx_prev_[k];
+            const double dz = w * (z_[k] - zh[k]), wy = w * y_[k];
+            res.prim2 += (x_[k] - z_[k]) * (x_[k] - z_[k]);
+            res.dual2 += dz * dz;
+            res.comb += w * ((y_[k] - yh[k]) * (y_[k] - yh[k]) + (z_[k] - zh[k]) * (z_[k] - zh[k]));
+            res.nz2 += z_[k] * z_[k];
+            res.ny2 += wy * wy;
+        }
+        s_[a] = std::sqrt(ua[1] * ua[1] + ua[2] * ua[2]);
+    }
+    return res;
+}
+
+// Stopping: the full error of z, confirmed by the measures module, when the light error
+// (the relative residuals) passes its tolerance, recalibrated on each full check, or every
+// kFullCheckPeriod iterations.
+frix_status Solver::stop_test(double light, double prim, double dual) {
+    const bool full = light <= tol_light_ || it_ % kFullCheckPeriod == 0;
+    if (full) {
+        err_ = L_.error(z_.data(), u_.data());
+        if (!(err_ <= L_.tol) && std::isfinite(err_) && light > 0.0) tol_light_ = light / err_ * L_.tol;
+    }
+    if (L_.verbosity >= 2 || (L_.verbosity >= 1 && full))
+        log_line(&L_.o, "admm: iteration %lld rho %.3e primal %.3e dual %.3e%s%.3e", (long long)it_, rho_ / wmean_,
+                 prim, dual, full ? " full " : " tol_light ", full ? err_ : tol_light_);
+    return full ? L_.verdict(it_, err_, z_.data()) : L_.limits(it_, light, z_.data());
+}
+
+// Residual balancing: rho <- rho sqrt(primal / dual) when that changes it 5-fold. A primal
+// residual of exactly 0 (x inside the cones, y = 0: the iteration is a plain proximal step,
+// as slow as rho is large) lowers rho by kZeroPrimalStep. FRIX_STATUS_NOT_RUN to go on.
+frix_status Solver::balance_rho(double prim, double dual) {
+    if (!adaptive_ || since_change_ < kBalancePeriod || !(dual > 0.0)) return FRIX_STATUS_NOT_RUN;
+    const double balanced = prim == 0.0 ? rho_ / kZeroPrimalStep : rho_ * std::sqrt(prim / dual);
+    const double target = std::clamp(balanced, kRhoMin * wmean_, kRhoMax * wmean_);
+    if (!(target > kBalanceFactor * rho_ || target * kBalanceFactor < rho_)) return FRIX_STATUS_NOT_RUN;
+    const double ratio = rho_ / target;
+    for (int64_t k = 0; k < m_; ++k) y_[k] *= ratio;  // the unscaled dual rho y stays
+    momentum_.reset(z_.data(), y_.data());
+    rho_ = target;
+    since_change_ = 0;
+    ++changes_;
+    // The start's factorisation stays for the next solve.
+    if (ctx_.cache) sys_ = current(kept_.adapted, kept_.adapted_values);
+    return refactor();
+}
+
+// z (in K) is the result; after a failure the last z is still finite.
+void Solver::finish(frix_status status) {
+    frix_info &info = ctx_.info;
     bool finite = true;
-    for (int64_t k = 0; k < m && finite; ++k) finite = std::isfinite(z[k]);
-    if (finite) std::copy(z.begin(), z.end(), r);
+    for (int64_t k = 0; k < m_ && finite; ++k) finite = std::isfinite(z_[k]);
+    if (finite) std::copy(z_.begin(), z_.end(), ctx_.r);
     info.status = status;
-    info.iterations = it;
-    const linalg::FactorStats fs = (kept->start->stats() - start_before) +
-                                   (kept->adapted ? kept->adapted->stats() - adapted_before : linalg::FactorStats());
+    info.iterations = it_;
+    const linalg::FactorStats fs = (kept_.start->stats() - start_before_) +
+                                   (kept_.adapted ? kept_.adapted->stats() - adapted_before_ : linalg::FactorStats());
     Monitor::record_factorizations(info, fs);
-    if (L.verbosity >= 1)
-        log_line(&L.o, "admm: %s after %lld iterations (%s %s, %lld rho changes, %lld restarts)",
-                 frix_status_string(status), (long long)it, sys->dense() ? "dense" : "sparse",
-                 sys->kind(), (long long)changes, (long long)restarts);
-    kept.keep();
+    if (L_.verbosity >= 1)
+        log_line(&L_.o, "admm: %s after %lld iterations (%s %s, %lld rho changes, %lld restarts)",
+                 frix_status_string(status), (long long)it_, sys_->dense() ? "dense" : "sparse", sys_->kind(),
+                 (long long)changes_, (long long)momentum_.restarts());
+}
+
+frix_error solve(SolveContext &ctx) {
+    if (!ctx.problem.W || !ctx.problem.W->block) return fail(FRIX_ERR_INTERNAL, "admm: W is not stored as 3x3 blocks");
+    Kept<KeptSystem> kept(ctx.cache, FRIX_SOLVER_ADMM);
+    if (Solver(ctx, *kept).run()) kept.keep();
     return FRIX_OK;
 }
 

@@ -8,7 +8,7 @@
 #include "src/coulomb.hpp"
 #include "src/matrix.hpp"
 
-namespace frix::fo {
+namespace frix::first_order {
 
 void de_saxce_map(const frix_problem &p, const double *r, double *u, double *F) {
     const frix_matrix &W = *p.W;
@@ -61,7 +61,7 @@ Loop::Loop(SolveContext &c, const char *solver_name)
       max_iter(Monitor(c).max_iterations()),
       verbosity(c.options.i(FRIX_OPT_VERBOSITY)),
       measure(c.options.i(FRIX_OPT_ERROR_MEASURE)),
-      norm_q(norm(c.problem.q, 3 * c.problem.nc)),
+      norm_q(vec::norm(c.problem.q, 3 * c.problem.nc)),
       m(3 * c.problem.nc) {}
 
 double Loop::scale(double norm_r, double norm_u) const {
@@ -71,4 +71,39 @@ double Loop::scale(double norm_r, double norm_u) const {
     return s > DBL_EPSILON ? s : 1.0;
 }
 
-}  // namespace frix::fo
+void RestartedNesterov::reset(const double *x, const double *y) {
+    const size_t m = xh_.size();
+    std::copy(x, x + m, xh_.begin());
+    std::copy(y, y + m, yh_.begin());
+    std::copy(x, x + m, x_old_.begin());
+    std::copy(y, y + m, y_old_.begin());
+    alpha_ = 1.0;
+    c_prev_ = INFINITY;
+}
+
+void RestartedNesterov::advance(double comb, const double *x, const double *y) {
+    const size_t m = xh_.size();
+    if (!on_) {
+        std::copy(x, x + m, xh_.begin());
+        std::copy(y, y + m, yh_.begin());
+        return;
+    }
+    if (!(comb < kRestartEta * c_prev_)) {  // the momentum is dropped
+        reset(x, y);
+        c_prev_ = comb;
+        ++restarts_;
+        return;
+    }
+    const double alpha_next = 0.5 * (1.0 + std::sqrt(1.0 + 4.0 * alpha_ * alpha_));
+    const double beta = (alpha_ - 1.0) / alpha_next;
+    for (size_t k = 0; k < m; ++k) {
+        xh_[k] = x[k] + beta * (x[k] - x_old_[k]);
+        yh_[k] = y[k] + beta * (y[k] - y_old_[k]);
+    }
+    alpha_ = alpha_next;
+    c_prev_ = comb;
+    std::copy(x, x + m, x_old_.begin());
+    std::copy(y, y + m, y_old_.begin());
+}
+
+}  // namespace frix::first_order

@@ -1,16 +1,18 @@
 // What the first-order solvers share: the registry entries of vi.cpp, fixed_points.cpp and
-// admm.cpp, the De Saxce map over the whole problem, and the bookkeeping of an iteration
-// loop (tolerance, iteration and time limits, callback, verbosity) with the error measured by
-// the measures module.
+// admm.cpp, the De Saxce map over the whole problem, the bookkeeping of an iteration loop
+// (tolerance, iteration and time limits, callback, verbosity) with the error measured by the
+// measures module, and the restarted Nesterov momentum of the two ADMMs.
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <vector>
 
 #include "src/measures.hpp"
 #include "src/monitor.hpp"
 #include "src/solver_api.hpp"
+#include "src/vec.hpp"
 
 namespace frix {
 
@@ -21,20 +23,7 @@ extern const SolverEntry kTfpEntry;    // fixed_points.cpp
 extern const SolverEntry kAclmEntry;
 extern const SolverEntry kAdmmEntry;   // admm.cpp
 
-namespace fo {
-
-inline double dot(const double *x, const double *y, int64_t n) {
-    double s = 0.0;
-    for (int64_t i = 0; i < n; ++i) s += x[i] * y[i];
-    return s;
-}
-inline double norm(const double *x, int64_t n) { return std::sqrt(dot(x, x, n)); }
-// |x - y|
-inline double distance(const double *x, const double *y, int64_t n) {
-    double s = 0.0;
-    for (int64_t i = 0; i < n; ++i) s += (x[i] - y[i]) * (x[i] - y[i]);
-    return std::sqrt(s);
-}
+namespace first_order {
 
 // u = W r + q and F = u + mu |u_T| e_N (the De Saxce map of the VI formulation).
 void de_saxce_map(const frix_problem &p, const double *r, double *u, double *F);
@@ -72,19 +61,19 @@ class Loop {
     // The scale the selected measure divides by: max(|q|, |u|) (scaled), max(|q|, |r|, |u|)
     // (Siconos's) or |q|; 1 below DBL_EPSILON.
     double scale(double norm_r, double norm_u) const;
-    bool out_of_time() const { return Monitor(ctx).out_of_time(); }
-    // Calls the callback (if any) with iteration `it` and `estimate`; true if it asks to stop.
-    // r: the iterate, when the solver keeps it apart from ctx.r (the Monitor watches it).
-    bool report(int64_t it, double estimate, const double *r = nullptr) const {
-        return Monitor(ctx).report(it, estimate, r);
+    bool out_of_time() const { return monitor().out_of_time(); }
+    // The Monitor on this loop's tolerance and iteration limit.
+    Monitor monitor() const { return Monitor(ctx).with_limits(tol, max_iter); }
+    // After iteration `it` whose full error is `error`: Monitor::verdict (converged, diverged,
+    // callback, time limit, iteration limit), FRIX_STATUS_NOT_RUN to go on. r: the iterate,
+    // when the solver keeps it apart from ctx.r (the Monitor watches it).
+    frix_status verdict(int64_t it, double error, const double *r = nullptr) const {
+        return monitor().verdict(it, error, r);
     }
-    // After iteration `it` (not converged): the status that stops the loop, or
-    // FRIX_STATUS_NOT_RUN to go on (callback, time limit, iteration limit, in that order).
+    // The same after an iteration with an estimate only: Monitor::limits (callback, time
+    // limit, iteration limit, in that order).
     frix_status limits(int64_t it, double estimate, const double *r = nullptr) const {
-        if (report(it, estimate, r)) return FRIX_STATUS_STOPPED_BY_CALLBACK;
-        if (out_of_time()) return FRIX_STATUS_TIME_LIMIT;
-        if (it >= max_iter) return FRIX_STATUS_MAX_ITER;
-        return FRIX_STATUS_NOT_RUN;
+        return monitor().limits(it, estimate, r);
     }
     // Whether r is not all zeros (a warm start).
     bool warm(const double *r) const {
@@ -94,5 +83,29 @@ class Loop {
     }
 };
 
-}  // namespace fo
+// Nesterov's extrapolation of the ADMM pair (x, y) (admm.cpp: (z, y), global_admm.cpp:
+// (r, xi)), restarted whenever the combined residual does not fall below kRestartEta times its
+// last value (Goldstein, O'Donoghue, Setzer, Baraniuk 2014). Off, the next iteration starts
+// from (x, y) itself.
+class RestartedNesterov {
+   public:
+    RestartedNesterov(bool on, int64_t m) : on_(on), xh_(m), yh_(m), x_old_(m), y_old_(m) {}
+    // Starts again from (x, y) without momentum: at the start, and after rho changed.
+    void reset(const double *x, const double *y);
+    // After an iteration that reached (x, y) with the combined residual `comb`.
+    void advance(double comb, const double *x, const double *y);
+    // The points the next iteration starts from.
+    const double *x_hat() const { return xh_.data(); }
+    const double *y_hat() const { return yh_.data(); }
+    int64_t restarts() const { return restarts_; }
+
+   private:
+    static constexpr double kRestartEta = 0.999;
+    bool on_;
+    double alpha_ = 1.0, c_prev_ = INFINITY;
+    int64_t restarts_ = 0;
+    std::vector<double> xh_, yh_, x_old_, y_old_;
+};
+
+}  // namespace first_order
 }  // namespace frix

@@ -22,6 +22,7 @@
 #include "src/error_state.hpp"
 #include "src/log.hpp"
 #include "src/matrix.hpp"
+#include "src/vec.hpp"
 
 namespace frix {
 namespace fixed_points {
@@ -31,13 +32,8 @@ namespace {
 using local::Contact;
 using local::Outcome;
 
-inline double norm2d(double x, double y) { return std::sqrt(x * x + y * y); }
-
-inline void gemv3(const double *W, const double *x, double *y) {
-    y[0] = W[0] * x[0] + W[3] * x[1] + W[6] * x[2];
-    y[1] = W[1] * x[0] + W[4] * x[1] + W[7] * x[2];
-    y[2] = W[2] * x[0] + W[5] * x[1] + W[8] * x[2];
-}
+using vec::gemv3;
+using vec::norm2d;
 
 // The r_T with (A + nu I) r_T = -g, nu >= 0, |r_T| = s, for the 2x2 matrix A = [a b; c d]
 // (row-major) with det A > 0 and trace A > 0, so that det(A + nu I) > 0 for every nu >= 0:
@@ -316,134 +312,184 @@ enum class Kind { Tresca, Cadoux };
 constexpr double kMinDamping = 1.0 / 64.0;
 constexpr double kMaxDamping = 1.0;
 
-frix_error solve(SolveContext &ctx, Kind kind) {
-    const char *name = kind == Kind::Tresca ? "tfp" : "aclm";
-    fo::Loop L(ctx, name);
-    const frix_problem &p = L.p;
-    const frix_options &o = L.o;
-    if (!p.W || !p.W->block) return fail(FRIX_ERR_INTERNAL, "%s: W is not stored as 3x3 blocks", name);
-    const int64_t nc = p.nc, m = L.m;
-    const int64_t inner_max = o.i(FRIX_OPT_INNER_MAX_ITER);
-    const double ratio = o.d(FRIX_OPT_INNER_TOLERANCE_RATIO);
+// One solve: the outer iterate r (ctx.r) with u = W r + q, the thresholds s, and the NSGS
+// sweeps of the inner problems.
+class Solver {
+   public:
+    Solver(SolveContext &ctx, Kind kind);
+    // Runs the solve into ctx.r and ctx.info.
+    void run();
+
+   private:
+    void update_thresholds(int64_t outer);
+    int64_t inner_sweeps(double inner_tol);
+    double inner_error(const double *x);
+    nsgs::SweepStats sweep();
+    static nsgs::Settings sweep_settings(const local::Params &lp) {
+        nsgs::Settings gs;
+        gs.local = lp;
+        return gs;
+    }
+
+    const Kind kind_;
+    const char *name_;
+    const first_order::Loop L_;
+    const frix_problem &p_;
+    const int64_t nc_, m_, inner_max_;
+    const double ratio_;
+    local::Params lp_;
+    nsgs::Workspace ws_;
+    std::vector<double> u_, s_, ui_;
+    std::vector<double> dirs_;   // aclm: each contact's last sliding direction
+    std::vector<double> delta_;  // T(s) - s of the last outer iteration
+    double theta_ = 1.0, err_ = 0.0;
+    int64_t sweeps_ = 0;
+};
+
+local::Params local_params(const frix_options &o) {
     local::Params lp;
     lp.tol = o.d(FRIX_OPT_LOCAL_TOLERANCE);
     lp.max_iter = (int)o.i(FRIX_OPT_LOCAL_MAX_ITER);
+    return lp;
+}
 
-    nsgs::Settings gs;
-    gs.local = lp;
-    nsgs::Workspace ws(p, gs);
+Solver::Solver(SolveContext &ctx, Kind kind)
+    : kind_(kind),
+      name_(kind == Kind::Tresca ? "tfp" : "aclm"),
+      L_(ctx, name_),
+      p_(ctx.problem),
+      nc_(ctx.problem.nc),
+      m_(L_.m),
+      inner_max_(L_.o.i(FRIX_OPT_INNER_MAX_ITER)),
+      ratio_(L_.o.d(FRIX_OPT_INNER_TOLERANCE_RATIO)),
+      lp_(local_params(L_.o)),
+      ws_(p_, sweep_settings(lp_)),
+      u_(m_), s_(nc_), ui_(m_), dirs_(kind == Kind::Cadoux ? 2 * nc_ : 0, 0.0), delta_(nc_, 0.0) {}
 
-    double *r = ctx.r;
-    std::vector<double> u(m), s(nc);
-    frix_info &info = ctx.info;
-    double err = L.error(r, u.data());
-    if (L.warm(r) && err <= L.tol) {
+void Solver::run() {
+    double *r = L_.ctx.r;
+    frix_info &info = L_.ctx.info;
+    err_ = L_.error(r, u_.data());
+    if (L_.warm(r) && err_ <= L_.tol) {
         info.status = FRIX_STATUS_CONVERGED;
         info.iterations = 0;
-        return FRIX_OK;
+        return;
     }
-
-    // The inner problem's own error: its natural-map residual relative to max(|q|, |r|, |u|),
-    // with the Tresca disk or the shifted cone (u + mu s e_N) of this outer iteration.
-    std::vector<double> ui(m);
-    auto inner_error = [&](Kind kd, const double *x) {
-        matrix_gemv(*p.W, 1.0, x, 0.0, ui.data());
-        double sum = 0.0, nr = 0.0, nu = 0.0;
-        for (int64_t a = 0; a < nc; ++a) {
-            const double *xa = x + 3 * a;
-            double *ua = ui.data() + 3 * a;
-            for (int i = 0; i < 3; ++i) ua[i] += p.q[3 * a + i];
-            double z[3] = {xa[0] - ua[0], xa[1] - ua[1], xa[2] - ua[2]};
-            if (kd == Kind::Tresca) {
-                coulomb::project_on_disk(z, s[a]);
-            } else {
-                z[0] -= p.mu[a] * s[a];
-                coulomb::project_on_cone(z, p.mu[a]);
-            }
-            for (int i = 0; i < 3; ++i) {
-                sum += (xa[i] - z[i]) * (xa[i] - z[i]);
-                nr += xa[i] * xa[i];
-                nu += ua[i] * ua[i];
-            }
-        }
-        return std::sqrt(sum) / L.scale(std::sqrt(nr), std::sqrt(nu));
-    };
-
-    // The local steps.
-    auto tresca_step = [&](int64_t a, Contact &c, const double *ql, double *ra) {
-        Outcome out;
-        if (tresca_exact(c, ql, s[a], ra, out)) return out;
-        return projected(c, ql, s[a], ra, lp);
-    };
-    std::vector<double> dirs(kind == Kind::Cadoux ? 2 * nc : 0, 0.0);
-    auto cone_step = [&](int64_t a, Contact &c, const double *ql, double *ra) {
-        const double shifted[3] = {ql[0] + c.mu * s[a], ql[1], ql[2]};
-        return cone_contact(c, shifted, ra, dirs.data() + 2 * a, lp);
-    };
-
-    int64_t outer = 0, sweeps = 0;
-    double theta = 1.0;
-    std::vector<double> delta(nc, 0.0);  // T(s) - s of the last outer iteration
+    int64_t outer = 0;
     frix_status status = FRIX_STATUS_NOT_RUN;
     while (status == FRIX_STATUS_NOT_RUN) {
         ++outer;
-        // The threshold of this outer iteration, from the last iterate (u = W r + q is up to
-        // date: the last error computed it): s <- s + theta (T(s) - s), with theta from
-        // Aitken's dynamic relaxation (Irons-Tuck): 1 while the update converges by itself,
-        // about 1/2 where it oscillates with period two (the Capsules problems, on which the
-        // plain update of Siconos' TFP never settles).
-        double num = 0.0, den = 0.0;
-        for (int64_t a = 0; a < nc; ++a) {
-            const double *ra = r + 3 * a, *ua = u.data() + 3 * a;
-            const double target = kind == Kind::Tresca ? p.mu[a] * std::max(0.0, ra[0]) : norm2d(ua[1], ua[2]);
-            const double d = target - s[a];
-            num += delta[a] * (d - delta[a]);
-            den += (d - delta[a]) * (d - delta[a]);
-            delta[a] = d;
-        }
-        if (outer > 1 && den > 0.0 && std::isfinite(num / den))
-            theta = std::clamp(-theta * num / den, kMinDamping, kMaxDamping);
-        for (int64_t a = 0; a < nc; ++a) s[a] = outer == 1 ? s[a] + delta[a] : s[a] + theta * delta[a];
-        const double inner_tol = ratio * err;
-        double light_tol = inner_tol;  // recalibrated on each inner full check, as NSGS does
-        int64_t k = 0;
-        bool timed_out = false;
-        while (k < inner_max) {
-            const nsgs::SweepStats st =
-                kind == Kind::Tresca ? ws.sweep_with(r, tresca_step) : ws.sweep_with(r, cone_step);
-            ++sweeps;
-            ++k;
-            if (!std::isfinite(st.r2)) break;
-            const double light = st.r2 > 0.0 ? std::sqrt(st.dr2 / st.r2) : std::sqrt(st.dr2);
-            if (L.verbosity >= 2)
-                log_line(&L.o, "%s:   sweep %lld light %.3e unsolved %lld rejected %lld", name,
-                         (long long)k, light, (long long)st.unsolved, (long long)st.rejected);
-            if (light <= light_tol) {
-                const double e_in = inner_error(kind, r);
-                if (e_in <= inner_tol) break;
-                light_tol = light > 0.0 ? light / e_in * inner_tol : light_tol;
-                if (st.dr2 == 0.0) break;  // a fixed point of the sweep: nothing more to gain
-            }
-            if (L.out_of_time()) {
-                timed_out = true;
-                break;
-            }
-        }
-        err = L.error(r, u.data());
-        if (L.verbosity >= 1)
-            log_line(&L.o, "%s: outer %lld, %lld sweeps (inner tolerance %.2e), error %.3e",
-                     name, (long long)outer, (long long)k, inner_tol, err);
-        if (err <= L.tol) status = FRIX_STATUS_CONVERGED;
-        else if (!std::isfinite(err)) status = FRIX_STATUS_DIVERGED;
-        else status = L.limits(outer, err, r);
-        if (status == FRIX_STATUS_NOT_RUN && timed_out) status = FRIX_STATUS_TIME_LIMIT;
+        update_thresholds(outer);
+        const double inner_tol = ratio_ * err_;
+        const int64_t k = inner_sweeps(inner_tol);
+        err_ = L_.error(r, u_.data());
+        if (L_.verbosity >= 1)
+            log_line(&L_.o, "%s: outer %lld, %lld sweeps (inner tolerance %.2e), error %.3e", name_, (long long)outer,
+                     (long long)k, inner_tol, err_);
+        // (Sweeps cut short by the time limit stop here too: the clock only goes on.)
+        status = L_.verdict(outer, err_, r);
     }
     info.status = status;
     info.iterations = outer;
-    info.inner_iterations = sweeps;
-    if (L.verbosity >= 1)
-        log_line(&L.o, "%s: %s after %lld outer iterations (%lld sweeps)", name,
-                 frix_status_string(status), (long long)outer, (long long)sweeps);
+    info.inner_iterations = sweeps_;
+    if (L_.verbosity >= 1)
+        log_line(&L_.o, "%s: %s after %lld outer iterations (%lld sweeps)", name_, frix_status_string(status),
+                 (long long)outer, (long long)sweeps_);
+}
+
+// The threshold of this outer iteration, from the last iterate (u = W r + q is up to date:
+// the last error computed it): s <- s + theta (T(s) - s), with theta from Aitken's dynamic
+// relaxation (Irons-Tuck): 1 while the update converges by itself, about 1/2 where it
+// oscillates with period two (the Capsules problems, on which the plain update of Siconos'
+// TFP never settles).
+void Solver::update_thresholds(int64_t outer) {
+    const double *r = L_.ctx.r;
+    double num = 0.0, den = 0.0;
+    for (int64_t a = 0; a < nc_; ++a) {
+        const double *ra = r + 3 * a, *ua = u_.data() + 3 * a;
+        const double target = kind_ == Kind::Tresca ? p_.mu[a] * std::max(0.0, ra[0]) : vec::norm2d(ua[1], ua[2]);
+        const double d = target - s_[a];
+        num += delta_[a] * (d - delta_[a]);
+        den += (d - delta_[a]) * (d - delta_[a]);
+        delta_[a] = d;
+    }
+    if (outer > 1 && den > 0.0 && std::isfinite(num / den))
+        theta_ = std::clamp(-theta_ * num / den, kMinDamping, kMaxDamping);
+    for (int64_t a = 0; a < nc_; ++a) s_[a] = outer == 1 ? s_[a] + delta_[a] : s_[a] + theta_ * delta_[a];
+}
+
+// NSGS sweeps on the inner problem until its own error is below inner_tol (the light error
+// first, its tolerance recalibrated on each inner full check, as NSGS does), inner_max_
+// sweeps, or the time limit; returns the sweeps made.
+int64_t Solver::inner_sweeps(double inner_tol) {
+    double *r = L_.ctx.r;
+    double light_tol = inner_tol;
+    int64_t k = 0;
+    while (k < inner_max_) {
+        const nsgs::SweepStats st = sweep();
+        ++sweeps_;
+        ++k;
+        if (!std::isfinite(st.r2)) break;
+        const double light = st.r2 > 0.0 ? std::sqrt(st.dr2 / st.r2) : std::sqrt(st.dr2);
+        if (L_.verbosity >= 2)
+            log_line(&L_.o, "%s:   sweep %lld light %.3e unsolved %lld rejected %lld", name_, (long long)k, light,
+                     (long long)st.unsolved, (long long)st.rejected);
+        if (light <= light_tol) {
+            const double e_in = inner_error(r);
+            if (e_in <= inner_tol) break;
+            light_tol = light > 0.0 ? light / e_in * inner_tol : light_tol;
+            if (st.dr2 == 0.0) break;  // a fixed point of the sweep: nothing more to gain
+        }
+        if (L_.out_of_time()) break;
+    }
+    return k;
+}
+
+// One sweep with the local step of the inner problem: the exact Tresca solution, else
+// projected steps on the disk; or the exact cone solution on the shifted cone.
+nsgs::SweepStats Solver::sweep() {
+    double *r = L_.ctx.r;
+    if (kind_ == Kind::Tresca)
+        return ws_.sweep_with(r, [this](int64_t a, Contact &c, const double *ql, double *ra) {
+            Outcome out;
+            if (tresca_exact(c, ql, s_[a], ra, out)) return out;
+            return projected(c, ql, s_[a], ra, lp_);
+        });
+    return ws_.sweep_with(r, [this](int64_t a, Contact &c, const double *ql, double *ra) {
+        const double shifted[3] = {ql[0] + c.mu * s_[a], ql[1], ql[2]};
+        return cone_contact(c, shifted, ra, dirs_.data() + 2 * a, lp_);
+    });
+}
+
+// The inner problem's own error: its natural-map residual relative to max(|q|, |r|, |u|),
+// with the Tresca disk or the shifted cone (u + mu s e_N) of this outer iteration.
+double Solver::inner_error(const double *x) {
+    matrix_gemv(*p_.W, 1.0, x, 0.0, ui_.data());
+    double sum = 0.0, nr = 0.0, nu = 0.0;
+    for (int64_t a = 0; a < nc_; ++a) {
+        const double *xa = x + 3 * a;
+        double *ua = ui_.data() + 3 * a;
+        for (int i = 0; i < 3; ++i) ua[i] += p_.q[3 * a + i];
+        double z[3] = {xa[0] - ua[0], xa[1] - ua[1], xa[2] - ua[2]};
+        if (kind_ == Kind::Tresca) {
+            coulomb::project_on_disk(z, s_[a]);
+        } else {
+            z[0] -= p_.mu[a] * s_[a];
+            coulomb::project_on_cone(z, p_.mu[a]);
+        }
+        for (int i = 0; i < 3; ++i) {
+            sum += (xa[i] - z[i]) * (xa[i] - z[i]);
+            nr += xa[i] * xa[i];
+            nu += ua[i] * ua[i];
+        }
+    }
+    return std::sqrt(sum) / L_.scale(std::sqrt(nr), std::sqrt(nu));
+}
+
+frix_error solve(SolveContext &ctx, Kind kind) {
+    if (!ctx.problem.W || !ctx.problem.W->block)
+        return fail(FRIX_ERR_INTERNAL, "%s: W is not stored as 3x3 blocks", kind == Kind::Tresca ? "tfp" : "aclm");
+    Solver(ctx, kind).run();
     return FRIX_OK;
 }
 

@@ -31,186 +31,228 @@ namespace gadmm {
 namespace {
 
 constexpr int kScaleSamples = 8;          // contacts whose W_aa set rho's unit
-constexpr double kRestartEta = 0.999;     // Nesterov restart threshold
 constexpr int64_t kBalancePeriod = 25;
 constexpr double kBalanceFactor = 5.0;    // rho changes only by this factor or more
 constexpr double kRhoMin = 1e-6, kRhoMax = 1e6;  // in units of 1 / scale
 constexpr int64_t kFullCheckPeriod = 32;
 
-using fo::dot;
+using vec::dot;
 
-frix_error solve(SolveContext &ctx) {
-    const frix_problem &p = ctx.problem;
-    const frix_options &o = ctx.options;
-    frix_info &info = ctx.info;
-    const Monitor monitor(ctx);
-    const double tol = monitor.tolerance();
-    const int64_t max_iter = monitor.max_iterations();
-    const int64_t verbosity = o.i(FRIX_OPT_VERBOSITY), measure = o.i(FRIX_OPT_ERROR_MEASURE);
-    const bool adaptive = o.i(FRIX_OPT_RHO_ADAPTIVE) != 0, accelerate = o.i(FRIX_OPT_ACCELERATION) != 0;
-    const int64_t n = p.n, nc = p.nc, m = 3 * nc;
-    double *r = ctx.r, *u = ctx.u, *v = ctx.v;
+// The sums of squares over the contacts one iteration's residuals come from (update_r_and_xi).
+struct Residuals {
+    double prim2 = 0.0, dual_xi2 = 0.0, comb = 0.0, g2 = 0.0, r2 = 0.0;
+};
 
-    // A persistent solver's next step with the same M and H starts from the last step's
-    // factorisation and its rho: a time-stepping host pays the factorisation once.
-    Kept<KeptMassPlusContacts> kept(ctx.cache, FRIX_SOLVER_GLOBAL_ADMM);
-    const linalg::FactorStats before = kept->system.stats();
-    MassPlusContacts &system = kept->system;
-    if (frix_error e = prepare_mass_plus_contacts(ctx, *kept, "gadmm", kScaleSamples)) return e;
-    const double scale = kept->scale;
-    double rho = std::isfinite(kept->factored_rho) ? kept->factored_rho : o.d(FRIX_OPT_RHO) / scale;
-    std::vector<double> S(9 * nc, 0.0);
-    auto factor = [&]() {
-        if (rho == kept->factored_rho) return true;
-        kept->factored_rho = NAN;
-        for (int64_t a = 0; a < nc; ++a) S[9 * a] = S[9 * a + 4] = S[9 * a + 8] = rho;
-        const frix_error e = system.factor(S.data(), monitor.budget());
-        if (e) clear_error();
-        else kept->factored_rho = rho;
-        return e == FRIX_OK;
-    };
-    kept.keep();
+// One solve: the iterates (r, xi) and v, the system M + rho H H^T and the steps of the iteration.
+class Solver {
+   public:
+    // before: the system's factorisation counters before the solve prepared it.
+    Solver(SolveContext &ctx, KeptMassPlusContacts &kept, const linalg::FactorStats &before);
+    // Runs the solve into ctx.info, (r, u, v); fails only as the linear solves do.
+    frix_error run();
 
-    std::vector<double> shift(m, 0.0), xi(m), rh(r, r + m), xih(m), r_old(r, r + m), xi_old(m);
-    std::vector<double> rhs(n), Hx(m), dxi(m), Hdxi(n), Hr(n), kv(n), work(n);
-    double equilibrium = 0.0;
-    auto checked_error = [&]() { return global_error_or_recovered(p, ctx.mass, measure, tol, r, v, u, &equilibrium); };
-    // The start: u from the driver's v (M v = H r + f), xi = P_K*(u + s) = x + P_K(-x).
-    double err = global_error(p, measure, r, v, u, &equilibrium);
-    de_saxce_shift(p, u, shift.data());
-    for (int64_t a = 0; a < nc; ++a) {
-        double *x = &xi[3 * a], neg[3];
-        for (int i = 0; i < 3; ++i) x[i] = u[3 * a + i] + shift[3 * a + i], neg[i] = -x[i];
-        coulomb::project_on_cone(neg, p.mu[a]);
+   private:
+    bool factor();
+    void start_xi();
+    frix_error update_v();
+    Residuals update_r_and_xi();
+    frix_status stop_test(double light, double prim, double dual);
+    frix_status balance_rho(double prim, double dual);
+    void finish(frix_status status);
+
+    SolveContext &ctx_;
+    const frix_problem &p_;
+    const frix_options &o_;
+    const Monitor monitor_;
+    const double tol_;
+    const int64_t verbosity_, measure_;
+    const bool adaptive_;
+    const int64_t n_, nc_, m_;
+    double *r_, *u_, *v_;
+    KeptMassPlusContacts &kept_;
+    MassPlusContacts &system_;
+    const linalg::FactorStats before_;
+    const double scale_;
+    double rho_;
+    std::vector<double> S_;  // the contacts' shifts rho I of the factorised system
+    std::vector<double> shift_, xi_, rhs_, Hx_, dxi_, Hdxi_, Hr_, kv_, work_;
+    first_order::RestartedNesterov momentum_;
+    double equilibrium_ = 0.0, err_ = 0.0, norm_f_ = 0.0, tol_light_ = 0.0;
+    int64_t it_ = 0, changes_ = 0, since_change_ = 0;
+};
+
+Solver::Solver(SolveContext &ctx, KeptMassPlusContacts &kept, const linalg::FactorStats &before)
+    : ctx_(ctx),
+      p_(ctx.problem),
+      o_(ctx.options),
+      monitor_(ctx),
+      tol_(monitor_.tolerance()),
+      verbosity_(o_.i(FRIX_OPT_VERBOSITY)),
+      measure_(o_.i(FRIX_OPT_ERROR_MEASURE)),
+      adaptive_(o_.i(FRIX_OPT_RHO_ADAPTIVE) != 0),
+      n_(p_.n),
+      nc_(p_.nc),
+      m_(3 * p_.nc),
+      r_(ctx.r),
+      u_(ctx.u),
+      v_(ctx.v),
+      kept_(kept),
+      system_(kept.system),
+      before_(before),
+      scale_(kept.scale),
+      rho_(std::isfinite(kept.factored_rho) ? kept.factored_rho : o_.d(FRIX_OPT_RHO) / kept.scale),
+      S_(9 * nc_, 0.0),
+      shift_(m_, 0.0), xi_(m_), rhs_(n_), Hx_(m_), dxi_(m_), Hdxi_(n_), Hr_(n_), kv_(n_), work_(n_),
+      momentum_(o_.i(FRIX_OPT_ACCELERATION) != 0, m_) {}
+
+// Factorises M + rho H H^T unless the system holds that rho already; false if that failed.
+bool Solver::factor() {
+    if (rho_ == kept_.factored_rho) return true;
+    kept_.factored_rho = NAN;
+    for (int64_t a = 0; a < nc_; ++a) S_[9 * a] = S_[9 * a + 4] = S_[9 * a + 8] = rho_;
+    const frix_error e = system_.factor(S_.data(), monitor_.budget());
+    if (e) clear_error();
+    else kept_.factored_rho = rho_;
+    return e == FRIX_OK;
+}
+
+// The start: u from the driver's v (M v = H r + f), xi = P_K*(u + s) = x + P_K(-x).
+void Solver::start_xi() {
+    de_saxce_shift(p_, u_, shift_.data());
+    for (int64_t a = 0; a < nc_; ++a) {
+        double *x = &xi_[3 * a], neg[3];
+        for (int i = 0; i < 3; ++i) x[i] = u_[3 * a + i] + shift_[3 * a + i], neg[i] = -x[i];
+        coulomb::project_on_cone(neg, p_.mu[a]);
         for (int i = 0; i < 3; ++i) x[i] += neg[i];
     }
-    xih = xi;
-    xi_old = xi;
-    const double norm_f = std::sqrt(dot(p.f, p.f, n));
+}
 
-    frix_status status = err <= tol ? FRIX_STATUS_CONVERGED : FRIX_STATUS_NOT_RUN;
+frix_error Solver::run() {
+    err_ = global_error(p_, measure_, r_, v_, u_, &equilibrium_);
+    start_xi();
+    momentum_.reset(r_, xi_.data());
+    norm_f_ = std::sqrt(dot(p_.f, p_.f, n_));
+    frix_status status = err_ <= tol_ ? FRIX_STATUS_CONVERGED : FRIX_STATUS_NOT_RUN;
     if (status == FRIX_STATUS_NOT_RUN && !factor())
-        status = system.refused() ? system.refused() : FRIX_STATUS_NUMERICAL_FAILURE;
-    double alpha = 1.0, c_prev = INFINITY, tol_light = tol;
-    int64_t it = 0, restarts = 0, changes = 0, since_change = 0;
+        status = system_.refused() ? system_.refused() : FRIX_STATUS_NUMERICAL_FAILURE;
+    tol_light_ = tol_;
     while (status == FRIX_STATUS_NOT_RUN) {
-        ++it;
-        ++since_change;
-        for (int64_t i = 0; i < m; ++i) Hx[i] = rh[i] + rho * (xih[i] - p.w[i] - shift[i]);
-        std::copy(p.f, p.f + n, rhs.begin());
-        if (m > 0) matrix_gemv(*p.H, 1.0, Hx.data(), 1.0, rhs.data());
-        // M's skew part K, if any, at the previous v: exact at the fixed point.
-        if (system.skewed()) {
-            matrix_skew_gemv(*p.M, v, kv.data(), work.data());
-            for (int64_t j = 0; j < n; ++j) rhs[j] -= kv[j];
-        }
-        if (frix_error e = system.solve(rhs.data(), v)) return e;
-        if (m > 0) matrix_gemv_transposed(*p.H, 1.0, v, 0.0, u);
-        double prim2 = 0.0, dual_xi2 = 0.0, comb = 0.0, g2 = 0.0, r2 = 0.0;
-        for (int64_t a = 0; a < nc; ++a) {
-            double g[3];
-            for (int i = 0; i < 3; ++i) {
-                const int64_t k = 3 * a + i;
-                u[k] += p.w[k];
-                g[i] = u[k] + shift[k];
-                r[k] = rh[k] - rho * g[i];
-            }
-            coulomb::project_on_cone(&r[3 * a], p.mu[a]);
-            for (int i = 0; i < 3; ++i) {
-                const int64_t k = 3 * a + i;
-                xi[k] = g[i] - (rh[k] - r[k]) / rho;
-                dxi[k] = xi[k] - xih[k];
-                prim2 += (g[i] - xi[k]) * (g[i] - xi[k]);
-                dual_xi2 += dxi[k] * dxi[k];
-                comb += (r[k] - rh[k]) * (r[k] - rh[k]) / rho + rho * dxi[k] * dxi[k];
-                g2 += g[i] * g[i];
-                r2 += r[k] * r[k];
-            }
-        }
-        de_saxce_shift(p, u, shift.data());
-        if (!std::isfinite(prim2 + dual_xi2 + g2 + r2)) {
+        ++it_;
+        ++since_change_;
+        if (frix_error e = update_v()) return e;
+        const Residuals res = update_r_and_xi();
+        if (!std::isfinite(res.prim2 + res.dual_xi2 + res.g2 + res.r2)) {
             status = FRIX_STATUS_DIVERGED;
             break;
         }
         // Relative residuals: primal against |g|, dual (the equilibrium residual rho H dxi)
         // against max(|f|, |H r|), as the equilibrium measure.
-        if (m > 0) {
-            matrix_gemv(*p.H, rho, dxi.data(), 0.0, Hdxi.data());
-            matrix_gemv(*p.H, 1.0, r, 0.0, Hr.data());
+        if (m_ > 0) {
+            matrix_gemv(*p_.H, rho_, dxi_.data(), 0.0, Hdxi_.data());
+            matrix_gemv(*p_.H, 1.0, r_, 0.0, Hr_.data());
         }
-        const double prim = std::sqrt(prim2) / std::max(std::sqrt(g2), 1e-300);
-        const double dual = std::sqrt(dot(Hdxi.data(), Hdxi.data(), n)) /
-                            std::max({norm_f, std::sqrt(dot(Hr.data(), Hr.data(), n)), 1e-300});
-        const double light = std::max(prim, dual);
+        const double prim = std::sqrt(res.prim2) / std::max(std::sqrt(res.g2), 1e-300);
+        const double dual = std::sqrt(dot(Hdxi_.data(), Hdxi_.data(), n_)) /
+                            std::max({norm_f_, std::sqrt(dot(Hr_.data(), Hr_.data(), n_)), 1e-300});
+        momentum_.advance(res.comb, r_, xi_.data());
+        status = stop_test(std::max(prim, dual), prim, dual);
+        if (status == FRIX_STATUS_NOT_RUN) status = balance_rho(prim, dual);
+    }
+    finish(status);
+    return FRIX_OK;
+}
 
-        if (!accelerate) {
-            rh.assign(r, r + m);
-            xih = xi;
-        } else if (comb < kRestartEta * c_prev) {
-            const double alpha_next = 0.5 * (1.0 + std::sqrt(1.0 + 4.0 * alpha * alpha));
-            const double beta = (alpha - 1.0) / alpha_next;
-            for (int64_t k = 0; k < m; ++k) {
-                rh[k] = r[k] + beta * (r[k] - r_old[k]);
-                xih[k] = xi[k] + beta * (xi[k] - xi_old[k]);
-            }
-            alpha = alpha_next;
-            c_prev = comb;
-            r_old.assign(r, r + m);
-            xi_old = xi;
-        } else {
-            alpha = 1.0;
-            rh.assign(r, r + m);
-            xih = xi;
-            r_old.assign(r, r + m);
-            xi_old = xi;
-            c_prev = comb;
-            ++restarts;
+// (M + rho H H^T) v = f + H (r^ + rho (xi^ - w - s)), M's skew part K, if any, at the
+// previous v (exact at the fixed point); then u = H^T v (w added in update_r_and_xi).
+frix_error Solver::update_v() {
+    const double *rh = momentum_.x_hat(), *xih = momentum_.y_hat();
+    for (int64_t i = 0; i < m_; ++i) Hx_[i] = rh[i] + rho_ * (xih[i] - p_.w[i] - shift_[i]);
+    std::copy(p_.f, p_.f + n_, rhs_.begin());
+    if (m_ > 0) matrix_gemv(*p_.H, 1.0, Hx_.data(), 1.0, rhs_.data());
+    if (system_.skewed()) {
+        matrix_skew_gemv(*p_.M, v_, kv_.data(), work_.data());
+        for (int64_t j = 0; j < n_; ++j) rhs_[j] -= kv_[j];
+    }
+    if (frix_error e = system_.solve(rhs_.data(), v_)) return e;
+    if (m_ > 0) matrix_gemv_transposed(*p_.H, 1.0, v_, 0.0, u_);
+    return FRIX_OK;
+}
+
+// g = u + s, r = P_K(r^ - rho g), xi = g - (r^ - r) / rho, then s from the new u.
+Residuals Solver::update_r_and_xi() {
+    const double *rh = momentum_.x_hat(), *xih = momentum_.y_hat();
+    Residuals res;
+    for (int64_t a = 0; a < nc_; ++a) {
+        double g[3];
+        for (int i = 0; i < 3; ++i) {
+            const int64_t k = 3 * a + i;
+            u_[k] += p_.w[k];
+            g[i] = u_[k] + shift_[k];
+            r_[k] = rh[k] - rho_ * g[i];
         }
-
-        double estimate = light;
-        bool checked = false;
-        if (light <= tol_light || it % kFullCheckPeriod == 0) {
-            err = checked_error();
-            checked = true;
-            estimate = err;
-            if (err <= tol) status = FRIX_STATUS_CONVERGED;
-            else if (!std::isfinite(err)) status = FRIX_STATUS_DIVERGED;
-            else if (light > 0.0) tol_light = std::min(tol, light / err * tol);
-        }
-        if (verbosity >= 2 || (verbosity >= 1 && checked))
-            log_line(&o, "gadmm: iteration %lld rho %.3e primal %.3e dual %.3e%s%.3e", (long long)it, rho * scale,
-                     prim, dual, checked ? " full " : " tol_light ", checked ? err : tol_light);
-        if (status != FRIX_STATUS_NOT_RUN) break;
-        if (monitor.report(it, estimate)) status = FRIX_STATUS_STOPPED_BY_CALLBACK;
-        else if (monitor.out_of_time()) status = FRIX_STATUS_TIME_LIMIT;
-        else if (it >= max_iter) status = FRIX_STATUS_MAX_ITER;
-        if (status != FRIX_STATUS_NOT_RUN) break;
-
-        // Residual balancing: rho <- rho sqrt(primal / dual) when that changes it 5-fold.
-        if (adaptive && since_change >= kBalancePeriod && dual > 0.0 && prim > 0.0) {
-            const double target = std::clamp(rho * std::sqrt(prim / dual), kRhoMin / scale, kRhoMax / scale);
-            if (target > kBalanceFactor * rho || target * kBalanceFactor < rho) {
-                rho = target;
-                alpha = 1.0;
-                c_prev = INFINITY;
-                rh.assign(r, r + m);
-                xih = xi;
-                r_old.assign(r, r + m);
-                xi_old = xi;
-                since_change = 0;
-                ++changes;
-                if (!factor()) status = system.refused() ? system.refused() : FRIX_STATUS_NUMERICAL_FAILURE;
-            }
+        coulomb::project_on_cone(&r_[3 * a], p_.mu[a]);
+        for (int i = 0; i < 3; ++i) {
+            const int64_t k = 3 * a + i;
+            xi_[k] = g[i] - (rh[k] - r_[k]) / rho_;
+            dxi_[k] = xi_[k] - xih[k];
+            res.prim2 += (g[i] - xi_[k]) * (g[i] - xi_[k]);
+            res.dual_xi2 += dxi_[k] * dxi_[k];
+            res.comb += (r_[k] - rh[k]) * (r_[k] - rh[k]) / rho_ + rho_ * dxi_[k] * dxi_[k];
+            res.g2 += g[i] * g[i];
+            res.r2 += r_[k] * r_[k];
         }
     }
-    // The last (r, v): r is in K, and v the velocity of the last linear solve.
+    de_saxce_shift(p_, u_, shift_.data());
+    return res;
+}
+
+// Stopping: the full error (with v recovered where that helps), when the light error passes
+// its tolerance, recalibrated on each full check, or every kFullCheckPeriod iterations.
+frix_status Solver::stop_test(double light, double prim, double dual) {
+    const bool full = light <= tol_light_ || it_ % kFullCheckPeriod == 0;
+    if (full) {
+        err_ = global_error_or_recovered(p_, ctx_.mass, measure_, tol_, r_, v_, u_, &equilibrium_);
+        if (!(err_ <= tol_) && std::isfinite(err_) && light > 0.0) tol_light_ = std::min(tol_, light / err_ * tol_);
+    }
+    if (verbosity_ >= 2 || (verbosity_ >= 1 && full))
+        log_line(&o_, "gadmm: iteration %lld rho %.3e primal %.3e dual %.3e%s%.3e", (long long)it_, rho_ * scale_, prim,
+                 dual, full ? " full " : " tol_light ", full ? err_ : tol_light_);
+    return full ? monitor_.verdict(it_, err_) : monitor_.limits(it_, light);
+}
+
+// Residual balancing: rho <- rho sqrt(primal / dual) when that changes it 5-fold.
+// FRIX_STATUS_NOT_RUN to go on.
+frix_status Solver::balance_rho(double prim, double dual) {
+    if (!adaptive_ || since_change_ < kBalancePeriod || !(dual > 0.0) || !(prim > 0.0)) return FRIX_STATUS_NOT_RUN;
+    const double target = std::clamp(rho_ * std::sqrt(prim / dual), kRhoMin / scale_, kRhoMax / scale_);
+    if (!(target > kBalanceFactor * rho_ || target * kBalanceFactor < rho_)) return FRIX_STATUS_NOT_RUN;
+    rho_ = target;
+    momentum_.reset(r_, xi_.data());
+    since_change_ = 0;
+    ++changes_;
+    if (factor()) return FRIX_STATUS_NOT_RUN;
+    return system_.refused() ? system_.refused() : FRIX_STATUS_NUMERICAL_FAILURE;
+}
+
+// The last (r, v): r is in K, and v the velocity of the last linear solve.
+void Solver::finish(frix_status status) {
+    frix_info &info = ctx_.info;
     info.status = status;
-    info.iterations = it;
-    Monitor::record_factorizations(info, system.stats() - before);
-    if (verbosity >= 1)
-        log_line(&o, "gadmm: %s after %lld iterations (%lld rho changes, %lld restarts)", frix_status_string(status),
-                 (long long)it, (long long)changes, (long long)restarts);
-    return FRIX_OK;
+    info.iterations = it_;
+    Monitor::record_factorizations(info, system_.stats() - before_);
+    if (verbosity_ >= 1)
+        log_line(&o_, "gadmm: %s after %lld iterations (%lld rho changes, %lld restarts)", frix_status_string(status),
+                 (long long)it_, (long long)changes_, (long long)momentum_.restarts());
+}
+
+// A persistent solver's next step with the same M and H starts from the last step's
+// factorisation and its rho: a time-stepping host pays the factorisation once.
+frix_error solve(SolveContext &ctx) {
+    Kept<KeptMassPlusContacts> kept(ctx.cache, FRIX_SOLVER_GLOBAL_ADMM);
+    const linalg::FactorStats before = kept->system.stats();
+    if (frix_error e = prepare_mass_plus_contacts(ctx, *kept, "gadmm", kScaleSamples)) return e;
+    kept.keep();
+    return Solver(ctx, *kept, before).run();
 }
 
 const frix_option_key kExtraKeys[] = {FRIX_OPT_RHO, FRIX_OPT_RHO_ADAPTIVE, FRIX_OPT_ACCELERATION, (frix_option_key)0};

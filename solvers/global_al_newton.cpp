@@ -48,7 +48,7 @@ constexpr double kRhoGrowth = 5.0;    // ... multiplies rho by this
 constexpr double kRhoMax = 1e8;       // rho at most, in units of 1 / scale
 constexpr int kStallOuter = 8;        // outer steps without halving the best error: stagnated
 
-using fo::dot;
+using vec::dot;
 
 frix_error solve(SolveContext &ctx) {
     const frix_problem &p = ctx.problem;

@@ -7,22 +7,15 @@
 #include "solvers/local_newton.hpp"
 #include "solvers/nsn_functions.hpp"
 #include "src/coulomb.hpp"
+#include "src/vec.hpp"
 
 namespace frix::local {
 
 namespace {
 
-// sqrt(x^2 + y^2) without hypot's overflow care: inputs here are finite physical values, and
-// hypot costs as much as the rest of a local solve.
-inline double norm2d(double x, double y) { return std::sqrt(x * x + y * y); }
-
-inline double norm3(const double *x) { return std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]); }
-
-inline void gemv3(const double *W, const double *x, double *y) {
-    y[0] = W[0] * x[0] + W[3] * x[1] + W[6] * x[2];
-    y[1] = W[1] * x[0] + W[4] * x[1] + W[7] * x[2];
-    y[2] = W[2] * x[0] + W[5] * x[1] + W[8] * x[2];
-}
+using vec::gemv3;
+using vec::norm2d;
+using vec::norm3;
 
 // Largest eigenvalue of a symmetric 3x3 matrix (a00 a11 a22 a01 a02 a12), closed form.
 double sym3_max_eigenvalue(double a00, double a11, double a22, double a01, double a02, double a12) {

@@ -237,6 +237,11 @@ class Workspace {
     }
 
    private:
+    // Contact a's turn in a sweep, the body every sweep shares: skipped while frozen, else its
+    // local q, the step and accept(), moved told of an accepted change; its counts added to st.
+    template <class LocalQ, class Step, class Moved>
+    void sweep_contact(int64_t a, double *r, int64_t *frozen, LocalQ &local_q, Step &step, Moved &moved,
+                       SweepStats &st);
     void order_and_freezing(int64_t nc);
     void reshuffle();
     void build_columns();
@@ -280,22 +285,16 @@ SweepStats Workspace::sweep_loop(double *r, LocalQ &&local_q, Step &&step, Moved
 }
 
 template <class LocalQ, class Step, class Moved>
-SweepStats Workspace::sweep_contacts(double *r, const int64_t *order, int64_t count, LocalQ &&local_q, Step &&step,
-                                     Moved &&moved) {
-    SweepStats st;
-    int64_t *frozen = frozen_.empty() ? nullptr : frozen_.data();
-    for (int64_t k = 0; k < count; ++k) {
-        const int64_t a = order ? order[k] : k;
-        double *ra = r + 3 * a;
-        if (frozen && frozen[a] > 0) {
-            --frozen[a];
-            ++st.frozen;
-            st.r2 += ra[0] * ra[0] + ra[1] * ra[1] + ra[2] * ra[2];
-            continue;
-        }
+void Workspace::sweep_contact(int64_t a, double *r, int64_t *frozen, LocalQ &local_q, Step &step, Moved &moved,
+                              SweepStats &st) {
+    double *ra = r + 3 * a;
+    if (frozen && frozen[a] > 0) {
+        --frozen[a];
+        ++st.frozen;
+    } else {
         local::Contact &c = contacts_[(size_t)a];
         double ql[3];
-        local_q(a, c, ql);
+        local_q(a, (const local::Contact &)c, ql);
         double rn[3] = {ra[0], ra[1], ra[2]};
         const local::Outcome out = step(a, c, (const double *)ql, rn);
         if (out == local::Outcome::NotConverged || out == local::Outcome::NoSolution) ++st.unsolved;
@@ -308,8 +307,16 @@ SweepStats Workspace::sweep_contacts(double *r, const int64_t *order, int64_t co
         } else {
             ++st.rejected;
         }
-        st.r2 += ra[0] * ra[0] + ra[1] * ra[1] + ra[2] * ra[2];
     }
+    st.r2 += ra[0] * ra[0] + ra[1] * ra[1] + ra[2] * ra[2];
+}
+
+template <class LocalQ, class Step, class Moved>
+SweepStats Workspace::sweep_contacts(double *r, const int64_t *order, int64_t count, LocalQ &&local_q, Step &&step,
+                                     Moved &&moved) {
+    SweepStats st;
+    int64_t *frozen = frozen_.empty() ? nullptr : frozen_.data();
+    for (int64_t k = 0; k < count; ++k) sweep_contact(order ? order[k] : k, r, frozen, local_q, step, moved, st);
     return st;
 }
 
@@ -320,38 +327,18 @@ SweepStats Workspace::sweep_domains(double *r, const Domains &domains, ThreadTea
     domain_r2_.assign((size_t)domains.domains(), 0.0);
     int64_t *frozen = frozen_.empty() ? nullptr : frozen_.data();
     const local::Params lp = s_.local;
+    const auto step = [&lp](int64_t, local::Contact &c, const double *ql, double *rn) {
+        return local::solve_contact(c, ql, rn, lp);
+    };
     std::atomic<int64_t> rejected{0}, unsolved{0}, skipped{0};
     // Domain d's sweep; its sums go to its own slots (counts: exact in any order).
     const auto sweep_domain = [&](int64_t d) {
-        int64_t rej = 0, uns = 0, skip = 0;
-        double sum_dr2 = 0.0, sum_r2 = 0.0;
-        for (int64_t a = domains.domain_ptr[(size_t)d]; a < domains.domain_ptr[(size_t)d + 1]; ++a) {
-            double *ra = r + 3 * a;
-            if (frozen && frozen[a] > 0) {
-                --frozen[a];
-                ++skip;
-            } else {
-                local::Contact &c = contacts_[(size_t)a];
-                double ql[3];
-                local_q(a, (const local::Contact &)c, ql);
-                double rn[3] = {ra[0], ra[1], ra[2]};
-                const local::Outcome out = local::solve_contact(c, ql, rn, lp);
-                if (out == local::Outcome::NotConverged || out == local::Outcome::NoSolution) ++uns;
-                const double old[3] = {ra[0], ra[1], ra[2]};
-                double dr2 = 0.0;
-                if (accept(a, ra, rn, dr2)) {
-                    sum_dr2 += dr2;
-                    const double dr[3] = {ra[0] - old[0], ra[1] - old[1], ra[2] - old[2]};
-                    if (dr[0] != 0.0 || dr[1] != 0.0 || dr[2] != 0.0) moved(a, dr);
-                } else {
-                    ++rej;
-                }
-            }
-            sum_r2 += ra[0] * ra[0] + ra[1] * ra[1] + ra[2] * ra[2];
-        }
-        domain_dr2_[(size_t)d] = sum_dr2;
-        domain_r2_[(size_t)d] = sum_r2;
-        rejected += rej, unsolved += uns, skipped += skip;
+        SweepStats st;
+        for (int64_t a = domains.domain_ptr[(size_t)d]; a < domains.domain_ptr[(size_t)d + 1]; ++a)
+            sweep_contact(a, r, frozen, local_q, step, moved, st);
+        domain_dr2_[(size_t)d] = st.dr2;
+        domain_r2_[(size_t)d] = st.r2;
+        rejected += st.rejected, unsolved += st.unsolved, skipped += st.frozen;
     };
     for (int64_t k = 0; k < domains.colours(); ++k) {
         const int64_t first = domains.colour_ptr[(size_t)k];
@@ -435,9 +422,9 @@ void extrapolate_affine(double beta, const double *line, const double *y, int64_
     }
 }
 
-// The NSGS iteration on `form`: sweeps, the light error calibrated by full checks, drift
-// extrapolation, freezing, the monitor's limits and callback; ctx.info gets the status and
-// the sweeps.
+// The NSGS iteration on `form` (nsgs_iteration.cpp): sweeps, the light error calibrated by
+// full checks, drift extrapolation, freezing, the monitor's limits and callback; ctx.info gets
+// the status and the sweeps.
 frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const char *name);
 
 // gnsgs: a body (a connected component of M's graph) of more dofs than this is deformable;

@@ -104,6 +104,13 @@ class Solver {
     frix_error solve(const std::vector<double> &b, Point &d);
     void product(Point &X) const { matrix_gemv(*p_.W, 1.0, X.r.data(), 0.0, X.wr.data()); }
     double dot(const Point &A, const Point &B) const;
+    // The steps of run(), in order.
+    Point interior_start();
+    frix_error step(lorentz::Run &run, Point &X, int verbosity, const char *&why, bool &go_on);
+    frix_error series(bool turning, bool &finite);
+    bool step_end(const Point &X, double &length, Point &Y) const;
+    double distance_off_path(const Point &Y);
+    frix_error correct(Point &Y);
 
     SolveContext &ctx_;
     const frix_problem &p_;
@@ -113,6 +120,11 @@ class Solver {
     Point at_;                            // the factorised point
     std::vector<double> T_, D_, values_;  // per contact: T = L(x)^-1 L(y) diag(mu, 1, 1), D
     std::vector<double> t_, rhs_;         // per contact, in solve(): L(x)^-1 b's Jordan part
+    // The path: R0 = R(X0), the series' terms U[k] (U[0] unused), y (J y = R0), the
+    // correction d; R and b scratch (4 per contact).
+    std::vector<double> R0_, R_, b_;
+    std::vector<Point> U_;
+    Point y_, d_;
 };
 
 void Solver::residual(const Point &X, std::vector<double> &R) const {
@@ -261,9 +273,32 @@ frix_error Solver::run() {
     D_.assign(9 * nc_, 0.0);
     t_.assign(m_, 0.0);
     rhs_.assign(m_, 0.0);
+    Point X = interior_start();
+    residual(X, R0_);
+    U_.assign(kOrder + 1, Point());
+    for (Point &t : U_) t.resize(nc_);
+    y_.resize(nc_);
+    d_.resize(nc_);
+    b_.assign(4 * nc_, 0.0);
+    const char *why = nullptr;  // why the path hands over to Newton (null: it does not)
+    for (bool go_on = true; go_on;)
+        if (frix_error e = step(run, X, verbosity, why, go_on)) return e;
+    const bool handed_over = why != nullptr;
+    const int64_t path_steps = run.iterations();
+    if (handed_over && verbosity >= 1)
+        log_line(&o, "ipm-anm: %lld steps (%s), lambda %.3e, best error %.3e; Newton from there",
+                 (long long)path_steps, why, X.lambda, run.best_error());
+    if (frix_error e = run.end(handed_over)) return e;
+    if (verbosity >= 1)
+        log_line(&o, "ipm-anm: %s after %lld iterations (%lld path steps, %lld Newton)",
+                 frix_status_string(info.status), (long long)info.iterations, (long long)path_steps,
+                 (long long)run.newton_steps());
+    return FRIX_OK;
+}
 
-    // Interior start, scaled like the problem (as ipm's): r on the cones' axes, s so that y
-    // lies inside L by at least the velocity scale.
+// Interior start, scaled like the problem (as ipm's): r on the cones' axes, s so that y lies
+// inside L by at least the velocity scale.
+Point Solver::interior_start() {
     const lorentz::StartScales scale = lorentz::start_scales(p_);
     s_scale_ = scale.velocity;
     r_scale_ = scale.force;
@@ -277,157 +312,153 @@ frix_error Solver::run() {
         X.s[a] = friction(a) ? uT + std::max(0.0, -uN) / p_.mu[a] + s_scale_ : std::max(0.0, -uN) + s_scale_;
     }
     X.lambda = 1.0;
-    std::vector<double> R0, R, b(4 * nc_);
-    residual(X, R0);
+    return X;
+}
 
-    std::vector<Point> U(kOrder + 1);  // U[k]: the series' term of order k (U[0] unused)
-    for (Point &t : U) t.resize(nc_);
-    Point y, Y, d;  // y: J y = R0; Y: a trial point; d: a correction
-    y.resize(nc_);
-    d.resize(nc_);
-    bool handed_over = false;
-    const char *why = "";
-    for (;;) {
-        const lorentz::Run::Next next = run.check(X.r.data());
-        if (next == lorentz::Run::kStop) break;
-        if (next == lorentz::Run::kHandOver) {
-            handed_over = true;
-            why = "the error stopped falling";
-            break;
-        }
-        if (X.lambda < kLambdaEnd) {
-            handed_over = true;
-            why = "lambda spent";
-            break;
-        }
-        if (frix_error e = factor(X)) {
-            if (e != FRIX_ERR_NUMERICAL) return e;
-            clear_error();
-            if (kept_.lu.refused()) {  // it would overrun the time or memory limit
-                info.status = kept_.lu.refused();
-                break;
-            }
-            handed_over = true;
-            why = "a singular Jacobian";
-            break;
-        }
-        run.count_iteration();
-        // Order 1: the unit tangent (X_1, lambda_1) = lambda_1 (y, 1), J y = R0, oriented as
-        // the last one (lambda falling at the start).
-        if (frix_error e = solve(R0, y)) return e;
-        y.lambda = 1.0;
-        double l1 = 1.0 / std::sqrt(dot(y, y));
-        if (run.iterations() > 1) {
-            const double turn = l1 * (dot(y, U[1]));
-            if (turn < 0.0) l1 = -l1;
-        } else {
-            l1 = -l1;
-        }
-        Point &U1 = U[1];
-        for (int64_t i = 0; i < m_; ++i) {
-            U1.r[i] = l1 * y.r[i];
-            U1.wr[i] = l1 * y.wr[i];
-        }
-        for (int64_t a = 0; a < nc_; ++a) U1.s[a] = l1 * y.s[a];
-        U1.lambda = l1;
-        // Orders k >= 2: J X_k - lambda_k R0 = -sum_{i+j=k} Q(X_i, X_j) with
-        // <X_k, X_1> + lambda_k lambda_1 = 0.
-        const double y_dot_1 = dot(y, U1);  // y.lambda = 1: <y, X_1> + lambda_1
-        bool finite = std::isfinite(l1);
-        for (int k = 2; k <= kOrder && finite; ++k) {
-            std::fill(b.begin(), b.end(), 0.0);
-            for (int i = 1; i < k; ++i) add_quadratic(U[i], U[k - i], b);
-            for (double &v : b) v = -v;
-            Point &Uk = U[k];
-            if (frix_error e = solve(b, Uk)) return e;
-            Uk.lambda = 0.0;
-            const double lk = -dot(Uk, U1) / y_dot_1;
-            for (int64_t i = 0; i < m_; ++i) {
-                Uk.r[i] += lk * y.r[i];
-                Uk.wr[i] += lk * y.wr[i];
-            }
-            for (int64_t a = 0; a < nc_; ++a) Uk.s[a] += lk * y.s[a];
-            Uk.lambda = lk;
-            finite = std::isfinite(lk);
-        }
-        double step = finite ? std::pow(kSeriesAccuracy / std::sqrt(dot(U[kOrder], U[kOrder])), 1.0 / (kOrder - 1)) : 0.0;
-        if (!std::isfinite(step)) step = 0.0;
-        // The step's end, cut until it lies inside the cones with lambda >= 0.
-        Y = X;
-        bool inside = false;
-        for (int cut = 0; cut < kMaxCuts && step >= kMinStep; ++cut, step *= kCut) {
-            for (int64_t i = 0; i < m_; ++i) {
-                double r = 0.0, w = 0.0;
-                for (int k = kOrder; k >= 1; --k) {
-                    r = (r + U[k].r[i]) * step;
-                    w = (w + U[k].wr[i]) * step;
-                }
-                Y.r[i] = X.r[i] + r;
-                Y.wr[i] = X.wr[i] + w;
-            }
-            for (int64_t a = 0; a < nc_; ++a) {
-                double s = 0.0;
-                for (int k = kOrder; k >= 1; --k) s = (s + U[k].s[a]) * step;
-                Y.s[a] = X.s[a] + s;
-            }
-            double l = 0.0;
-            for (int k = kOrder; k >= 1; --k) l = (l + U[k].lambda) * step;
-            Y.lambda = X.lambda + l;
-            if (Y.lambda > 0.0 && interior(Y)) {
-                inside = true;
-                break;
-            }
-        }
-        if (!inside) {
-            handed_over = true;
-            why = "the series gave no step";
-            break;
-        }
-        // How far the series' end lies off the path, relative to |R0| (logged): the series'
-        // accuracy, before the corrections hide it.
-        double off_path = 0.0;
-        if (verbosity >= 2) {
-            residual(Y, R);
-            double g = 0.0, g0 = 0.0;
-            for (int64_t i = 0; i < 4 * nc_; ++i) {
-                g += (R[i] - Y.lambda * R0[i]) * (R[i] - Y.lambda * R0[i]);
-                g0 += R0[i] * R0[i];
-            }
-            off_path = std::sqrt(g / g0);
-        }
-        // Chord corrections at fixed lambda: J dX = -(R(Y) - lambda R0), within the cones.
-        for (int c = 0; c < kCorrections; ++c) {
-            residual(Y, R);
-            for (int64_t i = 0; i < 4 * nc_; ++i) b[i] = -(R[i] - Y.lambda * R0[i]);
-            if (frix_error e = solve(b, d)) return e;
-            double t = 1.0;
-            Point Z = Y;
-            bool inside_z = false;
-            for (int cut = 0; cut < 20 && !inside_z; ++cut, t *= 0.5) {
-                for (int64_t i = 0; i < m_; ++i) {
-                    Z.r[i] = Y.r[i] + t * d.r[i];
-                    Z.wr[i] = Y.wr[i] + t * d.wr[i];
-                }
-                for (int64_t a = 0; a < nc_; ++a) Z.s[a] = Y.s[a] + t * d.s[a];
-                inside_z = interior(Z);
-            }
-            if (!inside_z) break;
-            Y = std::move(Z);
-        }
-        if (verbosity >= 2)
-            log_line(&o, "ipm-anm: step %lld lambda %.3e length %.3g off the path %.3e error %.3e",
-                     (long long)run.iterations(), Y.lambda, step, off_path, run.last_error());
-        X = std::move(Y);
+// One step of the path from X: the Jacobian factorised at X, the series, its end cut into the
+// cones and corrected; X moves there. go_on is false when the path ends here: why is then
+// set if Newton takes over.
+frix_error Solver::step(lorentz::Run &run, Point &X, int verbosity, const char *&why, bool &go_on) {
+    go_on = false;
+    const lorentz::Run::Next next = run.check(X.r.data());
+    if (next == lorentz::Run::kStop) return FRIX_OK;
+    if (next == lorentz::Run::kHandOver) {
+        why = "the error stopped falling";
+        return FRIX_OK;
     }
-    const int64_t path_steps = run.iterations();
-    if (handed_over && verbosity >= 1)
-        log_line(&o, "ipm-anm: %lld steps (%s), lambda %.3e, best error %.3e; Newton from there",
-                 (long long)path_steps, why, X.lambda, run.best_error());
-    if (frix_error e = run.end(handed_over)) return e;
-    if (verbosity >= 1)
-        log_line(&o, "ipm-anm: %s after %lld iterations (%lld path steps, %lld Newton)",
-                 frix_status_string(info.status), (long long)info.iterations, (long long)path_steps,
-                 (long long)run.newton_steps());
+    if (X.lambda < kLambdaEnd) {
+        why = "lambda spent";
+        return FRIX_OK;
+    }
+    if (frix_error e = factor(X)) {
+        if (e != FRIX_ERR_NUMERICAL) return e;
+        clear_error();
+        if (kept_.lu.refused()) ctx_.info.status = kept_.lu.refused();  // it would overrun the time or memory limit
+        else why = "a singular Jacobian";
+        return FRIX_OK;
+    }
+    run.count_iteration();
+    bool finite = false;
+    if (frix_error e = series(run.iterations() > 1, finite)) return e;
+    const double last = std::sqrt(dot(U_[kOrder], U_[kOrder]));
+    double length = finite ? std::pow(kSeriesAccuracy / last, 1.0 / (kOrder - 1)) : 0.0;
+    if (!std::isfinite(length)) length = 0.0;
+    Point Y;
+    if (!step_end(X, length, Y)) {
+        why = "the series gave no step";
+        return FRIX_OK;
+    }
+    const double off_path = verbosity >= 2 ? distance_off_path(Y) : 0.0;
+    if (frix_error e = correct(Y)) return e;
+    if (verbosity >= 2)
+        log_line(&ctx_.options, "ipm-anm: step %lld lambda %.3e length %.3g off the path %.3e error %.3e",
+                 (long long)run.iterations(), Y.lambda, length, off_path, run.last_error());
+    X = std::move(Y);
+    go_on = true;
+    return FRIX_OK;
+}
+
+// The series' terms U[1 .. kOrder] at the factorised point. Order 1: the unit tangent
+// (X_1, lambda_1) = lambda_1 (y, 1), J y = R0, oriented as the last one (lambda falling at
+// the start; `turning`: there is a last one). Orders k >= 2: J X_k - lambda_k R0 =
+// -sum_{i+j=k} Q(X_i, X_j) with <X_k, X_1> + lambda_k lambda_1 = 0. finite: every lambda_k is.
+frix_error Solver::series(bool turning, bool &finite) {
+    if (frix_error e = solve(R0_, y_)) return e;
+    y_.lambda = 1.0;
+    double l1 = 1.0 / std::sqrt(dot(y_, y_));
+    if (turning) {
+        const double turn = l1 * (dot(y_, U_[1]));
+        if (turn < 0.0) l1 = -l1;
+    } else {
+        l1 = -l1;
+    }
+    Point &U1 = U_[1];
+    for (int64_t i = 0; i < m_; ++i) {
+        U1.r[i] = l1 * y_.r[i];
+        U1.wr[i] = l1 * y_.wr[i];
+    }
+    for (int64_t a = 0; a < nc_; ++a) U1.s[a] = l1 * y_.s[a];
+    U1.lambda = l1;
+    const double y_dot_1 = dot(y_, U1);  // y.lambda = 1: <y, X_1> + lambda_1
+    finite = std::isfinite(l1);
+    for (int k = 2; k <= kOrder && finite; ++k) {
+        std::fill(b_.begin(), b_.end(), 0.0);
+        for (int i = 1; i < k; ++i) add_quadratic(U_[i], U_[k - i], b_);
+        for (double &v : b_) v = -v;
+        Point &Uk = U_[k];
+        if (frix_error e = solve(b_, Uk)) return e;
+        Uk.lambda = 0.0;
+        const double lk = -dot(Uk, U1) / y_dot_1;
+        for (int64_t i = 0; i < m_; ++i) {
+            Uk.r[i] += lk * y_.r[i];
+            Uk.wr[i] += lk * y_.wr[i];
+        }
+        for (int64_t a = 0; a < nc_; ++a) Uk.s[a] += lk * y_.s[a];
+        Uk.lambda = lk;
+        finite = std::isfinite(lk);
+    }
+    return FRIX_OK;
+}
+
+// Y = the series' sum at `length` from X, the length cut until Y lies inside the cones with
+// lambda > 0; false if none down to kMinStep does.
+bool Solver::step_end(const Point &X, double &length, Point &Y) const {
+    Y = X;
+    for (int cut = 0; cut < kMaxCuts && length >= kMinStep; ++cut, length *= kCut) {
+        for (int64_t i = 0; i < m_; ++i) {
+            double r = 0.0, w = 0.0;
+            for (int k = kOrder; k >= 1; --k) {
+                r = (r + U_[k].r[i]) * length;
+                w = (w + U_[k].wr[i]) * length;
+            }
+            Y.r[i] = X.r[i] + r;
+            Y.wr[i] = X.wr[i] + w;
+        }
+        for (int64_t a = 0; a < nc_; ++a) {
+            double s = 0.0;
+            for (int k = kOrder; k >= 1; --k) s = (s + U_[k].s[a]) * length;
+            Y.s[a] = X.s[a] + s;
+        }
+        double l = 0.0;
+        for (int k = kOrder; k >= 1; --k) l = (l + U_[k].lambda) * length;
+        Y.lambda = X.lambda + l;
+        if (Y.lambda > 0.0 && interior(Y)) return true;
+    }
+    return false;
+}
+
+// How far Y lies off the path, relative to |R0| (logged): the series' accuracy, before the
+// corrections hide it.
+double Solver::distance_off_path(const Point &Y) {
+    residual(Y, R_);
+    double g = 0.0, g0 = 0.0;
+    for (int64_t i = 0; i < 4 * nc_; ++i) {
+        g += (R_[i] - Y.lambda * R0_[i]) * (R_[i] - Y.lambda * R0_[i]);
+        g0 += R0_[i] * R0_[i];
+    }
+    return std::sqrt(g / g0);
+}
+
+// Chord corrections at fixed lambda: J dX = -(R(Y) - lambda R0), within the cones.
+frix_error Solver::correct(Point &Y) {
+    for (int c = 0; c < kCorrections; ++c) {
+        residual(Y, R_);
+        for (int64_t i = 0; i < 4 * nc_; ++i) b_[i] = -(R_[i] - Y.lambda * R0_[i]);
+        if (frix_error e = solve(b_, d_)) return e;
+        double t = 1.0;
+        Point Z = Y;
+        bool inside_z = false;
+        for (int cut = 0; cut < 20 && !inside_z; ++cut, t *= 0.5) {
+            for (int64_t i = 0; i < m_; ++i) {
+                Z.r[i] = Y.r[i] + t * d_.r[i];
+                Z.wr[i] = Y.wr[i] + t * d_.wr[i];
+            }
+            for (int64_t a = 0; a < nc_; ++a) Z.s[a] = Y.s[a] + t * d_.s[a];
+            inside_z = interior(Z);
+        }
+        if (!inside_z) break;
+        Y = std::move(Z);
+    }
     return FRIX_OK;
 }
 

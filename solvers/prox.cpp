@@ -31,6 +31,31 @@ constexpr int64_t kInnerMaxIter = 50;
 // the original; above, a proximal step barely moves.
 constexpr double kAlphaMin = 1e-12, kAlphaMax = 1e6;
 
+// Before a proximal step, after `outer` of them, at the error err: converged, the iteration
+// limit, a stop the callback asked for, the time limit, in that order; FRIX_STATUS_NOT_RUN to
+// go on. Not Monitor::limits: the callback is not called here, only its last answer read, for
+// the inner Newton calls it (through lim, on the Newton steps' count), and so does each
+// proximal step's end, once no answer asked to stop.
+frix_status status_before_step(const Monitor &monitor, double err, int64_t outer, const newton::Limits &lim) {
+    if (err <= monitor.tolerance()) return FRIX_STATUS_CONVERGED;
+    if (monitor.out_of_iterations(outer)) return FRIX_STATUS_MAX_ITER;
+    if (lim.stop_requested) return FRIX_STATUS_STOPPED_BY_CALLBACK;
+    if (lim.out_of_time()) return FRIX_STATUS_TIME_LIMIT;
+    return FRIX_STATUS_NOT_RUN;
+}
+
+// The run's counters into ctx.info (the status is there already).
+void record(SolveContext &ctx, int64_t outer, const newton::Engine &engine, int64_t verbosity) {
+    frix_info &info = ctx.info;
+    info.iterations = outer;
+    info.newton_iterations = engine.counters.newton;
+    info.line_search_steps = engine.counters.line_search;
+    Monitor::record_factorizations(info, engine.factor_stats());
+    if (verbosity >= 1)
+        log_line(&ctx.options, "prox: %s after %lld proximal steps (%lld Newton)", frix_status_string(info.status),
+                 (long long)outer, (long long)engine.counters.newton);
+}
+
 frix_error solve(SolveContext &ctx) {
     const frix_problem &p = ctx.problem;
     const frix_options &o = ctx.options;
@@ -39,7 +64,6 @@ frix_error solve(SolveContext &ctx) {
     newton::Settings s = newton::settings_from(o, inner_id);
     const Monitor monitor(ctx);
     const double tol = monitor.tolerance();
-    const int64_t max_iter = monitor.max_iterations();
     const double fixed_alpha = o.d(FRIX_OPT_PROX_ALPHA);
     const double sigma = o.d(FRIX_OPT_PROX_SIGMA), nu = o.d(FRIX_OPT_PROX_NU);
     const int64_t m = 3 * p.nc;
@@ -65,23 +89,13 @@ frix_error solve(SolveContext &ctx) {
     info.status = FRIX_STATUS_MAX_ITER;
     newton::Limits lim{o, ctx.clock, &inner_iterations, 0};
     while (true) {
-        if (err <= tol) {
-            info.status = FRIX_STATUS_CONVERGED;
-            break;
-        }
-        if (outer >= max_iter) break;
-        if (lim.stop_requested) {
-            info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
-            break;
-        }
-        if (lim.out_of_time()) {
-            info.status = FRIX_STATUS_TIME_LIMIT;
-            break;
-        }
+        frix_status stop = status_before_step(monitor, err, outer, lim);
         // Each step starts from rk (a rejected step restores it): the same alpha from the same
         // rk would repeat a step already taken.
-        if (std::find(tried.begin(), tried.end(), alpha) != tried.end()) {
-            info.status = FRIX_STATUS_STAGNATED;
+        if (stop == FRIX_STATUS_NOT_RUN && std::find(tried.begin(), tried.end(), alpha) != tried.end())
+            stop = FRIX_STATUS_STAGNATED;
+        if (stop != FRIX_STATUS_NOT_RUN) {
+            info.status = stop;
             break;
         }
         tried.push_back(alpha);
@@ -122,14 +136,7 @@ frix_error solve(SolveContext &ctx) {
         lim.report(err);
     }
     std::copy(rk.begin(), rk.end(), r);  // the last accepted proximal iterate
-    info.iterations = outer;
-    info.newton_iterations = engine.counters.newton;
-    info.line_search_steps = engine.counters.line_search;
-    Monitor::record_factorizations(info, engine.factor_stats());
-    if (s.verbosity >= 1)
-        log_line(&o, "prox: %s after %lld proximal steps (%lld Newton)",
-                 frix_status_string(info.status), (long long)outer,
-                 (long long)engine.counters.newton);
+    record(ctx, outer, engine, s.verbosity);
     kept.keep();
     return FRIX_OK;
 }

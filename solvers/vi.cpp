@@ -55,7 +55,7 @@ inline bool all_finite(const double *x, int64_t n) {
 void projected_step(const frix_problem &p, const double *r, const double *F, double rho, double *z) {
     const int64_t m = 3 * p.nc;
     for (int64_t i = 0; i < m; ++i) z[i] = r[i] - rho * F[i];
-    fo::project_on_cones(p, z);
+    first_order::project_on_cones(p, z);
 }
 
 // z = P_{K n H}(x), H = {z : <a, z - y> <= 0}: z = P_K(x - lambda a) with the lambda >= 0 at
@@ -69,14 +69,14 @@ void project_on_cones_and_halfspace(const frix_problem &p, const double *x, cons
     const double b = 0.0;
     auto phi = [&](double lambda, double *out) {
         for (int64_t i = 0; i < m; ++i) out[i] = x[i] - lambda * a[i];
-        fo::project_on_cones(p, out);
+        first_order::project_on_cones(p, out);
         double s = 0.0;
         for (int64_t i = 0; i < m; ++i) s += a[i] * (out[i] - y[i]);
         return s;
     };
     double f_lo = phi(0.0, z);
     if (!(f_lo > 0.0)) return;  // P_K(x) already in H
-    const double na2 = fo::dot(a, a, m);
+    const double na2 = vec::dot(a, a, m);
     if (!(na2 > 0.0)) return;
     double lo = 0.0, hi = f_lo / na2, f_hi = phi(hi, work);
     for (int k = 0; k < 200 && f_hi > 0.0; ++k) {
@@ -107,172 +107,220 @@ void project_on_cones_and_halfspace(const frix_problem &p, const double *x, cons
     phi(hi, z);
 }
 
-frix_error solve(SolveContext &ctx, Method method) {
-    const char *name = name_of(method);
-    fo::Loop L(ctx, name);
-    const frix_problem &p = L.p;
-    if (!p.W || !p.W->block) return fail(FRIX_ERR_INTERNAL, "%s: W is not stored as 3x3 blocks", name);
-    const bool adaptive = L.o.i(FRIX_OPT_RHO_ADAPTIVE) != 0;
-    double wmax, wmean;
-    fo::diagonal_scales(p, &wmax, &wmean);
-    double rho = L.o.d(FRIX_OPT_RHO) / wmax;
-    const int64_t m = L.m;
-    frix_info &info = ctx.info;
+// One solve: the iterate r (rv, apart from ctx.r), u = W r + q and F = F(r); z, uz, Fz at the
+// trial point; y, uy, Fy the extra point of EG and HP.
+class Solver {
+   public:
+    Solver(SolveContext &ctx, Method method);
+    // Runs the solve into ctx.r and ctx.info.
+    void run();
 
-    // r, u = W r + q, F = F(r) at the current iterate; z, uz, Fz at the trial point;
-    // y, uy, Fy the extra point of EG and HP.
-    std::vector<double> rv(ctx.r, ctx.r + m), u(m), F(m), z(m), uz(m), Fz(m), y, uy, Fy;
+   private:
+    bool trial_step();
+    bool next_iterate();
+    bool extragradient_step();
+    bool hyperplane_step();
+    frix_status stop_test(double light);
+
+    const Method method_;
+    const char *name_;
+    const first_order::Loop L_;
+    const frix_problem &p_;
+    const int64_t m_;
+    const bool adaptive_;
+    double wmax_ = 0.0, wmean_ = 0.0, rho_ = 0.0;
+    std::vector<double> rv_, u_, F_, z_, uz_, Fz_, y_, uy_, Fy_;
+    // The trial's step (rk), |F(z) - F(r)| (a1, not for HP) and |z - r| (a2).
+    double rk_ = 0.0, a1_ = 0.0, a2_ = 0.0, tol_light_ = 0.0;
+    int64_t it_ = 0, backtracks_ = 0, fallbacks_ = 0;
+};
+
+Solver::Solver(SolveContext &ctx, Method method)
+    : method_(method),
+      name_(name_of(method)),
+      L_(ctx, name_),
+      p_(ctx.problem),
+      m_(L_.m),
+      adaptive_(L_.o.i(FRIX_OPT_RHO_ADAPTIVE) != 0),
+      rv_(ctx.r, ctx.r + m_), u_(m_), F_(m_), z_(m_), uz_(m_), Fz_(m_) {
+    first_order::diagonal_scales(p_, &wmax_, &wmean_);
+    rho_ = L_.o.d(FRIX_OPT_RHO) / wmax_;
     if (method != Method::FixedPoint) {
-        y.resize(m);
-        uy.resize(m);
-        Fy.resize(m);
+        y_.resize(m_);
+        uy_.resize(m_);
+        Fy_.resize(m_);
     }
-    double *r = rv.data();
-    fo::de_saxce_map(p, r, u.data(), F.data());
+}
 
+void Solver::run() {
+    frix_info &info = L_.ctx.info;
+    first_order::de_saxce_map(p_, rv_.data(), u_.data(), F_.data());
     // A warm start that already solves the problem.
-    if (L.warm(r) && L.error_ru(r, u.data()) <= L.tol) {
+    if (L_.warm(rv_.data()) && L_.error_ru(rv_.data(), u_.data()) <= L_.tol) {
         info.status = FRIX_STATUS_CONVERGED;
         info.iterations = 0;
-        return FRIX_OK;
+        return;
     }
-
-    double tol_light = L.tol;
-    int64_t it = 0;
+    tol_light_ = L_.tol;
     frix_status status = FRIX_STATUS_NOT_RUN;
-    int64_t backtracks = 0, fallbacks = 0;
     while (status == FRIX_STATUS_NOT_RUN) {
-        ++it;
-        const double norm_r = fo::norm(r, m), norm_u = fo::norm(u.data(), m);
-        // 1. The projected step from r, rho shrunk until the Lipschitz-type test passes.
-        double rk = rho, a1 = 0.0, a2 = 0.0;
-        bool finite = false;
-        if (method == Method::Hyperplane) {
-            projected_step(p, r, F.data(), rk, z.data());
-            a2 = fo::distance(z.data(), r, m);
-            finite = all_finite(z.data(), m);
-        } else {
-            for (int ls = 0;; ++ls) {
-                projected_step(p, r, F.data(), rk, z.data());
-                fo::de_saxce_map(p, z.data(), uz.data(), Fz.data());
-                a2 = fo::distance(z.data(), r, m);
-                a1 = fo::distance(Fz.data(), F.data(), m);
-                finite = std::isfinite(a1) && std::isfinite(a2);
-                if (!adaptive && finite) break;
-                if ((finite && rk * a1 <= kL * a2) || (finite && a2 == 0.0) || ls >= kMaxBacktracks) break;
-                rk *= kTau;
-                ++backtracks;
-            }
-        }
-        if (!finite) {
+        ++it_;
+        const double norm_r = vec::norm(rv_.data(), m_), norm_u = vec::norm(u_.data(), m_);
+        if (!trial_step()) {
             status = FRIX_STATUS_DIVERGED;  // r (finite) is kept
             break;
         }
         // The light bound on the full error at r.
-        const double light = std::max(1.0, 1.0 / rk) * a2 / L.scale(norm_r, norm_u);
-
-        // 2. The new iterate.
-        if (method == Method::FixedPoint) {
-            std::swap(rv, z);
-            std::swap(u, uz);
-            std::swap(F, Fz);
-        } else if (method == Method::ExtraGradient) {
-            // Korpelevich's correction r - rho F(z), scaled by He's optimal step length
-            // (projection-contraction): gamma <r - z, d> / |d|^2, d = (r - z) - rho (F(r) -
-            // F(z)). It halves the iterations of the plain correction on the FCLIB problems.
-            double num = 0.0, den = 0.0;
-            for (int64_t i = 0; i < m; ++i) {
-                const double d = (r[i] - z[i]) - rk * (F[i] - Fz[i]);
-                num += (r[i] - z[i]) * d;
-                den += d * d;
-            }
-            const double alpha = den > 0.0 && num > 0.0 ? kGamma * num / den : 1.0;
-            for (int64_t i = 0; i < m; ++i) y[i] = r[i] - alpha * rk * Fz[i];
-            fo::project_on_cones(p, y.data());
-            fo::de_saxce_map(p, y.data(), uy.data(), Fy.data());
-            if (!all_finite(Fy.data(), m)) {
-                status = FRIX_STATUS_DIVERGED;
-                break;
-            }
-            std::swap(rv, y);
-            std::swap(u, uy);
-            std::swap(F, Fy);
-        } else if (a2 > 0.0) {
-            // Hyperplane projection: y = r - t (r - z) with the largest t = 2^-k such that
-            // <F(y), r - z> >= sigma / rho |r - z|^2; the halfspace H = {x : <F(y), x - y> <= 0}
-            // holds the solutions (F monotone) but not r, and r <- P_{K n H}(r).
-            const double need = kSigma / rk * a2 * a2;
-            double t = 1.0, lhs = 0.0;
-            int halvings = 0;
-            for (;; ++halvings) {
-                for (int64_t i = 0; i < m; ++i) y[i] = r[i] - t * (r[i] - z[i]);
-                fo::de_saxce_map(p, y.data(), uy.data(), Fy.data());
-                double s = 0.0;
-                for (int64_t i = 0; i < m; ++i) s += Fy[i] * (r[i] - z[i]);
-                lhs = s;
-                if ((std::isfinite(lhs) && lhs >= need) || halvings >= kMaxHpHalvings) break;
-                t *= 0.5;
-            }
-            backtracks += halvings;
-            // Near a solution where F does not vanish (sliding contacts), the cut of the
-            // hyperplane shrinks below rounding and the step stalls (at ~1e-9): then the
-            // projected step z (kept in uy) is taken instead, which converges locally.
-            std::copy(z.begin(), z.end(), uy.begin());
-            bool hp_step = lhs > 0.0 && std::isfinite(lhs);
-            if (hp_step) {
-                project_on_cones_and_halfspace(p, r, Fy.data(), y.data(), z.data(), uz.data());
-                hp_step = fo::distance(z.data(), r, m) >= kHpStall * a2;
-            }
-            if (!hp_step) {
-                std::copy(uy.begin(), uy.end(), z.begin());
-                ++fallbacks;
-            }
-            fo::de_saxce_map(p, z.data(), uz.data(), Fz.data());
-            if (!all_finite(Fz.data(), m)) {
-                status = FRIX_STATUS_DIVERGED;
-                break;
-            }
-            std::swap(rv, z);
-            std::swap(u, uz);
-            std::swap(F, Fz);
-            // The step grows when the first trial passed, shrinks after two halvings or more.
-            if (adaptive) {
-                if (halvings == 0) rk /= kTau;
-                else if (halvings >= 2) rk *= kTau;
-            }
+        const double light = std::max(1.0, 1.0 / rk_) * a2_ / L_.scale(norm_r, norm_u);
+        if (!next_iterate()) {
+            status = FRIX_STATUS_DIVERGED;
+            break;
         }
-        r = rv.data();
-        if (adaptive && method != Method::Hyperplane)
-            rho = rk * a1 < kLmin * a2 ? rk / kTau : rk;
-        else if (adaptive)
-            rho = rk;
-
-        // 3. Stopping tests, on the full error of the new iterate.
-        double estimate = light;
-        bool checked = false;
-        if (light <= tol_light || it % kFullCheckPeriod == 0 || a2 == 0.0) {
-            const double e = L.error_ru(r, u.data());
-            checked = true;
-            estimate = e;
-            if (e <= L.tol) status = FRIX_STATUS_CONVERGED;
-            else if (!std::isfinite(e)) status = FRIX_STATUS_DIVERGED;
-            else if (a2 == 0.0) status = FRIX_STATUS_STAGNATED;
-            else if (light > 0.0) tol_light = light / e * L.tol;  // as NSGS recalibrates
-        }
-        if (L.verbosity >= 2 || (L.verbosity >= 1 && checked))
-            log_line(&L.o, "%s: iteration %lld rho %.3e light %.3e%s%.3e", name,
-                     (long long)it, rk * wmax, light, checked ? " full " : " tol_light ",
-                     checked ? estimate : tol_light);
-        const frix_status stop = L.limits(it, estimate, r);
-        if (status == FRIX_STATUS_NOT_RUN) status = stop;
+        if (adaptive_ && method_ != Method::Hyperplane)
+            rho_ = rk_ * a1_ < kLmin * a2_ ? rk_ / kTau : rk_;
+        else if (adaptive_)
+            rho_ = rk_;
+        status = stop_test(light);
     }
-    std::copy(r, r + m, ctx.r);
+    std::copy(rv_.begin(), rv_.end(), L_.ctx.r);
     info.status = status;
-    info.iterations = it;
-    if (L.verbosity >= 1)
-        log_line(&L.o, "%s: %s after %lld iterations (%lld backtracks, %lld projected steps)",
-                 name, frix_status_string(status), (long long)it, (long long)backtracks,
-                 (long long)fallbacks);
+    info.iterations = it_;
+    if (L_.verbosity >= 1)
+        log_line(&L_.o, "%s: %s after %lld iterations (%lld backtracks, %lld projected steps)", name_,
+                 frix_status_string(status), (long long)it_, (long long)backtracks_, (long long)fallbacks_);
+}
+
+// 1. The projected step z from r, rho shrunk until the Lipschitz-type test passes (HP: one
+// step, its test is the line search). False if it is not finite.
+bool Solver::trial_step() {
+    const double *r = rv_.data();
+    rk_ = rho_;
+    a1_ = 0.0;
+    a2_ = 0.0;
+    if (method_ == Method::Hyperplane) {
+        projected_step(p_, r, F_.data(), rk_, z_.data());
+        a2_ = vec::distance(z_.data(), r, m_);
+        return all_finite(z_.data(), m_);
+    }
+    for (int ls = 0;; ++ls) {
+        projected_step(p_, r, F_.data(), rk_, z_.data());
+        first_order::de_saxce_map(p_, z_.data(), uz_.data(), Fz_.data());
+        a2_ = vec::distance(z_.data(), r, m_);
+        a1_ = vec::distance(Fz_.data(), F_.data(), m_);
+        const bool finite = std::isfinite(a1_) && std::isfinite(a2_);
+        if (!adaptive_ && finite) return true;
+        if ((finite && rk_ * a1_ <= kL * a2_) || (finite && a2_ == 0.0) || ls >= kMaxBacktracks) return finite;
+        rk_ *= kTau;
+        ++backtracks_;
+    }
+}
+
+// 2. The new iterate, by the method; false if it is not finite (r is then kept).
+bool Solver::next_iterate() {
+    if (method_ == Method::FixedPoint) {
+        std::swap(rv_, z_);
+        std::swap(u_, uz_);
+        std::swap(F_, Fz_);
+        return true;
+    }
+    if (method_ == Method::ExtraGradient) return extragradient_step();
+    return a2_ > 0.0 ? hyperplane_step() : true;
+}
+
+// Korpelevich's correction r - rho F(z), scaled by He's optimal step length
+// (projection-contraction): gamma <r - z, d> / |d|^2, d = (r - z) - rho (F(r) - F(z)). It
+// halves the iterations of the plain correction on the FCLIB problems.
+bool Solver::extragradient_step() {
+    const double *r = rv_.data();
+    double num = 0.0, den = 0.0;
+    for (int64_t i = 0; i < m_; ++i) {
+        const double d = (r[i] - z_[i]) - rk_ * (F_[i] - Fz_[i]);
+        num += (r[i] - z_[i]) * d;
+        den += d * d;
+    }
+    const double alpha = den > 0.0 && num > 0.0 ? kGamma * num / den : 1.0;
+    for (int64_t i = 0; i < m_; ++i) y_[i] = r[i] - alpha * rk_ * Fz_[i];
+    first_order::project_on_cones(p_, y_.data());
+    first_order::de_saxce_map(p_, y_.data(), uy_.data(), Fy_.data());
+    if (!all_finite(Fy_.data(), m_)) return false;
+    std::swap(rv_, y_);
+    std::swap(u_, uy_);
+    std::swap(F_, Fy_);
+    return true;
+}
+
+// Hyperplane projection: y = r - t (r - z) with the largest t = 2^-k such that
+// <F(y), r - z> >= sigma / rho |r - z|^2; the halfspace H = {x : <F(y), x - y> <= 0} holds
+// the solutions (F monotone) but not r, and r <- P_{K n H}(r).
+bool Solver::hyperplane_step() {
+    const double *r = rv_.data();
+    const double need = kSigma / rk_ * a2_ * a2_;
+    double t = 1.0, lhs = 0.0;
+    int halvings = 0;
+    for (;; ++halvings) {
+        for (int64_t i = 0; i < m_; ++i) y_[i] = r[i] - t * (r[i] - z_[i]);
+        first_order::de_saxce_map(p_, y_.data(), uy_.data(), Fy_.data());
+        double s = 0.0;
+        for (int64_t i = 0; i < m_; ++i) s += Fy_[i] * (r[i] - z_[i]);
+        lhs = s;
+        if ((std::isfinite(lhs) && lhs >= need) || halvings >= kMaxHpHalvings) break;
+        t *= 0.5;
+    }
+    backtracks_ += halvings;
+    // Near a solution where F does not vanish (sliding contacts), the cut of the hyperplane
+    // shrinks below rounding and the step stalls (at ~1e-9): then the projected step z (kept
+    // in uy) is taken instead, which converges locally.
+    std::copy(z_.begin(), z_.end(), uy_.begin());
+    bool hp_step = lhs > 0.0 && std::isfinite(lhs);
+    if (hp_step) {
+        project_on_cones_and_halfspace(p_, r, Fy_.data(), y_.data(), z_.data(), uz_.data());
+        hp_step = vec::distance(z_.data(), r, m_) >= kHpStall * a2_;
+    }
+    if (!hp_step) {
+        std::copy(uy_.begin(), uy_.end(), z_.begin());
+        ++fallbacks_;
+    }
+    first_order::de_saxce_map(p_, z_.data(), uz_.data(), Fz_.data());
+    if (!all_finite(Fz_.data(), m_)) return false;
+    std::swap(rv_, z_);
+    std::swap(u_, uz_);
+    std::swap(F_, Fz_);
+    // The step grows when the first trial passed, shrinks after two halvings or more.
+    if (adaptive_) {
+        if (halvings == 0) rk_ /= kTau;
+        else if (halvings >= 2) rk_ *= kTau;
+    }
+    return true;
+}
+
+// 3. Stopping tests, on the full error of the new iterate when the light bound passes its
+// tolerance (recalibrated on each full check, as NSGS does), every kFullCheckPeriod
+// iterations, or when the step vanished.
+frix_status Solver::stop_test(double light) {
+    const double *r = rv_.data();
+    frix_status status = FRIX_STATUS_NOT_RUN;
+    double estimate = light;
+    const bool full = light <= tol_light_ || it_ % kFullCheckPeriod == 0 || a2_ == 0.0;
+    if (full) {
+        const double e = L_.error_ru(r, u_.data());
+        estimate = e;
+        if (e <= L_.tol) status = FRIX_STATUS_CONVERGED;
+        else if (!std::isfinite(e)) status = FRIX_STATUS_DIVERGED;
+        else if (a2_ == 0.0) status = FRIX_STATUS_STAGNATED;
+        else if (light > 0.0) tol_light_ = light / e * L_.tol;
+    }
+    if (L_.verbosity >= 2 || (L_.verbosity >= 1 && full))
+        log_line(&L_.o, "%s: iteration %lld rho %.3e light %.3e%s%.3e", name_, (long long)it_, rk_ * wmax_, light,
+                 full ? " full " : " tol_light ", full ? estimate : tol_light_);
+    // The callback sees every iteration, the last one too.
+    const frix_status stop = L_.limits(it_, estimate, r);
+    return status == FRIX_STATUS_NOT_RUN ? stop : status;
+}
+
+frix_error solve(SolveContext &ctx, Method method) {
+    if (!ctx.problem.W || !ctx.problem.W->block)
+        return fail(FRIX_ERR_INTERNAL, "%s: W is not stored as 3x3 blocks", name_of(method));
+    Solver(ctx, method).run();
     return FRIX_OK;
 }
 

@@ -4,17 +4,12 @@
 #include <cfloat>
 #include <cmath>
 
+#include "vec.hpp"
+
 namespace frix::coulomb {
 
-namespace {
-
-// sqrt(x^2 + y^2) without hypot's overflow care: inputs here are finite physical values, and
-// hypot costs as much as the rest of a local solve.
-inline double norm2d(double x, double y) { return std::sqrt(x * x + y * y); }
-
-inline double norm3(const double *x) { return std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]); }
-
-}  // namespace
+using vec::norm2d;
+using vec::norm3;
 
 void project_on_cone(double *r, double mu) {
     const double nT = norm2d(r[1], r[2]);

@@ -29,17 +29,16 @@
 
 #include "error_state.hpp"
 #include "coulomb.hpp"
-#include "linalg/linalg.hpp"
 #include "matrix.hpp"
 #include "measures.hpp"
-#include "reduction.hpp"
 #include "solver_api.hpp"
+#include "vec.hpp"
 
 namespace {
 
 using Vec = std::vector<double>;
-using frix::for_each_entry;
 using frix::max_abs;
+using frix::vec::dot;
 
 // ---- Budget and tolerances.
 // time_limit = 0: steps worth about kDefaultWork multiply-adds (a step costs one or two
@@ -79,19 +78,10 @@ constexpr double kIndefinite = 1e-6;
 // The step 1/L may shrink this far below 1/|K| (backtracking makes up for a low estimate of
 // |K|): further means the direction does not descend, which a PSD K rules out.
 constexpr double kMaxStepShrink = 1e6;
-// A witness is confirmed by a Cholesky factorisation of W's symmetric part (Jacobi-scaled,
-// shifted by kIndefinite times its Gershgorin bound: the noise of assembled W's) when that
-// costs at most this many flops (about a second) and bytes; larger ones keep the search's own
-// tests.
-constexpr double kPsdCheckMaxFlops = 1e9, kPsdCheckMaxBytes = 256e6;
+// A witness is confirmed by a Cholesky factorisation of W's symmetric part, shifted by
+// kIndefinite (frix::symmetric_part_psd), where that is cheap enough.
 // u is recomputed from z this often: the updates u += K y / L drift by rounding.
 constexpr int64_t kResyncEvery = 100;
-
-double dot(const Vec &x, const Vec &y) {
-    double s = 0.0;
-    for (std::size_t i = 0; i < x.size(); ++i) s += x[i] * y[i];
-    return s;
-}
 
 // The root mean square over contacts of |x_a|: the scale of margins. Summed over x / max|x|,
 // so that no square overflows or underflows.
@@ -495,59 +485,6 @@ class Search {
     Vec z_, z_prev_, z_ext_, z_new_, dz_;                 // z space
 };
 
-enum class Psd { Yes, No, Unknown };
-
-// Whether a local problem's W has a positive semidefinite symmetric part, within kIndefinite
-// (see kPsdCheckMaxFlops): the factorisation of S = D (W + W^T)/2 D + delta I, D = diag(S)^-1/2,
-// exists exactly when S's least eigenvalue is above -delta. A congruence keeps the signs.
-Psd symmetric_part_psd(const frix_problem &p) {
-    const frix_matrix &W = *p.W;
-    const int64_t m = 3 * p.nc;
-    const Vec diag = frix::matrix_diagonal(W);
-    Vec d((size_t)m);
-    for (int64_t i = 0; i < m; ++i) d[(size_t)i] = diag[(size_t)i] > 0.0 ? 1.0 / std::sqrt(diag[(size_t)i]) : 1.0;
-    // D (W + W^T)/2 D as terms, each entry half at (i, j) and half at (j, i) (the triplet
-    // builder sums them), then the shift on the diagonal; CHOLMOD reads the upper triangle.
-    std::vector<int64_t> rows, cols;
-    Vec values, row_sum((size_t)m, 0.0);
-    frix::for_each_entry(W, [&](int64_t i, int64_t j, double v) {
-        const double half = 0.5 * v * d[(size_t)i] * d[(size_t)j];
-        rows.insert(rows.end(), {i, j});
-        cols.insert(cols.end(), {j, i});
-        values.insert(values.end(), {half, half});
-        // The bound counts a diagonal entry twice, an off-diagonal one once in each row.
-        const double entry = i == j ? 2.0 * half : half;
-        row_sum[(size_t)i] += std::fabs(entry);
-        row_sum[(size_t)j] += std::fabs(entry);
-    });
-    const double bound = m > 0 ? *std::max_element(row_sum.begin(), row_sum.end()) : 0.0;
-    if (!std::isfinite(bound)) return Psd::Unknown;
-    const double shift = kIndefinite * std::max(bound, DBL_MIN);
-    for (int64_t i = 0; i < m; ++i) {
-        rows.push_back(i);
-        cols.push_back(i);
-        values.push_back(shift);
-    }
-    frix_matrix *raw = nullptr;
-    const frix_error built = frix_matrix_from_triplets(m, m, (int64_t)values.size(), rows.data(), cols.data(),
-                                                       values.data(), &raw);
-    const std::unique_ptr<frix_matrix> S_blocks(raw);
-    frix::Csc S;
-    if (built != FRIX_OK || frix::to_csc(*S_blocks, S) != FRIX_OK) {
-        frix::clear_error();
-        return Psd::Unknown;
-    }
-    frix::linalg::SparseCholesky cholesky;
-    cholesky.set_budget([](const frix::linalg::FactorPrice &price) {
-        if (!(price.bytes <= kPsdCheckMaxBytes)) return FRIX_STATUS_MEMORY_LIMIT;
-        return price.flops <= kPsdCheckMaxFlops ? FRIX_STATUS_NOT_RUN : FRIX_STATUS_TIME_LIMIT;
-    });
-    const frix_error e = cholesky.factor(S.view());
-    frix::clear_error();
-    if (e == FRIX_OK) return Psd::Yes;
-    return e == FRIX_ERR_NUMERICAL && !cholesky.refused() ? Psd::No : Psd::Unknown;
-}
-
 // Every contact separates at r = 0 (q_N >= 0): r = 0 solves a local problem.
 bool all_separating(const frix_problem &p) {
     if (p.kind != FRIX_PROBLEM_LOCAL) return false;
@@ -590,7 +527,7 @@ frix_existence check_existence(const frix_problem &p, double time_limit, double 
     // has one and no solution): with a negative curvature seen, or a factorisation that
     // finds one, the check cannot tell.
     if (r.verdict == FRIX_EXISTENCE_GUARANTEED && p.kind == FRIX_PROBLEM_LOCAL && !all_separating(p) &&
-        (indefinite || symmetric_part_psd(p) == Psd::No)) {
+        (indefinite || symmetric_part_psd(p, kIndefinite) == Psd::No)) {
         out = NAN;
         return FRIX_EXISTENCE_UNDETERMINED;
     }

@@ -14,4 +14,12 @@ namespace frix {
 // Deterministic apart from where a time limit cuts the search; throws only std::bad_alloc.
 frix_existence check_existence(const frix_problem &p, double time_limit, double *margin);
 
+enum class Psd { Yes, No, Unknown };
+// Whether a local problem's W has a positive semidefinite symmetric part, within `tolerance`
+// (relative to its Gershgorin bound after Jacobi scaling): the Cholesky factorisation of
+// S = D (W + W^T)/2 D + delta I, D = diag(S)^-1/2, delta = tolerance times that bound, exists
+// exactly when S's least eigenvalue is above -delta (a congruence keeps the signs). Unknown
+// where the factorisation would cost too much (existence_psd.cpp) or cannot be built.
+Psd symmetric_part_psd(const frix_problem &p, double tolerance);
+
 }  // namespace frix
