@@ -63,7 +63,7 @@ frix_error solve(frix_mpi_problem &p, const frix_options &opts, double *r_out, d
             const nsgs::Settings settings = nsgs::settings_from(opts);
             std::unique_ptr<nsgs::Workspace> ws(p.rigid ? new nsgs::Workspace(p.diag.data(), p.mu.data(), p.owned, settings)
                                                         : new nsgs::Workspace(p.view, settings));
-            SolveContext ctx{p.view, opts, r.data(), u_out, nullptr, info, clock, nullptr, nullptr, nullptr};
+            SolveContext ctx = SolveContext::local(p.view, opts, r.data(), u_out, info, clock);
             if (frix_error e = nsgs::run_sweeps(ctx, *ws, form, "nsgs")) return e;
         }
     }

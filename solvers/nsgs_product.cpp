@@ -398,8 +398,9 @@ frix_error solve(SolveContext &ctx) {
     slots.w = form.slot_w();
     slots.mu = form.slot_mu();
     slots.weight = form.slot_weight();
-    SolveContext inner{slots, ctx.options, r.data(), u.data(), ctx.v, ctx.info, ctx.clock, ctx.solve_mass, ctx.mass,
-                       ctx.cache};
+    SolveContext inner =
+        SolveContext::global(slots, ctx.options, r.data(), u.data(), ctx.v, ctx.info, ctx.clock, ctx.solve_mass, ctx.mass)
+            .with_cache(ctx.cache);
     inner.return_best = ctx.return_best;
     if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1)
         log_line(&ctx.options, "gnsgs: %lld contacts in %lld domains of %lld colours, %lld threads", (long long)p.nc,

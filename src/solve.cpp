@@ -78,7 +78,7 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
             return fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s does not solve local problems", entry.name);
         if (std::any_of(r, r + m, [](double x) { return x != 0.0; })) warm_start.assign(r, r + m);
         ran = true;
-        frix::SolveContext ctx{p, opts, r, u, nullptr, info, clock, nullptr, nullptr, cache};
+        frix::SolveContext ctx = frix::SolveContext::local(p, opts, r, u, info, clock).with_cache(cache);
         ctx.runaway_bound = bound = runaway_bound(norm2(p.q, m));
         ctx.return_best = return_best;
         if (frix_error e = entry.solve(ctx)) return e;

@@ -81,6 +81,26 @@ struct SolveContext {
     // the best iterate it measured rather than its last. Not for the stages of a solver that
     // runs others (auto), which go on from where a stage ended.
     bool return_best = false;
+
+    // A solve of a local problem (v, M's factorisation and the cache unset); named so that no
+    // caller lines up the members by position.
+    static SolveContext local(const frix_problem &p, const frix_options &o, double *r, double *u, frix_info &info,
+                              const Stopwatch &clock) {
+        return SolveContext{p, o, r, u, nullptr, info, clock, nullptr, nullptr, nullptr};
+    }
+    // A solve of a global problem: v, and the driver's factorisation of M (mass, with
+    // solve_mass its x = M^-1 b), where there is one.
+    static SolveContext global(const frix_problem &p, const frix_options &o, double *r, double *u, double *v,
+                               frix_info &info, const Stopwatch &clock,
+                               const std::function<frix_error(const double *b, double *x)> *solve_mass,
+                               MassSolver *mass) {
+        return SolveContext{p, o, r, u, v, info, clock, solve_mass, mass, nullptr};
+    }
+    // The same solve with a persistent solver's cache.
+    SolveContext &with_cache(SolveCache *c) {
+        cache = c;
+        return *this;
+    }
 };
 
 // A run whose reactions, in velocity units (w_a |r_a|, frix_problem::weight), exceed this many

@@ -84,7 +84,7 @@ frix_error direct_nsgs(SolveContext &ctx, Shared &shared, double tol, int64_t sw
     info.status = FRIX_STATUS_NOT_RUN;
     info.iterations = 0;
     const double t0 = ctx.clock.seconds();
-    SolveContext sub{p, o, ctx.r, ctx.u, nullptr, info, ctx.clock, nullptr, nullptr, nullptr};
+    SolveContext sub = SolveContext::local(p, o, ctx.r, ctx.u, info, ctx.clock);
     if (frix_error e = nsgs.solve(sub)) return e;
     ctx.has_measured = sub.has_measured;
     ctx.measured = sub.measured;
