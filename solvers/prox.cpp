@@ -61,20 +61,20 @@ frix_error solve(SolveContext &ctx) {
     double err = selected_error(local_measures(p, r, ctx.u), s.measure);
     double alpha = fixed_alpha > 0.0 ? fixed_alpha : adapted(err);
     std::vector<double> tried;  // alphas tried from the current accepted iterate rk
-    int64_t outer = 0, inner_iterations = 0;
+    int64_t outer = 0;
     info.status = FRIX_STATUS_MAX_ITER;
-    newton::Limits lim{o, ctx.clock, &inner_iterations, 0};
+    kit::Steps inner{Monitor(o, ctx.clock)};  // the Newton steps, on each proximal step's limits
     while (true) {
         if (err <= tol) {
             info.status = FRIX_STATUS_CONVERGED;
             break;
         }
         if (outer >= max_iter) break;
-        if (lim.stop_requested) {
+        if (inner.stop_asked()) {
             info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
             break;
         }
-        if (lim.out_of_time()) {
+        if (inner.monitor.out_of_time()) {
             info.status = FRIX_STATUS_TIME_LIMIT;
             break;
         }
@@ -87,12 +87,11 @@ frix_error solve(SolveContext &ctx) {
         tried.push_back(alpha);
         ++outer;
         for (int64_t i = 0; i < m; ++i) qk[i] = p.q[i] - alpha * rk[i];
-        lim.max_iter = inner_iterations + kInnerMaxIter;
         newton::RunResult res;
         // The inner problem is solved a decade below the current error: tighter wastes Newton
         // steps on a problem about to change, looser slows the outer convergence.
-        const double inner_tol = 0.1 * std::max(err, tol);
-        if (frix_error e = engine.run(r, qk.data(), alpha, inner_tol, lim, res, norm_q)) return e;
+        inner.monitor.with_limits(0.1 * std::max(err, tol), inner.done + kInnerMaxIter);
+        if (frix_error e = engine.run(r, qk.data(), alpha, inner, res, norm_q)) return e;
         if (res.status == FRIX_STATUS_TIME_LIMIT || res.status == FRIX_STATUS_MEMORY_LIMIT ||
             res.status == FRIX_STATUS_STOPPED_BY_CALLBACK) {
             std::copy(rk.begin(), rk.end(), r);
@@ -119,7 +118,7 @@ frix_error solve(SolveContext &ctx) {
             alpha = inner_ok ? std::max(std::min(adapted(err), 0.1 * alpha), kAlphaMin * scale)
                              : std::min(alpha * 10.0, kAlphaMax * scale);
         }
-        lim.report(err);
+        inner.report(err);
     }
     std::copy(rk.begin(), rk.end(), r);  // the last accepted proximal iterate
     info.iterations = outer;
