@@ -1,5 +1,6 @@
 // The distributed global Newton (gnsn-ac, 607) on a global problem with the host's M: the
-// serial gnsn-ac's iteration (solvers/global_newton.cpp) over the ranks' rows of (v, r), each
+// serial gnsn-ac's Newton (solvers/global_newton.cpp, on solvers/kit/newton_engine.hpp's
+// loop) over the ranks' rows of (v, r), each
 // rank holding its dofs' rows of M v - H r - f = 0 and its contacts' rows of
 // Phi(r, H^T v + w) = 0. The Jacobian [[M, -H], [B H^T, A]] is one PETSc matrix over the
 // ranks' rows (rank k's dofs, then its contacts' 3 rows each), solved by MUMPS's LU.
@@ -8,6 +9,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "mpi/distributed_forms.hpp"
@@ -26,8 +28,6 @@ namespace {
 using namespace gnewton;
 
 frix_error petsc(PetscErrorCode rc, const char *what) { return petsc_call(rc, FRIX_ERR_INTERNAL, "gnsn-ac", what); }
-
-constexpr unsigned kStopAsked = 1u, kOutOfTime = 2u;
 
 double dot_all(MPI_Comm comm, const double *x, const double *y, int64_t n) {
     double s = 0.0;
@@ -295,26 +295,16 @@ class GlobalSystem {
     std::vector<double> h_;
 };
 
-// The newton's iterate (v, r) with what the steps and measures read.
-struct State {
-    std::vector<double> v, r, u, res, mv, hr, phi, A, B;
+// The contacts' rho from the lumped blocks, corrected where they underrate W's (as the serial
+// gnsn-ac), and their scale (mean |W_aa| over all contacts), delta's unit.
+struct RanksRho {
+    std::vector<double> rho_n, rho_t;
+    double scale = 1.0;
 };
-
-}  // namespace
-
-frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, double *r_io, double *u_out,
-                             frix_info &info, const Stopwatch &clock) {
+frix_error lumped_rho(frix_mpi_problem &p, const newton::Settings &s, GlobalSystem &sys, const frix_options &o,
+                      RanksRho &out) {
     const MPI_Comm comm = p.ctx->comm;
-    const frix_mpi_global_rows &g = *p.global;
-    const newton::Settings s = newton::settings_from(o, FRIX_SOLVER_NSN_AC);
-    const Monitor monitor(o, clock);
-    const double tol = monitor.tolerance();
-    const int64_t max_iter = monitor.max_iterations(), n = g.dofs, nc = p.owned, m = 3 * nc;
-    if (frix_error e = agree(comm, use_petsc(*p.ctx), "frix_mpi_solve")) return e;
-    GlobalSystem sys(p);
-    if (frix_error e = agree(comm, sys.setup(), "frix_mpi_solve")) return e;
-
-    // rho from the lumped blocks, corrected where they underrate W's (as the serial gnsn-ac).
+    const int64_t nc = p.owned;
     std::vector<double> lumped;
     if (frix_error e = agree(comm, sys.lumped_blocks(lumped), "frix_mpi_solve")) return e;
     double underrate = 1.0;
@@ -341,178 +331,212 @@ frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, double 
     if (s.verbosity >= 1 && underrate != 1.0)
         log_line(&o, "global newton (distributed): the lumped blocks underrate W's by %.3g%s", underrate,
                  correction != 1.0 ? ": rho corrected" : "");
-    std::vector<double> rho_n((size_t)nc), rho_t((size_t)nc);
+    out.rho_n.resize((size_t)nc), out.rho_t.resize((size_t)nc);
     double wscale = 0.0;
     for (int64_t a = 0; a < nc; ++a) {
         double Wd[9], fro = 0.0;
         for (int k = 0; k < 9; ++k) Wd[k] = correction * lumped[9 * (size_t)a + (size_t)k], fro += Wd[k] * Wd[k];
-        nsn::contact_rho(s.rho_strategy, s.rho, Wd, &rho_n[(size_t)a], &rho_t[(size_t)a]);
+        nsn::contact_rho(s.rho_strategy, s.rho, Wd, &out.rho_n[(size_t)a], &out.rho_t[(size_t)a]);
         wscale += std::sqrt(fro);
     }
     reduce_all(comm, &wscale, 1, "s");
-    wscale = p.total > 0 && wscale > 0.0 ? wscale / (double)p.total : 1.0;
+    out.scale = p.total > 0 && wscale > 0.0 ? wscale / (double)p.total : 1.0;
+    return FRIX_OK;
+}
 
-    State x;
-    x.v.assign((size_t)n, 0.0);  // v from 0, as the serial gnsn-ac
-    x.r.assign(r_io, r_io + m);
-    x.u.resize((size_t)m);
-    x.res.resize((size_t)n);
-    x.mv.resize((size_t)n);
-    x.hr.resize((size_t)n);
-    x.phi.resize((size_t)m);
-    x.A.resize(9 * (size_t)nc);
-    x.B.resize(9 * (size_t)nc);
-    const double norm_w = norm2_all(comm, p.w.data(), m), norm_f = norm2_all(comm, g.f.data(), n);
-    frix_error failed = FRIX_OK;
+// The newton's iterate (v, r) with what the steps and measures read.
+struct State {
+    std::vector<double> v, r, u, res, mv, hr, phi, A, B;
+};
+
+// The distributed gnsn-ac as kit::NewtonLoop's system: the serial gnsn-ac's (v, r) over the
+// ranks' rows, the products and the Jacobian's solves by PETSc.
+class RanksVrSystem : public kit::SystemDefaults {
+   public:
+    struct Point {
+        std::vector<double> v, r;
+    };
+    RanksVrSystem(frix_mpi_problem &p, GlobalSystem &sys, RanksRho rho, const newton::Settings &s, const frix_options &o,
+                  const double *r)
+        : p_(p), g_(*p.global), sys_(sys), comm_(p.ctx->comm), n_(g_.dofs), nc_(p.owned), m_(3 * p.owned),
+          rho_(std::move(rho)), s_(s), o_(o), norm_w_(norm2_all(comm_, p.w.data(), m_)),
+          norm_f_(norm2_all(comm_, g_.f.data(), n_)), rhs_((size_t)(n_ + m_)), dx_((size_t)(n_ + m_)), Mdv_((size_t)n_),
+          Hdr_((size_t)n_), Htdv_((size_t)m_) {
+        x_.v.assign((size_t)n_, 0.0);  // v from 0, as the serial gnsn-ac
+        x_.r.assign(r, r + m_);
+        x_.u.resize((size_t)m_);
+        x_.res.resize((size_t)n_);
+        x_.mv.resize((size_t)n_);
+        x_.hr.resize((size_t)n_);
+        x_.phi.resize((size_t)m_);
+        x_.A.resize(9 * (size_t)nc_);
+        x_.B.resize(9 * (size_t)nc_);
+        trial_ = x_;
+    }
+    frix_error evaluate(double &psi, double &err) {
+        psi = merit(x_, true);
+        if (frix_error e = stopped()) return e;
+        err = error_of(x_);
+        return FRIX_OK;
+    }
+    frix_error factor(double delta, kit::Factorisation &f) {
+        if (frix_error e = mpi::agree(comm_, sys_.assemble(x_.A, x_.B, delta * rho_.scale), "frix_mpi_solve")) return e;
+        for (int64_t j = 0; j < n_; ++j) rhs_[(size_t)j] = -x_.res[(size_t)j];
+        for (int64_t i = 0; i < m_; ++i) rhs_[(size_t)(n_ + i)] = -x_.phi[(size_t)i];
+        return mpi::agree(comm_, sys_.solve(rhs_.data(), dx_.data(), f.factored), "frix_mpi_solve");
+    }
+    frix_error solve(bool &finite) {
+        bool mine = true;
+        for (size_t i = 0; i < dx_.size() && mine; ++i) mine = std::isfinite(dx_[i]);
+        finite = or_all(comm_, mine ? 0u : 1u) == 0;
+        return FRIX_OK;
+    }
+    // Slope of the merit: res . (M dv - H dr) + Phi . (A dr + B H^T dv), over the ranks.
+    frix_error directional(double &slope) {
+        const double *dv = dx_.data(), *dr = dx_.data() + n_;
+        failed_ = sys_.mult_M(dv, Mdv_.data());
+        if (!failed_) failed_ = sys_.mult_H(dr, Hdr_.data());
+        if (!failed_) failed_ = sys_.mult_Ht(dv, Htdv_.data());
+        if (frix_error e = stopped()) return e;
+        slope = 0.0;
+        for (int64_t j = 0; j < n_; ++j) slope += x_.res[(size_t)j] * (Mdv_[(size_t)j] - Hdr_[(size_t)j]);
+        slope = nsn::add_merit_slope(slope, x_.phi.data(), x_.A.data(), x_.B.data(), dr, Htdv_.data(), nc_);
+        reduce_all(comm_, &slope, 1, "s");
+        return FRIX_OK;
+    }
+    // The merit over the ranks at (v, r) + t (dv, dr); the equilibrium rows are linear.
+    double merit_at(double t) {
+        const double *dr = dx_.data() + n_;
+        double both[2] = {0.0, 0.0};
+        for (int64_t j = 0; j < n_; ++j) {
+            const double d = x_.res[(size_t)j] + t * (Mdv_[(size_t)j] - Hdr_[(size_t)j]);
+            both[0] += d * d;
+        }
+        for (int64_t i = 0; i < m_; ++i) {
+            trial_.r[(size_t)i] = x_.r[(size_t)i] + t * dr[i];
+            trial_.u[(size_t)i] = x_.u[(size_t)i] + t * Htdv_[(size_t)i];
+        }
+        contacts(trial_, false);
+        for (const double d : trial_.phi) both[1] += d * d;
+        reduce_all(comm_, both, 2, "ss");
+        return 0.5 * (both[0] + both[1]);
+    }
+    void move(double t) {
+        for (int64_t j = 0; j < n_; ++j) x_.v[(size_t)j] += t * dx_[(size_t)j];
+        for (int64_t i = 0; i < m_; ++i) x_.r[(size_t)i] += t * dx_[(size_t)(n_ + i)];
+    }
+    void save(Point &x) const {
+        x.v = x_.v;
+        x.r = x_.r;
+    }
+    void load(const Point &x) {
+        x_.v = x.v;
+        x_.r = x.r;
+    }
+    // The best iterate's measures, for the driver.
+    frix_error restored_best() {
+        merit(x_, false);
+        if (frix_error e = stopped()) return e;
+        error_of(x_);
+        return FRIX_OK;
+    }
+    frix_error rejected(int64_t taken, bool &changed, double &psi) {  // gnewton::RhoCuts
+        if (!(changed = cuts_.cut(taken))) return FRIX_OK;
+        for (int64_t a = 0; a < nc_; ++a) rho_.rho_n[(size_t)a] *= kRhoCut, rho_.rho_t[(size_t)a] *= kRhoCut;
+        psi = merit(x_, true);
+        return stopped();
+    }
+    Monitor::Agree agree() const {
+        return [comm = comm_](bool flag) { return or_all(comm, flag ? 1u : 0u) != 0; };
+    }
+    void log_step(int64_t step, double t, double err, double, double delta) const {
+        if (s_.verbosity >= 2)
+            log_line(&o_, "global newton (distributed): step %lld t %.3g error %.3e equilibrium %.3e delta %.1e",
+                     (long long)step, t, err, equilibrium_, delta);
+    }
+    // The iterate and its measures into the caller's r, u, p.v and info.
+    void hand_over(double *r, double *u, frix_info &info) {
+        std::copy(x_.r.begin(), x_.r.end(), r);
+        std::copy(x_.u.begin(), x_.u.end(), u);
+        p_.v = x_.v;
+        p_.solved = true;
+        record_measures(info, measures_, s_.measure);
+        info.equilibrium = equilibrium_;
+    }
+
+   private:
     // res = M v - H r - f, u = H^T v + w, Phi (A and B when asked); the merit over the ranks.
-    auto evaluate = [&](State &st, bool jacobian) -> double {
-        if (!failed) failed = sys.mult_M(st.v.data(), st.mv.data());
-        if (!failed) failed = sys.mult_H(st.r.data(), st.hr.data());
-        if (!failed) failed = sys.mult_Ht(st.v.data(), st.u.data());
-        for (int64_t j = 0; j < n; ++j) st.res[(size_t)j] = st.mv[(size_t)j] - st.hr[(size_t)j] - g.f[(size_t)j];
-        for (int64_t i = 0; i < m; ++i) st.u[(size_t)i] += p.w[(size_t)i];
-        for (int64_t a = 0; a < nc; ++a)
-            nsn::contact_function(nsn::kAlartCurnier, &st.r[3 * (size_t)a], &st.u[3 * (size_t)a], p.mu[(size_t)a],
-                                  rho_n[(size_t)a], rho_t[(size_t)a], &st.phi[3 * (size_t)a],
-                                  jacobian ? &st.A[9 * (size_t)a] : nullptr, jacobian ? &st.B[9 * (size_t)a] : nullptr);
+    double merit(State &st, bool jacobian) {
+        if (!failed_) failed_ = sys_.mult_M(st.v.data(), st.mv.data());
+        if (!failed_) failed_ = sys_.mult_H(st.r.data(), st.hr.data());
+        if (!failed_) failed_ = sys_.mult_Ht(st.v.data(), st.u.data());
+        for (int64_t j = 0; j < n_; ++j) st.res[(size_t)j] = st.mv[(size_t)j] - st.hr[(size_t)j] - g_.f[(size_t)j];
+        for (int64_t i = 0; i < m_; ++i) st.u[(size_t)i] += p_.w[(size_t)i];
+        contacts(st, jacobian);
         double both[2] = {0.0, 0.0};
         for (const double d : st.res) both[0] += d * d;
         for (const double d : st.phi) both[1] += d * d;
-        reduce_all(comm, both, 2, "ss");
+        reduce_all(comm_, both, 2, "ss");
         return 0.5 * (both[0] + both[1]);
-    };
-    double equilibrium = 0.0;
-    Measures measures;
+    }
+    void contacts(State &st, bool jacobian) {
+        for (int64_t a = 0; a < nc_; ++a)
+            nsn::contact_function(nsn::kAlartCurnier, &st.r[3 * (size_t)a], &st.u[3 * (size_t)a], p_.mu[(size_t)a],
+                                  rho_.rho_n[(size_t)a], rho_.rho_t[(size_t)a], &st.phi[3 * (size_t)a],
+                                  jacobian ? &st.A[9 * (size_t)a] : nullptr, jacobian ? &st.B[9 * (size_t)a] : nullptr);
+    }
     // The error of (r, u) over all contacts, and the equilibrium residual relative to
     // max(|f|, |M v|, |H r|) (frix_solve's).
-    auto error_of = [&](const State &st) {
-        measures = measures_over_ranks(comm, st.r.data(), st.u.data(), p.mu.data(), p.view.weight, nc, norm_w);
-        const double res = norm2_all(comm, st.res.data(), n);
-        const double scale = std::max({norm_f, norm2_all(comm, st.mv.data(), n), norm2_all(comm, st.hr.data(), n)});
-        equilibrium = scale > DBL_EPSILON ? res / scale : res;
-        return std::max(selected_error(measures, s.measure), equilibrium);
-    };
-    auto stopped = [&]() { return agree(comm, failed, "frix_mpi_solve"); };
+    double error_of(const State &st) {
+        measures_ = measures_over_ranks(comm_, st.r.data(), st.u.data(), p_.mu.data(), p_.view.weight, nc_, norm_w_);
+        const double res = norm2_all(comm_, st.res.data(), n_);
+        const double scale =
+            std::max({norm_f_, norm2_all(comm_, st.mv.data(), n_), norm2_all(comm_, st.hr.data(), n_)});
+        equilibrium_ = scale > DBL_EPSILON ? res / scale : res;
+        return std::max(selected_error(measures_, s_.measure), equilibrium_);
+    }
+    frix_error stopped() { return mpi::agree(comm_, failed_, "frix_mpi_solve"); }
 
-    double psi = evaluate(x, true);
-    if (frix_error e = stopped()) return e;
-    newton::MeritHistory history(psi);
-    double err = error_of(x);
-    State best = x;
-    Progress progress(err);
-    int64_t it = 0, ls_steps = 0;
-    const int64_t N = n + m;
-    std::vector<double> rhs((size_t)N), dx((size_t)N), Mdv((size_t)n), Hdr((size_t)n), Htdv((size_t)m);
-    State trial = x;
-    info.status = FRIX_STATUS_MAX_ITER;
-    while (true) {
-        const frix_status stop = status_before_step(err, tol, it, max_iter, [&] {
-            return (or_all(comm, monitor.out_of_time() ? kOutOfTime : 0u) & kOutOfTime) != 0;
-        });
-        if (stop != FRIX_STATUS_NOT_RUN) {
-            info.status = stop;
-            break;
-        }
-        for (int64_t j = 0; j < n; ++j) rhs[(size_t)j] = -x.res[(size_t)j];
-        for (int64_t i = 0; i < m; ++i) rhs[(size_t)(n + i)] = -x.phi[(size_t)i];
-        bool factored = false;
-        for (int attempt = 0; attempt < 12 && !factored; ++attempt) {
-            if (frix_error e = agree(comm, sys.assemble(x.A, x.B, progress.delta() * wscale), "frix_mpi_solve")) return e;
-            if (frix_error e = agree(comm, sys.solve(rhs.data(), dx.data(), factored), "frix_mpi_solve")) return e;
-            if (!factored) progress.factorisation_failed();
-        }
-        if (!factored) {
-            info.status = FRIX_STATUS_NUMERICAL_FAILURE;
-            break;
-        }
-        ++it;
-        const double *dv = dx.data(), *dr = dx.data() + n;
-        failed = sys.mult_M(dv, Mdv.data());
-        if (!failed) failed = sys.mult_H(dr, Hdr.data());
-        if (!failed) failed = sys.mult_Ht(dv, Htdv.data());
-        if (frix_error e = stopped()) return e;
-        // Slope of the merit: res . (M dv - H dr) + Phi . (A dr + B H^T dv).
-        double slope = 0.0;
-        for (int64_t j = 0; j < n; ++j) slope += x.res[(size_t)j] * (Mdv[(size_t)j] - Hdr[(size_t)j]);
-        slope = add_contacts_slope(slope, x.phi.data(), x.A.data(), x.B.data(), dr, Htdv.data(), nc);
-        reduce_all(comm, &slope, 1, "s");
-        double t = 1.0;
-        bool accepted = s.line_search == FRIX_LINE_SEARCH_NONE;
-        if (!accepted && slope < 0.0) {
-            const double c = s.line_search == FRIX_LINE_SEARCH_GOLDSTEIN_PRICE ? kM1 : kArmijo;
-            const double ref = s.line_search == FRIX_LINE_SEARCH_NONMONOTONE ? history.reference(psi) : psi;
-            // The merit over the ranks at (v, r) + step (dv, dr); the equilibrium rows are linear.
-            const auto merit = [&](double step) {
-                double both[2] = {0.0, 0.0};
-                for (int64_t j = 0; j < n; ++j) {
-                    const double d = x.res[(size_t)j] + step * (Mdv[(size_t)j] - Hdr[(size_t)j]);
-                    both[0] += d * d;
-                }
-                for (int64_t i = 0; i < m; ++i) {
-                    trial.r[(size_t)i] = x.r[(size_t)i] + step * dr[i];
-                    trial.u[(size_t)i] = x.u[(size_t)i] + step * Htdv[(size_t)i];
-                }
-                for (int64_t a = 0; a < nc; ++a)
-                    nsn::contact_function(nsn::kAlartCurnier, &trial.r[3 * (size_t)a], &trial.u[3 * (size_t)a],
-                                          p.mu[(size_t)a], rho_n[(size_t)a], rho_t[(size_t)a],
-                                          &trial.phi[3 * (size_t)a], nullptr, nullptr);
-                for (const double d : trial.phi) both[1] += d * d;
-                reduce_all(comm, both, 2, "ss");
-                return 0.5 * (both[0] + both[1]);
-            };
-            t = backtrack(merit, psi, ref, c, slope, s.ls_max_iter, ls_steps);
-            accepted = t > 0.0;
-        }
-        if (accepted) {
-            for (int64_t j = 0; j < n; ++j) x.v[(size_t)j] += t * dv[j];
-            for (int64_t i = 0; i < m; ++i) x.r[(size_t)i] += t * dr[i];
-            psi = evaluate(x, true);
-            if (frix_error e = stopped()) return e;
-            history.push(psi);
-            err = error_of(x);
-            progress.step_taken(t);
-        } else if (progress.step_rejected()) {  // until a step is accepted, rho may be far too large
-            for (int64_t a = 0; a < nc; ++a) rho_n[(size_t)a] *= kRhoCut, rho_t[(size_t)a] *= kRhoCut;
-            psi = evaluate(x, true);
-            if (frix_error e = stopped()) return e;
-            history = newton::MeritHistory(psi);
-        }
-        if (s.verbosity >= 2)
-            log_line(&o, "global newton (distributed): step %lld t %.3g error %.3e equilibrium %.3e delta %.1e",
-                     (long long)it, t, err, equilibrium, progress.delta());
-        if (or_all(comm, monitor.report(it, err) ? kStopAsked : 0u) & kStopAsked) {
-            info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
-            break;
-        }
-        if (progress.improved(err)) {
-            best.v = x.v;
-            best.r = x.r;
-        }
-        if (progress.stalled()) {
-            info.status = FRIX_STATUS_STAGNATED;
-            break;
-        }
-    }
-    if (!(err <= progress.best())) {  // also when the last iterate is not finite
-        x.v = best.v;
-        x.r = best.r;
-        evaluate(x, false);
-        if (frix_error e = stopped()) return e;
-        err = error_of(x);
-    }
-    std::copy(x.r.begin(), x.r.end(), r_io);
-    std::copy(x.u.begin(), x.u.end(), u_out);
-    p.v = x.v;
-    p.solved = true;
-    info.iterations = it;
-    info.newton_iterations = it;
-    info.line_search_steps = ls_steps;
-    record_measures(info, measures, s.measure);
-    info.equilibrium = equilibrium;
-    if (info.status == FRIX_STATUS_CONVERGED && !(err <= tol)) info.status = FRIX_STATUS_STAGNATED;
+    frix_mpi_problem &p_;
+    const frix_mpi_global_rows &g_;
+    GlobalSystem &sys_;
+    const MPI_Comm comm_;
+    const int64_t n_, nc_, m_;
+    RanksRho rho_;
+    const newton::Settings &s_;
+    const frix_options &o_;
+    const double norm_w_, norm_f_;
+    State x_, trial_;
+    std::vector<double> rhs_, dx_, Mdv_, Hdr_, Htdv_;
+    frix_error failed_ = FRIX_OK;
+    RhoCuts cuts_;
+    Measures measures_;
+    double equilibrium_ = 0.0;
+};
+
+}  // namespace
+
+frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, double *r_io, double *u_out,
+                             frix_info &info, const Stopwatch &clock) {
+    const MPI_Comm comm = p.ctx->comm;
+    const newton::Settings s = newton::settings_from(o, FRIX_SOLVER_NSN_AC);
+    if (frix_error e = agree(comm, use_petsc(*p.ctx), "frix_mpi_solve")) return e;
+    GlobalSystem sys(p);
+    if (frix_error e = agree(comm, sys.setup(), "frix_mpi_solve")) return e;
+    RanksRho rho;
+    if (frix_error e = lumped_rho(p, s, sys, o, rho)) return e;
+    RanksVrSystem system(p, sys, std::move(rho), s, o, r_io);
+    kit::Steps steps{Monitor(o, clock)};
+    kit::Counters counters;
+    kit::RunResult res;
+    if (frix_error e = kit::newton(system, steps, rules_of(s.line_search, s.ls_max_iter), counters, res)) return e;
+    system.hand_over(r_io, u_out, info);
+    kit::record(info, res, steps, counters);
+    if (info.status == FRIX_STATUS_CONVERGED && !(res.error <= steps.monitor.tolerance()))
+        info.status = FRIX_STATUS_STAGNATED;
     if (s.verbosity >= 1)
         log_line(&o, "global newton (distributed): %s after %lld steps", frix_status_string(info.status),
-                 (long long)it);
+                 (long long)steps.done);
     return FRIX_OK;
 }
 

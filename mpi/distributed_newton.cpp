@@ -1,14 +1,19 @@
 // The distributed semismooth Newton (nsn-ac, 504): Alart-Curnier's Phi(r, W r + q) = 0 over
-// all ranks, each Newton system J dr = -Phi solved by PETSc (a block matrix of 3 x 3 blocks
-// over the ranks' rows, KSP with MUMPS's LU), Armijo's backtracking on the merit 1/2 |Phi|^2.
+// all ranks, on the Newton loop of the serial solvers (solvers/kit/newton_engine.hpp): each
+// Newton system J dr = -Phi solved by PETSc (a block matrix of 3 x 3 blocks over the ranks'
+// rows, KSP with MUMPS's LU), Armijo's backtracking on the merit 1/2 |Phi|^2, and where Newton
+// stagnates the NSGS sweeps of the distributed form (option hybrid, as the serial nsn-ac).
 #include <petscksp.h>
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "mpi/distributed_forms.hpp"
 #include "mpi/petsc_support.hpp"
+#include "solvers/kit/newton_engine.hpp"
+#include "solvers/nsgs.hpp"
 #include "solvers/nsn_functions.hpp"
 #include "src/error_state.hpp"
 #include "src/log.hpp"
@@ -20,20 +25,16 @@ namespace {
 
 frix_error petsc(PetscErrorCode rc, const char *what) { return petsc_call(rc, FRIX_ERR_INTERNAL, "nsn-ac", what); }
 
-// Armijo's sufficient decrease, as the serial line search's.
-constexpr double kArmijoSigma = 1e-4;
-// J = A + B (W + delta w_scale I), as the serial nsn-ac regularises it: rank-deficient W
-// (rigid scenes) makes J singular on the sticking contacts. delta starts at kDeltaStart, grows
-// a hundredfold while J does not factorise, and falls tenfold after each full step, to 0 below
-// kDeltaFloor; a step without any decrease of the merit raises it tenfold.
-constexpr double kDeltaStart = 1e-6, kDeltaFloor = 1e-8, kDeltaMax = 1e6;
-constexpr unsigned kStopAsked = 1u, kOutOfTime = 2u;
+// A status flag over the ranks: set on any of them.
+Monitor::Agree over(MPI_Comm comm) {
+    return [comm](bool flag) { return or_all(comm, flag ? 1u : 0u) != 0; };
+}
 
 // The Newton system over the ranks: J (3 x 3 blocks, this rank's rows), Phi and the step.
-class System {
+class PetscSystem {
    public:
-    explicit System(const frix_mpi_problem &p) : p_(p) {}
-    ~System() {
+    explicit PetscSystem(const frix_mpi_problem &p) : p_(p) {}
+    ~PetscSystem() {
         KSPDestroy(&ksp_);
         VecDestroy(&rhs_);
         VecDestroy(&step_);
@@ -128,12 +129,139 @@ void phi_at(const frix_mpi_problem &p, const double *r, const double *u, const s
                               rho[2 * (size_t)a + 1], phi + 3 * a, nullptr, nullptr);
 }
 
-// Phi at r (owned and ghosts current); u receives W r + q of the owned contacts.
-void residual(const frix_mpi_problem &p, const double *r, const std::vector<double> &rho, double *u, double *phi) {
-    if (p.owned == 0) return;
-    matrix_gemv(p.W, 1.0, r, 0.0, u);
-    for (int64_t i = 0; i < 3 * p.owned; ++i) u[i] += p.q[(size_t)i];
-    phi_at(p, r, u, rho, phi);
+// The distributed nsn-ac as kit::NewtonLoop's system: Alart-Curnier's Phi(r, W r + q) over the
+// ranks, r (owned then ghosts, the ghosts current) in place, u = W r + q of the owned contacts.
+class RanksSystem : public kit::SystemDefaults {
+   public:
+    using Point = std::vector<double>;
+    RanksSystem(frix_mpi_problem &p, DistributedForm &form, PetscSystem &petsc, const frix_options &o, double *r,
+                double *u)
+        : p_(p), form_(form), petsc_(petsc), comm_(p.ctx->comm), r_(r), u_(u), m_(3 * p.owned),
+          held_(3 * (p.owned + p.ghosts.size())), measure_(o.i(FRIX_OPT_ERROR_MEASURE)),
+          verbosity_(o.i(FRIX_OPT_VERBOSITY)), o_(o), rho_(2 * (size_t)p.owned), phi_((size_t)m_ + 1), dr_(held_, 0.0),
+          trial_(held_), u_trial_((size_t)m_ + 1), phi_trial_((size_t)m_ + 1) {
+        static const double kZero[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+        double diag_sum = 0.0;
+        for (int64_t a = 0; a < p.owned; ++a) {
+            const int64_t d = p.W.diag_index[(size_t)a];
+            nsn::contact_rho((int)o.i(FRIX_OPT_RHO_STRATEGY), o.d(FRIX_OPT_RHO), d >= 0 ? &p.W.block_val[9 * (size_t)d] : kZero,
+                             &rho_[2 * (size_t)a], &rho_[2 * (size_t)a + 1]);
+            if (d >= 0)
+                for (int i = 0; i < 3; ++i) diag_sum += std::fabs(p.W.block_val[9 * (size_t)d + 4 * i]) / 3.0;
+        }
+        // The scale of delta: the mean |W_aa| (the diagonal's mean magnitude) over all contacts.
+        reduce_all(comm_, &diag_sum, 1, "s");
+        w_scale_ = p.total > 0 ? diag_sum / (double)p.total : 0.0;
+    }
+    frix_error evaluate(double &psi, double &err) {
+        err = selected_error(form_.exact(r_, u_), measure_);
+        phi_at(p_, r_, u_, rho_, phi_.data());  // u = W r + q: form.exact() has just formed it
+        psi = theta_ = merit(comm_, phi_.data(), m_);
+        return FRIX_OK;
+    }
+    frix_error factor(double delta, kit::Factorisation &f) {
+        if (frix_error e = mpi::agree(comm_, petsc_.assemble(r_, u_, rho_, delta * w_scale_, phi_.data()), "frix_mpi_solve"))
+            return e;
+        return mpi::agree(comm_, petsc_.solve(phi_.data(), dr_.data(), f.factored), "frix_mpi_solve");
+    }
+    frix_error solve(bool &finite) {
+        form_.exchange(dr_.data());  // the ghosts' steps, from their owners
+        bool mine = true;
+        for (int64_t i = 0; i < m_ && mine; ++i) mine = std::isfinite(dr_[(size_t)i]);
+        finite = or_all(comm_, mine ? 0u : 1u) == 0;
+        return FRIX_OK;
+    }
+    // The slope of 1/2 |Phi|^2 along an exact Newton step (its search writes the test with it).
+    frix_error directional(double &slope) {
+        slope = -2.0 * theta_;
+        return FRIX_OK;
+    }
+    double merit_at(double t) {
+        for (size_t i = 0; i < held_; ++i) trial_[i] = r_[i] + t * dr_[i];
+        if (p_.owned > 0) {
+            matrix_gemv(p_.W, 1.0, trial_.data(), 0.0, u_trial_.data());
+            for (int64_t i = 0; i < m_; ++i) u_trial_[(size_t)i] += p_.q[(size_t)i];
+            phi_at(p_, trial_.data(), u_trial_.data(), rho_, phi_trial_.data());
+        }
+        return merit(comm_, phi_trial_.data(), m_);
+    }
+    void move(double t) {
+        for (size_t i = 0; i < held_; ++i) r_[i] += t * dr_[i];
+    }
+    void save(Point &x) const { x.assign(r_, r_ + held_); }
+    void load(const Point &x) { std::copy(x.begin(), x.end(), r_); }
+    Monitor::Agree agree() const { return over(comm_); }
+    void log_step(int64_t step, double t, double err, double, double) const {
+        if (verbosity_ >= 1) log_line(&o_, "nsn-ac (distributed): step %lld, t %.3g, error %.3e", (long long)step, t, err);
+    }
+
+   private:
+    frix_mpi_problem &p_;
+    DistributedForm &form_;
+    PetscSystem &petsc_;
+    const MPI_Comm comm_;
+    double *r_, *u_;
+    const int64_t m_;
+    const size_t held_;
+    const int64_t measure_, verbosity_;
+    const frix_options &o_;
+    std::vector<double> rho_, phi_, dr_, trial_, u_trial_, phi_trial_;
+    double w_scale_ = 0.0, theta_ = 0.0;
+};
+
+// The hybrid's rounds (kit::newton_with_sweeps) over the ranks: Newton, and NSGS sweeps of the
+// distributed form with the closed-form one-contact solver, as the serial nsn-ac's.
+class RanksRounds {
+   public:
+    RanksRounds(RanksSystem &system, const kit::Rules &rules, kit::Steps &steps, kit::Counters &counters,
+                frix_mpi_problem &p, DistributedForm &form, const frix_options &o, double *r, double *u)
+        : system_(system), rules_(rules), steps_(steps), counters_(counters), p_(p), form_(form), o_(o), r_(r), u_(u) {}
+    frix_error newton(kit::RunResult &res) { return kit::newton(system_, steps_, rules_, counters_, res); }
+    void keep() {
+        if (!ws_) {
+            nsgs::Settings gss;
+            gss.local.solver = local::kClosedForm;
+            ws_ = std::make_unique<nsgs::Workspace>(p_.view, gss);
+        }
+        system_.save(kept_);
+    }
+    void restore() { system_.load(kept_); }
+    void sweep() { form_.sweep(*ws_, r_, u_); }
+    double error() { return selected_error(form_.exact(r_, u_), o_.i(FRIX_OPT_ERROR_MEASURE)); }
+    void log_sweeps(double before, double after) const {
+        if (o_.i(FRIX_OPT_VERBOSITY) >= 1)
+            log_line(&o_, "nsn-ac (distributed): stalled at %.3e, %lld NSGS sweeps -> %.3e", before,
+                     (long long)o_.i(FRIX_OPT_HYBRID_SWEEPS), after);
+    }
+    Monitor::Agree agree() const { return system_.agree(); }
+
+   private:
+    RanksSystem &system_;
+    const kit::Rules &rules_;
+    kit::Steps &steps_;
+    kit::Counters &counters_;
+    frix_mpi_problem &p_;
+    DistributedForm &form_;
+    const frix_options &o_;
+    double *r_, *u_;
+    std::unique_ptr<nsgs::Workspace> ws_;
+    RanksSystem::Point kept_;
+};
+
+// The distributed nsn-ac's rules. Its line search is Armijo's in the Newton-merit form whatever
+// line_search asks (but none); and, where it is not the serial nsn-ac's, its results are kept
+// as they were: the last iterate, no stall test, stagnated where J does not factorise however
+// regularised or no step lowers the merit however short (delta above kit::kDeltaMax). No
+// watchdog: on this path nsn-ac's default one loses converging runs
+// (notes/2026-11-28-newton-kit.md).
+kit::Rules rules_of(const frix_options &o) {
+    kit::Rules rules;
+    rules.search = kit::newton_merit_search_of(o.i(FRIX_OPT_LINE_SEARCH), o.i(FRIX_OPT_LINE_SEARCH_MAX_ITER));
+    rules.keep_best = false;
+    rules.stall = false;
+    rules.singular = FRIX_STATUS_STAGNATED;
+    rules.stagnate_above_cap = true;
+    return rules;
 }
 
 }  // namespace
@@ -141,104 +269,19 @@ void residual(const frix_mpi_problem &p, const double *r, const std::vector<doub
 frix_error run_newton(frix_mpi_problem &p, const frix_options &o, DistributedForm &form, double *r, double *u,
                       frix_info &info, const Stopwatch &clock) {
     const MPI_Comm comm = p.ctx->comm;
-    const Monitor monitor(o, clock);
-    const double tol = monitor.tolerance();
-    const int64_t max_iter = monitor.max_iterations(), m = 3 * p.owned;
-    const int64_t verbosity = o.i(FRIX_OPT_VERBOSITY), measure = o.i(FRIX_OPT_ERROR_MEASURE);
-    const bool line_search = o.i(FRIX_OPT_LINE_SEARCH) != FRIX_LINE_SEARCH_NONE;
-    const int64_t backtracks = std::max<int64_t>(o.i(FRIX_OPT_LINE_SEARCH_MAX_ITER), 1);
     if (frix_error e = agree(comm, use_petsc(*p.ctx), "frix_mpi_solve")) return e;
-    System system(p);
-    if (frix_error e = agree(comm, system.setup(), "frix_mpi_solve")) return e;
-    std::vector<double> rho(2 * (size_t)p.owned);
-    for (int64_t a = 0; a < p.owned; ++a) {
-        const int64_t d = p.W.diag_index[(size_t)a];
-        static const double kZero[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-        nsn::contact_rho((int)o.i(FRIX_OPT_RHO_STRATEGY), o.d(FRIX_OPT_RHO), d >= 0 ? &p.W.block_val[9 * (size_t)d] : kZero,
-                         &rho[2 * (size_t)a], &rho[2 * (size_t)a + 1]);
-    }
-    // The scale of delta: the mean |W_aa| (the diagonal's mean magnitude) over all contacts.
-    double diag_sum = 0.0;
-    for (int64_t a = 0; a < p.owned; ++a) {
-        const int64_t d = p.W.diag_index[(size_t)a];
-        if (d >= 0)
-            for (int i = 0; i < 3; ++i) diag_sum += std::fabs(p.W.block_val[9 * (size_t)d + 4 * i]) / 3.0;
-    }
-    reduce_all(comm, &diag_sum, 1, "s");
-    const double w_scale = p.total > 0 ? diag_sum / (double)p.total : 0.0;
-    double delta = kDeltaStart;
-    const size_t held = 3 * (p.owned + p.ghosts.size());
-    std::vector<double> phi((size_t)m + 1), dr(held, 0.0), trial(held), u_trial((size_t)m + 1), phi_trial((size_t)m + 1);
-    info.status = FRIX_STATUS_MAX_ITER;
-    double error = selected_error(form.exact(r, u), measure);
-    int64_t it = 0;
-    for (; it < max_iter && !(error <= tol); ++it) {
-        phi_at(p, r, u, rho, phi.data());  // u = W r + q: form.exact() has just formed it
-        const double theta = merit(comm, phi.data(), m);
-        bool factored = false;
-        while (!factored) {
-            if (frix_error e = agree(comm, system.assemble(r, u, rho, delta * w_scale, phi.data()), "frix_mpi_solve"))
-                return e;
-            if (frix_error e = agree(comm, system.solve(phi.data(), dr.data(), factored), "frix_mpi_solve")) return e;
-            if (!factored) delta = delta == 0.0 ? kDeltaStart : 100.0 * delta;
-            if (!factored && delta > kDeltaMax) break;
-        }
-        if (!factored) {  // singular however regularised: no step is left to take
-            info.status = FRIX_STATUS_STAGNATED;
-            break;
-        }
-        form.exchange(dr.data());  // the ghosts' steps, from their owners
-        // Armijo: theta(r + t dr) <= (1 - 2 sigma t) theta(r), t halved from 1. Without it, the
-        // step that lowered theta most is taken; without any decrease, none, and J is
-        // regularised further (a shorter, safer step), as the serial nsn-ac does.
-        double t = 1.0, best_t = 0.0, best_theta = theta;
-        bool accepted = !line_search;
-        for (int64_t k = 0; k < backtracks && !accepted; ++k, t *= 0.5) {
-            for (size_t i = 0; i < held; ++i) trial[i] = r[i] + t * dr[i];
-            residual(p, trial.data(), rho, u_trial.data(), phi_trial.data());
-            const double theta_t = merit(comm, phi_trial.data(), m);
-            if (theta_t <= (1.0 - 2.0 * kArmijoSigma * t) * theta) {
-                accepted = true;
-                break;
-            }
-            if (theta_t < best_theta) best_theta = theta_t, best_t = t;
-        }
-        if (!accepted && best_t > 0.0) t = best_t, accepted = true;
-        if (accepted) {
-            for (size_t i = 0; i < held; ++i) r[i] += t * dr[i];
-            if (t == 1.0) delta = delta < kDeltaFloor ? 0.0 : 0.1 * delta;
-        } else {
-            delta = std::max(10.0 * delta, kDeltaStart);
-            if (delta > kDeltaMax) {  // no step lowers the merit, however short
-                info.status = FRIX_STATUS_STAGNATED;
-                ++it;
-                break;
-            }
-        }
-        error = selected_error(form.exact(r, u), measure);
-        info.newton_iterations = it + 1;
-        if (verbosity >= 1) log_line(&o, "nsn-ac (distributed): step %lld, t %.3g, error %.3e", (long long)(it + 1), t, error);
-        if (!std::isfinite(error)) {
-            info.status = FRIX_STATUS_DIVERGED;
-            ++it;
-            break;
-        }
-        const bool stop = monitor.report(it + 1, error);
-        const unsigned flags = or_all(comm, (stop ? kStopAsked : 0u) | (monitor.out_of_time() ? kOutOfTime : 0u));
-        if (error <= tol) continue;
-        if (flags & kStopAsked) {
-            info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
-            ++it;
-            break;
-        }
-        if (flags & kOutOfTime) {
-            info.status = FRIX_STATUS_TIME_LIMIT;
-            ++it;
-            break;
-        }
-    }
-    if (error <= tol) info.status = FRIX_STATUS_CONVERGED;
-    info.iterations = it;
+    PetscSystem petsc(p);
+    if (frix_error e = agree(comm, petsc.setup(), "frix_mpi_solve")) return e;
+    RanksSystem system(p, form, petsc, o, r, u);
+    const kit::Rules rules = rules_of(o);
+    kit::Steps steps{Monitor(o, clock)};
+    kit::Counters counters;
+    kit::RunResult res;
+    RanksRounds rounds(system, rules, steps, counters, p, form, o, r, u);
+    if (frix_error e = kit::newton_with_sweeps(rounds, steps, o.i(FRIX_OPT_HYBRID) == FRIX_HYBRID_NSGS,
+                                               o.i(FRIX_OPT_HYBRID_SWEEPS), counters, res))
+        return e;
+    kit::record(info, res, steps, counters);
     return FRIX_OK;
 }
 

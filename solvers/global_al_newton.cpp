@@ -21,6 +21,7 @@
 
 #include "solvers/first_order.hpp"
 #include "solvers/global_newton.hpp"
+#include "solvers/kit/line_search.hpp"
 #include "solvers/mass_plus_contacts.hpp"
 #include "solvers/nsn_functions.hpp"
 #include "src/error_state.hpp"
@@ -36,7 +37,6 @@ namespace gal {
 namespace {
 
 constexpr int kScaleSamples = 8;      // contacts whose W_aa set rho's unit
-constexpr double kArmijo = 1e-4;
 constexpr int kLineSearchSteps = 40;  // halvings of the Newton step at most
 constexpr int kInnerSteps = 30;       // Newton steps per outer step at most
 // An outer step's minimisation ends when the gradient (the equilibrium residual) is below
@@ -50,181 +50,190 @@ constexpr int kStallOuter = 8;        // outer steps without halving the best er
 
 using vec::dot;
 
+// One solve: the outer steps (multiplier updates) and the inner Newton on v that each makes.
+class AlRun {
+   public:
+    AlRun(SolveContext &ctx, MassPlusContacts &system, double scale)
+        : ctx_(ctx), p_(ctx.problem), monitor_(ctx), system_(system), n_(p_.n), nc_(p_.nc), m_(3 * p_.nc),
+          r_(ctx.r), u_(ctx.u), v_(ctx.v), tol_(monitor_.tolerance()), measure_(ctx.options.i(FRIX_OPT_ERROR_MEASURE)),
+          verbosity_(ctx.options.i(FRIX_OPT_VERBOSITY)),
+          scale_(scale), rho_(ctx.options.d(FRIX_OPT_RHO) / scale), rk_(r_, r_ + m_), shift_(m_, 0.0), y_(m_), z_(m_),
+          J_(9 * nc_), S_(9 * nc_), Mv_(n_), Hz_(n_), grad_(n_), d_(n_), Md_(n_), Htd_(m_), ut_(m_), zt_(m_),
+          best_r_(r_, r_ + m_), best_v_(v_, v_ + n_), fk_(p_.f, p_.f + n_), Kd_(n_), skew_work_(n_) {
+        norm_f_ = std::sqrt(dot(p_.f, p_.f, n_));
+    }
+
+    // The outer steps until the status; then the best iterate into ctx and the counters into info.
+    frix_error run() {
+        velocities(v_, u_);
+        de_saxce_shift(p_, u_, shift_.data());
+        double err = global_error(p_, measure_, r_, v_, u_, &equilibrium_), best_err = err, ref_err = err;
+        int since_progress = 0;
+        frix_status status = FRIX_STATUS_NOT_RUN;
+        while ((status = monitor_.verdict_after_report(outer_, err, false)) == FRIX_STATUS_NOT_RUN) {
+            if (frix_error e = minimise(status)) return e;  // the outer step: minimise phi from the current v
+            if (status != FRIX_STATUS_NOT_RUN) break;
+            ++outer_;
+            const double previous = err;
+            std::copy(z_.begin(), z_.end(), r_);
+            err = global_error_or_recovered(p_, ctx_.mass, measure_, tol_, r_, v_, u_, &equilibrium_);
+            if (verbosity_ >= 2)
+                log_line(&ctx_.options, "gnsn-al: outer %lld rho %.3e newton %lld error %.3e equilibrium %.3e",
+                         (long long)outer_, rho_ * scale_, (long long)newton_steps_, err, equilibrium_);
+            if (err < best_err) {
+                best_err = err;
+                std::copy(r_, r_ + m_, best_r_.begin());
+                std::copy(v_, v_ + n_, best_v_.begin());
+            }
+            if (monitor_.report(outer_, err)) {  // the callback's stop, at once
+                status = FRIX_STATUS_STOPPED_BY_CALLBACK;
+                break;
+            }
+            if (err <= tol_) continue;
+            if (best_err < 0.5 * ref_err) {
+                ref_err = best_err;
+                since_progress = 0;
+            } else if (++since_progress >= kStallOuter) {
+                status = FRIX_STATUS_STAGNATED;
+                break;
+            }
+            if (err > kSlowOuter * previous && rho_ < kRhoMax / scale_) rho_ = std::min(rho_ * kRhoGrowth, kRhoMax / scale_);
+            std::copy(r_, r_ + m_, rk_.begin());
+            de_saxce_shift(p_, u_, shift_.data());
+        }
+        if (!(err <= best_err)) {  // also when the last iterate is not finite
+            std::copy(best_r_.begin(), best_r_.end(), r_);
+            std::copy(best_v_.begin(), best_v_.end(), v_);
+        }
+        ctx_.info.status = status;
+        ctx_.info.iterations = outer_;
+        ctx_.info.newton_iterations = newton_steps_;
+        ctx_.info.line_search_steps = ls_steps_;
+        if (verbosity_ >= 1)
+            log_line(&ctx_.options, "gnsn-al: %s after %lld outer steps, %lld Newton steps (rho %.3g / scale)",
+                     frix_status_string(status), (long long)outer_, (long long)newton_steps_, rho_ * scale_);
+        return FRIX_OK;
+    }
+
+   private:
+    // out = (M + M^T) / 2 x: M x, less M's skew part where M is not exactly symmetric.
+    void symmetric_mass(const double *x, double *out) {
+        matrix_gemv(*p_.M, 1.0, x, 0.0, out);
+        if (!system_.skewed()) return;
+        matrix_skew_gemv(*p_.M, x, Kd_.data(), skew_work_.data());
+        for (int64_t j = 0; j < n_; ++j) out[j] -= Kd_[j];
+    }
+    // u = H^T v + w, the De Saxce term from it.
+    void velocities(const double *vv, double *uu) const {
+        if (m_ > 0) matrix_gemv_transposed(*p_.H, 1.0, vv, 0.0, uu);
+        for (int64_t i = 0; i < m_; ++i) uu[i] += p_.w[i];
+    }
+    // z = P_K(r_k - rho (uu + s)) into zz, with J's blocks when asked; returns |z|^2.
+    double multiplier(const double *uu, double *zz, bool jacobian) {
+        double sq = 0.0;
+        for (int64_t a = 0; a < nc_; ++a) {
+            double yy[3];
+            for (int i = 0; i < 3; ++i) yy[i] = rk_[3 * a + i] - rho_ * (uu[3 * a + i] + shift_[3 * a + i]);
+            double Ja[9];
+            nsn::project_with_jacobian(yy, p_.mu[a], zz + 3 * a, Ja);
+            if (jacobian) std::copy(Ja, Ja + 9, &J_[9 * a]);
+            for (int i = 0; i < 3; ++i) sq += zz[3 * a + i] * zz[3 * a + i];
+        }
+        return sq;
+    }
+
+    // Newton on phi from v; status: what ends the solve inside (the time limit, a factorisation).
+    frix_error minimise(frix_status &status) {
+        velocities(v_, u_);
+        // M's skew part K, if any, at this step's start: the step minimises phi with M's
+        // symmetric part and f - K v_k, which at a fixed point is M v = f + H r.
+        if (system_.skewed()) {
+            matrix_skew_gemv(*p_.M, v_, fk_.data(), Kd_.data());
+            for (int64_t j = 0; j < n_; ++j) fk_[j] = p_.f[j] - fk_[j];
+        }
+        symmetric_mass(v_, Mv_.data());
+        double zsq = multiplier(u_, z_.data(), true);
+        for (int step = 0; step < kInnerSteps && !minimised(); ++step) {
+            if ((status = monitor_.limits_after_report(outer_, false)) != FRIX_STATUS_NOT_RUN) break;
+            for (int64_t k = 0; k < 9 * nc_; ++k) S_[k] = rho_ * J_[k];
+            if (system_.factor(S_.data(), monitor_.budget()) != FRIX_OK) {
+                status = system_.refused() ? system_.refused() : FRIX_STATUS_NUMERICAL_FAILURE;
+                clear_error();
+                break;
+            }
+            if (frix_error e = system_.solve(grad_.data(), d_.data())) return e;
+            for (int64_t j = 0; j < n_; ++j) d_[j] = -d_[j];
+            ++newton_steps_;
+            if (!move(zsq)) break;
+        }
+        return FRIX_OK;
+    }
+    // The gradient M v - f - H z (the equilibrium residual) is below kInnerShare of the force
+    // this step moved, |H (z - r_k)|, or the tolerance.
+    bool minimised() {
+        if (m_ > 0) matrix_gemv(*p_.H, 1.0, z_.data(), 0.0, Hz_.data());
+        for (int64_t j = 0; j < n_; ++j) grad_[j] = Mv_[j] - fk_[j] - Hz_[j];
+        for (int64_t i = 0; i < m_; ++i) y_[i] = z_[i] - rk_[i];
+        std::vector<double> &moved = d_;  // scratch until the Newton direction is solved
+        if (m_ > 0) matrix_gemv(*p_.H, 1.0, y_.data(), 0.0, moved.data());
+        const double gnorm = std::sqrt(dot(grad_.data(), grad_.data(), n_));
+        const double eq_scale =
+            std::max({norm_f_, std::sqrt(dot(Mv_.data(), Mv_.data(), n_)), std::sqrt(dot(Hz_.data(), Hz_.data(), n_))});
+        return gnorm <= std::max(0.5 * tol_ * eq_scale, kInnerShare * std::sqrt(dot(moved.data(), moved.data(), n_)));
+    }
+    // v along the Newton direction d, by Armijo's backtracking on phi (from products computed
+    // once); false where d does not descend or no step is accepted (the minimiser to rounding).
+    bool move(double &zsq) {
+        symmetric_mass(d_.data(), Md_.data());
+        if (m_ > 0) matrix_gemv_transposed(*p_.H, 1.0, d_.data(), 0.0, Htd_.data());
+        const double vMv = dot(v_, Mv_.data(), n_), dMv = dot(d_.data(), Mv_.data(), n_);
+        const double dMd = dot(d_.data(), Md_.data(), n_);
+        const double fv = dot(fk_.data(), v_, n_), fd = dot(fk_.data(), d_.data(), n_);
+        const double phi0 = 0.5 * vMv - fv + zsq / (2.0 * rho_);
+        const double slope = dot(grad_.data(), d_.data(), n_);
+        if (!(slope < 0.0)) return false;
+        const auto phi_along = [&](double t) {  // (ut and zt: the last trial's)
+            for (int64_t i = 0; i < m_; ++i) ut_[i] = u_[i] + t * Htd_[i];
+            const double zsq_t = multiplier(ut_.data(), zt_.data(), false);
+            return 0.5 * (vMv + 2.0 * t * dMv + t * t * dMd) - fv - t * fd + zsq_t / (2.0 * rho_);
+        };
+        const kit::SearchResult search =
+            kit::backtrack(phi_along, phi0, kit::Decrease{phi0, kit::kArmijoSigma, slope}, kLineSearchSteps, ls_steps_);
+        if (!search.accepted) return false;
+        for (int64_t j = 0; j < n_; ++j) {
+            v_[j] += search.t * d_[j];
+            Mv_[j] += search.t * Md_[j];
+        }
+        for (int64_t i = 0; i < m_; ++i) u_[i] = ut_[i];
+        zsq = multiplier(u_, z_.data(), true);
+        return true;
+    }
+
+    SolveContext &ctx_;
+    const frix_problem &p_;
+    const Monitor monitor_;
+    MassPlusContacts &system_;
+    const int64_t n_, nc_, m_;
+    double *r_, *u_, *v_;
+    const double tol_;
+    const int64_t measure_, verbosity_;
+    const double scale_;
+    double rho_, norm_f_ = 0.0, equilibrium_ = 0.0;
+    int64_t outer_ = 0, newton_steps_ = 0, ls_steps_ = 0;
+    std::vector<double> rk_, shift_, y_, z_, J_, S_, Mv_, Hz_, grad_, d_, Md_, Htd_, ut_, zt_;
+    std::vector<double> best_r_, best_v_, fk_, Kd_, skew_work_;
+};
+
 frix_error solve(SolveContext &ctx) {
-    const frix_problem &p = ctx.problem;
-    const frix_options &o = ctx.options;
-    frix_info &info = ctx.info;
-    const Monitor monitor(ctx);
-    const double tol = monitor.tolerance();
-    const int64_t max_iter = monitor.max_iterations();
-    const int64_t verbosity = o.i(FRIX_OPT_VERBOSITY), measure = o.i(FRIX_OPT_ERROR_MEASURE);
-    const int64_t n = p.n, nc = p.nc, m = 3 * nc;
-    double *r = ctx.r, *u = ctx.u, *v = ctx.v;
     // A persistent solver's next step with the same M and H keeps the pattern, its symbolic
     // analysis and rho's unit.
     Kept<KeptMassPlusContacts> kept(ctx.cache, FRIX_SOLVER_GLOBAL_AL_NEWTON);
     const linalg::FactorStats before = kept->system.stats();
-    MassPlusContacts &system = kept->system;
     if (frix_error e = prepare_mass_plus_contacts(ctx, *kept, "gnsn-al", kScaleSamples)) return e;
     kept.keep();
-    const double scale = kept->scale;
-    double rho = o.d(FRIX_OPT_RHO) / scale;
-    const double rho_max = kRhoMax / scale;
-
-    std::vector<double> rk(r, r + m), shift(m, 0.0), y(m), z(m), J(9 * nc), S(9 * nc);
-    std::vector<double> Mv(n), Hz(n), grad(n), d(n), Md(n), Htd(m), ut(m), zt(m);
-    std::vector<double> best_r(r, r + m), best_v(v, v + n), fk(p.f, p.f + n), Kd(n), skew_work(n);
-    // out = (M + M^T) / 2 x: M x, less M's skew part where M is not exactly symmetric.
-    auto symmetric_mass = [&](const double *x, double *out) {
-        matrix_gemv(*p.M, 1.0, x, 0.0, out);
-        if (!system.skewed()) return;
-        matrix_skew_gemv(*p.M, x, Kd.data(), skew_work.data());
-        for (int64_t j = 0; j < n; ++j) out[j] -= Kd[j];
-    };
-    const double norm_f = std::sqrt(dot(p.f, p.f, n));
-    // u = H^T v + w, the De Saxce term from it.
-    auto velocities = [&](const double *vv, double *uu) {
-        if (m > 0) matrix_gemv_transposed(*p.H, 1.0, vv, 0.0, uu);
-        for (int64_t i = 0; i < m; ++i) uu[i] += p.w[i];
-    };
-    // z = P_K(r_k - rho (uu + s)) into zz, with J's blocks when asked; returns |z|^2.
-    auto multiplier = [&](const double *uu, double *zz, bool jacobian) {
-        double sq = 0.0;
-        for (int64_t a = 0; a < nc; ++a) {
-            double yy[3];
-            for (int i = 0; i < 3; ++i) yy[i] = rk[3 * a + i] - rho * (uu[3 * a + i] + shift[3 * a + i]);
-            double Ja[9];
-            nsn::project_with_jacobian(yy, p.mu[a], zz + 3 * a, Ja);
-            if (jacobian) std::copy(Ja, Ja + 9, &J[9 * a]);
-            for (int i = 0; i < 3; ++i) sq += zz[3 * a + i] * zz[3 * a + i];
-        }
-        return sq;
-    };
-    double equilibrium = 0.0;
-
-    velocities(v, u);
-    de_saxce_shift(p, u, shift.data());
-    double err = global_error(p, measure, r, v, u, &equilibrium), best_err = err, ref_err = err;
-    int64_t outer = 0, newton_steps = 0, ls_steps = 0;
-    int since_progress = 0;
-    frix_status status = FRIX_STATUS_NOT_RUN;
-    while (status == FRIX_STATUS_NOT_RUN) {
-        if (err <= tol) {
-            status = FRIX_STATUS_CONVERGED;
-            break;
-        }
-        if (!std::isfinite(err)) {
-            status = FRIX_STATUS_DIVERGED;
-            break;
-        }
-        if (outer >= max_iter) {
-            status = FRIX_STATUS_MAX_ITER;
-            break;
-        }
-        // The outer step: minimise phi from the current v.
-        velocities(v, u);
-        // M's skew part K, if any, at this step's start: the step minimises phi with M's
-        // symmetric part and f - K v_k, which at a fixed point is M v = f + H r.
-        if (system.skewed()) {
-            matrix_skew_gemv(*p.M, v, fk.data(), Kd.data());
-            for (int64_t j = 0; j < n; ++j) fk[j] = p.f[j] - fk[j];
-        }
-        symmetric_mass(v, Mv.data());
-        double zsq = multiplier(u, z.data(), true);
-        for (int step = 0; step < kInnerSteps; ++step) {
-            if (m > 0) matrix_gemv(*p.H, 1.0, z.data(), 0.0, Hz.data());
-            for (int64_t j = 0; j < n; ++j) grad[j] = Mv[j] - fk[j] - Hz[j];
-            // The force this step moved, H (z - r_k) = H z - H r_k.
-            for (int64_t i = 0; i < m; ++i) y[i] = z[i] - rk[i];
-            std::vector<double> &moved = d;  // scratch until the Newton direction is solved
-            if (m > 0) matrix_gemv(*p.H, 1.0, y.data(), 0.0, moved.data());
-            const double gnorm = std::sqrt(dot(grad.data(), grad.data(), n));
-            const double eq_scale = std::max({norm_f, std::sqrt(dot(Mv.data(), Mv.data(), n)),
-                                              std::sqrt(dot(Hz.data(), Hz.data(), n))});
-            if (gnorm <= std::max(0.5 * tol * eq_scale, kInnerShare * std::sqrt(dot(moved.data(), moved.data(), n))))
-                break;
-            if (monitor.out_of_time()) {
-                status = FRIX_STATUS_TIME_LIMIT;
-                break;
-            }
-            for (int64_t k = 0; k < 9 * nc; ++k) S[k] = rho * J[k];
-            if (system.factor(S.data(), monitor.budget()) != FRIX_OK) {
-                status = system.refused() ? system.refused() : FRIX_STATUS_NUMERICAL_FAILURE;
-                clear_error();
-                break;
-            }
-            if (frix_error e = system.solve(grad.data(), d.data())) return e;
-            for (int64_t j = 0; j < n; ++j) d[j] = -d[j];
-            ++newton_steps;
-            // phi along v + t d, from products computed once.
-            symmetric_mass(d.data(), Md.data());
-            if (m > 0) matrix_gemv_transposed(*p.H, 1.0, d.data(), 0.0, Htd.data());
-            const double vMv = dot(v, Mv.data(), n), dMv = dot(d.data(), Mv.data(), n), dMd = dot(d.data(), Md.data(), n);
-            const double fv = dot(fk.data(), v, n), fd = dot(fk.data(), d.data(), n);
-            const double phi0 = 0.5 * vMv - fv + zsq / (2.0 * rho);
-            const double slope = dot(grad.data(), d.data(), n);
-            if (!(slope < 0.0)) break;  // no descent left: the minimiser to rounding
-            double t = 1.0, zsq_t = 0.0;
-            bool accepted = false;
-            for (int k = 0; k < kLineSearchSteps; ++k, t *= 0.5) {
-                for (int64_t i = 0; i < m; ++i) ut[i] = u[i] + t * Htd[i];
-                zsq_t = multiplier(ut.data(), zt.data(), false);
-                ++ls_steps;
-                const double phit = 0.5 * (vMv + 2.0 * t * dMv + t * t * dMd) - fv - t * fd + zsq_t / (2.0 * rho);
-                if (phit <= phi0 + kArmijo * t * slope) {
-                    accepted = true;
-                    break;
-                }
-            }
-            if (!accepted) break;
-            for (int64_t j = 0; j < n; ++j) {
-                v[j] += t * d[j];
-                Mv[j] += t * Md[j];
-            }
-            for (int64_t i = 0; i < m; ++i) u[i] = ut[i];
-            zsq = multiplier(u, z.data(), true);
-        }
-        if (status != FRIX_STATUS_NOT_RUN) break;
-        ++outer;
-        const double previous = err;
-        std::copy(z.begin(), z.end(), r);
-        err = global_error_or_recovered(p, ctx.mass, measure, tol, r, v, u, &equilibrium);
-        if (verbosity >= 2)
-            log_line(&o, "gnsn-al: outer %lld rho %.3e newton %lld error %.3e equilibrium %.3e", (long long)outer,
-                     rho * scale, (long long)newton_steps, err, equilibrium);
-        if (err < best_err) {
-            best_err = err;
-            std::copy(r, r + m, best_r.begin());
-            std::copy(v, v + n, best_v.begin());
-        }
-        if (monitor.report(outer, err)) {
-            status = FRIX_STATUS_STOPPED_BY_CALLBACK;
-            break;
-        }
-        if (err <= tol) continue;
-        if (best_err < 0.5 * ref_err) {
-            ref_err = best_err;
-            since_progress = 0;
-        } else if (++since_progress >= kStallOuter) {
-            status = FRIX_STATUS_STAGNATED;
-            break;
-        }
-        if (err > kSlowOuter * previous && rho < rho_max) rho = std::min(rho * kRhoGrowth, rho_max);
-        std::copy(r, r + m, rk.begin());
-        de_saxce_shift(p, u, shift.data());
-    }
-    if (!(err <= best_err)) {  // also when the last iterate is not finite
-        std::copy(best_r.begin(), best_r.end(), r);
-        std::copy(best_v.begin(), best_v.end(), v);
-    }
-    info.status = status;
-    info.iterations = outer;
-    info.newton_iterations = newton_steps;
-    info.line_search_steps = ls_steps;
-    Monitor::record_factorizations(info, system.stats() - before);
-    if (verbosity >= 1)
-        log_line(&o, "gnsn-al: %s after %lld outer steps, %lld Newton steps (rho %.3g / scale)",
-                 frix_status_string(status), (long long)outer, (long long)newton_steps, rho * scale);
+    AlRun run(ctx, kept->system, kept->scale);
+    if (frix_error e = run.run()) return e;
+    Monitor::record_factorizations(ctx.info, kept->system.stats() - before);
     return FRIX_OK;
 }
 

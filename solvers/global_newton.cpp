@@ -127,8 +127,7 @@ double dot(const double *x, const double *y, int64_t n) {
 // over up to kRhoSamples contacts spread over the problem, of trace(H_a^T M^-1 H_a) over
 // trace(H_a^T diag(M)^-1 H_a), with M^-1 from the driver's factorisation (3 solves a contact).
 // 1 for a diagonal M (rigid bodies with diagonal inertia); far above on a stiff deformable
-// body, where diag(M)^-1 ignores that the body moves as a whole (an elastic grid with
-// k = 1e12: about 4e5).
+// body, where diag(M)^-1 ignores that the body moves as a whole.
 double lumped_underrate(const frix_problem &p, const Csc &H,
                         const std::function<frix_error(const double *, double *)> &solve_mass,
                         const std::vector<double> &lumped_trace) {
@@ -142,22 +141,16 @@ double lumped_underrate(const frix_problem &p, const Csc &H,
     return ratios[ratios.size() / 2];
 }
 
-frix_error solve(SolveContext &ctx) {
+// rho from the lumped Delassus blocks H_a^T diag(M)^-1 H_a (W itself is never formed), scaled
+// where they underrate W's; and the blocks' scale (mean |W_aa|), delta's unit.
+struct LumpedRho {
+    std::vector<double> rho_n, rho_t;
+    double scale = 1.0;
+};
+LumpedRho lumped_rho(const SolveContext &ctx, const Csc &M, const Csc &H, const newton::Settings &s) {
     const frix_problem &p = ctx.problem;
-    const frix_options &o = ctx.options;
-    frix_info &info = ctx.info;
-    const newton::Settings s = newton::settings_from(o, FRIX_SOLVER_NSN_AC);
-    const Monitor monitor(ctx);
-    const double tol = monitor.tolerance();
-    const int64_t max_iter = monitor.max_iterations();
-    const int64_t n = p.n, nc = p.nc, m = 3 * nc, N = n + m;
-    double *r = ctx.r, *u = ctx.u, *v = ctx.v;
-
-    Csc M, H;
-    if (frix_error e = to_csc(*p.M, M)) return e;
-    if (frix_error e = to_csc(*p.H, H)) return e;
-    // rho from the lumped Delassus blocks H_a^T diag(M)^-1 H_a: W itself is never formed.
-    std::vector<double> dinv(n, 0.0), rho_n(nc), rho_t(nc);
+    const int64_t n = p.n, nc = p.nc;
+    std::vector<double> dinv(n, 0.0);
     for (int64_t j = 0; j < n; ++j)
         for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e)
             if (M.rowind[e] == j && M.val[e] > 0.0) dinv[j] = 1.0 / M.val[e];
@@ -183,167 +176,168 @@ frix_error solve(SolveContext &ctx) {
         lumped_trace[a] = Wd[0] + Wd[4] + Wd[8];
     }
     // On a stiff deformable body diag(M)^-1 underrates M^-1 by orders of magnitude and rho from
-    // the lumped blocks is as much too large (k = 1e12: no step accepted, even with rho cut
-    // 1e4-fold); a few exact blocks give the factor.
+    // the lumped blocks is as much too large (no step accepted, even with rho cut); a few exact
+    // blocks give the factor.
     const double underrate =
         ctx.solve_mass && s.rho_strategy != FRIX_RHO_CONSTANT ? lumped_underrate(p, H, *ctx.solve_mass, lumped_trace)
                                                               : 1.0;
     const double correction = underrate > kUnderrateToCorrect ? underrate : 1.0;
     if (s.verbosity >= 1 && underrate != 1.0)
-        log_line(&o, "global newton: the lumped blocks underrate W's by %.3g%s", underrate,
+        log_line(&ctx.options, "global newton: the lumped blocks underrate W's by %.3g%s", underrate,
                  correction != 1.0 ? ": rho corrected" : "");
+    LumpedRho out;
+    out.rho_n.resize(nc), out.rho_t.resize(nc);
     double wscale = 0.0;
     for (int64_t a = 0; a < nc; ++a) {
         double Wd[9];
         for (int k = 0; k < 9; ++k) Wd[k] = correction * lumped[9 * a + k];
-        nsn::contact_rho(s.rho_strategy, s.rho, Wd, &rho_n[a], &rho_t[a]);
+        nsn::contact_rho(s.rho_strategy, s.rho, Wd, &out.rho_n[a], &out.rho_t[a]);
         double fro = 0.0;
         for (double x : Wd) fro += x * x;
         wscale += std::sqrt(fro);
     }
-    wscale = nc > 0 && wscale > 0.0 ? wscale / (double)nc : 1.0;
+    out.scale = nc > 0 && wscale > 0.0 ? wscale / (double)nc : 1.0;
+    return out;
+}
 
-    Jacobian jac;
-    jac.build(M, H, nc);
-    linalg::SparseLU lu;
-    // M's pattern is a mesh's for a deformable body, where nested dissection leaves far less
-    // fill than AMD (an FEM-like grid of 1600 contacts: 4.3 s against 18.1 s, the same
-    // steps); on the rigid global files of ../shared it is as fast or faster.
-    lu.set_ordering(linalg::SparseLU::Ordering::kNestedDissection);
-    lu.set_budget(monitor.budget());
-    std::vector<double> A(9 * nc), B(9 * nc), phi(m), res(n), F(N), dx(N), rhs(N);
-    std::vector<double> Mdv(n), Hdr(n), Htdv(m), rt(m), ut(m), phit(m), rest(n);
-    std::vector<double> best_r(r, r + m), best_v(n);
+// Route (b)'s Newton system for kit::NewtonLoop: unknowns (v, r) in ctx.v and ctx.r, equations
+// M v - H r - f = 0 and Phi(r, H^T v + w) = 0, merit 1/2 (|M v - H r - f|^2 + |Phi|^2).
+class VrSystem : public kit::SystemDefaults {
+   public:
+    struct Point {
+        std::vector<double> r, v;
+    };
+    VrSystem(SolveContext &ctx, const Csc &M, const Csc &H, LumpedRho rho, int64_t measure)
+        : ctx_(ctx), p_(ctx.problem), n_(p_.n), nc_(p_.nc), m_(3 * p_.nc), rho_(std::move(rho)), measure_(measure),
+          A_(9 * nc_), B_(9 * nc_), phi_(m_), res_(n_), dx_(n_ + m_), rhs_(n_ + m_), Mdv_(n_), Hdr_(n_), Htdv_(m_),
+          rt_(m_), ut_(m_), phit_(m_), rest_(n_) {
+        jac_.build(M, H, nc_);
+        // M's pattern is a mesh's for a deformable body, where nested dissection leaves far less
+        // fill than AMD (notes/2026-11-28-newton-kit.md).
+        lu_.set_ordering(linalg::SparseLU::Ordering::kNestedDissection);
+        lu_.set_budget(Monitor(ctx).budget());
+    }
+    frix_error evaluate(double &psi, double &err) {
+        psi = merit(ctx_.r, ctx_.v, ctx_.u, res_.data(), phi_.data(), true);
+        const Measures meas = global_measures(p_, ctx_.r, ctx_.v, ctx_.u, &equilibrium_);
+        err = std::max(selected_error(meas, measure_), equilibrium_);
+        return FRIX_OK;
+    }
+    frix_error factor(double delta, kit::Factorisation &f) {
+        jac_.assemble(A_, B_, delta * rho_.scale);
+        if (lu_.stats().symbolic == 0)
+            if (frix_error e = lu_.analyze(jac_.J.view())) return e;
+        const frix_error e = lu_.factor(jac_.J.view());
+        if (e == FRIX_ERR_OUT_OF_MEMORY) return e;
+        f.factored = e == FRIX_OK && lu_.rcond() > 1e-15;
+        f.refused = lu_.refused();
+        return FRIX_OK;
+    }
+    frix_error solve(bool &finite) {
+        for (int64_t j = 0; j < n_; ++j) rhs_[j] = -res_[j];
+        for (int64_t i = 0; i < m_; ++i) rhs_[n_ + i] = -phi_[i];
+        if (frix_error e = lu_.solve(rhs_.data(), dx_.data())) return e;
+        for (int64_t i = 0; i < n_ + m_ && finite; ++i) finite = std::isfinite(dx_[i]);
+        return FRIX_OK;
+    }
+    // Slope of the merit: res . (M dv - H dr) + Phi . (A dr + B H^T dv).
+    frix_error directional(double &slope) {
+        const double *dv = dx_.data(), *dr = dx_.data() + n_;
+        matrix_gemv(*p_.M, 1.0, dv, 0.0, Mdv_.data());
+        if (nc_ > 0) {
+            matrix_gemv(*p_.H, 1.0, dr, 0.0, Hdr_.data());
+            matrix_gemv_transposed(*p_.H, 1.0, dv, 0.0, Htdv_.data());
+        }
+        slope = 0.0;
+        for (int64_t j = 0; j < n_; ++j) slope += res_[j] * (Mdv_[j] - Hdr_[j]);
+        slope = nsn::add_merit_slope(slope, phi_.data(), A_.data(), B_.data(), dr, Htdv_.data(), nc_);
+        return FRIX_OK;
+    }
+    // The merit at (v, r) + t (dv, dr): the equilibrium rows are linear.
+    double merit_at(double t) {
+        const double *dr = dx_.data() + n_;
+        for (int64_t j = 0; j < n_; ++j) rest_[j] = res_[j] + t * (Mdv_[j] - Hdr_[j]);
+        for (int64_t i = 0; i < m_; ++i) {
+            rt_[i] = ctx_.r[i] + t * dr[i];
+            ut_[i] = ctx_.u[i] + t * Htdv_[i];
+        }
+        contacts(rt_.data(), ut_.data(), phit_.data(), false);
+        return 0.5 * (dot(rest_.data(), rest_.data(), n_) + dot(phit_.data(), phit_.data(), m_));
+    }
+    void move(double t) {
+        for (int64_t j = 0; j < n_; ++j) ctx_.v[j] += t * dx_[j];
+        for (int64_t i = 0; i < m_; ++i) ctx_.r[i] += t * dx_[n_ + i];
+    }
+    void save(Point &x) const {
+        x.r.assign(ctx_.r, ctx_.r + m_);
+        x.v.assign(ctx_.v, ctx_.v + n_);
+    }
+    void load(const Point &x) {
+        std::copy(x.r.begin(), x.r.end(), ctx_.r);
+        std::copy(x.v.begin(), x.v.end(), ctx_.v);
+    }
+    frix_error rejected(int64_t taken, bool &changed, double &psi) {
+        if (!(changed = cuts_.cut(taken))) return FRIX_OK;
+        for (int64_t a = 0; a < nc_; ++a) rho_.rho_n[a] *= kRhoCut, rho_.rho_t[a] *= kRhoCut;
+        psi = merit(ctx_.r, ctx_.v, ctx_.u, res_.data(), phi_.data(), true);
+        return FRIX_OK;
+    }
+    void log_step(int64_t step, double t, double err, double, double delta) const {
+        if (ctx_.options.i(FRIX_OPT_VERBOSITY) >= 2)
+            log_line(&ctx_.options, "global newton: step %lld t %.3g error %.3e equilibrium %.3e delta %.1e",
+                     (long long)step, t, err, equilibrium_, delta);
+    }
+    const linalg::SparseLU &lu() const { return lu_; }
+
+   private:
+    // res = M v - H r - f, u = H^T v + w, Phi (A and B with the Jacobian); the merit.
+    double merit(const double *r, const double *v, double *u, double *res, double *phi, bool jacobian) {
+        matrix_gemv(*p_.M, 1.0, v, 0.0, res);
+        if (nc_ > 0) matrix_gemv(*p_.H, -1.0, r, 1.0, res);
+        for (int64_t j = 0; j < n_; ++j) res[j] -= p_.f[j];
+        if (nc_ > 0) matrix_gemv_transposed(*p_.H, 1.0, v, 0.0, u);
+        for (int64_t i = 0; i < m_; ++i) u[i] += p_.w[i];
+        contacts(r, u, phi, jacobian);
+        return 0.5 * (dot(res, res, n_) + dot(phi, phi, m_));
+    }
+    void contacts(const double *r, const double *u, double *phi, bool jacobian) {
+        for (int64_t a = 0; a < nc_; ++a)
+            nsn::contact_function(nsn::kAlartCurnier, r + 3 * a, u + 3 * a, p_.mu[a], rho_.rho_n[a], rho_.rho_t[a],
+                                  phi + 3 * a, jacobian ? &A_[9 * a] : nullptr, jacobian ? &B_[9 * a] : nullptr);
+    }
+
+    SolveContext &ctx_;
+    const frix_problem &p_;
+    const int64_t n_, nc_, m_;
+    LumpedRho rho_;
+    const int64_t measure_;
+    Jacobian jac_;
+    linalg::SparseLU lu_;
+    RhoCuts cuts_;
+    double equilibrium_ = 0.0;
+    std::vector<double> A_, B_, phi_, res_, dx_, rhs_, Mdv_, Hdr_, Htdv_, rt_, ut_, phit_, rest_;
+};
+
+frix_error solve(SolveContext &ctx) {
+    const frix_problem &p = ctx.problem;
+    const newton::Settings s = newton::settings_from(ctx.options, FRIX_SOLVER_NSN_AC);
+    Csc M, H;
+    if (frix_error e = to_csc(*p.M, M)) return e;
+    if (frix_error e = to_csc(*p.H, H)) return e;
     // v starts from 0, not from the v0 = M^-1 f the driver leaves in it: the first step's
-    // linear block gets to M v = H r + f anyway, and from v0 the rigid spheres-in-a-box
-    // problem stalls at 0.35 instead of 4e-7.
-    for (int64_t j = 0; j < n; ++j) v[j] = 0.0;
-    std::copy(v, v + n, best_v.begin());
-
-    auto evaluate = [&](const double *rr, const double *vv, double *uu, double *rr_res, double *ph,
-                        bool jacobian) {
-        matrix_gemv(*p.M, 1.0, vv, 0.0, rr_res);
-        if (nc > 0) matrix_gemv(*p.H, -1.0, rr, 1.0, rr_res);
-        for (int64_t j = 0; j < n; ++j) rr_res[j] -= p.f[j];
-        if (nc > 0) matrix_gemv_transposed(*p.H, 1.0, vv, 0.0, uu);
-        for (int64_t i = 0; i < m; ++i) uu[i] += p.w[i];
-        for (int64_t a = 0; a < nc; ++a)
-            nsn::contact_function(nsn::kAlartCurnier, rr + 3 * a, uu + 3 * a, p.mu[a], rho_n[a],
-                                  rho_t[a], ph + 3 * a, jacobian ? &A[9 * a] : nullptr,
-                                  jacobian ? &B[9 * a] : nullptr);
-        return 0.5 * (dot(rr_res, rr_res, n) + dot(ph, ph, m));
-    };
-    double equilibrium = 0.0;
-    auto error_of = [&]() {
-        const Measures meas = global_measures(p, r, v, u, &equilibrium);
-        return std::max(selected_error(meas, s.measure), equilibrium);
-    };
-
-    double psi = evaluate(r, v, u, res.data(), phi.data(), true);
-    newton::MeritHistory history(psi);
-    double err = error_of();
-    Progress progress(err);
-    int64_t it = 0, ls_steps = 0;
-    info.status = FRIX_STATUS_MAX_ITER;
-    while (true) {
-        const frix_status stop = status_before_step(err, tol, it, max_iter, [&] { return monitor.out_of_time(); });
-        if (stop != FRIX_STATUS_NOT_RUN) {
-            info.status = stop;
-            break;
-        }
-        bool factored = false;
-        for (int attempt = 0; attempt < 12 && !factored && !lu.refused(); ++attempt) {
-            jac.assemble(A, B, progress.delta() * wscale);
-            if (lu.stats().symbolic == 0)
-                if (frix_error e = lu.analyze(jac.J.view())) return e;
-            const frix_error e = lu.factor(jac.J.view());
-            if (e == FRIX_ERR_OUT_OF_MEMORY) return e;
-            factored = e == FRIX_OK && lu.rcond() > 1e-15;
-            if (!factored) progress.factorisation_failed();
-        }
-        if (!factored) {
-            info.status = lu.refused() ? lu.refused() : FRIX_STATUS_NUMERICAL_FAILURE;
-            break;
-        }
-        for (int64_t j = 0; j < n; ++j) rhs[j] = -res[j];
-        for (int64_t i = 0; i < m; ++i) rhs[n + i] = -phi[i];
-        if (frix_error e = lu.solve(rhs.data(), dx.data())) return e;
-        ++it;
-        const double *dv = dx.data(), *dr = dx.data() + n;
-        matrix_gemv(*p.M, 1.0, dv, 0.0, Mdv.data());
-        if (nc > 0) {
-            matrix_gemv(*p.H, 1.0, dr, 0.0, Hdr.data());
-            matrix_gemv_transposed(*p.H, 1.0, dv, 0.0, Htdv.data());
-        }
-        // Slope of the merit: res . (M dv - H dr) + Phi . (A dr + B H^T dv).
-        double slope = 0.0;
-        for (int64_t j = 0; j < n; ++j) slope += res[j] * (Mdv[j] - Hdr[j]);
-        slope = add_contacts_slope(slope, phi.data(), A.data(), B.data(), dr, Htdv.data(), nc);
-        double t = 1.0;
-        bool accepted = s.line_search == FRIX_LINE_SEARCH_NONE;
-        if (!accepted && slope < 0.0) {
-            const double c = s.line_search == FRIX_LINE_SEARCH_GOLDSTEIN_PRICE ? kM1 : kArmijo;
-            // Non-monotone: against the largest of the last merits, so that a full step may
-            // climb for a while over the kinks of the merit.
-            const double ref = s.line_search == FRIX_LINE_SEARCH_NONMONOTONE ? history.reference(psi) : psi;
-            const auto merit = [&](double step) {
-                for (int64_t j = 0; j < n; ++j) rest[j] = res[j] + step * (Mdv[j] - Hdr[j]);
-                for (int64_t i = 0; i < m; ++i) {
-                    rt[i] = r[i] + step * dr[i];
-                    ut[i] = u[i] + step * Htdv[i];
-                }
-                for (int64_t a = 0; a < nc; ++a)
-                    nsn::contact_function(nsn::kAlartCurnier, &rt[3 * a], &ut[3 * a], p.mu[a], rho_n[a], rho_t[a],
-                                          &phit[3 * a], nullptr, nullptr);
-                return 0.5 * (dot(rest.data(), rest.data(), n) + dot(phit.data(), phit.data(), m));
-            };
-            t = backtrack(merit, psi, ref, c, slope, s.ls_max_iter, ls_steps);
-            accepted = t > 0.0;
-        }
-        if (accepted) {
-            for (int64_t j = 0; j < n; ++j) v[j] += t * dv[j];
-            for (int64_t i = 0; i < m; ++i) r[i] += t * dr[i];
-            psi = evaluate(r, v, u, res.data(), phi.data(), true);
-            history.push(psi);
-            err = error_of();
-            progress.step_taken(t);
-        } else if (progress.step_rejected()) {
-            // rho can still be far too large (a calibration missed by the 8 samples, or a
-            // constant rho: 1e5 on the elastic grid with k = 1e8, where 1e3 converges), and
-            // no step lowers the merit then. Until a step is accepted, try smaller (later, a
-            // failed step is a kink, not a scale: on the rigid spheres-in-a-box cuts end at
-            // 1.5e-3 instead of 4e-7).
-            for (int64_t a = 0; a < nc; ++a) rho_n[a] *= kRhoCut, rho_t[a] *= kRhoCut;
-            psi = evaluate(r, v, u, res.data(), phi.data(), true);
-            history = newton::MeritHistory(psi);  // (merits of another rho)
-        }
-        if (s.verbosity >= 2)
-            log_line(&o, "global newton: step %lld t %.3g error %.3e equilibrium %.3e delta %.1e",
-                     (long long)it, t, err, equilibrium, progress.delta());
-        if (monitor.report(it, err)) {
-            info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
-            break;
-        }
-        if (progress.improved(err)) {
-            std::copy(r, r + m, best_r.begin());
-            std::copy(v, v + n, best_v.begin());
-        }
-        if (progress.stalled()) {
-            info.status = FRIX_STATUS_STAGNATED;
-            break;
-        }
-    }
-    if (!(err <= progress.best())) {  // also when the last iterate is not finite
-        std::copy(best_r.begin(), best_r.end(), r);
-        std::copy(best_v.begin(), best_v.end(), v);
-    }
-    info.iterations = it;
-    info.newton_iterations = it;
-    info.line_search_steps = ls_steps;
-    Monitor::record_factorizations(info, lu.stats());
+    // linear block gets to M v = H r + f anyway, and from v0 a rigid problem can stall
+    // (notes/2026-11-28-newton-kit.md).
+    std::fill(ctx.v, ctx.v + p.n, 0.0);
+    VrSystem system(ctx, M, H, lumped_rho(ctx, M, H, s), s.measure);
+    kit::Steps steps{Monitor(ctx)};
+    kit::Counters counters;
+    kit::RunResult res;
+    if (frix_error e = kit::newton(system, steps, rules_of(s.line_search, s.ls_max_iter), counters, res)) return e;
+    kit::record(ctx.info, res, steps, counters);
+    Monitor::record_factorizations(ctx.info, system.lu().stats());
     if (s.verbosity >= 1)
-        log_line(&o, "global newton: %s after %lld steps", frix_status_string(info.status),
-                 (long long)it);
+        log_line(&ctx.options, "global newton: %s after %lld steps", frix_status_string(res.status),
+                 (long long)steps.done);
     return FRIX_OK;
 }
 

@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solvers/kit/line_search.hpp"
 #include "solvers/nsn_functions.hpp"
 #include "src/coulomb.hpp"
 
 namespace frix::local {
 
 namespace {
+
+constexpr int kLineSearchTrials = 20;
 
 // Solves the 3x3 system J x = b by Gaussian elimination with partial pivoting; false if J is
 // (numerically) singular.
@@ -83,27 +86,22 @@ bool newton_contact(const Contact &c, const double *q, double *r, const Params &
         }
         if (!ok) break;
         double t = 1.0;
-        Eval trial;
-        double xt[3];
         if (line_search) {
-            // Goldstein-Price on 1/2 |Phi|^2 (m1 = 0.01, m2 = 0.99), steps never above 1.
-            const double slope = -2.0 * e.merit;
-            double lo = 0.0, hi = 1.0;
-            bool accepted = false;
-            for (int k = 0; k < 20; ++k) {
-                for (int i = 0; i < 3; ++i) xt[i] = x[i] + t * d[i];
+            // Goldstein-Price on 1/2 |Phi|^2, whose slope along the Newton step is -2 merit. A
+            // search that ends without a sufficient decrease takes the step where it left off
+            // if its last trial decreased the merit, else Newton stops.
+            Eval trial;
+            const auto merit = [&](double step) {
+                double xt[3];
+                for (int i = 0; i < 3; ++i) xt[i] = x[i] + step * d[i];
                 evaluate(c, q, xt, formulation, rn, rt, trial, false);
-                if (trial.merit > e.merit + 0.01 * t * slope) {
-                    hi = t;
-                } else if (trial.merit < e.merit + 0.99 * t * slope && t < 1.0) {
-                    lo = t;
-                } else {
-                    accepted = true;
-                    break;
-                }
-                t = 0.5 * (lo + hi);
-            }
-            if (!accepted && !(trial.merit < e.merit)) break;
+                return trial.merit;
+            };
+            int64_t trials = 0;
+            const kit::SearchResult s =
+                kit::goldstein_price(merit, e.merit, -2.0 * e.merit, kLineSearchTrials, trials, false);
+            if (!s.accepted && !(s.last_merit < e.merit)) break;
+            t = s.t;
         }
         for (int i = 0; i < 3; ++i) x[i] += t * d[i];
         evaluate(c, q, x, formulation, rn, rt, e, true);

@@ -26,7 +26,7 @@ Run::Run(SolveContext &ctx, KeptSystem &kept, int stall_after)
       stall_after_(stall_after),
       tol_(Monitor(ctx).tolerance()),
       measure_(ctx.options.i(FRIX_OPT_ERROR_MEASURE)),
-      lim_{ctx.options, ctx.clock, &iterations_, Monitor(ctx).max_iterations()},
+      steps_(Monitor(ctx.options, ctx.clock)),
       best_(ctx.r, ctx.r + 3 * ctx.problem.nc) {
     const frix_problem &p = ctx.problem;
     kept_.refresh(ctx.cache, *p.W, p.mu, p.nc);
@@ -45,13 +45,10 @@ Run::Next Run::check(const double *r) {
         std::copy(r, r + best_.size(), best_.begin());
     }
     if (err <= tol_) return kStop;
-    if (iterations_ > 0 && lim_.report(err)) {
-        ctx_.info.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
-        return kStop;
-    }
-    if (iterations_ >= lim_.max_iter) return kStop;
-    if (lim_.out_of_time()) {
-        ctx_.info.status = FRIX_STATUS_TIME_LIMIT;
+    if (steps_.done > 0) steps_.report(err);
+    const frix_status stop = steps_.limits();
+    if (stop != FRIX_STATUS_NOT_RUN) {
+        ctx_.info.status = stop;
         return kStop;
     }
     if (best_err_ < 0.5 * ref_err_) {
@@ -81,13 +78,13 @@ frix_error Run::end(bool hand_over) {
         s.weight = p.weight.data();
         newton::Engine &engine = newton::engine_for(kept_.polish, ctx_.cache, *p.W, p.mu, p.nc, s);
         newton::RunResult res;
-        if (frix_error e = engine.run(ctx_.r, p.q, 0.0, tol_, lim_, res)) return e;
+        if (frix_error e = engine.run(ctx_.r, p.q, 0.0, steps_, res)) return e;
         info.status = res.status;
         newton_steps_ = engine.counters.newton;
         line_search = engine.counters.line_search;
         fs = fs + engine.factor_stats();
     }
-    info.iterations = iterations_;
+    info.iterations = steps_.done;
     info.newton_iterations = newton_steps_;
     info.line_search_steps = line_search;
     Monitor::record_factorizations(info, fs);

@@ -159,8 +159,8 @@ class Run {
     // iterate, to stop (converged, the callback, max_iter, the time limit: the status is in
     // ctx.info) or to hand over to Newton.
     Next check(const double *r);
-    void count_iteration() { ++iterations_; }
-    int64_t iterations() const { return iterations_; }
+    void count_iteration() { ++steps_.done; }
+    int64_t iterations() const { return steps_.done; }
     double best_error() const { return best_err_; }
     double last_error() const { return last_err_; }  // of the r check() measured last
     // The best iterate into ctx.r, Newton from it when `hand_over`, and the run's counters
@@ -174,8 +174,8 @@ class Run {
     const int stall_after_;
     const double tol_;
     const int64_t measure_;
-    int64_t iterations_ = 0, newton_steps_ = 0;
-    newton::Limits lim_;
+    int64_t newton_steps_ = 0;
+    kit::Steps steps_;  // the run's iterations, then Newton's
     linalg::FactorStats stats_before_;
     std::vector<double> best_;
     double best_err_, last_err_ = INFINITY, ref_err_ = INFINITY;

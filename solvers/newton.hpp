@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "solvers/kit/newton_engine.hpp"
 #include "src/linalg/linalg.hpp"
 #include "src/problem.hpp"
 #include "src/solve_cache.hpp"
@@ -41,50 +42,9 @@ struct Settings {
 // The Newton settings of options of solver 504/513/520 (formulation from the id).
 Settings settings_from(const frix_options &o, int solver_id);
 
-// The last merits of a Newton run, for the non-monotone line search (Armijo against the
-// largest of them): shared by the local Newton and Newton on (v, r).
-class MeritHistory {
-   public:
-    explicit MeritHistory(double psi) { push(psi); }
-    void push(double psi) { last_[seen_++ % kMemory] = psi; }
-    // The reference of the Armijo test: psi, or the largest of the last merits if larger.
-    double reference(double psi) const {
-        for (int64_t k = 0; k < seen_ && k < kMemory; ++k) psi = psi < last_[k] ? last_[k] : psi;
-        return psi;
-    }
-
-   private:
-    static constexpr int kMemory = 8;
-    double last_[kMemory];
-    int64_t seen_ = 0;
-};
-
-// Everything the engine counts; copied into frix_info by the solvers.
-struct Counters {
-    int64_t newton = 0;
-    int64_t line_search = 0;
-    int64_t sweeps = 0;
-};
-
-// What stops a run besides convergence: the iteration budget, the time limit, the callback.
-struct Limits {
-    const frix_options &options;
-    const Stopwatch &clock;
-    int64_t *iterations;  // the solve's iteration counter (the callback's count), advanced here
-    int64_t max_iter;     // on *iterations
-    bool stop_requested = false;
-    // The solve's context, when the iterate is ctx->r: the Monitor then also watches it
-    // for a runaway (Monitor::report).
-    const SolveContext *ctx = nullptr;
-    bool out_of_time() const;
-    // Calls the callback; true if it asks to stop.
-    bool report(double error);
-};
-
-struct RunResult {
-    frix_status status = FRIX_STATUS_MAX_ITER;  // STAGNATED when Newton stalls
-    double error = 0.0;                         // of the returned r, on the problem solved
-};
+// The engine's counters and a run's outcome (kit/newton_engine.hpp).
+using Counters = kit::Counters;
+using RunResult = kit::RunResult;
 
 // Newton on u = (W + shift I) r + q. The Jacobian A + B (W + (shift + delta) I) has the
 // block pattern of W plus its diagonal; separating contacts (B = 0) are eliminated, and the
@@ -100,11 +60,11 @@ class Engine {
     // and the factorisation statistics.
     void rebind(const frix_matrix &W, const double *mu, const Settings &s);
     // Runs from r (updated in place; on return, the best iterate found), stopping when the
-    // selected error of the problem (W + shift I, q) is <= tol. scale_q (if >= 0) replaces
-    // |q| in the error's denominator: PROX measures its inner problems, whose q - alpha r_k
-    // can be far larger than q, on the scale of the original one.
-    frix_error run(double *r, const double *q, double shift, double tol, Limits &lim,
-                   RunResult &res, double scale_q = -1.0);
+    // selected error of the problem (W + shift I, q) is <= steps.monitor.tolerance(), or at its
+    // limits (on steps.done, which the run advances). scale_q (if >= 0) replaces |q| in the
+    // error's denominator: PROX measures its inner problems, whose q - alpha r_k can be far
+    // larger than q, on the scale of the original one.
+    frix_error run(double *r, const double *q, double shift, kit::Steps &steps, RunResult &res, double scale_q = -1.0);
 
     // Sparse and dense factorisations together, since construction or the last rebind.
     linalg::FactorStats factor_stats() const;
@@ -116,16 +76,16 @@ class Engine {
     double w_scale() const { return w_scale_; }  // mean |W_aa|_2, the unit of shifts
 
    private:
+    class Run;  // a run's kit::NewtonLoop system (newton.cpp)
     bool update_active();
     void build_pattern();
-    frix_error step(const double *phi, double *d, double *rhs, double *x);
     void evaluate(const double *r, const double *u, bool jacobian, double *phi);
     void assemble(double shift);
-    double merit_along(const double *r, const double *u, const double *d, const double *du,
-                       double t, double *rt, double *ut, double *phi);
-    // The error measure at r + d (u + du), formed in rt and ut; norm_q as in run().
-    double full_step_error(const double *r, const double *u, const double *d, const double *du,
-                           double norm_q, double *rt, double *ut) const;
+    // The active set, and the symbolic analysis of its pattern when it changed (J assembled
+    // with this shift for it); then J factorised.
+    frix_error prepare(double shift);
+    frix_error factor(double shift, kit::Factorisation &f);
+    frix_error step(const double *phi, double *d, double *rhs, double *x);
 
     linalg::FactorStats total_stats() const;
     const frix_matrix *W_;

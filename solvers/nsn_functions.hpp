@@ -1,8 +1,10 @@
 // The semismooth reformulations of one contact's Coulomb law, Phi(r, u) = 0 with u = W r + q,
 // and an element of their generalized Jacobians, shared by the global Newton solvers
-// (newton.cpp, prox.cpp, global.cpp) and the one-contact Newton solvers (local_newton.cpp).
+// (newton.cpp, prox.cpp, global_newton.cpp) and the one-contact Newton solvers (local_newton.cpp).
 // Vectors are per contact, normal first; 3x3 matrices column-major.
 #pragma once
+
+#include <cstdint>
 
 namespace frix::nsn {
 
@@ -32,5 +34,18 @@ void project_with_jacobian(const double *z, double mu, double *P, double *J);
 
 // The per-contact rho of the strategies of frix_rho_strategy, from the diagonal block W_aa.
 void contact_rho(int strategy, double constant, const double *Waa, double *rho_n, double *rho_t);
+
+// slope plus the contacts' part of the slope of the merit 1/2 |Phi|^2 along (dr, du):
+// Phi . (A dr + B du), A and B 9 values a contact; nc contacts.
+inline double add_merit_slope(double slope, const double *phi, const double *A, const double *B, const double *dr,
+                              const double *du, int64_t nc) {
+    for (int64_t a = 0; a < nc; ++a) {
+        const double *Aa = A + 9 * a, *Ba = B + 9 * a, *d = dr + 3 * a, *dua = du + 3 * a;
+        for (int i = 0; i < 3; ++i)
+            slope += phi[3 * a + i] * (Aa[i] * d[0] + Aa[i + 3] * d[1] + Aa[i + 6] * d[2] + Ba[i] * dua[0] +
+                                       Ba[i + 3] * dua[1] + Ba[i + 6] * dua[2]);
+    }
+    return slope;
+}
 
 }  // namespace frix::nsn

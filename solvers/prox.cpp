@@ -34,13 +34,13 @@ constexpr double kAlphaMin = 1e-12, kAlphaMax = 1e6;
 // Before a proximal step, after `outer` of them, at the error err: converged, the iteration
 // limit, a stop the callback asked for, the time limit, in that order; FRIX_STATUS_NOT_RUN to
 // go on. Not Monitor::limits: the callback is not called here, only its last answer read, for
-// the inner Newton calls it (through lim, on the Newton steps' count), and so does each
+// the inner Newton calls it (through inner, on the Newton steps' count), and so does each
 // proximal step's end, once no answer asked to stop.
-frix_status status_before_step(const Monitor &monitor, double err, int64_t outer, const newton::Limits &lim) {
+frix_status status_before_step(const Monitor &monitor, double err, int64_t outer, const kit::Steps &inner) {
     if (err <= monitor.tolerance()) return FRIX_STATUS_CONVERGED;
     if (monitor.out_of_iterations(outer)) return FRIX_STATUS_MAX_ITER;
-    if (lim.stop_requested) return FRIX_STATUS_STOPPED_BY_CALLBACK;
-    if (lim.out_of_time()) return FRIX_STATUS_TIME_LIMIT;
+    if (inner.stop_asked()) return FRIX_STATUS_STOPPED_BY_CALLBACK;
+    if (inner.monitor.out_of_time()) return FRIX_STATUS_TIME_LIMIT;
     return FRIX_STATUS_NOT_RUN;
 }
 
@@ -85,11 +85,11 @@ frix_error solve(SolveContext &ctx) {
     double err = selected_error(local_measures(p, r, ctx.u), s.measure);
     double alpha = fixed_alpha > 0.0 ? fixed_alpha : adapted(err);
     std::vector<double> tried;  // alphas tried from the current accepted iterate rk
-    int64_t outer = 0, inner_iterations = 0;
+    int64_t outer = 0;
     info.status = FRIX_STATUS_MAX_ITER;
-    newton::Limits lim{o, ctx.clock, &inner_iterations, 0};
+    kit::Steps inner{Monitor(o, ctx.clock)};  // the Newton steps, on each proximal step's limits
     while (true) {
-        frix_status stop = status_before_step(monitor, err, outer, lim);
+        frix_status stop = status_before_step(monitor, err, outer, inner);
         // Each step starts from rk (a rejected step restores it): the same alpha from the same
         // rk would repeat a step already taken.
         if (stop == FRIX_STATUS_NOT_RUN && std::find(tried.begin(), tried.end(), alpha) != tried.end())
@@ -101,12 +101,11 @@ frix_error solve(SolveContext &ctx) {
         tried.push_back(alpha);
         ++outer;
         for (int64_t i = 0; i < m; ++i) qk[i] = p.q[i] - alpha * rk[i];
-        lim.max_iter = inner_iterations + kInnerMaxIter;
         newton::RunResult res;
         // The inner problem is solved a decade below the current error: tighter wastes Newton
         // steps on a problem about to change, looser slows the outer convergence.
-        const double inner_tol = 0.1 * std::max(err, tol);
-        if (frix_error e = engine.run(r, qk.data(), alpha, inner_tol, lim, res, norm_q)) return e;
+        inner.monitor.with_limits(0.1 * std::max(err, tol), inner.done + kInnerMaxIter);
+        if (frix_error e = engine.run(r, qk.data(), alpha, inner, res, norm_q)) return e;
         if (res.status == FRIX_STATUS_TIME_LIMIT || res.status == FRIX_STATUS_MEMORY_LIMIT ||
             res.status == FRIX_STATUS_STOPPED_BY_CALLBACK) {
             std::copy(rk.begin(), rk.end(), r);
@@ -133,7 +132,7 @@ frix_error solve(SolveContext &ctx) {
             alpha = inner_ok ? std::max(std::min(adapted(err), 0.1 * alpha), kAlphaMin * scale)
                              : std::min(alpha * 10.0, kAlphaMax * scale);
         }
-        lim.report(err);
+        inner.report(err);
     }
     std::copy(rk.begin(), rk.end(), r);  // the last accepted proximal iterate
     record(ctx, outer, engine, s.verbosity);

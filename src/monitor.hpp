@@ -99,15 +99,29 @@ class Monitor {
     // the measure the tolerance is on): CONVERGED (error <= tolerance()), DIVERGED (error not
     // finite), then limits(); FRIX_STATUS_NOT_RUN to go on. r: as for report().
     frix_status verdict(int64_t it, double error, const double *r = nullptr, const Agree &agree = nullptr) const {
-        if (error <= tolerance()) return FRIX_STATUS_CONVERGED;
-        if (!std::isfinite(error)) return FRIX_STATUS_DIVERGED;
-        return limits(it, error, r, agree);
+        const frix_status settled = settles(error);
+        return settled != FRIX_STATUS_NOT_RUN ? settled : limits(it, error, r, agree);
     }
     // The same without the error test, for an iteration whose error is only an estimate the
     // solver confirms apart: STOPPED_BY_CALLBACK (report() with `estimate`: the callback, or a
     // runaway), TIME_LIMIT, MAX_ITER, in that order; FRIX_STATUS_NOT_RUN to go on.
     frix_status limits(int64_t it, double estimate, const double *r = nullptr, const Agree &agree = nullptr) const {
-        if (agreed(report(it, estimate, r), agree)) return FRIX_STATUS_STOPPED_BY_CALLBACK;
+        return limits_after_report(it, report(it, estimate, r), agree);
+    }
+    // verdict() for a solver that calls report() itself after every iteration (the one that
+    // converges too: Newton's callback sees each step) and decides before the next one: `asked`
+    // is what report() answered (with agree, on any rank). The iteration limit comes before the
+    // callback and the time: a run on a budget of iterations (a stage of auto) that spent it says
+    // so, though the callback asked to stop after its last one.
+    frix_status verdict_after_report(int64_t it, double error, bool asked, const Agree &agree = nullptr) const {
+        const frix_status settled = settles(error);
+        if (settled != FRIX_STATUS_NOT_RUN) return settled;
+        if (out_of_iterations(it)) return FRIX_STATUS_MAX_ITER;
+        return limits_after_report(it, asked, agree);
+    }
+    // limits() with report()'s answer `asked`.
+    frix_status limits_after_report(int64_t it, bool asked, const Agree &agree = nullptr) const {
+        if (agreed(asked, agree)) return FRIX_STATUS_STOPPED_BY_CALLBACK;
         if (agreed(out_of_time(), agree)) return FRIX_STATUS_TIME_LIMIT;
         if (out_of_iterations(it)) return FRIX_STATUS_MAX_ITER;
         return FRIX_STATUS_NOT_RUN;
@@ -138,6 +152,11 @@ class Monitor {
 
    private:
     static bool agreed(bool flag, const Agree &agree) { return agree ? agree(flag) : flag; }
+    // CONVERGED (error <= tolerance()), DIVERGED (error not finite), else FRIX_STATUS_NOT_RUN.
+    frix_status settles(double error) const {
+        if (error <= tolerance()) return FRIX_STATUS_CONVERGED;
+        return std::isfinite(error) ? FRIX_STATUS_NOT_RUN : FRIX_STATUS_DIVERGED;
+    }
     // A first factorisation is priced at a share of a dense LU's rate: CHOLMOD's flop count
     // is exact and its supernodes run dense kernels, at about the dense rate (a smaller share
     // refused factorisations that fitted); UMFPACK's is an upper bound that overstates the
