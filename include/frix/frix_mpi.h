@@ -49,8 +49,9 @@
  * nsn-ac solves Alart-Curnier's equations over all ranks: each Newton system, a matrix of
  * 3 x 3 blocks over the ranks' rows, by PETSc (KSP, MUMPS's LU), with Armijo's backtracking on
  * 1/2 |Phi|^2 (line_search none: full steps). Options: tolerance, max_iter, time_limit,
- * rho_strategy and rho, line_search, line_search_max_iter; the serial solver's watchdog and
- * hybrid fallback are not distributed and are not used. On one rank a run gives the same
+ * rho_strategy and rho, line_search, line_search_max_iter, hybrid and hybrid_sweeps (where
+ * Newton stagnates, NSGS sweeps of the distributed form, then Newton again); the serial
+ * solver's watchdog is not used. On one rank a run gives the same
  * bits every time; on more, MUMPS schedules its factorisation's tasks as they come, and the
  * last bits may change from run to run (nsgs's do not). PETSc is started on the first such
  * solve if the host has not started it (PETSC_COMM_WORLD then a duplicate of the context's
