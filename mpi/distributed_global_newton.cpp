@@ -1,5 +1,5 @@
 // The distributed global Newton (gnsn-ac, 607) on a global problem with the host's M: the
-// serial gnsn-ac's Newton (solvers/global_newton.cpp, on solvers/kit/newton_engine.hpp's
+// serial gnsn-ac's Newton (solvers/global/gnsn_ac.cpp, on solvers/kit/newton_engine.hpp's
 // loop) over the ranks' rows of (v, r), each
 // rank holding its dofs' rows of M v - H r - f = 0 and its contacts' rows of
 // Phi(r, H^T v + w) = 0. The Jacobian [[M, -H], [B H^T, A]] is one PETSc matrix over the
@@ -14,9 +14,9 @@
 
 #include "mpi/distributed_forms.hpp"
 #include "mpi/petsc_support.hpp"
-#include "solvers/global_newton.hpp"
-#include "solvers/newton.hpp"
-#include "solvers/nsn_functions.hpp"
+#include "solvers/kit/global_newton.hpp"
+#include "solvers/kit/newton.hpp"
+#include "solvers/kit/nsn_functions.hpp"
 #include "src/error_state.hpp"
 #include "src/log.hpp"
 #include "src/monitor.hpp"
@@ -25,7 +25,7 @@ namespace frix {
 namespace mpi {
 namespace {
 
-using namespace gnewton;
+using namespace gnsn_ac;
 
 frix_error petsc(PetscErrorCode rc, const char *what) { return petsc_call(rc, FRIX_ERR_INTERNAL, "gnsn-ac", what); }
 
@@ -440,7 +440,7 @@ class RanksVrSystem : public kit::SystemDefaults {
         error_of(x_);
         return FRIX_OK;
     }
-    frix_error rejected(int64_t taken, bool &changed, double &psi) {  // gnewton::RhoCuts
+    frix_error rejected(int64_t taken, bool &changed, double &psi) {  // gnsn_ac::RhoCuts
         if (!(changed = cuts_.cut(taken))) return FRIX_OK;
         for (int64_t a = 0; a < nc_; ++a) rho_.rho_n[(size_t)a] *= kRhoCut, rho_.rho_t[(size_t)a] *= kRhoCut;
         psi = merit(x_, true);

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "mpi/distributed_forms.hpp"
-#include "solvers/nsgs.hpp"
+#include "solvers/kit/sweeps.hpp"
 #include "src/error_state.hpp"
 #include "src/measures.hpp"
 #include "src/solver_api.hpp"

@@ -4,11 +4,7 @@
 #include <cstring>
 #include <string>
 
-#include "solvers/auto/auto.hpp"
-#include "solvers/first_order.hpp"
-#include "solvers/global_newton.hpp"
-#include "solvers/newton.hpp"
-#include "solvers/nsgs.hpp"
+#include "solvers/entries.hpp"
 #include "src/error_state.hpp"
 #include "src/solver_api.hpp"
 
@@ -22,7 +18,7 @@ const frix::SolverEntry *const kSolvers[] = {
     &frix::kNsnAcEntry,
     &frix::kNsnFbEntry,
     &frix::kNsnNmEntry,
-    &frix::kGlobalNsnAcEntry,
+    &frix::kGnsnAcEntry,
     &frix::kNsgsVelocityEntry,
     &frix::kViFppEntry,
     &frix::kViEgEntry,
@@ -33,9 +29,9 @@ const frix::SolverEntry *const kSolvers[] = {
     &frix::kAutoEntry,
     &frix::kIpmEntry,
     &frix::kIpmAnmEntry,
-    &frix::kGlobalAdmmEntry,
-    &frix::kGlobalAlNewtonEntry,
-    &frix::kGlobalNsgsEntry,
+    &frix::kGadmmEntry,
+    &frix::kGnsnAlEntry,
+    &frix::kGnsgsEntry,
 };
 constexpr int64_t kSolverCount = sizeof kSolvers / sizeof kSolvers[0];
 

@@ -18,7 +18,7 @@
 // Global problems go through the reduction W = H^T M^-1 H with the same strategy, or a route
 // without W where W would be dense (global_routes.cpp). docs/auto.md describes the strategy
 // for users.
-#include "solvers/auto/auto.hpp"
+#include "solvers/entries.hpp"
 
 #include "solvers/auto/routes.hpp"
 #include "solvers/auto/trace.hpp"

@@ -9,10 +9,11 @@
 #include <cmath>
 #include <vector>
 
+#include "solvers/entries.hpp"
 #include "solvers/auto/routes.hpp"
 #include "solvers/auto/stage.hpp"
-#include "solvers/global_newton.hpp"
-#include "solvers/nsgs.hpp"
+#include "solvers/kit/global_newton.hpp"
+#include "solvers/kit/sweeps.hpp"
 #include "src/log.hpp"
 #include "src/reduction.hpp"
 
@@ -186,7 +187,7 @@ frix_error GlobalRoutes::reduce_then_newton(int64_t max_iter, int64_t reduction_
         fallback.solver_id = FRIX_SOLVER_GLOBAL_NSN_AC;
         info_.trace.push_back(fallback);
         const GlobalAnswer reduced(ctx_, info_);
-        if (frix_error e = run(kGlobalNsnAcEntry, left)) return e;
+        if (frix_error e = run(kGnsnAcEntry, left)) return e;
         reduced.restore_if_better(ctx_, info_);
         info_.switches += 1;
     }
@@ -212,7 +213,7 @@ frix_error GlobalRoutes::reduce_after(int64_t left, const GlobalAnswer *from) {
 frix_error GlobalRoutes::product_then_reduce(int64_t max_iter, bool may_reduce) {
     Shared shared(ctx_.options, ctx_.clock);
     Watchdog dog(shared, Watch::Rate, Monitor(ctx_).tolerance(), 0, kProductPatience);
-    if (frix_error e = run(kGlobalNsgsEntry, std::max<int64_t>(1, max_iter / 2), &dog)) return e;
+    if (frix_error e = run(kGnsgsEntry, std::max<int64_t>(1, max_iter / 2), &dog)) return e;
     const int64_t left = max_iter - info_.iterations;
     if (!may_reduce || !may_go_on(shared.stop_requested.load(), left)) {
         if (info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK && dog.stopped_by_watchdog)
@@ -225,11 +226,11 @@ frix_error GlobalRoutes::product_then_reduce(int64_t max_iter, bool may_reduce) 
 // The route without W: ADMM on (v, r) (613) with at most half of max_iter, then, where it
 // misses the tolerance, the augmented Lagrangian Newton (901) from its result with the rest.
 frix_error GlobalRoutes::w_free_route(int64_t max_iter) {
-    if (frix_error e = run(kGlobalAdmmEntry, std::clamp<int64_t>(max_iter / 2, 1, kWFreeAdmmIterations))) return e;
+    if (frix_error e = run(kGadmmEntry, std::clamp<int64_t>(max_iter / 2, 1, kWFreeAdmmIterations))) return e;
     const int64_t left = max_iter - info_.iterations;
     if (!may_go_on(info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK, left)) return FRIX_OK;
     const GlobalAnswer admm(ctx_, info_);
-    if (frix_error e = run(kGlobalAlNewtonEntry, std::min(left, kWFreeNewtonSteps))) return e;
+    if (frix_error e = run(kGnsnAlEntry, std::min(left, kWFreeNewtonSteps))) return e;
     admm.restore_if_better(ctx_, info_);
     info_.switches += 1;
     return FRIX_OK;
@@ -247,7 +248,7 @@ frix_error GlobalRoutes::without_w(int64_t max_iter, const RouteChoice &choice) 
     direct.value = choice.prices.with_w / choice.prices.without_w;
     direct.solver_id = choice.w_free ? FRIX_SOLVER_GLOBAL_ADMM : FRIX_SOLVER_GLOBAL_NSN_AC;
     info_.trace.push_back(direct);
-    if (!choice.w_free) return run(kGlobalNsnAcEntry, max_iter);
+    if (!choice.w_free) return run(kGnsnAcEntry, max_iter);
     const GlobalAnswer start(ctx_, info_);
     if (frix_error e = w_free_route(max_iter)) return e;
     const int64_t left = max_iter - info_.iterations;

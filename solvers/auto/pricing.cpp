@@ -2,7 +2,7 @@
 #include "solvers/auto/pricing.hpp"
 
 #include "solvers/auto/policy.hpp"
-#include "solvers/mass_plus_contacts.hpp"
+#include "solvers/kit/mass_plus_contacts.hpp"
 #include "src/error_state.hpp"
 #include "src/matrix.hpp"
 #include "src/reduction.hpp"

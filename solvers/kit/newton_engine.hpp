@@ -5,7 +5,7 @@
 // once over a System that knows the equations, their Jacobian and its linear solver:
 //   - the local problem's, W's blocks with UMFPACK or a dense LU (newton.cpp: 504/513/520,
 //     PROX's inner problems, the interior points' Newton finish);
-//   - the global problem's on (v, r) (global_newton.cpp: 607);
+//   - the global problem's on (v, r) (gnsn_ac.cpp: 607);
 //   - the same two over MPI ranks, with PETSc and MUMPS (mpi/distributed_newton.cpp,
 //     mpi/distributed_global_newton.cpp).
 // And the hybrid's rounds of Newton and NSGS sweeps (newton_with_sweeps), serial and distributed.

@@ -11,7 +11,7 @@
 extern "C" {
 #endif
 
-/* ---- One-contact kernels (solvers/local3x3.hpp). Vectors normal first, W column-major. */
+/* ---- One-contact kernels (solvers/kit/local3x3.hpp). Vectors normal first, W column-major. */
 
 /* Outcomes of frix_testing_solve_contact (the values of frix::local::Outcome). */
 enum {
@@ -41,7 +41,7 @@ int frix_testing_solve_slide(const double W[9], const double q[3], double mu,
 double frix_testing_contact_residual(const double W[9], const double q[3], double mu,
                                      const double r[3], double *relative);
 
-/* ---- Semismooth reformulations of one contact (solvers/nsn_functions.hpp): Phi(r, u) and
+/* ---- Semismooth reformulations of one contact (solvers/kit/nsn_functions.hpp): Phi(r, u) and
  * the blocks A = dPhi/dr, B = dPhi/du (column-major; may be NULL). formulation: 0
  * Alart-Curnier, 1 Fischer-Burmeister, 2 natural map. */
 void frix_testing_contact_function(int formulation, const double r[3], const double u[3],

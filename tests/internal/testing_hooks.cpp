@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "solvers/local3x3.hpp"
+#include "solvers/kit/local3x3.hpp"
 #include "src/coulomb.hpp"
 
 #define FRIX_TESTING_HOOK extern "C"
@@ -50,9 +50,9 @@ FRIX_TESTING_HOOK double frix_testing_contact_residual(const double W[9], const 
     return frix::coulomb::contact_residual(W, q, mu, r, relative);
 }
 
-// ---- Semismooth functions (solvers/nsn_functions.hpp) and the linear algebra back-end.
-#include "solvers/local_newton.hpp"
-#include "solvers/nsn_functions.hpp"
+// ---- Semismooth functions (solvers/kit/nsn_functions.hpp) and the linear algebra back-end.
+#include "solvers/kit/local_newton.hpp"
+#include "solvers/kit/nsn_functions.hpp"
 #include "src/linalg/linalg.hpp"
 
 FRIX_TESTING_HOOK void frix_testing_contact_function(int formulation, const double r[3],

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "src/matrix.hpp"
-#include "solvers/nsgs.hpp"
+#include "solvers/kit/sweeps.hpp"
 #include "src/problem.hpp"
 
 namespace {

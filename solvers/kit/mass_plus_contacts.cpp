@@ -1,0 +1,204 @@
+#include "solvers/kit/mass_plus_contacts.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "src/error_state.hpp"
+#include "src/measures.hpp"
+
+namespace frix {
+
+frix_error MassPlusContacts::build(const Csc &M, const Csc &H, int64_t nc, const char *solver) {
+    const double asymmetry = relative_asymmetry(M);
+    if (asymmetry > kMassSkewMax)
+        return fail(FRIX_ERR_UNSUPPORTED,
+                    "%s factorises M + H S H^T by Cholesky and needs a symmetric M (here max |M_ij - M_ji| is "
+                    "%.3g of max |M_ij|); gnsn-ac (607) solves a problem whose M is not",
+                    solver, asymmetry);
+    skewed_ = asymmetry > 0.0;
+    const int64_t n = M.rows;
+    // Every contact's rows: the union over its 3 columns of H, sorted.
+    row_start_.assign(nc + 1, 0);
+    rows_.clear();
+    std::vector<int64_t> mark(n, -1);
+    for (int64_t a = 0; a < nc; ++a) {
+        const size_t first = rows_.size();
+        for (int c = 0; c < 3; ++c)
+            for (int64_t e = H.colptr[3 * a + c]; e < H.colptr[3 * a + c + 1]; ++e)
+                if (mark[H.rowind[e]] != a) {
+                    mark[H.rowind[e]] = a;
+                    rows_.push_back(H.rowind[e]);
+                }
+        std::sort(rows_.begin() + first, rows_.end());
+        row_start_[a + 1] = (int64_t)rows_.size();
+    }
+    hrows_.assign(3 * rows_.size(), 0.0);
+    for (int64_t a = 0; a < nc; ++a) {
+        const int64_t *first = rows_.data() + row_start_[a], *last = rows_.data() + row_start_[a + 1];
+        for (int c = 0; c < 3; ++c)
+            for (int64_t e = H.colptr[3 * a + c]; e < H.colptr[3 * a + c + 1]; ++e) {
+                const int64_t i = std::lower_bound(first, last, H.rowind[e]) - rows_.data();
+                hrows_[3 * i + c] = H.val[e];
+            }
+    }
+    // The pattern: (column, row) with row <= column, from M and from every contact's pairs.
+    std::vector<std::pair<int64_t, int64_t>> entries;
+    for (int64_t j = 0; j < n; ++j)
+        for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e)
+            entries.emplace_back(std::max(j, M.rowind[e]), std::min(j, M.rowind[e]));
+    for (int64_t a = 0; a < nc; ++a)
+        for (int64_t j = row_start_[a]; j < row_start_[a + 1]; ++j)
+            for (int64_t i = row_start_[a]; i <= j; ++i) entries.emplace_back(rows_[j], rows_[i]);
+    // Every diagonal entry, so that the pattern holds one even where M's is missing.
+    for (int64_t j = 0; j < n; ++j) entries.emplace_back(j, j);
+    std::sort(entries.begin(), entries.end());
+    entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
+    A_.rows = A_.cols = n;
+    A_.colptr.assign(n + 1, 0);
+    A_.rowind.resize(entries.size());
+    A_.val.assign(entries.size(), 0.0);
+    for (size_t s = 0; s < entries.size(); ++s) {
+        ++A_.colptr[entries[s].first + 1];
+        A_.rowind[s] = entries[s].second;
+    }
+    for (int64_t j = 0; j < n; ++j) A_.colptr[j + 1] += A_.colptr[j];
+    auto slot = [&](int64_t row, int64_t col) {
+        const int64_t *first = A_.rowind.data() + A_.colptr[col], *last = A_.rowind.data() + A_.colptr[col + 1];
+        return std::lower_bound(first, last, row) - A_.rowind.data();
+    };
+    m_slot_.clear();
+    m_val_.clear();
+    // The symmetric part (M + M^T) / 2: every entry adds half its value to the upper one of
+    // its pair (the diagonal all of it); for a symmetric M the halves add up to M's values.
+    for (int64_t j = 0; j < n; ++j)
+        for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e) {
+            const int64_t i = M.rowind[e];
+            m_slot_.push_back(slot(std::min(i, j), std::max(i, j)));
+            m_val_.push_back(i == j ? M.val[e] : 0.5 * M.val[e]);
+        }
+    pair_start_.assign(nc + 1, 0);
+    pair_slot_.clear();
+    for (int64_t a = 0; a < nc; ++a) {
+        for (int64_t i = row_start_[a]; i < row_start_[a + 1]; ++i)
+            for (int64_t j = i; j < row_start_[a + 1]; ++j) pair_slot_.push_back(slot(rows_[i], rows_[j]));
+        pair_start_[a + 1] = (int64_t)pair_slot_.size();
+    }
+    return FRIX_OK;
+}
+
+frix_error MassPlusContacts::factor(const double *S, const linalg::FactorBudget &budget) {
+    std::fill(A_.val.begin(), A_.val.end(), 0.0);
+    for (size_t e = 0; e < m_slot_.size(); ++e) A_.val[m_slot_[e]] += m_val_[e];
+    const int64_t nc = (int64_t)row_start_.size() - 1;
+    std::vector<double> G;  // H_a S_a, row-major (3 per row)
+    for (int64_t a = 0; a < nc; ++a) {
+        const int64_t first = row_start_[a], k = row_start_[a + 1] - first;
+        const double *h = hrows_.data() + 3 * first, *Sa = S + 9 * a;  // k = 0 may sit at the end
+        G.resize(3 * k);
+        for (int64_t i = 0; i < k; ++i)
+            for (int c = 0; c < 3; ++c)
+                G[3 * i + c] = h[3 * i] * Sa[3 * c] + h[3 * i + 1] * Sa[1 + 3 * c] + h[3 * i + 2] * Sa[2 + 3 * c];
+        int64_t s = pair_start_[a];
+        for (int64_t i = 0; i < k; ++i)
+            for (int64_t j = i; j < k; ++j, ++s)
+                A_.val[pair_slot_[s]] +=
+                    G[3 * i] * h[3 * j] + G[3 * i + 1] * h[3 * j + 1] + G[3 * i + 2] * h[3 * j + 2];
+    }
+    chol_.set_budget(budget);
+    const frix_error e = chol_.factor(A_.view());
+    chol_.set_budget(nullptr);  // it refers to the caller's limits
+    return e;
+}
+
+frix_error prepare_mass_plus_contacts(const SolveContext &ctx, KeptMassPlusContacts &kept, const char *solver,
+                                      int samples) {
+    const frix_problem &p = ctx.problem;
+    if (ctx.cache && kept.m_values == ctx.cache->m_values && kept.h_values == ctx.cache->h_values) return FRIX_OK;
+    kept.m_values = kept.h_values = 0;  // until built
+    kept.factored_rho = NAN;
+    if (!ctx.solve_mass) return fail(FRIX_ERR_INTERNAL, "%s: no factorisation of M was given", solver);
+    Csc M, H;
+    if (frix_error e = to_csc(*p.M, M)) return e;
+    if (frix_error e = to_csc(*p.H, H)) return e;
+    if (frix_error e = kept.system.build(M, H, p.nc, solver)) return e;
+    kept.scale = sampled_delassus_scale(p, H, *ctx.solve_mass, samples);
+    if (!(kept.scale > 0.0) || !std::isfinite(kept.scale)) kept.scale = 1.0;
+    if (ctx.cache) kept.m_values = ctx.cache->m_values, kept.h_values = ctx.cache->h_values;
+    return FRIX_OK;
+}
+
+void de_saxce_shift(const frix_problem &p, const double *u, double *shift) {
+    for (int64_t a = 0; a < p.nc; ++a) shift[3 * a] = p.mu[a] * std::hypot(u[3 * a + 1], u[3 * a + 2]);
+}
+
+double global_error(const frix_problem &p, int64_t measure, const double *r, const double *v, double *u,
+                    double *equilibrium) {
+    const Measures meas = global_measures(p, r, v, u, equilibrium);
+    return std::max(selected_error(meas, measure), *equilibrium);
+}
+
+double global_error_or_recovered(const frix_problem &p, const MassSolver *mass, int64_t measure, double tol,
+                                 const double *r, double *v, double *u, double *equilibrium) {
+    double best = global_error(p, measure, r, v, u, equilibrium);
+    if (!(best > tol) || !mass) return best;
+    const int64_t n = p.n, m = 3 * p.nc;
+    std::vector<double> candidate(v, v + n), residual(n), delta(n), u_candidate(m);
+    for (int step = 0; step < kVelocityRefinements; ++step) {
+        // residual = H r + f - M v, then v += M^-1 residual.
+        std::copy(p.f, p.f + n, residual.begin());
+        if (m > 0) matrix_gemv(*p.H, 1.0, r, 1.0, residual.data());
+        matrix_gemv(*p.M, -1.0, candidate.data(), 1.0, residual.data());
+        if (mass->solve(residual.data(), delta.data()) != FRIX_OK) {
+            clear_error();
+            break;
+        }
+        for (int64_t j = 0; j < n; ++j) candidate[j] += delta[j];
+        double eq = 0.0;
+        const double error = global_error(p, measure, r, candidate.data(), u_candidate.data(), &eq);
+        if (!(error < best)) break;
+        best = error;
+        *equilibrium = eq;
+        std::copy(candidate.begin(), candidate.end(), v);
+        std::copy(u_candidate.begin(), u_candidate.end(), u);
+        if (!(best > tol)) break;
+    }
+    return best;
+}
+
+std::vector<std::pair<int64_t, double>> sampled_delassus_diagonals(
+    const frix_problem &p, const Csc &H, const std::function<frix_error(const double *, double *)> &solve_mass,
+    int samples, int components) {
+    std::vector<std::pair<int64_t, double>> out;
+    const int64_t nc = p.nc, n = p.n;
+    const int count = (int)std::min<int64_t>(samples, nc);
+    std::vector<double> b(n), x(n);
+    for (int k = 0; k < count; ++k) {
+        const int64_t a = (int64_t)k * nc / count;
+        double trace = 0.0;
+        for (int c = 0; c < components; ++c) {
+            const int64_t col = 3 * a + c;
+            std::fill(b.begin(), b.end(), 0.0);
+            for (int64_t e = H.colptr[col]; e < H.colptr[col + 1]; ++e) b[H.rowind[e]] = H.val[e];
+            if (solve_mass(b.data(), x.data()) != FRIX_OK) {
+                clear_error();
+                return out;
+            }
+            for (int64_t e = H.colptr[col]; e < H.colptr[col + 1]; ++e) trace += H.val[e] * x[H.rowind[e]];
+        }
+        out.emplace_back(a, trace);
+    }
+    return out;
+}
+
+double sampled_delassus_scale(const frix_problem &p, const Csc &H,
+                              const std::function<frix_error(const double *, double *)> &solve_mass,
+                              int samples) {
+    double sum = 0.0;
+    int count = 0;
+    for (const auto &sample : sampled_delassus_diagonals(p, H, solve_mass, samples, 1))
+        if (sample.second > 0.0 && std::isfinite(sample.second)) sum += sample.second, ++count;
+    return count > 0 ? sum / count : NAN;
+}
+
+}  // namespace frix

@@ -1,0 +1,104 @@
+// What the solvers of global problems that never form W = H^T M^-1 H share (gadmm.cpp,
+// gnsn_al.cpp): the symmetric positive definite matrix M + H S H^T, S block-diagonal
+// (one symmetric 3x3 block per contact), in a pattern fixed for the solve, factorised by CHOLMOD
+// with one symbolic analysis for every S; and the scale of W seen by one contact, from a few of
+// W's diagonal blocks computed alone with M's factorisation.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "src/linalg/linalg.hpp"
+#include "src/reduction.hpp"
+#include "src/solve_cache.hpp"
+#include "src/solver_api.hpp"
+
+namespace frix {
+
+// M's asymmetry (relative_asymmetry) up to which M + H S H^T is factorised with M's symmetric
+// part, the skew part K = (M - M^T) / 2 left to the solvers (on the right-hand side, at the
+// previous iterate: exact at a fixed point): a matrix written with 7 significant digits.
+constexpr double kMassSkewMax = 1e-6;
+
+class MassPlusContacts {
+   public:
+    // The pattern: M's (both triangles, folded onto the upper one) and, for every contact a,
+    // the rows of H's columns 3a..3a+2 squared (H_a S_a H_a^T), with S_a's zeros kept, so that
+    // no S changes it. Fails with FRIX_ERR_UNSUPPORTED when M's asymmetry is above
+    // kMassSkewMax (there is no Cholesky of it).
+    frix_error build(const Csc &M, const Csc &H, int64_t nc, const char *solver);
+    // Whether M is not exactly symmetric: the factorised matrix is then (M + M^T) / 2 + H S H^T,
+    // and the solver must apply K = (M - M^T) / 2 itself (matrix_skew_gemv).
+    bool skewed() const { return skewed_; }
+    // What factorising M + H S H^T costs, from its pattern alone (linalg::cholesky_cost).
+    frix_error cost(linalg::FactorCost *cost) const { return linalg::cholesky_cost(A_.view(), cost); }
+    // Factorises M + H S H^T, S = 9 nc values (column-major 3x3 blocks, symmetric), asking
+    // `budget` first (see linalg::FactorBudget); refused() then says which limit.
+    frix_error factor(const double *S, const linalg::FactorBudget &budget);
+    // x = (M + H S H^T)^-1 b with the last factorisation.
+    frix_error solve(const double *b, double *x) const { return chol_.solve(b, x); }
+    frix_status refused() const { return chol_.refused(); }
+    const linalg::FactorStats &stats() const { return chol_.stats(); }
+
+   private:
+    Csc A_;                                // M + H S H^T, upper triangle
+    bool skewed_ = false;
+    std::vector<int64_t> m_slot_;          // M's upper entries: their slot in A_
+    std::vector<double> m_val_;            // ... and their values
+    // Contact a: its rows of H (rows_[row_start_[a] .. row_start_[a + 1])), H restricted to
+    // them (3 per row, hrows_), and the slots of their upper pairs (i <= j), row-major.
+    std::vector<int64_t> row_start_, rows_, pair_start_, pair_slot_;
+    std::vector<double> hrows_;
+    linalg::SparseCholesky chol_{linalg::SparseCholesky::Layout::kForSolves};
+};
+
+// What these solvers keep between the solves of a persistent solver: M + H S H^T's pattern and
+// symbolic analysis, rho's unit, and (gadmm) the factorisation at the last rho, while M's and
+// H's values stay.
+struct KeptMassPlusContacts : CachedState {
+    uint64_t m_values = 0, h_values = 0;  // the versions they were built from (0: none)
+    MassPlusContacts system;
+    double scale = 1.0;        // rho's unit (sampled_delassus_scale)
+    double factored_rho = NAN;  // the rho of the factorisation the system holds (NAN: none usable)
+};
+// Makes `kept` current for ctx's problem: built anew (pattern, rho's unit from `samples`
+// sampled contacts) unless ctx's cache shows it was built from the same M and H. Fails as
+// MassPlusContacts::build does.
+frix_error prepare_mass_plus_contacts(const SolveContext &ctx, KeptMassPlusContacts &kept, const char *solver,
+                                      int samples);
+
+// The De Saxce term of the global solvers without W from u = H^T v + w: shift[3a] =
+// mu_a |u_T,a| (the normal entry of each contact; the tangential ones are not written).
+void de_saxce_shift(const frix_problem &p, const double *u, double *shift);
+
+// The larger of the selected error measure and the equilibrium residual of (r, v), u = H^T v + w
+// computed into u: what a solver of global problems stops on.
+double global_error(const frix_problem &p, int64_t measure, const double *r, const double *v, double *u,
+                    double *equilibrium);
+// The same, and where it is above tol, also the errors of r with v corrected towards r's own
+// velocity M^-1 (H r + f) by up to kVelocityRefinements steps v += M^-1 (H r + f - M v) with the
+// driver's factorisation of M (`mass`, may be null), while they lower the error: v and u then
+// hold the best. Where rho H H^T dwarfs M (a stiff body) an iterate's equilibrium stalls at rho
+// times rounding; one solve with M's factor alone stalls at its condition times rounding, which
+// the refinement removes.
+constexpr int kVelocityRefinements = 3;
+double global_error_or_recovered(const frix_problem &p, const MassSolver *mass, int64_t measure, double tol,
+                                 const double *r, double *v, double *u, double *equilibrium);
+
+// The normal entry of W_aa = H_a^T M^-1 H_a averaged over up to `samples` contacts spread over
+// the problem (one solve with M's factorisation each): the scale a penalty on the contacts is
+// measured in, with W never formed. NaN when it cannot be computed.
+double sampled_delassus_scale(const frix_problem &p, const Csc &H,
+                              const std::function<frix_error(const double *, double *)> &solve_mass,
+                              int samples);
+
+// Sampled diagonals of W_aa = H_a^T M^-1 H_a, of up to `samples` contacts a spread over the
+// problem, as (a, sum) pairs: the sum of W_aa's first `components` diagonal entries (3: its
+// trace; 1: its normal entry), one solve with M's factorisation per component. A failed solve
+// ends the list early.
+std::vector<std::pair<int64_t, double>> sampled_delassus_diagonals(
+    const frix_problem &p, const Csc &H, const std::function<frix_error(const double *, double *)> &solve_mass,
+    int samples, int components);
+
+}  // namespace frix

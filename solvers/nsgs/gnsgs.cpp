@@ -1,0 +1,453 @@
+// gnsgs (902): NSGS on a global problem whose M is block-diagonal with small blocks (rigid
+// bodies), in product form: W is never formed. The sweep keeps v = M^-1 (H r + f) up to date;
+// contact a reads u_a = H_a^T v + w_a and, after its one-contact solve, adds M^-1 H_a dr_a to
+// v. Each sweep costs O(nnz(H) + nnz(M^-1 H)); memory is, per contact, the dofs of the bodies
+// it touches with H_a and M^-1 H_a on them (3 values a dof each), and the blocks of M^-1.
+// Contacts are cut into domains (runs of a breadth-first order of the contact graph) and the
+// domains coloured (no two of a colour share a body); a thread sweeps a whole domain, the
+// domains of a colour run in parallel, and v's dofs are renumbered in sweep order so that a
+// domain works on a compact part of it. The stopping logic is nsgs's (run_sweeps), on the global
+// measure (its scale |w|, as Siconos's).
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "solvers/kit/sweeps.hpp"
+#include "src/disjoint_sets.hpp"
+#include "src/error_state.hpp"
+#include "src/log.hpp"
+#include "src/measures.hpp"
+#include "src/reduction.hpp"
+#include "solvers/entries.hpp"
+
+namespace frix {
+namespace gnsgs {
+using namespace nsgs;  // the sweeps and their forms (kit/sweeps.hpp)
+namespace {
+
+// Domains: about kDomains of them, enough for the threads to share each colour's evenly, and
+// none under kMinDomain contacts (a domain's sweep must outweigh handing it to a thread).
+constexpr int64_t kDomains = 128;
+constexpr int64_t kMinDomain = 256;
+
+// M^-1 as dense blocks, one per body, and each contact's H_a and M^-1 H_a on its bodies' dofs.
+class ProductForm : public SweepForm {
+   public:
+    ProductForm(const frix_problem &p, int threads)
+        : p_(p), norm_w_(norm2(p.w, 3 * p.nc)), free_(free_velocity(p)), team_(threads) {}
+
+    frix_error setup() {
+        if (frix_error e = to_csc(*p_.M, M_)) return e;
+        if (frix_error e = to_csc(*p_.H, H_)) return e;
+        if (frix_error e = find_bodies()) return e;
+        if (frix_error e = invert_bodies()) return e;
+        find_contact_bodies();
+        // The domains of one colour share no body: their sweeps touch disjoint parts of v. The
+        // sweeps run on the contacts renumbered in sweep order (slots), so that a sweep reads
+        // the per-contact data front to back.
+        Domains domains = make_domains(
+            p_.nc, (int64_t)body_ptr_.size() - 1, std::max(kMinDomain, (p_.nc + kDomains - 1) / kDomains),
+            [this](int64_t a, std::vector<int64_t> &out) {
+                out.insert(out.end(), contact_bodies_.begin() + bodies_ptr_[a],
+                           contact_bodies_.begin() + bodies_ptr_[a + 1]);
+            });
+        contact_of_slot_ = std::move(domains.contacts);
+        slots_ = std::move(domains);  // its ranges are of slots; its contacts moved out
+        form_contacts();
+        w_.resize(3 * (size_t)p_.nc);
+        mu_.resize((size_t)p_.nc);
+        weight_.resize((size_t)p_.nc);
+        for (int64_t k = 0; k < p_.nc; ++k) {
+            const int64_t a = contact_of_slot_[(size_t)k];
+            std::copy(p_.w + 3 * a, p_.w + 3 * a + 3, &w_[3 * (size_t)k]);
+            mu_[(size_t)k] = p_.mu[a];
+            weight_[(size_t)k] = p_.weight.empty() ? 1.0 : p_.weight[(size_t)a];
+        }
+        renumber_dofs();
+        std::vector<double> v0((size_t)p_.n);
+        apply_inverse(p_.f, v0.data());
+        v0_.resize((size_t)p_.n);
+        for (int64_t d = 0; d < p_.n; ++d) v0_[(size_t)slot_of_dof_[(size_t)d]] = v0[(size_t)d];
+        v_.resize((size_t)p_.n);
+        M_ = Csc{};  // the sweeps read only the per-contact copies
+        H_ = Csc{};
+        return FRIX_OK;
+    }
+    // v in the problem's numbering of the dofs.
+    void copy_v(double *v) const {
+        for (int64_t d = 0; d < p_.n; ++d) v[d] = v_[(size_t)slot_of_dof_[(size_t)d]];
+    }
+    // Slot k of the sweeps is contact contact_of_slot()[k] of the problem; w and mu by slot.
+    const std::vector<int64_t> &contact_of_slot() const { return contact_of_slot_; }
+    const double *slot_w() const { return w_.data(); }
+    const double *slot_mu() const { return mu_.data(); }
+    const std::vector<double> &slot_weight() const { return weight_; }
+    int64_t colours() const { return slots_.colours(); }
+    int64_t domains() const { return slots_.domains(); }
+    // W_aa = H_a^T M^-1 H_a, 9 per contact, column-major.
+    std::vector<double> diagonal_blocks() const {
+        std::vector<double> blocks(9 * (size_t)p_.nc, 0.0);
+        for (int64_t a = 0; a < p_.nc; ++a) {
+            const double *h = hd_.data() + 3 * dof_ptr_[a];
+            for (int64_t t = 0; t < dof_ptr_[a + 1] - dof_ptr_[a]; ++t) {
+                double g[3];
+                g_row(a, t, g);
+                for (int f = 0; f < 3; ++f)
+                    for (int e = 0; e < 3; ++e) blocks[9 * a + e + 3 * f] += h[3 * t + e] * g[f];
+            }
+        }
+        return blocks;
+    }
+
+    SweepStats sweep(Workspace &ws, double *r, double *) override {
+        double *v = v_.data();
+        const auto local_q = [this, r, v](int64_t a, const local::Contact &c, double *ql) {
+            const double *Wd = c.W, *ra = r + 3 * a;
+            double s[3];
+            contact_velocity(a, v, s);
+            for (int e = 0; e < 3; ++e) ql[e] = s[e] - (Wd[e] * ra[0] + Wd[e + 3] * ra[1] + Wd[e + 6] * ra[2]);
+        };
+        const auto moved = [this, v](int64_t a, const double *dr) { add_g(a, dr, v); };
+        return ws.sweep_domains(r, slots_, team_, local_q, moved);
+    }
+    Measures exact(const double *r, double *u) override {
+        restart(r, u);
+        return measures_from_v(r, u);
+    }
+    bool kept(const double *r, double *u, Measures &m) override {
+        m = measures_from_v(r, u);
+        return true;
+    }
+    // v = M^-1 f + M^-1 H r.
+    void restart(const double *r, double *) override {
+        std::copy(v0_.begin(), v0_.end(), v_.begin());
+        for (int64_t a = 0; a < p_.nc; ++a) {
+            const double *ra = r + 3 * a;
+            if (ra[0] != 0.0 || ra[1] != 0.0 || ra[2] != 0.0) add_g(a, ra, v_.data());
+        }
+    }
+    bool measures_are_local() const override { return false; }
+    // v is affine in r: v(y) = v(x) + beta (v(x) - v(x_prev)) + M^-1 H (y - line).
+    void extrapolate(Workspace &, double beta, const double *line, const double *y, double *) override {
+        extrapolate_affine(beta, line, y, p_.nc, v_.data(), v_.size(), v_last_,
+                           [this](int64_t a, const double *d) { add_g(a, d, v_.data()); });
+    }
+
+   private:
+    // Row t of slot a's M^-1 H_a (its t-th dof), into g[3].
+    void g_row(int64_t a, int64_t t, double *g) const {
+        if (g_ptr_[a] >= 0) {
+            std::copy(&gd_[3 * (size_t)(g_ptr_[a] + t)], &gd_[3 * (size_t)(g_ptr_[a] + t)] + 3, g);
+            return;
+        }
+        const double *h = hd_.data() + 3 * (dof_ptr_[a] + t), d = minv_[dof_ptr_[a] + t];
+        g[0] = d * h[0], g[1] = d * h[1], g[2] = d * h[2];
+    }
+    // v += M^-1 H_a x: from H_a and M's diagonal where every body of the contact is one dof
+    // (M diagonal there: half the data a sweep reads), from M^-1 H_a stored otherwise.
+    void add_g(int64_t a, const double *x, double *v) const {
+        const int64_t *dofs = dofs_.data() + dof_ptr_[a];
+        const int64_t count = dof_ptr_[a + 1] - dof_ptr_[a];
+        if (g_ptr_[a] < 0) {
+            const double *h = hd_.data() + 3 * dof_ptr_[a], *d = minv_.data() + dof_ptr_[a];
+            for (int64_t t = 0; t < count; ++t)
+                v[dofs[t]] += d[t] * (h[3 * t] * x[0] + h[3 * t + 1] * x[1] + h[3 * t + 2] * x[2]);
+            return;
+        }
+        const double *g = gd_.data() + 3 * g_ptr_[a];
+        for (int64_t t = 0; t < count; ++t) v[dofs[t]] += g[3 * t] * x[0] + g[3 * t + 1] * x[1] + g[3 * t + 2] * x[2];
+    }
+    // u_a = H_a^T v + w_a.
+    void contact_velocity(int64_t a, const double *v, double *s) const {
+        const int64_t *dofs = dofs_.data() + dof_ptr_[a];
+        const double *h = hd_.data() + 3 * dof_ptr_[a];
+        s[0] = w_[3 * (size_t)a];
+        s[1] = w_[3 * (size_t)a + 1];
+        s[2] = w_[3 * (size_t)a + 2];
+        for (int64_t t = 0; t < dof_ptr_[a + 1] - dof_ptr_[a]; ++t) {
+            const double x = v[dofs[t]];
+            s[0] += h[3 * t] * x;
+            s[1] += h[3 * t + 1] * x;
+            s[2] += h[3 * t + 2] * x;
+        }
+    }
+    // u = H^T v + w and the measures' parts domain by domain on the team, the parts combined
+    // in domain order (the same numbers on any number of threads).
+    Measures measures_from_v(const double *r, double *u) {
+        parts_.assign((size_t)slots_.domains(), MeasureParts{});
+        team_.for_chunks(slots_.domains(), 1, [this, r, u](int64_t begin, int64_t end) {
+            for (int64_t d = begin; d < end; ++d) {
+                const int64_t first = slots_.domain_ptr[(size_t)d], last = slots_.domain_ptr[(size_t)d + 1];
+                for (int64_t a = first; a < last; ++a) contact_velocity(a, v_.data(), u + 3 * a);
+                parts_[(size_t)d] = measure_parts(r, u, mu_.data(), weight_.data(), first, last);
+            }
+        });
+        MeasureParts all;
+        for (const MeasureParts &part : parts_) all.add(part);
+        return measures_from_parts(all, r, u, mu_.data(), p_.nc, norm_w_, free_);
+    }
+
+    frix_error find_bodies() {
+        const int64_t n = p_.n;
+        DisjointSets sets(n);
+        for (int64_t c = 0; c < n; ++c)
+            for (int64_t k = M_.colptr[c]; k < M_.colptr[c + 1]; ++k)
+                if (M_.val[k] != 0.0) sets.unite(M_.rowind[k], c);  // a stored zero couples nothing
+        body_of_.assign((size_t)n, -1);
+        std::vector<int64_t> body_of_root((size_t)n, -1);
+        int64_t bodies = 0;
+        for (int64_t i = 0; i < n; ++i) {
+            const int64_t root = sets.find(i);
+            if (body_of_root[root] < 0) {
+                if (sets.size_of_root(root) > kMaxRigidBodyDofs)
+                    return fail(FRIX_ERR_UNSUPPORTED,
+                                "gnsgs: M couples %lld dofs in one block (more than %lld: a deformable body); "
+                                "gadmm or auto solve this problem",
+                                (long long)sets.size_of_root(root), (long long)kMaxRigidBodyDofs);
+                body_of_root[root] = bodies++;
+            }
+            body_of_[i] = body_of_root[root];
+        }
+        // The dofs of each body in increasing order, and each dof's place in its body.
+        body_ptr_.assign((size_t)bodies + 1, 0);
+        for (int64_t i = 0; i < n; ++i) ++body_ptr_[body_of_[i] + 1];
+        for (int64_t b = 0; b < bodies; ++b) body_ptr_[b + 1] += body_ptr_[b];
+        body_dofs_.resize((size_t)n);
+        place_.resize((size_t)n);
+        std::vector<int64_t> next(body_ptr_.begin(), body_ptr_.end() - 1);
+        for (int64_t i = 0; i < n; ++i) {
+            const int64_t k = next[body_of_[i]]++;
+            body_dofs_[k] = i;
+            place_[i] = k - body_ptr_[body_of_[i]];
+        }
+        return FRIX_OK;
+    }
+
+    // Each body's block of M inverted by Gauss-Jordan with partial pivoting (M need not be
+    // symmetric).
+    frix_error invert_bodies() {
+        const int64_t bodies = (int64_t)body_ptr_.size() - 1;
+        inverse_ptr_.assign((size_t)bodies + 1, 0);
+        for (int64_t b = 0; b < bodies; ++b) {
+            const int64_t k = body_ptr_[b + 1] - body_ptr_[b];
+            inverse_ptr_[b + 1] = inverse_ptr_[b] + k * k;
+        }
+        inverse_.assign((size_t)inverse_ptr_[bodies], 0.0);
+        std::vector<double> a;
+        for (int64_t b = 0; b < bodies; ++b) {
+            const int64_t k = body_ptr_[b + 1] - body_ptr_[b];
+            a.assign((size_t)(k * k), 0.0);  // column-major
+            double *inv = &inverse_[inverse_ptr_[b]];
+            double scale = 0.0;
+            for (int64_t j = 0; j < k; ++j) {
+                const int64_t col = body_dofs_[body_ptr_[b] + j];
+                for (int64_t e = M_.colptr[col]; e < M_.colptr[col + 1]; ++e) {
+                    a[place_[M_.rowind[e]] + k * j] += M_.val[e];
+                    scale = std::max(scale, std::fabs(M_.val[e]));
+                }
+                inv[j + k * j] = 1.0;
+            }
+            if (!linalg::invert_small(k, a.data(), inv, scale))
+                return fail(FRIX_ERR_NUMERICAL, "gnsgs: M is singular (its block of dofs %lld..%lld)",
+                            (long long)body_dofs_[body_ptr_[b]], (long long)body_dofs_[body_ptr_[b + 1] - 1]);
+        }
+        return FRIX_OK;
+    }
+
+    // y = M^-1 x, body by body.
+    void apply_inverse(const double *x, double *y) const {
+        const int64_t bodies = (int64_t)body_ptr_.size() - 1;
+        for (int64_t b = 0; b < bodies; ++b) {
+            const int64_t k = body_ptr_[b + 1] - body_ptr_[b], *dofs = &body_dofs_[body_ptr_[b]];
+            const double *inv = &inverse_[inverse_ptr_[b]];
+            for (int64_t i = 0; i < k; ++i) {
+                double s = 0.0;
+                for (int64_t j = 0; j < k; ++j) s += inv[i + k * j] * x[dofs[j]];
+                y[dofs[i]] = s;
+            }
+        }
+    }
+
+    // The bodies each contact's three columns of H touch, in increasing order.
+    void find_contact_bodies() {
+        bodies_ptr_.assign(1, 0);
+        contact_bodies_.clear();
+        std::vector<int64_t> touched;
+        for (int64_t a = 0; a < p_.nc; ++a) {
+            touched.clear();
+            for (int64_t c = 3 * a; c < 3 * a + 3; ++c)
+                for (int64_t e = H_.colptr[c]; e < H_.colptr[c + 1]; ++e) touched.push_back(body_of_[H_.rowind[e]]);
+            std::sort(touched.begin(), touched.end());
+            touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+            contact_bodies_.insert(contact_bodies_.end(), touched.begin(), touched.end());
+            bodies_ptr_.push_back((int64_t)contact_bodies_.size());
+        }
+    }
+
+    // Slot by slot, the dofs of its contact's bodies (each whole), and on them H_a and
+    // M^-1 H_a, 3 values per dof (one per column).
+    void form_contacts() {
+        const int64_t nc = p_.nc;
+        dof_ptr_.assign((size_t)nc + 1, 0);
+        for (int64_t k = 0; k < nc; ++k) {
+            const int64_t a = contact_of_slot_[(size_t)k];
+            int64_t dofs = 0;
+            for (int64_t i = bodies_ptr_[a]; i < bodies_ptr_[a + 1]; ++i)
+                dofs += body_ptr_[contact_bodies_[i] + 1] - body_ptr_[contact_bodies_[i]];
+            dof_ptr_[k + 1] = dof_ptr_[k] + dofs;
+        }
+        dofs_.resize((size_t)dof_ptr_[nc]);
+        hd_.assign(3 * (size_t)dof_ptr_[nc], 0.0);
+        g_ptr_.assign((size_t)nc, -1);
+        int64_t stored = 0;
+        for (int64_t k = 0; k < nc; ++k) {
+            const int64_t a = contact_of_slot_[(size_t)k];
+            bool one_dof_bodies = true;
+            for (int64_t i = bodies_ptr_[a]; i < bodies_ptr_[a + 1]; ++i)
+                one_dof_bodies = one_dof_bodies && body_ptr_[contact_bodies_[i] + 1] - body_ptr_[contact_bodies_[i]] == 1;
+            if (!one_dof_bodies) {
+                g_ptr_[(size_t)k] = stored;
+                stored += dof_ptr_[k + 1] - dof_ptr_[k];
+            }
+        }
+        gd_.assign(3 * (size_t)stored, 0.0);
+        minv_.assign((size_t)dof_ptr_[nc], 0.0);
+        // Where each body of the slot's contact starts in its dof list, then each of H's
+        // entries put there in one pass (O(nnz(H)), not entries x bodies).
+        std::vector<int64_t> body_at(body_ptr_.size() - 1, 0);
+        for (int64_t k = 0; k < nc; ++k) {
+            const int64_t a = contact_of_slot_[(size_t)k];
+            int64_t at = dof_ptr_[k];
+            for (int64_t i = bodies_ptr_[a]; i < bodies_ptr_[a + 1]; ++i) {
+                const int64_t b = contact_bodies_[i], size = body_ptr_[b + 1] - body_ptr_[b];
+                body_at[(size_t)b] = at;
+                for (int64_t j = 0; j < size; ++j) dofs_[at + j] = body_dofs_[body_ptr_[b] + j];
+                if (g_ptr_[(size_t)k] < 0) minv_[at] = inverse_[inverse_ptr_[b]];  // a one-dof body
+                at += size;
+            }
+            for (int64_t c = 3 * a; c < 3 * a + 3; ++c)
+                for (int64_t e = H_.colptr[c]; e < H_.colptr[c + 1]; ++e) {
+                    const int64_t row = H_.rowind[e];
+                    hd_[3 * (size_t)(body_at[(size_t)body_of_[row]] + place_[row]) + (size_t)(c - 3 * a)] += H_.val[e];
+                }
+            if (g_ptr_[(size_t)k] < 0) continue;
+            for (int64_t i = bodies_ptr_[a]; i < bodies_ptr_[a + 1]; ++i) {
+                const int64_t b = contact_bodies_[i], size = body_ptr_[b + 1] - body_ptr_[b];
+                const int64_t start = body_at[(size_t)b];
+                const double *h = hd_.data() + 3 * start, *inv = inverse_.data() + inverse_ptr_[b];
+                double *g = gd_.data() + 3 * (g_ptr_[(size_t)k] + start - dof_ptr_[k]);
+                for (int64_t x = 0; x < size; ++x)
+                    for (int f = 0; f < 3; ++f) {
+                        double sum = 0.0;
+                        for (int64_t j = 0; j < size; ++j) sum += inv[x + size * j] * h[3 * j + f];
+                        g[3 * x + f] = sum;
+                    }
+            }
+        }
+    }
+
+    // The sweeps keep v with its dofs renumbered in the order the sweep first reaches them
+    // (a body's together): a domain then reads and writes a compact part of v, and two
+    // threads seldom share a cache line of it.
+    void renumber_dofs() {
+        slot_of_dof_.assign((size_t)p_.n, -1);
+        int64_t next = 0;
+        for (int64_t &d : dofs_) {
+            if (slot_of_dof_[(size_t)d] < 0) slot_of_dof_[(size_t)d] = next++;
+            d = slot_of_dof_[(size_t)d];
+        }
+        for (int64_t &s : slot_of_dof_)
+            if (s < 0) s = next++;  // dofs no contact touches
+    }
+
+    const frix_problem &p_;
+    std::vector<double> v_;       // in the sweeps' numbering of the dofs
+    std::vector<double> v_last_;  // v at the previous extrapolation's r (momentum)
+    std::vector<int64_t> slot_of_dof_;
+    double norm_w_, free_;
+    Csc M_, H_;
+    std::vector<int64_t> body_of_, body_ptr_, body_dofs_, place_, inverse_ptr_;
+    std::vector<double> inverse_, v0_;
+    std::vector<int64_t> dof_ptr_, dofs_;
+    std::vector<double> hd_, gd_;
+    std::vector<int64_t> g_ptr_;  // per slot: where its M^-1 H_a starts in gd_, -1: from minv_
+    std::vector<double> minv_;    // beside H_a where g_ptr_ is -1: each dof's inverse mass
+    std::vector<int64_t> bodies_ptr_, contact_bodies_;  // the bodies of each contact
+    std::vector<int64_t> contact_of_slot_;
+    Domains slots_;  // the domains and colours as ranges of slots
+    std::vector<double> w_, mu_, weight_;
+    std::vector<MeasureParts> parts_;  // per domain, for measures_from_v
+    ThreadTeam team_;
+};
+
+frix_error solve(SolveContext &ctx) {
+    const frix_problem &p = ctx.problem;
+    if (p.kind != FRIX_PROBLEM_GLOBAL)
+        return fail(FRIX_ERR_UNSUPPORTED, "gnsgs: solves global problems only");
+    ProductForm form(p, (int)ctx.options.i(FRIX_OPT_THREADS));
+    if (frix_error e = form.setup()) return e;
+    // The sweeps see the contacts by slot: r, u, w and mu renumbered, and back at the end.
+    const std::vector<int64_t> &contact = form.contact_of_slot();
+    const int64_t m = 3 * p.nc;
+    std::vector<double> r((size_t)m), u((size_t)m);
+    for (int64_t k = 0; k < p.nc; ++k) std::copy(ctx.r + 3 * contact[k], ctx.r + 3 * contact[k] + 3, &r[3 * k]);
+    frix_problem slots;
+    slots.kind = FRIX_PROBLEM_GLOBAL;
+    slots.nc = p.nc;
+    slots.n = p.n;
+    slots.M = p.M;
+    slots.f = p.f;
+    slots.w = form.slot_w();
+    slots.mu = form.slot_mu();
+    slots.weight = form.slot_weight();
+    SolveContext inner =
+        SolveContext::global(slots, ctx.options, r.data(), u.data(), ctx.v, ctx.info, ctx.clock, ctx.solve_mass, ctx.mass)
+            .with_cache(ctx.cache);
+    inner.return_best = ctx.return_best;
+    if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1)
+        log_line(&ctx.options, "gnsgs: %lld contacts in %lld domains of %lld colours, %lld threads", (long long)p.nc,
+                 (long long)form.domains(), (long long)form.colours(), (long long)ctx.options.i(FRIX_OPT_THREADS));
+    const std::vector<double> blocks = form.diagonal_blocks();
+    Workspace ws(blocks.data(), slots.mu, p.nc, settings_from(ctx.options));
+    const frix_error e = run_sweeps(inner, ws, form, "gnsgs");
+    form.copy_v(ctx.v);
+    for (int64_t k = 0; k < p.nc; ++k) {
+        std::copy(&r[3 * k], &r[3 * k] + 3, ctx.r + 3 * contact[k]);
+        std::copy(&u[3 * k], &u[3 * k] + 3, ctx.u + 3 * contact[k]);
+    }
+    return e;
+}
+
+// nsgs-v's keys but shuffle and seed (the domains fix the order), and threads.
+const frix_option_key kProductKeys[] = {FRIX_OPT_LOCAL_SOLVER, FRIX_OPT_LOCAL_TOLERANCE, FRIX_OPT_LOCAL_MAX_ITER,
+                                        FRIX_OPT_RELAXATION,    FRIX_OPT_FREEZING,        FRIX_OPT_ERROR_FREQUENCY,
+                                        FRIX_OPT_DRIFT_WINDOW,  FRIX_OPT_THREADS,         FRIX_OPT_ACCELERATION,
+                                        (frix_option_key)0};
+
+}  // namespace
+}  // namespace gnsgs
+
+const SolverEntry kGnsgsEntry = {
+    FRIX_SOLVER_GLOBAL_NSGS,
+    "gnsgs",
+    nullptr,
+    "Nonsmooth Gauss-Seidel on a global problem whose M is block-diagonal with small blocks "
+    "(rigid bodies, at most 64 dofs a block), without W: the sweep keeps v = M^-1 (H r + f) up "
+    "to date, reads u_a = H_a^T v + w_a and adds M^-1 H_a dr_a to v after each contact's "
+    "one-contact solve. A sweep costs O(nnz(H)) where nsgs's costs W's blocks; memory is H, "
+    "M^-1 H (H's pattern filled to whole bodies) and M's inverse blocks. The iterates are "
+    "nsgs-v's on W = H^T M^-1 H, in another order: contacts are cut into domains (runs of a "
+    "breadth-first order of the contact graph), the domains coloured so that no two of one "
+    "colour share a body; a thread sweeps a whole domain and the domains of a colour run at "
+    "once; r does not depend on the number of threads. Stopped by the "
+    "global measure. Refuses a deformable M (FRIX_ERR_UNSUPPORTED). Options: threads, and "
+    "those of nsgs-v but shuffle and seed (local_solver, local_tolerance, local_max_iter, "
+    "relaxation, freezing, error_frequency, drift_window, acceleration).",
+    gnsgs::solve,
+    false,
+    true,
+    gnsgs::kProductKeys,
+    nsgs::kVelocityDefaults,
+};
+
+}  // namespace frix
