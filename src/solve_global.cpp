@@ -195,10 +195,7 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
         native.setup_time = native.reduction_time = 0.0;
         native.factorizations = native.symbolic_analyses = 0;  // the solver's own, M's added below
         native.factorization_time = 0.0;
-        const std::function<frix_error(const double *, double *)> solve_mass = [&ms](const double *b, double *x) {
-            return ms.solve(b, x);
-        };
-        SolveContext ctx = SolveContext::global(p, opts, r, u, v, native, clock, &solve_mass, &ms).with_cache(cache);
+        SolveContext ctx = SolveContext::global(p, opts, r, u, v, native, clock, &ms).with_cache(cache);
         ctx.runaway_bound = runaway_bound(free_velocity(p));
         if (frix_error e = entry.solve(ctx)) return e;
         if (native.ran_away && native.status == FRIX_STATUS_STOPPED_BY_CALLBACK) native.status = FRIX_STATUS_DIVERGED;

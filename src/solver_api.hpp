@@ -62,11 +62,9 @@ struct SolveContext {
     double *v;   // n, global problems only
     frix_info &info;
     const Stopwatch &clock;
-    // Global problems: x = M^-1 b with the driver's factorisation of M, for a solver that can
-    // use it (607 calibrates its rho with it); null where there is none.
-    const std::function<frix_error(const double *b, double *x)> *solve_mass;
-    // Global problems: that factorisation itself, for a solver that runs the driver again on
-    // the same problem (auto's reduction route), which then does not factorise M again.
+    // Global problems: the driver's factorisation of M (x = M^-1 b), for a solver that can use
+    // it (607 calibrates its rho with it; auto's reduction route does not factorise M again);
+    // null where there is none.
     MassSolver *mass = nullptr;
     // What a persistent solver keeps between solves (see solve_cache.hpp); null for a
     // one-shot frix_solve.
@@ -86,15 +84,12 @@ struct SolveContext {
     // caller lines up the members by position.
     static SolveContext local(const frix_problem &p, const frix_options &o, double *r, double *u, frix_info &info,
                               const Stopwatch &clock) {
-        return SolveContext{p, o, r, u, nullptr, info, clock, nullptr, nullptr, nullptr};
+        return SolveContext{p, o, r, u, nullptr, info, clock, nullptr, nullptr};
     }
-    // A solve of a global problem: v, and the driver's factorisation of M (mass, with
-    // solve_mass its x = M^-1 b), where there is one.
+    // A solve of a global problem: v, and the driver's factorisation of M, where there is one.
     static SolveContext global(const frix_problem &p, const frix_options &o, double *r, double *u, double *v,
-                               frix_info &info, const Stopwatch &clock,
-                               const std::function<frix_error(const double *b, double *x)> *solve_mass,
-                               MassSolver *mass) {
-        return SolveContext{p, o, r, u, v, info, clock, solve_mass, mass, nullptr};
+                               frix_info &info, const Stopwatch &clock, MassSolver *mass) {
+        return SolveContext{p, o, r, u, v, info, clock, mass, nullptr};
     }
     // The same solve with a persistent solver's cache.
     SolveContext &with_cache(SolveCache *c) {

@@ -180,7 +180,7 @@ LumpedRho lumped_rho(const SolveContext &ctx, const Csc &M, const Csc &H, const 
     // the lumped blocks is as much too large (no step accepted, even with rho cut); a few exact
     // blocks give the factor.
     const double underrate =
-        ctx.solve_mass && s.rho_strategy != FRIX_RHO_CONSTANT ? lumped_underrate(p, H, *ctx.solve_mass, lumped_trace)
+        ctx.mass && s.rho_strategy != FRIX_RHO_CONSTANT ? lumped_underrate(p, H, mass_solve(*ctx.mass), lumped_trace)
                                                               : 1.0;
     const double correction = underrate > kUnderrateToCorrect ? underrate : 1.0;
     if (s.verbosity >= 1 && underrate != 1.0)

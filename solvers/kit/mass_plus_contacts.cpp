@@ -117,12 +117,12 @@ frix_error prepare_mass_plus_contacts(const SolveContext &ctx, KeptMassPlusConta
     if (ctx.cache && kept.m_values == ctx.cache->m_values && kept.h_values == ctx.cache->h_values) return FRIX_OK;
     kept.m_values = kept.h_values = 0;  // until built
     kept.factored_rho = NAN;
-    if (!ctx.solve_mass) return fail(FRIX_ERR_INTERNAL, "%s: no factorisation of M was given", solver);
+    if (!ctx.mass) return fail(FRIX_ERR_INTERNAL, "%s: no factorisation of M was given", solver);
     Csc M, H;
     if (frix_error e = to_csc(*p.M, M)) return e;
     if (frix_error e = to_csc(*p.H, H)) return e;
     if (frix_error e = kept.system.build(M, H, p.nc, solver)) return e;
-    kept.scale = sampled_delassus_scale(p, H, *ctx.solve_mass, samples);
+    kept.scale = sampled_delassus_scale(p, H, mass_solve(*ctx.mass), samples);
     if (!(kept.scale > 0.0) || !std::isfinite(kept.scale)) kept.scale = 1.0;
     if (ctx.cache) kept.m_values = ctx.cache->m_values, kept.h_values = ctx.cache->h_values;
     return FRIX_OK;

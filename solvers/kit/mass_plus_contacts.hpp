@@ -89,6 +89,11 @@ double global_error_or_recovered(const frix_problem &p, const MassSolver *mass, 
 // The normal entry of W_aa = H_a^T M^-1 H_a averaged over up to `samples` contacts spread over
 // the problem (one solve with M's factorisation each): the scale a penalty on the contacts is
 // measured in, with W never formed. NaN when it cannot be computed.
+// x = M^-1 b with a factorisation of M, as the sampling below takes it.
+inline std::function<frix_error(const double *, double *)> mass_solve(const MassSolver &mass) {
+    return [&mass](const double *b, double *x) { return mass.solve(b, x); };
+}
+
 double sampled_delassus_scale(const frix_problem &p, const Csc &H,
                               const std::function<frix_error(const double *, double *)> &solve_mass,
                               int samples);

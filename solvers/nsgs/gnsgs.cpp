@@ -401,7 +401,7 @@ frix_error solve(SolveContext &ctx) {
     slots.mu = form.slot_mu();
     slots.weight = form.slot_weight();
     SolveContext inner =
-        SolveContext::global(slots, ctx.options, r.data(), u.data(), ctx.v, ctx.info, ctx.clock, ctx.solve_mass, ctx.mass)
+        SolveContext::global(slots, ctx.options, r.data(), u.data(), ctx.v, ctx.info, ctx.clock, ctx.mass)
             .with_cache(ctx.cache);
     inner.return_best = ctx.return_best;
     if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1)
