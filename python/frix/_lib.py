@@ -107,6 +107,8 @@ _declare("frix_info_stage_note", c_char_p, c_void_p, c_int64)
 # would cost more than a one-contact solve.
 _declare("frix_solve", c_int, c_void_p, c_void_p, c_void_p, c_void_p, c_void_p, c_void_p)
 
+_declare("frix_problem_measure", c_int, c_void_p, c_double_p, c_double_p, c_double_p, c_void_p)
+
 _declare("frix_persistent_create", c_int, c_void_p, c_void_p, POINTER(c_void_p))
 _declare("frix_persistent_free", None, c_void_p)
 _declare("frix_persistent_solve", c_int, c_void_p, c_void_p, c_void_p, c_void_p, c_void_p)

@@ -10,6 +10,7 @@ from ._convert import _c_string, _contacts_of, _matrix, _pattern_of, _ptr, _vect
 from ._handle import _Closing
 from ._lib import lib, text
 from .errors import DimensionError, InvalidArgumentError, _check, _refusal
+from .result import _MEASURES, _Info, _info_double
 
 
 def _vector_property(attr, getter, size, doc):
@@ -213,6 +214,23 @@ class Problem(_Closing):
                 v = _vector(solution.v, self.dofs, "solution.v")
         _check(lib.frix_fclib_write(_c_string(path, "the path"), self._live(), _ptr(r), _ptr(u), _ptr(v),
                                     0, None, None, None))
+
+    def measure(self, r, v=None):
+        """The error measures of a given r (and v, required for a global problem) without
+        solving, by name as Result.measures gives them: error_scaled (the default measure),
+        error_relative (Siconos's), ..., equilibrium (global problems)."""
+        r = _vector(r, self.contact_dofs, "r")
+        if self.kind == "global":
+            v = None if v is None else _vector(v, self.dofs, "v")
+        elif v is not None:
+            raise _refusal(InvalidArgumentError, "v is given for a local problem (it has no dofs)")
+        info = _Info()
+        handle = self._use()
+        try:
+            _check(lib.frix_problem_measure(handle, _ptr(r), _ptr(v), None, info.handle))
+        finally:
+            self._release()
+        return {name: _info_double(info.handle, key) for name, key in _MEASURES.items()}
 
     def __repr__(self):
         if not self._handle:

@@ -80,3 +80,28 @@ def test_handles_are_not_copied(two_contacts):
             copy.copy(obj)
         with pytest.raises(TypeError):
             pickle.dumps(obj)
+
+
+def test_measure_a_given_r_as_a_solve_does(two_contacts):
+    # frix_problem_measure through Problem.measure: the measures of a result's own r and v are
+    # the result's; a bad r is refused; v is required for a global problem, refused for a local.
+    def same(a, b):  # equal, NaN (a local problem's equilibrium) included
+        return a.keys() == b.keys() and all(a[k] == b[k] or (np.isnan(a[k]) and np.isnan(b[k])) for k in a)
+
+    W, q, mu = two_contacts
+    p = frix.Problem(W, q, mu)
+    res = frix.solve(p, tol=1e-10)
+    assert same(p.measure(res.r), res.measures)
+    assert p.measure(np.zeros(6))["error_scaled"] > 0.1
+    with pytest.raises(frix.DimensionError):
+        p.measure(np.zeros(5))
+    with pytest.raises(frix.InvalidArgumentError):
+        p.measure(res.r, v=np.zeros(1))
+    M = np.diag([2.0, 3.0, 4.0])
+    H = np.eye(3)
+    g = frix.Problem.from_global(M, H, np.array([0.0, 0.1, -1.0]), np.zeros(3), np.array([0.5]))
+    gres = frix.solve(g, tol=1e-10)
+    assert same(g.measure(gres.r, gres.v), gres.measures)
+    assert gres.measures["equilibrium"] < 1e-12
+    with pytest.raises(frix.InvalidArgumentError):
+        g.measure(gres.r)
