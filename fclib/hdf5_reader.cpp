@@ -325,8 +325,26 @@ void FileReader::check_written(const Dataset &d, const std::string &name, Unwrit
     // Unwritten data would read as HDF5's fill value: zeros that the file never held.
     if (status == H5D_SPACE_STATUS_NOT_ALLOCATED)
         raise(FRIX_ERR_FORMAT, "'%s': dataset %s was never written", path(), name.c_str());
-    if (status == H5D_SPACE_STATUS_PART_ALLOCATED)
+    if (status == H5D_SPACE_STATUS_PART_ALLOCATED && !all_chunks_written(d))
         raise(FRIX_ERR_FORMAT, "'%s': dataset %s was only partly written", path(), name.c_str());
+}
+
+// A compressed (chunked, filtered) dataset stores less than its extent, and HDF5 then calls it
+// partly allocated however whole it is: it is whole when every chunk its extent covers exists.
+bool FileReader::all_chunks_written(const Dataset &d) const {
+    Handle creation = plist_handle(H5Dget_create_plist(d.id.get()));
+    Handle space = space_handle(H5Dget_space(d.id.get()));
+    if (!creation.valid() || !space.valid() || H5Pget_layout(creation.get()) != H5D_CHUNKED) return false;
+    hsize_t chunk[H5S_MAX_RANK] = {0}, extent[H5S_MAX_RANK] = {0};
+    const int rank = H5Pget_chunk(creation.get(), H5S_MAX_RANK, chunk);
+    if (rank < 0 || H5Sget_simple_extent_dims(space.get(), extent, nullptr) != rank) return false;
+    hsize_t expected = 1;
+    for (int k = 0; k < rank; ++k) {
+        if (chunk[k] == 0) return false;
+        expected *= (extent[k] + chunk[k] - 1) / chunk[k];
+    }
+    hsize_t stored = 0;
+    return H5Dget_num_chunks(d.id.get(), space.get(), &stored) >= 0 && stored == expected;
 }
 
 void FileReader::charge(const std::string &name, double bytes) const {

@@ -66,6 +66,7 @@ class FileReader {
     bool walk_links(const std::string &name, int depth) const;
     void check_link(const std::string &name, int depth) const;
     void check_written(const Dataset &d, const std::string &name, Unwritten unwritten) const;
+    bool all_chunks_written(const Dataset &d) const;
     void charge(const std::string &name, double bytes) const;
 
     std::string path_;

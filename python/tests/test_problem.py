@@ -105,3 +105,21 @@ def test_measure_a_given_r_as_a_solve_does(two_contacts):
     assert gres.measures["equilibrium"] < 1e-12
     with pytest.raises(frix.InvalidArgumentError):
         g.measure(gres.r)
+
+
+def test_large_arrays_are_saved_deflated_and_read_back_exactly(tmp_path):
+    # Arrays of 1024 entries or more are written in deflated chunks: the file is smaller than
+    # its doubles alone, and the problem read back is the same to the bit.
+    nc = 2000
+    rng = np.random.default_rng(3)
+    blocks = [np.diag([2.0, 1.0, 1.0]) for _ in range(nc)]
+    W = sp.block_diag(blocks, format="csr")
+    q = np.tile([-1.0, 0.0, 0.0], nc) + 1e-3 * np.round(rng.standard_normal(3 * nc), 2)
+    mu = np.full(nc, 0.3)
+    p = frix.Problem(W, q, mu)
+    path = tmp_path / "large.hdf5"
+    p.save(path)
+    assert path.stat().st_size < 0.5 * 8 * (W.nnz + q.size + mu.size)
+    back = frix.load(path)
+    assert (back.W != p.W).nnz == 0
+    assert np.array_equal(frix.solve(back, tol=1e-10).r, frix.solve(p, tol=1e-10).r)
