@@ -7,6 +7,7 @@
 #include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -18,8 +19,9 @@ typedef struct {
 } cli_run;
 
 /* Runs `program` with the NULL-terminated arguments; stdout and stderr go through files
- * (no pipe can fill up and block the child). */
-static inline cli_run run_program(const char *program, const char *const *args) {
+ * (no pipe can fill up and block the child). address_bytes > 0: the child's address space is
+ * limited to that (OpenBLAS on one thread: its thread pool would spin on a failed allocation). */
+static inline cli_run run_program_within(const char *program, const char *const *args, double address_bytes) {
     char out_path[512], err_path[512];
     snprintf(out_path, sizeof out_path, "%s/cli_%ld.out", FRIX_TEST_TMPDIR, (long)getpid());
     snprintf(err_path, sizeof err_path, "%s/cli_%ld.err", FRIX_TEST_TMPDIR, (long)getpid());
@@ -40,6 +42,11 @@ static inline cli_run run_program(const char *program, const char *const *args) 
         int fo = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
         int fe = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
         if (fo < 0 || fe < 0 || dup2(fo, 1) < 0 || dup2(fe, 2) < 0) _exit(126);
+        if (address_bytes > 0.0) {
+            struct rlimit lim = {(rlim_t)address_bytes, (rlim_t)address_bytes};
+            if (setrlimit(RLIMIT_AS, &lim) != 0) _exit(126);
+            setenv("OPENBLAS_NUM_THREADS", "1", 1);
+        }
         execv(program, (char *const *)argv);
         _exit(127);
     }
@@ -52,6 +59,10 @@ static inline cli_run run_program(const char *program, const char *const *args) 
     unlink(out_path);
     unlink(err_path);
     return r;
+}
+
+static inline cli_run run_program(const char *program, const char *const *args) {
+    return run_program_within(program, args, 0.0);
 }
 
 /* Runs FRIX_CLI (the `frix` executable) with the NULL-terminated arguments. */

@@ -692,33 +692,13 @@ START_TEST(test_time_limit_covers_read) {
 END_TEST
 
 #if !defined(__SANITIZE_ADDRESS__) /* (AddressSanitizer's address space admits no limit) */
-/* Runs `frix ARGS` with its address space limited to `bytes` (OpenBLAS on one thread: its
- * thread pool would spin on a failed allocation), stderr into *err. Returns the exit code, or
- * 128 + signal. */
+/* Runs `frix ARGS` with its address space limited to `bytes`, stderr into *err. Returns the
+ * exit code, or 128 + signal. */
 static int run_with_address_limit(const char *const *args, double bytes, char **err) {
-    const char *err_path = FRIX_TEST_TMPDIR "/cli_ulimit.err";
-    const char *argv[16];
-    int argc = 0;
-    argv[argc++] = FRIX_CLI;
-    for (; args[argc - 1] != NULL; ++argc) argv[argc] = args[argc - 1];
-    argv[argc] = NULL;
-    fflush(stdout);
-    fflush(stderr);
-    pid_t pid = fork();
-    ck_assert_int_ge(pid, 0);
-    if (pid == 0) {
-        int fo = open("/dev/null", O_WRONLY), fe = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        struct rlimit lim = {(rlim_t)bytes, (rlim_t)bytes};
-        if (fo < 0 || fe < 0 || dup2(fo, 1) < 0 || dup2(fe, 2) < 0 || setrlimit(RLIMIT_AS, &lim) != 0) _exit(126);
-        setenv("OPENBLAS_NUM_THREADS", "1", 1);
-        execv(FRIX_CLI, (char *const *)argv);
-        _exit(127);
-    }
-    int status = 0;
-    ck_assert_int_eq(waitpid(pid, &status, 0), pid);
-    *err = slurp(err_path, NULL);
-    unlink(err_path);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    cli_run r = run_program_within(FRIX_CLI, args, bytes);
+    free(r.out);
+    *err = r.err;
+    return r.code;
 }
 #endif
 
