@@ -3,11 +3,12 @@
  *
  *   granular [--spheres N] [--aspect A] [--steps S] [--step H] [--mu MU] [--radius R] [--seed K]
  *            [--solver NAME] [--tol T] [--threads T] [--max-iter I] [--time-limit SEC]
- *            [--set NAME=VALUE ...] [--dump-step K --dump FILE.hdf5] [--every K] [--check] [--quiet]
+ *            [--set NAME=VALUE ...] [--dump-step K --dump FILE.hdf5] [--every K] [--settle]
+ *            [--floor F] [--check] [--quiet]
  *
  * Bodies: N spheres of radii in [0.7 R, R] (density 2500), set on a loose lattice A times as
- * tall as wide (default 2) over the floor of a box with four walls, with small random
- * velocities. Each step (Moreau-Jean, theta = 1):
+ * tall as wide (default 2) in the middle of the floor (F times as wide as the lattice) of a box
+ * with four walls, with small random velocities. Each step (Moreau-Jean, theta = 1):
  *   - broad phase on a uniform grid of cells of one sphere's span; a contact is a pair (or a
  *     sphere and a wall) closer than a margin no step can cross: a floor of 5 % of the
  *     smallest radius plus, for each sphere, twice what it can move in a step;
@@ -18,14 +19,20 @@
  *     and warm-started from last step's impulses of the same pairs;
  *   - positions x += h v.
  * --steps S runs steps 0 to S-1. One line per step (every K-th with --every, and the last):
- * step, contacts, solver, iterations, error, solve time, energy. A step whose solve did not
- * converge is reported on stderr, and their count at the end. --dump writes step K's problem
- * (and its solution) as an FCLIB file. --check exits with 1 unless every step converged and
- * the energy (kinetic + potential) never grew by more than the tolerance of the step's solve
- * allows. Exit status 2 for a usage or library error; --help prints the options.
+ * step, contacts, solver, iterations, the error in the default measure and in Siconos's, solve
+ * time, energy, and the pile's physics (physics.h): kinetic energy, the largest grain speed over
+ * its radius, the largest overlap over the smallest radius. --settle stops after the first step
+ * at which the pile is at rest (every grain slower than 0.1 radius per second). The last lines
+ * say whether the pile came to rest and its angle of repose. A step whose solve did not
+ * converge is reported on stderr, and their count at the end. --dump writes step K's problem,
+ * its solution and, as guess 1, the warm start the step's solve began from, as an FCLIB file.
+ * --check exits with 1 unless every step converged and the energy (kinetic + potential) never
+ * grew by more than the tolerance of the step's solve allows. Exit status 2 for a usage or
+ * library error; --help prints the options.
  */
 #include <frix/frix.h>
 
+#include "physics.h"
 #include "pour.h"
 
 #include <errno.h>
@@ -42,14 +49,15 @@ typedef struct {
     double time_limit;
     const char *solver, *dump;
     const char *set[16]; /* --set NAME=VALUE: any other solver option, by name */
-    int sets, check, quiet;
+    int sets, check, quiet, settle;
 } settings;
 
 
 static const char kUsage[] =
     "usage: granular [--spheres N] [--aspect A] [--steps S] [--step H] [--mu MU] [--radius R] [--seed K]\n"
     "         [--solver NAME] [--tol T] [--threads T] [--max-iter I] [--time-limit SEC]\n"
-    "         [--set NAME=VALUE ...] [--dump-step K --dump FILE.hdf5] [--every K] [--check] [--quiet]\n";
+    "         [--set NAME=VALUE ...] [--dump-step K --dump FILE.hdf5] [--every K] [--settle]\n"
+    "         [--floor F] [--check] [--quiet]\n";
 
 static int usage(const char *msg, const char *arg) {
     fprintf(stderr, "granular: %s%s%s\n%s", msg, arg ? ": " : "", arg ? arg : "", kUsage);
@@ -67,7 +75,8 @@ static void help(void) {
           "  --time-limit SEC time limit of every step's solve (default 0: none)\n"
           "  --set NAME=VALUE any other solver option, by name (frix solvers NAME lists them)\n"
           "  --dump-step K    with --dump: write step K (0 to S-1) as an FCLIB problem with its solution\n"
-          "  --dump FILE.hdf5 the file --dump-step writes\n"
+          "  --dump FILE.hdf5 the file --dump-step writes (the step's warm start as guess 1)\n"
+          "  --settle         stop after the first step at which every grain is slower than 0.1 radius/s\n"
           "  --check          exit 1 unless every step converged and the energy never grew\n"
           "  --quiet          no line per step (unconverged steps are still reported on stderr)\n"
           "  --help           this text\n"
@@ -84,6 +93,7 @@ static int parse(int argc, char **argv, settings *st) {
         int ok = 1, takes = 1;
         if (!strcmp(o, "--help") || !strcmp(o, "-h")) return help(), 3;
         if (!strcmp(o, "--check")) st->check = 1, takes = 0;
+        else if (!strcmp(o, "--settle")) st->settle = 1, takes = 0;
         else if (!strcmp(o, "--quiet")) st->quiet = 1, takes = 0;
         else if (!a) return usage("missing value after", o);
         else if (parse_scene_option(o, a, &st->scene, &ok)) {
@@ -139,6 +149,27 @@ static int set_option(frix_options *opts, const char *assignment) {
     return 0;
 }
 
+/* The dumped step: its problem, its solution and, as guess 1, the warm start r0 its solve began
+ * from, with the v and u that r0 gives (M v = H r0 + f with M = diag(mdiag), u = H^T v + w), so
+ * that a benchmark can start where the time stepping did. */
+static frix_error dump_with_warm_start(const char *path, const frix_problem *p, const double *mdiag, const double *r,
+                                       const double *u, const double *v, const double *r0) {
+    const int64_t m = 3 * frix_problem_contacts(p), dofs = frix_problem_dofs(p);
+    double *v0 = malloc(sizeof *v0 * (size_t)(dofs > 0 ? dofs : 1)), *u0 = malloc(sizeof *u0 * (size_t)(m > 0 ? m : 1));
+    frix_error e = v0 && u0 ? FRIX_OK : FRIX_ERR_OUT_OF_MEMORY;
+    if (!e) {
+        memcpy(v0, frix_problem_f(p), sizeof *v0 * (size_t)dofs);
+        memcpy(u0, frix_problem_w(p), sizeof *u0 * (size_t)m);
+        e = frix_matrix_gemv(frix_problem_H(p), 1.0, r0, 1.0, v0);
+    }
+    for (int64_t k = 0; !e && k < dofs; ++k) v0[k] /= mdiag[k];
+    if (!e) e = frix_matrix_gemv_transposed(frix_problem_H(p), 1.0, v0, 1.0, u0);
+    if (!e) e = frix_fclib_write(path, p, r, u, v, 1, r0, u0, v0);
+    free(v0);
+    free(u0);
+    return e;
+}
+
 int main(int argc, char **argv) {
     settings st;
     const int parsed = parse(argc, argv, &st);
@@ -148,7 +179,7 @@ int main(int argc, char **argv) {
 
     world w;
     memset(&w, 0, sizeof w);
-    if (!make_world(st.scene.spheres, st.scene.seed, st.scene.aspect, st.scene.radius, &w)) {
+    if (!make_world(&st.scene, &w)) {
         free_world(&w);
         fprintf(stderr, "granular: out of memory\n");
         return 2;
@@ -165,7 +196,7 @@ int main(int argc, char **argv) {
     contacts now = {0}, before = {0};
     int64_t *cell_start = NULL, cells_capacity = 0, *order = malloc(sizeof *order * (size_t)n);
     int64_t *hr = NULL, *hc = NULL;
-    double *hv = NULL, *wv = NULL, *mu = NULL, *r = NULL, *u = NULL, *r_before = NULL;
+    double *hv = NULL, *wv = NULL, *mu = NULL, *r = NULL, *u = NULL, *r_before = NULL, *r_warm = NULL;
     int64_t c_capacity = 0;
     frix_matrix *M = NULL, *H = NULL, *H_next = NULL;
     frix_problem *problem = NULL;
@@ -194,11 +225,14 @@ int main(int argc, char **argv) {
     }
     for (int i = 0; i < st.sets && status == 0; ++i) status = set_option(opts, st.set[i]);
     if (status) goto done;
-    if (!st.quiet) printf("# step contacts solver iterations error time_s energy_J\n");
+    if (!st.quiet)
+        printf("# step contacts solver iterations error error_siconos time_s energy_J kinetic_J max_speed_per_radius_1/s "
+               "max_overlap_per_rmin\n");
     const double e0 = energy(&w);
     double e_before = e0;
-    int64_t unconverged = 0;
-    for (int64_t step = 0; step < st.scene.steps; ++step) {
+    int64_t unconverged = 0, at_rest = -1, step = 0;
+    pile_state pile = {0.0, 0.0, 0.0};
+    for (; step < st.scene.steps && at_rest < 0; ++step) {
         /* A sphere moves by at most h |v| + h^2 g in a step (and |v| changes little): its reach
          * is twice that. */
         for (int64_t i = 0; i < n; ++i) {
@@ -217,7 +251,8 @@ int main(int argc, char **argv) {
         if (nc > c_capacity || !r) {
             const int64_t cap = nc > 2 * c_capacity ? nc : 2 * c_capacity + 1;
             if (!grow_doubles(&wv, 3 * cap) || !grow_doubles(&mu, cap) || !grow_doubles(&r, 3 * cap) ||
-                !grow_doubles(&u, 3 * cap) || !grow_doubles(&r_before, 3 * cap) || !grow_indices(&hr, 36 * cap) ||
+                !grow_doubles(&u, 3 * cap) || !grow_doubles(&r_before, 3 * cap) || !grow_doubles(&r_warm, 3 * cap) ||
+                !grow_indices(&hr, 36 * cap) ||
                 !grow_indices(&hc, 36 * cap) || !grow_doubles(&hv, 36 * cap)) {
                 fprintf(stderr, "granular: out of memory\n");
                 status = 2;
@@ -238,6 +273,7 @@ int main(int argc, char **argv) {
         for (int64_t i = 0; i < n; ++i)
             for (int q = 0; q < 6; ++q) f[6 * i + q] = mdiag[6 * i + q] * w.v[6 * i + q] - (q == 2 ? st.scene.h * w.mass[i] * GRAVITY : 0.0);
         warm_start(&now, &before, r_before, r);
+        if (st.dump_step == step) memcpy(r_warm, r, sizeof *r * 3 * (size_t)nc);
         if (!ps) {
             if ((e = frix_problem_global(M, H_next, f, wv, mu, nc, &problem)) ||
                 (e = frix_persistent_create(problem, opts, &ps))) {
@@ -270,7 +306,7 @@ int main(int argc, char **argv) {
             snprintf(title, sizeof title, "granular: %lld spheres, step %lld, seed %lld", (long long)n, (long long)step,
                      (long long)st.scene.seed);
             frix_problem_set_title(dumped, title);
-            e = frix_fclib_write(st.dump, dumped, r, u, v_new, 0, NULL, NULL, NULL);
+            e = dump_with_warm_start(st.dump, dumped, mdiag, r, u, v_new, r_warm);
             frix_problem_free(dumped);
             if (e) {
                 failed = "--dump";
@@ -282,9 +318,14 @@ int main(int argc, char **argv) {
             for (int q = 0; q < 3; ++q) w.x[3 * i + q] += st.scene.h * w.v[6 * i + q];
         memcpy(r_before, r, sizeof *r * 3 * (size_t)nc);
         const double en = energy(&w);
-        if (!st.quiet && (step % st.scene.every == 0 || step == st.scene.steps - 1))
-            printf("%lld %lld %s %lld %.3e %.4f %.9g\n", (long long)step, (long long)nc, st.solver,
-                   (long long)frix_info_iterations(info), err, frix_info_solve_time(info), en);
+        pile = measure_pile(&w, &now);
+        if (st.settle && pile.max_rate < REST_RATE) at_rest = step;
+        double err_siconos = NAN;
+        frix_info_get_double(info, FRIX_INFO_ERROR_RELATIVE, &err_siconos);
+        if (!st.quiet && (step % st.scene.every == 0 || step == st.scene.steps - 1 || at_rest == step))
+            printf("%lld %lld %s %lld %.3e %.3e %.4f %.9g %.4e %.4e %.3e\n", (long long)step, (long long)nc, st.solver,
+                   (long long)frix_info_iterations(info), err, err_siconos, frix_info_solve_time(info), en,
+                   pile.kinetic, pile.max_rate, pile.penetration);
         /* Always said: the next steps start from an inexact answer. */
         if (s != FRIX_STATUS_CONVERGED) {
             fprintf(stderr, "granular: step %lld did not converge: %s, error %.3e\n", (long long)step,
@@ -304,8 +345,12 @@ int main(int argc, char **argv) {
         e_before = en;
     }
     if (unconverged > 0)
-        fprintf(stderr, "granular: %lld of %lld steps did not converge\n", (long long)unconverged,
-                (long long)st.scene.steps);
+        fprintf(stderr, "granular: %lld of %lld steps did not converge\n", (long long)unconverged, (long long)step);
+    if (!st.quiet) {
+        if (at_rest >= 0) printf("# at rest after step %lld\n", (long long)at_rest);
+        else printf("# not at rest after %lld steps: the fastest grain moves %.3g radius/s\n", (long long)step, pile.max_rate);
+        printf("# angle of repose %.1f degrees\n", angle_of_repose(&w));
+    }
 done:
     if (failed) {
         status = fail(failed, e);
@@ -334,6 +379,7 @@ done:
     free(r);
     free(u);
     free(r_before);
+    free(r_warm);
     free_world(&w);
     return status;
 }

@@ -151,7 +151,7 @@ static int run(const settings *st, int rank, int ranks) {
     frix_options *opts = NULL;
     frix_info *info = NULL;
     int status = 0;
-    if (!make_world(st->scene.spheres, st->scene.seed, st->scene.aspect, st->scene.radius, &w) ||
+    if (!make_world(&st->scene, &w) ||
         !(grid_order = malloc(sizeof *grid_order * (size_t)w.n)) || !(reach = malloc(sizeof *reach * (size_t)w.n)) ||
         !(mark = calloc((size_t)w.n, 1)) || !(b.counts = malloc(sizeof *b.counts * (size_t)ranks)) ||
         !(b.displs = malloc(sizeof *b.displs * (size_t)(ranks + 1))) || !grow_all(&b, 0, w.n)) {

@@ -15,9 +15,11 @@ static double uniform(uint64_t *s) {
     return (double)((*s * 2685821657736338717ULL) >> 11) * (1.0 / 9007199254740992.0);
 }
 
-/* The initial state: a lattice filling the box's floor, aspect times as tall as wide (to the
- * last layer), each site jittered. */
-int make_world(int64_t n, int64_t seed, double aspect, double radius, world *w) {
+/* The initial state: a lattice aspect times as tall as wide (to the last layer), each site
+ * jittered, in the middle of a floor `floor` times as wide (the walls stand at its edges). */
+int make_world(const scene_settings *s, world *w) {
+    const int64_t n = s->spheres, seed = s->seed;
+    const double aspect = s->aspect, radius = s->radius;
     w->n = n;
     w->x = malloc(sizeof *w->x * 3 * (size_t)n);
     w->v = malloc(sizeof *w->v * 6 * (size_t)n);
@@ -31,7 +33,8 @@ int make_world(int64_t n, int64_t seed, double aspect, double radius, world *w) 
     while (aspect * (double)(side * side * side) < (double)n) ++side;
     w->rmax = R;
     w->rmin = 0.7 * R;
-    w->box[0] = w->box[1] = (double)side * spacing;
+    w->box[0] = w->box[1] = s->floor * (double)side * spacing;
+    const double offset = 0.5 * (s->floor - 1.0) * (double)side * spacing;
     for (int64_t i = 0; i < n; ++i) {
         const int64_t ix = i % side, iy = (i / side) % side, iz = i / (side * side);
         const double r = R * (0.7 + 0.3 * uniform(&rng));
@@ -39,8 +42,8 @@ int make_world(int64_t n, int64_t seed, double aspect, double radius, world *w) 
         w->mass[i] = DENSITY * 4.0 / 3.0 * M_PI * r * r * r;
         w->inertia[i] = 0.4 * w->mass[i] * r * r;
         const double slack = 0.5 * spacing - r;
-        w->x[3 * i] = ((double)ix + 0.5) * spacing + slack * (2.0 * uniform(&rng) - 1.0);
-        w->x[3 * i + 1] = ((double)iy + 0.5) * spacing + slack * (2.0 * uniform(&rng) - 1.0);
+        w->x[3 * i] = offset + ((double)ix + 0.5) * spacing + slack * (2.0 * uniform(&rng) - 1.0);
+        w->x[3 * i + 1] = offset + ((double)iy + 0.5) * spacing + slack * (2.0 * uniform(&rng) - 1.0);
         w->x[3 * i + 2] = ((double)iz + 0.5) * spacing;
         for (int k = 0; k < 6; ++k) w->v[6 * i + k] = k < 3 ? 0.05 * (2.0 * uniform(&rng) - 1.0) : 0.0;
     }
@@ -266,12 +269,14 @@ int parse_int(const char *s, int64_t *out) {
 
 void scene_defaults(scene_settings *s) {
     *s = (scene_settings){.spheres = 1000, .steps = 200, .seed = 1, .max_iter = 0, .every = 1, .h = 2e-3, .mu = 0.5,
-                          .radius = 0.01, .tol = 1e-4, .aspect = 2.0};
+                          .radius = 0.01, .tol = 1e-4, .aspect = 2.0, .floor = 1.0};
 }
 
 void scene_help(FILE *out) {
     fputs("  --spheres N      spheres poured (default 1000)\n"
           "  --aspect A       the lattice they start on is A times as tall as wide (0.01 to 100, default 2)\n"
+          "  --floor F        the box's floor is F times as wide as the lattice (1 to 100, default 1: the\n"
+          "                   walls hold the lattice; wider leaves room for a heap and its angle of repose)\n"
           "  --steps S        time steps run, numbered 0 to S-1 (default 200)\n"
           "  --step H         time step, seconds (default 2e-3)\n"
           "  --mu MU          friction coefficient of every contact (default 0.5)\n"
@@ -293,6 +298,7 @@ int parse_scene_option(const char *o, const char *a, scene_settings *s, int *ok)
     else if (!strcmp(o, "--mu")) *ok = parse_double(a, &s->mu) && s->mu >= 0.0;
     else if (!strcmp(o, "--radius")) *ok = parse_double(a, &s->radius) && s->radius > 0.0;
     else if (!strcmp(o, "--aspect")) *ok = parse_double(a, &s->aspect) && s->aspect >= 0.01 && s->aspect <= 100.0;
+    else if (!strcmp(o, "--floor")) *ok = parse_double(a, &s->floor) && s->floor >= 1.0 && s->floor <= 100.0;
     else if (!strcmp(o, "--tol")) *ok = parse_double(a, &s->tol) && s->tol > 0.0;
     else return 0;
     return 1;

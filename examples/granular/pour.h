@@ -33,7 +33,7 @@ typedef struct {
 /* What both clients take: the scene and its steps. */
 typedef struct {
     int64_t spheres, steps, seed, max_iter, every;
-    double h, mu, radius, tol, aspect;
+    double h, mu, radius, tol, aspect, floor;
 } scene_settings;
 void scene_defaults(scene_settings *s);
 /* Option o with value a: 1 when it is one of these (*ok then says whether a is valid for it),
@@ -42,9 +42,10 @@ int parse_scene_option(const char *o, const char *a, scene_settings *s, int *ok)
 /* The scene options, one line each with its default, for --help. */
 void scene_help(FILE *out);
 
-/* n spheres of radii in [0.7 radius, radius] on a jittered lattice `aspect` times as tall as
- * wide, small random velocities (the same on every machine for a seed); 0 when out of memory. */
-int make_world(int64_t n, int64_t seed, double aspect, double radius, world *w);
+/* The scene's spheres (radii in [0.7 radius, radius]) on a jittered lattice `aspect` times as
+ * tall as wide, centred on a floor `floor` times as wide as the lattice, small random velocities
+ * (the same on every machine for a seed); 0 when out of memory. */
+int make_world(const scene_settings *s, world *w);
 void free_world(world *w);
 /* Kinetic plus potential energy. */
 double energy(const world *w);
