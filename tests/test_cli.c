@@ -307,6 +307,45 @@ START_TEST(test_tiny_problem) {
 }
 END_TEST
 
+/* --guess K starts from the file's guess K: a file whose one guess is its solution has converged
+ * before any sweep, where the same solve from r = 0 takes sweeps; a guess the file lacks, or a
+ * number that is none, is refused (exit 2) with the count the file holds. */
+START_TEST(test_solve_from_a_guess) {
+    make_tiny_problem();
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_fclib_read(TINY, &p), FRIX_OK);
+    double r[6] = {0}, u[6] = {0};
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-13), FRIX_OK);
+    ck_assert_int_eq(frix_solve(p, o, r, u, NULL, NULL), FRIX_OK);
+    const char *guessed = FRIX_TEST_TMPDIR "/cli_tiny_guessed.hdf5";
+    ck_assert_int_eq(frix_fclib_write(guessed, p, NULL, NULL, NULL, 1, r, u, NULL), FRIX_OK);
+    frix_options_free(o);
+    frix_problem_free(p);
+
+    const char *from_guess[] = {"solve", guessed, "--guess", "1", "--solver", "nsgs", "--tol", "1e-10", "--json", NULL};
+    const char *from_zero[] = {"solve", guessed, "--solver", "nsgs", "--tol", "1e-10", "--json", NULL};
+    cli_run g = run_cli(from_guess), z = run_cli(from_zero);
+    ck_assert_msg(g.code == 0 && z.code == 0, "exit %d, %d: %s%s", g.code, z.code, g.err, z.err);
+    ck_assert_msg(strstr(g.out, "\"iterations\":0,"), "%s", g.out);
+    ck_assert_msg(!strstr(z.out, "\"iterations\":0,"), "%s", z.out);
+    run_free(&g);
+    run_free(&z);
+
+    const char *past[] = {"solve", guessed, "--guess", "2", NULL};
+    const char *none[] = {"solve", TINY, "--guess", "1", NULL};
+    const char *bad[] = {"solve", TINY, "--guess", "0", NULL};
+    cli_run a = run_cli(past), b = run_cli(none), c = run_cli(bad);
+    ck_assert_msg(a.code == 2 && strstr(a.err, "holds 1 guess"), "exit %d: %s", a.code, a.err);
+    ck_assert_msg(b.code == 2 && strstr(b.err, "holds 0 guesses"), "exit %d: %s", b.code, b.err);
+    ck_assert_msg(c.code == 2 && strstr(c.err, "--guess expects"), "exit %d: %s", c.code, c.err);
+    run_free(&a);
+    run_free(&b);
+    run_free(&c);
+}
+END_TEST
+
 START_TEST(test_usage_errors) {
     make_tiny_problem();
     make_text_file();
@@ -589,6 +628,7 @@ static Suite *cli_suite(void) {
     tcase_add_test(basic, test_solvers);
     tcase_add_test(basic, test_tiny_problem);
     tcase_add_test(basic, test_usage_errors);
+    tcase_add_test(basic, test_solve_from_a_guess);
     tcase_add_test(basic, test_choice_names_and_range_messages);
     suite_add_tcase(s, basic);
     add_issue49_tests(s);
