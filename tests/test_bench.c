@@ -466,6 +466,23 @@ START_TEST(test_siconos_comparator) {
                   "frix-siconos: %s", sic.out);
     run_free(&sic);
 
+    /* --guess K: from a guess that is the solution, Siconos's NSGS is done at its first sweep;
+     * a guess the file lacks is refused. */
+    frix_problem *p = NULL;
+    double r0[6] = {0}, u0[6] = {0};
+    ck_assert_int_eq(frix_fclib_read(TMP "/sic/problems/tiny.hdf5", &p), FRIX_OK);
+    ck_assert_int_eq(frix_problem_contacts(p), 2);
+    ck_assert_int_eq(frix_solve(p, NULL, r0, u0, NULL, NULL), FRIX_OK);
+    ck_assert_int_eq(frix_fclib_write(TMP "/sic/guessed.hdf5", p, NULL, NULL, NULL, 1, r0, u0, NULL), FRIX_OK);
+    frix_problem_free(p);
+    const char *from_guess[] = {TMP "/sic/guessed.hdf5", "--solver", "NSGS", "--tol", "1e-8", "--guess", "1", "--json", NULL};
+    const char *past[] = {TMP "/sic/guessed.hdf5", "--solver", "NSGS", "--guess", "2", NULL};
+    cli_run g = run_program(adapter, from_guess), bad = run_program(adapter, past);
+    ck_assert_msg(g.code == 0 && json_number_at(g.out, "iterations") <= 1, "frix-siconos --guess 1: %s%s", g.out, g.err);
+    ck_assert_msg(bad.code == 2 && strstr(bad.err, "holds 1 guess"), "frix-siconos --guess 2: %d %s", bad.code, bad.err);
+    run_free(&g);
+    run_free(&bad);
+
     const char *args[] = {"bench", TMP "/sic/problems", "--solvers", "nsgs,siconos:NSGS,siconos:504",
                           "--tol", "1e-10", "--time-limit", "5", "--out", TMP "/sic/out", "--no-plots", NULL};
     ck_assert_int_eq(cli_exit_code(args), 0);

@@ -61,6 +61,13 @@ ProblemPtr read_problem(const std::string &path);
 // of T s" and kExitNotConverged, as a solve stopped by its time limit ends.
 ProblemPtr read_problem(const std::string &path, double time_limit, double seconds_left);
 
+// --guess K: K as a guess number (1, 2, ...), or a usage error of `command`.
+int64_t parse_guess_number(const char *command, const std::string &text);
+// r, u (and v: NULL for a local problem) from guess k (1-based, as FCLIB numbers them) of the
+// FCLIB file `file`, which holds `problem`; fails saying how many guesses it holds.
+void start_from_guess(const std::string &file, const frix_problem *problem, int64_t k, double *r, double *u,
+                      double *v);
+
 // Fails ("cannot write OUTPUT: ...") unless frix_fclib_write can replace `output` without
 // losing data: its directory exists and is writable, and an existing file there (behind a
 // symbolic link: the file linked to) is a regular, writable file and not `input` (the file

@@ -6,7 +6,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <chrono>
@@ -128,12 +127,7 @@ SolveArgs parse(int argc, char **argv, bool &help) {
             if (v.empty()) usage_error("solve", "--output needs a file name");
             a.output = v;
         } else if (args.option("--guess", v)) {
-            char *end = nullptr;
-            errno = 0;
-            const long long k = std::strtoll(v.c_str(), &end, 10);
-            if (v.empty() || *end != '\0' || errno != 0 || k < 1)
-                usage_error("solve", "--guess expects a guess number (1, 2, ...), got '" + v + "'");
-            a.guess = k;
+            a.guess = parse_guess_number("solve", v);
         } else if (args.flag("--json")) {
             a.json = true;
         } else if (args.flag("--force")) {
@@ -162,19 +156,6 @@ SolveArgs parse(int argc, char **argv, bool &help) {
         a.settings.push_back({FRIX_OPT_VERBOSITY, "--verbose", std::to_string(a.verbosity),
                               "verbosity " + std::to_string(a.verbosity)});
     return a;
-}
-
-// r, u (and v) from guess k (1-based) of the FCLIB file `file`, which holds `problem`.
-void start_from_guess(const std::string &file, const frix_problem *problem, int64_t k, double *r, double *u,
-                      double *v) {
-    int64_t count = 0;
-    if (frix_error err = frix_fclib_guess_count(file.c_str(), &count))
-        fail("--guess: cannot read the guesses of " + file + ": " + library_message(err));
-    if (k > count)
-        fail("--guess " + std::to_string(k) + ": " + file + " holds " + std::to_string(count) + " guess" +
-             (count == 1 ? "" : "es"));
-    if (frix_error err = frix_fclib_read_guess(file.c_str(), problem, k - 1, r, u, v))
-        fail("--guess " + std::to_string(k) + ": " + library_message(err));
 }
 
 // The library decides what is in range; the CLI only reports what it says.

@@ -1,4 +1,5 @@
 // Helpers shared by the subcommands.
+#include "args.hpp"
 #include "cli.hpp"
 
 #include <fcntl.h>
@@ -453,6 +454,28 @@ const char *status_token(frix_status status) {
         case FRIX_STATUS_MEMORY_LIMIT: return "memory_limit";
     }
     return "unknown";
+}
+
+int64_t parse_guess_number(const char *command, const std::string &text) {
+    char *end = nullptr;
+    errno = 0;
+    const long long k = std::strtoll(text.c_str(), &end, 10);
+    if (text.empty() || *end != '\0' || errno != 0 || k < 1)
+        usage_error(command, "--guess expects a guess number (1, 2, ...), got '" + text + "'");
+    return k;
+}
+
+// r, u (and v) from guess k (1-based) of the FCLIB file `file`, which holds `problem`.
+void start_from_guess(const std::string &file, const frix_problem *problem, int64_t k, double *r, double *u,
+                      double *v) {
+    int64_t count = 0;
+    if (frix_error err = frix_fclib_guess_count(file.c_str(), &count))
+        fail("--guess: cannot read the guesses of " + file + ": " + library_message(err));
+    if (k > count)
+        fail("--guess " + std::to_string(k) + ": " + file + " holds " + std::to_string(count) + " guess" +
+             (count == 1 ? "" : "es"));
+    if (frix_error err = frix_fclib_read_guess(file.c_str(), problem, k - 1, r, u, v))
+        fail("--guess " + std::to_string(k) + ": " + library_message(err));
 }
 
 }  // namespace frix_cli
