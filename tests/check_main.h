@@ -16,6 +16,15 @@ static inline frix_options *frix_test_siconos_measure(frix_options *o) {
 #endif
 
 #ifdef FRIX_H
+/* For a test of auto whose scenario (which stages run, and why) was built on plain sweeps, the
+ * default until auto's sweeps took momentum: it keeps testing what it was written for. Returns o. */
+static inline frix_options *frix_test_plain_sweeps(frix_options *o) {
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_ACCELERATION, 0), FRIX_OK);
+    return o;
+}
+#endif
+
+#ifdef FRIX_H
 /* The info key of the measure options o compare with the tolerance. */
 static inline frix_info_key frix_test_error_key(const frix_options *o) {
     int64_t measure = FRIX_MEASURE_SCALED;

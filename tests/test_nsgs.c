@@ -193,6 +193,28 @@ START_TEST(acceleration_cuts_sweeps_on_a_pile) {
 }
 END_TEST
 
+START_TEST(momentum_gives_up_on_a_plateau) {
+    /* Kapla-4x2x25-ball s60 (fclib-large): with momentum nsgs-v's error sits on a plateau above
+     * 1e-4 (40000 sweeps did not end it); once the best full check has not halved in 2000
+     * sweeps the momentum is off for the rest of the run, and the plain sweeps with freezing
+     * converge. */
+    frix_problem *p = load("../fclib-large/Kapla-4x2x25-ball-seed2-s00060-nc2948.hdf5");
+    if (!p) return;
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS_VELOCITY, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-4), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_ACCELERATION, 1), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 12000), FRIX_OK);
+    double *r = zeros(p);
+    const outcome run = solve(p, o, r);
+    ck_assert_msg(run.status == FRIX_STATUS_CONVERGED && run.error <= 1e-4, "%s after %lld sweeps, error %.3e",
+                  frix_status_string(run.status), (long long)run.iterations, run.error);
+    free(r);
+    frix_options_free(o);
+    frix_problem_free(p);
+}
+END_TEST
+
 START_TEST(same_seed_same_bits) {
     frix_problem *p = load("local/Capsules-i125-1213.hdf5");
     if (!p) return;
@@ -369,6 +391,7 @@ static Suite *nsgs_suite(void) {
     tcase_add_test(files, relaxation_breaks_limit_cycle);
     tcase_add_test(files, drift_window_carries_load_transfer_ahead);
     tcase_add_test(files, acceleration_cuts_sweeps_on_a_pile);
+    tcase_add_test(files, momentum_gives_up_on_a_plateau);
     tcase_add_test(files, same_seed_same_bits);
     tcase_add_test(files, warm_start_from_solution);
     suite_add_tcase(s, files);

@@ -59,9 +59,10 @@ typedef enum frix_option_key FRIX_ENUM_BASE {
     /* Fixed points (503, 516) */
     FRIX_OPT_INNER_MAX_ITER = 25, /* int: inner sweeps per outer iteration */
     FRIX_OPT_INNER_TOLERANCE_RATIO = 26, /* double in (0, 1]: inner tolerance = ratio * outer error */
-    /* ADMM (523), NSGS (500, 501, 902) */
+    /* ADMM (523), NSGS (500, 501, 902), auto (900) */
     FRIX_OPT_ACCELERATION = 27,   /* int 0/1: Nesterov acceleration with restart (default 1 for
-                                     523, 0 for the NSGS ones, where it turns freezing off) */
+                                     523 and for auto's NSGS stages (900), 0 for the NSGS ones,
+                                     where it turns freezing off until it stalls) */
     /* auto (900) */
     FRIX_OPT_THREADS = 28,        /* int >= 1: threads auto may use to solve independent islands
                                      at once, and gnsgs (902) and auto's route through it to

@@ -53,15 +53,16 @@ frix_error solve(SolveContext &ctx) {
     return FRIX_OK;
 }
 
-const frix_option_key kExtraKeys[] = {FRIX_OPT_THREADS, (frix_option_key)0};
-const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 1e9}, {(frix_option_key)0, 0.0}};
+const frix_option_key kExtraKeys[] = {FRIX_OPT_THREADS, FRIX_OPT_ACCELERATION, (frix_option_key)0};
+const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 1e9}, {FRIX_OPT_ACCELERATION, 1}, {(frix_option_key)0, 0.0}};
 
 }  // namespace
 
 #define FRIX_AUTO_DESCRIPTION                                                                       \
     "The default solver. Analyses the problem (sizes, the ranges of |W_aa| and mu, the islands: "   \
     "groups of contacts that do not interact, each large one solved as a part of its own, the "    \
-    "small ones together, with threads > 1 at once), then runs on each part NSGS while its "       \
+    "small ones together, with threads > 1 at once), then runs on each part NSGS (with momentum, unless "           \
+    "acceleration = 0) while its "                                                                 \
     "convergence rate promises the tolerance soon, and otherwise rounds of semismooth Newton "     \
     "(Alart-Curnier; on parts of at most 64 contacts also from seeded random starts), NSGS (one " \
     "chain over the rounds, steady drifts of r carried ahead), ADMM and PROX (from the best "    \

@@ -86,8 +86,12 @@ frix_options stage_options(const SolverEntry &entry, const frix_options &user, d
     // deadline itself.
     o.dvalue[FRIX_OPT_TIME_LIMIT] = user.d(FRIX_OPT_TIME_LIMIT);
     o.dvalue[FRIX_OPT_MEMORY_LIMIT] = user.d(FRIX_OPT_MEMORY_LIMIT);
-    if (entry.id == FRIX_SOLVER_NSGS_VELOCITY || entry.id == FRIX_SOLVER_NSGS || entry.id == FRIX_SOLVER_GLOBAL_NSGS)
+    // The sweeps' momentum is auto's own option: their Siconos ids keep Siconos's plain
+    // iterates by default, while auto is free to take the fewer sweeps.
+    if (entry.id == FRIX_SOLVER_NSGS_VELOCITY || entry.id == FRIX_SOLVER_NSGS || entry.id == FRIX_SOLVER_GLOBAL_NSGS) {
         o.ivalue[FRIX_OPT_DRIFT_WINDOW] = kDriftWindow;
+        o.ivalue[FRIX_OPT_ACCELERATION] = user.i(FRIX_OPT_ACCELERATION);
+    }
     if (part) {
         o.ivalue[FRIX_OPT_MAX_ITER] = max_iter;
         o.ivalue[FRIX_OPT_VERBOSITY] = std::max<int64_t>(0, user.i(FRIX_OPT_VERBOSITY) - 1);

@@ -31,6 +31,11 @@ constexpr int64_t kFreezeAfter = 10;
 // windows ahead.
 constexpr double kDriftCosine = 0.99;
 constexpr double kMaxDriftJump = 1000.0;
+// Momentum gives up (for the rest of the run) when the full checks' best error has not fallen
+// to kMomentumProgress of itself within kMomentumPatience sweeps: where its extrapolation and
+// the restarts hold the error on a plateau, the plain sweep with freezing goes on.
+constexpr double kMomentumProgress = 0.5;
+constexpr int64_t kMomentumPatience = 2000;
 // The flags of SweepForm::agree after a sweep.
 constexpr unsigned kStopAsked = 1u, kOutOfTime = 2u;
 
@@ -101,7 +106,7 @@ class DriftExtrapolation {
 // a layer a sweep, the sweeps' steps keep their direction for long, which momentum follows;
 // the sweep itself, and its fixed points, stay as they are. Freezing is off under it: the
 // extrapolation moves the contacts freezing would skip, and the two together can hold the
-// error on a plateau.
+// error on a plateau. Where momentum stalls (judge), it is off for the rest of the run.
 class Momentum {
    public:
     Momentum(bool on, int64_t m, const double *r) : on_(on) {
@@ -110,6 +115,16 @@ class Momentum {
         line_.resize((size_t)m);
     }
     bool on() const { return on_; }
+    // A full check's error e after `sweep` sweeps: off for good once it stalls (kMomentumPatience).
+    void judge(int64_t sweep, double e) {
+        if (!on_) return;
+        if (e < kMomentumProgress * best_) {
+            best_ = e;
+            since_ = sweep;
+        } else if (sweep - since_ >= kMomentumPatience) {
+            on_ = false;
+        }
+    }
     // After a sweep that moved r by |dr|^2 = dr2 (jumped: r then jumped ahead of the sweep).
     void after_sweep(double dr2, bool jumped, double *r, const double *mu, Workspace &ws, SweepForm &form, double *u) {
         if (!on_) return;
@@ -134,6 +149,8 @@ class Momentum {
     std::vector<double> last_, line_;  // x_{k-1}; the line point before its projection
     double last_dr2_[2] = {INFINITY, INFINITY};  // the last two sweeps' |dr|^2
     int64_t k_ = 0;
+    double best_ = INFINITY;  // the best full error at a kMomentumProgress step, and its sweep
+    int64_t since_ = 0;
 };
 
 // Monitor::Agree for run_sweeps's limits: SweepForm::agree is one exchange among the processes
@@ -331,6 +348,7 @@ void SweepRun::full_check(const SweepStats &st, double light, bool first_only) {
     const double e = full_error();
     checked_last_ = true;
     last_full_ = e;
+    momentum_.judge(it_, e);
     if (keep_best_ && e < best_error_) {
         best_error_ = e;
         best_r_.assign(r_, r_ + m_);
