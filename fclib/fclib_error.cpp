@@ -22,12 +22,13 @@ void reraise(frix_error code, const std::string &context) {
     raise(code, "%s: %s", context.c_str(), detail.c_str());
 }
 
-std::string printable(const std::string &text) {
+std::string printable(const std::string &text, bool keep_line_breaks) {
     std::string out;
     out.reserve(text.size());
     for (const char c : text) {
         const auto byte = static_cast<unsigned char>(c);
-        if (byte < 0x20 || byte == 0x7f) {
+        const bool line_break = c == '\n' || c == '\t';
+        if ((byte < 0x20 || byte == 0x7f) && !(keep_line_breaks && line_break)) {
             char escape[5];
             std::snprintf(escape, sizeof escape, "\\x%02x", byte);
             out += escape;

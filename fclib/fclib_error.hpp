@@ -25,7 +25,8 @@ namespace frix::fclib {
 
 // Text from a file (a title, a link target, a token) with its control characters (bytes
 // below 0x20, and 0x7f) written as \xHH: it ends up in messages and titles that callers
-// print, where raw escape sequences would drive the terminal.
-std::string printable(const std::string &text);
+// print, where raw escape sequences would drive the terminal. With keep_line_breaks, line
+// feeds and tabs stay as they are (multi-line text such as a description).
+std::string printable(const std::string &text, bool keep_line_breaks = false);
 
 }  // namespace frix::fclib

@@ -101,12 +101,30 @@ ProblemPtr read_global(const FileReader &file) {
     return problem;
 }
 
-void read_title(const FileReader &file, const std::string &root, frix_problem &problem) {
-    const std::string name = root + "/info/title";
-    if (!file.exists(name)) return;  // info is optional in FCLIB
-    const std::string title = printable(file.read_text(name));
-    const frix_error err = frix_problem_set_title(&problem, title.c_str());
-    if (err != FRIX_OK) reraise(err, std::string("'") + file.path() + "': " + name);
+// The info group's texts, each optional (FCLIB makes the group and its members optional).
+// Control characters are escaped as in messages; the description and math info keep their
+// line breaks and tabs, which multi-line text needs. Escaping lengthens a text, so the limit
+// holds for what the problem gets, not only for what the file stores.
+void read_info(const FileReader &file, const std::string &root, frix_problem &problem) {
+    struct Field {
+        const char *name;
+        std::string frix_problem::*text;
+        bool multi_line;
+    };
+    static const Field fields[] = {{"title", &frix_problem::title, false},
+                                   {"description", &frix_problem::description, true},
+                                   {"math_info", &frix_problem::math_info, true}};
+    for (const Field &field : fields) {
+        const std::string name = root + "/info/" + field.name;
+        if (!file.exists(name)) continue;
+        std::string text = printable(file.read_text(name, kMaxProblemText), field.multi_line);
+        if (text.size() > kMaxProblemText)
+            raise(FRIX_ERR_FORMAT,
+                  "'%s': dataset %s takes %zu bytes with its control characters escaped, more "
+                  "than the %zu frix reads",
+                  file.path(), name.c_str(), text.size(), kMaxProblemText);
+        problem.*field.text = std::move(text);
+    }
 }
 
 }  // namespace
@@ -139,7 +157,7 @@ extern "C" FRIX_API frix_error frix_fclib_read(const char *path, frix_problem **
         if (!file.is_group(root))
             raise(FRIX_ERR_FORMAT, "'%s': %s is not a group", path, root.c_str());
         ProblemPtr problem = local ? read_local(file) : read_global(file);
-        read_title(file, root, *problem);
+        read_info(file, root, *problem);
         *out = problem.release();
         return FRIX_OK;
     });

@@ -62,8 +62,10 @@ void write_info(FileWriter &file, const std::string &root, const frix_problem &p
     file.create_group(root + "/info");
     file.write_text(root + "/info/title", problem.title);
     file.write_text(root + "/info/description",
-                    std::string("written by frix ") + frix_version_string());
-    file.write_text(root + "/info/math_info", "");
+                    !problem.description.empty()
+                        ? problem.description
+                        : std::string("written by frix ") + frix_version_string());
+    file.write_text(root + "/info/math_info", problem.math_info);
 }
 
 // What goes into the file besides the problem.
@@ -116,7 +118,7 @@ Extras check_arguments(const char *where, const frix_problem &problem, const dou
 
 // The whole file, built in memory.
 std::vector<unsigned char> build_file(const char *path, const frix_problem &problem,
-                                      const Extras &e) {
+                                      const Extras &e, int deflate_level) {
     const bool global = problem.kind == FRIX_PROBLEM_GLOBAL;
     const int64_t m = 3 * problem.nc, n = global ? problem.n : 0;
     // The 32-bit conversion can still refuse the problem, so it also comes first.
@@ -129,7 +131,7 @@ std::vector<unsigned char> build_file(const char *path, const frix_problem &prob
     }
 
     Session session;
-    FileWriter file(path);
+    FileWriter file(path, deflate_level);
     const std::string root = global ? "/fclib_global" : "/fclib_local";
     file.create_group(root);
     file.write_int32_scalar(root + "/spacedim", 3);
@@ -160,25 +162,48 @@ std::vector<unsigned char> build_file(const char *path, const frix_problem &prob
 
 }  // namespace frix::fclib
 
-extern "C" FRIX_API frix_error frix_fclib_write(const char *path, const frix_problem *problem,
-                                                const double *sol_r, const double *sol_u,
-                                                const double *sol_v, int64_t n_guesses,
-                                                const double *guess_r, const double *guess_u,
-                                                const double *guess_v) {
+namespace {
+
+frix_error write_file(const char *where, const char *path, const frix_problem *problem,
+                      const double *sol_r, const double *sol_u, const double *sol_v,
+                      int64_t n_guesses, const double *guess_r, const double *guess_u,
+                      const double *guess_v, int level) {
     using namespace frix::fclib;
-    const char *where = "frix_fclib_write";
     return frix::guard(where, [&]() -> frix_error {
         if (path == nullptr || path[0] == '\0')
             return frix::fail(FRIX_ERR_INVALID_ARGUMENT, "%s: path is NULL or empty", where);
         if (problem == nullptr)
             return frix::fail(FRIX_ERR_INVALID_ARGUMENT, "%s: problem is NULL", where);
+        if (level < 0 || level > 9)
+            return frix::fail(FRIX_ERR_INVALID_ARGUMENT,
+                              "%s: the compression level is %d, expected 0 (none) to 9", where,
+                              level);
         const Extras extras = check_arguments(where, *problem, sol_r, sol_u, sol_v, n_guesses,
                                               guess_r, guess_u, guess_v);
-        const std::vector<unsigned char> image = build_file(path, *problem, extras);
+        const std::vector<unsigned char> image = build_file(path, *problem, extras, level);
         // Only now does the disk come in: the old file is replaced by a complete new one.
         TempFile temp(path);
         temp.write(image.data(), image.size());
         temp.commit();
         return FRIX_OK;
     });
+}
+
+}  // namespace
+
+extern "C" FRIX_API frix_error frix_fclib_write(const char *path, const frix_problem *problem,
+                                                const double *sol_r, const double *sol_u,
+                                                const double *sol_v, int64_t n_guesses,
+                                                const double *guess_r, const double *guess_u,
+                                                const double *guess_v) {
+    return write_file("frix_fclib_write", path, problem, sol_r, sol_u, sol_v, n_guesses, guess_r,
+                      guess_u, guess_v, frix::fclib::FileWriter::kDefaultDeflateLevel);
+}
+
+extern "C" FRIX_API frix_error frix_fclib_write_compressed(
+    const char *path, const frix_problem *problem, const double *sol_r, const double *sol_u,
+    const double *sol_v, int64_t n_guesses, const double *guess_r, const double *guess_u,
+    const double *guess_v, int level) {
+    return write_file("frix_fclib_write_compressed", path, problem, sol_r, sol_u, sol_v,
+                      n_guesses, guess_r, guess_u, guess_v, level);
 }

@@ -440,7 +440,7 @@ std::vector<double> FileReader::read_vector(const std::string &name, int64_t exp
     return v;
 }
 
-std::string FileReader::read_text(const std::string &name) const {
+std::string FileReader::read_text(const std::string &name, size_t max_bytes) const {
     Dataset d = open_dataset(name);
     if (d.cls != H5T_STRING)
         raise(FRIX_ERR_FORMAT, "'%s': dataset %s is %s, expected a string", path(), name.c_str(),
@@ -459,9 +459,14 @@ std::string FileReader::read_text(const std::string &name) const {
     // ASCII and UTF-8, and frix wants the bytes as stored (titles need not be UTF-8).
     Handle memtype = type_handle(H5Tcopy(d.type.get()));
     if (!memtype.valid()) read_failed();
+    auto too_long = [&](double bytes) {
+        raise(FRIX_ERR_FORMAT, "'%s': dataset %s holds a string of %.0f bytes, more than the %zu "
+              "frix reads", path(), name.c_str(), bytes, max_bytes);
+    };
     std::string text;
     if (H5Tis_variable_str(d.type.get()) > 0) {
-        // HDF5 sizes the string from its heap object, which the file holds in full.
+        // HDF5 sizes the string from its heap object, which the file holds in full (so it is
+        // bounded by the file's size); its length is checked once read.
         char *value = nullptr;
         if (H5Dread(d.id.get(), memtype.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &value) < 0)
             read_failed();
@@ -475,6 +480,7 @@ std::string FileReader::read_text(const std::string &name) const {
         charge(name, static_cast<double>(text.size()));
     } else {
         const size_t size = H5Tget_size(d.type.get());
+        if (size > max_bytes + 1) too_long(static_cast<double>(size));
         charge(name, static_cast<double>(size) + 1);
         std::vector<char> buffer(size + 1, '\0');
         if (H5Dread(d.id.get(), memtype.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()) < 0)
@@ -485,6 +491,7 @@ std::string FileReader::read_text(const std::string &name) const {
             text.erase(end == std::string::npos ? 0 : end + 1);
         }
     }
+    if (text.size() > max_bytes) too_long(static_cast<double>(text.size()));
     return text;
 }
 

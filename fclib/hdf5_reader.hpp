@@ -54,8 +54,9 @@ class FileReader {
     std::vector<double> read_vector(const std::string &name, int64_t expected,
                                     const char *expected_from,
                                     Unwritten unwritten = Unwritten::refuse) const;
-    // A string dataset, fixed or variable length, as raw bytes up to the first NUL.
-    std::string read_text(const std::string &name) const;
+    // A string dataset, fixed or variable length, as raw bytes up to the first NUL; one
+    // longer than max_bytes is refused (a fixed-length one by its type, before it is read).
+    std::string read_text(const std::string &name, size_t max_bytes) const;
 
    private:
     struct Dataset;

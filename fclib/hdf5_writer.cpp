@@ -7,14 +7,14 @@
 namespace frix::fclib {
 
 namespace {
-// Smaller arrays are written as they are (a chunk's bookkeeping outweighs what deflate saves);
-// chunks of 64 Ki entries (512 KiB of doubles) stay far below what the reader accepts.
-constexpr int64_t kCompressFrom = 1024;
+// Chunks of 64 Ki entries (512 KiB of doubles) stay far below what the reader accepts.
 constexpr hsize_t kChunkEntries = hsize_t{1} << 16;
-constexpr unsigned kDeflateLevel = 4;
 }  // namespace
 
-FileWriter::FileWriter(const std::string &shown_path) : shown_path_(shown_path) {
+// Smaller arrays than kCompressFrom are written as they are (a chunk's bookkeeping outweighs
+// what deflate saves).
+FileWriter::FileWriter(const std::string &shown_path, int deflate_level)
+    : shown_path_(shown_path), deflate_level_(deflate_level) {
     // Memory grows in 1 MiB steps. STRONG close degree: closing the file also closes
     // whatever an interrupted write left open, so nothing outlives the writer.
     Handle fapl = plist_handle(H5Pcreate(H5P_FILE_ACCESS));
@@ -50,10 +50,10 @@ void FileWriter::write_array(const std::string &name, hid_t filetype, hid_t memt
     if (!create.valid()) failed("cannot make the creation properties of", name);
     // Arrays of kCompressFrom entries or more are stored shuffled and deflated, as FCLIB's own
     // files are (a third of the size), where the HDF5 library has the filter.
-    if (count >= kCompressFrom && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
+    if (deflate_level_ > 0 && count >= kCompressFrom && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
         const hsize_t chunk = std::min<hsize_t>(dim, kChunkEntries);
         if (H5Pset_chunk(create.get(), 1, &chunk) < 0 || H5Pset_shuffle(create.get()) < 0 ||
-            H5Pset_deflate(create.get(), kDeflateLevel) < 0)
+            H5Pset_deflate(create.get(), static_cast<unsigned>(deflate_level_)) < 0)
             failed("cannot set the compression of", name);
     }
     Handle dataset = dataset_handle(H5Dcreate2(file_.get(), name.c_str(), filetype, space.get(),

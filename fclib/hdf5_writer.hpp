@@ -20,8 +20,12 @@ namespace frix::fclib {
 
 class FileWriter {
    public:
-    // Starts an empty in-memory file; messages name `shown_path`. Requires a live Session.
-    explicit FileWriter(const std::string &shown_path);
+    // Starts an empty in-memory file; messages name `shown_path`. Arrays of kCompressFrom
+    // entries or more are deflated at `deflate_level` (1..9; 0: none). Requires a live Session.
+    FileWriter(const std::string &shown_path, int deflate_level);
+
+    static constexpr int64_t kCompressFrom = 1024;
+    static constexpr int kDefaultDeflateLevel = 4;
 
     // Names are absolute ("/fclib_local/W/p"); parents must have been created first.
     void create_group(const std::string &name);
@@ -39,6 +43,7 @@ class FileWriter {
     [[noreturn]] void failed(const char *what, const std::string &name) const;
 
     std::string shown_path_;
+    int deflate_level_;
     Handle file_;
 };
 

@@ -2,6 +2,7 @@
 #include "problem.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <memory>
 
 #include "error_state.hpp"
@@ -224,6 +225,22 @@ frix_error check_problem_vectors(const frix_problem &p) {
 
 }  // namespace frix
 
+namespace {
+// The setters of a problem's texts (NULL: empty).
+frix_error set_text(const char *where, frix_problem *p, std::string frix_problem::*field,
+                    const char *text) {
+    return frix::guard(where, [&]() -> frix_error {
+        if (!p) return frix::fail(FRIX_ERR_INVALID_ARGUMENT, "%s: problem is NULL", where);
+        const size_t length = text ? std::strlen(text) : 0;
+        if (length > frix::kMaxProblemText)
+            return frix::fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the text has %zu bytes, more than %zu",
+                        where, length, frix::kMaxProblemText);
+        (p->*field).assign(text ? text : "", length);
+        return FRIX_OK;
+    });
+}
+}  // namespace
+
 extern "C" {
 
 FRIX_API frix_error frix_problem_local(const frix_matrix *W, const double *q, const double *mu,
@@ -256,13 +273,22 @@ FRIX_API const double *frix_problem_w(const frix_problem *p) { return p ? p->w :
 FRIX_API const double *frix_problem_mu(const frix_problem *p) { return p ? p->mu : nullptr; }
 
 FRIX_API frix_error frix_problem_set_title(frix_problem *p, const char *title) {
-    return frix::guard("frix_problem_set_title", [&]() -> frix_error {
-        if (!p) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_problem_set_title: problem is NULL");
-        p->title = title ? title : "";
-        return FRIX_OK;
-    });
+    return set_text("frix_problem_set_title", p, &frix_problem::title, title);
+}
+FRIX_API const char *frix_problem_title(const frix_problem *p) { return p ? p->title.c_str() : ""; }
+
+FRIX_API frix_error frix_problem_set_description(frix_problem *p, const char *description) {
+    return set_text("frix_problem_set_description", p, &frix_problem::description, description);
+}
+FRIX_API const char *frix_problem_description(const frix_problem *p) {
+    return p ? p->description.c_str() : "";
 }
 
-FRIX_API const char *frix_problem_title(const frix_problem *p) { return p ? p->title.c_str() : ""; }
+FRIX_API frix_error frix_problem_set_math_info(frix_problem *p, const char *math_info) {
+    return set_text("frix_problem_set_math_info", p, &frix_problem::math_info, math_info);
+}
+FRIX_API const char *frix_problem_math_info(const frix_problem *p) {
+    return p ? p->math_info.c_str() : "";
+}
 
 }  // extern "C"

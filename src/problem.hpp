@@ -26,7 +26,9 @@ struct frix_problem {
     const double *w = nullptr;       // global
     const double *mu = nullptr;
 
-    std::string title;
+    // Free text (FCLIB's info group: title, description, math_info), each at most
+    // frix::kMaxProblemText bytes.
+    std::string title, description, math_info;
 
     // Per contact, the velocity a unit normal reaction produces at it (velocity / force): the
     // default error measure's unit of r (measures.hpp). Set when the problem is made or
@@ -56,6 +58,10 @@ frix_error make_owned_global_problem(std::unique_ptr<frix_matrix> M,
                                      std::unique_ptr<frix_matrix> H, std::vector<double> f,
                                      std::vector<double> w, std::vector<double> mu,
                                      frix_problem **out);
+
+// The longest title, description or math info a problem takes, in bytes: files carry them,
+// so readers refuse longer ones before reading them, and setters refuse what readers would.
+constexpr size_t kMaxProblemText = 65536;
 
 // x (n values, named `name` in the message) given and finite; mu (nc values) finite and >= 0.
 frix_error check_vector(const char *where, const char *name, const double *x, int64_t n);

@@ -669,6 +669,43 @@ static void expect_cli_refusal(const char *const *args, const char *needle) {
     ++tried;
 }
 
+/* A problem's texts: NULL problems refused, NULL text empty, 65536 bytes taken and one more
+ * refused with the text before kept (a file could not carry it back: the reader's bound). */
+START_TEST(test_problem_texts_bounded) {
+    typedef frix_error (*setter)(frix_problem *, const char *);
+    typedef const char *(*getter)(const frix_problem *);
+    const setter set[] = {frix_problem_set_title, frix_problem_set_description, frix_problem_set_math_info};
+    const getter get[] = {frix_problem_title, frix_problem_description, frix_problem_math_info};
+    double W[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, q[3] = {-1, 0, 0}, mu = 0.3;
+    frix_matrix *A = NULL;
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_matrix_from_dense(3, 3, W, 3, &A), FRIX_OK);
+    ck_assert_int_eq(frix_problem_local(A, q, &mu, 1, &p), FRIX_OK);
+    char *text = malloc(65538);
+    ck_assert_ptr_nonnull(text);
+    memset(text, 'x', 65537);
+    text[65537] = '\0';
+    for (int k = 0; k < 3; ++k) {
+        ck_assert_int_eq(set[k](NULL, "x"), FRIX_ERR_INVALID_ARGUMENT);
+        ck_assert_str_eq(get[k](NULL), "");
+        ck_assert_str_eq(get[k](p), "");
+        ck_assert_int_eq(set[k](p, "kept"), FRIX_OK);
+        ck_assert_int_eq(set[k](p, text), FRIX_ERR_INVALID_ARGUMENT);
+        ck_assert_ptr_nonnull(strstr(frix_last_error_message(), "65537 bytes"));
+        ck_assert_str_eq(get[k](p), "kept");
+        text[65536] = '\0';
+        ck_assert_int_eq(set[k](p, text), FRIX_OK);
+        ck_assert_uint_eq(strlen(get[k](p)), 65536);
+        text[65536] = 'x';
+        ck_assert_int_eq(set[k](p, NULL), FRIX_OK);
+        ck_assert_str_eq(get[k](p), "");
+    }
+    free(text);
+    frix_problem_free(p);
+    frix_matrix_free(A);
+}
+END_TEST
+
 START_TEST(test_cli_bad_input) {
     const char *good = tmp_path("cli_good.hdf5"), *global = tmp_path("cli_global.hdf5");
     write_scene_file(good, 0);
@@ -759,6 +796,7 @@ int main(void) {
     tcase_add_test(api, test_enormous_sizes);
     tcase_add_test(api, test_options_out_of_range);
     tcase_add_test(api, test_null_arguments);
+    tcase_add_test(api, test_problem_texts_bounded);
     suite_add_tcase(s, api);
     TCase *cli = tcase_create("cli");
     tcase_set_timeout(cli, 600);

@@ -133,6 +133,8 @@ static void make_tiny_problem(void) {
     ck_assert_int_eq(frix_matrix_from_blocks(2, 2, 2, rows, cols, blocks, &W), FRIX_OK);
     ck_assert_int_eq(frix_problem_local(W, q, mu, 2, &p), FRIX_OK);
     ck_assert_int_eq(frix_problem_set_title(p, "cli test: two contacts"), FRIX_OK);
+    ck_assert_int_eq(frix_problem_set_description(p, "independent,\nin closed form"), FRIX_OK);
+    ck_assert_int_eq(frix_problem_set_math_info(p, "u = W r + q"), FRIX_OK);
     char tmp[512];
     snprintf(tmp, sizeof tmp, "%s.%ld", TINY, (long)getpid());
     ck_assert_int_eq(frix_fclib_write(tmp, p, NULL, NULL, NULL, 0, NULL, NULL, NULL), FRIX_OK);
@@ -283,6 +285,10 @@ START_TEST(test_tiny_problem) {
     ck_assert_msg(text_field(i.out, "contacts") && atoi(text_field(i.out, "contacts")) == 2, "%s",
                   i.out);
     ck_assert(strstr(i.out, "cli test: two contacts") && strstr(i.out, "local"));
+    /* The texts come through the reading process, the description on one line. */
+    ck_assert_msg(strstr(i.out, "\ndescription      independent, in closed form\n") &&
+                      strstr(i.out, "\nmath info        u = W r + q\n"),
+                  "%s", i.out);
     run_free(&i);
 
     const char *out = FRIX_TEST_TMPDIR "/cli_tiny_solution.hdf5";

@@ -80,6 +80,8 @@ START_TEST(test_fclib_reads_frix_local) {
     for (int64_t k = 0; k < 3 * m; ++k) r[k] = sin(0.3 * (double)k);
 
     const char *path = tmp_path("local.hdf5");
+    ck_assert_int_eq(frix_problem_set_description(p, "a block of W\nand q, mu"), FRIX_OK);
+    ck_assert_int_eq(frix_problem_set_math_info(p, "u = W r + q"), FRIX_OK);
     ck_assert_int_eq(frix_fclib_write(path, p, r, u, NULL, 1, g, r, NULL), FRIX_OK);
 
     struct fclib_local *F = fclib_read_local(path);
@@ -92,6 +94,8 @@ START_TEST(test_fclib_reads_frix_local) {
     assert_same(F->mu, frix_problem_mu(p), nc);
     ck_assert_ptr_nonnull(F->info);
     ck_assert_str_eq(F->info->title, frix_problem_title(p));
+    ck_assert_str_eq(F->info->description, "a block of W\nand q, mu");
+    ck_assert_str_eq(F->info->math_info, "u = W r + q");
     fclib_delete_local(F);
     free(F);
 
@@ -198,6 +202,8 @@ START_TEST(test_frix_reads_fclib_local) {
     assert_same(frix_problem_q(fp), q, 6);
     assert_same(frix_problem_mu(fp), mu, 2);
     ck_assert_str_eq(frix_problem_title(fp), "written by libfclib");
+    ck_assert_str_eq(frix_problem_description(fp), "a test");
+    ck_assert_str_eq(frix_problem_math_info(fp), "none");
     double e[6] = {0}, col[6];
     for (int c = 0; c < 6; ++c) { /* W column by column */
         e[c] = 1;

@@ -1,6 +1,7 @@
 /* FCLIB files, writing: problems written and read back bit-identical (local, global, empty,
  * from files whose nzmax is a capacity or whose triplets repeat entries, the last also through
- * the command line), and solutions and guesses. */
+ * the command line), solutions and guesses, the info group's texts, and the compression level
+ * chosen (frix_fclib_write_compressed). */
 #define _POSIX_C_SOURCE 200809L /* the CLI runner's fork and dup2 under strict C99 */
 #include <frix/frix.h>
 
@@ -8,6 +9,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include <hdf5.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "check_main.h"
 #include "cli_runner.h"
@@ -288,6 +293,112 @@ START_TEST(test_solution_and_guesses_global) {
 }
 END_TEST
 
+/* Title, description (multi-line) and math info go to the info group and come back; a problem
+ * without a description gets frix's line. */
+START_TEST(test_info_texts_round_trip) {
+    const char *path = tmp_path("info_texts.hdf5");
+    small_local s;
+    small_local_make(&s, "two contacts");
+    ck_assert_int_eq(frix_fclib_write(path, s.p, NULL, NULL, NULL, 0, NULL, NULL, NULL), FRIX_OK);
+    frix_problem *back = read_ok(path);
+    ck_assert_str_eq(frix_problem_title(back), "two contacts");
+    ck_assert_msg(strncmp(frix_problem_description(back), "written by frix ", 16) == 0, "%s",
+                  frix_problem_description(back));
+    ck_assert_str_eq(frix_problem_math_info(back), "");
+    frix_problem_free(back);
+
+    const char *description = "W couples the contacts.\n\tSecond line, after a tab.";
+    ck_assert_int_eq(frix_problem_set_description(s.p, description), FRIX_OK);
+    ck_assert_int_eq(frix_problem_set_math_info(s.p, "u = W r + q, mu = (0.3, 0.5)"), FRIX_OK);
+    ck_assert_int_eq(frix_fclib_write_compressed(path, s.p, NULL, NULL, NULL, 0, NULL, NULL, NULL, 0),
+                     FRIX_OK);
+    back = read_ok(path);
+    ck_assert_str_eq(frix_problem_title(back), "two contacts");
+    ck_assert_str_eq(frix_problem_description(back), description);
+    ck_assert_str_eq(frix_problem_math_info(back), "u = W r + q, mu = (0.3, 0.5)");
+    assert_same_problem(s.p, back);
+    frix_problem_free(back);
+    small_local_free(&s);
+}
+END_TEST
+
+/* The deflate level of a dataset (0: stored without the filter, -1: chunked without it). */
+static int deflate_level_of(const char *path, const char *dataset) {
+    hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    ck_assert(f >= 0);
+    hid_t d = H5Dopen2(f, dataset, H5P_DEFAULT);
+    ck_assert(d >= 0);
+    hid_t dcpl = H5Dget_create_plist(d);
+    int level = 0;
+    if (H5Pget_layout(dcpl) == H5D_CHUNKED) {
+        unsigned flags = 0, cd[4] = {0};
+        size_t ncd = 4;
+        char name[32];
+        unsigned config = 0;
+        level = H5Pget_filter_by_id2(dcpl, H5Z_FILTER_DEFLATE, &flags, &ncd, cd, sizeof name, name,
+                                     &config) >= 0 ? (int)cd[0] : -1;
+    }
+    H5Pclose(dcpl);
+    H5Dclose(d);
+    H5Fclose(f);
+    return level;
+}
+
+/* The level asked for is the level stored, on the arrays of 1024 entries or more (W's values,
+ * q); level 0 stores them contiguous; every level reads back the same problem; a level out of
+ * 0..9 is refused before any file exists. */
+START_TEST(test_compression_level_chosen) {
+    enum { NC = 400 };
+    static int64_t rows[NC], cols[NC];
+    static double blocks[9 * NC], q[3 * NC], mu[NC];
+    for (int64_t a = 0; a < NC; ++a) {
+        rows[a] = cols[a] = a;
+        for (int k = 0; k < 9; ++k) blocks[9 * a + k] = k % 4 == 0 ? 1.0 + 0.001 * (double)(a % 7) : 0.0;
+        q[3 * a] = -1.0 + 0.01 * (double)(a % 10);
+        q[3 * a + 1] = q[3 * a + 2] = 0.0;
+        mu[a] = 0.3;
+    }
+    frix_matrix *W = NULL;
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_matrix_from_blocks(NC, NC, NC, rows, cols, blocks, &W), FRIX_OK);
+    ck_assert_int_eq(frix_problem_local(W, q, mu, NC, &p), FRIX_OK);
+
+    const int levels[] = {0, 1, 9};
+    long sizes[3];
+    for (int k = 0; k < 3; ++k) {
+        const char *path = tmp_path("level.hdf5");
+        ck_assert_int_eq(frix_fclib_write_compressed(path, p, NULL, NULL, NULL, 0, NULL, NULL, NULL,
+                                                     levels[k]), FRIX_OK);
+        ck_assert_int_eq(deflate_level_of(path, "/fclib_local/vectors/q"), levels[k]);
+        ck_assert_int_eq(deflate_level_of(path, "/fclib_local/W/x"), levels[k]);
+        ck_assert_int_eq(deflate_level_of(path, "/fclib_local/vectors/mu"), 0); /* 400 entries */
+        struct stat st;
+        ck_assert_int_eq(stat(path, &st), 0);
+        sizes[k] = (long)st.st_size;
+        frix_problem *back = read_ok(path);
+        assert_same_problem(p, back);
+        frix_problem_free(back);
+    }
+    ck_assert_msg(sizes[1] < sizes[0] && sizes[2] <= sizes[1], "sizes %ld %ld %ld", sizes[0],
+                  sizes[1], sizes[2]);
+    const char *path = tmp_path("default_level.hdf5");
+    ck_assert_int_eq(frix_fclib_write(path, p, NULL, NULL, NULL, 0, NULL, NULL, NULL), FRIX_OK);
+    ck_assert_int_eq(deflate_level_of(path, "/fclib_local/vectors/q"), 4);
+
+    const char *refused = tmp_path("bad_level.hdf5");
+    unlink(refused);
+    const int bad[] = {-1, 10, 1 << 30};
+    for (int k = 0; k < 3; ++k) {
+        ck_assert_int_eq(frix_fclib_write_compressed(refused, p, NULL, NULL, NULL, 0, NULL, NULL, NULL,
+                                                     bad[k]), FRIX_ERR_INVALID_ARGUMENT);
+        ck_assert_ptr_nonnull(strstr(frix_last_error_message(), "compression level"));
+        ck_assert_int_ne(access(refused, F_OK), 0);
+    }
+    frix_problem_free(p);
+    frix_matrix_free(W);
+}
+END_TEST
+
 int main(void) {
     Suite *s = suite_create("fclib");
     TCase *write = tcase_create("write");
@@ -298,6 +409,8 @@ int main(void) {
     tcase_add_test(write, test_triplets_with_duplicates_round_trip);
     tcase_add_test(write, test_solution_and_guesses_local);
     tcase_add_test(write, test_solution_and_guesses_global);
+    tcase_add_test(write, test_info_texts_round_trip);
+    tcase_add_test(write, test_compression_level_chosen);
     suite_add_tcase(s, write);
     return frix_run_suite(s);
 }

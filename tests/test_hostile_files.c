@@ -506,6 +506,85 @@ START_TEST(control_characters_are_escaped) {
 }
 END_TEST
 
+/* The description and math info keep line breaks and tabs; other control characters are
+ * escaped as in titles. */
+START_TEST(descriptions_keep_line_breaks_only) {
+    const char *path = tmp_path("description.hdf5");
+    write_base(path);
+    hid_t f = reopen_without(path, NULL);
+    hid_t info = H5Gopen2(f, "/fclib_local/info", H5P_DEFAULT);
+    put_title(info, "description", "line\n\ttabbed\r\x1b[2J");
+    put_title(info, "math_info", "a\nb\x07");
+    H5Gclose(info);
+    H5Fclose(f);
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_fclib_read(path, &p), FRIX_OK);
+    ck_assert_str_eq(frix_problem_description(p), "line\n\ttabbed\\x0d\\x1b[2J");
+    ck_assert_str_eq(frix_problem_math_info(p), "a\nb\\x07");
+    frix_problem_free(p);
+}
+END_TEST
+
+/* A fixed-length string dataset of `size` bytes holding `text`. */
+static void put_fixed_text(hid_t loc, const char *name, const char *text, size_t size) {
+    hid_t t = H5Tcopy(H5T_C_S1);
+    ck_assert(H5Tset_size(t, size) >= 0);
+    hid_t sp = H5Screate(H5S_SCALAR);
+    hid_t ds = H5Dcreate2(loc, name, t, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    ck_assert(ds >= 0);
+    char *buffer = calloc(size, 1);
+    ck_assert_ptr_nonnull(buffer);
+    memcpy(buffer, text, strlen(text) < size ? strlen(text) : size);
+    ck_assert(H5Dwrite(ds, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer) >= 0);
+    free(buffer);
+    H5Dclose(ds);
+    H5Sclose(sp);
+    H5Tclose(t);
+}
+
+/* The info texts are bounded (65536 bytes): longer ones are refused, variable-length or
+ * fixed-length (those by their type, before they are read), and so is one that escaping takes
+ * over the bound. */
+START_TEST(info_texts_are_bounded) {
+    const char *path = tmp_path("long_text.hdf5");
+    char *text = malloc(70001);
+    ck_assert_ptr_nonnull(text);
+    memset(text, 'd', 70000);
+    text[70000] = '\0';
+
+    write_base(path);
+    hid_t f = reopen_without(path, NULL);
+    put_title(f, "/fclib_local/info/description", text);
+    H5Fclose(f);
+    expect_read_error(path, FRIX_ERR_FORMAT,
+                      "dataset /fclib_local/info/description holds a string of 70000 bytes, more than the 65536");
+
+    write_base(path);
+    f = reopen_without(path, "/fclib_local/info/title");
+    put_fixed_text(f, "/fclib_local/info/title", "short", 70000);
+    H5Fclose(f);
+    expect_read_error(path, FRIX_ERR_FORMAT, "dataset /fclib_local/info/title holds a string of 70000 bytes");
+
+    /* 65536 bytes read; with one control character in them, escaping makes 65539. */
+    text[65536] = '\0';
+    write_base(path);
+    f = reopen_without(path, NULL);
+    put_title(f, "/fclib_local/info/math_info", text);
+    H5Fclose(f);
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_fclib_read(path, &p), FRIX_OK);
+    ck_assert_uint_eq(strlen(frix_problem_math_info(p)), 65536);
+    frix_problem_free(p);
+    text[0] = '\x1b';
+    write_base(path);
+    f = reopen_without(path, NULL);
+    put_title(f, "/fclib_local/info/math_info", text);
+    H5Fclose(f);
+    expect_read_error(path, FRIX_ERR_FORMAT, "takes 65539 bytes with its control characters escaped");
+    free(text);
+}
+END_TEST
+
 int main(void) {
     Suite *s = suite_create("hostile_files");
     TCase *links = tcase_create("links and storage");
@@ -529,6 +608,8 @@ int main(void) {
     tcase_add_test(files, dat_overlong_tokens_are_refused);
     tcase_add_test(files, dat_is_streamed_not_loaded);
     tcase_add_test(files, control_characters_are_escaped);
+    tcase_add_test(files, descriptions_keep_line_breaks_only);
+    tcase_add_test(files, info_texts_are_bounded);
     suite_add_tcase(s, files);
     return frix_run_suite(s);
 }

@@ -300,6 +300,29 @@ module frix
       type(c_ptr), value :: p
       type(c_ptr) :: frix_problem_title
     end function
+    function frix_problem_set_description(p, description) &
+         bind(C, name='frix_problem_set_description')
+      import :: c_ptr, c_int, c_char
+      type(c_ptr), value :: p
+      character(kind=c_char), intent(in) :: description(*)
+      integer(c_int) :: frix_problem_set_description
+    end function
+    function frix_problem_description(p) bind(C, name='frix_problem_description')
+      import :: c_ptr
+      type(c_ptr), value :: p
+      type(c_ptr) :: frix_problem_description
+    end function
+    function frix_problem_set_math_info(p, math_info) bind(C, name='frix_problem_set_math_info')
+      import :: c_ptr, c_int, c_char
+      type(c_ptr), value :: p
+      character(kind=c_char), intent(in) :: math_info(*)
+      integer(c_int) :: frix_problem_set_math_info
+    end function
+    function frix_problem_math_info(p) bind(C, name='frix_problem_math_info')
+      import :: c_ptr
+      type(c_ptr), value :: p
+      type(c_ptr) :: frix_problem_math_info
+    end function
     ! Views of the problem's data (c_null_ptr where its kind has no such member): matrices
     ! are handles, vectors C pointers to read with c_f_pointer (3nc entries for q, w; nc for
     ! mu; n for f).
@@ -665,6 +688,15 @@ module frix
       type(c_ptr), value :: problem, sol_r, sol_u, sol_v, guess_r, guess_u, guess_v
       integer(c_int64_t), value :: n_guesses
       integer(c_int) :: frix_fclib_write
+    end function
+    function frix_fclib_write_compressed(path, problem, sol_r, sol_u, sol_v, n_guesses, &
+         guess_r, guess_u, guess_v, level) bind(C, name='frix_fclib_write_compressed')
+      import :: c_ptr, c_int, c_int64_t, c_char
+      character(kind=c_char), intent(in) :: path(*)
+      type(c_ptr), value :: problem, sol_r, sol_u, sol_v, guess_r, guess_u, guess_v
+      integer(c_int64_t), value :: n_guesses
+      integer(c_int), value :: level
+      integer(c_int) :: frix_fclib_write_compressed
     end function
     function frix_fclib_read_solution(path, problem, r, u, v) &
          bind(C, name='frix_fclib_read_solution')

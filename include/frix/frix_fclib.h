@@ -18,7 +18,10 @@
 extern "C" {
 #endif
 
-/* Reads the problem of an FCLIB file; the problem owns its data. */
+/* Reads the problem of an FCLIB file; the problem owns its data. Its info group's title,
+ * description and math_info, where present, become the problem's texts (control characters
+ * escaped as \xNN, but for line breaks and tabs in the description and math_info); a text
+ * over 65536 bytes is refused (FRIX_ERR_FORMAT). */
 FRIX_API frix_error frix_fclib_read(const char *path, frix_problem **out);
 
 /* Reads /solution of the file into caller arrays sized from `problem` (which must be the
@@ -34,7 +37,8 @@ FRIX_API frix_error frix_fclib_read_guess(const char *path, const frix_problem *
                                           int64_t index, double *r, double *u, double *v);
 
 /* Writes `problem`, and optionally a solution and guesses, to a new FCLIB file (an existing
- * file at `path` is replaced atomically). Pass sol_r = sol_u = sol_v = NULL for no /solution
+ * file at `path` is replaced atomically), arrays of 1024 entries or more deflated at level 4
+ * (frix_fclib_write_compressed chooses). Pass sol_r = sol_u = sol_v = NULL for no /solution
  * (sol_v is ignored for local problems); an array with no entries may be NULL (r and u
  * without contacts, v without dofs). n_guesses guesses are stored contiguously:
  * guess k is guess_r[k*3nc ...], guess_u[k*3nc ...], guess_v[k*n ...]. */
@@ -43,6 +47,18 @@ FRIX_API frix_error frix_fclib_write(const char *path, const frix_problem *probl
                                      const double *sol_v, int64_t n_guesses,
                                      const double *guess_r, const double *guess_u,
                                      const double *guess_v);
+
+/* frix_fclib_write with the compression chosen: arrays of 1024 entries or more are stored
+ * shuffled and deflated at `level` (1 fastest .. 9 smallest; frix_fclib_write uses 4), in
+ * chunks; level 0 stores every array as it is (contiguous, readable without HDF5's filters).
+ * Where the HDF5 library lacks deflate, arrays are stored as they are whatever the level.
+ * FRIX_ERR_INVALID_ARGUMENT for a level outside 0..9. The problem's title, description and
+ * math info go into the info group (an empty description: "written by frix VERSION"). */
+FRIX_API frix_error frix_fclib_write_compressed(const char *path, const frix_problem *problem,
+                                                const double *sol_r, const double *sol_u,
+                                                const double *sol_v, int64_t n_guesses,
+                                                const double *guess_r, const double *guess_u,
+                                                const double *guess_v, int level);
 
 #ifdef __cplusplus
 }

@@ -54,9 +54,17 @@ FRIX_API const double *frix_problem_f(const frix_problem *p);
 FRIX_API const double *frix_problem_w(const frix_problem *p);
 FRIX_API const double *frix_problem_mu(const frix_problem *p);
 
-/* A free-text title (empty by default; FCLIB files carry one). The string is copied. */
+/* Free text about the problem, as FCLIB's info group holds it: a title, a description and
+ * its mathematical information (each empty by default; NULL sets it empty). The string is
+ * copied; FRIX_ERR_INVALID_ARGUMENT for a text over 65536 bytes (the FCLIB reader refuses
+ * longer ones). The getters return the problem's copy ("" for a NULL problem), valid until
+ * the next set or the problem's free. */
 FRIX_API frix_error frix_problem_set_title(frix_problem *p, const char *title);
 FRIX_API const char *frix_problem_title(const frix_problem *p);
+FRIX_API frix_error frix_problem_set_description(frix_problem *p, const char *description);
+FRIX_API const char *frix_problem_description(const frix_problem *p);
+FRIX_API frix_error frix_problem_set_math_info(frix_problem *p, const char *math_info);
+FRIX_API const char *frix_problem_math_info(const frix_problem *p);
 
 #ifdef __cplusplus
 }

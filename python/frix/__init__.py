@@ -14,13 +14,13 @@ from .errors import (ConversionWarning, DimensionError, Error, FileError, Format
                      InvalidArgumentError, NotFiniteError, NumericalError, OptionRangeError,
                      OutOfMemoryError, UnknownOptionError, UnknownSolverError, UnsupportedError)
 from .options import SolverInfo, solvers
-from .problem import Problem, load, load_solution
+from .problem import Problem, load, load_solution, measure
 from .result import Existence, Result, Stage, Status
 from .solve import Solver, solve
 
 __all__ = [
     "Problem", "Solver", "Result", "Stage", "Status", "Existence", "SolverInfo",
-    "solve", "load", "load_solution", "solvers", "version",
+    "solve", "measure", "load", "load_solution", "solvers", "version",
     "Error", "InvalidArgumentError", "DimensionError", "NotFiniteError", "OutOfMemoryError",
     "FileError", "FormatError", "UnknownSolverError", "UnknownOptionError", "OptionRangeError",
     "UnsupportedError", "NumericalError", "InternalError", "ConversionWarning",

@@ -70,10 +70,16 @@ _declare("frix_problem_w", c_double_p, c_void_p)
 _declare("frix_problem_mu", c_double_p, c_void_p)
 _declare("frix_problem_title", c_char_p, c_void_p)
 _declare("frix_problem_set_title", c_int, c_void_p, c_char_p)
+_declare("frix_problem_description", c_char_p, c_void_p)
+_declare("frix_problem_set_description", c_int, c_void_p, c_char_p)
+_declare("frix_problem_math_info", c_char_p, c_void_p)
+_declare("frix_problem_set_math_info", c_int, c_void_p, c_char_p)
 _declare("frix_read_problem", c_int, c_char_p, POINTER(c_void_p))
 _declare("frix_fclib_read_solution", c_int, c_char_p, c_void_p, c_double_p, c_double_p, c_double_p)
 _declare("frix_fclib_write", c_int, c_char_p, c_void_p, c_double_p, c_double_p, c_double_p,
          c_int64, c_double_p, c_double_p, c_double_p)
+_declare("frix_fclib_write_compressed", c_int, c_char_p, c_void_p, c_double_p, c_double_p,
+         c_double_p, c_int64, c_double_p, c_double_p, c_double_p, c_int)
 
 _declare("frix_options_create", c_int, c_int, POINTER(c_void_p))
 _declare("frix_options_free", None, c_void_p)

@@ -22,6 +22,16 @@ def _vector_property(attr, getter, size, doc):
     return property(get, doc=doc)
 
 
+def _text_property(getter, setter, what, doc):
+    """One of a problem's texts (at most 65536 bytes; FCLIB's info group carries them)."""
+    def get(self):
+        return text(getter(self._live()))
+
+    def set_text(self, value):
+        _check(setter(self._live(), _c_string(value, what)))
+    return property(get, set_text, doc=doc)
+
+
 class Problem(_Closing):
     """A local problem, Problem(W, q, mu): u = W r + q with W of 3nc x 3nc (a numpy array or
     any scipy.sparse matrix or array), q of 3nc and mu of nc entries. A global one:
@@ -147,14 +157,14 @@ class Problem(_Closing):
         """Size of v: n for a global problem, 0 for a local one."""
         return lib.frix_problem_dofs(self._live())
 
-    @property
-    def title(self):
-        """The problem's free-text title (FCLIB files carry one)."""
-        return text(lib.frix_problem_title(self._live()))
-
-    @title.setter
-    def title(self, value):
-        _check(lib.frix_problem_set_title(self._live(), _c_string(value, "the title")))
+    title = _text_property(lib.frix_problem_title, lib.frix_problem_set_title, "the title",
+                           "The problem's free-text title (FCLIB's info/title).")
+    description = _text_property(lib.frix_problem_description, lib.frix_problem_set_description,
+                                 "the description",
+                                 "The problem's free-text description (FCLIB's info/description).")
+    math_info = _text_property(lib.frix_problem_math_info, lib.frix_problem_set_math_info,
+                               "the math info", "The problem's mathematical information, free "
+                                                "text (FCLIB's info/math_info).")
 
     def _copy_of(self, getter, n):
         """A read-only copy of one of the library's vectors (None where the kind has none)."""
@@ -202,9 +212,23 @@ class Problem(_Closing):
         """H as a scipy.sparse CSC matrix (a copy; global problems)."""
         return self._sparse(lib.frix_problem_H)
 
-    def save(self, path, solution=None):
-        """Writes the problem to a new FCLIB file at path, with a solution when given (a
-        Result, or anything with r, u and, for a global problem, v)."""
+    def save(self, path, solution=None, title=None, description=None, math_info=None,
+             compression=True):
+        """Writes the problem to a new FCLIB file at path (an existing file is replaced whole),
+        with a solution when given (a Result, or anything with r, u and, for a global problem,
+        v). title, description, math_info: set on the problem (as by its properties) before it
+        is written; FCLIB's info group carries them. compression: True (deflate's level 4, what
+        frix_fclib_write uses), False (none: plain arrays any HDF5 reader takes), or a level
+        from 0 to 9; it applies to arrays of 1024 entries or more."""
+        if compression is True:
+            level = None  # frix_fclib_write's own level
+        elif compression is False:
+            level = 0
+        elif isinstance(compression, (int, np.integer)) and 0 <= compression <= 9:
+            level = int(compression)
+        else:
+            raise _refusal(InvalidArgumentError, f"frix: compression is {compression!r}; expected "
+                                                 "True, False or a level from 0 to 9")
         r = u = v = None
         if solution is not None:
             m = self.contact_dofs
@@ -212,8 +236,14 @@ class Problem(_Closing):
             u = _vector(solution.u, m, "solution.u")
             if self.kind == "global" and getattr(solution, "v", None) is not None:
                 v = _vector(solution.v, self.dofs, "solution.v")
-        _check(lib.frix_fclib_write(_c_string(path, "the path"), self._live(), _ptr(r), _ptr(u), _ptr(v),
-                                    0, None, None, None))
+        for name, value in (("title", title), ("description", description),
+                            ("math_info", math_info)):
+            if value is not None:
+                setattr(self, name, value)
+        arguments = (_c_string(path, "the path"), self._live(), _ptr(r), _ptr(u), _ptr(v), 0,
+                     None, None, None)
+        _check(lib.frix_fclib_write(*arguments) if level is None
+               else lib.frix_fclib_write_compressed(*arguments, level))
 
     def measure(self, r, v=None):
         """The error measures of a given r (and v, required for a global problem) without
@@ -237,6 +267,14 @@ class Problem(_Closing):
             return "<frix.Problem (closed)>"
         extra = f", {self.dofs} dofs" if self.kind == "global" else ""
         return f"<frix.Problem {self.kind}, {self.contacts} contacts{extra}>"
+
+
+def measure(problem, r, v=None):
+    """The error measures of a given r (and v, required for a global problem) for `problem`
+    without solving: Problem.measure (frix_problem_measure), by the names Result.measures
+    gives them. Measures an answer from elsewhere (another solver, a FEM code's own) by frix's
+    error measures."""
+    return problem.measure(r, v)
 
 
 def load(path):

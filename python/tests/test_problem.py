@@ -1,5 +1,5 @@
-"""Problems: every input format, vectors borrowed or converted, FCLIB files, and handles that
-are not copied."""
+"""Problems: every input format, vectors borrowed or converted, FCLIB files (their info texts
+and compression), measures of a given answer, and handles that are not copied."""
 import warnings
 
 import numpy as np
@@ -123,3 +123,80 @@ def test_large_arrays_are_saved_deflated_and_read_back_exactly(tmp_path):
     back = frix.load(path)
     assert (back.W != p.W).nnz == 0
     assert np.array_equal(frix.solve(back, tol=1e-10).r, frix.solve(p, tol=1e-10).r)
+
+
+def test_module_measure_is_the_problems(two_contacts):
+    # frix.measure(problem, r, v) gives Problem.measure's dictionary, and refuses alike.
+    W, q, mu = two_contacts
+    p = frix.Problem(W, q, mu)
+    res = frix.solve(p, tol=1e-10)
+    assert frix.measure(p, res.r).keys() == p.measure(res.r).keys()
+    assert frix.measure(p, res.r)["error_scaled"] == p.measure(res.r)["error_scaled"] < 1e-10
+    assert frix.measure(p, np.zeros(6))["error_scaled"] > 0.1
+    with pytest.raises(frix.DimensionError):
+        frix.measure(p, np.zeros(4))
+    g = frix.Problem.from_global(np.diag([2.0, 3.0, 4.0]), np.eye(3), np.array([0.0, 0.1, -1.0]),
+                                 np.zeros(3), np.array([0.5]))
+    gres = frix.solve(g, tol=1e-10)
+    assert frix.measure(g, gres.r, gres.v) == g.measure(gres.r, gres.v)
+    assert frix.measure(g, gres.r, gres.v)["equilibrium"] < 1e-12
+    assert frix.measure(g, gres.r, np.zeros(3))["equilibrium"] > 0.1  # v = 0 is not in equilibrium
+    with pytest.raises(frix.InvalidArgumentError):
+        frix.measure(g, gres.r)
+
+
+def test_info_texts_round_trip(tmp_path, two_contacts):
+    # title, description and math_info through save's arguments and the properties, written to
+    # FCLIB's info group and read back; line breaks and tabs stay, other control characters
+    # come back escaped; a problem saved again keeps what it read.
+    p = frix.Problem(*two_contacts)
+    assert (p.title, p.description, p.math_info) == ("", "", "")
+    path = tmp_path / "texts.hdf5"
+    p.save(path, title="two contacts", description="coupled\n\tby W\x1b", math_info="u = W r + q")
+    assert (p.title, p.description, p.math_info) == ("two contacts", "coupled\n\tby W\x1b", "u = W r + q")
+    back = frix.load(path)
+    assert back.title == "two contacts"
+    assert back.description == "coupled\n\tby W\\x1b"
+    assert back.math_info == "u = W r + q"
+    again = tmp_path / "again.hdf5"
+    back.save(again)
+    assert frix.load(again).description == back.description
+    p.description = ""
+    p.save(path)
+    assert frix.load(path).description.startswith("written by frix ")
+
+
+def test_info_texts_refused_when_a_file_could_not_carry_them(tmp_path, two_contacts):
+    p = frix.Problem(*two_contacts)
+    p.description = "d" * 65536
+    with pytest.raises(frix.InvalidArgumentError, match="65537 bytes"):
+        p.description = "d" * 65537
+    assert len(p.description) == 65536  # the text before is kept
+    with pytest.raises(frix.InvalidArgumentError, match="NUL"):
+        p.math_info = "a\0b"
+    with pytest.raises(frix.InvalidArgumentError):
+        p.save(tmp_path / "unused.hdf5", title="t" * 70000)
+    assert not (tmp_path / "unused.hdf5").exists()
+
+
+def test_save_compression_is_chosen(tmp_path):
+    # compression=True deflates the large arrays (level 4), False stores them plain, an integer
+    # is deflate's level; each file reads back the same problem; other values are refused.
+    nc = 1000
+    W = sp.block_diag([np.diag([2.0, 1.0, 1.0])] * nc, format="csr")
+    q = np.tile([-1.0, 0.0, 0.0], nc)
+    p = frix.Problem(W, q, np.full(nc, 0.3))
+    sizes = []
+    for compression in (True, False, 1, 9):
+        path = tmp_path / f"c{compression!r}.hdf5"
+        p.save(path, compression=compression)
+        sizes.append(path.stat().st_size)
+        back = frix.load(path)
+        assert (back.W != p.W).nnz == 0 and np.array_equal(back.q, q)
+    deflated, plain, fastest, smallest = sizes
+    assert plain > 8 * (W.count_nonzero() + q.size)  # the doubles, as they are
+    assert deflated < plain / 2 and smallest <= fastest < plain / 2
+    for bad in (10, -1, 2.5, "yes", None):
+        with pytest.raises(frix.InvalidArgumentError, match="compression"):
+            p.save(tmp_path / "bad.hdf5", compression=bad)
+        assert not (tmp_path / "bad.hdf5").exists()

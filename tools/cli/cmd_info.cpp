@@ -16,7 +16,7 @@ struct MatrixFacts {
 };
 
 struct Facts {
-    std::string path, title;
+    std::string path, title, description, math_info;
     frix_problem_kind kind = FRIX_PROBLEM_LOCAL;
     int64_t contacts = 0, contact_dofs = 0, dofs = 0;
     MatrixFacts W, M, H;
@@ -56,8 +56,9 @@ Facts gather(const std::string &path) {
     ProblemPtr p = read_problem(path);
     Facts f;
     f.path = path;
-    const char *title = frix_problem_title(p.get());
-    f.title = title ? title : "";
+    f.title = frix_problem_title(p.get());
+    f.description = frix_problem_description(p.get());
+    f.math_info = frix_problem_math_info(p.get());
     f.kind = frix_problem_get_kind(p.get());
     f.contacts = frix_problem_contacts(p.get());
     f.contact_dofs = frix_problem_contact_dofs(p.get());
@@ -111,6 +112,8 @@ void print_json(const Facts &f) {
     w.begin_object();
     w.string("file", f.path);
     w.string("title", f.title);
+    w.string("description", f.description);
+    w.string("math_info", f.math_info);
     w.string("kind", kind_name(f.kind));
     w.integer("contacts", f.contacts);
     w.integer("contact_dofs", f.contact_dofs);
@@ -145,6 +148,8 @@ void print_matrix_line(const char *name, const MatrixFacts &m) {
 void print_text(const Facts &f) {
     std::printf("%-16s %s\n", "file", f.path.c_str());
     std::printf("%-16s %s\n", "title", f.title.empty() ? "-" : one_line(f.title).c_str());
+    if (!f.description.empty()) std::printf("%-16s %s\n", "description", one_line(f.description).c_str());
+    if (!f.math_info.empty()) std::printf("%-16s %s\n", "math info", one_line(f.math_info).c_str());
     std::printf("%-16s %s\n", "kind", kind_name(f.kind));
     std::printf("%-16s %lld\n", "contacts", static_cast<long long>(f.contacts));
     if (f.kind == FRIX_PROBLEM_LOCAL)

@@ -123,8 +123,9 @@ struct ChildWriter {
             w.integer(global ? 1 : 0);
             w.integer(nc);
             w.integer(n);
-            const char *title = frix_problem_title(p.get());
-            w.text(title ? title : "");
+            w.text(frix_problem_title(p.get()));
+            w.text(frix_problem_description(p.get()));
+            w.text(frix_problem_math_info(p.get()));
             if (global) {
                 w.matrix(frix_problem_M(p.get()));
                 w.matrix(frix_problem_H(p.get()));
@@ -394,12 +395,16 @@ ProblemPtr read_problem(const std::string &path, double time_limit, double secon
         fail("cannot read " + path + ": " + message);
     }
     if (tag != 'P') broken();
-    int64_t global = 0, nc = 0, n = 0, title_size = 0;
-    if (!in.integer(global, 1) || !in.integer(nc, kMaxCount) || !in.integer(n, kMaxCount) ||
-        !in.integer(title_size, kMaxCount))
-        broken();
-    std::string title(static_cast<std::size_t>(title_size), '\0');
-    if (title_size > 0 && !in.take(&title[0], title.size())) broken();
+    int64_t global = 0, nc = 0, n = 0;
+    if (!in.integer(global, 1) || !in.integer(nc, kMaxCount) || !in.integer(n, kMaxCount)) broken();
+    // The problem's texts: title, description, math info (the library keeps them short).
+    std::string texts[3];
+    for (std::string &text : texts) {
+        int64_t size = 0;
+        if (!in.integer(size, 1 << 20)) broken();
+        text.resize(static_cast<std::size_t>(size));
+        if (size > 0 && !in.take(&text[0], text.size())) broken();
+    }
     auto data = std::make_shared<SentProblem>();
     auto matrix = [&](std::unique_ptr<frix_matrix, MatrixFree> &out) {
         int64_t rows = 0, cols = 0, nnz = 0;
@@ -428,7 +433,9 @@ ProblemPtr read_problem(const std::string &path, double time_limit, double secon
         err = frix_problem_local(data->W.get(), data->q.data(), data->mu.data(), nc, &raw);
     }
     ProblemPtr problem(raw, ProblemDeleter{data});
-    if (err == FRIX_OK) err = frix_problem_set_title(problem.get(), title.c_str());
+    if (err == FRIX_OK) err = frix_problem_set_title(problem.get(), texts[0].c_str());
+    if (err == FRIX_OK) err = frix_problem_set_description(problem.get(), texts[1].c_str());
+    if (err == FRIX_OK) err = frix_problem_set_math_info(problem.get(), texts[2].c_str());
     if (err != FRIX_OK) fail("cannot read " + path + ": " + library_message(err));
     return problem;
 }
