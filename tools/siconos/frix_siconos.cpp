@@ -282,12 +282,13 @@ int run(int argc, char **argv) {
         w.number("time", res.time);
         w.integer("siconos_info", res.info);
         w.number("siconos_error", res.siconos_error);
-        if (global) {  // where `frix solve --json` has it
-            w.begin_object("measures");
-            w.number("error_relative", res.error);
-            w.number("equilibrium", res.equilibrium);
-            w.end_object();
-        }
+        // Where `frix solve --json` has them: frix's default measure too, so that both
+        // libraries compare in it.
+        w.begin_object("measures");
+        w.number("error_scaled", res.error_scaled);
+        w.number("error_relative", res.error);
+        if (global) w.number("equilibrium", res.equilibrium);
+        w.end_object();
         if (note.empty())
             w.null("note");
         else
