@@ -461,7 +461,6 @@ class RanksVrSystem : public kit::SystemDefaults {
         p_.v = x_.v;
         p_.solved = true;
         record_measures(info, measures_, s_.measure);
-        info.equilibrium = equilibrium_;
     }
 
    private:
@@ -485,15 +484,18 @@ class RanksVrSystem : public kit::SystemDefaults {
                                   rho_.rho_n[(size_t)a], rho_.rho_t[(size_t)a], &st.phi[3 * (size_t)a],
                                   jacobian ? &st.A[9 * (size_t)a] : nullptr, jacobian ? &st.B[9 * (size_t)a] : nullptr);
     }
-    // The error of (r, u) over all contacts, and the equilibrium residual relative to
-    // max(|f|, |M v|, |H r|) (frix_solve's).
+    // The error of (r, u) over all contacts with the equilibrium residual relative to
+    // max(|f|, |M v|, |H r|) (frix_solve's plain one; the distributed forms weigh every dof by
+    // 1, for both measures), as selected_error takes it.
     double error_of(const State &st) {
         measures_ = measures_over_ranks(comm_, st.r.data(), st.u.data(), p_.mu.data(), p_.view.weight, nc_, norm_w_);
         const double res = norm2_all(comm_, st.res.data(), n_);
         const double scale =
             std::max({norm_f_, norm2_all(comm_, st.mv.data(), n_), norm2_all(comm_, st.hr.data(), n_)});
         equilibrium_ = scale > DBL_EPSILON ? res / scale : res;
-        return std::max(selected_error(measures_, s_.measure), equilibrium_);
+        measures_.global = true;
+        measures_.equilibrium = measures_.equilibrium_scaled = equilibrium_;
+        return selected_error(measures_, s_.measure);
     }
     frix_error stopped() { return mpi::agree(comm_, failed_, "frix_mpi_solve"); }
 

@@ -59,6 +59,8 @@ FRIX_API frix_error frix_info_get_double(const frix_info *info, frix_info_key ke
         case FRIX_INFO_PENETRATION: *value = info->penetration; return FRIX_OK;
         case FRIX_INFO_COMPLEMENTARITY: *value = info->complementarity; return FRIX_OK;
         case FRIX_INFO_EQUILIBRIUM: *value = info->equilibrium; return FRIX_OK;
+        case FRIX_INFO_ERROR_CONTACT: *value = info->error_contact; return FRIX_OK;
+        case FRIX_INFO_EQUILIBRIUM_SCALED: *value = info->equilibrium_scaled; return FRIX_OK;
         case FRIX_INFO_SOLVE_TIME: *value = info->solve_time; return FRIX_OK;
         case FRIX_INFO_TOLERANCE: *value = info->tolerance; return FRIX_OK;
         case FRIX_INFO_FACTORIZATION_TIME: *value = info->factorization_time; return FRIX_OK;

@@ -63,6 +63,8 @@ struct frix_info {
     double penetration = NAN;
     double complementarity = NAN;
     double equilibrium = NAN;
+    double error_contact = NAN;
+    double equilibrium_scaled = NAN;
     double solve_time = 0.0;
     double tolerance = NAN;
 

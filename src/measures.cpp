@@ -223,18 +223,31 @@ Measures local_measures(const frix_problem &p, const double *r, double *u) {
     return measures_from_ru(r, u, p.mu, p.weight.data(), p.nc, norm2(p.q, m));
 }
 
+namespace {
+
+// The larger of a contact measure and an equilibrium residual; NaN in either stays NaN.
+double with_equilibrium(double contact, double equilibrium) {
+    return std::isnan(contact) || std::isnan(equilibrium) ? NAN : std::max(contact, equilibrium);
+}
+
+}  // namespace
+
 double selected_error(const Measures &m, int64_t measure_kind) {
     switch (measure_kind) {
-        case FRIX_MEASURE_RELATIVE: return m.relative;
-        case FRIX_MEASURE_Q_RELATIVE: return m.q_relative;
-        default: return m.scaled;
+        case FRIX_MEASURE_RELATIVE: return m.global ? with_equilibrium(m.relative, m.equilibrium) : m.relative;
+        case FRIX_MEASURE_Q_RELATIVE:
+            return m.global ? with_equilibrium(m.q_relative, m.equilibrium) : m.q_relative;
+        default: return m.global ? with_equilibrium(m.scaled, m.equilibrium_scaled) : m.scaled;
     }
 }
 
 void record_measures(frix_info &info, const Measures &m, int64_t measure_kind) {
     info.error_relative = m.relative;
     info.error_q_relative = m.q_relative;
-    info.error_scaled = m.scaled;
+    info.error_scaled = selected_error(m, FRIX_MEASURE_SCALED);
+    info.error_contact = m.scaled;
+    info.equilibrium = m.equilibrium;
+    info.equilibrium_scaled = m.equilibrium_scaled;
     info.residual_absolute = m.residual_absolute;
     info.cone_violation = m.cone_violation;
     info.penetration = m.penetration;
@@ -246,20 +259,32 @@ void record_measures(frix_info &info, const Measures &m, int64_t measure_kind) {
 
 namespace {
 
-// |M v - H r - f| / max(|f|, |M v|, |H r|): how well (v, r) satisfies the dynamics.
-double equilibrium_residual(const frix_problem &p, const double *r, const double *v) {
+// How well (v, r) satisfies the dynamics M v = H r + f: m.equilibrium and
+// m.equilibrium_scaled (Measures).
+void equilibrium_residuals(const frix_problem &p, const double *r, const double *v, frix::Measures &m) {
     const int64_t n = p.n;
-    std::vector<double> mv(n), hr(n, 0.0);
+    std::vector<double> mv(n), hr(n, 0.0), d(n);
     frix::matrix_gemv(*p.M, 1.0, v, 0.0, mv.data());
     if (p.nc > 0) frix::matrix_gemv(*p.H, 1.0, r, 0.0, hr.data());
+    for (int64_t i = 0; i < n; ++i) d[i] = mv[i] - hr[i] - p.f[i];
     double res = 0.0;
-    for (int64_t i = 0; i < n; ++i) {
-        const double d = mv[i] - hr[i] - p.f[i];
-        res += d * d;
-    }
+    for (int64_t i = 0; i < n; ++i) res += d[i] * d[i];
     const double scale = std::max({frix::norm2(p.f, n), frix::norm2(mv.data(), n), frix::norm2(hr.data(), n)});
     res = std::sqrt(res);
-    return scale > DBL_EPSILON ? res / scale : res;
+    m.equilibrium = scale > DBL_EPSILON ? res / scale : res;
+    // The scaled one: every dof weighted by its own 1 / sqrt(M_ii), hr and d reused for D H r
+    // and D d, mv for D f.
+    const bool weighted = (int64_t)p.dof_weight.size() == n;
+    for (int64_t i = 0; i < n; ++i) {
+        const double di = weighted ? p.dof_weight[i] : 1.0;
+        d[i] *= di;
+        hr[i] *= di;
+        mv[i] = di * p.f[i];
+    }
+    const double res_scaled = frix::norm2(d.data(), n);
+    const double scale_scaled = std::max(frix::norm2(mv.data(), n), frix::norm2(hr.data(), n));
+    m.equilibrium_scaled = scale_scaled > 0.0 ? frix::clamped_ratio(res_scaled, scale_scaled)
+                                              : (res_scaled > 0.0 ? DBL_MAX : 0.0);
 }
 
 }  // namespace
@@ -271,8 +296,11 @@ Measures global_measures(const frix_problem &p, const double *r, const double *v
     const int64_t m = 3 * p.nc;
     if (m > 0) matrix_gemv_transposed(*p.H, 1.0, v, 0.0, u);
     for (int64_t i = 0; i < m; ++i) u[i] += p.w[i];
-    if (equilibrium) *equilibrium = equilibrium_residual(p, r, v);
-    return measures_from_ru(r, u, p.mu, p.weight.data(), p.nc, norm2(p.w, m), free_velocity(p));
+    Measures meas = measures_from_ru(r, u, p.mu, p.weight.data(), p.nc, norm2(p.w, m), free_velocity(p));
+    meas.global = true;
+    equilibrium_residuals(p, r, v, meas);
+    if (equilibrium) *equilibrium = meas.equilibrium;
+    return meas;
 }
 
 }  // namespace frix

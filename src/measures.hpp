@@ -25,6 +25,14 @@ struct Measures {
     double complementarity = 0;    // max_a |r_a . u^_a|
     double norm_q = 0, norm_r = 0, norm_u = 0;
     double norm_free = 0;  // the scaled measure's velocity floor (see measures_from_ru)
+    // A global problem's equilibrium residual d = M v - H r - f (global_measures; NaN and
+    // global = false for a local problem): equilibrium = |d| / max(|f|, |M v|, |H r|) goes
+    // with the Siconos and |q| measures; equilibrium_scaled = |D d| / max(|D f|, |D H r|),
+    // D = diag(M)^-1/2 (frix_problem::dof_weight), with the default one: each dof's force in
+    // the same unit (sqrt of energy), so that a change of units, rotations' included, leaves
+    // it, and no |M v| below the line, so that a runaway v cannot satisfy it.
+    bool global = false;
+    double equilibrium = NAN, equilibrium_scaled = NAN;
 };
 
 // |x|_2, without overflow or underflow for values far from 1 (problems scaled by 1e+-200).
@@ -86,12 +94,14 @@ Measures with_norm_q(Measures m, double norm_q, double free = -1.0);
 // Computes u = W r + q (into u) and the measures of a local problem.
 Measures local_measures(const frix_problem &p, const double *r, double *u);
 
-// Computes u = H^T v + w (into u) and the measures of a global problem; *equilibrium (may be
-// null) receives |M v - H r - f| / max(|f|, |M v|, |H r|).
+// Computes u = H^T v + w (into u) and the measures of a global problem, equilibrium
+// included; *equilibrium (may be null) receives m.equilibrium.
 Measures global_measures(const frix_problem &p, const double *r, const double *v, double *u,
                          double *equilibrium);
 
-// The value compared with the tolerance for a given frix_error_measure.
+// The value compared with the tolerance for a given frix_error_measure: for a global problem
+// the larger of the contact measure and the matching equilibrium residual (equilibrium_scaled
+// with the default measure), so that no answer out of equilibrium meets a tolerance.
 double selected_error(const Measures &m, int64_t measure_kind);
 
 // Copies the measures into info, and info.error = selected_error(m, measure_kind).

@@ -46,6 +46,8 @@ void copy_views(const frix_problem &from, frix_problem &to) {
     to.w = from.w;
     to.mu = from.mu;
     to.weight = from.weight;
+    to.dof_weight = from.dof_weight;
+    to.load_weight = from.load_weight;
 }
 
 frix_error create(const frix_problem *problem, const frix_options *options, frix_persistent **out) {

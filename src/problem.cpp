@@ -1,10 +1,12 @@
 // Problems: validation at the boundary, borrowed and owned data, accessors.
 #include "problem.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
 
+#include "disjoint_sets.hpp"
 #include "error_state.hpp"
 #include "measures.hpp"
 
@@ -178,24 +180,60 @@ std::vector<double> delassus_diagonal(const frix_problem &p, const std::vector<d
     return diag;
 }
 
-void set_contact_weights(frix_problem &p) {
-    // A dof whose mass is not positive moves nothing here (0), unlike the existence check's
-    // metric, which gives it 1.
-    const std::vector<double> diag =
-        delassus_diagonal(p, p.kind == FRIX_PROBLEM_GLOBAL ? inverse_mass_diagonal(p, 0.0) : std::vector<double>());
-    std::vector<double> &w = p.weight;
-    w.assign((size_t)p.nc, 0.0);
-    for (int64_t a = 0; a < p.nc; ++a) w[(size_t)a] = diag[(size_t)(3 * a)];
+namespace {
+
+// Every value that is not positive and finite becomes the mean of those that are (1 if none).
+void fill_with_mean(std::vector<double> &x) {
     double sum = 0.0;
     int64_t count = 0;
-    for (double x : w)
-        if (x > 0.0 && std::isfinite(x)) {
-            sum += x;
+    for (double v : x)
+        if (v > 0.0 && std::isfinite(v)) {
+            sum += v;
             ++count;
         }
     const double fill = count > 0 && std::isfinite(sum / (double)count) ? sum / (double)count : 1.0;
-    for (double &x : w)
-        if (!(x > 0.0 && std::isfinite(x))) x = fill;
+    for (double &v : x)
+        if (!(v > 0.0 && std::isfinite(v))) v = fill;
+}
+
+// p.dof_weight and p.load_weight of a global problem (problem.hpp), from 1 / M_ii.
+void set_dof_weights(frix_problem &p, const std::vector<double> &inverse_mass) {
+    p.dof_weight = inverse_mass;
+    for (double &x : p.dof_weight) x = std::sqrt(x);
+    fill_with_mean(p.dof_weight);
+    // The bodies: components of M's graph; those with an entry of H are in contact.
+    DisjointSets bodies(p.n);
+    if (p.M)
+        for_each_entry(*p.M, [&](int64_t i, int64_t j, double x) {
+            if (x != 0.0) bodies.unite(i, j);
+        });
+    std::vector<char> touched((size_t)p.n, 0), reached((size_t)p.n, 0);
+    if (p.H)
+        for_each_entry(*p.H, [&](int64_t i, int64_t, double x) {
+            if (x == 0.0) return;
+            reached[(size_t)i] = 1;
+            touched[(size_t)bodies.find(i)] = 1;
+        });
+    p.load_weight.assign((size_t)p.n, 0.0);
+    for (int64_t i = 0; i < p.n; ++i)
+        if (!reached[(size_t)i] && touched[(size_t)bodies.find(i)]) p.load_weight[(size_t)i] = p.dof_weight[(size_t)i];
+}
+
+}  // namespace
+
+void set_contact_weights(frix_problem &p) {
+    // A dof whose mass is not positive moves nothing here (0), unlike the existence check's
+    // metric, which gives it 1.
+    const bool global = p.kind == FRIX_PROBLEM_GLOBAL;
+    const std::vector<double> inverse_mass = global ? inverse_mass_diagonal(p, 0.0) : std::vector<double>();
+    const std::vector<double> diag = delassus_diagonal(p, inverse_mass);
+    std::vector<double> &w = p.weight;
+    w.assign((size_t)p.nc, 0.0);
+    for (int64_t a = 0; a < p.nc; ++a) w[(size_t)a] = diag[(size_t)(3 * a)];
+    fill_with_mean(w);
+    p.dof_weight.clear();
+    p.load_weight.clear();
+    if (global) set_dof_weights(p, inverse_mass);
 }
 
 double free_velocity(const frix_problem &p) {
@@ -209,7 +247,20 @@ double free_velocity(const frix_problem &p) {
             if (d > 0.0) free[(size_t)col] += value * (p.f[row] / d);
         });
     const double norm_free = norm2(free.data(), m);
-    return std::max(norm2(p.w, m), std::isfinite(norm_free) ? norm_free : 0.0);
+    return std::max({norm2(p.w, m), std::isfinite(norm_free) ? norm_free : 0.0, load_velocity(p)});
+}
+
+double load_velocity(const frix_problem &p) {
+    if (p.kind != FRIX_PROBLEM_GLOBAL || p.nc == 0 || (int64_t)p.load_weight.size() != p.n) return 0.0;
+    std::vector<double> load;
+    for (int64_t i = 0; i < p.n; ++i)
+        if (p.load_weight[(size_t)i] > 0.0) load.push_back(p.f[i] * p.load_weight[(size_t)i]);
+    if (load.empty()) return 0.0;
+    double mean_weight = 0.0;
+    for (double x : p.weight) mean_weight += x / (double)p.nc;
+    // Their root mean square at each of the nc contacts.
+    const double v = std::sqrt(mean_weight * (double)p.nc / (double)load.size()) * norm2(load.data(), (int64_t)load.size());
+    return std::isfinite(v) ? v : 0.0;
 }
 
 frix_error check_problem_vectors(const frix_problem &p) {

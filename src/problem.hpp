@@ -34,6 +34,14 @@ struct frix_problem {
     // default error measure's unit of r (measures.hpp). Set when the problem is made or
     // updated (set_contact_weights); a view made by hand fills it or leaves it empty (1).
     std::vector<double> weight;
+    // Global problems, per dof: 1 / sqrt(M_ii), the default measure's weight of a force
+    // (measures.hpp): a rotation's torque and a translation's force in one unit. Set with
+    // weight; empty: 1.
+    std::vector<double> dof_weight;
+    // dof_weight on the dofs no contact reaches (rows of H without an entry) of the bodies
+    // some contact touches (components of M's graph that H reaches), 0 elsewhere:
+    // load_velocity's weights. Set with weight.
+    std::vector<double> load_weight;
 
     // Owned storage, used only by problems that own their data (see make_owned_* below).
     std::unique_ptr<frix_matrix> owned_W, owned_M, owned_H;
@@ -77,13 +85,23 @@ std::vector<double> delassus_diagonal(const frix_problem &p, const std::vector<d
 
 // p.weight from the problem's matrices: delassus_diagonal's normal entries (M's diagonal for
 // M^-1 in a global problem: cheap, and exact for a diagonal M). A value that is not positive
-// and finite (a contact W or H does not reach) takes the mean of the others, or 1.
+// and finite (a contact W or H does not reach) takes the mean of the others, or 1. Also
+// p.dof_weight (a global problem), 1 / sqrt(M_ii), where M_ii is not positive the mean of the
+// others, or 1.
 void set_contact_weights(frix_problem &p);
 
 // A global problem's velocity at the contacts without contact forces, the default measure's
-// floor (a local problem's is |q|): max(|w|, |H^T D^-1 f + w|), D = M's diagonal. Computed
-// when asked: f and w may change in place between solves.
+// floor (a local problem's is |q|): max(|w|, |H^T D^-1 f + w|, load_velocity(p)), D = M's
+// diagonal. Computed when asked: f and w may change in place between solves.
 double free_velocity(const frix_problem &p);
+// The velocity that the load H^T D^-1 f does not see gives a contact, to its order of
+// magnitude: sqrt(mean_a w_a) rms(D^-1/2 f) sqrt(nc), the root mean square over the k dofs no
+// contact reaches of the bodies in contact (w_a = p.weight, D^-1/2 on them: p.load_weight):
+// every contact moving at the load's typical velocity. Where the load acts away from the
+// contacts (a FEM body pressed from the other side) H^T D^-1 f is 0 at them, and without this
+// floor a solution's u = 0 would leave the measure 0 / 0; a rigid body's dofs are all
+// reached, and it adds nothing.
+double load_velocity(const frix_problem &p);
 
 // Re-checks the vectors a caller may have changed in place since creation (q/f/w, mu).
 frix_error check_problem_vectors(const frix_problem &p);

@@ -49,7 +49,8 @@ class MassSolver {
         if (empty_) return FRIX_OK;
         if (frix_error e = to_csc(M, csc_)) return e;
         refused_ = FRIX_STATUS_NOT_RUN;
-        if (is_symmetric(csc_)) {
+        symmetric_ = is_symmetric(csc_);
+        if (symmetric_) {
             const frix_error e = chol_.factor(csc_.view());
             refused_ = chol_.refused();
             if (e == FRIX_OK || refused_) {
@@ -75,6 +76,8 @@ class MassSolver {
         lu_.set_budget(budget);
     }
     frix_status refused() const { return refused_; }
+    // Whether the last M factorised was symmetric (to round-off).
+    bool symmetric() const { return symmetric_; }
     frix_error solve(const double *b, double *x) const {
         if (empty_) return FRIX_OK;
         return use_chol_ ? chol_.solve(b, x) : lu_.solve(b, x);
@@ -154,6 +157,7 @@ class MassSolver {
     bool use_chol_ = false;
     frix_status refused_ = FRIX_STATUS_NOT_RUN;  // why the last factor() was not started
     bool empty_ = false;
+    bool symmetric_ = false;
 };
 
 // Global problems: what the reduction W = H^T M^-1 H would cost, from the structure of M and H

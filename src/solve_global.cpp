@@ -3,11 +3,14 @@
 // of (r, v) and the status checked against them.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <memory>
 #include <vector>
 
 #include "error_state.hpp"
+#include "floating.hpp"
+#include "log.hpp"
 #include "measures.hpp"
 #include "monitor.hpp"
 #include "reduction.hpp"
@@ -26,6 +29,12 @@ struct GlobalState : CachedState {
     uint64_t w_from_m = 0, w_from_h = 0;  // the M and H that W was formed from (0: none)
     std::unique_ptr<frix_matrix> W;
     SolveCache local;
+    // A singular M (floating.hpp): its free_motion_quotient, and the solves on M + eps diag(M)
+    // with their own states (its factorisation, W).
+    bool singular = false;
+    double quotient = NAN;
+    std::unique_ptr<frix_matrix> shifted;
+    SolveCache shifted_cache;
 };
 constexpr int kGlobalStateKey = 0;  // no solver has id 0
 
@@ -132,12 +141,128 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
     return recover_velocity(p, ms, r, v);
 }
 
+frix_error solve_global(const frix_problem &p, const frix_options &opts, const SolverEntry &entry, double *r,
+                        double *u, double *v, frix_info &info, const Stopwatch &clock, SolveCache *cache,
+                        MassSolver *enclosing, bool regularise);
+
+// Proximal passes on a singular M: (M + eps D) v_k = H r_k + f + eps D v_(k-1), each pass a
+// solve of that problem from the last (r, v). Their fixed point is M v = H r + f; where the
+// contacts hold the free motion they take the load the shift carried within a pass or two.
+// Where they do not (a load no contact reaction balances) the equilibrium residual does not
+// halve from pass to pass, and the solve is refused with the reason.
+constexpr int kFloatingPasses = 8;
+
+frix_error solve_floating(const frix_problem &p, const frix_options &opts, const SolverEntry &entry, double *r,
+                          double *u, double *v, frix_info &info, const Stopwatch &clock, const SolveCache *cache,
+                          GlobalState &state, bool m_changed) {
+    const int64_t n = p.n;
+    if (!state.shifted || m_changed) {
+        state.shifted = shifted_mass(p, kFloatingShift);
+        ++state.shifted_cache.m_values;
+    }
+    if (cache) state.shifted_cache.h_values = cache->h_values;
+    const std::vector<double> shift = mass_shift(p, kFloatingShift);
+    std::vector<double> f(p.f, p.f + n);
+    frix_problem view;
+    view.kind = FRIX_PROBLEM_GLOBAL;
+    view.nc = p.nc;
+    view.n = n;
+    view.M = state.shifted.get();
+    view.H = p.H;
+    view.f = f.data();
+    view.w = p.w;
+    view.mu = p.mu;
+    view.weight = p.weight;
+    view.dof_weight = p.dof_weight;
+    view.load_weight = p.load_weight;
+    const double tol = opts.d(FRIX_OPT_TOLERANCE);
+    const int64_t kind = opts.i(FRIX_OPT_ERROR_MEASURE), max_iter = opts.i(FRIX_OPT_MAX_ITER);
+    frix_info done = info;  // the passes' work so far
+    Measures meas;
+    double previous = INFINITY;
+    int passes = 0;
+    for (;;) {
+        frix_options o = opts;
+        o.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, max_iter - done.iterations);
+        frix_info pass;
+        pass.solver_id = info.solver_id;
+        pass.contacts = info.contacts;
+        pass.tolerance = info.tolerance;
+        if (frix_error e = solve_global(view, o, entry, r, u, v, pass, clock, &state.shifted_cache, nullptr, false))
+            return e;
+        pass.absorb(done);
+        done = std::move(pass);
+        ++passes;
+        meas = global_measures(p, r, v, u, nullptr);
+        const double equilibrium = kind == FRIX_MEASURE_SCALED ? meas.equilibrium_scaled : meas.equilibrium;
+        if (opts.i(FRIX_OPT_VERBOSITY) > 0)
+            log_line(&opts, "singular M: pass %d on M + %.0e diag(M), error %.3e, equilibrium %.3e", passes,
+                     kFloatingShift, selected_error(meas, kind), equilibrium);
+        if (selected_error(meas, kind) <= tol || done.status != FRIX_STATUS_CONVERGED || passes == kFloatingPasses ||
+            done.iterations >= max_iter || !(equilibrium < 0.5 * previous))
+            break;
+        previous = equilibrium;
+        for (int64_t i = 0; i < n; ++i) f[i] = p.f[i] + shift[i] * v[i];
+    }
+    info = std::move(done);
+    record_measures(info, meas, kind);
+    const double equilibrium = kind == FRIX_MEASURE_SCALED ? meas.equilibrium_scaled : meas.equilibrium;
+    if (info.error <= tol) {
+        info.status = FRIX_STATUS_CONVERGED;
+    } else if (info.status == FRIX_STATUS_CONVERGED && equilibrium > tol) {
+        char why[96];
+        if (std::isnan(state.quotient)) std::snprintf(why, sizeof why, "no factorisation of it succeeds");
+        else std::snprintf(why, sizeof why, "x.Mx / x.diag(M)x = %.1e along it", state.quotient);
+        return fail(FRIX_ERR_NUMERICAL,
+                    "frix_solve: M is singular (it lets the bodies move freely, %s: a body held only by its "
+                    "contacts) and the contacts do not hold that motion: solved on M + %.0e diag(M), the "
+                    "equilibrium residual stays at %.3g after %d passes (a load that no contact reaction "
+                    "balances, or contacts that open or slide)",
+                    why, kFloatingShift, equilibrium, passes);
+    } else if (info.status == FRIX_STATUS_CONVERGED) {
+        info.status = FRIX_STATUS_STAGNATED;
+    }
+    return FRIX_OK;
+}
+
 }  // namespace
 
-frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
-                                const SolverEntry &entry, double *r, double *u, double *v,
-                                frix_info &info, const Stopwatch &clock, SolveCache *cache,
-                                MassSolver *enclosing) {
+frix_error solve_global_problem(const frix_problem &p, const frix_options &opts, const SolverEntry &entry,
+                                double *r, double *u, double *v, frix_info &info, const Stopwatch &clock,
+                                SolveCache *cache, MassSolver *enclosing) {
+    return solve_global(p, opts, entry, r, u, v, info, clock, cache, enclosing, true);
+}
+
+namespace {
+
+// Factorises M into ms, priced against the memory limit only: every answer's velocity needs
+// M^-1, and the start returned at a time limit must come with its own (M v = H r + f). over:
+// the limit a factorisation not started would have overrun. regularise: whether M is singular
+// goes into state (a symmetric M that no factorisation takes may be).
+frix_error factor_mass(const frix_problem &p, const frix_options &opts, const Stopwatch &clock, MassSolver &ms,
+                       GlobalState &state, bool regularise, frix_status &over) {
+    ms.set_budget(Monitor(opts, clock).memory_budget());
+    const frix_error factored = ms.factor(*p.M);
+    ms.set_budget(nullptr);  // it refers to this solve's options and clock
+    state.singular = false;
+    if (frix_error e = factored) {
+        over = ms.refused();
+        if (!over && !(regularise && ms.symmetric())) return e;
+        clear_error();
+        state.singular = !over;
+        state.quotient = NAN;
+    } else if (regularise) {
+        state.quotient = free_motion_quotient(p, ms);
+        state.singular = std::fabs(state.quotient) <= kSingularQuotient;
+    }
+    return FRIX_OK;
+}
+
+// solve_global_problem; regularise: a singular M goes to solve_floating (not on its own
+// shifted problem).
+frix_error solve_global(const frix_problem &p, const frix_options &opts, const SolverEntry &entry, double *r,
+                        double *u, double *v, frix_info &info, const Stopwatch &clock, SolveCache *cache,
+                        MassSolver *enclosing, bool regularise) {
     const int64_t m = 3 * p.nc;
     if (!entry.solves_global && !entry.solves_local)
         return fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s solves no global problem", entry.name);
@@ -151,17 +276,11 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
     const bool m_current = enclosing || (cache && state->m_values == cache->m_values);
     if (!m_current) {
         state->m_values = 0;  // until factorised
-        // Priced against the memory limit only: every answer's velocity needs M^-1, and the
-        // start returned at a time limit must come with its own (M v = H r + f).
-        ms.set_budget(Monitor(opts, clock).memory_budget());
-        const frix_error factored = ms.factor(*p.M);
-        ms.set_budget(nullptr);  // it refers to this solve's options and clock
-        if (frix_error e = factored) {
+        frix_status over = FRIX_STATUS_NOT_RUN;
+        if (frix_error e = factor_mass(p, opts, clock, ms, *state, regularise, over)) return e;
+        if (over) {
             // One that would exceed the memory limit is not started: nothing is solved, r
             // stays as given and v = 0.
-            const frix_status over = ms.refused();
-            if (!over) return e;
-            clear_error();
             Monitor::record_factorizations(info, ms.last_stats());
             std::fill(v, v + p.n, 0.0);
             info.status = over;
@@ -170,6 +289,14 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
             return FRIX_OK;
         }
         state->m_values = cache ? cache->m_values : 0;
+    }
+    if (regularise && state->singular) {
+        frix_info factorised;  // M's own factorisation, before the shifted one's
+        if (!m_current) Monitor::record_factorizations(factorised, ms.last_stats());
+        const frix_error e = solve_floating(p, opts, entry, r, u, v, info, clock, cache, *state, !m_current);
+        Monitor::add_factorizations(info, factorised);
+        state.keep();
+        return e;
     }
     std::vector<double> q(m);
     if (frix_error e = ms.solve(p.f, v)) return e;
@@ -246,8 +373,8 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
     return FRIX_OK;
 }
 
-bool meets_global_tolerance(const frix_info &info, double tol) {
-    return info.error <= tol && info.equilibrium <= std::max(tol, 1e-12);
-}
+}  // namespace
+
+bool meets_global_tolerance(const frix_info &info, double tol) { return info.error <= tol; }
 
 }  // namespace frix

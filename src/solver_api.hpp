@@ -161,8 +161,8 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
 frix_error solve_problem(const char *caller, const frix_problem *problem, const frix_options *options,
                          double *r, double *u, double *v, frix_info *info, SolveCache *cache);
 
-// Whether a global solve's measures meet `tol`: the error and the equilibrium residual both
-// (the latter at least to 1e-12, which is rounding for M v = H r + f).
+// Whether a global solve's measures meet `tol`: its error, which holds the equilibrium
+// residual (selected_error).
 bool meets_global_tolerance(const frix_info &info, double tol);
 
 // The default solver of frix_solve(problem, NULL, ...).

@@ -42,7 +42,13 @@ typedef enum frix_info_key FRIX_ENUM_BASE {
     FRIX_INFO_COMPLEMENTARITY = 106, /* max over contacts of |r_a . u^_a| */
     FRIX_INFO_EQUILIBRIUM = 107,    /* global: |Mv - Hr - f| / max(|f|, |Mv|, |Hr|); NaN for local */
     FRIX_INFO_ERROR_SCALED = 108,   /* the default measure, FRIX_MEASURE_SCALED: natural-map residual
-                                       of (w_a r_a, u^_a) / max(|q|, |u|) */
+                                       of (w_a r_a, u^_a) / max(|q|, |u|); for a global problem the
+                                       larger of that and FRIX_INFO_EQUILIBRIUM_SCALED */
+    FRIX_INFO_ERROR_CONTACT = 109,  /* the default measure's contact part alone (the natural-map
+                                       residual above; = FRIX_INFO_ERROR_SCALED for local) */
+    FRIX_INFO_EQUILIBRIUM_SCALED = 110, /* global: the default measure's equilibrium part,
+                                       |D (Mv - Hr - f)| / max(|D f|, |D Hr|), D = diag(M)^-1/2;
+                                       NaN for local */
     FRIX_INFO_SOLVE_TIME = 120,     /* seconds, wall clock, whole frix_solve call */
     FRIX_INFO_TOLERANCE = 121,      /* the tolerance the solve was asked for */
     FRIX_INFO_FACTORIZATION_TIME = 122, /* seconds in symbolic analyses and factorisations */

@@ -116,8 +116,11 @@ typedef enum frix_error_measure FRIX_ENUM_BASE {
     FRIX_MEASURE_Q_RELATIVE = 1,
     /* The default: the natural-map residual with each contact's reaction in velocity units,
      * s_a = w_a r_a (w_a its normal self-compliance W_aa[0][0]; for a global problem
-     * sum_i H_i,a^2 / M_ii), divided by max(|q|, |u|). A change of units does not change it,
-     * and a runaway r cannot satisfy it. */
+     * sum_i H_i,a^2 / M_ii), divided by max(|q|, |u|); for a global problem, the larger of that
+     * and the equilibrium residual |D (M v - H r - f)| / max(|D f|, |D H r|), D = diag(M)^-1/2.
+     * A change of units does not change it, and a runaway r or v cannot satisfy it. On a global
+     * problem the other two measures are also taken with the equilibrium residual
+     * FRIX_INFO_EQUILIBRIUM (the larger of the two). */
     FRIX_MEASURE_SCALED = 2
 } frix_error_measure;
 

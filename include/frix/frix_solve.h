@@ -24,12 +24,14 @@ extern "C" {
  * (every q_N >= 0 for a local problem), returns r = 0 at once with status CONVERGED.
  * A local solver on a global problem works on W = H^T M^-1 H; where W would be larger than
  * the memory (a large deformable body makes it dense), FRIX_ERR_OUT_OF_MEMORY at once, before
- * it is formed: gnsn-ac (607) and auto solve such problems without W. */
+ * it is formed: gnsn-ac (607) and auto solve such problems without W. A global problem whose M
+ * is singular (a body held only by its contacts) is solved where the contacts hold it, and
+ * refused with FRIX_ERR_NUMERICAL and the reason where they do not (docs/solvers.md). */
 FRIX_API frix_error frix_solve(const frix_problem *problem, const frix_options *options,
                                double *r, double *u, double *v, frix_info *info);
 
 /* ---- Error measures of a given (r[, v]) without solving: fills the measure keys of info
- * (FRIX_INFO_ERROR* , _CONE_VIOLATION, _PENETRATION, _COMPLEMENTARITY, _EQUILIBRIUM), and
+ * (FRIX_INFO_ERROR* , _CONE_VIOLATION, _PENETRATION, _COMPLEMENTARITY, _EQUILIBRIUM*), and
  * FRIX_INFO_ERROR with the default measure (FRIX_MEASURE_SCALED). u (optional, 3nc) receives
  * W r + q. */
 FRIX_API frix_error frix_problem_measure(const frix_problem *problem, const double *r,

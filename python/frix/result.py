@@ -51,7 +51,8 @@ _MEASURES = {"error_scaled": C.FRIX_INFO_ERROR_SCALED, "error_relative": C.FRIX_
              "error_q_relative": C.FRIX_INFO_ERROR_Q_RELATIVE,
              "residual_absolute": C.FRIX_INFO_RESIDUAL_ABSOLUTE,
              "cone_violation": C.FRIX_INFO_CONE_VIOLATION, "penetration": C.FRIX_INFO_PENETRATION,
-             "complementarity": C.FRIX_INFO_COMPLEMENTARITY, "equilibrium": C.FRIX_INFO_EQUILIBRIUM}
+             "complementarity": C.FRIX_INFO_COMPLEMENTARITY, "equilibrium": C.FRIX_INFO_EQUILIBRIUM,
+             "error_contact": C.FRIX_INFO_ERROR_CONTACT, "equilibrium_scaled": C.FRIX_INFO_EQUILIBRIUM_SCALED}
 _TIMES = {"factorization": C.FRIX_INFO_FACTORIZATION_TIME, "setup": C.FRIX_INFO_SETUP_TIME,
           "reduction": C.FRIX_INFO_REDUCTION_TIME}
 

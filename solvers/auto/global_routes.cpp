@@ -22,18 +22,15 @@ namespace frix::autosolve {
 namespace {
 
 // A global answer (r, v) set aside while another route runs from elsewhere: the caller gets
-// the better of the two by the global measure (the larger of the error and the equilibrium
-// residual), as auto's local stages keep their best iterate.
+// the better of the two by the global measure (its error, equilibrium included), as auto's
+// local stages keep their best iterate.
 struct GlobalAnswer {
     std::vector<double> r, v;
     double error, equilibrium;
     GlobalAnswer(const SolveContext &ctx, const frix_info &info)
         : r(ctx.r, ctx.r + 3 * ctx.problem.nc), v(ctx.v, ctx.v + ctx.problem.n), error(info.error),
           equilibrium(info.equilibrium) {}
-    static double score(double error, double equilibrium) {
-        const double s = std::max(error, equilibrium);
-        return std::isfinite(s) ? s : INFINITY;
-    }
+    static double score(double error) { return std::isfinite(error) ? error : INFINITY; }
     // Puts the set-aside (r, v) back, whatever the caller holds.
     void put_back(SolveContext &ctx) const {
         std::copy(r.begin(), r.end(), ctx.r);
@@ -42,7 +39,7 @@ struct GlobalAnswer {
     // Puts the set-aside answer back where it is better than the one the route left, with its
     // error and equilibrium (the driver measures the answer returned again in full).
     void restore_if_better(SolveContext &ctx, frix_info &info) const {
-        if (info.status == FRIX_STATUS_CONVERGED || !(score(error, equilibrium) < score(info.error, info.equilibrium)))
+        if (info.status == FRIX_STATUS_CONVERGED || !(score(error) < score(info.error)))
             return;
         put_back(ctx);
         info.error = error;

@@ -221,7 +221,7 @@ class VrSystem : public kit::SystemDefaults {
     frix_error evaluate(double &psi, double &err) {
         psi = merit(ctx_.r, ctx_.v, ctx_.u, res_.data(), phi_.data(), true);
         const Measures meas = global_measures(p_, ctx_.r, ctx_.v, ctx_.u, &equilibrium_);
-        err = std::max(selected_error(meas, measure_), equilibrium_);
+        err = selected_error(meas, measure_);
         return FRIX_OK;
     }
     frix_error factor(double delta, kit::Factorisation &f) {

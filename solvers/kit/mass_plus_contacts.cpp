@@ -134,8 +134,7 @@ void de_saxce_shift(const frix_problem &p, const double *u, double *shift) {
 
 double global_error(const frix_problem &p, int64_t measure, const double *r, const double *v, double *u,
                     double *equilibrium) {
-    const Measures meas = global_measures(p, r, v, u, equilibrium);
-    return std::max(selected_error(meas, measure), *equilibrium);
+    return selected_error(global_measures(p, r, v, u, equilibrium), measure);
 }
 
 double global_error_or_recovered(const frix_problem &p, const MassSolver *mass, int64_t measure, double tol,

@@ -72,8 +72,9 @@ frix_error prepare_mass_plus_contacts(const SolveContext &ctx, KeptMassPlusConta
 // mu_a |u_T,a| (the normal entry of each contact; the tangential ones are not written).
 void de_saxce_shift(const frix_problem &p, const double *u, double *shift);
 
-// The larger of the selected error measure and the equilibrium residual of (r, v), u = H^T v + w
-// computed into u: what a solver of global problems stops on.
+// The selected error measure of (r, v), equilibrium included (selected_error), u = H^T v + w
+// computed into u and the plain equilibrium residual into *equilibrium: what a solver of
+// global problems stops on.
 double global_error(const frix_problem &p, int64_t measure, const double *r, const double *v, double *u,
                     double *equilibrium);
 // The same, and where it is above tol, also the errors of r with v corrected towards r's own

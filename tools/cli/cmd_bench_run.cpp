@@ -180,8 +180,9 @@ int cmd_bench_run(int argc, char **argv) {
         frix_bench::write_line(fd, frix_bench::peak_memory_line());
         return kExitUsage;
     }
-    // The error column is always frix's measure of Siconos's kind, error_scaled the default
-    // one (both for Siconos's runs too), for a global problem frix_bench::global_error. The
+    // The error column is always frix's measure of Siconos's kind, for a global problem
+    // frix_bench::global_error, error_scaled the default one, which holds the equilibrium
+    // already (both for Siconos's runs too). The
     // solver's own stopping measure, which an option may change, is the reported one.
     const frix_status status = frix_info_status(info.get());
     const int64_t iterations = frix_info_iterations(info.get());
@@ -193,7 +194,6 @@ int cmd_bench_run(int argc, char **argv) {
         double equilibrium = NAN;
         if (frix_info_get_double(info.get(), FRIX_INFO_EQUILIBRIUM, &equilibrium) != FRIX_OK) equilibrium = NAN;
         error = frix_bench::global_error(error, equilibrium);
-        error_scaled = frix_bench::global_error(error_scaled, equilibrium);
     }
     // Short solves again, without the trace, for the median time (RepeatTimer).
     frix_bench::RepeatTimer timer;

@@ -83,6 +83,7 @@ struct Report {
     double error = NAN, tolerance = NAN, time = NAN;
     double error_relative = NAN, error_q_relative = NAN, residual = NAN;
     double cone_violation = NAN, penetration = NAN, complementarity = NAN, equilibrium = NAN;
+    double equilibrium_scaled = NAN;  // global: the default measure's equilibrium part
     // Newton-type solvers and global problems (0 where not applicable).
     int64_t newton_iterations = 0, line_search_steps = 0, factorizations = 0, symbolic_analyses = 0,
             hybrid_sweeps = 0;
@@ -214,6 +215,7 @@ void fill_from_info(Report &r, const frix_info *info) {
     r.penetration = info_double(info, FRIX_INFO_PENETRATION);
     r.complementarity = info_double(info, FRIX_INFO_COMPLEMENTARITY);
     r.equilibrium = info_double(info, FRIX_INFO_EQUILIBRIUM);
+    r.equilibrium_scaled = info_double(info, FRIX_INFO_EQUILIBRIUM_SCALED);
     frix_info_get_int(info, FRIX_INFO_NEWTON_ITERATIONS, &r.newton_iterations);
     frix_info_get_int(info, FRIX_INFO_LINE_SEARCH_STEPS, &r.line_search_steps);
     frix_info_get_int(info, FRIX_INFO_FACTORIZATIONS, &r.factorizations);
@@ -297,6 +299,7 @@ void print_json(const Report &r) {
     w.number("penetration", r.penetration);
     w.number("complementarity", r.complementarity);
     w.number("equilibrium", r.equilibrium);
+    w.number("equilibrium_scaled", r.equilibrium_scaled);
     w.end_object();
     w.begin_object("linear_algebra");
     w.integer("newton_iterations", r.newton_iterations);
@@ -333,7 +336,8 @@ void print_text(const Report &r) {
     std::printf("%-16s %lld\n", "iterations", static_cast<long long>(r.iterations));
     std::printf("%-16s %.3e (%s, tolerance %.1e)\n", "error", r.error, measure_name(r.measure),
                 r.tolerance);
-    std::printf("%-16s %s\n", "  relative to", measure_meaning(r.measure));
+    std::printf("%-16s %s%s\n", "  relative to", measure_meaning(r.measure),
+                r.kind == FRIX_PROBLEM_GLOBAL ? ", and the equilibrium residual" : "");
     if (r.setup_time > 0.0)
         std::printf("%-16s %.3g s (setup %.3g s, then the solver %.3g s)\n", "time", r.time, r.setup_time,
                     r.time - r.setup_time);
@@ -345,7 +349,8 @@ void print_text(const Report &r) {
     std::printf("%-16s %.3e\n", "cone violation", r.cone_violation);
     std::printf("%-16s %.3e\n", "penetration", r.penetration);
     std::printf("%-16s %.3e\n", "complementarity", r.complementarity);
-    if (r.kind == FRIX_PROBLEM_GLOBAL) std::printf("%-16s %.3e\n", "equilibrium", r.equilibrium);
+    if (r.kind == FRIX_PROBLEM_GLOBAL)
+        std::printf("%-16s %.3e (diag(M)-weighted: %.3e)\n", "equilibrium", r.equilibrium, r.equilibrium_scaled);
     if (r.newton_iterations > 0)
         std::printf("%-16s %lld (%lld line-search steps, %lld fallback sweeps)\n", "newton steps",
                     static_cast<long long>(r.newton_iterations),

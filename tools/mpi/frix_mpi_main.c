@@ -328,6 +328,7 @@ static void print_json(const args_t *a, const report_t *r) {
     json_number("penetration", info_double(r->info, FRIX_INFO_PENETRATION));
     json_number("complementarity", info_double(r->info, FRIX_INFO_COMPLEMENTARITY));
     json_number("equilibrium", info_double(r->info, FRIX_INFO_EQUILIBRIUM));
+    json_number("equilibrium_scaled", info_double(r->info, FRIX_INFO_EQUILIBRIUM_SCALED));
     json_close();
     json_open("linear_algebra");
     json_integer("newton_iterations", (long long)info_int(r->info, FRIX_INFO_NEWTON_ITERATIONS));
