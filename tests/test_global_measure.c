@@ -159,7 +159,7 @@ START_TEST(three_unit_systems_one_verdict) {
     const size_t routes = sizeof kGlobalSolvers / sizeof kGlobalSolvers[0];
     for (int shape = 0; shape < 2; ++shape)
         for (size_t s = 0; s < routes + (shape == 0); ++s) {
-            const int solver = s < routes ? solver : FRIX_SOLVER_GLOBAL_NSGS;
+            const int solver = s < routes ? kGlobalSolvers[s] : FRIX_SOLVER_GLOBAL_NSGS;
             run first = {0};
             for (int k = 0; k < 3; ++k) {
                 dense_case c;

@@ -171,7 +171,7 @@ int find_contacts(const world *w, double floor_margin, const double *reach, cont
     }
 #undef CELL_OF
 #undef CLAMPED
-    qsort(cs->c, (size_t)cs->count, sizeof *cs->c, by_pair);
+    if (cs->count > 1) qsort(cs->c, (size_t)cs->count, sizeof *cs->c, by_pair);
     return 1;
 }
 
