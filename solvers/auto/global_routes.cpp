@@ -209,7 +209,9 @@ frix_error GlobalRoutes::reduce_after(int64_t left, const GlobalAnswer *from) {
 // answer with what is left (where forming W fits the limits: `may_reduce`).
 frix_error GlobalRoutes::product_then_reduce(int64_t max_iter, bool may_reduce) {
     Shared shared(ctx_.options, ctx_.clock);
-    Watchdog dog(shared, Watch::Rate, Monitor(ctx_).tolerance(), 0, kProductPatience);
+    const bool momentum = ctx_.options.i(FRIX_OPT_ACCELERATION) != 0;
+    Watchdog dog(shared, Watch::Rate, Monitor(ctx_).tolerance(), 0,
+                 momentum ? kProductMomentumPatience : kProductPatience);
     if (frix_error e = run(kGnsgsEntry, std::max<int64_t>(1, max_iter / 2), &dog)) return e;
     const int64_t left = max_iter - info_.iterations;
     if (!may_reduce || !may_go_on(shared.stop_requested.load(), left)) {
