@@ -1,4 +1,6 @@
-// frix_fclib_read: an FCLIB file's local (/fclib_local) or global (/fclib_global) problem.
+// frix_fclib_read: an FCLIB file's local (/fclib_local) or global (/fclib_global) problem, or
+// a rolling-friction one (/fclib_global_rolling, FCLIB's and Siconos's; /fclib_local_rolling,
+// frix's, the local group with mu_r; docs/rolling.md).
 #include <frix/frix.h>
 
 #include <memory>
@@ -17,11 +19,18 @@ namespace {
 
 using ProblemPtr = std::unique_ptr<frix_problem, void (*)(frix_problem *)>;
 
-void check_spacedim(const FileReader &file, const std::string &root) {
-    const int64_t d = file.read_int_scalar(root + "/spacedim");
-    if (d != 3)
-        raise(FRIX_ERR_UNSUPPORTED, "'%s': %s/spacedim is %lld; frix solves 3D contact (spacedim 3)",
-              file.path(), root.c_str(), static_cast<long long>(d));
+// Which group the file holds: the entries a contact (spacedim) and whether mu_r comes along.
+struct Group {
+    std::string root;
+    int dim;
+    bool rolling;
+};
+
+void check_spacedim(const FileReader &file, const Group &g) {
+    const int64_t d = file.read_int_scalar(g.root + "/spacedim");
+    if (d != g.dim)
+        raise(FRIX_ERR_UNSUPPORTED, "'%s': %s/spacedim is %lld; frix solves 3D %scontact (spacedim %d)",
+              file.path(), g.root.c_str(), static_cast<long long>(d), g.rolling ? "rolling-friction " : "", g.dim);
 }
 
 void check_mu(const FileReader &file, const std::string &name, const std::vector<double> &mu) {
@@ -31,18 +40,28 @@ void check_mu(const FileReader &file, const std::string &name, const std::vector
                   file.path(), name.c_str(), k, mu[k]);
 }
 
-// W.m / 3 with the message FCLIB files need when it is not whole.
+// W.m / spacedim with the message FCLIB files need when it is not whole.
 int64_t contacts_of(const FileReader &file, const std::string &matrix, int64_t contact_dofs,
-                    const char *what) {
-    if (contact_dofs % 3 != 0)
-        raise(FRIX_ERR_FORMAT, "'%s': %s has %lld %s, not a multiple of spacedim 3", file.path(),
-              matrix.c_str(), static_cast<long long>(contact_dofs), what);
-    return contact_dofs / 3;
+                    const char *what, int dim) {
+    if (contact_dofs % dim != 0)
+        raise(FRIX_ERR_FORMAT, "'%s': %s has %lld %s, not a multiple of spacedim %d", file.path(),
+              matrix.c_str(), static_cast<long long>(contact_dofs), what, dim);
+    return contact_dofs / dim;
 }
 
-ProblemPtr read_local(const FileReader &file) {
-    const std::string root = "/fclib_local";
-    check_spacedim(file, root);
+// mu, and mu_r for a rolling group: nc values each, >= 0.
+void read_coefficients(const FileReader &file, const Group &g, int64_t nc, const std::string &counted,
+                       std::vector<double> &mu, std::vector<double> &mu_r) {
+    mu = file.read_vector(g.root + "/vectors/mu", nc, counted.c_str());
+    check_mu(file, g.root + "/vectors/mu", mu);
+    if (!g.rolling) return;
+    mu_r = file.read_vector(g.root + "/vectors/mu_r", nc, counted.c_str());
+    check_mu(file, g.root + "/vectors/mu_r", mu_r);
+}
+
+ProblemPtr read_local(const FileReader &file, const Group &g) {
+    const std::string &root = g.root;
+    check_spacedim(file, g);
     if (file.exists(root + "/V") || file.exists(root + "/R"))
         raise(FRIX_ERR_UNSUPPORTED,
               "'%s': the local problem has V and R (equality constraints), which frix does not "
@@ -52,24 +71,25 @@ ProblemPtr read_local(const FileReader &file) {
     if (W.m != W.n)
         raise(FRIX_ERR_FORMAT, "'%s': %s is %lld x %lld, expected square", file.path(),
               W.group.c_str(), static_cast<long long>(W.m), static_cast<long long>(W.n));
-    const int64_t nc = contacts_of(file, W.group, W.m, "rows");
-    std::vector<double> q = file.read_vector(root + "/vectors/q", W.m, "rows of /fclib_local/W");
-    std::vector<double> mu =
-        file.read_vector(root + "/vectors/mu", nc, "contacts: rows of /fclib_local/W / 3");
-    check_mu(file, root + "/vectors/mu", mu);
+    const int64_t nc = contacts_of(file, W.group, W.m, "rows", g.dim);
+    std::vector<double> q = file.read_vector(root + "/vectors/q", W.m, ("rows of " + W.group).c_str());
+    std::vector<double> mu, mu_r;
+    read_coefficients(file, g, nc, "contacts: rows of " + W.group + " / " + std::to_string(g.dim), mu, mu_r);
     std::unique_ptr<frix_matrix> matrix = read_matrix(file, W);
 
     frix_problem *raw = nullptr;
     const frix_error err =
-        make_owned_local_problem(std::move(matrix), std::move(q), std::move(mu), &raw);
+        g.rolling ? make_owned_rolling_local_problem(std::move(matrix), std::move(q), std::move(mu), std::move(mu_r),
+                                                     &raw)
+                  : make_owned_local_problem(std::move(matrix), std::move(q), std::move(mu), &raw);
     ProblemPtr problem(raw, frix_problem_free);
     if (err != FRIX_OK) raise_from_core(err, std::string("'") + file.path() + "'");
     return problem;
 }
 
-ProblemPtr read_global(const FileReader &file) {
-    const std::string root = "/fclib_global";
-    check_spacedim(file, root);
+ProblemPtr read_global(const FileReader &file, const Group &g) {
+    const std::string &root = g.root;
+    check_spacedim(file, g);
     if (file.exists(root + "/G"))
         raise(FRIX_ERR_UNSUPPORTED,
               "'%s': the global problem has G (equality constraints), which frix does not solve",
@@ -83,19 +103,20 @@ ProblemPtr read_global(const FileReader &file) {
         raise(FRIX_ERR_FORMAT, "'%s': %s has %lld rows, expected %lld (the size of %s)",
               file.path(), H.group.c_str(), static_cast<long long>(H.m),
               static_cast<long long>(M.m), M.group.c_str());
-    const int64_t nc = contacts_of(file, H.group, H.n, "columns");
-    std::vector<double> f = file.read_vector(root + "/vectors/f", M.m, "size of /fclib_global/M");
-    std::vector<double> w =
-        file.read_vector(root + "/vectors/w", H.n, "columns of /fclib_global/H");
-    std::vector<double> mu =
-        file.read_vector(root + "/vectors/mu", nc, "contacts: columns of /fclib_global/H / 3");
-    check_mu(file, root + "/vectors/mu", mu);
+    const int64_t nc = contacts_of(file, H.group, H.n, "columns", g.dim);
+    std::vector<double> f = file.read_vector(root + "/vectors/f", M.m, ("size of " + M.group).c_str());
+    std::vector<double> w = file.read_vector(root + "/vectors/w", H.n, ("columns of " + H.group).c_str());
+    std::vector<double> mu, mu_r;
+    read_coefficients(file, g, nc, "contacts: columns of " + H.group + " / " + std::to_string(g.dim), mu, mu_r);
     std::unique_ptr<frix_matrix> Mm = read_matrix(file, M);
     std::unique_ptr<frix_matrix> Hm = read_matrix(file, H);
 
     frix_problem *raw = nullptr;
-    const frix_error err = make_owned_global_problem(std::move(Mm), std::move(Hm), std::move(f),
-                                                     std::move(w), std::move(mu), &raw);
+    const frix_error err =
+        g.rolling ? make_owned_rolling_global_problem(std::move(Mm), std::move(Hm), std::move(f), std::move(w),
+                                                      std::move(mu), std::move(mu_r), &raw)
+                  : make_owned_global_problem(std::move(Mm), std::move(Hm), std::move(f), std::move(w),
+                                              std::move(mu), &raw);
     ProblemPtr problem(raw, frix_problem_free);
     if (err != FRIX_OK) raise_from_core(err, std::string("'") + file.path() + "'");
     return problem;
@@ -139,24 +160,27 @@ extern "C" FRIX_API frix_error frix_fclib_read(const char *path, frix_problem **
         if (path == nullptr) return frix::fail(FRIX_ERR_INVALID_ARGUMENT, "frix_fclib_read: path is NULL");
         Session session;
         const FileReader file(path);
-        const bool local = file.exists("/fclib_local"), global = file.exists("/fclib_global");
-        if (local && global)
-            raise(FRIX_ERR_FORMAT, "'%s' holds both /fclib_local and /fclib_global", path);
-        if (!local && !global) {
-            if (file.exists("/fclib_global_rolling"))
-                raise(FRIX_ERR_UNSUPPORTED,
-                      "'%s' holds a rolling-friction problem (/fclib_global_rolling), which "
-                      "frix does not solve",
-                      path);
-            raise(FRIX_ERR_FORMAT,
-                  "'%s' is not an FCLIB problem file: it has no /fclib_local or /fclib_global "
-                  "group",
-                  path);
+        static const Group kGroups[] = {{"/fclib_local", 3, false},
+                                        {"/fclib_global", 3, false},
+                                        {"/fclib_local_rolling", 5, true},
+                                        {"/fclib_global_rolling", 5, true}};
+        const Group *found = nullptr;
+        for (const Group &g : kGroups) {
+            if (!file.exists(g.root)) continue;
+            if (found)
+                raise(FRIX_ERR_FORMAT, "'%s' holds both %s and %s", path, found->root.c_str(), g.root.c_str());
+            found = &g;
         }
-        const std::string root = local ? "/fclib_local" : "/fclib_global";
+        if (!found)
+            raise(FRIX_ERR_FORMAT,
+                  "'%s' is not an FCLIB problem file: it has no /fclib_local, /fclib_global, "
+                  "/fclib_local_rolling or /fclib_global_rolling group",
+                  path);
+        const std::string &root = found->root;
         if (!file.is_group(root))
             raise(FRIX_ERR_FORMAT, "'%s': %s is not a group", path, root.c_str());
-        ProblemPtr problem = local ? read_local(file) : read_global(file);
+        const bool local = root == "/fclib_local" || root == "/fclib_local_rolling";
+        ProblemPtr problem = local ? read_local(file, *found) : read_global(file, *found);
         read_info(file, root, *problem);
         *out = problem.release();
         return FRIX_OK;

@@ -20,12 +20,13 @@ void read_solution_group(const FileReader &file, const std::string &group,
                          const frix_problem &problem, double *r, double *u, double *v) {
     if (!file.is_group(group))
         raise(FRIX_ERR_FORMAT, "'%s' has no %s group", file.path(), group.c_str());
-    const int64_t m = 3 * problem.nc;
-    const bool global = problem.kind == FRIX_PROBLEM_GLOBAL;
+    const int64_t m = contact_size(problem) * problem.nc;
+    const bool global = !is_local_form(problem);
     std::vector<double> rr, uu, vv;
     const Unwritten unwritten = Unwritten::read_fill;
-    if (r != nullptr) rr = file.read_vector(group + "/r", m, "3 x contacts of the problem", unwritten);
-    if (u != nullptr) uu = file.read_vector(group + "/u", m, "3 x contacts of the problem", unwritten);
+    const std::string counted = std::to_string(contact_size(problem)) + " x contacts of the problem";
+    if (r != nullptr) rr = file.read_vector(group + "/r", m, counted.c_str(), unwritten);
+    if (u != nullptr) uu = file.read_vector(group + "/u", m, counted.c_str(), unwritten);
     if (global && v != nullptr)
         vv = file.read_vector(group + "/v", problem.n, "dofs of the problem", unwritten);
     std::copy(rr.begin(), rr.end(), r);

@@ -87,8 +87,8 @@ Extras check_arguments(const char *where, const frix_problem &problem, const dou
                        const double *sol_u, const double *sol_v, int64_t n_guesses,
                        const double *guess_r, const double *guess_u, const double *guess_v) {
     if (frix_error err = check_problem_vectors(problem)) throw Failure{err};
-    const bool global = problem.kind == FRIX_PROBLEM_GLOBAL;
-    const int64_t m = 3 * problem.nc, n = global ? problem.n : 0;
+    const bool global = !is_local_form(problem);
+    const int64_t m = contact_size(problem) * problem.nc, n = global ? problem.n : 0;
     Extras e;
     e.with_solution = sol_r != nullptr || sol_u != nullptr || (global && sol_v != nullptr);
     // An array of no entries may be NULL (r and u without contacts, v without dofs), as
@@ -119,8 +119,8 @@ Extras check_arguments(const char *where, const frix_problem &problem, const dou
 // The whole file, built in memory.
 std::vector<unsigned char> build_file(const char *path, const frix_problem &problem,
                                       const Extras &e, int deflate_level) {
-    const bool global = problem.kind == FRIX_PROBLEM_GLOBAL;
-    const int64_t m = 3 * problem.nc, n = global ? problem.n : 0;
+    const bool global = !is_local_form(problem), rolling = is_rolling(problem);
+    const int64_t m = contact_size(problem) * problem.nc, n = global ? problem.n : 0;
     // The 32-bit conversion can still refuse the problem, so it also comes first.
     Csc32 W, M, H;
     if (global) {
@@ -132,9 +132,11 @@ std::vector<unsigned char> build_file(const char *path, const frix_problem &prob
 
     Session session;
     FileWriter file(path, deflate_level);
-    const std::string root = global ? "/fclib_global" : "/fclib_local";
+    // A rolling problem: FCLIB's /fclib_global_rolling, or frix's /fclib_local_rolling (the
+    // local group with mu_r), spacedim 5 (docs/rolling.md).
+    const std::string root = std::string(global ? "/fclib_global" : "/fclib_local") + (rolling ? "_rolling" : "");
     file.create_group(root);
-    file.write_int32_scalar(root + "/spacedim", 3);
+    file.write_int32_scalar(root + "/spacedim", contact_size(problem));
     file.create_group(root + "/vectors");
     if (global) {
         write_matrix(file, root + "/M", M);
@@ -146,6 +148,7 @@ std::vector<unsigned char> build_file(const char *path, const frix_problem &prob
         file.write_doubles(root + "/vectors/q", problem.q, m);
     }
     file.write_doubles(root + "/vectors/mu", problem.mu, problem.nc);
+    if (rolling) file.write_doubles(root + "/vectors/mu_r", problem.mu_r, problem.nc);
     write_info(file, root, problem);
 
     if (e.with_solution) write_vectors(file, "/solution", e.solution, m, n);

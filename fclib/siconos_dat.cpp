@@ -5,6 +5,7 @@
 // meaning:
 //   local:   d nc  MATRIX(W, 3nc x 3nc)  q[3nc]  mu[nc]  [flag]
 //   global:  d nc  MATRIX(M, n x n)  MATRIX(H, n x 3nc)  f[n]  w[3nc]  mu[nc]  [flag]
+//   rolling: 5 nc  MATRIX(W, 5nc x 5nc)  q[5nc]  mu[nc]  mu_r[nc]   (local form only)
 //   MATRIX:  storage size0 size1 BODY
 //     storage 0 (dense):         size0 size1 again, then size0*size1 values column-major
 //     storage 1 (sparse-block):  nbblocks nbrows nbcols  rowsizes[nbrows] colsizes[nbcols]
@@ -160,11 +161,33 @@ frix_problem *finish(TextTokens &in, frix_error err, frix_problem *raw) {
     return problem.release();
 }
 
+// Siconos's rolling-friction local problem (rollingFrictionContact_printInFile): dimension 5,
+// the number of contacts, W, q, mu and mu_r, nothing after.
+frix_problem *read_rolling_dat(TextTokens &in) {
+    const int64_t nc = in.integer("the number of contacts", 0, kMaxSize / 5);
+    std::unique_ptr<frix_matrix> W = read_matrix(in, "W", -1, -1);
+    if (W->rows != 5 * nc)
+        raise(FRIX_ERR_FORMAT, "'%s': W is %lld x %lld but %lld rolling contacts need %lld x %lld", in.path(),
+              static_cast<long long>(W->rows), static_cast<long long>(W->cols), static_cast<long long>(nc),
+              static_cast<long long>(5 * nc), static_cast<long long>(5 * nc));
+    std::vector<double> q = read_vector(in, "q", 5 * nc);
+    std::vector<double> mu = read_vector(in, "mu", nc);
+    std::vector<double> mu_r = read_vector(in, "mu_r", nc);
+    if (in.remaining() > 0)
+        in.error(std::to_string(in.remaining()) + " numbers follow mu_r, where the file should end");
+    frix_problem *raw = nullptr;
+    const frix_error err =
+        make_owned_rolling_local_problem(std::move(W), std::move(q), std::move(mu), std::move(mu_r), &raw);
+    return finish(in, err, raw);
+}
+
 frix_problem *read_dat(const char *path) {
     TextTokens in(path);
     const int64_t d = in.integer("the dimension", 0, kMaxSize);
+    if (d == 5) return read_rolling_dat(in);
     if (d != 3)
-        raise(FRIX_ERR_UNSUPPORTED, "'%s': dimension %lld; frix solves 3D contact (dimension 3)",
+        raise(FRIX_ERR_UNSUPPORTED,
+              "'%s': dimension %lld; frix solves 3D contact (dimension 3, or 5 with rolling friction)",
               path, static_cast<long long>(d));
     const int64_t nc = in.integer("the number of contacts", 0, kMaxSize / 3);
     std::unique_ptr<frix_matrix> first = read_matrix(in, "W or M", -1, -1);

@@ -34,7 +34,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         return 0;
     }
     const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
-    const int global = frix_problem_get_kind(p) == FRIX_PROBLEM_GLOBAL;
+    const frix_problem_kind kind = frix_problem_get_kind(p);
+    const int global = kind == FRIX_PROBLEM_GLOBAL || kind == FRIX_PROBLEM_ROLLING_GLOBAL;
     double *r = calloc((size_t)m + 1, sizeof *r), *u = calloc((size_t)m + 1, sizeof *u);
     double *v = calloc((size_t)n + 1, sizeof *v);
     double error = NAN;

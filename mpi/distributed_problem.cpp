@@ -313,6 +313,7 @@ frix_error prepare_root(const frix_problem *problem, const int *part, int ranks,
                         const char *where) {
     if (!problem) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: problem is NULL on the root", where);
     if (frix_error other = check_release(*problem, where, "problem")) return other;
+    if (frix_error rolling = refuse_rolling(*problem, where)) return rolling;
     if (frix_error bad = check_problem_vectors(*problem)) return bad;
     const bool global = problem->kind == FRIX_PROBLEM_GLOBAL;
     if (global) {

@@ -200,6 +200,8 @@ FRIX_API frix_error frix_mpi_problem_scatter_global(frix_mpi_context *ctx, int r
                 e = fail(FRIX_ERR_INVALID_ARGUMENT, "%s: problem is NULL on the root", where);
             else if (frix_error other = frix::mpi::check_release(*problem, where, "problem"))
                 e = other;
+            else if (frix_error rolling = frix::refuse_rolling(*problem, where))
+                e = rolling;
             else if (problem->kind != FRIX_PROBLEM_GLOBAL)
                 e = fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the problem is not global (frix_mpi_problem_scatter takes it)",
                          where);

@@ -110,6 +110,8 @@ FRIX_API frix_error frix_mpi_partition(frix_mpi_context *ctx, int root, const fr
                 e = fail(FRIX_ERR_INVALID_ARGUMENT, "%s: problem and part are required on the root", where);
             else if (frix_error other = frix::mpi::check_release(*problem, where, "problem"))
                 e = other;
+            else if (frix_error rolling = frix::refuse_rolling(*problem, where))
+                e = rolling;
             else if (problem->nc >= INT_MAX)
                 e = fail(FRIX_ERR_DIMENSION, "%s: %lld contacts, more than PETSc's indices hold", where,
                          (long long)problem->nc);

@@ -32,6 +32,7 @@ const frix::SolverEntry *const kSolvers[] = {
     &frix::kGadmmEntry,
     &frix::kGnsnAlEntry,
     &frix::kGnsgsEntry,
+    &frix::kRollingNsgsEntry,
 };
 constexpr int64_t kSolverCount = sizeof kSolvers / sizeof kSolvers[0];
 
@@ -46,8 +47,9 @@ bool matches_siconos(const frix::SolverEntry &e, const std::string &name) {
     if (!e.siconos_name) return false;
     std::string s = e.siconos_name;
     if (name == s || name == "SICONOS_" + s) return true;
-    const std::string prefix = "FRICTION_3D_", global = "GLOBAL_FRICTION_3D_";
+    const std::string prefix = "FRICTION_3D_", global = "GLOBAL_FRICTION_3D_", rolling = "ROLLING_FRICTION_3D_";
     if (s.compare(0, global.size(), global) == 0) return name == "GFC3D_" + s.substr(global.size());
+    if (s.compare(0, rolling.size(), rolling) == 0) return name == "RFC3D_" + s.substr(rolling.size());
     return s.compare(0, prefix.size(), prefix) == 0 && name == "FC3D_" + s.substr(prefix.size());
 }
 

@@ -552,6 +552,8 @@ FRIX_API frix_error frix_problem_check_existence(const frix_problem *problem, do
         if (!(time_limit >= 0.0 && time_limit <= kMaxTimeLimit))
             return frix::fail(FRIX_ERR_INVALID_ARGUMENT, "%s: time_limit = %g is outside [0, %g]",
                               where, time_limit, kMaxTimeLimit);
+        // The check's cones are the three-component ones: it cannot decide a rolling problem.
+        if (frix_error e = frix::refuse_rolling(*problem, where)) return e;
         if (frix_error e = frix::check_problem_vectors(*problem)) return e;
         double margin = NAN;
         info->existence = frix::check_existence(*problem, time_limit, &margin);

@@ -9,6 +9,7 @@
 
 #include "error_state.hpp"
 #include "coulomb.hpp"
+#include "rolling.hpp"
 
 namespace {
 
@@ -291,6 +292,50 @@ void equilibrium_residuals(const frix_problem &p, const double *r, const double 
 
 namespace frix {
 
+Measures rolling_measures_from_ru(const double *r, const double *u, const double *mu, const double *mu_r,
+                                  const double *weight, int64_t nc, double norm_q, double free) {
+    double res_scale = 0.0, res_ssq = 1.0, sc_scale = 0.0, sc_ssq = 1.0;
+    Measures m;
+    for (int64_t a = 0; a < nc; ++a) {
+        const double *ra = r + 5 * a, *ua = u + 5 * a, w = weight ? weight[a] : 1.0;
+        add_scaled_squares(res_scale, res_ssq, std::fabs(rolling::residual(ra, ua, mu[a], mu_r[a])), 1.0);
+        const double sa[5] = {w * ra[0], w * ra[1], w * ra[2], w * ra[3], w * ra[4]};
+        add_scaled_squares(sc_scale, sc_ssq, std::fabs(rolling::residual(sa, ua, mu[a], mu_r[a])), 1.0);
+        m.cone_violation = std::max(m.cone_violation, rolling::cone_distance(ra, mu[a], mu_r[a]));
+        m.penetration = std::max(m.penetration, -ua[0]);
+        double uh[5];
+        rolling::shifted_velocity(ua, mu[a], mu_r[a], uh);
+        double dot = 0.0;
+        for (int i = 0; i < 5; ++i) dot += ra[i] * uh[i];
+        m.complementarity = std::max(m.complementarity, std::fabs(dot));
+    }
+    m.residual_absolute = res_scale * std::sqrt(res_ssq);
+    m.residual_scaled = sc_scale * std::sqrt(sc_ssq);
+    m.norm_r = norm2(r, 5 * nc);
+    m.norm_u = norm2(u, 5 * nc);
+    return with_norm_q(m, norm_q, free);
+}
+
+Measures rolling_local_measures(const frix_problem &p, const double *r, double *u) {
+    const int64_t m = 5 * p.nc;
+    if (m == 0) return Measures{};
+    matrix_gemv(*p.W, 1.0, r, 0.0, u);
+    for (int64_t i = 0; i < m; ++i) u[i] += p.q[i];
+    return rolling_measures_from_ru(r, u, p.mu, p.mu_r, p.weight.data(), p.nc, norm2(p.q, m));
+}
+
+Measures rolling_global_measures(const frix_problem &p, const double *r, const double *v, double *u,
+                                 double *equilibrium) {
+    const int64_t m = 5 * p.nc;
+    if (m > 0) matrix_gemv_transposed(*p.H, 1.0, v, 0.0, u);
+    for (int64_t i = 0; i < m; ++i) u[i] += p.w[i];
+    Measures meas = rolling_measures_from_ru(r, u, p.mu, p.mu_r, p.weight.data(), p.nc, norm2(p.w, m), free_velocity(p));
+    meas.global = true;
+    equilibrium_residuals(p, r, v, meas);
+    if (equilibrium) *equilibrium = meas.equilibrium;
+    return meas;
+}
+
 Measures global_measures(const frix_problem &p, const double *r, const double *v, double *u,
                          double *equilibrium) {
     const int64_t m = 3 * p.nc;
@@ -311,9 +356,9 @@ frix_error measure(const char *where, const frix_problem *p, const double *r, co
                    double *u_out, frix_info &info) {
     using frix::fail;
     if (!p) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: problem is NULL", where);
-    const int64_t m = 3 * p->nc;
+    const int64_t m = frix::contact_size(*p) * p->nc;
     if (m > 0 && !r) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: r is NULL", where);
-    if (p->kind == FRIX_PROBLEM_GLOBAL && p->n > 0 && !v)
+    if (!frix::is_local_form(*p) && p->n > 0 && !v)
         return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: v is required for a global problem", where);
     if (frix_error e = frix::check_problem_vectors(*p)) return e;
     for (int64_t i = 0; i < m; ++i)
@@ -326,14 +371,18 @@ frix_error measure(const char *where, const frix_problem *p, const double *r, co
         u = u_work.data();
     }
     info.contacts = p->nc;
-    if (p->kind == FRIX_PROBLEM_LOCAL) {
-        frix::record_measures(info, frix::local_measures(*p, r, u), FRIX_MEASURE_SCALED);
+    if (frix::is_local_form(*p)) {
+        frix::record_measures(info, frix::is_rolling(*p) ? frix::rolling_local_measures(*p, r, u)
+                                                          : frix::local_measures(*p, r, u),
+                              FRIX_MEASURE_SCALED);
         return FRIX_OK;
     }
     for (int64_t i = 0; i < p->n; ++i)
         if (!std::isfinite(v[i]))
             return fail(FRIX_ERR_NOT_FINITE, "%s: v[%lld] is not finite", where, (long long)i);
-    frix::record_measures(info, frix::global_measures(*p, r, v, u, &info.equilibrium),
+    frix::record_measures(info,
+                          frix::is_rolling(*p) ? frix::rolling_global_measures(*p, r, v, u, &info.equilibrium)
+                                               : frix::global_measures(*p, r, v, u, &info.equilibrium),
                           FRIX_MEASURE_SCALED);
     return FRIX_OK;
 }

@@ -99,6 +99,18 @@ Measures local_measures(const frix_problem &p, const double *r, double *u);
 Measures global_measures(const frix_problem &p, const double *r, const double *v, double *u,
                          double *equilibrium);
 
+// The measures of a rolling problem (5 entries a contact; rolling.hpp's residual): the same
+// fields with the same normalisations, Measures::relative being Siconos 4.4's
+// rolling_fc3d_compute_error (its norm = |q|). The scaled residual weighs all five entries of
+// r_a by the contact's weight.
+Measures rolling_measures_from_ru(const double *r, const double *u, const double *mu, const double *mu_r,
+                                  const double *weight, int64_t nc, double norm_q, double free = -1.0);
+// u = W r + q (local) or H^T v + w (global; *equilibrium as for global_measures), and the
+// rolling measures.
+Measures rolling_local_measures(const frix_problem &p, const double *r, double *u);
+Measures rolling_global_measures(const frix_problem &p, const double *r, const double *v, double *u,
+                                 double *equilibrium);
+
 // The value compared with the tolerance for a given frix_error_measure: for a global problem
 // the larger of the contact measure and the matching equilibrium residual (equilibrium_scaled
 // with the default measure), so that no answer out of equilibrium meets a tolerance.

@@ -54,6 +54,7 @@ frix_error create(const frix_problem *problem, const frix_options *options, frix
     if (!out) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_persistent_create: out is NULL");
     *out = nullptr;
     if (!problem) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_persistent_create: problem is NULL");
+    if (frix_error e = frix::refuse_rolling(*problem, "frix_persistent_create")) return e;
     auto ps = std::make_unique<frix_persistent>();
     frix_options *copy = nullptr;
     const frix_error e = options ? frix_options_copy(options, &copy) : frix_options_create(frix::kDefaultSolver, &copy);
@@ -62,6 +63,9 @@ frix_error create(const frix_problem *problem, const frix_options *options, frix
     const frix::SolverEntry *entry = frix::find_solver(copy->solver_id);
     if (!entry)
         return fail(FRIX_ERR_UNKNOWN_SOLVER, "frix_persistent_create: no solver has id %d", copy->solver_id);
+    if (!entry->solves_local && !entry->solves_global)
+        return fail(FRIX_ERR_UNSUPPORTED, "frix_persistent_create: solver %s solves rolling-friction problems only",
+                    entry->name);
     if (problem->kind == FRIX_PROBLEM_LOCAL && !entry->solves_local)
         return fail(FRIX_ERR_UNSUPPORTED, "frix_persistent_create: solver %s solves global problems only",
                     entry->name);

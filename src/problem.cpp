@@ -20,13 +20,19 @@ frix_error check_vector(const char *where, const char *name, const double *x, in
     return FRIX_OK;
 }
 
-frix_error check_mu(const char *where, const double *mu, int64_t nc) {
-    if (frix_error e = check_vector(where, "mu", mu, nc)) return e;
+frix_error check_mu(const char *where, const double *mu, int64_t nc, const char *name) {
+    if (frix_error e = check_vector(where, name, mu, nc)) return e;
     for (int64_t a = 0; a < nc; ++a)
         if (mu[a] < 0.0)
-            return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: mu[%lld] = %g is negative", where,
+            return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: %s[%lld] = %g is negative", where, name,
                         (long long)a, mu[a]);
     return FRIX_OK;
+}
+
+frix_error refuse_rolling(const frix_problem &p, const char *where) {
+    if (!is_rolling(p)) return FRIX_OK;
+    return fail(FRIX_ERR_UNSUPPORTED, "%s: rolling-friction problems are not supported here (see frix_problem.h)",
+                where);
 }
 
 }  // namespace frix
@@ -43,8 +49,9 @@ frix_error check_nc(const char *where, int64_t nc) {
     return FRIX_OK;
 }
 
+// dim: entries a contact (3, or 5 for rolling friction); mu_r checked where dim is 5.
 frix_error check_local(const char *where, const frix_matrix *W, const double *q, const double *mu,
-                       int64_t nc) {
+                       const double *mu_r, int64_t nc, int dim) {
     if (frix_error e = check_nc(where, nc)) return e;
     if (!W) {
         if (nc == 0) return FRIX_OK;
@@ -53,19 +60,22 @@ frix_error check_local(const char *where, const frix_matrix *W, const double *q,
     if (W->rows != W->cols)
         return fail(FRIX_ERR_DIMENSION, "%s: W is %lld x %lld, not square", where,
                     (long long)W->rows, (long long)W->cols);
-    if (W->rows % 3 != 0)
-        return fail(FRIX_ERR_DIMENSION, "%s: W has %lld rows, not a multiple of 3", where,
-                    (long long)W->rows);
-    if (W->rows != 3 * nc)
+    if (W->rows % dim != 0)
+        return fail(FRIX_ERR_DIMENSION, "%s: W has %lld rows, not a multiple of %d", where,
+                    (long long)W->rows, dim);
+    if (W->rows != dim * nc)
         return fail(FRIX_ERR_DIMENSION, "%s: W is %lld x %lld but %lld contacts need %lld x %lld",
                     where, (long long)W->rows, (long long)W->cols, (long long)nc,
-                    (long long)(3 * nc), (long long)(3 * nc));
-    if (frix_error e = check_vector(where, "q", q, 3 * nc)) return e;
+                    (long long)(dim * nc), (long long)(dim * nc));
+    if (frix_error e = check_vector(where, "q", q, dim * nc)) return e;
+    if (dim == 5)
+        if (frix_error e = check_mu(where, mu_r, nc, "mu_r")) return e;
     return check_mu(where, mu, nc);
 }
 
 frix_error check_global(const char *where, const frix_matrix *M, const frix_matrix *H,
-                        const double *f, const double *w, const double *mu, int64_t nc) {
+                        const double *f, const double *w, const double *mu, const double *mu_r, int64_t nc,
+                        int dim) {
     if (frix_error e = check_nc(where, nc)) return e;
     if (!M) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: M is NULL", where);
     if (M->rows != M->cols)
@@ -73,12 +83,115 @@ frix_error check_global(const char *where, const frix_matrix *M, const frix_matr
                     (long long)M->rows, (long long)M->cols);
     int64_t n = M->rows;
     if (!H && nc > 0) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: H is NULL", where);
-    if (H && (H->rows != n || H->cols != 3 * nc))
-        return fail(FRIX_ERR_DIMENSION, "%s: H is %lld x %lld but must be %lld x %lld (dofs x 3*contacts)",
-                    where, (long long)H->rows, (long long)H->cols, (long long)n, (long long)(3 * nc));
+    if (H && (H->rows != n || H->cols != dim * nc))
+        return fail(FRIX_ERR_DIMENSION, "%s: H is %lld x %lld but must be %lld x %lld (dofs x %d*contacts)",
+                    where, (long long)H->rows, (long long)H->cols, (long long)n, (long long)(dim * nc), dim);
     if (frix_error e = check_vector(where, "f", f, n)) return e;
-    if (frix_error e = check_vector(where, "w", w, 3 * nc)) return e;
+    if (frix_error e = check_vector(where, "w", w, dim * nc)) return e;
+    if (dim == 5)
+        if (frix_error e = check_mu(where, mu_r, nc, "mu_r")) return e;
     return check_mu(where, mu, nc);
+}
+
+// The borrowing constructors of every kind: checks, then the views and the weights.
+frix_error make_local_kind(frix_problem_kind kind, const char *where, const frix_matrix *W, const double *q,
+                           const double *mu, const double *mu_r, int64_t nc, frix_problem **out) {
+    if (!out) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: out is NULL", where);
+    *out = nullptr;
+    const int dim = kind == FRIX_PROBLEM_ROLLING_LOCAL ? 5 : 3;
+    if (frix_error e = check_local(where, W, q, mu, mu_r, nc, dim)) return e;
+    auto p = std::make_unique<frix_problem>();
+    p->kind = kind;
+    p->nc = nc;
+    p->W = W;
+    p->q = q;
+    p->mu = mu;
+    if (dim == 5) p->mu_r = mu_r;
+    frix::set_contact_weights(*p);
+    *out = p.release();
+    return FRIX_OK;
+}
+
+frix_error make_global_kind(frix_problem_kind kind, const char *where, const frix_matrix *M, const frix_matrix *H,
+                            const double *f, const double *w, const double *mu, const double *mu_r, int64_t nc,
+                            frix_problem **out) {
+    if (!out) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: out is NULL", where);
+    *out = nullptr;
+    const int dim = kind == FRIX_PROBLEM_ROLLING_GLOBAL ? 5 : 3;
+    if (frix_error e = check_global(where, M, H, f, w, mu, mu_r, nc, dim)) return e;
+    auto p = std::make_unique<frix_problem>();
+    p->kind = kind;
+    p->nc = nc;
+    p->n = M->rows;
+    p->M = M;
+    p->H = H;
+    p->f = f;
+    p->w = w;
+    p->mu = mu;
+    if (dim == 5) p->mu_r = mu_r;
+    frix::set_contact_weights(*p);
+    *out = p.release();
+    return FRIX_OK;
+}
+
+// The owning forms: sizes checked against each other first (the borrowing checks trust them).
+frix_error make_owned_local_kind(frix_problem_kind kind, const char *where, std::unique_ptr<frix_matrix> W,
+                                 std::vector<double> q, std::vector<double> mu, std::vector<double> mu_r,
+                                 frix_problem **out) {
+    int64_t nc = (int64_t)mu.size();
+    if (W && (int64_t)q.size() != W->rows)
+        return fail(FRIX_ERR_DIMENSION, "%s: q has %lld entries but W has %lld rows", where,
+                    (long long)q.size(), (long long)W->rows);
+    const bool rolling = kind == FRIX_PROBLEM_ROLLING_LOCAL;
+    if (rolling && (int64_t)mu_r.size() != nc)
+        return fail(FRIX_ERR_DIMENSION, "%s: mu_r has %lld entries but mu has %lld", where,
+                    (long long)mu_r.size(), (long long)nc);
+    if (frix_error e = make_local_kind(kind, where, W.get(), q.data(), mu.data(), mu_r.data(), nc, out)) return e;
+    frix_problem &p = **out;
+    p.owned_W = std::move(W);
+    p.owned_q = std::move(q);
+    p.owned_mu = std::move(mu);
+    p.owned_mu_r = std::move(mu_r);
+    // Moving a vector keeps its buffer, but re-point anyway so the invariant is explicit.
+    p.W = p.owned_W.get();
+    p.q = p.owned_q.data();
+    p.mu = p.owned_mu.data();
+    p.mu_r = rolling ? p.owned_mu_r.data() : nullptr;
+    return FRIX_OK;
+}
+
+frix_error make_owned_global_kind(frix_problem_kind kind, const char *where, std::unique_ptr<frix_matrix> M,
+                                  std::unique_ptr<frix_matrix> H, std::vector<double> f, std::vector<double> w,
+                                  std::vector<double> mu, std::vector<double> mu_r, frix_problem **out) {
+    int64_t nc = (int64_t)mu.size();
+    const bool rolling = kind == FRIX_PROBLEM_ROLLING_GLOBAL;
+    const int dim = rolling ? 5 : 3;
+    if (M && (int64_t)f.size() != M->rows)
+        return fail(FRIX_ERR_DIMENSION, "%s: f has %lld entries but M has %lld rows", where,
+                    (long long)f.size(), (long long)M->rows);
+    if ((int64_t)w.size() != dim * nc)
+        return fail(FRIX_ERR_DIMENSION, "%s: w has %lld entries but %lld contacts need %lld", where,
+                    (long long)w.size(), (long long)nc, (long long)(dim * nc));
+    if (rolling && (int64_t)mu_r.size() != nc)
+        return fail(FRIX_ERR_DIMENSION, "%s: mu_r has %lld entries but mu has %lld", where,
+                    (long long)mu_r.size(), (long long)nc);
+    if (frix_error e = make_global_kind(kind, where, M.get(), H.get(), f.data(), w.data(), mu.data(), mu_r.data(),
+                                        nc, out))
+        return e;
+    frix_problem &p = **out;
+    p.owned_M = std::move(M);
+    p.owned_H = std::move(H);
+    p.owned_f = std::move(f);
+    p.owned_w = std::move(w);
+    p.owned_mu = std::move(mu);
+    p.owned_mu_r = std::move(mu_r);
+    p.M = p.owned_M.get();
+    p.H = p.owned_H.get();
+    p.f = p.owned_f.data();
+    p.w = p.owned_w.data();
+    p.mu = p.owned_mu.data();
+    p.mu_r = rolling ? p.owned_mu_r.data() : nullptr;
+    return FRIX_OK;
 }
 
 }  // namespace
@@ -87,83 +200,50 @@ namespace frix {
 
 frix_error make_local_problem(const frix_matrix *W, const double *q, const double *mu, int64_t nc,
                               frix_problem **out) {
-    const char *where = "frix_problem_local";
-    if (!out) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: out is NULL", where);
-    *out = nullptr;
-    if (frix_error e = check_local(where, W, q, mu, nc)) return e;
-    auto p = std::make_unique<frix_problem>();
-    p->kind = FRIX_PROBLEM_LOCAL;
-    p->nc = nc;
-    p->W = W;
-    p->q = q;
-    p->mu = mu;
-    set_contact_weights(*p);
-    *out = p.release();
-    return FRIX_OK;
+    return make_local_kind(FRIX_PROBLEM_LOCAL, "frix_problem_local", W, q, mu, nullptr, nc, out);
 }
 
 frix_error make_global_problem(const frix_matrix *M, const frix_matrix *H, const double *f,
                                const double *w, const double *mu, int64_t nc,
                                frix_problem **out) {
-    const char *where = "frix_problem_global";
-    if (!out) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: out is NULL", where);
-    *out = nullptr;
-    if (frix_error e = check_global(where, M, H, f, w, mu, nc)) return e;
-    auto p = std::make_unique<frix_problem>();
-    p->kind = FRIX_PROBLEM_GLOBAL;
-    p->nc = nc;
-    p->n = M->rows;
-    p->M = M;
-    p->H = H;
-    p->f = f;
-    p->w = w;
-    p->mu = mu;
-    set_contact_weights(*p);
-    *out = p.release();
-    return FRIX_OK;
+    return make_global_kind(FRIX_PROBLEM_GLOBAL, "frix_problem_global", M, H, f, w, mu, nullptr, nc, out);
+}
+
+frix_error make_rolling_local_problem(const frix_matrix *W, const double *q, const double *mu, const double *mu_r,
+                                      int64_t nc, frix_problem **out) {
+    return make_local_kind(FRIX_PROBLEM_ROLLING_LOCAL, "frix_problem_rolling_local", W, q, mu, mu_r, nc, out);
+}
+
+frix_error make_rolling_global_problem(const frix_matrix *M, const frix_matrix *H, const double *f, const double *w,
+                                       const double *mu, const double *mu_r, int64_t nc, frix_problem **out) {
+    return make_global_kind(FRIX_PROBLEM_ROLLING_GLOBAL, "frix_problem_rolling_global", M, H, f, w, mu, mu_r, nc,
+                            out);
 }
 
 frix_error make_owned_local_problem(std::unique_ptr<frix_matrix> W, std::vector<double> q,
                                     std::vector<double> mu, frix_problem **out) {
-    int64_t nc = (int64_t)mu.size();
-    if (W && (int64_t)q.size() != W->rows)
-        return fail(FRIX_ERR_DIMENSION, "frix_problem_local: q has %lld entries but W has %lld rows",
-                    (long long)q.size(), (long long)W->rows);
-    if (frix_error e = make_local_problem(W.get(), q.data(), mu.data(), nc, out)) return e;
-    (*out)->owned_W = std::move(W);
-    (*out)->owned_q = std::move(q);
-    (*out)->owned_mu = std::move(mu);
-    // Moving a vector keeps its buffer, but re-point anyway so the invariant is explicit.
-    (*out)->W = (*out)->owned_W.get();
-    (*out)->q = (*out)->owned_q.data();
-    (*out)->mu = (*out)->owned_mu.data();
-    return FRIX_OK;
+    return make_owned_local_kind(FRIX_PROBLEM_LOCAL, "frix_problem_local", std::move(W), std::move(q), std::move(mu),
+                                 {}, out);
 }
 
 frix_error make_owned_global_problem(std::unique_ptr<frix_matrix> M, std::unique_ptr<frix_matrix> H,
                                      std::vector<double> f, std::vector<double> w,
                                      std::vector<double> mu, frix_problem **out) {
-    int64_t nc = (int64_t)mu.size();
-    if (M && (int64_t)f.size() != M->rows)
-        return fail(FRIX_ERR_DIMENSION, "frix_problem_global: f has %lld entries but M has %lld rows",
-                    (long long)f.size(), (long long)M->rows);
-    if ((int64_t)w.size() != 3 * nc)
-        return fail(FRIX_ERR_DIMENSION, "frix_problem_global: w has %lld entries but %lld contacts need %lld",
-                    (long long)w.size(), (long long)nc, (long long)(3 * nc));
-    if (frix_error e = make_global_problem(M.get(), H.get(), f.data(), w.data(), mu.data(), nc, out))
-        return e;
-    frix_problem &p = **out;
-    p.owned_M = std::move(M);
-    p.owned_H = std::move(H);
-    p.owned_f = std::move(f);
-    p.owned_w = std::move(w);
-    p.owned_mu = std::move(mu);
-    p.M = p.owned_M.get();
-    p.H = p.owned_H.get();
-    p.f = p.owned_f.data();
-    p.w = p.owned_w.data();
-    p.mu = p.owned_mu.data();
-    return FRIX_OK;
+    return make_owned_global_kind(FRIX_PROBLEM_GLOBAL, "frix_problem_global", std::move(M), std::move(H),
+                                  std::move(f), std::move(w), std::move(mu), {}, out);
+}
+
+frix_error make_owned_rolling_local_problem(std::unique_ptr<frix_matrix> W, std::vector<double> q,
+                                            std::vector<double> mu, std::vector<double> mu_r, frix_problem **out) {
+    return make_owned_local_kind(FRIX_PROBLEM_ROLLING_LOCAL, "frix_problem_rolling_local", std::move(W),
+                                 std::move(q), std::move(mu), std::move(mu_r), out);
+}
+
+frix_error make_owned_rolling_global_problem(std::unique_ptr<frix_matrix> M, std::unique_ptr<frix_matrix> H,
+                                             std::vector<double> f, std::vector<double> w, std::vector<double> mu,
+                                             std::vector<double> mu_r, frix_problem **out) {
+    return make_owned_global_kind(FRIX_PROBLEM_ROLLING_GLOBAL, "frix_problem_rolling_global", std::move(M),
+                                  std::move(H), std::move(f), std::move(w), std::move(mu), std::move(mu_r), out);
 }
 
 std::vector<double> inverse_mass_diagonal(const frix_problem &p, double otherwise) {
@@ -173,8 +253,9 @@ std::vector<double> inverse_mass_diagonal(const frix_problem &p, double otherwis
 }
 
 std::vector<double> delassus_diagonal(const frix_problem &p, const std::vector<double> &inverse_mass) {
-    if (p.kind == FRIX_PROBLEM_LOCAL) return p.W ? matrix_diagonal(*p.W) : std::vector<double>((size_t)(3 * p.nc), 0.0);
-    std::vector<double> diag((size_t)(3 * p.nc), 0.0);
+    const int64_t m = contact_size(p) * p.nc;
+    if (is_local_form(p)) return p.W ? matrix_diagonal(*p.W) : std::vector<double>((size_t)m, 0.0);
+    std::vector<double> diag((size_t)m, 0.0);
     if (p.H)
         for_each_entry(*p.H, [&](int64_t i, int64_t j, double v) { diag[(size_t)j] += v * v * inverse_mass[(size_t)i]; });
     return diag;
@@ -224,21 +305,22 @@ void set_dof_weights(frix_problem &p, const std::vector<double> &inverse_mass) {
 void set_contact_weights(frix_problem &p) {
     // A dof whose mass is not positive moves nothing here (0), unlike the existence check's
     // metric, which gives it 1.
-    const bool global = p.kind == FRIX_PROBLEM_GLOBAL;
-    const std::vector<double> inverse_mass = global ? inverse_mass_diagonal(p, 0.0) : std::vector<double>();
+    const std::vector<double> inverse_mass =
+        is_local_form(p) ? std::vector<double>() : inverse_mass_diagonal(p, 0.0);
     const std::vector<double> diag = delassus_diagonal(p, inverse_mass);
     std::vector<double> &w = p.weight;
     w.assign((size_t)p.nc, 0.0);
-    for (int64_t a = 0; a < p.nc; ++a) w[(size_t)a] = diag[(size_t)(3 * a)];
+    const int dim = contact_size(p);
+    for (int64_t a = 0; a < p.nc; ++a) w[(size_t)a] = diag[(size_t)(dim * a)];
     fill_with_mean(w);
     p.dof_weight.clear();
     p.load_weight.clear();
-    if (global) set_dof_weights(p, inverse_mass);
+    if (!is_local_form(p)) set_dof_weights(p, inverse_mass);
 }
 
 double free_velocity(const frix_problem &p) {
-    const int64_t m = 3 * p.nc;
-    if (p.kind != FRIX_PROBLEM_GLOBAL || !p.M) return p.kind == FRIX_PROBLEM_LOCAL ? norm2(p.q, m) : 0.0;
+    const int64_t m = contact_size(p) * p.nc;
+    if (is_local_form(p) || !p.M) return is_local_form(p) ? norm2(p.q, m) : 0.0;
     const std::vector<double> mass = matrix_diagonal(*p.M);
     std::vector<double> free(p.w, p.w + m);
     if (p.H)
@@ -265,12 +347,15 @@ double load_velocity(const frix_problem &p) {
 
 frix_error check_problem_vectors(const frix_problem &p) {
     const char *where = "frix_solve";
-    if (p.kind == FRIX_PROBLEM_LOCAL) {
-        if (frix_error e = check_vector(where, "q", p.q, 3 * p.nc)) return e;
+    const int64_t m = contact_size(p) * p.nc;
+    if (is_local_form(p)) {
+        if (frix_error e = check_vector(where, "q", p.q, m)) return e;
     } else {
         if (frix_error e = check_vector(where, "f", p.f, p.n)) return e;
-        if (frix_error e = check_vector(where, "w", p.w, 3 * p.nc)) return e;
+        if (frix_error e = check_vector(where, "w", p.w, m)) return e;
     }
+    if (is_rolling(p))
+        if (frix_error e = check_mu(where, p.mu_r, p.nc, "mu_r")) return e;
     return check_mu(where, p.mu, p.nc);
 }
 
@@ -307,13 +392,28 @@ FRIX_API frix_error frix_problem_global(const frix_matrix *M, const frix_matrix 
                        [&] { return frix::make_global_problem(M, H, f, w, mu, nc, out); });
 }
 
+FRIX_API frix_error frix_problem_rolling_local(const frix_matrix *W, const double *q, const double *mu,
+                                               const double *mu_r, int64_t nc, frix_problem **out) {
+    return frix::guard("frix_problem_rolling_local",
+                       [&] { return frix::make_rolling_local_problem(W, q, mu, mu_r, nc, out); });
+}
+
+FRIX_API frix_error frix_problem_rolling_global(const frix_matrix *M, const frix_matrix *H, const double *f,
+                                                const double *w, const double *mu, const double *mu_r, int64_t nc,
+                                                frix_problem **out) {
+    return frix::guard("frix_problem_rolling_global",
+                       [&] { return frix::make_rolling_global_problem(M, H, f, w, mu, mu_r, nc, out); });
+}
+
 FRIX_API void frix_problem_free(frix_problem *p) { delete p; }
 
 FRIX_API frix_problem_kind frix_problem_get_kind(const frix_problem *p) {
     return p ? p->kind : FRIX_PROBLEM_LOCAL;
 }
 FRIX_API int64_t frix_problem_contacts(const frix_problem *p) { return p ? p->nc : 0; }
-FRIX_API int64_t frix_problem_contact_dofs(const frix_problem *p) { return p ? 3 * p->nc : 0; }
+FRIX_API int64_t frix_problem_contact_dofs(const frix_problem *p) {
+    return p ? frix::contact_size(*p) * p->nc : 0;
+}
 FRIX_API int64_t frix_problem_dofs(const frix_problem *p) { return p ? p->n : 0; }
 FRIX_API const frix_matrix *frix_problem_W(const frix_problem *p) { return p ? p->W : nullptr; }
 FRIX_API const frix_matrix *frix_problem_M(const frix_problem *p) { return p ? p->M : nullptr; }
@@ -322,6 +422,7 @@ FRIX_API const double *frix_problem_q(const frix_problem *p) { return p ? p->q :
 FRIX_API const double *frix_problem_f(const frix_problem *p) { return p ? p->f : nullptr; }
 FRIX_API const double *frix_problem_w(const frix_problem *p) { return p ? p->w : nullptr; }
 FRIX_API const double *frix_problem_mu(const frix_problem *p) { return p ? p->mu : nullptr; }
+FRIX_API const double *frix_problem_mu_r(const frix_problem *p) { return p ? p->mu_r : nullptr; }
 
 FRIX_API frix_error frix_problem_set_title(frix_problem *p, const char *title) {
     return set_text("frix_problem_set_title", p, &frix_problem::title, title);

@@ -15,7 +15,7 @@
 struct frix_problem {
     frix::HandleHeader header = frix::header_of<frix_problem>();  // first, in every release
     frix_problem_kind kind = FRIX_PROBLEM_LOCAL;
-    int64_t nc = 0;  // contacts; r and u have 3*nc entries
+    int64_t nc = 0;  // contacts; r and u have contact_size(*this) * nc entries
     int64_t n = 0;   // global: dofs (size of v); local: 0
 
     const frix_matrix *W = nullptr;  // local
@@ -25,6 +25,7 @@ struct frix_problem {
     const double *f = nullptr;       // global
     const double *w = nullptr;       // global
     const double *mu = nullptr;
+    const double *mu_r = nullptr;  // rolling kinds only
 
     // Free text (FCLIB's info group: title, description, math_info), each at most
     // frix::kMaxProblemText bytes.
@@ -45,10 +46,24 @@ struct frix_problem {
 
     // Owned storage, used only by problems that own their data (see make_owned_* below).
     std::unique_ptr<frix_matrix> owned_W, owned_M, owned_H;
-    std::vector<double> owned_q, owned_f, owned_w, owned_mu;
+    std::vector<double> owned_q, owned_f, owned_w, owned_mu, owned_mu_r;
 };
 
 namespace frix {
+
+// Rolling friction: five components a contact (frix_problem.h), in the local or global form.
+inline bool is_rolling(const frix_problem &p) {
+    return p.kind == FRIX_PROBLEM_ROLLING_LOCAL || p.kind == FRIX_PROBLEM_ROLLING_GLOBAL;
+}
+// Whether the problem is given by W and q (a local kind) rather than M, H, f and w.
+inline bool is_local_form(const frix_problem &p) {
+    return p.kind == FRIX_PROBLEM_LOCAL || p.kind == FRIX_PROBLEM_ROLLING_LOCAL;
+}
+// Entries of r and u a contact: 3, or 5 for a rolling problem.
+inline int contact_size(const frix_problem &p) { return is_rolling(p) ? 5 : 3; }
+// FRIX_ERR_UNSUPPORTED naming `where` for a rolling problem (a part of frix that solves or
+// handles only the three-component law), FRIX_OK otherwise.
+frix_error refuse_rolling(const frix_problem &p, const char *where);
 
 // Validates and builds a problem from (borrowed) data; the checks of the public
 // frix_problem_local / frix_problem_global (sizes, NaN/Inf, mu >= 0, W square 3nc x 3nc).
@@ -71,16 +86,28 @@ frix_error make_owned_global_problem(std::unique_ptr<frix_matrix> M,
 // so readers refuse longer ones before reading them, and setters refuse what readers would.
 constexpr size_t kMaxProblemText = 65536;
 
+// The rolling kinds (mu_r: nc values >= 0); the same checks with 5 components a contact.
+frix_error make_rolling_local_problem(const frix_matrix *W, const double *q, const double *mu, const double *mu_r,
+                                      int64_t nc, frix_problem **out);
+frix_error make_rolling_global_problem(const frix_matrix *M, const frix_matrix *H, const double *f, const double *w,
+                                       const double *mu, const double *mu_r, int64_t nc, frix_problem **out);
+// The owning forms of those (readers).
+frix_error make_owned_rolling_local_problem(std::unique_ptr<frix_matrix> W, std::vector<double> q,
+                                            std::vector<double> mu, std::vector<double> mu_r, frix_problem **out);
+frix_error make_owned_rolling_global_problem(std::unique_ptr<frix_matrix> M, std::unique_ptr<frix_matrix> H,
+                                             std::vector<double> f, std::vector<double> w, std::vector<double> mu,
+                                             std::vector<double> mu_r, frix_problem **out);
+
 // x (n values, named `name` in the message) given and finite; mu (nc values) finite and >= 0.
 frix_error check_vector(const char *where, const char *name, const double *x, int64_t n);
-frix_error check_mu(const char *where, const double *mu, int64_t nc);
+frix_error check_mu(const char *where, const double *mu, int64_t nc, const char *name = "mu");
 
 // 1 / M_ii where M's diagonal is positive with a finite inverse, `otherwise` elsewhere: the
 // diagonal that stands for M^-1 where M^-1 is not formed (a global problem).
 std::vector<double> inverse_mass_diagonal(const frix_problem &p, double otherwise);
 
 // The diagonal of W (local), or of H^T diag(inverse_mass) H (global, inverse_mass as from
-// inverse_mass_diagonal): 3 nc values.
+// inverse_mass_diagonal): contact_size(p) nc values.
 std::vector<double> delassus_diagonal(const frix_problem &p, const std::vector<double> &inverse_mass);
 
 // p.weight from the problem's matrices: delassus_diagonal's normal entries (M's diagonal for

@@ -25,7 +25,8 @@ constexpr double kExistenceMinSeconds = 1e-3;
 void check_existence_after_failure(const frix_problem &p, const frix_options &o, const frix::Stopwatch &clock,
                                    frix_info &info) {
     if (info.status == FRIX_STATUS_CONVERGED || info.status == FRIX_STATUS_STOPPED_BY_CALLBACK ||
-        info.existence != FRIX_EXISTENCE_NOT_CHECKED || !o.i(FRIX_OPT_EXISTENCE_CHECK) || p.nc == 0)
+        info.existence != FRIX_EXISTENCE_NOT_CHECKED || !o.i(FRIX_OPT_EXISTENCE_CHECK) || p.nc == 0 ||
+        frix::is_rolling(p))  // the check knows the three-component law only
         return;
     const double tl = o.d(FRIX_OPT_TIME_LIMIT);
     const double budget = tl > 0.0 ? std::max(tl - clock.seconds(), kExistenceMinSeconds) : 0.0;
@@ -126,7 +127,7 @@ frix_error solve_problem(const char *caller, const frix_problem *problem, const 
                          double *r, double *u, double *v, frix_info *info, SolveCache *cache) {
     Stopwatch clock;
     if (!problem) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: problem is NULL", caller);
-    const int64_t m = 3 * problem->nc;
+    const int64_t m = contact_size(*problem) * problem->nc;
     if (m > 0 && (!r || !u))
         return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: r and u are required (%lld entries each)", caller,
                     (long long)m);
@@ -162,7 +163,17 @@ frix_error solve_problem(const char *caller, const frix_problem *problem, const 
     const double tl = options->d(FRIX_OPT_TIME_LIMIT);
     if (tl > 0.0 && options->i(FRIX_OPT_EXISTENCE_CHECK)) run.dvalue[FRIX_OPT_TIME_LIMIT] = tl * (1.0 - kExistenceShare);
     frix_error err;
-    if (problem->kind == FRIX_PROBLEM_GLOBAL) {
+    if (is_rolling(*problem)) {
+        if (!entry->solves_rolling)
+            return fail(FRIX_ERR_UNSUPPORTED, "%s: solver %s does not solve rolling-friction problems (rolling-nsgs "
+                        "and auto do)", caller, entry->name);
+        if (problem->kind == FRIX_PROBLEM_ROLLING_GLOBAL && problem->n > 0 && !v)
+            return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: v is required for a global problem (%lld entries)", caller,
+                        (long long)problem->n);
+        err = solve_rolling_problem(*problem, run, *entry, r, u, v, out, clock);
+    } else if (!entry->solves_local && !entry->solves_global) {
+        err = fail(FRIX_ERR_UNSUPPORTED, "%s: solver %s solves rolling-friction problems only", caller, entry->name);
+    } else if (problem->kind == FRIX_PROBLEM_GLOBAL) {
         if (problem->n > 0 && !v)
             return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: v is required for a global problem (%lld entries)", caller,
                         (long long)problem->n);

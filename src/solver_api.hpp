@@ -131,6 +131,10 @@ struct SolverEntry {
     const frix_option_key *extra_keys;
     // Defaults that differ from the key table's, terminated by a 0 key.
     const OptionDefault *defaults;
+    // Whether it solves rolling-friction problems (frix_problem.h), in both forms; no other
+    // solver is handed one. A solver of rolling problems only has solves_local and
+    // solves_global false (they are about the three-component problems).
+    bool solves_rolling = false;
 };
 
 // nullptr if unknown.
@@ -155,6 +159,12 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
                                 const SolverEntry &entry, double *r, double *u, double *v,
                                 frix_info &info, const Stopwatch &clock, SolveCache *cache = nullptr,
                                 MassSolver *enclosing = nullptr);
+
+// The driver's rolling path (src/solve_rolling.cpp), for an entry that solves_rolling: the
+// all-separating case of the local form, a finite warm start, `entry`'s solve (which sets v in
+// the global form), the final rolling measures and the status checked against them.
+frix_error solve_rolling_problem(const frix_problem &p, const frix_options &opts, const SolverEntry &entry,
+                                 double *r, double *u, double *v, frix_info &info, const Stopwatch &clock);
 
 // frix_solve's whole contract (argument checks, the default solver, a fresh info), with the
 // states of a persistent solver when `cache` is given.

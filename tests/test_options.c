@@ -133,7 +133,9 @@ static int solve_logged(const frix_problem *p, int solver, line_count *count) {
     int ok = frix_options_set_int(o, FRIX_OPT_VERBOSITY, 2) == FRIX_OK;
     if (count) ok = ok && frix_options_set_log(o, count_line, count) == FRIX_OK;
     double r[6] = {0}, u[6], v[6];
-    const frix_error e = frix_solve(p, o, r, u, frix_problem_get_kind(p) == FRIX_PROBLEM_GLOBAL ? v : NULL, NULL);
+    const frix_problem_kind kind = frix_problem_get_kind(p);
+    const int global = kind == FRIX_PROBLEM_GLOBAL || kind == FRIX_PROBLEM_ROLLING_GLOBAL;
+    const frix_error e = frix_solve(p, o, r, u, global ? v : NULL, NULL);
     frix_options_free(o);
     return ok && (e == FRIX_OK || e == FRIX_ERR_UNSUPPORTED);
 }
@@ -162,6 +164,14 @@ START_TEST(test_log_sink) {
     ck_assert_int_eq(frix_matrix_from_dense(6, 6, I, 6, &Im), FRIX_OK);
     ck_assert_int_eq(frix_problem_local(Wm, q, mu, 2, &local), FRIX_OK);
     ck_assert_int_eq(frix_problem_global(Im, Im, q, w, mu, 2, &global), FRIX_OK);
+    /* The same for the solvers of rolling-friction problems only: one rolling contact, W = I. */
+    double I5[25] = {0}, q5[5] = {-1, 0.7, -0.2, 0.05, 0}, w5[5] = {0}, mu_r = 0.01;
+    for (int i = 0; i < 5; ++i) I5[i + 5 * i] = 1.0;
+    frix_matrix *I5m = NULL;
+    frix_problem *rolling_local = NULL, *rolling_global = NULL;
+    ck_assert_int_eq(frix_matrix_from_dense(5, 5, I5, 5, &I5m), FRIX_OK);
+    ck_assert_int_eq(frix_problem_rolling_local(I5m, q5, mu, &mu_r, 1, &rolling_local), FRIX_OK);
+    ck_assert_int_eq(frix_problem_rolling_global(I5m, I5m, q5, w5, mu, &mu_r, 1, &rolling_global), FRIX_OK);
 
     char path[512];
     snprintf(path, sizeof path, "%s/log_sink_stderr.txt", FRIX_TEST_TMPDIR);
@@ -174,8 +184,9 @@ START_TEST(test_log_sink) {
     const int64_t solvers = frix_solver_count();
     for (int64_t k = 0; k < solvers && k < 64; ++k) {
         counts[k].lines = counts[k].bad = 0;
-        counts[k].bad += !solve_logged(local, frix_solver_id_at(k), &counts[k]);
-        counts[k].bad += !solve_logged(global, frix_solver_id_at(k), &counts[k]);
+        const int id = frix_solver_id_at(k), rolling = id == FRIX_SOLVER_ROLLING_NSGS;
+        counts[k].bad += !solve_logged(rolling ? rolling_local : local, id, &counts[k]);
+        counts[k].bad += !solve_logged(rolling ? rolling_global : global, id, &counts[k]);
     }
     fflush(stderr);
     const long quiet = file_size(path);
@@ -195,6 +206,9 @@ START_TEST(test_log_sink) {
 
     frix_problem_free(global);
     frix_problem_free(local);
+    frix_problem_free(rolling_global);
+    frix_problem_free(rolling_local);
+    frix_matrix_free(I5m);
     frix_matrix_free(Im);
     frix_matrix_free(Wm);
 }

@@ -195,6 +195,16 @@ void contact_blocks(const world *w, const contact *c, double G[36]) {
     }
 }
 
+void rolling_blocks(const world *w, const contact *c, double R[24]) {
+    for (int side = 0; side < 2; ++side) {
+        const int64_t s = side ? c->b : c->a;
+        const double sign = side ? -1.0 : 1.0;
+        for (int k = 0; k < 2; ++k)
+            for (int q = 0; q < 6; ++q)
+                R[12 * side + 6 * k + q] = s < w->n && q >= 3 ? sign * c->frame[3 * (k + 1) + q - 3] : 0.0;
+    }
+}
+
 int64_t assemble_h(const world *w, const contacts *cs, int64_t *rows, int64_t *cols, double *vals) {
     int64_t k = 0;
     double G[36];

@@ -56,6 +56,10 @@ int find_contacts(const world *w, double floor_margin, const double *reach, cont
 /* Contact c's two 3 x 6 blocks of H^T (side 0: sphere a, side 1: sphere b; zero for a wall):
  * G[18 side + 6 k + q] for frame vector k and dof q of the sphere (translation, rotation). */
 void contact_blocks(const world *w, const contact *c, double G[36]);
+/* Contact c's two 2 x 6 blocks of the rolling rows (rolling resistance): the relative angular
+ * velocity of sphere a to sphere b on tangents 1 and 2, R[12 side + 6 k + q] as for
+ * contact_blocks (zero for a wall). */
+void rolling_blocks(const world *w, const contact *c, double R[24]);
 /* H's entries (rows: dofs, 6 a sphere; columns: 3 a contact) as triplets; their count. */
 int64_t assemble_h(const world *w, const contacts *cs, int64_t *rows, int64_t *cols, double *vals);
 /* r: last step's impulse of each pair of `now` found in `before` (sorted), else 0. */

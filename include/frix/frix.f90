@@ -11,6 +11,8 @@
 ! Fortran names are case-insensitive, so the C names that differ only in case from another
 ! are renamed here:
 !   FRIX_PROBLEM_LOCAL, FRIX_PROBLEM_GLOBAL     -> FRIX_PROBLEM_KIND_LOCAL, _KIND_GLOBAL
+!   FRIX_PROBLEM_ROLLING_LOCAL, _ROLLING_GLOBAL -> FRIX_PROBLEM_KIND_ROLLING_LOCAL,
+!                                                  _KIND_ROLLING_GLOBAL
 !   FRIX_INFO_STATUS, _ITERATIONS, _ERROR       -> FRIX_INFO_KEY_STATUS, _KEY_ITERATIONS,
 !                                                  _KEY_ERROR
 !   frix_problem_W (the matrix), frix_problem_w -> frix_problem_W_matrix,
@@ -36,7 +38,8 @@ module frix
        FRIX_STATUS_DIVERGED = 5, FRIX_STATUS_NUMERICAL_FAILURE = 6, &
        FRIX_STATUS_STOPPED_BY_CALLBACK = 7, FRIX_STATUS_MEMORY_LIMIT = 8
   ! ---- frix_problem_kind
-  integer(c_int), parameter :: FRIX_PROBLEM_KIND_LOCAL = 1, FRIX_PROBLEM_KIND_GLOBAL = 2
+  integer(c_int), parameter :: FRIX_PROBLEM_KIND_LOCAL = 1, FRIX_PROBLEM_KIND_GLOBAL = 2, &
+       FRIX_PROBLEM_KIND_ROLLING_LOCAL = 3, FRIX_PROBLEM_KIND_ROLLING_GLOBAL = 4
   ! ---- frix_option_key
   integer(c_int), parameter :: FRIX_OPT_TOLERANCE = 1, FRIX_OPT_MAX_ITER = 2, &
        FRIX_OPT_TIME_LIMIT = 3, FRIX_OPT_VERBOSITY = 4, FRIX_OPT_ERROR_MEASURE = 5, &
@@ -72,7 +75,7 @@ module frix
        FRIX_SOLVER_NSN_FB = 513, FRIX_SOLVER_ACLM = 516, FRIX_SOLVER_NSN_NM = 520, &
        FRIX_SOLVER_ADMM = 523, FRIX_SOLVER_IPM = 524, FRIX_SOLVER_GLOBAL_NSN_AC = 607, &
        FRIX_SOLVER_GLOBAL_ADMM = 613, FRIX_SOLVER_AUTO = 900, FRIX_SOLVER_GLOBAL_AL_NEWTON = 901, &
-       FRIX_SOLVER_GLOBAL_NSGS = 902, FRIX_SOLVER_IPM_ANM = 903
+       FRIX_SOLVER_GLOBAL_NSGS = 902, FRIX_SOLVER_IPM_ANM = 903, FRIX_SOLVER_ROLLING_NSGS = 3000
   ! ---- frix_existence
   integer(c_int), parameter :: FRIX_EXISTENCE_NOT_CHECKED = 0, FRIX_EXISTENCE_GUARANTEED = 1, &
        FRIX_EXISTENCE_DOUBTFUL = 2, FRIX_EXISTENCE_UNDETERMINED = 3
@@ -266,6 +269,23 @@ module frix
       type(c_ptr), intent(out) :: out
       integer(c_int) :: frix_problem_global
     end function
+    function frix_problem_rolling_local(W, q, mu, mu_r, nc, out) bind(C, name='frix_problem_rolling_local')
+      import :: c_ptr, c_int, c_int64_t, c_double
+      type(c_ptr), value :: W
+      real(c_double), intent(in) :: q(*), mu(*), mu_r(*)
+      integer(c_int64_t), value :: nc
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: frix_problem_rolling_local
+    end function
+    function frix_problem_rolling_global(M, H, f, w, mu, mu_r, nc, out) &
+         bind(C, name='frix_problem_rolling_global')
+      import :: c_ptr, c_int, c_int64_t, c_double
+      type(c_ptr), value :: M, H
+      real(c_double), intent(in) :: f(*), w(*), mu(*), mu_r(*)
+      integer(c_int64_t), value :: nc
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: frix_problem_rolling_global
+    end function
     subroutine frix_problem_free(p) bind(C, name='frix_problem_free')
       import :: c_ptr
       type(c_ptr), value :: p
@@ -361,6 +381,11 @@ module frix
       import :: c_ptr
       type(c_ptr), value :: p
       type(c_ptr) :: frix_problem_mu
+    end function
+    function frix_problem_mu_r(p) bind(C, name='frix_problem_mu_r')
+      import :: c_ptr
+      type(c_ptr), value :: p
+      type(c_ptr) :: frix_problem_mu_r
     end function
 
     ! ---- options

@@ -36,8 +36,10 @@ enum {
                                            M + rho H J H^T factorised, no W */
     FRIX_SOLVER_GLOBAL_NSGS = 902, /* global problems with block-diagonal M (rigid bodies):
                                       NSGS on H and M^-1 H, no W */
-    FRIX_SOLVER_IPM_ANM = 903      /* interior-point path followed by Taylor series, then
+    FRIX_SOLVER_IPM_ANM = 903,     /* interior-point path followed by Taylor series, then
                                       Newton from its best point */
+    FRIX_SOLVER_ROLLING_NSGS = 3000 /* rolling-friction problems (local, and global of rigid
+                                       bodies without W): nonsmooth Gauss-Seidel */
 };
 
 FRIX_API int64_t frix_solver_count(void);

@@ -56,6 +56,10 @@ _declare("frix_matrix_to_csc", c_int, c_void_p, c_int64_p, c_int64_p, c_int64_p,
 _declare("frix_problem_local", c_int, c_void_p, c_double_p, c_double_p, c_int64, POINTER(c_void_p))
 _declare("frix_problem_global", c_int, c_void_p, c_void_p, c_double_p, c_double_p, c_double_p,
          c_int64, POINTER(c_void_p))
+_declare("frix_problem_rolling_local", c_int, c_void_p, c_double_p, c_double_p, c_double_p, c_int64,
+         POINTER(c_void_p))
+_declare("frix_problem_rolling_global", c_int, c_void_p, c_void_p, c_double_p, c_double_p, c_double_p,
+         c_double_p, c_int64, POINTER(c_void_p))
 _declare("frix_problem_free", None, c_void_p)
 _declare("frix_problem_get_kind", c_int, c_void_p)
 _declare("frix_problem_contacts", c_int64, c_void_p)
@@ -68,6 +72,7 @@ _declare("frix_problem_q", c_double_p, c_void_p)
 _declare("frix_problem_f", c_double_p, c_void_p)
 _declare("frix_problem_w", c_double_p, c_void_p)
 _declare("frix_problem_mu", c_double_p, c_void_p)
+_declare("frix_problem_mu_r", c_double_p, c_void_p)
 _declare("frix_problem_title", c_char_p, c_void_p)
 _declare("frix_problem_set_title", c_int, c_void_p, c_char_p)
 _declare("frix_problem_description", c_char_p, c_void_p)

@@ -37,41 +37,59 @@ class Problem(_Closing):
     any scipy.sparse matrix or array), q of 3nc and mu of nc entries. A global one:
     Problem.from_global(M, H, f, w, mu). Read from a file: frix.load(path).
 
+    Rolling friction (rolling resistance): give mu_r (nc entries, each a length >= 0), and
+    each contact has five entries, r = (r_N, r_T (2), m_R (2)): W is 5nc x 5nc and q 5nc (H
+    has 5nc columns and w 5nc entries). Such a problem's `rolling` is True; the rolling
+    solvers (rolling-nsgs, and auto, which picks it) solve it.
+
     q, mu (and f, w) are borrowed, not copied, when they are float64 and contiguous: the
     problem keeps them alive and reads them at every solve, so a time-stepping script may
     change them in place between solves. W, M and H are copied into the library's storage.
     """
 
-    def __init__(self, W, q, mu):
+    def __init__(self, W, q, mu, mu_r=None):
         self._init_state()
         mu_a = np.asarray(mu)
+        dim = 3 if mu_r is None else 5
         self._matrices.append(_matrix(W, "W"))
-        nc = _contacts_of(lib.frix_matrix_rows(self._matrices[0]), mu_a)
-        self._q = _vector(q, 3 * nc, "q")
+        nc = _contacts_of(lib.frix_matrix_rows(self._matrices[0]), mu_a, dim)
+        self._q = _vector(q, dim * nc, "q")
         self._mu = _vector(mu_a, nc, "mu")
         self._pattern = _pattern_of(W)
         handle = ctypes.c_void_p()
-        _check(lib.frix_problem_local(self._matrices[0], _ptr(self._q), _ptr(self._mu), nc,
-                                      ctypes.byref(handle)))
+        if mu_r is None:
+            _check(lib.frix_problem_local(self._matrices[0], _ptr(self._q), _ptr(self._mu), nc,
+                                          ctypes.byref(handle)))
+        else:
+            self._mu_r = _vector(mu_r, nc, "mu_r")
+            _check(lib.frix_problem_rolling_local(self._matrices[0], _ptr(self._q), _ptr(self._mu),
+                                                  _ptr(self._mu_r), nc, ctypes.byref(handle)))
         self._handle = handle.value
 
     @classmethod
-    def from_global(cls, M, H, f, w, mu):
+    def from_global(cls, M, H, f, w, mu, mu_r=None):
         """A global problem: M v = H r + f, u = H^T v + w (M: n x n, H: n x 3nc, f: n, w: 3nc,
-        mu: nc)."""
+        mu: nc); with mu_r (nc), a rolling-friction one (H: n x 5nc, w: 5nc)."""
         self = cls.__new__(cls)
         self._init_state()
         mu_a = np.asarray(mu)
+        dim = 3 if mu_r is None else 5
         self._matrices.append(_matrix(M, "M"))
         self._matrices.append(_matrix(H, "H"))
         n = lib.frix_matrix_rows(self._matrices[0])
-        nc = _contacts_of(lib.frix_matrix_cols(self._matrices[1]), mu_a)
+        nc = _contacts_of(lib.frix_matrix_cols(self._matrices[1]), mu_a, dim)
         self._f = _vector(f, n, "f")
-        self._w = _vector(w, 3 * nc, "w")
+        self._w = _vector(w, dim * nc, "w")
         self._mu = _vector(mu_a, nc, "mu")
         handle = ctypes.c_void_p()
-        _check(lib.frix_problem_global(self._matrices[0], self._matrices[1], _ptr(self._f),
-                                       _ptr(self._w), _ptr(self._mu), nc, ctypes.byref(handle)))
+        if mu_r is None:
+            _check(lib.frix_problem_global(self._matrices[0], self._matrices[1], _ptr(self._f),
+                                           _ptr(self._w), _ptr(self._mu), nc, ctypes.byref(handle)))
+        else:
+            self._mu_r = _vector(mu_r, nc, "mu_r")
+            _check(lib.frix_problem_rolling_global(self._matrices[0], self._matrices[1], _ptr(self._f),
+                                                   _ptr(self._w), _ptr(self._mu), _ptr(self._mu_r), nc,
+                                                   ctypes.byref(handle)))
         self._handle = handle.value
         return self
 
@@ -86,7 +104,7 @@ class Problem(_Closing):
     def _init_state(self):
         self._handle = None
         self._matrices = []
-        self._q = self._mu = self._f = self._w = None
+        self._q = self._mu = self._mu_r = self._f = self._w = None
         self._pattern = None
         # Solves in progress and open Solvers read the problem: it is freed only without them.
         self._users = 0
@@ -139,8 +157,15 @@ class Problem(_Closing):
 
     @property
     def kind(self):
-        """'local' or 'global'."""
-        return "local" if lib.frix_problem_get_kind(self._live()) == C.FRIX_PROBLEM_LOCAL else "global"
+        """'local' or 'global' (the form; a rolling-friction problem has either, see rolling)."""
+        local = (C.FRIX_PROBLEM_LOCAL, C.FRIX_PROBLEM_ROLLING_LOCAL)
+        return "local" if lib.frix_problem_get_kind(self._live()) in local else "global"
+
+    @property
+    def rolling(self):
+        """Whether the problem has rolling friction (five entries a contact, mu_r)."""
+        rolling = (C.FRIX_PROBLEM_ROLLING_LOCAL, C.FRIX_PROBLEM_ROLLING_GLOBAL)
+        return lib.frix_problem_get_kind(self._live()) in rolling
 
     @property
     def contacts(self):
@@ -149,7 +174,7 @@ class Problem(_Closing):
 
     @property
     def contact_dofs(self):
-        """Size of r and u: 3 nc."""
+        """Size of r and u: 3 nc (5 nc with rolling friction)."""
         return lib.frix_problem_contact_dofs(self._live())
 
     @property
@@ -178,6 +203,8 @@ class Problem(_Closing):
     q = _vector_property("_q", lib.frix_problem_q, "contact_dofs",
                          "q (local problems): the array given, or a read-only copy of the library's.")
     mu = _vector_property("_mu", lib.frix_problem_mu, "contacts", "mu, one per contact.")
+    mu_r = _vector_property("_mu_r", lib.frix_problem_mu_r, "contacts",
+                            "mu_r, one per contact (rolling friction; None otherwise).")
     f = _vector_property("_f", lib.frix_problem_f, "dofs", "f (global problems).")
     w = _vector_property("_w", lib.frix_problem_w, "contact_dofs", "w (global problems).")
 
@@ -266,7 +293,8 @@ class Problem(_Closing):
         if not self._handle:
             return "<frix.Problem (closed)>"
         extra = f", {self.dofs} dofs" if self.kind == "global" else ""
-        return f"<frix.Problem {self.kind}, {self.contacts} contacts{extra}>"
+        rolling = " rolling" if self.rolling else ""
+        return f"<frix.Problem {self.kind}{rolling}, {self.contacts} contacts{extra}>"
 
 
 def measure(problem, r, v=None):

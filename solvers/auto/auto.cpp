@@ -22,7 +22,10 @@
 
 #include "solvers/auto/routes.hpp"
 #include "solvers/auto/trace.hpp"
+#include "solvers/auto/stage.hpp"
+#include "src/error_state.hpp"
 #include "src/existence.hpp"
+#include "src/monitor.hpp"
 
 namespace frix {
 namespace autosolve {
@@ -46,7 +49,30 @@ void check_existence_on_failure(SolveContext &ctx) {
     info.trace.push_back(trace_event(kExistence));
 }
 
+// A rolling-friction problem: rolling-nsgs, the one solver of the class, as a stage on the
+// caller's limits, recorded in the trace.
+frix_error solve_rolling(SolveContext &ctx) {
+    const SolverEntry *entry = find_solver(FRIX_SOLVER_ROLLING_NSGS);
+    if (!entry) return fail(FRIX_ERR_INTERNAL, "auto: no solver of rolling-friction problems is registered");
+    const Monitor monitor(ctx);
+    const frix_options o = stage_options(*entry, ctx.options, monitor.tolerance(), monitor.max_iterations(), nullptr);
+    SolveContext inner = ctx.problem.kind == FRIX_PROBLEM_ROLLING_LOCAL
+                             ? SolveContext::local(ctx.problem, o, ctx.r, ctx.u, ctx.info, ctx.clock)
+                             : SolveContext::global(ctx.problem, o, ctx.r, ctx.u, ctx.v, ctx.info, ctx.clock, ctx.mass);
+    const double t0 = ctx.clock.seconds();
+    if (frix_error e = entry->solve(inner)) return e;
+    TraceEvent ev = trace_event(kStage);
+    ev.solver_id = entry->id;
+    ev.status = ctx.info.status;
+    ev.iterations = ctx.info.iterations;
+    ev.seconds = ctx.clock.seconds() - t0;
+    ev.error = std::isfinite(ctx.info.error) ? ctx.info.error : INFINITY;
+    ctx.info.trace.push_back(ev);
+    return FRIX_OK;
+}
+
 frix_error solve(SolveContext &ctx) {
+    if (is_rolling(ctx.problem)) return solve_rolling(ctx);
     const bool global = ctx.problem.kind == FRIX_PROBLEM_GLOBAL;
     if (frix_error e = global ? solve_global(ctx) : solve_local(ctx)) return e;
     check_existence_on_failure(ctx);
@@ -83,6 +109,6 @@ const SolverEntry kAutoReductionEntry = {FRIX_SOLVER_AUTO, "auto", nullptr, FRIX
 
 const SolverEntry kAutoEntry = {FRIX_SOLVER_AUTO,          "auto", nullptr, FRIX_AUTO_DESCRIPTION,
                                 autosolve::solve,          true,   true,    autosolve::kExtraKeys,
-                                autosolve::kDefaults};
+                                autosolve::kDefaults,      true};
 
 }  // namespace frix

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "solvers/kit/local3x3.hpp"
+#include "solvers/kit/rigid_bodies.hpp"
 #include "src/matrix.hpp"
 #include "src/problem.hpp"
 #include "src/solver_api.hpp"
@@ -424,9 +425,8 @@ void extrapolate_affine(double beta, const double *line, const double *y, int64_
 // the status and the sweeps.
 frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const char *name);
 
-// gnsgs: a body (a connected component of M's graph) of more dofs than this is deformable;
-// its dense inverse block would cost its dofs squared.
-constexpr int64_t kMaxRigidBodyDofs = 64;
+// gnsgs's limit on a rigid body's dofs (rigid_bodies.hpp).
+using frix::kMaxRigidBodyDofs;
 
 // The options of every NSGS entry, and nsgs-v's defaults (also gnsgs's: both keep velocities
 // up to date, where a frozen contact costs nothing).

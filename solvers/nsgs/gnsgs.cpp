@@ -13,7 +13,6 @@
 #include <vector>
 
 #include "solvers/kit/sweeps.hpp"
-#include "src/disjoint_sets.hpp"
 #include "src/error_state.hpp"
 #include "src/log.hpp"
 #include "src/measures.hpp"
@@ -39,14 +38,13 @@ class ProductForm : public SweepForm {
     frix_error setup() {
         if (frix_error e = to_csc(*p_.M, M_)) return e;
         if (frix_error e = to_csc(*p_.H, H_)) return e;
-        if (frix_error e = find_bodies()) return e;
-        if (frix_error e = invert_bodies()) return e;
+        if (frix_error e = bodies_.setup(M_, "gnsgs")) return e;
         find_contact_bodies();
         // The domains of one colour share no body: their sweeps touch disjoint parts of v. The
         // sweeps run on the contacts renumbered in sweep order (slots), so that a sweep reads
         // the per-contact data front to back.
         Domains domains = make_domains(
-            p_.nc, (int64_t)body_ptr_.size() - 1, std::max(kMinDomain, (p_.nc + kDomains - 1) / kDomains),
+            p_.nc, bodies_.count(), std::max(kMinDomain, (p_.nc + kDomains - 1) / kDomains),
             [this](int64_t a, std::vector<int64_t> &out) {
                 out.insert(out.end(), contact_bodies_.begin() + bodies_ptr_[a],
                            contact_bodies_.begin() + bodies_ptr_[a + 1]);
@@ -65,7 +63,7 @@ class ProductForm : public SweepForm {
         }
         renumber_dofs();
         std::vector<double> v0((size_t)p_.n);
-        apply_inverse(p_.f, v0.data());
+        bodies_.apply_inverse(p_.f, v0.data());
         v0_.resize((size_t)p_.n);
         for (int64_t d = 0; d < p_.n; ++d) v0_[(size_t)slot_of_dof_[(size_t)d]] = v0[(size_t)d];
         v_.resize((size_t)p_.n);
@@ -187,87 +185,6 @@ class ProductForm : public SweepForm {
         return measures_from_parts(all, r, u, mu_.data(), p_.nc, norm_w_, free_);
     }
 
-    frix_error find_bodies() {
-        const int64_t n = p_.n;
-        DisjointSets sets(n);
-        for (int64_t c = 0; c < n; ++c)
-            for (int64_t k = M_.colptr[c]; k < M_.colptr[c + 1]; ++k)
-                if (M_.val[k] != 0.0) sets.unite(M_.rowind[k], c);  // a stored zero couples nothing
-        body_of_.assign((size_t)n, -1);
-        std::vector<int64_t> body_of_root((size_t)n, -1);
-        int64_t bodies = 0;
-        for (int64_t i = 0; i < n; ++i) {
-            const int64_t root = sets.find(i);
-            if (body_of_root[root] < 0) {
-                if (sets.size_of_root(root) > kMaxRigidBodyDofs)
-                    return fail(FRIX_ERR_UNSUPPORTED,
-                                "gnsgs: M couples %lld dofs in one block (more than %lld: a deformable body); "
-                                "gadmm or auto solve this problem",
-                                (long long)sets.size_of_root(root), (long long)kMaxRigidBodyDofs);
-                body_of_root[root] = bodies++;
-            }
-            body_of_[i] = body_of_root[root];
-        }
-        // The dofs of each body in increasing order, and each dof's place in its body.
-        body_ptr_.assign((size_t)bodies + 1, 0);
-        for (int64_t i = 0; i < n; ++i) ++body_ptr_[body_of_[i] + 1];
-        for (int64_t b = 0; b < bodies; ++b) body_ptr_[b + 1] += body_ptr_[b];
-        body_dofs_.resize((size_t)n);
-        place_.resize((size_t)n);
-        std::vector<int64_t> next(body_ptr_.begin(), body_ptr_.end() - 1);
-        for (int64_t i = 0; i < n; ++i) {
-            const int64_t k = next[body_of_[i]]++;
-            body_dofs_[k] = i;
-            place_[i] = k - body_ptr_[body_of_[i]];
-        }
-        return FRIX_OK;
-    }
-
-    // Each body's block of M inverted by Gauss-Jordan with partial pivoting (M need not be
-    // symmetric).
-    frix_error invert_bodies() {
-        const int64_t bodies = (int64_t)body_ptr_.size() - 1;
-        inverse_ptr_.assign((size_t)bodies + 1, 0);
-        for (int64_t b = 0; b < bodies; ++b) {
-            const int64_t k = body_ptr_[b + 1] - body_ptr_[b];
-            inverse_ptr_[b + 1] = inverse_ptr_[b] + k * k;
-        }
-        inverse_.assign((size_t)inverse_ptr_[bodies], 0.0);
-        std::vector<double> a;
-        for (int64_t b = 0; b < bodies; ++b) {
-            const int64_t k = body_ptr_[b + 1] - body_ptr_[b];
-            a.assign((size_t)(k * k), 0.0);  // column-major
-            double *inv = &inverse_[inverse_ptr_[b]];
-            double scale = 0.0;
-            for (int64_t j = 0; j < k; ++j) {
-                const int64_t col = body_dofs_[body_ptr_[b] + j];
-                for (int64_t e = M_.colptr[col]; e < M_.colptr[col + 1]; ++e) {
-                    a[place_[M_.rowind[e]] + k * j] += M_.val[e];
-                    scale = std::max(scale, std::fabs(M_.val[e]));
-                }
-                inv[j + k * j] = 1.0;
-            }
-            if (!linalg::invert_small(k, a.data(), inv, scale))
-                return fail(FRIX_ERR_NUMERICAL, "gnsgs: M is singular (its block of dofs %lld..%lld)",
-                            (long long)body_dofs_[body_ptr_[b]], (long long)body_dofs_[body_ptr_[b + 1] - 1]);
-        }
-        return FRIX_OK;
-    }
-
-    // y = M^-1 x, body by body.
-    void apply_inverse(const double *x, double *y) const {
-        const int64_t bodies = (int64_t)body_ptr_.size() - 1;
-        for (int64_t b = 0; b < bodies; ++b) {
-            const int64_t k = body_ptr_[b + 1] - body_ptr_[b], *dofs = &body_dofs_[body_ptr_[b]];
-            const double *inv = &inverse_[inverse_ptr_[b]];
-            for (int64_t i = 0; i < k; ++i) {
-                double s = 0.0;
-                for (int64_t j = 0; j < k; ++j) s += inv[i + k * j] * x[dofs[j]];
-                y[dofs[i]] = s;
-            }
-        }
-    }
-
     // The bodies each contact's three columns of H touch, in increasing order.
     void find_contact_bodies() {
         bodies_ptr_.assign(1, 0);
@@ -276,7 +193,8 @@ class ProductForm : public SweepForm {
         for (int64_t a = 0; a < p_.nc; ++a) {
             touched.clear();
             for (int64_t c = 3 * a; c < 3 * a + 3; ++c)
-                for (int64_t e = H_.colptr[c]; e < H_.colptr[c + 1]; ++e) touched.push_back(body_of_[H_.rowind[e]]);
+                for (int64_t e = H_.colptr[c]; e < H_.colptr[c + 1]; ++e)
+                    touched.push_back(bodies_.body_of[H_.rowind[e]]);
             std::sort(touched.begin(), touched.end());
             touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
             contact_bodies_.insert(contact_bodies_.end(), touched.begin(), touched.end());
@@ -293,7 +211,7 @@ class ProductForm : public SweepForm {
             const int64_t a = contact_of_slot_[(size_t)k];
             int64_t dofs = 0;
             for (int64_t i = bodies_ptr_[a]; i < bodies_ptr_[a + 1]; ++i)
-                dofs += body_ptr_[contact_bodies_[i] + 1] - body_ptr_[contact_bodies_[i]];
+                dofs += bodies_.body_ptr[contact_bodies_[i] + 1] - bodies_.body_ptr[contact_bodies_[i]];
             dof_ptr_[k + 1] = dof_ptr_[k] + dofs;
         }
         dofs_.resize((size_t)dof_ptr_[nc]);
@@ -304,7 +222,7 @@ class ProductForm : public SweepForm {
             const int64_t a = contact_of_slot_[(size_t)k];
             bool one_dof_bodies = true;
             for (int64_t i = bodies_ptr_[a]; i < bodies_ptr_[a + 1]; ++i)
-                one_dof_bodies = one_dof_bodies && body_ptr_[contact_bodies_[i] + 1] - body_ptr_[contact_bodies_[i]] == 1;
+                one_dof_bodies = one_dof_bodies && bodies_.body_ptr[contact_bodies_[i] + 1] - bodies_.body_ptr[contact_bodies_[i]] == 1;
             if (!one_dof_bodies) {
                 g_ptr_[(size_t)k] = stored;
                 stored += dof_ptr_[k + 1] - dof_ptr_[k];
@@ -314,27 +232,27 @@ class ProductForm : public SweepForm {
         minv_.assign((size_t)dof_ptr_[nc], 0.0);
         // Where each body of the slot's contact starts in its dof list, then each of H's
         // entries put there in one pass (O(nnz(H)), not entries x bodies).
-        std::vector<int64_t> body_at(body_ptr_.size() - 1, 0);
+        std::vector<int64_t> body_at(bodies_.body_ptr.size() - 1, 0);
         for (int64_t k = 0; k < nc; ++k) {
             const int64_t a = contact_of_slot_[(size_t)k];
             int64_t at = dof_ptr_[k];
             for (int64_t i = bodies_ptr_[a]; i < bodies_ptr_[a + 1]; ++i) {
-                const int64_t b = contact_bodies_[i], size = body_ptr_[b + 1] - body_ptr_[b];
+                const int64_t b = contact_bodies_[i], size = bodies_.body_ptr[b + 1] - bodies_.body_ptr[b];
                 body_at[(size_t)b] = at;
-                for (int64_t j = 0; j < size; ++j) dofs_[at + j] = body_dofs_[body_ptr_[b] + j];
-                if (g_ptr_[(size_t)k] < 0) minv_[at] = inverse_[inverse_ptr_[b]];  // a one-dof body
+                for (int64_t j = 0; j < size; ++j) dofs_[at + j] = bodies_.body_dofs[bodies_.body_ptr[b] + j];
+                if (g_ptr_[(size_t)k] < 0) minv_[at] = bodies_.inverse[bodies_.inverse_ptr[b]];  // a one-dof body
                 at += size;
             }
             for (int64_t c = 3 * a; c < 3 * a + 3; ++c)
                 for (int64_t e = H_.colptr[c]; e < H_.colptr[c + 1]; ++e) {
                     const int64_t row = H_.rowind[e];
-                    hd_[3 * (size_t)(body_at[(size_t)body_of_[row]] + place_[row]) + (size_t)(c - 3 * a)] += H_.val[e];
+                    hd_[3 * (size_t)(body_at[(size_t)bodies_.body_of[row]] + bodies_.place[row]) + (size_t)(c - 3 * a)] += H_.val[e];
                 }
             if (g_ptr_[(size_t)k] < 0) continue;
             for (int64_t i = bodies_ptr_[a]; i < bodies_ptr_[a + 1]; ++i) {
-                const int64_t b = contact_bodies_[i], size = body_ptr_[b + 1] - body_ptr_[b];
+                const int64_t b = contact_bodies_[i], size = bodies_.body_ptr[b + 1] - bodies_.body_ptr[b];
                 const int64_t start = body_at[(size_t)b];
-                const double *h = hd_.data() + 3 * start, *inv = inverse_.data() + inverse_ptr_[b];
+                const double *h = hd_.data() + 3 * start, *inv = bodies_.inverse.data() + bodies_.inverse_ptr[b];
                 double *g = gd_.data() + 3 * (g_ptr_[(size_t)k] + start - dof_ptr_[k]);
                 for (int64_t x = 0; x < size; ++x)
                     for (int f = 0; f < 3; ++f) {
@@ -366,8 +284,8 @@ class ProductForm : public SweepForm {
     std::vector<int64_t> slot_of_dof_;
     double norm_w_, free_;
     Csc M_, H_;
-    std::vector<int64_t> body_of_, body_ptr_, body_dofs_, place_, inverse_ptr_;
-    std::vector<double> inverse_, v0_;
+    RigidBodies bodies_;
+    std::vector<double> v0_;
     std::vector<int64_t> dof_ptr_, dofs_;
     std::vector<double> hd_, gd_;
     std::vector<int64_t> g_ptr_;  // per slot: where its M^-1 H_a starts in gd_, -1: from minv_

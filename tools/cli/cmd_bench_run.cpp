@@ -139,7 +139,8 @@ int cmd_bench_run(int argc, char **argv) {
         return kExitUsage;
     }
     const double read_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count();
-    const bool global = frix_problem_get_kind(problem.get()) == FRIX_PROBLEM_GLOBAL;
+    const frix_problem_kind kind = frix_problem_get_kind(problem.get());
+    const bool global = kind == FRIX_PROBLEM_GLOBAL || kind == FRIX_PROBLEM_ROLLING_GLOBAL;
     const auto entries = [](const frix_matrix *a) {
         return a ? static_cast<double>(std::max<int64_t>(0, frix_matrix_nnz(a))) : 0.0;
     };

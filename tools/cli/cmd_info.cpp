@@ -20,7 +20,8 @@ struct Facts {
     frix_problem_kind kind = FRIX_PROBLEM_LOCAL;
     int64_t contacts = 0, contact_dofs = 0, dofs = 0;
     MatrixFacts W, M, H;
-    double mu_min = NAN, mu_max = NAN;
+    double mu_min = NAN, mu_max = NAN, mu_r_min = NAN, mu_r_max = NAN;
+    bool local = true, rolling = false;
     double norm_q = NAN, norm_f = NAN, norm_w = NAN;
     bool has_solution = false;
     double solution_error = NAN;        // the stored solution's relative error, if any
@@ -72,7 +73,15 @@ Facts gather(const std::string &path) {
         f.mu_min = *range.first;
         f.mu_max = *range.second;
     }
-    if (f.kind == FRIX_PROBLEM_LOCAL) {
+    const double *mu_r = frix_problem_mu_r(p.get());
+    if (mu_r && f.contacts > 0) {
+        auto range = std::minmax_element(mu_r, mu_r + f.contacts);
+        f.mu_r_min = *range.first;
+        f.mu_r_max = *range.second;
+    }
+    f.local = f.kind == FRIX_PROBLEM_LOCAL || f.kind == FRIX_PROBLEM_ROLLING_LOCAL;
+    f.rolling = mu_r != nullptr;
+    if (f.local) {
         f.norm_q = norm2(frix_problem_q(p.get()), f.contact_dofs);
     } else {
         f.norm_f = norm2(frix_problem_f(p.get()), f.dofs);
@@ -82,7 +91,7 @@ Facts gather(const std::string &path) {
     // A missing /solution or unreadable guesses are facts to report, not failures.
     std::vector<double> r(static_cast<std::size_t>(std::max<int64_t>(f.contact_dofs, 1)));
     std::vector<double> v(static_cast<std::size_t>(std::max<int64_t>(f.dofs, 1)));
-    double *vp = f.kind == FRIX_PROBLEM_GLOBAL ? v.data() : nullptr;
+    double *vp = f.local ? nullptr : v.data();
     if (frix_fclib_read_solution(path.c_str(), p.get(), r.data(), nullptr, vp) == FRIX_OK) {
         f.has_solution = true;
         frix_info *info = nullptr;
@@ -123,7 +132,11 @@ void print_json(const Facts &f) {
     json_matrix(w, "H", f.H);
     w.number("mu_min", f.mu_min);
     w.number("mu_max", f.mu_max);
-    if (f.kind == FRIX_PROBLEM_LOCAL) {
+    if (f.rolling) {
+        w.number("mu_r_min", f.mu_r_min);
+        w.number("mu_r_max", f.mu_r_max);
+    }
+    if (f.local) {
         w.number("norm_q", f.norm_q);
     } else {
         w.number("norm_f", f.norm_f);
@@ -131,7 +144,7 @@ void print_json(const Facts &f) {
     }
     w.boolean("has_solution", f.has_solution);
     w.number("solution_error", f.solution_error);
-    if (f.kind == FRIX_PROBLEM_GLOBAL) w.number("solution_equilibrium", f.solution_equilibrium);
+    if (!f.local) w.number("solution_equilibrium", f.solution_equilibrium);
     w.integer("guesses", f.guesses);
     w.end_object();
     std::printf("%s\n", w.text().c_str());
@@ -152,7 +165,7 @@ void print_text(const Facts &f) {
     if (!f.math_info.empty()) std::printf("%-16s %s\n", "math info", one_line(f.math_info).c_str());
     std::printf("%-16s %s\n", "kind", kind_name(f.kind));
     std::printf("%-16s %lld\n", "contacts", static_cast<long long>(f.contacts));
-    if (f.kind == FRIX_PROBLEM_LOCAL)
+    if (f.local)
         std::printf("%-16s %lld (r, u)\n", "dofs", static_cast<long long>(f.contact_dofs));
     else
         std::printf("%-16s %lld (v), %lld (r, u)\n", "dofs", static_cast<long long>(f.dofs),
@@ -164,13 +177,14 @@ void print_text(const Facts &f) {
         std::printf("%-16s %g .. %g\n", "mu", f.mu_min, f.mu_max);
     else
         std::printf("%-16s -\n", "mu");
-    if (f.kind == FRIX_PROBLEM_LOCAL) {
+    if (f.rolling && f.contacts > 0) std::printf("%-16s %g .. %g\n", "mu_r", f.mu_r_min, f.mu_r_max);
+    if (f.local) {
         std::printf("%-16s %.4g\n", "|q|", f.norm_q);
     } else {
         std::printf("%-16s %.4g\n", "|f|", f.norm_f);
         std::printf("%-16s %.4g\n", "|w|", f.norm_w);
     }
-    if (f.has_solution && f.kind == FRIX_PROBLEM_GLOBAL)
+    if (f.has_solution && !f.local)
         std::printf("%-16s yes (error %.3e, equilibrium %.3e)\n", "solution", f.solution_error,
                     f.solution_equilibrium);
     else if (f.has_solution)

@@ -324,10 +324,10 @@ void print_json(const Report &r) {
 
 void print_text(const Report &r) {
     std::printf("%-16s %s\n", "file", r.file.c_str());
-    if (r.kind == FRIX_PROBLEM_LOCAL)
-        std::printf("%-16s local, %lld contacts\n", "problem", static_cast<long long>(r.contacts));
+    if (r.kind == FRIX_PROBLEM_LOCAL || r.kind == FRIX_PROBLEM_ROLLING_LOCAL)
+        std::printf("%-16s %s, %lld contacts\n", "problem", kind_name(r.kind), static_cast<long long>(r.contacts));
     else
-        std::printf("%-16s global, %lld contacts, %lld dofs\n", "problem",
+        std::printf("%-16s %s, %lld contacts, %lld dofs\n", "problem", kind_name(r.kind),
                     static_cast<long long>(r.contacts), static_cast<long long>(r.dofs));
     std::printf("%-16s %s (id %d)\n", "solver", r.solver_name.c_str(), r.solver_id);
     std::printf("%-16s %s\n", "status", frix_status_string(r.status));
@@ -351,6 +351,8 @@ void print_text(const Report &r) {
     std::printf("%-16s %.3e\n", "complementarity", r.complementarity);
     if (r.kind == FRIX_PROBLEM_GLOBAL)
         std::printf("%-16s %.3e (diag(M)-weighted: %.3e)\n", "equilibrium", r.equilibrium, r.equilibrium_scaled);
+    else if (r.kind == FRIX_PROBLEM_ROLLING_GLOBAL)
+        std::printf("%-16s %.3e\n", "equilibrium", r.equilibrium);
     if (r.newton_iterations > 0)
         std::printf("%-16s %lld (%lld line-search steps, %lld fallback sweeps)\n", "newton steps",
                     static_cast<long long>(r.newton_iterations),
@@ -406,7 +408,8 @@ int cmd_solve(int argc, char **argv) {
     std::vector<double> r(static_cast<std::size_t>(std::max<int64_t>(rep.contact_dofs, 1)), 0.0);
     std::vector<double> u(r.size(), 0.0);
     std::vector<double> v(static_cast<std::size_t>(std::max<int64_t>(rep.dofs, 1)), 0.0);
-    double *vp = rep.kind == FRIX_PROBLEM_GLOBAL ? v.data() : nullptr;
+    const bool global = rep.kind == FRIX_PROBLEM_GLOBAL || rep.kind == FRIX_PROBLEM_ROLLING_GLOBAL;
+    double *vp = global ? v.data() : nullptr;
     if (a.guess > 0) start_from_guess(a.file, problem.get(), a.guess, r.data(), u.data(), vp);
 
     frix_info *raw_info = nullptr;

@@ -117,10 +117,13 @@ struct ChildWriter {
             w.bytes("E", 1);
             w.text(library_message(err));
         } else {
-            const bool global = frix_problem_get_kind(p.get()) == FRIX_PROBLEM_GLOBAL;
+            const frix_problem_kind kind = frix_problem_get_kind(p.get());
+            const bool global = kind == FRIX_PROBLEM_GLOBAL || kind == FRIX_PROBLEM_ROLLING_GLOBAL;
+            const bool rolling = kind == FRIX_PROBLEM_ROLLING_LOCAL || kind == FRIX_PROBLEM_ROLLING_GLOBAL;
             const int64_t nc = frix_problem_contacts(p.get()), n = frix_problem_dofs(p.get());
+            const int64_t m = frix_problem_contact_dofs(p.get());
             w.bytes("P", 1);
-            w.integer(global ? 1 : 0);
+            w.integer((global ? 1 : 0) + (rolling ? 2 : 0));
             w.integer(nc);
             w.integer(n);
             w.text(frix_problem_title(p.get()));
@@ -130,12 +133,13 @@ struct ChildWriter {
                 w.matrix(frix_problem_M(p.get()));
                 w.matrix(frix_problem_H(p.get()));
                 w.doubles(frix_problem_f(p.get()), n);
-                w.doubles(frix_problem_w(p.get()), 3 * nc);
+                w.doubles(frix_problem_w(p.get()), m);
             } else {
                 w.matrix(frix_problem_W(p.get()));
-                w.doubles(frix_problem_q(p.get()), 3 * nc);
+                w.doubles(frix_problem_q(p.get()), m);
             }
             w.doubles(frix_problem_mu(p.get()), nc);
+            if (rolling) w.doubles(frix_problem_mu_r(p.get()), nc);
         }
         code = w.ok ? 0 : 1;
     } catch (const std::bad_alloc &) {
@@ -186,7 +190,7 @@ struct MatrixFree {
 // What a problem sent by the child borrows: it lives as long as the problem (ProblemDeleter).
 struct SentProblem {
     std::unique_ptr<frix_matrix, MatrixFree> W, M, H;
-    std::vector<double> q, f, w, mu;
+    std::vector<double> q, f, w, mu, mu_r;
 };
 
 }  // namespace
@@ -395,8 +399,8 @@ ProblemPtr read_problem(const std::string &path, double time_limit, double secon
         fail("cannot read " + path + ": " + message);
     }
     if (tag != 'P') broken();
-    int64_t global = 0, nc = 0, n = 0;
-    if (!in.integer(global, 1) || !in.integer(nc, kMaxCount) || !in.integer(n, kMaxCount)) broken();
+    int64_t form = 0, nc = 0, n = 0;  // form: 1 global, + 2 rolling
+    if (!in.integer(form, 3) || !in.integer(nc, kMaxCount) || !in.integer(n, kMaxCount)) broken();
     // The problem's texts: title, description, math info (the library keeps them short).
     std::string texts[3];
     for (std::string &text : texts) {
@@ -420,17 +424,25 @@ ProblemPtr read_problem(const std::string &path, double time_limit, double secon
     };
     frix_problem *raw = nullptr;
     frix_error err;
+    const bool global = (form & 1) != 0, rolling = (form & 2) != 0;
+    const int64_t m = (rolling ? 5 : 3) * nc;
+    const auto coefficients = [&]() { return in.array(data->mu, nc) && (!rolling || in.array(data->mu_r, nc)); };
     if (global) {
         matrix(data->M);
         matrix(data->H);
-        if (!in.array(data->f, n) || !in.array(data->w, 3 * nc) || !in.array(data->mu, nc)) broken();
+        if (!in.array(data->f, n) || !in.array(data->w, m) || !coefficients()) broken();
         child.reap();
-        err = frix_problem_global(data->M.get(), data->H.get(), data->f.data(), data->w.data(), data->mu.data(), nc, &raw);
+        err = rolling ? frix_problem_rolling_global(data->M.get(), data->H.get(), data->f.data(), data->w.data(),
+                                                    data->mu.data(), data->mu_r.data(), nc, &raw)
+                      : frix_problem_global(data->M.get(), data->H.get(), data->f.data(), data->w.data(),
+                                            data->mu.data(), nc, &raw);
     } else {
         matrix(data->W);
-        if (!in.array(data->q, 3 * nc) || !in.array(data->mu, nc)) broken();
+        if (!in.array(data->q, m) || !coefficients()) broken();
         child.reap();
-        err = frix_problem_local(data->W.get(), data->q.data(), data->mu.data(), nc, &raw);
+        err = rolling ? frix_problem_rolling_local(data->W.get(), data->q.data(), data->mu.data(), data->mu_r.data(),
+                                                   nc, &raw)
+                      : frix_problem_local(data->W.get(), data->q.data(), data->mu.data(), nc, &raw);
     }
     ProblemPtr problem(raw, ProblemDeleter{data});
     if (err == FRIX_OK) err = frix_problem_set_title(problem.get(), texts[0].c_str());
@@ -444,6 +456,8 @@ const char *kind_name(frix_problem_kind kind) {
     switch (kind) {
         case FRIX_PROBLEM_LOCAL: return "local";
         case FRIX_PROBLEM_GLOBAL: return "global";
+        case FRIX_PROBLEM_ROLLING_LOCAL: return "rolling-local";
+        case FRIX_PROBLEM_ROLLING_GLOBAL: return "rolling-global";
     }
     return "unknown";
 }

@@ -118,7 +118,9 @@ int list(bool json) {
             w.begin_object();
             w.integer("id", id);
             w.string("name", frix_siconos_solver_name(id));
-            w.string("kind", frix_siconos_solver_is_global(id) ? "global" : "local");
+            w.string("kind", frix_siconos_solver_is_rolling(id) == 1 ? "rolling"
+                             : frix_siconos_solver_is_global(id)   ? "global"
+                                                                   : "local");
             w.end_object();
         } else {
             std::printf("%5d  %s\n", id, frix_siconos_solver_name(id));
@@ -195,18 +197,27 @@ int run(int argc, char **argv) {
     if (a.fd >= 0) std::signal(SIGPIPE, SIG_IGN);
 
     ProblemPtr problem = read_problem(a.file);
-    const bool global = frix_problem_get_kind(problem.get()) == FRIX_PROBLEM_GLOBAL;
+    const frix_problem_kind kind = frix_problem_get_kind(problem.get());
+    const bool global = kind == FRIX_PROBLEM_GLOBAL || kind == FRIX_PROBLEM_ROLLING_GLOBAL;
+    const bool rolling = kind == FRIX_PROBLEM_ROLLING_LOCAL || kind == FRIX_PROBLEM_ROLLING_GLOBAL;
     const int64_t nc = frix_problem_contacts(problem.get());
     const int64_t n = global ? frix_problem_dofs(problem.get()) : 0;
     const std::string name = std::string("siconos:") + frix_siconos_solver_name(id);
     // A solver for the other kind of problem is a usage error, found before anything runs;
     // the bench, which runs every solver on every problem, records it as unsupported.
-    if (frix_siconos_solver_is_global(id) != (global ? 1 : 0)) {
+    const bool rolling_solver = frix_siconos_solver_is_rolling(id) == 1;
+    if (frix_siconos_solver_is_global(id) != (global ? 1 : 0) || rolling_solver != rolling) {
         const std::string why =
-            global ? name + " is a local solver (fc3d_driver) and " + a.file +
-                         " is a global problem: use a GFC3D_ solver (see 'frix-siconos --list')"
-                   : name + " is a global solver (gfc3d_driver) and " + a.file +
-                         " is a local problem: use an FC3D solver (see 'frix-siconos --list')";
+            rolling != rolling_solver
+                ? (rolling ? name + " does not solve rolling-friction problems (" + a.file +
+                                 " is one): use RFC3D_NSGS or RFC3D_ADMM on its local form"
+                           : name + " solves rolling-friction problems only, and " + a.file + " is not one")
+            : rolling ? name + " solves the local form (W) of rolling problems, and " + a.file +
+                            " is global: frix-siconos runs Siconos's local rolling driver only (convert to W first)"
+            : global  ? name + " is a local solver (fc3d_driver) and " + a.file +
+                           " is a global problem: use a GFC3D_ solver (see 'frix-siconos --list')"
+                      : name + " is a global solver (gfc3d_driver) and " + a.file +
+                           " is a local problem: use an FC3D solver (see 'frix-siconos --list')";
         if (a.fd >= 0) {
             frix_bench::write_line(a.fd, frix_bench::note_line(why));
             frix_bench::write_line(a.fd, frix_bench::result_line("unsupported", 0, NAN, NAN, NAN, NAN));
@@ -215,7 +226,8 @@ int run(int argc, char **argv) {
         }
         fail(why);
     }
-    std::vector<double> r(static_cast<std::size_t>(std::max<int64_t>(3 * nc, 1)), 0.0);
+    std::vector<double> r(static_cast<std::size_t>(std::max<int64_t>(frix_problem_contact_dofs(problem.get()), 1)),
+                          0.0);
     std::vector<double> u(r.size(), 0.0);
     std::vector<double> v(static_cast<std::size_t>(std::max<int64_t>(n, 1)), 0.0);
     double *vp = global ? v.data() : nullptr;
@@ -267,7 +279,7 @@ int run(int argc, char **argv) {
         JsonWriter w;
         w.begin_object();
         w.string("file", a.file);
-        w.string("kind", global ? "global" : "local");
+        w.string("kind", global ? "global" : rolling ? "rolling-local" : "local");
         w.integer("contacts", nc);
         if (global) w.integer("dofs", n);
         w.string("solver", name);
@@ -311,7 +323,8 @@ int run(int argc, char **argv) {
             std::printf("%-16s global, %lld contacts, %lld dofs\n", "problem",
                         static_cast<long long>(nc), static_cast<long long>(n));
         else
-            std::printf("%-16s local, %lld contacts\n", "problem", static_cast<long long>(nc));
+            std::printf("%-16s %s, %lld contacts\n", "problem", rolling ? "rolling-local" : "local",
+                        static_cast<long long>(nc));
         std::printf("%-16s %s (id %d)\n", "solver", name.c_str(), id);
         std::printf("%-16s %s\n", "status", status);
         std::printf("%-16s %lld\n", "iterations", static_cast<long long>(res.iterations));
@@ -320,7 +333,7 @@ int run(int argc, char **argv) {
         if (global) std::printf("%-16s %.3e\n", "equilibrium", res.equilibrium);
         std::printf("%-16s %.3e (info %d)\n", "siconos error", res.siconos_error, res.info);
         std::printf("%-16s %.3g s (%s)\n", "time", res.time,
-                    global ? "gfc3d_driver" : "fc3d_driver");
+                    global ? "gfc3d_driver" : rolling ? "rolling_fc3d_driver" : "fc3d_driver");
         if (!note.empty()) std::printf("%-16s %s\n", "note", note.c_str());
     }
     if (!res.ran && a.fd < 0) fail(a.file + ": " + res.message);

@@ -18,6 +18,7 @@
 #include "FrictionContactProblem.h"
 #include "Friction_cst.h"
 #include "GlobalFrictionContactProblem.h"
+#include "RollingFrictionContactProblem.h"
 #include "NonSmoothDrivers.h"
 #include "NumericsMatrix.h"
 #include "NumericsSparseMatrix.h"
@@ -45,6 +46,8 @@ static const struct {
     {607, "GFC3D_NSN_AC", 1},    {610, "GFC3D_VI_FPP", 1},  {611, "GFC3D_VI_EG", 1},
     {612, "GFC3D_ACLMFP", 1},    {613, "GFC3D_ADMM", 1},    {614, "GFC3D_ADMM_WR", 1},
     {615, "GFC3D_IPM", 1},
+    /* Rolling friction, local form (rolling_fc3d_driver): rolling problems only. */
+    {3000, "RFC3D_NSGS", 0},     {3003, "RFC3D_ADMM", 0},
 };
 enum { kSolverCount = (int)(sizeof kSolvers / sizeof kSolvers[0]) };
 static const char kGlobalPrefix[] = "GFC3D_";
@@ -59,6 +62,11 @@ const char *frix_siconos_solver_name(int id) {
     for (int k = 0; k < kSolverCount; ++k)
         if (kSolvers[k].id == id) return kSolvers[k].name;
     return NULL;
+}
+
+int frix_siconos_solver_is_rolling(int id) {
+    if (!frix_siconos_solver_name(id)) return -1;
+    return id == SICONOS_ROLLING_FRICTION_3D_NSGS || id == SICONOS_ROLLING_FRICTION_3D_ADMM;
 }
 
 int frix_siconos_solver_is_global(int id) {
@@ -91,6 +99,13 @@ int frix_siconos_solver_by_name(const char *name) {
     if (g != s) { /* a global solver's spelling: its short name after GFC3D_ */
         for (int k = 0; k < kSolverCount; ++k)
             if (kSolvers[k].global && same_name(g, kSolvers[k].name + strlen(kGlobalPrefix)))
+                return kSolvers[k].id;
+        return -1;
+    }
+    const char *rolling = strip_prefix(s, "ROLLING_FRICTION_3D_");
+    if (rolling != s) { /* Siconos's long spelling of RFC3D_ */
+        for (int k = 0; k < kSolverCount; ++k)
+            if (frix_siconos_solver_is_rolling(kSolvers[k].id) == 1 && same_name(rolling, kSolvers[k].name + 6))
                 return kSolvers[k].id;
         return -1;
     }
@@ -228,6 +243,17 @@ static int guarded_driver(FrictionContactProblem *fc, double *r, double *u, Solv
     return info;
 }
 
+/* rolling_fc3d_driver, the same way. */
+static int guarded_rolling_driver(RollingFrictionContactProblem *rfc, double *r, double *u, SolverOptions *o,
+                                  int *ran) {
+    *ran = 0;
+    if (setjmp(*sn_get_jmp_buf()) != 0) return -1;
+    int info = rolling_fc3d_driver(rfc, r, u, o);
+    sn_release_jmp_buf();
+    *ran = 1;
+    return info;
+}
+
 /* gfc3d_driver, the same way. */
 static int guarded_global_driver(GlobalFrictionContactProblem *gfc, double *r, double *u,
                                  double *v, SolverOptions *o, int *ran) {
@@ -302,7 +328,21 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
         snprintf(res->message, sizeof res->message, "unknown Siconos solver id %d", solver_id);
         return -1;
     }
-    const int global = frix_problem_get_kind(problem) == FRIX_PROBLEM_GLOBAL;
+    const frix_problem_kind kind = frix_problem_get_kind(problem);
+    const int global = kind == FRIX_PROBLEM_GLOBAL || kind == FRIX_PROBLEM_ROLLING_GLOBAL;
+    const int rolling = kind == FRIX_PROBLEM_ROLLING_LOCAL || kind == FRIX_PROBLEM_ROLLING_GLOBAL;
+    const int rolling_solver = frix_siconos_solver_is_rolling(solver_id);
+    /* rolling_fc3d_driver takes the local form of a rolling problem, and nothing else does. */
+    if (rolling != rolling_solver || (rolling && global)) {
+        res->refused_kind = 1;
+        snprintf(res->message, sizeof res->message,
+                 rolling ? (global ? "%s: Siconos 4.4 solves rolling problems in the local form only (W, "
+                                     "rolling_fc3d_driver): convert the problem to W first"
+                                   : "%s is not a rolling-friction solver: use RFC3D_NSGS or RFC3D_ADMM")
+                         : "%s solves rolling-friction problems only",
+                 frix_siconos_solver_name(solver_id));
+        return -1;
+    }
     /* Each driver takes one kind: fc3d_driver a W, gfc3d_driver an M and an H. */
     if (global != global_solver) {
         res->refused_kind = 1;
@@ -314,7 +354,7 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
                  frix_siconos_solver_name(solver_id));
         return -1;
     }
-    const int64_t nc = frix_problem_contacts(problem), m = 3 * nc;
+    const int64_t nc = frix_problem_contacts(problem), m = frix_problem_contact_dofs(problem);
     const int64_t n = global ? frix_problem_dofs(problem) : 0;
     if (global && !v) {
         snprintf(res->message, sizeof res->message, "a global problem needs v");
@@ -343,9 +383,19 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
     numerics_set_verbose(0);
     FrictionContactProblem *fc = NULL;
     GlobalFrictionContactProblem *gfc = NULL;
+    RollingFrictionContactProblem *rfc = NULL;
     if (global) {
         gfc = global_problem(problem, res->message, sizeof res->message);
         if (!gfc) return -1;
+    } else if (rolling) {
+        /* W as Siconos's sparse (CSC) matrix: its rolling NSGS asserts on a sparse-block one
+         * (NM_extract_diag_block5: "has to be checked carefully"); CSC ran as fast as dense on
+         * the piles of notes/2026-11-28-rolling.md (the one-contact iterations dominate). */
+        NumericsMatrix *W = sparse_matrix(frix_problem_W(problem), res->message, sizeof res->message);
+        if (!W) return -1;
+        rfc = rollingFrictionContactProblem_new_with_data(5, (int)nc, W, copy_of(frix_problem_q(problem), m),
+                                                          copy_of(frix_problem_mu(problem), nc),
+                                                          copy_of(frix_problem_mu_r(problem), nc));
     } else {
         NumericsMatrix *W = block_matrix(frix_problem_W(problem), res->message,
                                          sizeof res->message);
@@ -361,6 +411,7 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
                  solver_id);
         if (gfc) globalFrictionContact_free(gfc);
         if (fc) frictionContactProblem_free(fc);
+        if (rfc) rollingFrictionContactProblem_free(rfc);
         return -1;
     }
     opts->dparam[SICONOS_DPARAM_TOL] = tolerance;
@@ -387,8 +438,9 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
     clock_gettime(CLOCK_MONOTONIC, &start);
     env.start = start;
     int ran = 0;
-    int info = global ? guarded_global_driver(gfc, r, u, v, opts, &ran)
-                      : guarded_driver(fc, r, u, opts, &ran);
+    int info = global    ? guarded_global_driver(gfc, r, u, v, opts, &ran)
+               : rolling ? guarded_rolling_driver(rfc, r, u, opts, &ran)
+                         : guarded_driver(fc, r, u, opts, &ran);
     res->time = seconds_since(&start);
 
     res->ran = ran;
@@ -409,6 +461,8 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
          * asserts); ours is, so whatever a solver left there leaks instead of aborting. */
         gfc->env = NULL;
         globalFrictionContact_free(gfc);
+    } else if (rfc) {
+        rollingFrictionContactProblem_free(rfc);
     } else {
         frictionContactProblem_free(fc);
     }

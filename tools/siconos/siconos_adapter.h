@@ -26,7 +26,8 @@ extern "C" {
 
 /* The solvers offered, by Siconos id and name: the FC3D local ones (500..523) by their
  * short Siconos name ("NSGS", "NSN_AC", ...), then the GFC3D global ones (600..615) by
- * Siconos's own name for them ("GFC3D_NSN_AC", ...), whose prefix tells them apart. */
+ * Siconos's own name for them ("GFC3D_NSN_AC", ...), whose prefix tells them apart, then
+ * the rolling-friction ones (3000, 3003: "RFC3D_NSGS", "RFC3D_ADMM"). */
 int frix_siconos_solver_count(void);
 int frix_siconos_solver_id_at(int index);
 /* Name, or NULL if the id is not offered. */
@@ -34,6 +35,9 @@ const char *frix_siconos_solver_name(int id);
 /* 1 for a global solver (gfc3d_driver, global problems only), 0 for a local one
  * (fc3d_driver, local problems only), -1 if the id is not offered. */
 int frix_siconos_solver_is_global(int id);
+/* 1 for a rolling-friction solver (rolling_fc3d_driver: the local form of rolling problems
+ * only), 0 for any other, -1 if the id is not offered. */
+int frix_siconos_solver_is_rolling(int id);
 /* Accepts, any case: a local solver's short name, "FC3D_NSGS", "FRICTION_3D_NSGS",
  * "SICONOS_FRICTION_3D_NSGS"; a global one's "GFC3D_NSN_AC", "GLOBAL_FRICTION_3D_NSN_AC",
  * "SICONOS_GLOBAL_FRICTION_3D_NSN_AC"; or the id as a decimal string. Returns the id, or -1.

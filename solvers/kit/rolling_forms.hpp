@@ -1,0 +1,72 @@
+// What the rolling NSGS sweeps run on (five entries a contact): W's 5x5 block rows (the local
+// form), or H and M^-1 H with v = M^-1 (H r + f) kept up to date (the global form of rigid
+// bodies: W is never formed). Each gives a contact's diagonal block and local q, is told of
+// each change of a reaction, and measures r exactly.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "solvers/kit/rigid_bodies.hpp"
+#include "src/measures.hpp"
+#include "src/problem.hpp"
+
+namespace frix::rolling {
+
+class SweepForm {
+   public:
+    virtual ~SweepForm() = default;
+    // Contact a's diagonal block W_aa (25 values, column-major).
+    virtual const double *diagonal_block(int64_t a) const = 0;
+    // Contact a's local q: q_a + sum_{b != a} W_ab r_b (5 values).
+    virtual void local_q(int64_t a, const double *r, double *ql) const = 0;
+    // r_a changed by dr (5 values).
+    virtual void moved(int64_t a, const double *dr) { (void)a, (void)dr; }
+    // The rolling measures at r (u receives the velocities), and what the form keeps
+    // resynchronised with r (rounding drifts).
+    virtual Measures exact(const double *r, double *u) = 0;
+    // r changed other than by a sweep (momentum): what the form keeps follows.
+    virtual void restart(const double *r) { (void)r; }
+};
+
+// W's 5x5 block rows, taken from W in either storage (memory: its blocks).
+class RowForm : public SweepForm {
+   public:
+    explicit RowForm(const frix_problem &p);
+    const double *diagonal_block(int64_t a) const override;
+    void local_q(int64_t a, const double *r, double *ql) const override;
+    Measures exact(const double *r, double *u) override { return rolling_local_measures(p_, r, u); }
+
+   private:
+    const frix_problem &p_;
+    std::vector<int64_t> row_ptr_, block_col_, diag_;  // diag_[a]: its block, -1 if none
+    std::vector<double> val_;                          // 25 a block, column-major
+    double zero_[25] = {};
+};
+
+// The product form: per contact, the dofs of the bodies it touches, H_a and M^-1 H_a on them
+// (5 values a dof); v = M^-1 (H r + f) updated by each change of r.
+class BodyForm : public SweepForm {
+   public:
+    explicit BodyForm(const frix_problem &p) : p_(p) {}
+    // The bodies, their inverses and the per-contact data; FRIX_ERR_UNSUPPORTED for a
+    // deformable M (rigid_bodies.hpp).
+    frix_error setup(const double *r);
+    const double *diagonal_block(int64_t a) const override { return &blocks_[25 * (size_t)a]; }
+    void local_q(int64_t a, const double *r, double *ql) const override;
+    void moved(int64_t a, const double *dr) override { add_g(a, dr, v_.data()); }
+    Measures exact(const double *r, double *u) override;
+    void restart(const double *r) override;
+    const std::vector<double> &v() const { return v_; }
+
+   private:
+    void add_g(int64_t a, const double *x, double *v) const;
+    void contact_velocity(int64_t a, const double *v, double *s) const;
+    const frix_problem &p_;
+    RigidBodies bodies_;
+    std::vector<int64_t> dof_ptr_, dofs_;  // contact a's dofs: dofs_[dof_ptr_[a] .. dof_ptr_[a+1])
+    std::vector<double> hd_, gd_;          // H_a and M^-1 H_a on them, 5 a dof
+    std::vector<double> blocks_, v0_, v_;  // W_aa (25 a contact), M^-1 f, v
+};
+
+}  // namespace frix::rolling

@@ -1,0 +1,320 @@
+/* Rolling friction (frix_problem.h): the problem class and its validation, the refusal of the
+ * three-component solvers and services, the measure on hand-checked contacts (stick, rolling,
+ * sliding and rolling), and rolling-nsgs (local and product forms, and auto's route) on
+ * generated sphere piles, checked against the independent measure. */
+#include <frix/frix.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check_main.h"
+#include "support/rolling_pile.h"
+
+static frix_matrix *dense(int64_t m, int64_t n, const double *a) {
+    frix_matrix *M = NULL;
+    ck_assert_int_eq(frix_matrix_from_dense(m, n, a, m, &M), FRIX_OK);
+    return M;
+}
+
+static frix_matrix *identity(int64_t m) {
+    double *a = calloc((size_t)(m * m), sizeof(double));
+    for (int64_t i = 0; i < m; ++i) a[i + m * i] = 1.0;
+    frix_matrix *I = dense(m, m, a);
+    free(a);
+    return I;
+}
+
+START_TEST(test_validation) {
+    frix_matrix *W = identity(10);
+    double q[10] = {-1, 0, 0, 0, 0, -1, 0, 0, 0, 0}, mu[2] = {0.3, 0.3}, mu_r[2] = {0.01, 0.02};
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_problem_rolling_local(W, q, mu, mu_r, 2, &p), FRIX_OK);
+    ck_assert_int_eq(frix_problem_get_kind(p), FRIX_PROBLEM_ROLLING_LOCAL);
+    ck_assert_int_eq(frix_problem_contacts(p), 2);
+    ck_assert_int_eq(frix_problem_contact_dofs(p), 10);
+    ck_assert_ptr_eq(frix_problem_mu_r(p), mu_r);
+    ck_assert_ptr_eq(frix_problem_W(p), W);
+    frix_problem_free(p);
+
+    frix_problem *bad = (frix_problem *)0x1;
+    ck_assert_int_eq(frix_problem_rolling_local(W, q, mu, NULL, 2, &bad), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert_ptr_null(bad);
+    ck_assert(strstr(frix_last_error_message(), "mu_r") != NULL);
+    double neg[2] = {0.01, -1e-3};
+    ck_assert_int_eq(frix_problem_rolling_local(W, q, mu, neg, 2, &bad), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert(strstr(frix_last_error_message(), "mu_r[1]") != NULL);
+    double nan_r[2] = {NAN, 0.01};
+    ck_assert_int_eq(frix_problem_rolling_local(W, q, mu, nan_r, 2, &bad), FRIX_ERR_NOT_FINITE);
+    /* Sizes: 10 rows are 2 rolling contacts, not 3; 9 rows are no number of them. */
+    ck_assert_int_eq(frix_problem_rolling_local(W, q, mu, mu_r, 3, &bad), FRIX_ERR_DIMENSION);
+    frix_matrix *W9 = identity(9);
+    ck_assert_int_eq(frix_problem_rolling_local(W9, q, mu, mu_r, 2, &bad), FRIX_ERR_DIMENSION);
+    ck_assert(strstr(frix_last_error_message(), "multiple of 5") != NULL);
+
+    /* Global form: H is n x 5nc. */
+    frix_matrix *M = identity(6), *H6 = dense(6, 9, (double[54]){0});
+    double f[6] = {0}, w[10] = {0};
+    ck_assert_int_eq(frix_problem_rolling_global(M, H6, f, w, mu, mu_r, 2, &bad), FRIX_ERR_DIMENSION);
+    ck_assert(strstr(frix_last_error_message(), "5*contacts") != NULL);
+    frix_matrix *H = dense(6, 10, (double[60]){0});
+    ck_assert_int_eq(frix_problem_rolling_global(M, H, f, w, mu, mu_r, 2, &p), FRIX_OK);
+    ck_assert_int_eq(frix_problem_get_kind(p), FRIX_PROBLEM_ROLLING_GLOBAL);
+    ck_assert_int_eq(frix_problem_contact_dofs(p), 10);
+    ck_assert_int_eq(frix_problem_dofs(p), 6);
+    frix_problem_free(p);
+
+    frix_matrix_free(W9);
+    frix_matrix_free(W);
+    frix_matrix_free(M);
+    frix_matrix_free(H6);
+    frix_matrix_free(H);
+}
+END_TEST
+
+START_TEST(test_classic_has_no_mu_r) {
+    frix_matrix *W = identity(3);
+    double q[3] = {-1, 0, 0}, mu = 0.3;
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_problem_local(W, q, &mu, 1, &p), FRIX_OK);
+    ck_assert_ptr_null(frix_problem_mu_r(p));
+    ck_assert_int_eq(frix_problem_contact_dofs(p), 3);
+    frix_problem_free(p);
+    frix_matrix_free(W);
+}
+END_TEST
+
+/* Every three-component solver and service says no, clearly, instead of misreading r. */
+START_TEST(test_refused) {
+    frix_matrix *W = identity(5);
+    double q[5] = {-1, 0.1, 0, 0.001, 0}, mu = 0.5, mu_r = 0.01, r[5] = {0}, u[5];
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_problem_rolling_local(W, q, &mu, &mu_r, 1, &p), FRIX_OK);
+    for (int64_t k = 0; k < frix_solver_count(); ++k) {
+        const int id = frix_solver_id_at(k);
+        if (id == FRIX_SOLVER_ROLLING_NSGS || id == FRIX_SOLVER_AUTO) continue;
+        frix_options *o = NULL;
+        ck_assert_int_eq(frix_options_create(id, &o), FRIX_OK);
+        ck_assert_int_eq(frix_solve(p, o, r, u, NULL, NULL), FRIX_ERR_UNSUPPORTED);
+        ck_assert(strstr(frix_last_error_message(), "rolling") != NULL);
+        frix_options_free(o);
+    }
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_problem_check_existence(p, 0.0, info), FRIX_ERR_UNSUPPORTED);
+    frix_persistent *ps = NULL;
+    ck_assert_int_eq(frix_persistent_create(p, NULL, &ps), FRIX_ERR_UNSUPPORTED);
+    ck_assert_ptr_null(ps);
+    frix_info_free(info);
+    frix_problem_free(p);
+    frix_matrix_free(W);
+}
+END_TEST
+
+/* One contact, W = I, solved by hand: r* and the measure at r* and at r = 0. */
+typedef struct {
+    double q[5], r[5], residual_at_zero;
+} hand_case;
+
+static void check_case(const hand_case *c, double mu, double mu_r) {
+    frix_matrix *W = identity(5);
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_problem_rolling_local(W, c->q, &mu, &mu_r, 1, &p), FRIX_OK);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    double u[5], zero[5] = {0};
+    ck_assert_int_eq(frix_problem_measure(p, c->r, NULL, u, info), FRIX_OK);
+    double e = NAN;
+    ck_assert_int_eq(frix_info_get_double(info, FRIX_INFO_ERROR_RELATIVE, &e), FRIX_OK);
+    ck_assert_double_le(e, 1e-15);
+    for (int i = 0; i < 5; ++i) ck_assert_double_eq_tol(u[i], c->r[i] + c->q[i], 1e-15);
+    ck_assert_int_eq(frix_problem_measure(p, zero, NULL, u, info), FRIX_OK);
+    double abs_res = NAN, qn = 0.0;
+    for (int i = 0; i < 5; ++i) qn += c->q[i] * c->q[i];
+    ck_assert_int_eq(frix_info_get_double(info, FRIX_INFO_RESIDUAL_ABSOLUTE, &abs_res), FRIX_OK);
+    ck_assert_double_eq_tol(abs_res, c->residual_at_zero, 1e-14);
+    /* Siconos's normalisation: max(|q|, |r|, |u|), here |q|. */
+    ck_assert_int_eq(frix_info_get_double(info, FRIX_INFO_ERROR_RELATIVE, &e), FRIX_OK);
+    ck_assert_double_eq_tol(e, c->residual_at_zero / sqrt(qn), 1e-14);
+    /* The solver finds r*. */
+    double r[5] = {0};
+    ck_assert_int_eq(frix_solve(p, NULL, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    for (int i = 0; i < 5; ++i) ck_assert_double_eq_tol(r[i], c->r[i], 1e-12);
+    frix_info_free(info);
+    frix_problem_free(p);
+    frix_matrix_free(W);
+}
+
+START_TEST(test_measure_by_hand) {
+    const double mu = 0.5, mu_r = 0.01;
+    /* Stick: r = -q inside both cones. At r = 0, x = -q^ lies inside K: the residual is |q^|. */
+    const double qn_hat = -1.0 + mu * 0.1 + mu_r * 0.001;
+    hand_case stick = {{-1, 0.1, 0, 0.001, 0}, {1, -0.1, 0, -0.001, 0}, 0};
+    stick.residual_at_zero = sqrt(qn_hat * qn_hat + 0.01 + 1e-6);
+    check_case(&stick, mu, mu_r);
+    /* Rolling, not sliding: r_N = 1, m_R = -mu_r r_N on the rolling cone, w_R = 0.04. At r = 0,
+     * x = -q^ = (0.9995, 0, 0, -0.05, 0) projects on the rolling cone alone, t = 1 / (1 +
+     * mu_r^2), and the residual is t sqrt(1 + mu_r^2) = 1 / sqrt(1.0001). */
+    hand_case roll = {{-1, 0, 0, 0.05, 0}, {1, 0, 0, -0.01, 0}, 1.0 / sqrt(1.0001)};
+    check_case(&roll, mu, mu_r);
+    /* Sliding and rolling: r = (1, -mu, 0, 0, -mu_r), u = (0, 0.3, 0, 0, 0.04). At r = 0,
+     * x = -(-1 + 0.4 + 0.0005, 0.8, 0, 0, 0.05) lies on both cones' outside: t = (x_N + mu
+     * |x_T| + mu_r |x_R|) / (1 + mu^2 + mu_r^2), residual t sqrt(1 + mu^2 + mu_r^2). */
+    const double c = 1.0 + mu * mu + mu_r * mu_r, t = (0.5995 + mu * 0.8 + mu_r * 0.05) / c;
+    hand_case both = {{-1, 0.8, 0, 0, 0.05}, {1, -0.5, 0, 0, -0.01}, t * sqrt(c)};
+    check_case(&both, mu, mu_r);
+}
+END_TEST
+
+/* A coupled 5x5 block (a sphere on the ground): Newton's case, to the local tolerance. */
+START_TEST(test_one_sphere_on_ground) {
+    rolling_pile pile;
+    ck_assert_int_eq(rolling_pile_make(1, 1, 0.3, 0.05, 3, &pile), 0);
+    ck_assert_int_eq(pile.nc, 1);
+    double r[5] = {0}, u[5];
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_ROLLING_NSGS, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-12), FRIX_OK);
+    ck_assert_int_eq(frix_solve(pile.local, o, r, u, NULL, info), FRIX_OK);
+    double e = NAN;
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    ck_assert_int_eq(frix_info_get_double(info, FRIX_INFO_ERROR, &e), FRIX_OK);
+    ck_assert_double_le(e, 1e-12);
+    ck_assert_double_gt(r[0], 0.0); /* the sphere weighs on the ground */
+    frix_options_free(o);
+    frix_info_free(info);
+    rolling_pile_free(&pile);
+}
+END_TEST
+
+/* Solves `p` with `solver` to 1e-8 and checks the status against frix_problem_measure. */
+static void solve_to(frix_problem *p, int solver, int64_t nc, int64_t n, int64_t *iterations) {
+    const int64_t m = 5 * nc;
+    double *r = calloc((size_t)m, sizeof(double)), *u = calloc((size_t)m, sizeof(double));
+    double *v = n > 0 ? calloc((size_t)n, sizeof(double)) : NULL;
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(solver, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
+    frix_info *info = NULL, *check = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_info_create(&check), FRIX_OK);
+    ck_assert_int_eq(frix_solve(p, o, r, u, v, info), FRIX_OK);
+    double e = NAN, again = NAN, rel = NAN;
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    ck_assert_int_eq(frix_info_get_double(info, FRIX_INFO_ERROR, &e), FRIX_OK);
+    ck_assert_double_le(e, 1e-8);
+    ck_assert_int_eq(frix_info_get_int(info, FRIX_INFO_ITERATIONS, iterations), FRIX_OK);
+    ck_assert_int_gt(*iterations, 0);
+    ck_assert_int_eq(frix_problem_measure(p, r, v, NULL, check), FRIX_OK);
+    ck_assert_int_eq(frix_info_get_double(check, FRIX_INFO_ERROR_SCALED, &again), FRIX_OK);
+    ck_assert_double_eq_tol(again, e, 1e-12);
+    ck_assert_int_eq(frix_info_get_double(check, FRIX_INFO_ERROR_RELATIVE, &rel), FRIX_OK);
+    ck_assert(isfinite(rel));
+    /* The rolling moments are used (the pile does not settle on friction alone). */
+    double moment = 0.0;
+    for (int64_t a = 0; a < nc; ++a) moment = fmax(moment, hypot(r[5 * a + 3], r[5 * a + 4]));
+    ck_assert_double_gt(moment, 0.0);
+    frix_info_free(info);
+    frix_info_free(check);
+    frix_options_free(o);
+    free(r);
+    free(u);
+    free(v);
+}
+
+START_TEST(test_nsgs_on_piles) {
+    for (uint64_t seed = 1; seed <= 3; ++seed) {
+        rolling_pile pile;
+        ck_assert_int_eq(rolling_pile_make(3, 2, 0.3, 0.02, seed, &pile), 0);
+        int64_t local_it = 0, global_it = 0, auto_it = 0;
+        solve_to(pile.local, FRIX_SOLVER_ROLLING_NSGS, pile.nc, 0, &local_it);
+        solve_to(pile.global, FRIX_SOLVER_ROLLING_NSGS, pile.nc, pile.n, &global_it);
+        solve_to(pile.local, FRIX_SOLVER_AUTO, pile.nc, 0, &auto_it);
+        solve_to(pile.global, FRIX_SOLVER_AUTO, pile.nc, pile.n, &auto_it);
+        /* The product form sweeps the same contacts in the same order: the same iterates. */
+        ck_assert_int_eq(local_it, global_it);
+        rolling_pile_free(&pile);
+    }
+}
+END_TEST
+
+/* The global form answers v = M^-1 (H r + f) and u = H^T v + w. */
+START_TEST(test_global_velocity) {
+    rolling_pile pile;
+    ck_assert_int_eq(rolling_pile_make(2, 2, 0.4, 0.01, 7, &pile), 0);
+    const int64_t m = 5 * pile.nc, n = pile.n;
+    double *r = calloc((size_t)m, sizeof(double)), *u = calloc((size_t)m, sizeof(double));
+    double *v = calloc((size_t)n, sizeof(double)), *b = calloc((size_t)n, sizeof(double));
+    double *mv = calloc((size_t)n, sizeof(double)), *hv = calloc((size_t)m, sizeof(double));
+    ck_assert_int_eq(frix_solve(pile.global, NULL, r, u, v, NULL), FRIX_OK);
+    ck_assert_int_eq(frix_matrix_gemv(pile.H, 1.0, r, 0.0, b), FRIX_OK);
+    ck_assert_int_eq(frix_matrix_gemv(pile.M, 1.0, v, 0.0, mv), FRIX_OK);
+    for (int64_t i = 0; i < n; ++i) ck_assert_double_eq_tol(mv[i], b[i] + pile.f[i], 1e-12);
+    ck_assert_int_eq(frix_matrix_gemv_transposed(pile.H, 1.0, v, 0.0, hv), FRIX_OK);
+    for (int64_t i = 0; i < m; ++i) ck_assert_double_eq_tol(u[i], hv[i] + pile.w[i], 1e-12);
+    ck_assert_int_eq(frix_solve(pile.global, NULL, r, u, NULL, NULL), FRIX_ERR_INVALID_ARGUMENT);
+    free(r), free(u), free(v), free(b), free(mv), free(hv);
+    rolling_pile_free(&pile);
+}
+END_TEST
+
+/* The time limit and the iteration limit stop rolling-nsgs (through the Monitor), with the
+ * answer measured and finite. */
+START_TEST(test_limits) {
+    rolling_pile pile;
+    ck_assert_int_eq(rolling_pile_make(4, 4, 0.3, 0.02, 11, &pile), 0);
+    const int64_t m = 5 * pile.nc;
+    double *r = calloc((size_t)m, sizeof(double)), *u = calloc((size_t)m, sizeof(double));
+    frix_options *o = NULL;
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_ROLLING_NSGS, &o), FRIX_OK);
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-300), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TIME_LIMIT, 1e-3), FRIX_OK);
+    ck_assert_int_eq(frix_solve(pile.local, o, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_TIME_LIMIT);
+    ck_assert(isfinite(frix_info_error(info)));
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TIME_LIMIT, 0.0), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 3), FRIX_OK);
+    memset(r, 0, sizeof(double) * (size_t)m);
+    ck_assert_int_eq(frix_solve(pile.local, o, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_MAX_ITER);
+    ck_assert_int_eq(frix_info_iterations(info), 3);
+    frix_options_free(o);
+    frix_info_free(info);
+    free(r), free(u);
+    rolling_pile_free(&pile);
+}
+END_TEST
+
+/* All separating: r = 0 at once. */
+START_TEST(test_separating) {
+    frix_matrix *W = identity(5);
+    double q[5] = {0.5, 1, 0, 1, 0}, mu = 0.5, mu_r = 0.01, r[5] = {1, 1, 1, 1, 1}, u[5];
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_problem_rolling_local(W, q, &mu, &mu_r, 1, &p), FRIX_OK);
+    ck_assert_int_eq(frix_solve(p, NULL, r, u, NULL, NULL), FRIX_OK);
+    for (int i = 0; i < 5; ++i) ck_assert_double_eq(r[i], 0.0);
+    frix_problem_free(p);
+    frix_matrix_free(W);
+}
+END_TEST
+
+int main(void) {
+    Suite *s = suite_create("rolling");
+    TCase *tc = tcase_create("core");
+    tcase_set_timeout(tc, 120);
+    tcase_add_test(tc, test_validation);
+    tcase_add_test(tc, test_classic_has_no_mu_r);
+    tcase_add_test(tc, test_refused);
+    tcase_add_test(tc, test_measure_by_hand);
+    tcase_add_test(tc, test_one_sphere_on_ground);
+    tcase_add_test(tc, test_nsgs_on_piles);
+    tcase_add_test(tc, test_global_velocity);
+    tcase_add_test(tc, test_separating);
+    tcase_add_test(tc, test_limits);
+    suite_add_tcase(s, tc);
+    return frix_run_suite(s);
+}
