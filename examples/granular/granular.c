@@ -233,12 +233,7 @@ int main(int argc, char **argv) {
     int64_t unconverged = 0, at_rest = -1, step = 0;
     pile_state pile = {0.0, 0.0, 0.0};
     for (; step < st.scene.steps && at_rest < 0; ++step) {
-        /* A sphere moves by at most h |v| + h^2 g in a step (and |v| changes little): its reach
-         * is twice that. */
-        for (int64_t i = 0; i < n; ++i) {
-            const double *vi = &w.v[6 * i];
-            reach[i] = 2.0 * st.scene.h * (sqrt(vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2]) + st.scene.h * GRAVITY);
-        }
+        step_reach(&w, st.scene.h, reach);
         contacts t = before;
         before = now;
         now = t;

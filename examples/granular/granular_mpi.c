@@ -173,11 +173,8 @@ static int run(const settings *st, int rank, int ranks) {
     double e_before = e0;
     int64_t unconverged = 0;
     for (int64_t step = 0; step < st->scene.steps; ++step) {
-        for (int64_t i = 0; i < n; ++i) {
-            const double *vi = &w.v[6 * i];
-            reach[i] = 2.0 * st->scene.h * (sqrt(vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2]) + st->scene.h * GRAVITY);
-            b.owner_of_sphere[i] = slab_of(&w, i, ranks);
-        }
+        step_reach(&w, st->scene.h, reach);
+        for (int64_t i = 0; i < n; ++i) b.owner_of_sphere[i] = slab_of(&w, i, ranks);
         contacts t = before;
         before = now;
         now = t;

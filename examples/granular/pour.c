@@ -106,6 +106,13 @@ static int by_pair(const void *p, const void *q) {
     return x->b < y->b ? -1 : x->b > y->b;
 }
 
+void step_reach(const world *w, double h, double *reach) {
+    for (int64_t i = 0; i < w->n; ++i) {
+        const double *vi = &w->v[6 * i];
+        reach[i] = 2.0 * h * (sqrt(vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2]) + h * GRAVITY);
+    }
+}
+
 /* The contacts closer than their margin (floor + reach[a] + reach[b]; a wall has no reach),
  * sorted by (a, b): a counting sort of the spheres into grid cells of one sphere's span plus
  * the largest margin, then each sphere against the spheres of its

@@ -49,6 +49,9 @@ int make_world(const scene_settings *s, world *w);
 void free_world(world *w);
 /* Kinetic plus potential energy. */
 double energy(const world *w);
+/* reach[i]: how far sphere i may come in a step of h, twice the h |v| + h^2 g it can move (|v|
+ * changes little in a step): find_contacts's margin. */
+void step_reach(const world *w, double h, double *reach);
 /* The contacts closer than their margin (floor + reach[a] + reach[b]), sorted by (a, b); the
  * grid's arrays are kept between calls. 0 when out of memory. */
 int find_contacts(const world *w, double floor_margin, const double *reach, contacts *cs, int64_t **cell_start,

@@ -190,10 +190,7 @@ int main(int argc, char **argv) {
     if (!st.quiet) printf("# step contacts iterations error time_s max_speed_over_radius_per_s kinetic_J\n");
     int64_t unconverged = 0, at_rest_from = -1;
     for (int64_t step = 0; step < st.scene.steps; ++step) {
-        for (int64_t i = 0; i < n; ++i) {
-            const double *vi = &w.v[6 * i];
-            reach[i] = 2.0 * st.scene.h * (sqrt(vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2]) + st.scene.h * GRAVITY);
-        }
+        step_reach(&w, st.scene.h, reach);
         contacts t = before;
         before = now;
         now = t;
