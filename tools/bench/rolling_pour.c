@@ -8,7 +8,9 @@
  *                [--dump GLOBAL.hdf5] [--dump-local LOCAL.hdf5] [--quiet]
  *
  * One line per step: step, contacts, iterations, error, seconds, the largest speed over
- * radius (1/s: the pile is at rest when every sphere is below 0.1) and the kinetic energy.
+ * radius (1/s: the pile is at rest when every sphere is below 0.1) and the kinetic energy;
+ * at the end, whether and since when the pile is at rest, and its angle of repose (physics.h;
+ * --floor F leaves the heap room to spread).
  * --rolling 0 keeps the rolling rows with mu_r = 0 (free rolling), the model without
  * resistance. */
 #include <frix/frix.h>
@@ -254,6 +256,7 @@ int main(int argc, char **argv) {
         printf("at rest (every sphere below 0.1 radius/s) from step %lld\n", (long long)at_rest_from);
     else
         printf("not at rest at the last step\n");
+    printf("# angle of repose %.1f degrees\n", angle_of_repose(&w));
     frix_matrix_free(M);
     frix_options_free(opts);
     frix_info_free(info);
