@@ -216,14 +216,6 @@ Measures with_norm_q(Measures m, double norm_q, double free) {
     return m;
 }
 
-Measures local_measures(const frix_problem &p, const double *r, double *u) {
-    const int64_t m = 3 * p.nc;
-    if (m == 0) return Measures{};
-    matrix_gemv(*p.W, 1.0, r, 0.0, u);
-    for (int64_t i = 0; i < m; ++i) u[i] += p.q[i];
-    return measures_from_ru(r, u, p.mu, p.weight.data(), p.nc, norm2(p.q, m));
-}
-
 namespace {
 
 // The larger of a contact measure and an equilibrium residual; NaN in either stays NaN.
@@ -316,32 +308,30 @@ Measures rolling_measures_from_ru(const double *r, const double *u, const double
     return with_norm_q(m, norm_q, free);
 }
 
-Measures rolling_local_measures(const frix_problem &p, const double *r, double *u) {
-    const int64_t m = 5 * p.nc;
+namespace {
+
+// The contact measures of (r, u) for p's kind of contact (three or five entries).
+Measures contact_measures(const frix_problem &p, const double *r, const double *u, double norm_q, double free) {
+    return is_rolling(p) ? rolling_measures_from_ru(r, u, p.mu, p.mu_r, p.weight.data(), p.nc, norm_q, free)
+                         : measures_from_ru(r, u, p.mu, p.weight.data(), p.nc, norm_q, free);
+}
+
+}  // namespace
+
+Measures local_measures(const frix_problem &p, const double *r, double *u) {
+    const int64_t m = contact_size(p) * p.nc;
     if (m == 0) return Measures{};
     matrix_gemv(*p.W, 1.0, r, 0.0, u);
     for (int64_t i = 0; i < m; ++i) u[i] += p.q[i];
-    return rolling_measures_from_ru(r, u, p.mu, p.mu_r, p.weight.data(), p.nc, norm2(p.q, m));
-}
-
-Measures rolling_global_measures(const frix_problem &p, const double *r, const double *v, double *u,
-                                 double *equilibrium) {
-    const int64_t m = 5 * p.nc;
-    if (m > 0) matrix_gemv_transposed(*p.H, 1.0, v, 0.0, u);
-    for (int64_t i = 0; i < m; ++i) u[i] += p.w[i];
-    Measures meas = rolling_measures_from_ru(r, u, p.mu, p.mu_r, p.weight.data(), p.nc, norm2(p.w, m), free_velocity(p));
-    meas.global = true;
-    equilibrium_residuals(p, r, v, meas);
-    if (equilibrium) *equilibrium = meas.equilibrium;
-    return meas;
+    return contact_measures(p, r, u, norm2(p.q, m), -1.0);
 }
 
 Measures global_measures(const frix_problem &p, const double *r, const double *v, double *u,
                          double *equilibrium) {
-    const int64_t m = 3 * p.nc;
+    const int64_t m = contact_size(p) * p.nc;
     if (m > 0) matrix_gemv_transposed(*p.H, 1.0, v, 0.0, u);
     for (int64_t i = 0; i < m; ++i) u[i] += p.w[i];
-    Measures meas = measures_from_ru(r, u, p.mu, p.weight.data(), p.nc, norm2(p.w, m), free_velocity(p));
+    Measures meas = contact_measures(p, r, u, norm2(p.w, m), free_velocity(p));
     meas.global = true;
     equilibrium_residuals(p, r, v, meas);
     if (equilibrium) *equilibrium = meas.equilibrium;
@@ -372,18 +362,13 @@ frix_error measure(const char *where, const frix_problem *p, const double *r, co
     }
     info.contacts = p->nc;
     if (frix::is_local_form(*p)) {
-        frix::record_measures(info, frix::is_rolling(*p) ? frix::rolling_local_measures(*p, r, u)
-                                                          : frix::local_measures(*p, r, u),
-                              FRIX_MEASURE_SCALED);
+        frix::record_measures(info, frix::local_measures(*p, r, u), FRIX_MEASURE_SCALED);
         return FRIX_OK;
     }
     for (int64_t i = 0; i < p->n; ++i)
         if (!std::isfinite(v[i]))
             return fail(FRIX_ERR_NOT_FINITE, "%s: v[%lld] is not finite", where, (long long)i);
-    frix::record_measures(info,
-                          frix::is_rolling(*p) ? frix::rolling_global_measures(*p, r, v, u, &info.equilibrium)
-                                               : frix::global_measures(*p, r, v, u, &info.equilibrium),
-                          FRIX_MEASURE_SCALED);
+    frix::record_measures(info, frix::global_measures(*p, r, v, u, &info.equilibrium), FRIX_MEASURE_SCALED);
     return FRIX_OK;
 }
 

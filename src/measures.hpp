@@ -91,11 +91,12 @@ bool in_safe_range(double sum_of_squares);
 // free as in measures_from_ru (negative: norm_q).
 Measures with_norm_q(Measures m, double norm_q, double free = -1.0);
 
-// Computes u = W r + q (into u) and the measures of a local problem.
+// Computes u = W r + q (into u) and the measures of a local problem (of either kind of
+// contact: three entries, or five for rolling friction).
 Measures local_measures(const frix_problem &p, const double *r, double *u);
 
-// Computes u = H^T v + w (into u) and the measures of a global problem, equilibrium
-// included; *equilibrium (may be null) receives m.equilibrium.
+// Computes u = H^T v + w (into u) and the measures of a global problem (either kind of
+// contact), equilibrium included; *equilibrium (may be null) receives m.equilibrium.
 Measures global_measures(const frix_problem &p, const double *r, const double *v, double *u,
                          double *equilibrium);
 
@@ -105,11 +106,6 @@ Measures global_measures(const frix_problem &p, const double *r, const double *v
 // r_a by the contact's weight.
 Measures rolling_measures_from_ru(const double *r, const double *u, const double *mu, const double *mu_r,
                                   const double *weight, int64_t nc, double norm_q, double free = -1.0);
-// u = W r + q (local) or H^T v + w (global; *equilibrium as for global_measures), and the
-// rolling measures.
-Measures rolling_local_measures(const frix_problem &p, const double *r, double *u);
-Measures rolling_global_measures(const frix_problem &p, const double *r, const double *v, double *u,
-                                 double *equilibrium);
 
 // The value compared with the tolerance for a given frix_error_measure: for a global problem
 // the larger of the contact measure and the matching equilibrium residual (equilibrium_scaled

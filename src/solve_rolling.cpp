@@ -56,13 +56,12 @@ frix_error solve_rolling_problem(const frix_problem &p, const frix_options &opts
     }
     bool broken = !all_finite(r, m) || (!local && !all_finite(v, p.n));
     Measures meas = broken ? Measures{}
-                           : (local ? rolling_local_measures(p, r, u)
-                                    : rolling_global_measures(p, r, v, u, &info.equilibrium));
+                           : (local ? local_measures(p, r, u) : global_measures(p, r, v, u, &info.equilibrium));
     broken = broken || !std::isfinite(meas.relative) || !std::isfinite(meas.norm_u);
     if (broken) {
         // Diverged past the doubles: the start is returned, measured, never a non-finite u.
         if (frix_error e = fall_back(p, start, r, v)) return e;
-        meas = local ? rolling_local_measures(p, r, u) : rolling_global_measures(p, r, v, u, &info.equilibrium);
+        meas = local ? local_measures(p, r, u) : global_measures(p, r, v, u, &info.equilibrium);
         info.status = FRIX_STATUS_DIVERGED;
     }
     record_measures(info, meas, opts.i(FRIX_OPT_ERROR_MEASURE));
