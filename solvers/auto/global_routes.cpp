@@ -211,7 +211,7 @@ frix_error GlobalRoutes::product_then_reduce(int64_t max_iter, bool may_reduce) 
     Shared shared(ctx_.options, ctx_.clock);
     const bool momentum = ctx_.options.i(FRIX_OPT_ACCELERATION) != 0;
     Watchdog dog(shared, Watch::Rate, Monitor(ctx_).tolerance(), 0,
-                 momentum ? kProductMomentumPatience : kProductPatience);
+                 momentum ? nsgs::kMomentumPatience : kProductPatience);
     if (frix_error e = run(kGnsgsEntry, std::max<int64_t>(1, max_iter / 2), &dog)) return e;
     const int64_t left = max_iter - info_.iterations;
     if (!may_reduce || !may_go_on(shared.stop_requested.load(), left)) {

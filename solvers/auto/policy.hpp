@@ -153,11 +153,10 @@ constexpr double kWFreeIterations = 50.0;
 // past what they take where they work: where they do not, the reduction still gets its turn.
 constexpr int64_t kWFreeAdmmIterations = 1000, kWFreeNewtonSteps = 50;
 // Rigid bodies with a large W: gnsgs is judged by its rate only after this many sweeps, since
-// forming W costs as much as many sweeps (notes/2026-11-26-scale.md).
+// forming W costs as much as many sweeps (notes/2026-11-26-scale.md). With momentum (option
+// acceleration) its error rises and falls while it converges: then only after
+// nsgs::kMomentumPatience sweeps (solvers/kit/sweeps.hpp), as long as momentum itself waits
+// (notes/2026-11-28-settled-piles.md).
 constexpr int64_t kProductPatience = 200;
-// With momentum (option acceleration) its error rises and falls from sweep to sweep while it
-// converges: gnsgs is judged only after as many sweeps as momentum itself waits before it gives
-// up (solvers/kit/sweeps.cpp) (notes/2026-11-28-settled-piles.md).
-constexpr int64_t kProductMomentumPatience = 2000;
 
 }  // namespace frix::autosolve

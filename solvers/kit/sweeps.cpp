@@ -32,10 +32,10 @@ constexpr int64_t kFreezeAfter = 10;
 constexpr double kDriftCosine = 0.99;
 constexpr double kMaxDriftJump = 1000.0;
 // Momentum gives up (for the rest of the run) when the full checks' best error has not fallen
-// to kMomentumProgress of itself within kMomentumPatience sweeps: where its extrapolation and
-// the restarts hold the error on a plateau, the plain sweep with freezing goes on.
+// to kMomentumProgress of itself within kMomentumPatience sweeps (sweeps.hpp): where its
+// extrapolation and the restarts hold the error on a plateau, the plain sweep with freezing
+// goes on.
 constexpr double kMomentumProgress = 0.5;
-constexpr int64_t kMomentumPatience = 2000;
 // The flags of SweepForm::agree after a sweep.
 constexpr unsigned kStopAsked = 1u, kOutOfTime = 2u;
 

@@ -425,6 +425,11 @@ void extrapolate_affine(double beta, const double *line, const double *y, int64_
 // the status and the sweeps.
 frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const char *name);
 
+// The sweeps momentum (option acceleration) is given to halve its best error before it is off
+// for the rest of a run; its error rises and falls meanwhile, so a watch on its rate waits as
+// long.
+constexpr int64_t kMomentumPatience = 2000;
+
 // gnsgs's limit on a rigid body's dofs (rigid_bodies.hpp).
 using frix::kMaxRigidBodyDofs;
 
