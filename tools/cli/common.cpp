@@ -478,11 +478,8 @@ const char *status_token(frix_status status) {
 }
 
 int64_t parse_guess_number(const char *command, const std::string &text) {
-    char *end = nullptr;
-    errno = 0;
-    const long long k = std::strtoll(text.c_str(), &end, 10);
-    if (text.empty() || *end != '\0' || errno != 0 || k < 1)
-        usage_error(command, "--guess expects a guess number (1, 2, ...), got '" + text + "'");
+    const int64_t k = parse_int(command, "--guess", text);
+    if (k < 1) usage_error(command, "--guess expects a guess number (1, 2, ...), got '" + text + "'");
     return k;
 }
 
