@@ -31,11 +31,6 @@ constexpr int64_t kFreezeAfter = 10;
 // windows ahead.
 constexpr double kDriftCosine = 0.99;
 constexpr double kMaxDriftJump = 1000.0;
-// Momentum gives up (for the rest of the run) when the full checks' best error has not fallen
-// to kMomentumProgress of itself within kMomentumPatience sweeps (sweeps.hpp): where its
-// extrapolation and the restarts hold the error on a plateau, the plain sweep with freezing
-// goes on.
-constexpr double kMomentumProgress = 0.5;
 // The flags of SweepForm::agree after a sweep.
 constexpr unsigned kStopAsked = 1u, kOutOfTime = 2u;
 
@@ -98,41 +93,25 @@ class DriftExtrapolation {
     int64_t jumps_ = 0;
 };
 
-// Nesterov momentum on the sweep (option acceleration; O'Donoghue and Candes's adaptive
-// restart): after the k-th sweep since the last restart, r = x_k, the sweep's result, moves to
-// P_K(x_k + beta_k (x_k - x_{k-1})), beta_k = (k - 1) / (k + 2). The momentum restarts (beta
-// = 0) whenever a sweep moved r more than each of the two before (a sweep's displacement often
-// alternates from one sweep to the next), and after a drift jump. Where load crosses a pile
-// a layer a sweep, the sweeps' steps keep their direction for long, which momentum follows;
-// the sweep itself, and its fixed points, stay as they are. Freezing is off under it: the
-// extrapolation moves the contacts freezing would skip, and the two together can hold the
-// error on a plateau. Where momentum stalls (judge), it is off for the rest of the run.
+// Momentum on the sweep (option acceleration; MomentumSchedule's weights): after a sweep,
+// r = x moves to P_K(x + beta (x - x_prev)), and the form's kept state follows. The sweeps'
+// steps keep their direction for long where load crosses a pile a layer a sweep, which
+// momentum follows; the sweep itself, and its fixed points, stay as they are. Freezing is off
+// under it: the extrapolation moves the contacts freezing would skip, and the two together
+// can hold the error on a plateau.
 class Momentum {
    public:
-    Momentum(bool on, int64_t m, const double *r) : on_(on) {
-        if (!on_) return;
+    Momentum(bool on, int64_t m, const double *r) : schedule_(on) {
+        if (!on) return;
         last_.assign(r, r + m);
         line_.resize((size_t)m);
     }
-    bool on() const { return on_; }
-    // A full check's error e after `sweep` sweeps: off for good once it stalls (kMomentumPatience).
-    void judge(int64_t sweep, double e) {
-        if (!on_) return;
-        if (e < kMomentumProgress * best_) {
-            best_ = e;
-            since_ = sweep;
-        } else if (sweep - since_ >= kMomentumPatience) {
-            on_ = false;
-        }
-    }
+    bool on() const { return schedule_.on(); }
+    void judge(int64_t sweep, double e) { schedule_.judge(sweep, e); }
     // After a sweep that moved r by |dr|^2 = dr2 (jumped: r then jumped ahead of the sweep).
     void after_sweep(double dr2, bool jumped, double *r, const double *mu, Workspace &ws, SweepForm &form, double *u) {
-        if (!on_) return;
-        if (jumped || !(dr2 <= std::max(last_dr2_[0], last_dr2_[1]))) k_ = 0;
-        last_dr2_[1] = last_dr2_[0];
-        last_dr2_[0] = dr2;
-        ++k_;
-        const double beta = (double)(k_ - 1) / (double)(k_ + 2);
+        if (!schedule_.on()) return;
+        const double beta = schedule_.next(dr2, jumped);
         const size_t m = last_.size();
         for (size_t i = 0; i < m; ++i) {
             const double x = r[i];
@@ -145,12 +124,8 @@ class Momentum {
     }
 
    private:
-    bool on_;
+    MomentumSchedule schedule_;
     std::vector<double> last_, line_;  // x_{k-1}; the line point before its projection
-    double last_dr2_[2] = {INFINITY, INFINITY};  // the last two sweeps' |dr|^2
-    int64_t k_ = 0;
-    double best_ = INFINITY;  // the best full error at a kMomentumProgress step, and its sweep
-    int64_t since_ = 0;
 };
 
 // Monitor::Agree for run_sweeps's limits: SweepForm::agree is one exchange among the processes

@@ -430,6 +430,45 @@ frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const c
 // long.
 constexpr int64_t kMomentumPatience = 2000;
 
+// The weights of Nesterov's momentum on sweeps (option acceleration), shared by every NSGS:
+// after the k-th sweep since the last restart, r = x_k moves to P_K(x_k + beta_k (x_k -
+// x_{k-1})), beta_k = (k - 1) / (k + 2) (O'Donoghue and Candes's adaptive restart). It
+// restarts (beta = 0) whenever a sweep moved r more than each of the two before (a sweep's
+// displacement often alternates from one sweep to the next), and when asked (r jumped). It is
+// off for the rest of a run once the full checks' best error has not halved within
+// kMomentumPatience sweeps: where its extrapolation holds the error on a plateau, the plain
+// sweep goes on.
+class MomentumSchedule {
+   public:
+    explicit MomentumSchedule(bool on) : on_(on) {}
+    bool on() const { return on_; }
+    // beta for the sweep that moved r by |dr|^2 = dr2 (restart: r jumped ahead of the sweep).
+    double next(double dr2, bool restart) {
+        if (restart || !(dr2 <= std::max(last_dr2_[0], last_dr2_[1]))) k_ = 0;
+        last_dr2_[1] = last_dr2_[0];
+        last_dr2_[0] = dr2;
+        ++k_;
+        return (double)(k_ - 1) / (double)(k_ + 2);
+    }
+    // A full check's error e after `sweep` sweeps.
+    void judge(int64_t sweep, double e) {
+        if (!on_) return;
+        if (e < 0.5 * best_) {
+            best_ = e;
+            since_ = sweep;
+        } else if (sweep - since_ >= kMomentumPatience) {
+            on_ = false;
+        }
+    }
+
+   private:
+    bool on_;
+    double last_dr2_[2] = {INFINITY, INFINITY};  // the last two sweeps' |dr|^2
+    int64_t k_ = 0;
+    double best_ = INFINITY;  // the best full error at a halving, and its sweep
+    int64_t since_ = 0;
+};
+
 // gnsgs's limit on a rigid body's dofs (rigid_bodies.hpp).
 using frix::kMaxRigidBodyDofs;
 

@@ -11,6 +11,7 @@
 #include "solvers/entries.hpp"
 #include "solvers/kit/local5x5.hpp"
 #include "solvers/kit/rolling_forms.hpp"
+#include "solvers/kit/sweeps.hpp"
 #include "src/error_state.hpp"
 #include "src/log.hpp"
 #include "src/monitor.hpp"
@@ -58,21 +59,17 @@ SweepStats sweep(rolling::SweepForm &form, std::vector<local5::Contact> &contact
     return st;
 }
 
-// Nesterov momentum on the sweeps (option acceleration), nsgs's rule (kit/sweeps.cpp): after
-// the k-th sweep since the last restart, r = x_k moves to P_K(x_k + (k - 1) / (k + 2) (x_k -
-// x_{k-1})), restarted whenever a sweep moved r more than each of the two before.
+// Momentum on the sweeps (option acceleration; kit/sweeps.hpp's MomentumSchedule, nsgs's
+// weights): after a sweep, r = x moves to P_K(x + beta (x - x_prev)).
 class Momentum {
    public:
-    Momentum(bool on, int64_t m, const double *r) : on_(on) {
-        if (on_) last_.assign(r, r + m);
+    Momentum(bool on, int64_t m, const double *r) : schedule_(on) {
+        if (on) last_.assign(r, r + m);
     }
+    void judge(int64_t sweep, double e) { schedule_.judge(sweep, e); }
     void after_sweep(double dr2, double *r, const frix_problem &p, rolling::SweepForm &form) {
-        if (!on_) return;
-        if (!(dr2 <= std::max(last_dr2_[0], last_dr2_[1]))) k_ = 0;
-        last_dr2_[1] = last_dr2_[0];
-        last_dr2_[0] = dr2;
-        ++k_;
-        const double beta = (double)(k_ - 1) / (double)(k_ + 2);
+        if (!schedule_.on()) return;
+        const double beta = schedule_.next(dr2, false);
         for (size_t i = 0; i < last_.size(); ++i) {
             const double x = r[i];
             r[i] = x + beta * (x - last_[i]);
@@ -84,10 +81,8 @@ class Momentum {
     }
 
    private:
-    bool on_;
-    std::vector<double> last_;                   // x_{k-1}
-    double last_dr2_[2] = {INFINITY, INFINITY};  // the last two sweeps' |dr|^2
-    int64_t k_ = 0;
+    nsgs::MomentumSchedule schedule_;
+    std::vector<double> last_;  // x_{k-1}
 };
 
 frix_error run(SolveContext &ctx, rolling::SweepForm &form) {
@@ -118,6 +113,7 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form) {
         if (light <= light_tol || it % kFullEvery == 0 || monitor.out_of_iterations(it)) {
             const double error = selected_error(form.exact(ctx.r, ctx.u), measure);
             ctx.info.error = error;
+            momentum.judge(it, error);
             if (o.i(FRIX_OPT_VERBOSITY) >= 2) log_line(&o, "rolling-nsgs: sweep %lld, error %.3e", (long long)it, error);
             // Siconos's rule: the light tolerance scaled by how far the full error missed.
             if (light <= light_tol && error > tol && error > 0.0) light_tol = std::max(light * tol / error, 1e-300);
