@@ -563,6 +563,35 @@ START_TEST(auto_reduces_where_newton_fails) {
 }
 END_TEST
 
+/* The sweeps (nsgs-v, 501) on an elastic grid to 1e-8 with the given acceleration; their count. */
+static int64_t grid_sweeps(int solver, int64_t acceleration) {
+    grid_case c = grid_case_make(10, 10, 4, 0.0, 1e4);
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(solver, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_ACCELERATION, acceleration), FRIX_OK);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_msg(frix_solve(c.p, o, c.r, c.u, c.v, info) == FRIX_OK, "%s", frix_last_error_message());
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    const int64_t sweeps = frix_info_iterations(info);
+    frix_info_free(info);
+    frix_options_free(o);
+    grid_case_free(&c);
+    return sweeps;
+}
+
+/* On a regular W (an elastic body, 3 nc <= n) momentum takes several times the plain sweeps:
+ * auto sweeps plainly there, whatever its acceleration option says. */
+START_TEST(auto_sweeps_plainly_on_a_regular_w) {
+    const int64_t plain = grid_sweeps(FRIX_SOLVER_NSGS_VELOCITY, 0);
+    const int64_t momentum = grid_sweeps(FRIX_SOLVER_NSGS_VELOCITY, 1);
+    ck_assert_msg(2 * plain < momentum, "nsgs-v: %lld sweeps plain, %lld with momentum: the case tests nothing",
+                  (long long)plain, (long long)momentum);
+    ck_assert_int_eq(grid_sweeps(FRIX_SOLVER_AUTO, 1), grid_sweeps(FRIX_SOLVER_AUTO, 0));
+    ck_assert_int_le(grid_sweeps(FRIX_SOLVER_AUTO, 1), plain);
+}
+END_TEST
+
 /* A progress callback that stops the solve at its `at`-th call. */
 typedef struct {
     int at, calls;
@@ -740,6 +769,7 @@ int main(void) {
     tcase_add_test(tc, newton_corrects_the_lumped_rho);
     tcase_add_test(tc, newton_cuts_a_rho_too_large);
     tcase_add_test(tc, auto_reduces_where_newton_fails);
+    tcase_add_test(tc, auto_sweeps_plainly_on_a_regular_w);
     tcase_add_test(tc, auto_stopped_while_forming_w_returns_the_start);
     tcase_add_test(tc, time_limit_and_callback_end_the_forming_of_w);
     tcase_add_test(tc, callback_ends_the_forming_of_w_with_lu);

@@ -89,10 +89,25 @@ AnalysisSummary global_figures(const frix_problem &p, const ReductionSize &size)
     return s;
 }
 
+// The caller's options for the routes' solvers, with the sweeps' momentum (auto's option
+// acceleration) only where W = H^T M^-1 H is singular (3nc > n): momentum carries the drift
+// along W's null space that holds the plain sweeps for thousands of sweeps; where W may be
+// regular (a deformable body, few contacts for its dofs), the plain sweeps converge in tens
+// and momentum only overshoots.
+frix_options route_options(const frix_options &user, const AnalysisSummary &figures) {
+    frix_options o = user;
+    if (figures.rank_ratio <= 1.0) o.ivalue[FRIX_OPT_ACCELERATION] = 0;
+    return o;
+}
+
 class GlobalRoutes {
    public:
     GlobalRoutes(SolveContext &ctx, SolveCache *reduction, const AnalysisSummary &figures)
-        : ctx_(ctx), info_(ctx.info), reduction_(reduction), figures_(figures) {}
+        : ctx_(ctx),
+          info_(ctx.info),
+          reduction_(reduction),
+          figures_(figures),
+          options_(route_options(ctx.options, figures)) {}
 
     frix_error product_then_reduce(int64_t max_iter, bool may_reduce);
     frix_error reduce_then_newton(int64_t max_iter, int64_t reduction_iter);
@@ -113,6 +128,7 @@ class GlobalRoutes {
     frix_info &info_;  // the ledger of the routes run so far
     SolveCache *reduction_;
     const AnalysisSummary figures_;
+    const frix_options options_;  // route_options
 };
 
 // A solver of global problems (`entry`: 607, 613, 901, gnsgs) from ctx's (r, v), for at most
@@ -122,7 +138,7 @@ class GlobalRoutes {
 // (error and equilibrium), whatever the solver's own stopping test said.
 frix_error GlobalRoutes::run(const SolverEntry &entry, int64_t max_iter, Watchdog *dog) {
     const double tol = Monitor(ctx_).tolerance();
-    frix_options o = stage_options(entry, ctx_.options, tol, max_iter, nullptr);
+    frix_options o = stage_options(entry, options_, tol, max_iter, nullptr);
     if (dog) {
         o.callback = &Watchdog::callback;
         o.callback_data = dog;
@@ -154,7 +170,7 @@ frix_error GlobalRoutes::run(const SolverEntry &entry, int64_t max_iter, Watchdo
 // problem's figures. The reduced problem's own tolerance test is not the global one: the
 // global measure of (r, v) decides, both ways.
 frix_error GlobalRoutes::reduced_solve(const frix_info &like, int64_t max_iter) {
-    frix_options reduction = ctx_.options;
+    frix_options reduction = options_;
     reduction.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, max_iter);
     frix_info reduced;
     reduced.solver_id = like.solver_id;
@@ -209,7 +225,7 @@ frix_error GlobalRoutes::reduce_after(int64_t left, const GlobalAnswer *from) {
 // answer with what is left (where forming W fits the limits: `may_reduce`).
 frix_error GlobalRoutes::product_then_reduce(int64_t max_iter, bool may_reduce) {
     Shared shared(ctx_.options, ctx_.clock);
-    const bool momentum = ctx_.options.i(FRIX_OPT_ACCELERATION) != 0;
+    const bool momentum = options_.i(FRIX_OPT_ACCELERATION) != 0;
     Watchdog dog(shared, Watch::Rate, Monitor(ctx_).tolerance(), 0,
                  momentum ? nsgs::kMomentumPatience : kProductPatience);
     if (frix_error e = run(kGnsgsEntry, std::max<int64_t>(1, max_iter / 2), &dog)) return e;
