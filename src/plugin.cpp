@@ -95,6 +95,7 @@ namespace {
 const frix_plugin_table kTableV1 = {
     offsetof(frix_plugin_table, persistent_create), 1, FRIX_VERSION_NUMBER, FRIX_TABLE_V1_FUNCTIONS,
     nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
+    nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
 };
 
 #define FRIX_TABLE_V2_FUNCTIONS \
@@ -109,6 +110,7 @@ const frix_plugin_table kTableV1 = {
 const frix_plugin_table kTableV2 = {
     offsetof(frix_plugin_table, persistent_set_contacts_local), 2, FRIX_VERSION_NUMBER, FRIX_TABLE_V2_FUNCTIONS,
     nullptr, nullptr, nullptr, nullptr, nullptr,
+    nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
 };
 
 #define FRIX_TABLE_V3_FUNCTIONS \
@@ -120,16 +122,34 @@ const frix_plugin_table kTableV2 = {
 const frix_plugin_table kTableV3 = {
     offsetof(frix_plugin_table, option_choice_name), 3, FRIX_VERSION_NUMBER, FRIX_TABLE_V3_FUNCTIONS,
     nullptr, nullptr, nullptr,
+    nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
 };
 
+#define FRIX_TABLE_V4_FUNCTIONS \
+    FRIX_TABLE_V3_FUNCTIONS,\
+    frix_option_choice_name,\
+    frix_option_choice_by_name,\
+    frix_options_set_by_name
+
+// Version 4 ends where version 5's members begin.
 const frix_plugin_table kTableV4 = {
+    offsetof(frix_plugin_table, problem_rolling_local), 4, FRIX_VERSION_NUMBER, FRIX_TABLE_V4_FUNCTIONS,
+    nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
+};
+
+const frix_plugin_table kTableV5 = {
     sizeof(frix_plugin_table),
-    4,
+    5,
     FRIX_VERSION_NUMBER,
-    FRIX_TABLE_V3_FUNCTIONS,
-    frix_option_choice_name,
-    frix_option_choice_by_name,
-    frix_options_set_by_name,
+    FRIX_TABLE_V4_FUNCTIONS,
+    frix_problem_rolling_local,
+    frix_problem_rolling_global,
+    frix_problem_mu_r,
+    frix_problem_set_description,
+    frix_problem_description,
+    frix_problem_set_math_info,
+    frix_problem_math_info,
+    frix_fclib_write_compressed,
 };
 
 }  // namespace
@@ -141,6 +161,7 @@ extern "C" FRIX_API const frix_plugin_table *frix_plugin_api(int requested_abi_v
         else if (requested_abi_version == 2) table = &kTableV2;
         else if (requested_abi_version == 3) table = &kTableV3;
         else if (requested_abi_version == 4) table = &kTableV4;
+        else if (requested_abi_version == 5) table = &kTableV5;
         else
             return frix::fail(FRIX_ERR_UNSUPPORTED,
                               "frix_plugin_api: table ABI version %d requested; libfrix %s serves "

@@ -449,11 +449,13 @@ END_TEST
 
 START_TEST(test_plugin_table_versions) {
     const frix_plugin_table *v1 = frix_plugin_api(1), *v2 = frix_plugin_api(2), *v3 = frix_plugin_api(3),
-                            *v4 = frix_plugin_api(4);
+                            *v4 = frix_plugin_api(4), *v5 = frix_plugin_api(5);
     ck_assert_ptr_nonnull(v1);
     ck_assert_ptr_nonnull(v2);
     ck_assert_ptr_nonnull(v3);
     ck_assert_ptr_nonnull(v4);
+    ck_assert_ptr_nonnull(v5);
+    ck_assert_int_eq(v5->abi_version, 5);
     ck_assert_int_eq(v4->abi_version, 4);
     ck_assert_int_eq(v1->abi_version, 1);
     ck_assert_int_eq(v2->abi_version, 2);
@@ -461,7 +463,12 @@ START_TEST(test_plugin_table_versions) {
     ck_assert_uint_eq(v1->size, offsetof(frix_plugin_table, persistent_create));
     ck_assert_uint_eq(v2->size, offsetof(frix_plugin_table, persistent_set_contacts_local));
     ck_assert_uint_eq(v3->size, offsetof(frix_plugin_table, option_choice_name));
-    ck_assert_uint_eq(v4->size, sizeof(frix_plugin_table));
+    ck_assert_uint_eq(v4->size, offsetof(frix_plugin_table, problem_rolling_local));
+    ck_assert_uint_eq(v5->size, sizeof(frix_plugin_table));
+    ck_assert(!FRIX_PLUGIN_HAS(v4, problem_rolling_local));
+    ck_assert(FRIX_PLUGIN_HAS(v5, fclib_write_compressed));
+    ck_assert_ptr_eq(v5->problem_rolling_global, frix_problem_rolling_global);
+    ck_assert_ptr_eq(v5->problem_math_info, frix_problem_math_info);
     ck_assert(!FRIX_PLUGIN_HAS(v3, options_set_by_name));
     ck_assert(FRIX_PLUGIN_HAS(v4, options_set_by_name));
     ck_assert_ptr_eq(v4->options_set_by_name, frix_options_set_by_name);
@@ -473,8 +480,36 @@ START_TEST(test_plugin_table_versions) {
     ck_assert_ptr_eq(v2->persistent_solve, frix_persistent_solve);
     ck_assert_ptr_eq(v3->persistent_set_contacts_global, frix_persistent_set_contacts_global);
     ck_assert_ptr_eq(v1->solve, v2->solve);
-    ck_assert_ptr_null(frix_plugin_api(5));
+    ck_assert_ptr_null(frix_plugin_api(6));
     ck_assert_ptr_null(frix_plugin_api(0));
+}
+END_TEST
+
+/* A rolling problem made, described and solved through the version-5 table alone: one contact
+ * pressed on (q_N < 0, W = I): r = (-q_N, 0, 0, 0, 0) with u = 0 normal, at rest. */
+START_TEST(test_plugin_table_rolling) {
+    const frix_plugin_table *fx = frix_plugin_api(5);
+    ck_assert(FRIX_PLUGIN_HAS(fx, problem_rolling_local));
+    double dense[25] = {0}, q[5] = {-2.0, 0.1, 0.0, 0.05, 0.0}, mu = 0.5, mu_r = 0.1;
+    for (int i = 0; i < 5; ++i) dense[6 * i] = 1.0;
+    frix_matrix *W = NULL;
+    ck_assert_int_eq(fx->matrix_from_dense(5, 5, dense, 5, &W), FRIX_OK);
+    frix_problem *p = NULL;
+    ck_assert_int_eq(fx->problem_rolling_local(W, q, &mu, &mu_r, 1, &p), FRIX_OK);
+    ck_assert_int_eq(fx->problem_get_kind(p), FRIX_PROBLEM_ROLLING_LOCAL);
+    ck_assert_double_eq(fx->problem_mu_r(p)[0], 0.1);
+    ck_assert_int_eq(fx->problem_set_description(p, "one contact"), FRIX_OK);
+    ck_assert_str_eq(fx->problem_description(p), "one contact");
+    double r[5] = {0}, u[5] = {0};
+    frix_info *info = NULL;
+    ck_assert_int_eq(fx->info_create(&info), FRIX_OK);
+    ck_assert_int_eq(fx->solve(p, NULL, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(fx->info_status(info), FRIX_STATUS_CONVERGED);
+    ck_assert_double_eq_tol(r[0], 2.0, 1e-8);
+    ck_assert_double_eq_tol(u[0], 0.0, 1e-8);
+    fx->info_free(info);
+    fx->problem_free(p);
+    fx->matrix_free(W);
 }
 END_TEST
 
@@ -580,6 +615,7 @@ int main(void) {
     tcase_add_test(tc, test_problem_handle_freed);
     tcase_add_test(tc, test_threads_share_data);
     tcase_add_test(tc, test_plugin_table_versions);
+    tcase_add_test(tc, test_plugin_table_rolling);
     tcase_add_test(tc, test_set_contacts);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);

@@ -40,10 +40,11 @@ extern "C" {
 /* The table layout this header describes. A new version is a longer table: the members of
  * the versions before it, in the same places, and a new group after them. The library serves
  * every version it has had (version 1: up to info_stage_note; version 2: the persistent
- * solver too; version 3: its set_contacts; version 4: options' choices by name), each with its
+ * solver too; version 3: its set_contacts; version 4: options' choices by name; version 5:
+ * rolling friction, the problems' texts and compressed files), each with its
  * own size and abi_version, so a host asks for the version its header has and gets nothing it
  * does not know. */
-#define FRIX_PLUGIN_ABI_VERSION 4
+#define FRIX_PLUGIN_ABI_VERSION 5
 
 /* Non-zero if the loaded table has `member` (a table from an older library may end
  * before it). */
@@ -202,6 +203,24 @@ typedef struct frix_plugin_table {
     const char *(*option_choice_name)(frix_option_key key, int64_t value);
     frix_error (*option_choice_by_name)(frix_option_key key, const char *name, int64_t *value);
     frix_error (*options_set_by_name)(frix_options *opts, const char *key, const char *text);
+
+    /* ---- Table version 5: rolling friction and the problems' texts (frix_problem.h), and
+     * compressed FCLIB files (frix_fclib.h). */
+    frix_error (*problem_rolling_local)(const frix_matrix *W, const double *q, const double *mu,
+                                        const double *mu_r, int64_t nc, frix_problem **out);
+    frix_error (*problem_rolling_global)(const frix_matrix *M, const frix_matrix *H, const double *f,
+                                         const double *w, const double *mu, const double *mu_r,
+                                         int64_t nc, frix_problem **out);
+    const double *(*problem_mu_r)(const frix_problem *p);
+    frix_error (*problem_set_description)(frix_problem *p, const char *description);
+    const char *(*problem_description)(const frix_problem *p);
+    frix_error (*problem_set_math_info)(frix_problem *p, const char *math_info);
+    const char *(*problem_math_info)(const frix_problem *p);
+    frix_error (*fclib_write_compressed)(const char *path, const frix_problem *problem,
+                                         const double *sol_r, const double *sol_u,
+                                         const double *sol_v, int64_t n_guesses,
+                                         const double *guess_r, const double *guess_u,
+                                         const double *guess_v, int level);
 
     /* New members go here, at the end, and nowhere else. */
 } frix_plugin_table;
