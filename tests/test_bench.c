@@ -482,6 +482,25 @@ START_TEST(test_siconos_comparator) {
     ck_assert_msg(bad.code == 2 && strstr(bad.err, "holds 1 guess"), "frix-siconos --guess 2: %d %s", bad.code, bad.err);
     run_free(&g);
     run_free(&bad);
+    /* The bench's --guess: both libraries' runs start from the guess (the solution here), so
+     * each takes at most one sweep; a guess the file lacks is the run's error. */
+    fresh_dir(TMP "/sic/guessed");
+    ck_assert_int_eq(rename(TMP "/sic/guessed.hdf5", TMP "/sic/guessed/guessed.hdf5"), 0);
+    const char *bench_guess[] = {"bench", TMP "/sic/guessed", "--solvers", "nsgs,siconos:NSGS", "--tol", "1e-8",
+                                 "--guess", "1", "--out", TMP "/sic/guess-out", "--no-plots", "-q", NULL};
+    ck_assert_int_eq(cli_exit_code(bench_guess), 0);
+    csv *guessed = csv_read(TMP "/sic/guess-out/runs.csv");
+    ck_assert_int_eq(guessed->rows, 3); /* the header and two runs */
+    for (int row = 1; row <= 2; ++row) {
+        ck_assert_str_eq(csv_get(guessed, row, "status"), "converged");
+        ck_assert_int_le(atoi(csv_get(guessed, row, "iterations")), 1);
+    }
+    csv_free(guessed);
+    bench_guess[7] = "2";
+    ck_assert_int_eq(cli_exit_code(bench_guess), 0);
+    guessed = csv_read(TMP "/sic/guess-out/runs.csv");
+    ck_assert_int_gt(csv_find(guessed, "solver", "nsgs", "status", "error"), 0);
+    csv_free(guessed);
 
     const char *args[] = {"bench", TMP "/sic/problems", "--solvers", "nsgs,siconos:NSGS,siconos:504",
                           "--tol", "1e-10", "--time-limit", "5", "--out", TMP "/sic/out", "--no-plots", NULL};

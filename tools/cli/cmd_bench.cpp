@@ -35,6 +35,7 @@ struct BenchArgs {
     std::string solvers = "all", out, report_dir;
     double tol = 1e-8, time_limit = 10, grace = -1;
     std::int64_t max_iter = 100000, jobs = 1;
+    std::int64_t guess = 0;  // --guess K: every run starts from each file's guess K; 0: from r = 0
     bool plots = true, quiet = false, help = false;
 };
 
@@ -74,6 +75,8 @@ BenchArgs parse(int argc, char **argv) {
             a.grace = parse_double("bench", "--grace", v);
         } else if (args.option("--max-iter", v)) {
             a.max_iter = parse_int("bench", "--max-iter", v);
+        } else if (args.option("--guess", v)) {
+            a.guess = parse_guess_number("bench", v);
         } else if (args.option("--jobs", v) || args.option("-j", v)) {
             a.jobs = parse_int("bench", "--jobs", v);
         } else if (args.option("--out", v) || args.option("-o", v)) {
@@ -379,6 +382,10 @@ int run_campaign(const BenchArgs &a) {
                     spec.argv.push_back("--set");
                     spec.argv.push_back(kv);
                 }
+            }
+            if (a.guess > 0) {
+                spec.argv.push_back("--guess");
+                spec.argv.push_back(std::to_string(a.guess));
             }
             runner.start(spec);
             progress.running(done, running_text(next));

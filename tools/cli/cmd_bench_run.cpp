@@ -1,4 +1,4 @@
-// `frix bench-run FILE --solver NAME --tol T --max-iter N --time-limit S --fd FD` (hidden):
+// `frix bench-run FILE --solver NAME --tol T --max-iter N --time-limit S [--guess K] --fd FD` (hidden):
 // one run of a `frix bench` campaign, in a child process of its own. It reads FILE, says its
 // sizes, then streams the trace and the result to FD in the bench protocol
 // (bench_protocol.hpp). An unreadable FILE is the result "unreadable" with the reader's
@@ -79,7 +79,7 @@ int cmd_bench_run(int argc, char **argv) {
     std::string file, solver, v;
     std::vector<std::pair<frix_option_key, double>> settings;  // --set NAME=VALUE
     double tol = 1e-8, time_limit = 0;
-    int64_t max_iter = 0;
+    int64_t max_iter = 0, guess = 0;
     int fd = -1;
     while (!args.done()) {
         if (args.option("--solver", v)) {
@@ -90,6 +90,8 @@ int cmd_bench_run(int argc, char **argv) {
             max_iter = parse_int("bench-run", "--max-iter", v);
         } else if (args.option("--time-limit", v)) {
             time_limit = parse_double("bench-run", "--time-limit", v);
+        } else if (args.option("--guess", v)) {
+            guess = parse_guess_number("bench-run", v);
         } else if (args.option("--fd", v)) {
             fd = static_cast<int>(parse_int("bench-run", "--fd", v));
         } else if (args.option("--set", v)) {
@@ -167,6 +169,18 @@ int cmd_bench_run(int argc, char **argv) {
     std::vector<double> r(static_cast<std::size_t>(std::max<int64_t>(m, 1)), 0.0);
     std::vector<double> u(r.size(), 0.0), vel(static_cast<std::size_t>(std::max<int64_t>(n, 1)), 0.0);
     double *vp = global ? vel.data() : nullptr;
+    if (guess > 0) {
+        // A guess the file lacks (or cannot give) is this run's error, as an unreadable file is.
+        try {
+            start_from_guess(file, problem.get(), guess, r.data(), u.data(), vp);
+        } catch (const Failure &e) {
+            frix_bench::write_line(fd, frix_bench::note_line(e.message));
+            frix_bench::write_line(fd, frix_bench::result_line("error", 0, NAN, NAN, NAN, NAN));
+            frix_bench::write_line(fd, frix_bench::peak_memory_line());
+            return kExitUsage;
+        }
+    }
+    const std::vector<double> r_start = r, v_start = vel;  // each repeat starts where the first did
 
     frix_info *raw_info = nullptr;
     err = frix_info_create(&raw_info);
@@ -201,8 +215,8 @@ int cmd_bench_run(int argc, char **argv) {
     timer.add(frix_info_solve_time(info.get()));
     frix_options_set_callback(opts.get(), nullptr, nullptr);
     while (timer.again()) {
-        std::fill(r.begin(), r.end(), 0.0);
-        std::fill(vel.begin(), vel.end(), 0.0);
+        r = r_start;
+        vel = v_start;
         if (frix_solve(problem.get(), opts.get(), r.data(), u.data(), vp, info.get()) != FRIX_OK) break;
         timer.add(frix_info_solve_time(info.get()));
     }
