@@ -107,6 +107,9 @@ struct SparseCholesky::Impl {
     double bytes = 0.0;  // of L's values and indices on that analysis
     bool numeric = false;  // L holds a numeric factorisation (not only the analysis)
     double last_seconds = NAN;  // of the last numeric factorisation on that analysis
+    // cholmod_l_solve2's result and workspace, kept from one solve to the next: iterative
+    // solvers solve once an iteration, and a fresh allocation each time costs page faults.
+    cholmod_dense *X = nullptr, *Y = nullptr, *E = nullptr;
     bool same_pattern(const CscView &A) const {
         return L && A.rows == rows && std::equal(colptr.begin(), colptr.end(), A.colptr) &&
                (int64_t)rowind.size() == A.nnz() && std::equal(rowind.begin(), rowind.end(), A.rowind);
@@ -118,6 +121,9 @@ struct SparseCholesky::Impl {
         c.final_ll = 1;
     }
     ~Impl() {
+        cholmod_l_free_dense(&X, &c);
+        cholmod_l_free_dense(&Y, &c);
+        cholmod_l_free_dense(&E, &c);
         if (L) cholmod_l_free_factor(&L, &c);
         cholmod_l_finish(&c);
     }
@@ -242,11 +248,12 @@ frix_error SparseCholesky::solve(const double *b, double *x) const {
     B.x = const_cast<double *>(b);
     B.xtype = CHOLMOD_REAL;
     B.dtype = CHOLMOD_DOUBLE;
-    cholmod_dense *X = cholmod_l_solve(CHOLMOD_A, m.L, &B, &m.c);
-    if (!X) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: solve failed (CHOLMOD status %d)", m.c.status);
-    const double *xv = static_cast<const double *>(X->x);
-    for (size_t i = 0; i < n; ++i) x[i] = xv[i];
-    cholmod_l_free_dense(&X, &m.c);
+    if (!cholmod_l_solve2(CHOLMOD_A, m.L, &B, nullptr, &m.X, nullptr, &m.Y, &m.E, &m.c) || !m.X) {
+        if (m.c.status == CHOLMOD_OUT_OF_MEMORY) return fail(FRIX_ERR_OUT_OF_MEMORY, "sparse Cholesky: solve: out of memory");
+        return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: solve failed (CHOLMOD status %d)", m.c.status);
+    }
+    const double *xv = static_cast<const double *>(m.X->x);
+    std::copy(xv, xv + n, x);
     return FRIX_OK;
 }
 
