@@ -83,6 +83,26 @@ static void make_global_problem(const char *path) {
     frix_matrix_free(M);
 }
 
+/* One sphere (6 dofs, M = I) on the ground, one rolling contact: H selects the normal (dof 2),
+ * the tangents (0, 1) and the rolling directions (3, 4), so W = I and the contact sticks
+ * with r = (1, -0.1, 0, -0.05, 0). */
+static void make_global_rolling_problem(const char *path) {
+    static const int64_t idx[6] = {0, 1, 2, 3, 4, 5}, rows[5] = {2, 0, 1, 3, 4}, cols[5] = {0, 1, 2, 3, 4};
+    static const double ones[6] = {1, 1, 1, 1, 1, 1};
+    static const double f[6] = {0.1, 0, -1, 0.05, 0, 0}, w[5] = {0, 0, 0, 0, 0};
+    static const double mu = 0.5, mu_r = 0.1;
+    frix_matrix *M = NULL, *H = NULL;
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_matrix_from_triplets(6, 6, 6, idx, idx, ones, &M), FRIX_OK);
+    ck_assert_int_eq(frix_matrix_from_triplets(6, 5, 5, rows, cols, ones, &H), FRIX_OK);
+    ck_assert_int_eq(frix_problem_rolling_global(M, H, f, w, &mu, &mu_r, 1, &p), FRIX_OK);
+    unlink(path);
+    ck_assert_int_eq(frix_fclib_write(path, p, NULL, NULL, NULL, 0, NULL, NULL, NULL), FRIX_OK);
+    frix_problem_free(p);
+    frix_matrix_free(H);
+    frix_matrix_free(M);
+}
+
 /* The number after "key": in a one-line JSON object, NaN if absent. */
 static double json_number_at(const char *json, const char *key) {
     char pattern[64];
@@ -532,6 +552,22 @@ START_TEST(test_siconos_comparator) {
     ck_assert_double_le(json_number_at(sic.out, "error"), 1e-10); /* frix's measure of Siconos's (r, v) */
     ck_assert_double_le(json_number_at(sic.out, "equilibrium"), 1e-10);
     ck_assert_msg(strchr(sic.out, '\n') == sic.out + strlen(sic.out) - 1, "one JSON line: %s", sic.out);
+    run_free(&sic);
+
+    /* A global rolling problem: GRFC3D_NSGS_WR (g_rolling_fc3d_driver) solves it; the local
+     * rolling solvers refuse it and name the global one. */
+    make_global_rolling_problem(TMP "/sicg/rolling-global.hdf5");
+    const char *rolling_global[] = {TMP "/sicg/rolling-global.hdf5", "--solver", "GLOBAL_ROLLING_FRICTION_3D_NSGS_WR",
+                                    "--tol", "1e-10", "--json", NULL};
+    sic = run_program(adapter, rolling_global);
+    ck_assert_msg(sic.code == 0 && strstr(sic.out, "\"kind\":\"rolling-global\"") &&
+                      strstr(sic.out, "\"solver\":\"siconos:GRFC3D_NSGS_WR\""),
+                  "frix-siconos: exit %d: %s%s", sic.code, sic.out, sic.err);
+    ck_assert_double_le(json_number_at(sic.out, "error"), 1e-10);
+    run_free(&sic);
+    const char *local_rolling_on_global[] = {TMP "/sicg/rolling-global.hdf5", "--solver", "RFC3D_NSGS", NULL};
+    sic = run_program(adapter, local_rolling_on_global);
+    ck_assert_msg(sic.code == 2 && strstr(sic.err, "use GRFC3D_NSGS_WR"), "%d %s", sic.code, sic.err);
     run_free(&sic);
 
     /* A solver for the other kind of problem is refused, with exit status 2. */

@@ -43,7 +43,8 @@ void print_help() {
         "Solves the FCLIB problem in FILE (read by frix) from r = 0 (and v = 0), or from\n"
         "its guess K (--guess), with a\n"
         "Siconos 4.4 solver: a local problem with an FC3D solver (fc3d_driver), a global one\n"
-        "with a GFC3D solver (gfc3d_driver). Reports it like 'frix solve': the error is\n"
+        "with a GFC3D solver (gfc3d_driver), a rolling one with an RFC3D or GRFC3D solver\n"
+        "(rolling_fc3d_driver, g_rolling_fc3d_driver). Reports it like 'frix solve': the error is\n"
         "frix's relative measure of the r (and v) Siconos returned, and for a global problem\n"
         "the equilibrium |M v - H r - f| / max(|f|, |M v|, |H r|) beside it; Siconos's own\n"
         "error is shown too. The time is that of the driver alone.\n"
@@ -52,7 +53,8 @@ void print_help() {
         "  --solver NAME|ID   local: NSGS, NSN_AC, NSN_FB, NSN_NM, PROX, VI_FPP, VI_EG, TFP,\n"
         "                     ADMM, ... with FC3D_ or FRICTION_3D_ spellings; global:\n"
         "                     GFC3D_NSN_AC, GFC3D_NSGS_WR, GFC3D_ADMM, GFC3D_IPM, ... with\n"
-        "                     GLOBAL_FRICTION_3D_ spellings; or the id (see --list)\n"
+        "                     GLOBAL_FRICTION_3D_ spellings; rolling friction: RFC3D_NSGS,\n"
+        "                     RFC3D_ADMM (local), GRFC3D_NSGS_WR (global); or the id (see --list)\n"
         "  --tol T            Siconos's dparam[TOL] (default 1e-8)\n"
         "  --max-iter N       Siconos's iparam[MAX_ITER] (default: the solver's own)\n"
         "  --guess K          start from FILE's guess K (1, 2, ...), as 'frix solve --guess'\n"
@@ -113,7 +115,7 @@ int list(bool json) {
     for (int k = 0; k < frix_siconos_solver_count(); ++k) {
         int id = frix_siconos_solver_id_at(k);
         // Text: "id name" and nothing else on a line, which `frix bench` reads; the GFC3D_
-        // prefix of the name marks a global solver.
+        // (GRFC3D_) prefix of the name marks a global (rolling) solver.
         if (json) {
             w.begin_object();
             w.integer("id", id);
@@ -210,10 +212,12 @@ int run(int argc, char **argv) {
         const std::string why =
             rolling != rolling_solver
                 ? (rolling ? name + " does not solve rolling-friction problems (" + a.file +
-                                 " is one): use RFC3D_NSGS or RFC3D_ADMM on its local form"
+                                 " is one): use RFC3D_NSGS or RFC3D_ADMM (local form) or GRFC3D_NSGS_WR (global)"
                            : name + " solves rolling-friction problems only, and " + a.file + " is not one")
-            : rolling ? name + " solves the local form (W) of rolling problems, and " + a.file +
-                            " is global: frix-siconos runs Siconos's local rolling driver only (convert to W first)"
+            : rolling ? (global ? name + " solves the local form (W) of rolling problems, and " + a.file +
+                                      " is global: use GRFC3D_NSGS_WR"
+                                : name + " solves the global form of rolling problems, and " + a.file +
+                                      " is local: use RFC3D_NSGS or RFC3D_ADMM")
             : global  ? name + " is a local solver (fc3d_driver) and " + a.file +
                            " is a global problem: use a GFC3D_ solver (see 'frix-siconos --list')"
                       : name + " is a global solver (gfc3d_driver) and " + a.file +
@@ -279,7 +283,7 @@ int run(int argc, char **argv) {
         JsonWriter w;
         w.begin_object();
         w.string("file", a.file);
-        w.string("kind", global ? "global" : rolling ? "rolling-local" : "local");
+        w.string("kind", global ? (rolling ? "rolling-global" : "global") : rolling ? "rolling-local" : "local");
         w.integer("contacts", nc);
         if (global) w.integer("dofs", n);
         w.string("solver", name);
@@ -320,7 +324,7 @@ int run(int argc, char **argv) {
     } else {
         std::printf("%-16s %s\n", "file", a.file.c_str());
         if (global)
-            std::printf("%-16s global, %lld contacts, %lld dofs\n", "problem",
+            std::printf("%-16s %s, %lld contacts, %lld dofs\n", "problem", rolling ? "rolling-global" : "global",
                         static_cast<long long>(nc), static_cast<long long>(n));
         else
             std::printf("%-16s %s, %lld contacts\n", "problem", rolling ? "rolling-local" : "local",
@@ -333,7 +337,8 @@ int run(int argc, char **argv) {
         if (global) std::printf("%-16s %.3e\n", "equilibrium", res.equilibrium);
         std::printf("%-16s %.3e (info %d)\n", "siconos error", res.siconos_error, res.info);
         std::printf("%-16s %.3g s (%s)\n", "time", res.time,
-                    global ? "gfc3d_driver" : rolling ? "rolling_fc3d_driver" : "fc3d_driver");
+                    global ? (rolling ? "g_rolling_fc3d_driver" : "gfc3d_driver")
+                           : rolling ? "rolling_fc3d_driver" : "fc3d_driver");
         if (!note.empty()) std::printf("%-16s %s\n", "note", note.c_str());
     }
     if (!res.ran && a.fd < 0) fail(a.file + ": " + res.message);

@@ -18,6 +18,7 @@
 #include "FrictionContactProblem.h"
 #include "Friction_cst.h"
 #include "GlobalFrictionContactProblem.h"
+#include "GlobalRollingFrictionContactProblem.h"
 #include "RollingFrictionContactProblem.h"
 #include "NonSmoothDrivers.h"
 #include "NumericsMatrix.h"
@@ -46,8 +47,9 @@ static const struct {
     {607, "GFC3D_NSN_AC", 1},    {610, "GFC3D_VI_FPP", 1},  {611, "GFC3D_VI_EG", 1},
     {612, "GFC3D_ACLMFP", 1},    {613, "GFC3D_ADMM", 1},    {614, "GFC3D_ADMM_WR", 1},
     {615, "GFC3D_IPM", 1},
-    /* Rolling friction, local form (rolling_fc3d_driver): rolling problems only. */
-    {3000, "RFC3D_NSGS", 0},     {3003, "RFC3D_ADMM", 0},
+    /* Rolling friction, local form (rolling_fc3d_driver) and global form
+     * (g_rolling_fc3d_driver): rolling problems only. */
+    {3000, "RFC3D_NSGS", 0},     {3003, "RFC3D_ADMM", 0},   {5000, "GRFC3D_NSGS_WR", 1},
 };
 enum { kSolverCount = (int)(sizeof kSolvers / sizeof kSolvers[0]) };
 static const char kGlobalPrefix[] = "GFC3D_";
@@ -66,7 +68,8 @@ const char *frix_siconos_solver_name(int id) {
 
 int frix_siconos_solver_is_rolling(int id) {
     if (!frix_siconos_solver_name(id)) return -1;
-    return id == SICONOS_ROLLING_FRICTION_3D_NSGS || id == SICONOS_ROLLING_FRICTION_3D_ADMM;
+    return id == SICONOS_ROLLING_FRICTION_3D_NSGS || id == SICONOS_ROLLING_FRICTION_3D_ADMM ||
+           id == SICONOS_GLOBAL_ROLLING_FRICTION_3D_NSGS_WR;
 }
 
 int frix_siconos_solver_is_global(int id) {
@@ -94,11 +97,21 @@ int frix_siconos_solver_by_name(const char *name) {
     long id = strtol(name, &end, 10);
     if (end && *end == '\0') return frix_siconos_solver_name((int)id) ? (int)id : -1;
     const char *s = strip_prefix(name, "SICONOS_");
+    const char *gr = strip_prefix(s, "GLOBAL_ROLLING_FRICTION_3D_");
+    if (gr == s) gr = strip_prefix(s, "GRFC3D_");
+    if (gr != s) { /* a global rolling solver's spelling: its short name after GRFC3D_ */
+        for (int k = 0; k < kSolverCount; ++k)
+            if (kSolvers[k].global && frix_siconos_solver_is_rolling(kSolvers[k].id) == 1 &&
+                same_name(gr, kSolvers[k].name + strlen("GRFC3D_")))
+                return kSolvers[k].id;
+        return -1;
+    }
     const char *g = strip_prefix(s, "GLOBAL_FRICTION_3D_");
     if (g == s) g = strip_prefix(s, kGlobalPrefix);
     if (g != s) { /* a global solver's spelling: its short name after GFC3D_ */
         for (int k = 0; k < kSolverCount; ++k)
-            if (kSolvers[k].global && same_name(g, kSolvers[k].name + strlen(kGlobalPrefix)))
+            if (kSolvers[k].global && frix_siconos_solver_is_rolling(kSolvers[k].id) == 0 &&
+                same_name(g, kSolvers[k].name + strlen(kGlobalPrefix)))
                 return kSolvers[k].id;
         return -1;
     }
@@ -254,6 +267,17 @@ static int guarded_rolling_driver(RollingFrictionContactProblem *rfc, double *r,
     return info;
 }
 
+/* g_rolling_fc3d_driver, the same way. */
+static int guarded_global_rolling_driver(GlobalRollingFrictionContactProblem *grfc, double *r, double *u,
+                                         double *v, SolverOptions *o, int *ran) {
+    *ran = 0;
+    if (setjmp(*sn_get_jmp_buf()) != 0) return -1;
+    int info = g_rolling_fc3d_driver(grfc, r, u, v, o);
+    sn_release_jmp_buf();
+    *ran = 1;
+    return info;
+}
+
 /* gfc3d_driver, the same way. */
 static int guarded_global_driver(GlobalFrictionContactProblem *gfc, double *r, double *u,
                                  double *v, SolverOptions *o, int *ran) {
@@ -296,6 +320,29 @@ static GlobalFrictionContactProblem *global_problem(const frix_problem *problem,
     return gfc;
 }
 
+/* Siconos's global rolling problem from frix's, as global_problem builds the other: copies of
+ * M, H, f, w, mu and mu_r, which globalRollingFrictionContactProblem_free releases. */
+static GlobalRollingFrictionContactProblem *global_rolling_problem(const frix_problem *problem, char *msg,
+                                                                   size_t msg_len) {
+    const int64_t nc = frix_problem_contacts(problem), m = 5 * nc, n = frix_problem_dofs(problem);
+    NumericsMatrix *M = sparse_matrix(frix_problem_M(problem), msg, msg_len);
+    NumericsMatrix *H = M ? sparse_matrix(frix_problem_H(problem), msg, msg_len) : NULL;
+    if (!H) {
+        if (M) NM_free(M);
+        return NULL;
+    }
+    GlobalRollingFrictionContactProblem *grfc = globalRollingFrictionContactProblem_new();
+    grfc->dimension = 5;
+    grfc->numberOfContacts = (int)nc;
+    grfc->M = M;
+    grfc->H = H;
+    grfc->q = copy_of(frix_problem_f(problem), n);
+    grfc->b = copy_of(frix_problem_w(problem), m);
+    grfc->mu = copy_of(frix_problem_mu(problem), nc);
+    grfc->mu_r = copy_of(frix_problem_mu_r(problem), nc);
+    return grfc;
+}
+
 /* frix's measures of an answer: the relative and the default (scaled) errors of (r, u = W r +
  * q or H^T v + w), u written, and for a global problem the equilibrium residual of (r, v).
  * NaN where frix cannot measure it (r or v not finite). */
@@ -332,25 +379,25 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
     const int global = kind == FRIX_PROBLEM_GLOBAL || kind == FRIX_PROBLEM_ROLLING_GLOBAL;
     const int rolling = kind == FRIX_PROBLEM_ROLLING_LOCAL || kind == FRIX_PROBLEM_ROLLING_GLOBAL;
     const int rolling_solver = frix_siconos_solver_is_rolling(solver_id);
-    /* rolling_fc3d_driver takes the local form of a rolling problem, and nothing else does. */
-    if (rolling != rolling_solver || (rolling && global)) {
+    /* The rolling drivers take rolling problems, and nothing else does. */
+    if (rolling != rolling_solver) {
         res->refused_kind = 1;
         snprintf(res->message, sizeof res->message,
-                 rolling ? (global ? "%s: Siconos 4.4 solves rolling problems in the local form only (W, "
-                                     "rolling_fc3d_driver): convert the problem to W first"
-                                   : "%s is not a rolling-friction solver: use RFC3D_NSGS or RFC3D_ADMM")
+                 rolling ? "%s is not a rolling-friction solver: use RFC3D_NSGS or RFC3D_ADMM (local form) or "
+                           "GRFC3D_NSGS_WR (global form)"
                          : "%s solves rolling-friction problems only",
                  frix_siconos_solver_name(solver_id));
         return -1;
     }
-    /* Each driver takes one kind: fc3d_driver a W, gfc3d_driver an M and an H. */
+    /* Each driver takes one form: fc3d_driver and rolling_fc3d_driver a W, gfc3d_driver and
+     * g_rolling_fc3d_driver an M and an H. */
     if (global != global_solver) {
         res->refused_kind = 1;
         snprintf(res->message, sizeof res->message,
-                 global ? "%s is a local solver (fc3d_driver, u = W r + q) and the problem is "
-                          "global: use a GFC3D_ solver (see --list)"
-                        : "%s is a global solver (gfc3d_driver, M v = H r + f) and the problem "
-                          "is local: use an FC3D solver (see --list)",
+                 global ? "%s is a local solver (u = W r + q) and the problem is global: use a "
+                          "global one (see --list)"
+                        : "%s is a global solver (M v = H r + f) and the problem is local: use a "
+                          "local one (see --list)",
                  frix_siconos_solver_name(solver_id));
         return -1;
     }
@@ -384,7 +431,11 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
     FrictionContactProblem *fc = NULL;
     GlobalFrictionContactProblem *gfc = NULL;
     RollingFrictionContactProblem *rfc = NULL;
-    if (global) {
+    GlobalRollingFrictionContactProblem *grfc = NULL;
+    if (global && rolling) {
+        grfc = global_rolling_problem(problem, res->message, sizeof res->message);
+        if (!grfc) return -1;
+    } else if (global) {
         gfc = global_problem(problem, res->message, sizeof res->message);
         if (!gfc) return -1;
     } else if (rolling) {
@@ -412,6 +463,7 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
         if (gfc) globalFrictionContact_free(gfc);
         if (fc) frictionContactProblem_free(fc);
         if (rfc) rollingFrictionContactProblem_free(rfc);
+        if (grfc) globalRollingFrictionContactProblem_free(grfc);
         return -1;
     }
     opts->dparam[SICONOS_DPARAM_TOL] = tolerance;
@@ -438,7 +490,8 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
     clock_gettime(CLOCK_MONOTONIC, &start);
     env.start = start;
     int ran = 0;
-    int info = global    ? guarded_global_driver(gfc, r, u, v, opts, &ran)
+    int info = grfc      ? guarded_global_rolling_driver(grfc, r, u, v, opts, &ran)
+               : global  ? guarded_global_driver(gfc, r, u, v, opts, &ran)
                : rolling ? guarded_rolling_driver(rfc, r, u, opts, &ran)
                          : guarded_driver(fc, r, u, opts, &ran);
     res->time = seconds_since(&start);
@@ -463,6 +516,8 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
         globalFrictionContact_free(gfc);
     } else if (rfc) {
         rollingFrictionContactProblem_free(rfc);
+    } else if (grfc) {
+        globalRollingFrictionContactProblem_free(grfc);
     } else {
         frictionContactProblem_free(fc);
     }
