@@ -27,9 +27,9 @@ class Stopwatch {
     double seconds() const {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     }
-    // Flops per second of a dense LU factorisation on this machine, measured on first use
-    // (a few milliseconds; never without a time limit): what a factorisation's flop count
-    // costs in seconds.
+    // Flops per second of a dense LU factorisation on this machine, the fastest of a few
+    // measured on first use (milliseconds; never without a time limit): what a
+    // factorisation's flop count costs in seconds.
     double factor_rate() const;
     // Bytes the solve may still take: `limit` (the option memory_limit; when 0, the memory the
     // process may use less what it held when first asked) less what the process has grown by

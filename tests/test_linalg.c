@@ -279,6 +279,54 @@ START_TEST(cholesky_cost_from_the_pattern) {
 }
 END_TEST
 
+/* A mesh-like SPD matrix: G x G x G nodes, 3 dofs each, every dof coupled with every dof of
+ * the nodes around its node (as trilinear hexahedra couple them), diagonally dominant. */
+enum { kG = 14, kMeshDofs = 3 * kG * kG * kG };
+static void mesh_matrix(int64_t *colptr, int64_t *rowind, double *values) {
+    int64_t e = 0;
+    for (int64_t j = 0; j < kMeshDofs; ++j) {
+        const int64_t node = j / 3, x = node % kG, y = node / kG % kG, z = node / (kG * kG);
+        colptr[j] = e;
+        for (int64_t dz = -1; dz <= 1; ++dz)
+            for (int64_t dy = -1; dy <= 1; ++dy)
+                for (int64_t dx = -1; dx <= 1; ++dx) {
+                    const int64_t X = x + dx, Y = y + dy, Z = z + dz;
+                    if (X < 0 || Y < 0 || Z < 0 || X >= kG || Y >= kG || Z >= kG) continue;
+                    for (int64_t c = 0; c < 3; ++c) {
+                        const int64_t i = 3 * (X + kG * (Y + kG * Z)) + c;
+                        rowind[e] = i;
+                        values[e++] = i == j ? 100.0 : -0.5 / (double)(1 + (i + j) % 3);
+                    }
+                }
+        /* rows ascending: the loops above visit neighbours in increasing index order */
+    }
+    colptr[kMeshDofs] = e;
+}
+
+/* Prices of factorisations against the work they do, on fixed inputs (no timing): the price a
+ * Cholesky asks its budget with is cholesky_cost's count of the same pattern (one analysis
+ * rule for both: on a large mesh nested dissection, where AMD's ordering costs several times
+ * more);
+ * a large LU is priced by the count of its symmetrised pattern, within 2x of what UMFPACK then
+ * does (its own estimate is a bound many times above it). */
+START_TEST(factor_prices_match_the_work) {
+    static int64_t colptr[kMeshDofs + 1], rowind[kMeshDofs * 81];
+    static double values[kMeshDofs * 81];
+    mesh_matrix(colptr, rowind, values);
+    double cholesky_price = 0.0, cholesky_count = 0.0, lu_price = 0.0, lu_done = 0.0;
+    int lu_upper = -1;
+    ck_assert_int_eq(frix_testing_factor_prices(kMeshDofs, colptr, rowind, values, &cholesky_price,
+                                                &cholesky_count, &lu_price, &lu_upper, &lu_done),
+                     FRIX_OK);
+    ck_assert_double_gt(cholesky_price, 1e8);
+    ck_assert_double_eq_tol(cholesky_count, cholesky_price, 1e-12 * cholesky_price);
+    ck_assert_int_eq(lu_upper, 0);
+    ck_assert_double_gt(lu_done, 1e8);
+    ck_assert_double_le(lu_price, 2.0 * lu_done);
+    ck_assert_double_ge(lu_price, 0.5 * lu_done);
+}
+END_TEST
+
 START_TEST(congruence_up_the_supernodal_tree) {
     static CongruenceCase c;
     build_congruence_case(&c);
@@ -343,6 +391,7 @@ int main(void) {
     tcase_add_test(tc, congruence_up_the_supernodal_tree);
     tcase_add_test(tc, dense_lu_and_cholesky);
     tcase_add_test(tc, cholesky_cost_from_the_pattern);
+    tcase_add_test(tc, factor_prices_match_the_work);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

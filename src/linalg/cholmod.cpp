@@ -9,6 +9,7 @@
 
 #include "error_state.hpp"
 #include "linalg.hpp"
+#include "ordering.hpp"
 
 extern "C" {
 void dtrsm_(const char *side, const char *uplo, const char *transa, const char *diag, const int *m, const int *n,
@@ -149,7 +150,7 @@ frix_error SparseCholesky::factor(const CscView &A) {
         if (m.L) cholmod_l_free_factor(&m.L, &m.c);
         {
             const std::lock_guard<std::mutex> lock(metis_mutex());  // may try METIS on large M
-            m.L = cholmod_l_analyze(&a, &m.c);
+            m.L = analyze_symmetric(a, m.c);
         }
         if (m.L) {
             ++stats_.symbolic;
@@ -210,11 +211,9 @@ frix_error cholesky_cost(const CscView &A, FactorCost *cost) {
     cholmod_l_start(&c);
     c.print = 0;
     c.error_handler = nullptr;
-    // AMD alone and a simplicial analysis: the counts need no supernodes, and the price must
-    // cost little next to what it prices.
+    // The ordering a factorisation would get (analyze_symmetric), so that the count is the
+    // one it will do; a simplicial analysis: the counts need no supernodes.
     c.supernodal = CHOLMOD_SIMPLICIAL;
-    c.nmethods = 1;
-    c.method[0].ordering = CHOLMOD_AMD;
     c.postorder = 0;
     cholmod_sparse a = view_of(A, 1);
     a.xtype = CHOLMOD_PATTERN;
@@ -222,7 +221,7 @@ frix_error cholesky_cost(const CscView &A, FactorCost *cost) {
     cholmod_factor *L = nullptr;
     {
         const std::lock_guard<std::mutex> lock(metis_mutex());
-        L = cholmod_l_analyze(&a, &c);
+        L = analyze_symmetric(a, c);
     }
     const bool ok = L != nullptr && c.status == CHOLMOD_OK;
     if (ok) *cost = FactorCost{c.fl, c.lnz, factor_bytes(*L, c)};

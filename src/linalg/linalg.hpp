@@ -56,7 +56,9 @@ struct FactorPrice {
     double flops = 0.0;
     double seconds = NAN;
     double bytes = 0.0;
-    bool flops_upper_bound = false;  // UMFPACK's count (an upper bound), not CHOLMOD's (exact)
+    // UMFPACK's estimate (an upper bound) of a small LU; not CHOLMOD's count (exact), nor the
+    // count of a large LU's symmetrised pattern (SparseLU).
+    bool flops_upper_bound = false;
 };
 // Asked before each numeric factorisation: FRIX_STATUS_NOT_RUN lets it start; any other status
 // (FRIX_STATUS_TIME_LIMIT, FRIX_STATUS_MEMORY_LIMIT: a caller's limit it would overrun) refuses
@@ -93,6 +95,8 @@ class SparseLU {
 
     // min |U_ii| / max |U_ii| of the last factorisation (UMFPACK's cheap estimate).
     double rcond() const { return rcond_; }
+    // The flops the last numeric factorisation did (UMFPACK's count): what its price foretold.
+    double flops_done() const { return flops_done_; }
     bool factored() const { return numeric_ != nullptr; }
     const FactorStats &stats() const { return stats_; }
     // Every factor() first asks the budget (none: always factorise).
@@ -107,7 +111,11 @@ class SparseLU {
     void *symbolic_ = nullptr;
     void *numeric_ = nullptr;
     double rcond_ = 0.0;
-    double flops_ = 0.0;  // of a numeric factorisation, UMFPACK's estimate from the analysis
+    double flops_done_ = 0.0;
+    // Of a numeric factorisation: UMFPACK's estimate from the analysis (an upper bound), or
+    // where that is large the count of the symmetrised pattern (flops_counted_).
+    double flops_ = 0.0;
+    bool flops_counted_ = false;
     double last_seconds_ = NAN;  // of the last numeric factorisation on this analysis
     double bytes_ = 0.0;  // peak memory of a numeric factorisation: estimated, then the last one's
     double numeric_bytes_ = 0.0;  // the size of the last numeric factorisation
@@ -203,7 +211,7 @@ class SparseCholesky {
 };
 
 // What a Cholesky factorisation of a symmetric matrix with A's pattern would cost, from
-// CHOLMOD's symbolic analysis alone (the ordering it would pick; no numeric work): a stage
+// the symbolic analysis alone (the ordering a SparseCholesky of it picks; no numeric work): a stage
 // can be priced before it is paid. Only A's pattern is read (values may be null), and of it
 // the upper triangle.
 struct FactorCost {

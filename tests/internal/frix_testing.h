@@ -67,6 +67,14 @@ int frix_testing_sparse_cholesky_layout(int for_solves, int64_t n, const int64_t
  * values not needed), from the symbolic analysis alone. */
 int frix_testing_cholesky_cost(int64_t n, const int64_t *colptr, const int64_t *rowind, double *flops,
                                double *entries);
+/* The prices of factorisations of A (n x n CSC, both triangles, SPD), in flops, against what
+ * they do: *cholesky_price the price a SparseCholesky asks its budget with before factorising,
+ * *cholesky_cost cholesky_cost's count of A's pattern; *lu_price the price of a SparseLU with
+ * a nested-dissection ordering, *lu_upper whether that is UMFPACK's upper bound, *lu_done the
+ * flops UMFPACK's factorisation then did. */
+int frix_testing_factor_prices(int64_t n, const int64_t *colptr, const int64_t *rowind, const double *values,
+                               double *cholesky_price, double *cholesky_cost, double *lu_price, int *lu_upper,
+                               double *lu_done);
 /* C = B^T A^-1 B as frix_testing_sparse_cholesky, asked whether to stop about questions_asked
  * times over the work, at most every min_flops flops (0: as often as asked, at most after
  * every supernode with work); the work is told

@@ -135,6 +135,32 @@ FRIX_TESTING_HOOK int frix_testing_cholesky_cost(int64_t n, const int64_t *colpt
     return e;
 }
 
+FRIX_TESTING_HOOK int frix_testing_factor_prices(int64_t n, const int64_t *colptr, const int64_t *rowind,
+                                                 const double *values, double *cholesky_price, double *cholesky_cost,
+                                                 double *lu_price, int *lu_upper, double *lu_done) {
+    const frix::linalg::CscView A{n, n, colptr, rowind, values};
+    frix::linalg::SparseCholesky ch;
+    ch.set_budget([&](const frix::linalg::FactorPrice &price) {
+        *cholesky_price = price.flops;
+        return FRIX_STATUS_NOT_RUN;
+    });
+    int e = ch.factor(A);
+    frix::linalg::FactorCost cost;
+    if (e == FRIX_OK) e = frix::linalg::cholesky_cost(A, &cost);
+    *cholesky_cost = cost.flops;
+    frix::linalg::SparseLU lu;
+    lu.set_ordering(frix::linalg::SparseLU::Ordering::kNestedDissection);
+    lu.set_budget([&](const frix::linalg::FactorPrice &price) {
+        *lu_price = price.flops;
+        *lu_upper = price.flops_upper_bound ? 1 : 0;
+        return FRIX_STATUS_NOT_RUN;
+    });
+    if (e == FRIX_OK) e = lu.analyze(A);
+    if (e == FRIX_OK) e = lu.factor(A);
+    *lu_done = lu.flops_done();
+    return e;
+}
+
 FRIX_TESTING_HOOK int frix_testing_congruence_questions(int64_t n, const int64_t *colptr,
                                                         const int64_t *rowind, const double *values,
                                                         int64_t k, const int64_t *bp, const int64_t *bi,
