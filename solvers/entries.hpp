@@ -24,6 +24,7 @@ extern const SolverEntry kNsnFbEntry;
 extern const SolverEntry kNsnNmEntry;
 extern const SolverEntry kProxEntry;
 extern const SolverEntry kRollingNsgsEntry;
+extern const SolverEntry kRollingNsnEntry;
 extern const SolverEntry kTfpEntry;
 extern const SolverEntry kViEgEntry;
 extern const SolverEntry kViFppEntry;

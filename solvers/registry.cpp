@@ -33,6 +33,7 @@ const frix::SolverEntry *const kSolvers[] = {
     &frix::kGnsnAlEntry,
     &frix::kGnsgsEntry,
     &frix::kRollingNsgsEntry,
+    &frix::kRollingNsnEntry,
 };
 constexpr int64_t kSolverCount = sizeof kSolvers / sizeof kSolvers[0];
 

@@ -552,8 +552,16 @@ FRIX_API frix_error frix_problem_check_existence(const frix_problem *problem, do
         if (!(time_limit >= 0.0 && time_limit <= kMaxTimeLimit))
             return frix::fail(FRIX_ERR_INVALID_ARGUMENT, "%s: time_limit = %g is outside [0, %g]",
                               where, time_limit, kMaxTimeLimit);
-        // The check's cones are the three-component ones: it cannot decide a rolling problem.
-        if (frix_error e = frix::refuse_rolling(*problem, where)) return e;
+        // The check's cones are the three-component ones. Of a rolling-friction problem it
+        // decides only the case r = 0 solves (a local problem whose contacts all separate),
+        // and otherwise says that it cannot decide.
+        if (frix::is_rolling(*problem)) {
+            bool separating = problem->kind == FRIX_PROBLEM_ROLLING_LOCAL;
+            for (int64_t a = 0; a < problem->nc && separating; ++a) separating = problem->q[5 * a] >= 0.0;
+            info->existence = separating ? FRIX_EXISTENCE_GUARANTEED : FRIX_EXISTENCE_UNDETERMINED;
+            info->existence_margin = separating ? 0.0 : NAN;
+            return FRIX_OK;
+        }
         if (frix_error e = frix::check_problem_vectors(*problem)) return e;
         double margin = NAN;
         info->existence = frix::check_existence(*problem, time_limit, &margin);

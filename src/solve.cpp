@@ -25,9 +25,12 @@ constexpr double kExistenceMinSeconds = 1e-3;
 void check_existence_after_failure(const frix_problem &p, const frix_options &o, const frix::Stopwatch &clock,
                                    frix_info &info) {
     if (info.status == FRIX_STATUS_CONVERGED || info.status == FRIX_STATUS_STOPPED_BY_CALLBACK ||
-        info.existence != FRIX_EXISTENCE_NOT_CHECKED || !o.i(FRIX_OPT_EXISTENCE_CHECK) || p.nc == 0 ||
-        frix::is_rolling(p))  // the check knows the three-component law only
+        info.existence != FRIX_EXISTENCE_NOT_CHECKED || !o.i(FRIX_OPT_EXISTENCE_CHECK) || p.nc == 0)
         return;
+    if (frix::is_rolling(p)) {  // the check cannot decide a rolling problem that r = 0 does not solve
+        info.existence = FRIX_EXISTENCE_UNDETERMINED;
+        return;
+    }
     const double tl = o.d(FRIX_OPT_TIME_LIMIT);
     const double budget = tl > 0.0 ? std::max(tl - clock.seconds(), kExistenceMinSeconds) : 0.0;
     double margin = NAN;

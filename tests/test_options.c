@@ -184,7 +184,7 @@ START_TEST(test_log_sink) {
     const int64_t solvers = frix_solver_count();
     for (int64_t k = 0; k < solvers && k < 64; ++k) {
         counts[k].lines = counts[k].bad = 0;
-        const int id = frix_solver_id_at(k), rolling = id == FRIX_SOLVER_ROLLING_NSGS;
+        const int id = frix_solver_id_at(k), rolling = id == FRIX_SOLVER_ROLLING_NSGS || id == FRIX_SOLVER_ROLLING_NSN;
         counts[k].bad += !solve_logged(rolling ? rolling_local : local, id, &counts[k]);
         counts[k].bad += !solve_logged(rolling ? rolling_global : global, id, &counts[k]);
     }

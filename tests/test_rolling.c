@@ -91,7 +91,7 @@ START_TEST(test_refused) {
     ck_assert_int_eq(frix_problem_rolling_local(W, q, &mu, &mu_r, 1, &p), FRIX_OK);
     for (int64_t k = 0; k < frix_solver_count(); ++k) {
         const int id = frix_solver_id_at(k);
-        if (id == FRIX_SOLVER_ROLLING_NSGS || id == FRIX_SOLVER_AUTO) continue;
+        if (id == FRIX_SOLVER_ROLLING_NSGS || id == FRIX_SOLVER_ROLLING_NSN || id == FRIX_SOLVER_AUTO) continue;
         frix_options *o = NULL;
         ck_assert_int_eq(frix_options_create(id, &o), FRIX_OK);
         ck_assert_int_eq(frix_solve(p, o, r, u, NULL, NULL), FRIX_ERR_UNSUPPORTED);
@@ -100,7 +100,11 @@ START_TEST(test_refused) {
     }
     frix_info *info = NULL;
     ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
-    ck_assert_int_eq(frix_problem_check_existence(p, 0.0, info), FRIX_ERR_UNSUPPORTED);
+    /* The existence check cannot decide this one (q_N < 0), and says so. */
+    ck_assert_int_eq(frix_problem_check_existence(p, 0.0, info), FRIX_OK);
+    int64_t verdict = -1;
+    ck_assert_int_eq(frix_info_get_int(info, FRIX_INFO_EXISTENCE, &verdict), FRIX_OK);
+    ck_assert_int_eq(verdict, FRIX_EXISTENCE_UNDETERMINED);
     frix_persistent *ps = NULL;
     ck_assert_int_eq(frix_persistent_create(p, NULL, &ps), FRIX_ERR_UNSUPPORTED);
     ck_assert_ptr_null(ps);

@@ -92,7 +92,11 @@ typedef enum frix_existence FRIX_ENUM_BASE {
                                           a failed solve is the solver's failure */
     FRIX_EXISTENCE_DOUBTFUL = 2,       /* a certificate y was found: no solution may exist,
                                           a failed solve may be the problem's fault */
-    FRIX_EXISTENCE_UNDETERMINED = 3    /* the check ran out of its budget without either */
+    FRIX_EXISTENCE_UNDETERMINED = 3    /* the check ran out of its budget without either, or
+                                          cannot decide (a rolling-friction problem: the check
+                                          knows the three-component cones; it decides only
+                                          a local one whose contacts all separate, GUARANTEED
+                                          with margin 0) */
 } frix_existence;
 /* "not checked", "a solution exists", "no solution may exist", "undetermined". */
 FRIX_API const char *frix_existence_describe(frix_existence verdict);

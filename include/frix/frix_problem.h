@@ -16,7 +16,8 @@
  * velocity); the cone K_a = {|r_T| <= mu_a r_N, |m_R| <= mu_r,a r_N} (mu_r a length) and
  * u^_a = u_a + (mu_a |u_T| + mu_r,a |w_R|) e_N, K*_a ∋ u^_a ⟂ r_a ∈ K_a. Local form: W is
  * 5nc x 5nc (5x5 blocks), q 5nc; global form: H is n x 5nc, w 5nc. Such problems are kinds of
- * their own: the rolling solvers (FRIX_SOLVER_ROLLING_NSGS, and auto, which picks it) solve them;
+ * their own: the rolling solvers (FRIX_SOLVER_ROLLING_NSGS and _NSN, and auto, which picks between
+ * them) solve them;
  * every other solver refuses them (FRIX_ERR_UNSUPPORTED).
  */
 #ifndef FRIX_PROBLEM_H

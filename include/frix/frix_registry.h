@@ -38,8 +38,10 @@ enum {
                                       NSGS on H and M^-1 H, no W */
     FRIX_SOLVER_IPM_ANM = 903,     /* interior-point path followed by Taylor series, then
                                       Newton from its best point */
-    FRIX_SOLVER_ROLLING_NSGS = 3000 /* rolling-friction problems (local, and global of rigid
-                                       bodies without W): nonsmooth Gauss-Seidel */
+    FRIX_SOLVER_ROLLING_NSGS = 3000, /* rolling-friction problems (local, and global of rigid
+                                        bodies without W): nonsmooth Gauss-Seidel */
+    FRIX_SOLVER_ROLLING_NSN = 3010   /* rolling-friction problems: semismooth Newton (natural
+                                        map), for tight tolerances */
 };
 
 FRIX_API int64_t frix_solver_count(void);

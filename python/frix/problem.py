@@ -40,7 +40,7 @@ class Problem(_Closing):
     Rolling friction (rolling resistance): give mu_r (nc entries, each a length >= 0), and
     each contact has five entries, r = (r_N, r_T (2), m_R (2)): W is 5nc x 5nc and q 5nc (H
     has 5nc columns and w 5nc entries). Such a problem's `rolling` is True; the rolling
-    solvers (rolling-nsgs, and auto, which picks it) solve it.
+    solvers (rolling-nsgs, rolling-nsn, and auto, which picks between them) solve it.
 
     q, mu (and f, w) are borrowed, not copied, when they are float64 and contiguous: the
     problem keeps them alive and reads them at every solve, so a time-stepping script may

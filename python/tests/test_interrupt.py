@@ -114,9 +114,9 @@ def test_ctrl_c_stops_frix_solve(solver, with_callback):
     _check_latency(f"frix.solve {solver}, 3000 contacts, callback {with_callback}", latency)
 
 
-# The solvers of three-component problems (the child's problem); rolling-nsgs takes rolling
-# problems only.
-@pytest.mark.parametrize("solver", [s.name for s in frix.solvers() if s.name != "rolling-nsgs"])
+# The solvers of three-component problems (the child's problem); rolling-nsgs and rolling-nsn
+# take rolling problems only.
+@pytest.mark.parametrize("solver", [s.name for s in frix.solvers() if not s.name.startswith("rolling-")])
 def test_ctrl_c_stops_every_solver(solver):
     latency = _interrupt_latency(solver, 3000, "solve", False, after=0.5)
     _check_latency(f"frix.solve {solver}, 3000 contacts", latency)

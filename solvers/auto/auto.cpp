@@ -20,6 +20,10 @@
 // for users.
 #include "solvers/entries.hpp"
 
+#include <algorithm>
+#include <cmath>
+
+#include "solvers/auto/policy.hpp"
 #include "solvers/auto/routes.hpp"
 #include "solvers/auto/trace.hpp"
 #include "solvers/auto/stage.hpp"
@@ -49,17 +53,18 @@ void check_existence_on_failure(SolveContext &ctx) {
     info.trace.push_back(trace_event(kExistence));
 }
 
-// A rolling-friction problem: rolling-nsgs, the one solver of the class, as a stage on the
-// caller's limits, recorded in the trace.
-frix_error solve_rolling(SolveContext &ctx) {
-    const SolverEntry *entry = find_solver(FRIX_SOLVER_ROLLING_NSGS);
-    if (!entry) return fail(FRIX_ERR_INTERNAL, "auto: no solver of rolling-friction problems is registered");
-    const Monitor monitor(ctx);
-    const frix_options o = stage_options(*entry, ctx.options, monitor.tolerance(), monitor.max_iterations(), nullptr);
+// One stage of a rolling-friction solve: `id` from r to `tol` within `max_iter` iterations on
+// the caller's limits, recorded in the trace; the iterations add up in info.
+frix_error rolling_stage(SolveContext &ctx, int id, double tol, int64_t max_iter, int64_t &done) {
+    const SolverEntry *entry = find_solver(id);
+    if (!entry) return fail(FRIX_ERR_INTERNAL, "auto: solver %d of rolling-friction problems is not registered", id);
+    frix_options o = stage_options(*entry, ctx.options, tol, max_iter, nullptr);
+    o.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(max_iter, 1);  // (set by stage_options for parts only)
     SolveContext inner = ctx.problem.kind == FRIX_PROBLEM_ROLLING_LOCAL
                              ? SolveContext::local(ctx.problem, o, ctx.r, ctx.u, ctx.info, ctx.clock)
                              : SolveContext::global(ctx.problem, o, ctx.r, ctx.u, ctx.v, ctx.info, ctx.clock, ctx.mass);
     const double t0 = ctx.clock.seconds();
+    ctx.info.error = INFINITY;
     if (frix_error e = entry->solve(inner)) return e;
     TraceEvent ev = trace_event(kStage);
     ev.solver_id = entry->id;
@@ -68,6 +73,37 @@ frix_error solve_rolling(SolveContext &ctx) {
     ev.seconds = ctx.clock.seconds() - t0;
     ev.error = std::isfinite(ctx.info.error) ? ctx.info.error : INFINITY;
     ctx.info.trace.push_back(ev);
+    done += ctx.info.iterations;
+    return FRIX_OK;
+}
+
+// A rolling-friction problem (docs/rolling.md): rolling-nsgs to kRollingLoose (or to the
+// tolerance, if looser) on at most half the iterations; where the tolerance is tighter and
+// not met, a rolling-nsn polish of at most kRollingNewtonSteps Newton steps from the sweeps'
+// answer (it returns an iterate no worse than its start); where that fails too, the sweeps
+// again with the iterations left. The driver measures the answer and checks the status.
+frix_error solve_rolling(SolveContext &ctx) {
+    const Monitor monitor(ctx);
+    const double tol = monitor.tolerance();
+    const int64_t budget = monitor.max_iterations();
+    int64_t done = 0;
+    const double loose = std::max(tol, kRollingLoose);
+    const int64_t first = loose > tol ? std::max<int64_t>(budget / 2, 1) : budget;
+    if (frix_error e = rolling_stage(ctx, FRIX_SOLVER_ROLLING_NSGS, loose, first, done)) return e;
+    const auto finished = [&] {
+        const frix_status s = ctx.info.status;
+        return (s == FRIX_STATUS_CONVERGED && ctx.info.error <= tol) || s == FRIX_STATUS_TIME_LIMIT ||
+               s == FRIX_STATUS_MEMORY_LIMIT || s == FRIX_STATUS_STOPPED_BY_CALLBACK || done >= budget;
+    };
+    if (!finished()) {
+        const int64_t steps = std::min(kRollingNewtonSteps, budget - done);
+        if (frix_error e = rolling_stage(ctx, FRIX_SOLVER_ROLLING_NSN, tol, steps, done)) return e;
+    }
+    if (!finished())
+        if (frix_error e = rolling_stage(ctx, FRIX_SOLVER_ROLLING_NSGS, tol, budget - done, done)) return e;
+    ctx.info.iterations = done;
+    if (ctx.info.status == FRIX_STATUS_CONVERGED && !(ctx.info.error <= tol)) ctx.info.status = FRIX_STATUS_MAX_ITER;
+    if (done >= budget && ctx.info.status != FRIX_STATUS_CONVERGED) ctx.info.status = FRIX_STATUS_MAX_ITER;
     return FRIX_OK;
 }
 

@@ -13,6 +13,15 @@
 
 namespace frix::autosolve {
 
+// ---- Rolling friction (notes/2026-11-28-rolling.md)
+
+// rolling-nsgs alone down to this error: it gets there in tens of sweeps on sphere piles,
+// where the Newton polish would not pay.
+constexpr double kRollingLoose = 1e-4;
+// The rolling-nsn polish's Newton steps at most (one factorisation each): where W has full
+// rank it converges in about ten; on rigid piles it stalls, and the sweeps take over again.
+constexpr int64_t kRollingNewtonSteps = 20;
+
 // ---- NSGS's first stage (notes/2026-11-25-auto-constants.md)
 
 // NSGS goes on while the rate of its second half predicts the tolerance within this many

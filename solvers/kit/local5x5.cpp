@@ -109,6 +109,57 @@ void newton_matrix(const Contact &c, const double *q, const double *r, double rh
         }
 }
 
+}  // namespace
+
+namespace {
+
+// One disk part of Alart-Curnier: phi = x - P_D(R)(x - rho y) for the pair x (reaction) and y
+// (velocity) at entries k, k + 1, the disk's radius R = c max(0, xn); its derivatives into A and
+// B (5x5, column-major; rows k, k + 1), the radius's through xn = r_N - rho u_N.
+void disk_part(int k, const double *r, const double *u, double c, double xn, double rho, double *F, double *A,
+               double *B) {
+    const double R = c * std::max(xn, 0.0);
+    const double t1 = r[k] - rho * u[k], t2 = r[k + 1] - rho * u[k + 1];
+    const double nt = std::hypot(t1, t2);
+    if (nt <= R) {  // sticking (or rolling without slip): x = P_D(x - rho y) means y = 0
+        F[k] = rho * u[k], F[k + 1] = rho * u[k + 1];
+        if (B) B[k + 5 * k] = B[k + 1 + 5 * (k + 1)] = rho;
+        return;
+    }
+    const double g1 = t1 / nt, g2 = t2 / nt;
+    F[k] = r[k] - R * g1, F[k + 1] = r[k + 1] - R * g2;
+    if (!A) return;
+    // d(t/|t|)/dt = (I - g g^T)/|t|: dF/dx = I - R G, dF/dy = rho R G.
+    const double h = R / nt, G11 = 1.0 - g1 * g1, G22 = 1.0 - g2 * g2, G12 = -g1 * g2;
+    A[k + 5 * k] = 1.0 - h * G11, A[k + 1 + 5 * (k + 1)] = 1.0 - h * G22;
+    A[k + 5 * (k + 1)] = A[k + 1 + 5 * k] = -h * G12;
+    B[k + 5 * k] = rho * h * G11, B[k + 1 + 5 * (k + 1)] = rho * h * G22;
+    B[k + 5 * (k + 1)] = B[k + 1 + 5 * k] = rho * h * G12;
+    if (xn > 0.0) {  // the radius c (r_N - rho u_N) moves with r_N and u_N
+        A[k] = -c * g1, A[k + 1] = -c * g2;
+        B[k] = c * rho * g1, B[k + 1] = c * rho * g2;
+    }
+}
+
+}  // namespace
+
+void alart_curnier(const double *r, const double *u, double mu, double mu_r, double rho, double *F, double *A,
+                   double *B) {
+    if (A) std::fill(A, A + 25, 0.0), std::fill(B, B + 25, 0.0);
+    const double xn = r[0] - rho * u[0];
+    if (xn > 0.0) {
+        F[0] = rho * u[0];
+        if (B) B[0] = rho;
+    } else {
+        F[0] = r[0];
+        if (A) A[0] = 1.0;
+    }
+    disk_part(1, r, u, mu, xn, rho, F, A, B);
+    disk_part(3, r, u, mu_r, xn, rho, F, A, B);
+}
+
+namespace {
+
 // Keeps the best r seen (by the relative residual).
 struct Best {
     double r[5] = {0, 0, 0, 0, 0};

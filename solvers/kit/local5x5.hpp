@@ -46,4 +46,13 @@ Outcome solve_contact(Contact &c, const double *q, double *r, const Params &p);
 // u = W r + q, with q and r in the contact's units: the local tolerance's measure.
 double relative_residual(const Contact &c, const double *q, const double *r);
 
+// The Alart-Curnier function of one contact, F = (r_N - max(0, r_N - rho u_N), r_T - P_D(mu
+// x)(r_T - rho u_T), m_R - P_D(mu_r x)(m_R - rho w_R)), x = max(0, r_N - rho u_N) and P_D(R) the
+// projection on the disk of radius R: zero exactly where the rolling law holds (Signorini,
+// Coulomb's maximal dissipation in each disk); the five-entry nsn::contact_function of
+// Alart-Curnier. The blocks A = dF/dr, B = dF/du of a generalized Jacobian (may be null) make
+// the Jacobian of r -> F(r, W r + q) A + B W.
+void alart_curnier(const double *r, const double *u, double mu, double mu_r, double rho, double *F, double *A,
+                   double *B);
+
 }  // namespace frix::local5

@@ -104,6 +104,19 @@ class Steps {
     bool asked_ = false;
 };
 
+// Before a proximal step (PROX, rolling-nsn), after `outer` of them, at the error err:
+// converged, the iteration limit, a stop the callback asked for, the time limit, in that order;
+// FRIX_STATUS_NOT_RUN to go on. Not Monitor::limits: the callback is not called here, only its last answer read, for
+// the inner Newton calls it (through inner, on the Newton steps' count), and so does each
+// proximal step's end, once no answer asked to stop.
+inline frix_status status_before_step(const Monitor &monitor, double err, int64_t outer, const Steps &inner) {
+    if (err <= monitor.tolerance()) return FRIX_STATUS_CONVERGED;
+    if (monitor.out_of_iterations(outer)) return FRIX_STATUS_MAX_ITER;
+    if (inner.stop_asked()) return FRIX_STATUS_STOPPED_BY_CALLBACK;
+    if (inner.monitor.out_of_time()) return FRIX_STATUS_TIME_LIMIT;
+    return FRIX_STATUS_NOT_RUN;
+}
+
 // Each caller's rules, where the Newtons differ.
 struct Rules {
     Search search;

@@ -1,6 +1,7 @@
 #include "solvers/kit/rolling_forms.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "src/error_state.hpp"
 #include "src/matrix.hpp"
@@ -8,44 +9,58 @@
 
 namespace frix::rolling {
 
+void BlockRows::multiply(const double *x, double *y) const {
+    const int64_t nc = (int64_t)row_ptr.size() - 1;
+    for (int64_t a = 0; a < nc; ++a) {
+        double s[5] = {0, 0, 0, 0, 0};
+        for (int64_t k = row_ptr[(size_t)a]; k < row_ptr[(size_t)a + 1]; ++k) {
+            const double *B = &val[25 * (size_t)k], *xb = x + 5 * block_col[(size_t)k];
+            for (int j = 0; j < 5; ++j)
+                for (int i = 0; i < 5; ++i) s[i] += B[i + 5 * j] * xb[j];
+        }
+        std::copy(s, s + 5, y + 5 * a);
+    }
+}
+
 RowForm::RowForm(const frix_problem &p) : p_(p) {
     const int64_t nc = p.nc;
     // The blocks of each row: every (row, column) contact pair an entry falls in, once.
     std::vector<std::vector<int64_t>> cols((size_t)nc);
     for_each_entry(*p.W, [&](int64_t i, int64_t j, double) { cols[(size_t)(i / 5)].push_back(j / 5); });
-    row_ptr_.assign((size_t)nc + 1, 0);
+    w_.row_ptr.assign((size_t)nc + 1, 0);
     for (int64_t a = 0; a < nc; ++a) {
         std::vector<int64_t> &c = cols[(size_t)a];
         std::sort(c.begin(), c.end());
         c.erase(std::unique(c.begin(), c.end()), c.end());
-        row_ptr_[(size_t)a + 1] = row_ptr_[(size_t)a] + (int64_t)c.size();
+        w_.row_ptr[(size_t)a + 1] = w_.row_ptr[(size_t)a] + (int64_t)c.size();
     }
-    block_col_.reserve((size_t)row_ptr_[(size_t)nc]);
-    for (const std::vector<int64_t> &c : cols) block_col_.insert(block_col_.end(), c.begin(), c.end());
+    w_.block_col.reserve((size_t)w_.row_ptr[(size_t)nc]);
+    for (const std::vector<int64_t> &c : cols) w_.block_col.insert(w_.block_col.end(), c.begin(), c.end());
     cols = {};
-    val_.assign(25 * block_col_.size(), 0.0);
+    w_.val.assign(25 * w_.block_col.size(), 0.0);
     for_each_entry(*p.W, [&](int64_t i, int64_t j, double v) {
         const int64_t a = i / 5, b = j / 5;
-        const auto first = block_col_.begin() + row_ptr_[(size_t)a], last = block_col_.begin() + row_ptr_[(size_t)a + 1];
-        const int64_t k = std::lower_bound(first, last, b) - block_col_.begin();
-        val_[25 * (size_t)k + (size_t)(i % 5) + 5 * (size_t)(j % 5)] += v;
+        const auto first = w_.block_col.begin() + w_.row_ptr[(size_t)a];
+        const auto last = w_.block_col.begin() + w_.row_ptr[(size_t)a + 1];
+        const int64_t k = std::lower_bound(first, last, b) - w_.block_col.begin();
+        w_.val[25 * (size_t)k + (size_t)(i % 5) + 5 * (size_t)(j % 5)] += v;
     });
-    diag_.assign((size_t)nc, -1);
+    w_.diag.assign((size_t)nc, -1);
     for (int64_t a = 0; a < nc; ++a)
-        for (int64_t k = row_ptr_[(size_t)a]; k < row_ptr_[(size_t)a + 1]; ++k)
-            if (block_col_[(size_t)k] == a) diag_[(size_t)a] = k;
+        for (int64_t k = w_.row_ptr[(size_t)a]; k < w_.row_ptr[(size_t)a + 1]; ++k)
+            if (w_.block_col[(size_t)k] == a) w_.diag[(size_t)a] = k;
 }
 
 const double *RowForm::diagonal_block(int64_t a) const {
-    return diag_[(size_t)a] >= 0 ? &val_[25 * (size_t)diag_[(size_t)a]] : zero_;
+    return w_.diag[(size_t)a] >= 0 ? &w_.val[25 * (size_t)w_.diag[(size_t)a]] : zero_;
 }
 
 void RowForm::local_q(int64_t a, const double *r, double *ql) const {
     for (int i = 0; i < 5; ++i) ql[i] = p_.q[5 * a + i];
-    for (int64_t k = row_ptr_[(size_t)a]; k < row_ptr_[(size_t)a + 1]; ++k) {
-        const int64_t b = block_col_[(size_t)k];
+    for (int64_t k = w_.row_ptr[(size_t)a]; k < w_.row_ptr[(size_t)a + 1]; ++k) {
+        const int64_t b = w_.block_col[(size_t)k];
         if (b == a) continue;  // stepped over, not subtracted: no cancellation
-        const double *B = &val_[25 * (size_t)k], *rb = r + 5 * b;
+        const double *B = &w_.val[25 * (size_t)k], *rb = r + 5 * b;
         for (int j = 0; j < 5; ++j)
             for (int i = 0; i < 5; ++i) ql[i] += B[i + 5 * j] * rb[j];
     }
@@ -116,6 +131,62 @@ frix_error BodyForm::setup(const double *r) {
     return FRIX_OK;
 }
 
+void BodyForm::reduce(BlockRows &W, double *q) const {
+    const int64_t nc = p_.nc, nb = bodies_.count();
+    // Each body's contacts, with where the body's dofs start among the contact's (a contact
+    // holds its bodies whole, in increasing order, each from its place 0).
+    std::vector<int64_t> ptr((size_t)nb + 1, 0);
+    for (int64_t t = 0; t < dof_ptr_[(size_t)nc]; ++t)
+        if (bodies_.place[dofs_[(size_t)t]] == 0) ++ptr[(size_t)bodies_.body_of[dofs_[(size_t)t]] + 1];
+    for (int64_t b = 0; b < nb; ++b) ptr[(size_t)b + 1] += ptr[(size_t)b];
+    std::vector<int64_t> contact((size_t)ptr[(size_t)nb]), start((size_t)ptr[(size_t)nb]);
+    std::vector<int64_t> fill(ptr.begin(), ptr.end() - 1);
+    for (int64_t a = 0; a < nc; ++a)
+        for (int64_t t = dof_ptr_[(size_t)a]; t < dof_ptr_[(size_t)a + 1]; ++t)
+            if (bodies_.place[dofs_[(size_t)t]] == 0) {
+                const int64_t at = fill[(size_t)bodies_.body_of[dofs_[(size_t)t]]]++;
+                contact[(size_t)at] = a, start[(size_t)at] = t;
+            }
+    W.row_ptr.assign((size_t)nc + 1, 0);
+    W.block_col.clear();
+    W.diag.assign((size_t)nc, -1);
+    std::vector<int64_t> cols;
+    for (int pass = 0; pass < 2; ++pass)
+        for (int64_t a = 0; a < nc; ++a) {
+            cols.clear();
+            for (int64_t t = dof_ptr_[(size_t)a]; t < dof_ptr_[(size_t)a + 1]; ++t) {
+                if (bodies_.place[dofs_[(size_t)t]] != 0) continue;
+                const int64_t b = bodies_.body_of[dofs_[(size_t)t]];
+                if (pass == 0) {
+                    for (int64_t e = ptr[(size_t)b]; e < ptr[(size_t)b + 1]; ++e) cols.push_back(contact[(size_t)e]);
+                    continue;
+                }
+                // W_ac += sum over the body's dofs of (H_a)_x (M^-1 H_c)_x^T.
+                for (int64_t e = ptr[(size_t)b]; e < ptr[(size_t)b + 1]; ++e) {
+                    const auto first = W.block_col.begin() + W.row_ptr[(size_t)a];
+                    const auto last = W.block_col.begin() + W.row_ptr[(size_t)a + 1];
+                    double *blk = &W.val[25 * (size_t)(std::lower_bound(first, last, contact[(size_t)e]) -
+                                                       W.block_col.begin())];
+                    for (int64_t j = 0; j < bodies_.size(b); ++j) {
+                        const double *h = &hd_[5 * (size_t)(t + j)], *g = &gd_[5 * (size_t)(start[(size_t)e] + j)];
+                        for (int f = 0; f < 5; ++f)
+                            for (int i = 0; i < 5; ++i) blk[i + 5 * f] += h[i] * g[f];
+                    }
+                }
+            }
+            if (pass == 1) continue;
+            std::sort(cols.begin(), cols.end());
+            cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
+            for (const int64_t c : cols) {
+                if (c == a) W.diag[(size_t)a] = (int64_t)W.block_col.size();
+                W.block_col.push_back(c);
+            }
+            W.row_ptr[(size_t)a + 1] = (int64_t)W.block_col.size();
+            if (a == nc - 1) W.val.assign(25 * W.block_col.size(), 0.0);
+        }
+    for (int64_t a = 0; a < nc; ++a) contact_velocity(a, v0_.data(), q + 5 * a);
+}
+
 void BodyForm::add_g(int64_t a, const double *x, double *v) const {
     for (int64_t t = dof_ptr_[(size_t)a]; t < dof_ptr_[(size_t)a + 1]; ++t) {
         const double *g = &gd_[5 * (size_t)t];
@@ -152,6 +223,41 @@ Measures BodyForm::exact(const double *r, double *u) {
     for (int64_t a = 0; a < p_.nc; ++a) contact_velocity(a, v_.data(), u + 5 * a);
     return rolling_measures_from_ru(r, u, p_.mu, p_.mu_r, p_.weight.data(), p_.nc, norm2(p_.w, 5 * p_.nc),
                                     free_velocity(p_));
+}
+
+std::vector<local5::Contact> contacts_of(const SweepForm &form, const frix_problem &p) {
+    std::vector<local5::Contact> contacts((size_t)p.nc);
+    for (int64_t a = 0; a < p.nc; ++a)
+        local5::contact_setup(form.diagonal_block(a), p.mu[a], p.mu_r[a], contacts[(size_t)a]);
+    return contacts;
+}
+
+SweepStats sweep(SweepForm &form, std::vector<local5::Contact> &contacts, const local5::Params &lp, double *r) {
+    SweepStats st;
+    const int64_t nc = (int64_t)contacts.size();
+    for (int64_t a = 0; a < nc; ++a) {
+        double *ra = r + 5 * a, ql[5], rn[5];
+        form.local_q(a, r, ql);
+        std::copy(ra, ra + 5, rn);
+        const local5::Outcome out = local5::solve_contact(contacts[(size_t)a], ql, rn, lp);
+        if (out == local5::Outcome::NotConverged || out == local5::Outcome::NoSolution) ++st.unsolved;
+        double dr[5], d2 = 0.0;
+        bool finite = true;
+        for (int i = 0; i < 5; ++i) {
+            dr[i] = rn[i] - ra[i];
+            d2 += dr[i] * dr[i];
+            finite = finite && std::isfinite(rn[i]);
+        }
+        if (!finite) {
+            ++st.rejected;
+        } else if (d2 > 0.0) {
+            std::copy(rn, rn + 5, ra);
+            form.moved(a, dr);
+            st.dr2 += d2;
+        }
+        for (int i = 0; i < 5; ++i) st.r2 += ra[i] * ra[i];
+    }
+    return st;
 }
 
 }  // namespace frix::rolling

@@ -7,11 +7,22 @@
 #include <cstdint>
 #include <vector>
 
+#include "solvers/kit/local5x5.hpp"
 #include "solvers/kit/rigid_bodies.hpp"
 #include "src/measures.hpp"
 #include "src/problem.hpp"
 
 namespace frix::rolling {
+
+// W by 5x5 block rows: row a's blocks k in [row_ptr[a], row_ptr[a + 1]), in increasing block
+// column block_col[k], values val[25 k ..] (column-major); diag[a]: its diagonal block, -1 if
+// none.
+struct BlockRows {
+    std::vector<int64_t> row_ptr, block_col, diag;
+    std::vector<double> val;
+    // y = W x (5 entries a contact).
+    void multiply(const double *x, double *y) const;
+};
 
 class SweepForm {
    public:
@@ -36,11 +47,11 @@ class RowForm : public SweepForm {
     const double *diagonal_block(int64_t a) const override;
     void local_q(int64_t a, const double *r, double *ql) const override;
     Measures exact(const double *r, double *u) override { return local_measures(p_, r, u); }
+    const BlockRows &rows() const { return w_; }
 
    private:
     const frix_problem &p_;
-    std::vector<int64_t> row_ptr_, block_col_, diag_;  // diag_[a]: its block, -1 if none
-    std::vector<double> val_;                          // 25 a block, column-major
+    BlockRows w_;
     double zero_[25] = {};
 };
 
@@ -58,6 +69,9 @@ class BodyForm : public SweepForm {
     Measures exact(const double *r, double *u) override;
     void restart(const double *r) override;
     const std::vector<double> &v() const { return v_; }
+    // W = H^T M^-1 H by block rows (the blocks of contacts that share a body), and the free
+    // velocity q = H^T M^-1 f + w: the local form, for solvers that need W (after setup).
+    void reduce(BlockRows &W, double *q) const;
 
    private:
     void add_g(int64_t a, const double *x, double *v) const;
@@ -68,5 +82,17 @@ class BodyForm : public SweepForm {
     std::vector<double> hd_, gd_;          // H_a and M^-1 H_a on them, 5 a dof
     std::vector<double> blocks_, v0_, v_;  // W_aa (25 a contact), M^-1 f, v
 };
+
+// Each contact's one-contact data (local5::contact_setup) from the form's diagonal blocks.
+std::vector<local5::Contact> contacts_of(const SweepForm &form, const frix_problem &p);
+
+struct SweepStats {
+    double dr2 = 0.0, r2 = 0.0;
+    int64_t unsolved = 0, rejected = 0;  // local solves short of the local tolerance; non-finite ones discarded
+};
+
+// One Gauss-Seidel sweep over every contact (the rolling NSGS's): each solved with the others
+// held fixed, its new reaction kept where finite, the form told of each change.
+SweepStats sweep(SweepForm &form, std::vector<local5::Contact> &contacts, const local5::Params &lp, double *r);
 
 }  // namespace frix::rolling

@@ -32,19 +32,6 @@ constexpr int64_t kInnerMaxIter = 50;
 // the original; above, a proximal step barely moves.
 constexpr double kAlphaMin = 1e-12, kAlphaMax = 1e6;
 
-// Before a proximal step, after `outer` of them, at the error err: converged, the iteration
-// limit, a stop the callback asked for, the time limit, in that order; FRIX_STATUS_NOT_RUN to
-// go on. Not Monitor::limits: the callback is not called here, only its last answer read, for
-// the inner Newton calls it (through inner, on the Newton steps' count), and so does each
-// proximal step's end, once no answer asked to stop.
-frix_status status_before_step(const Monitor &monitor, double err, int64_t outer, const kit::Steps &inner) {
-    if (err <= monitor.tolerance()) return FRIX_STATUS_CONVERGED;
-    if (monitor.out_of_iterations(outer)) return FRIX_STATUS_MAX_ITER;
-    if (inner.stop_asked()) return FRIX_STATUS_STOPPED_BY_CALLBACK;
-    if (inner.monitor.out_of_time()) return FRIX_STATUS_TIME_LIMIT;
-    return FRIX_STATUS_NOT_RUN;
-}
-
 // The run's counters into ctx.info (the status is there already).
 void record(SolveContext &ctx, int64_t outer, const newton::Engine &engine, int64_t verbosity) {
     frix_info &info = ctx.info;
@@ -90,7 +77,7 @@ frix_error solve(SolveContext &ctx) {
     info.status = FRIX_STATUS_MAX_ITER;
     kit::Steps inner{Monitor(o, ctx.clock)};  // the Newton steps, on each proximal step's limits
     while (true) {
-        frix_status stop = status_before_step(monitor, err, outer, inner);
+        frix_status stop = kit::status_before_step(monitor, err, outer, inner);
         // Each step starts from rk (a rejected step restores it): the same alpha from the same
         // rk would repeat a step already taken.
         if (stop == FRIX_STATUS_NOT_RUN && std::find(tried.begin(), tried.end(), alpha) != tried.end())

@@ -25,40 +25,6 @@ namespace {
 // error asks for: a sweep that converges while its light error stays large still stops.
 constexpr int64_t kFullEvery = 16;
 
-struct SweepStats {
-    double dr2 = 0.0, r2 = 0.0;
-    int64_t unsolved = 0, rejected = 0;  // local solves short of the local tolerance; non-finite ones discarded
-};
-
-SweepStats sweep(rolling::SweepForm &form, std::vector<local5::Contact> &contacts, const local5::Params &lp,
-                 double *r) {
-    SweepStats st;
-    const int64_t nc = (int64_t)contacts.size();
-    for (int64_t a = 0; a < nc; ++a) {
-        double *ra = r + 5 * a, ql[5], rn[5];
-        form.local_q(a, r, ql);
-        std::copy(ra, ra + 5, rn);
-        const local5::Outcome out = local5::solve_contact(contacts[(size_t)a], ql, rn, lp);
-        if (out == local5::Outcome::NotConverged || out == local5::Outcome::NoSolution) ++st.unsolved;
-        double dr[5], d2 = 0.0;
-        bool finite = true;
-        for (int i = 0; i < 5; ++i) {
-            dr[i] = rn[i] - ra[i];
-            d2 += dr[i] * dr[i];
-            finite = finite && std::isfinite(rn[i]);
-        }
-        if (!finite) {
-            ++st.rejected;
-        } else if (d2 > 0.0) {
-            std::copy(rn, rn + 5, ra);
-            form.moved(a, dr);
-            st.dr2 += d2;
-        }
-        for (int i = 0; i < 5; ++i) st.r2 += ra[i] * ra[i];
-    }
-    return st;
-}
-
 // Momentum on the sweeps (option acceleration; kit/sweeps.hpp's MomentumSchedule, nsgs's
 // weights): after a sweep, r = x moves to P_K(x + beta (x - x_prev)).
 class Momentum {
@@ -91,9 +57,7 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form) {
     local5::Params lp;
     lp.tol = o.d(FRIX_OPT_LOCAL_TOLERANCE);
     lp.max_iter = (int)o.i(FRIX_OPT_LOCAL_MAX_ITER);
-    std::vector<local5::Contact> contacts((size_t)p.nc);
-    for (int64_t a = 0; a < p.nc; ++a)
-        local5::contact_setup(form.diagonal_block(a), p.mu[a], p.mu_r[a], contacts[(size_t)a]);
+    std::vector<local5::Contact> contacts = rolling::contacts_of(form, p);
     const Monitor monitor(ctx);
     const double tol = monitor.tolerance();
     if (o.i(FRIX_OPT_VERBOSITY) >= 1)
@@ -107,7 +71,7 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form) {
     Momentum momentum(o.i(FRIX_OPT_ACCELERATION) != 0, 5 * p.nc, ctx.r);
     while (status == FRIX_STATUS_NOT_RUN) {
         ++it;
-        const SweepStats st = sweep(form, contacts, lp, ctx.r);
+        const rolling::SweepStats st = rolling::sweep(form, contacts, lp, ctx.r);
         momentum.after_sweep(st.dr2, ctx.r, p, form);
         const double light = std::sqrt(st.dr2) / (st.r2 > 0.0 ? std::sqrt(st.r2) : 1.0);
         if (light <= light_tol || it % kFullEvery == 0 || monitor.out_of_iterations(it)) {
