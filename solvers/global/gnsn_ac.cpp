@@ -19,6 +19,7 @@
 #include "src/measures.hpp"
 #include "src/monitor.hpp"
 #include "src/reduction.hpp"
+#include "src/vec.hpp"
 #include "solvers/entries.hpp"
 
 namespace frix {
@@ -118,11 +119,7 @@ struct Jacobian {
     }
 };
 
-double dot(const double *x, const double *y, int64_t n) {
-    double s = 0.0;
-    for (int64_t i = 0; i < n; ++i) s += x[i] * y[i];
-    return s;
-}
+using vec::dot;
 
 // How much the lumped blocks H_a^T diag(M)^-1 H_a underrate W's diagonal blocks: the median,
 // over up to kRhoSamples contacts spread over the problem, of trace(H_a^T M^-1 H_a) over

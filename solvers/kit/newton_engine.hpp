@@ -171,6 +171,33 @@ struct SystemDefaults {
     void log_return(int64_t) const {}
 };
 
+// The iterate of a local Newton system on the caller's r (m entries, changed in place) with
+// its velocity u beside it: the step d, du its change of u, the trial point (rt, ut) along
+// them, and the loop's move, save and load, which touch r alone (the system recomputes u in
+// evaluate).
+class InPlaceIterate {
+   public:
+    using Point = std::vector<double>;
+    InPlaceIterate(double *r, int64_t m) : r_(r), m_(m), u_(m), d_(m), du_(m), rt_(m), ut_(m) {}
+    void move(double t) {
+        for (int64_t i = 0; i < m_; ++i) r_[i] += t * d_[i];
+    }
+    void save(Point &p) const { p.assign(r_, r_ + m_); }
+    void load(const Point &p) { std::copy(p.begin(), p.end(), r_); }
+
+   protected:
+    // (r + t d, u + t du) into (rt, ut).
+    void along(double t) {
+        for (int64_t i = 0; i < m_; ++i) {
+            rt_[i] = r_[i] + t * d_[i];
+            ut_[i] = u_[i] + t * du_[i];
+        }
+    }
+    double *r_;
+    const int64_t m_;
+    std::vector<double> u_, d_, du_, rt_, ut_;
+};
+
 template <class System>
 class NewtonLoop {
    public:

@@ -13,6 +13,7 @@
 #include "src/matrix.hpp"
 #include "src/measures.hpp"
 #include "src/monitor.hpp"
+#include "src/vec.hpp"
 #include "solvers/entries.hpp"
 
 namespace frix {
@@ -20,11 +21,7 @@ namespace newton {
 
 namespace {
 
-double dot(const double *x, const double *y, int64_t n) {
-    double s = 0.0;
-    for (int64_t i = 0; i < n; ++i) s += x[i] * y[i];
-    return s;
-}
+using vec::dot;
 
 }  // namespace
 
@@ -60,14 +57,12 @@ Settings settings_from(const frix_options &o, int solver_id) {
 
 // A run of the engine as the Newton loop's system (kit/newton_engine.hpp): Newton on
 // u = (W + shift I) r + q from r, in place.
-class Engine::Run : public kit::SystemDefaults {
+class Engine::Run : public kit::SystemDefaults, public kit::InPlaceIterate {
    public:
-    using Point = std::vector<double>;
     static constexpr bool kWatchable = true;
 
     Run(Engine &e, double *r, const double *q, double shift, double scale_q)
-        : e_(e), r_(r), q_(q), shift_(shift), m_(e.m_), u_(m_), phi_(m_), d_(m_), du_(m_), rhs_(m_), x_(m_), rt_(m_),
-          ut_(m_), phit_(m_) {
+        : InPlaceIterate(r, e.m_), e_(e), q_(q), shift_(shift), phi_(m_), rhs_(m_), x_(m_), phit_(m_) {
         norm_q_ = scale_q >= 0.0 ? scale_q : std::sqrt(dot(q, q, m_));
     }
     frix_error evaluate(double &psi, double &err) {
@@ -103,11 +98,6 @@ class Engine::Run : public kit::SystemDefaults {
         err = error_at(rt_.data(), ut_.data());
         return FRIX_OK;
     }
-    void move(double t) {
-        for (int64_t i = 0; i < m_; ++i) r_[i] += t * d_[i];
-    }
-    void save(Point &p) const { p.assign(r_, r_ + m_); }
-    void load(const Point &p) { std::copy(p.begin(), p.end(), r_); }
     void log_step(int64_t step, double t, double err, double psi, double delta) const {
         if (e_.s_.verbosity >= 2)
             log_line(e_.s_.log, "newton: step %lld t %.3g error %.3e merit %.3e delta %.1e", (long long)step, t, err,
@@ -127,24 +117,15 @@ class Engine::Run : public kit::SystemDefaults {
         product(r_, u_.data());
         for (int64_t i = 0; i < m_; ++i) u_[i] += q_[i];
     }
-    // (r + t d, u + t du) into rt, ut.
-    void along(double t) {
-        for (int64_t i = 0; i < m_; ++i) {
-            rt_[i] = r_[i] + t * d_[i];
-            ut_[i] = u_[i] + t * du_[i];
-        }
-    }
     double error_at(const double *r, const double *u) const {
         return selected_error(measures_from_ru(r, u, e_.mu_, e_.s_.weight, e_.nc_, norm_q_), e_.s_.measure);
     }
 
     Engine &e_;
-    double *r_;
     const double *q_;
     const double shift_;
-    const int64_t m_;
     double norm_q_;
-    std::vector<double> u_, phi_, d_, du_, rhs_, x_, rt_, ut_, phit_;
+    std::vector<double> phi_, rhs_, x_, phit_;
 };
 
 frix_error Engine::run(double *r, const double *q, double shift, kit::Steps &steps, RunResult &res, double scale_q) {

@@ -19,16 +19,13 @@
 #include "src/linalg/linalg.hpp"
 #include "src/log.hpp"
 #include "src/monitor.hpp"
+#include "src/vec.hpp"
 
 namespace frix {
 namespace rolling_newton {
 namespace {
 
-double dot(const double *x, const double *y, int64_t n) {
-    double s = 0.0;
-    for (int64_t i = 0; i < n; ++i) s += x[i] * y[i];
-    return s;
-}
+using vec::dot;
 
 // J = A + B (W + reg), A and B block-diagonal (25 values a contact), reg diagonal (5 a
 // contact), on W's block pattern plus the diagonal blocks, stored as the CSC of J^T (J's rows:
@@ -107,35 +104,28 @@ class Jacobian {
 // T_a^-1 r_a, u'_a = T_a u_a, T_a = diag(1, 1, 1, L_a, L_a) (local5::alart_curnier); its
 // Jacobian in r is A + B W with A_a = A'_a T_a^-1 and B_a = B'_a T_a (A', B' its blocks in
 // the contact's units).
-class System : public kit::SystemDefaults {
+class System : public kit::SystemDefaults, public kit::InPlaceIterate {
    public:
-    using Point = std::vector<double>;
     static constexpr bool kWatchable = true;
 
     System(const frix_problem &p, rolling::SweepForm &form, const rolling::BlockRows &W, const std::vector<double> &q,
            const std::vector<local5::Contact> &contacts, double *r, const frix_options &o, const Monitor &monitor)
-        : log_(&o),
+        : InPlaceIterate(r, 5 * (int64_t)contacts.size()),
+          log_(&o),
           problem_(&p),
           norm_q_(norm2(q.data(), (int64_t)q.size())),
           form_(form),
           W_(W),
           q_(q),
           c_(contacts),
-          r_(r),
-          m_(5 * (int64_t)contacts.size()),
           measure_(o.i(FRIX_OPT_ERROR_MEASURE)),
           jac_(W),
           A_(5 * m_),
           B_(5 * m_),
           reg_(m_),
           shift_(m_),
-          u_(m_),
           F_(m_),
-          d_(m_),
-          du_(m_),
           rhs_(m_),
-          rt_(m_),
-          ut_(m_),
           Ft_(m_),
           scratch_(m_) {
         lu_.set_budget(monitor.budget());
@@ -209,11 +199,6 @@ class System : public kit::SystemDefaults {
         err = error_at(rt_.data(), ut_.data());
         return FRIX_OK;
     }
-    void move(double t) {
-        for (int64_t i = 0; i < m_; ++i) r_[i] += t * d_[i];
-    }
-    void save(Point &p) const { p.assign(r_, r_ + m_); }
-    void load(const Point &p) { std::copy(p.begin(), p.end(), r_); }
     const linalg::SparseLU &lu() const { return lu_; }
     void log_step(int64_t step, double t, double err, double psi, double delta) const {
         if (log_->i(FRIX_OPT_VERBOSITY) >= 2)
@@ -242,12 +227,6 @@ class System : public kit::SystemDefaults {
                 for (int j = 3; j < 5; ++j) Aa[i + 5 * j] /= L, Ba[i + 5 * j] *= L;
         }
     }
-    void along(double t) {
-        for (int64_t i = 0; i < m_; ++i) {
-            rt_[i] = r_[i] + t * d_[i];
-            ut_[i] = u_[i] + t * du_[i];
-        }
-    }
     // The error of the problem solved (the proximal one when alpha > 0), u its velocity at r.
     double error_at(const double *r, const double *u) {
         if (alpha_ == 0.0) return selected_error(form_.exact(r, scratch_.data()), measure_);
@@ -264,14 +243,12 @@ class System : public kit::SystemDefaults {
     const rolling::BlockRows &W_;
     const std::vector<double> &q_;
     const std::vector<local5::Contact> &c_;
-    double *r_;
-    const int64_t m_;
     const int64_t measure_;
     Jacobian jac_;
     linalg::SparseLU lu_;
     bool analysed_ = false;
     double w_scale_ = 1.0;
-    std::vector<double> A_, B_, reg_, shift_, u_, F_, d_, du_, rhs_, rt_, ut_, Ft_, scratch_;
+    std::vector<double> A_, B_, reg_, shift_, F_, rhs_, Ft_, scratch_;
 };
 
 // Proximal steps: PROX's outer rule (prox.cpp), alpha = sigma error^nu (in units of the mean
