@@ -101,9 +101,6 @@ START_TEST(test_refused) {
     frix_info *info = NULL;
     ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
     ck_assert_int_eq(frix_problem_check_existence(p, 0.0, info), FRIX_ERR_UNSUPPORTED);
-    frix_persistent *ps = NULL;
-    ck_assert_int_eq(frix_persistent_create(p, NULL, &ps), FRIX_ERR_UNSUPPORTED);
-    ck_assert_ptr_null(ps);
     frix_info_free(info);
     frix_problem_free(p);
     frix_matrix_free(W);
