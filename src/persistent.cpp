@@ -24,12 +24,20 @@ namespace {
 
 using frix::fail;
 
-// A problem of the views given, validated as the public constructors validate them.
+// A problem of the views given, validated as the public constructors of its kind validate them.
 frix_error validate(const frix_problem &p) {
     frix_problem *check = nullptr;
-    const frix_error e = p.kind == FRIX_PROBLEM_LOCAL
-                             ? frix::make_local_problem(p.W, p.q, p.mu, p.nc, &check)
-                             : frix::make_global_problem(p.M, p.H, p.f, p.w, p.mu, p.nc, &check);
+    frix_error e;
+    switch (p.kind) {
+        case FRIX_PROBLEM_LOCAL: e = frix::make_local_problem(p.W, p.q, p.mu, p.nc, &check); break;
+        case FRIX_PROBLEM_ROLLING_LOCAL:
+            e = frix::make_rolling_local_problem(p.W, p.q, p.mu, p.mu_r, p.nc, &check);
+            break;
+        case FRIX_PROBLEM_ROLLING_GLOBAL:
+            e = frix::make_rolling_global_problem(p.M, p.H, p.f, p.w, p.mu, p.mu_r, p.nc, &check);
+            break;
+        default: e = frix::make_global_problem(p.M, p.H, p.f, p.w, p.mu, p.nc, &check); break;
+    }
     frix_problem_free(check);
     return e;
 }
@@ -45,6 +53,7 @@ void copy_views(const frix_problem &from, frix_problem &to) {
     to.f = from.f;
     to.w = from.w;
     to.mu = from.mu;
+    to.mu_r = from.mu_r;
     to.weight = from.weight;
     to.dof_weight = from.dof_weight;
     to.load_weight = from.load_weight;
@@ -54,7 +63,6 @@ frix_error create(const frix_problem *problem, const frix_options *options, frix
     if (!out) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_persistent_create: out is NULL");
     *out = nullptr;
     if (!problem) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_persistent_create: problem is NULL");
-    if (frix_error e = frix::refuse_rolling(*problem, "frix_persistent_create")) return e;
     auto ps = std::make_unique<frix_persistent>();
     frix_options *copy = nullptr;
     const frix_error e = options ? frix_options_copy(options, &copy) : frix_options_create(frix::kDefaultSolver, &copy);
@@ -63,9 +71,16 @@ frix_error create(const frix_problem *problem, const frix_options *options, frix
     const frix::SolverEntry *entry = frix::find_solver(copy->solver_id);
     if (!entry)
         return fail(FRIX_ERR_UNKNOWN_SOLVER, "frix_persistent_create: no solver has id %d", copy->solver_id);
-    if (!entry->solves_local && !entry->solves_global)
+    if (frix::is_rolling(*problem)) {
+        if (!entry->solves_rolling)
+            return fail(FRIX_ERR_UNSUPPORTED,
+                        "frix_persistent_create: solver %s does not solve rolling-friction problems (auto, "
+                        "rolling-nsgs and rolling-nsn do)",
+                        entry->name);
+    } else if (!entry->solves_local && !entry->solves_global) {
         return fail(FRIX_ERR_UNSUPPORTED, "frix_persistent_create: solver %s solves rolling-friction problems only",
                     entry->name);
+    }
     if (problem->kind == FRIX_PROBLEM_LOCAL && !entry->solves_local)
         return fail(FRIX_ERR_UNSUPPORTED, "frix_persistent_create: solver %s solves global problems only",
                     entry->name);
@@ -99,7 +114,7 @@ FRIX_API frix_error frix_persistent_update_local(frix_persistent *ps, const frix
                                                  const double *mu) {
     return frix::guard("frix_persistent_update_local", [&]() -> frix_error {
         if (!ps) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_persistent_update_local: the persistent solver is NULL");
-        if (ps->problem.kind != FRIX_PROBLEM_LOCAL)
+        if (!frix::is_local_form(ps->problem))
             return fail(FRIX_ERR_INVALID_ARGUMENT,
                         "frix_persistent_update_local: the problem is global (use frix_persistent_update_global)");
         frix_problem next;
@@ -127,7 +142,7 @@ FRIX_API frix_error frix_persistent_update_global(frix_persistent *ps, const fri
                                                   const double *f, const double *w, const double *mu) {
     return frix::guard("frix_persistent_update_global", [&]() -> frix_error {
         if (!ps) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_persistent_update_global: the persistent solver is NULL");
-        if (ps->problem.kind != FRIX_PROBLEM_GLOBAL)
+        if (frix::is_local_form(ps->problem))
             return fail(FRIX_ERR_INVALID_ARGUMENT,
                         "frix_persistent_update_global: the problem is local (use frix_persistent_update_local)");
         frix_problem next;
@@ -161,44 +176,99 @@ FRIX_API frix_error frix_persistent_update_global(frix_persistent *ps, const fri
 
 }  // extern "C"
 
+namespace {
+
+// Whether the solver's problem has the law the caller's call is for: the rolling calls carry
+// mu_r, the others do not, and a problem keeps its law for its whole life.
+frix_error check_law(const char *where, const frix_persistent *ps, bool rolling, const char *instead) {
+    if (frix::is_rolling(ps->problem) == rolling) return FRIX_OK;
+    return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the problem %s rolling friction (use %s)", where,
+                rolling ? "has no" : "has", instead);
+}
+
+// The next step's contacts of a local problem (mu_r: nc values for a rolling one).
+frix_error set_contacts_local(const char *where, frix_persistent *ps, const frix_matrix *W, const double *q,
+                              const double *mu, const double *mu_r, int64_t nc, bool rolling) {
+    if (!ps) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the persistent solver is NULL", where);
+    if (!frix::is_local_form(ps->problem))
+        return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the problem is global (use %s)", where,
+                    rolling ? "frix_persistent_set_contacts_rolling_global" : "frix_persistent_set_contacts_global");
+    const char *instead =
+        rolling ? "frix_persistent_set_contacts_local" : "frix_persistent_set_contacts_rolling_local";
+    if (frix_error e = check_law(where, ps, rolling, instead)) return e;
+    frix_problem *check = nullptr;
+    if (frix_error e = rolling ? frix::make_rolling_local_problem(W, q, mu, mu_r, nc, &check)
+                               : frix::make_local_problem(W, q, mu, nc, &check))
+        return e;
+    copy_views(*check, ps->problem);
+    frix_problem_free(check);
+    // Every kept state was built for the old contacts: the versions say they are stale.
+    ps->W_pattern = W ? frix::pattern_of(*W) : frix_matrix{};
+    ++ps->cache.w_values;
+    ++ps->cache.w_pattern;
+    return FRIX_OK;
+}
+
+// The same for a global problem: M, its factorisation and f stay.
+frix_error set_contacts_global(const char *where, frix_persistent *ps, const frix_matrix *H, const double *w,
+                               const double *mu, const double *mu_r, int64_t nc, bool rolling) {
+    if (!ps) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the persistent solver is NULL", where);
+    if (frix::is_local_form(ps->problem))
+        return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the problem is local (use %s)", where,
+                    rolling ? "frix_persistent_set_contacts_rolling_local" : "frix_persistent_set_contacts_local");
+    const char *instead =
+        rolling ? "frix_persistent_set_contacts_global" : "frix_persistent_set_contacts_rolling_global";
+    if (frix_error e = check_law(where, ps, rolling, instead)) return e;
+    const frix_problem &p = ps->problem;
+    frix_problem *check = nullptr;
+    if (frix_error e = rolling ? frix::make_rolling_global_problem(p.M, H, p.f, w, mu, mu_r, nc, &check)
+                               : frix::make_global_problem(p.M, H, p.f, w, mu, nc, &check))
+        return e;
+    copy_views(*check, ps->problem);
+    frix_problem_free(check);
+    // M's factorisation follows M's version, which stays; what was formed from H does not.
+    ++ps->cache.h_values;
+    return FRIX_OK;
+}
+
+}  // namespace
+
 extern "C" {
 
 FRIX_API frix_error frix_persistent_set_contacts_local(frix_persistent *ps, const frix_matrix *W, const double *q,
                                                        const double *mu, int64_t nc) {
-    return frix::guard("frix_persistent_set_contacts_local", [&]() -> frix_error {
-        if (!ps)
-            return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_persistent_set_contacts_local: the persistent solver is NULL");
-        if (ps->problem.kind != FRIX_PROBLEM_LOCAL)
-            return fail(FRIX_ERR_INVALID_ARGUMENT,
-                        "frix_persistent_set_contacts_local: the problem is global (use "
-                        "frix_persistent_set_contacts_global)");
-        frix_problem *check = nullptr;
-        if (frix_error e = frix::make_local_problem(W, q, mu, nc, &check)) return e;
-        copy_views(*check, ps->problem);
-        frix_problem_free(check);
-        // Every kept state was built for the old contacts: the versions say they are stale.
-        ps->W_pattern = W ? frix::pattern_of(*W) : frix_matrix{};
-        ++ps->cache.w_values;
-        ++ps->cache.w_pattern;
-        return FRIX_OK;
-    });
+    const char *where = "frix_persistent_set_contacts_local";
+    return frix::guard(where, [&] { return set_contacts_local(where, ps, W, q, mu, nullptr, nc, false); });
 }
 
 FRIX_API frix_error frix_persistent_set_contacts_global(frix_persistent *ps, const frix_matrix *H, const double *w,
                                                         const double *mu, int64_t nc) {
-    return frix::guard("frix_persistent_set_contacts_global", [&]() -> frix_error {
-        if (!ps)
-            return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_persistent_set_contacts_global: the persistent solver is NULL");
-        if (ps->problem.kind != FRIX_PROBLEM_GLOBAL)
-            return fail(FRIX_ERR_INVALID_ARGUMENT,
-                        "frix_persistent_set_contacts_global: the problem is local (use "
-                        "frix_persistent_set_contacts_local)");
-        frix_problem *check = nullptr;
-        if (frix_error e = frix::make_global_problem(ps->problem.M, H, ps->problem.f, w, mu, nc, &check)) return e;
-        copy_views(*check, ps->problem);
-        frix_problem_free(check);
-        // M's factorisation follows M's version, which stays; what was formed from H does not.
-        ++ps->cache.h_values;
+    const char *where = "frix_persistent_set_contacts_global";
+    return frix::guard(where, [&] { return set_contacts_global(where, ps, H, w, mu, nullptr, nc, false); });
+}
+
+FRIX_API frix_error frix_persistent_set_contacts_rolling_local(frix_persistent *ps, const frix_matrix *W,
+                                                               const double *q, const double *mu, const double *mu_r,
+                                                               int64_t nc) {
+    const char *where = "frix_persistent_set_contacts_rolling_local";
+    return frix::guard(where, [&] { return set_contacts_local(where, ps, W, q, mu, mu_r, nc, true); });
+}
+
+FRIX_API frix_error frix_persistent_set_contacts_rolling_global(frix_persistent *ps, const frix_matrix *H,
+                                                                const double *w, const double *mu,
+                                                                const double *mu_r, int64_t nc) {
+    const char *where = "frix_persistent_set_contacts_rolling_global";
+    return frix::guard(where, [&] { return set_contacts_global(where, ps, H, w, mu, mu_r, nc, true); });
+}
+
+FRIX_API frix_error frix_persistent_update_mu_r(frix_persistent *ps, const double *mu_r) {
+    const char *where = "frix_persistent_update_mu_r";
+    return frix::guard(where, [&]() -> frix_error {
+        if (!ps) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the persistent solver is NULL", where);
+        if (!frix::is_rolling(ps->problem))
+            return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the problem has no rolling friction", where);
+        if (frix_error e = frix::check_mu(where, mu_r, ps->problem.nc, "mu_r")) return e;
+        ps->problem.mu_r = mu_r;
         return FRIX_OK;
     });
 }

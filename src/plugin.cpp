@@ -96,6 +96,7 @@ const frix_plugin_table kTableV1 = {
     offsetof(frix_plugin_table, persistent_create), 1, FRIX_VERSION_NUMBER, FRIX_TABLE_V1_FUNCTIONS,
     nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
     nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
+    nullptr, nullptr, nullptr,
 };
 
 #define FRIX_TABLE_V2_FUNCTIONS \
@@ -111,6 +112,7 @@ const frix_plugin_table kTableV2 = {
     offsetof(frix_plugin_table, persistent_set_contacts_local), 2, FRIX_VERSION_NUMBER, FRIX_TABLE_V2_FUNCTIONS,
     nullptr, nullptr, nullptr, nullptr, nullptr,
     nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
+    nullptr, nullptr, nullptr,
 };
 
 #define FRIX_TABLE_V3_FUNCTIONS \
@@ -123,6 +125,7 @@ const frix_plugin_table kTableV3 = {
     offsetof(frix_plugin_table, option_choice_name), 3, FRIX_VERSION_NUMBER, FRIX_TABLE_V3_FUNCTIONS,
     nullptr, nullptr, nullptr,
     nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
+    nullptr, nullptr, nullptr,
 };
 
 #define FRIX_TABLE_V4_FUNCTIONS \
@@ -135,6 +138,7 @@ const frix_plugin_table kTableV3 = {
 const frix_plugin_table kTableV4 = {
     offsetof(frix_plugin_table, problem_rolling_local), 4, FRIX_VERSION_NUMBER, FRIX_TABLE_V4_FUNCTIONS,
     nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
+    nullptr, nullptr, nullptr,
 };
 
 const frix_plugin_table kTableV5 = {
@@ -150,6 +154,9 @@ const frix_plugin_table kTableV5 = {
     frix_problem_set_math_info,
     frix_problem_math_info,
     frix_fclib_write_compressed,
+    frix_persistent_set_contacts_rolling_local,
+    frix_persistent_set_contacts_rolling_global,
+    frix_persistent_update_mu_r,
 };
 
 }  // namespace

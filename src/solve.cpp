@@ -173,7 +173,7 @@ frix_error solve_problem(const char *caller, const frix_problem *problem, const 
         if (problem->kind == FRIX_PROBLEM_ROLLING_GLOBAL && problem->n > 0 && !v)
             return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: v is required for a global problem (%lld entries)", caller,
                         (long long)problem->n);
-        err = solve_rolling_problem(*problem, run, *entry, r, u, v, out, clock);
+        err = solve_rolling_problem(*problem, run, *entry, r, u, v, out, clock, cache);
     } else if (!entry->solves_local && !entry->solves_global) {
         err = fail(FRIX_ERR_UNSUPPORTED, "%s: solver %s solves rolling-friction problems only", caller, entry->name);
     } else if (problem->kind == FRIX_PROBLEM_GLOBAL) {

@@ -35,7 +35,8 @@ frix_error fall_back(const frix_problem &p, const std::vector<double> &start, do
 }  // namespace
 
 frix_error solve_rolling_problem(const frix_problem &p, const frix_options &opts, const SolverEntry &entry,
-                                 double *r, double *u, double *v, frix_info &info, const Stopwatch &clock) {
+                                 double *r, double *u, double *v, frix_info &info, const Stopwatch &clock,
+                                 SolveCache *cache) {
     const int64_t m = 5 * p.nc;
     const bool local = p.kind == FRIX_PROBLEM_ROLLING_LOCAL;
     // A non-finite warm start would poison every iterate; start such entries from 0.
@@ -52,6 +53,7 @@ frix_error solve_rolling_problem(const frix_problem &p, const frix_options &opts
     } else {
         SolveContext ctx = local ? SolveContext::local(p, opts, r, u, info, clock)
                                  : SolveContext::global(p, opts, r, u, v, info, clock, nullptr);
+        ctx.with_cache(cache);
         if (frix_error e = entry.solve(ctx)) return e;
     }
     bool broken = !all_finite(r, m) || (!local && !all_finite(v, p.n));

@@ -162,9 +162,11 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
 
 // The driver's rolling path (src/solve_rolling.cpp), for an entry that solves_rolling: the
 // all-separating case of the local form, a finite warm start, `entry`'s solve (which sets v in
-// the global form), the final rolling measures and the status checked against them.
+// the global form), the final rolling measures and the status checked against them; `cache`:
+// a persistent solver's states, handed to the solver.
 frix_error solve_rolling_problem(const frix_problem &p, const frix_options &opts, const SolverEntry &entry,
-                                 double *r, double *u, double *v, frix_info &info, const Stopwatch &clock);
+                                 double *r, double *u, double *v, frix_info &info, const Stopwatch &clock,
+                                 SolveCache *cache = nullptr);
 
 // frix_solve's whole contract (argument checks, the default solver, a fresh info), with the
 // states of a persistent solver when `cache` is given.

@@ -469,6 +469,7 @@ START_TEST(test_plugin_table_versions) {
     ck_assert(FRIX_PLUGIN_HAS(v5, fclib_write_compressed));
     ck_assert_ptr_eq(v5->problem_rolling_global, frix_problem_rolling_global);
     ck_assert_ptr_eq(v5->problem_math_info, frix_problem_math_info);
+    ck_assert_ptr_eq(v5->persistent_update_mu_r, frix_persistent_update_mu_r);
     ck_assert(!FRIX_PLUGIN_HAS(v3, options_set_by_name));
     ck_assert(FRIX_PLUGIN_HAS(v4, options_set_by_name));
     ck_assert_ptr_eq(v4->options_set_by_name, frix_options_set_by_name);

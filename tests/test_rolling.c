@@ -105,9 +105,6 @@ START_TEST(test_refused) {
     int64_t verdict = -1;
     ck_assert_int_eq(frix_info_get_int(info, FRIX_INFO_EXISTENCE, &verdict), FRIX_OK);
     ck_assert_int_eq(verdict, FRIX_EXISTENCE_UNDETERMINED);
-    frix_persistent *ps = NULL;
-    ck_assert_int_eq(frix_persistent_create(p, NULL, &ps), FRIX_ERR_UNSUPPORTED);
-    ck_assert_ptr_null(ps);
     frix_info_free(info);
     frix_problem_free(p);
     frix_matrix_free(W);

@@ -3,8 +3,8 @@
  *
  *   granular [--spheres N] [--aspect A] [--steps S] [--step H] [--mu MU] [--radius R] [--seed K]
  *            [--solver NAME] [--tol T] [--threads T] [--max-iter I] [--time-limit SEC]
- *            [--set NAME=VALUE ...] [--dump-step K --dump FILE.hdf5] [--every K] [--settle]
- *            [--floor F] [--check] [--quiet]
+ *            [--set NAME=VALUE ...] [--dump-step K --dump FILE.hdf5 --dump-local FILE.hdf5]
+ *            [--every K] [--settle] [--floor F] [--rolling MU_R] [--check] [--quiet]
  *
  * Bodies: N spheres of radii in [0.7 R, R] (density 2500), set on a loose lattice A times as
  * tall as wide (default 2) in the middle of the floor (F times as wide as the lattice) of a box
@@ -15,17 +15,22 @@
  *   - contact frames (normal into the first sphere, two tangents) and the global problem
  *     M v = H r + f, u = H^T v + w: M diagonal (mass, inertia), f = M v_k + h F_ext, and
  *     w_N = max(gap, 0) / h, so that u_N >= 0 closes the gap no further than to touching;
- *   - the persistent solver, given the step's contacts (frix_persistent_set_contacts_global)
- *     and warm-started from last step's impulses of the same pairs;
+ *     with --rolling MU_R, a rolling-friction problem (frix_problem.h): two more rows a
+ *     contact, the relative angular velocity of the two spheres on the tangents, whose moment
+ *     is at most MU_R (a length) times the normal impulse;
+ *   - the persistent solver, given the step's contacts (frix_persistent_set_contacts_global,
+ *     or _rolling_global) and warm-started from last step's impulses of the same pairs;
  *   - positions x += h v.
  * --steps S runs steps 0 to S-1. One line per step (every K-th with --every, and the last):
  * step, contacts, solver, iterations, the error in the default measure and in Siconos's, solve
  * time, energy, and the pile's physics (physics.h): kinetic energy, the largest grain speed over
  * its radius, the largest overlap over the smallest radius. --settle stops after the first step
  * at which the pile is at rest (every grain slower than 0.1 radius per second). The last lines
- * say whether the pile came to rest and its angle of repose. A step whose solve did not
+ * say whether the pile is at rest at the end, from which step on, and its angle of repose. A step whose solve did not
  * converge is reported on stderr, and their count at the end. --dump writes step K's problem,
- * its solution and, as guess 1, the warm start the step's solve began from, as an FCLIB file.
+ * its solution and, as guess 1, the warm start the step's solve began from, as an FCLIB file;
+ * --dump-local writes it in the local form (W = H^T M^-1 H formed: what solvers of local
+ * problems, Siconos's rolling NSGS among them, take).
  * --check exits with 1 unless every step converged and the energy (kinetic + potential) never
  * grew by more than the tolerance of the step's solve allows. Exit status 2 for a usage or
  * library error; --help prints the options.
@@ -46,8 +51,8 @@
 typedef struct {
     scene_settings scene;
     int64_t threads, dump_step;
-    double time_limit;
-    const char *solver, *dump;
+    double time_limit, mu_r; /* mu_r < 0: no rolling resistance (three rows a contact) */
+    const char *solver, *dump, *dump_local;
     const char *set[16]; /* --set NAME=VALUE: any other solver option, by name */
     int sets, check, quiet, settle;
 } settings;
@@ -56,8 +61,8 @@ typedef struct {
 static const char kUsage[] =
     "usage: granular [--spheres N] [--aspect A] [--steps S] [--step H] [--mu MU] [--radius R] [--seed K]\n"
     "         [--solver NAME] [--tol T] [--threads T] [--max-iter I] [--time-limit SEC]\n"
-    "         [--set NAME=VALUE ...] [--dump-step K --dump FILE.hdf5] [--every K] [--settle]\n"
-    "         [--floor F] [--check] [--quiet]\n";
+    "         [--set NAME=VALUE ...] [--dump-step K --dump FILE.hdf5 --dump-local FILE.hdf5]\n"
+    "         [--every K] [--settle] [--floor F] [--rolling MU_R] [--check] [--quiet]\n";
 
 static int usage(const char *msg, const char *arg) {
     fprintf(stderr, "granular: %s%s%s\n%s", msg, arg ? ": " : "", arg ? arg : "", kUsage);
@@ -74,9 +79,13 @@ static void help(void) {
           "  --threads T      threads of the solver (default 1)\n"
           "  --time-limit SEC time limit of every step's solve (default 0: none)\n"
           "  --set NAME=VALUE any other solver option, by name (frix solvers NAME lists them)\n"
-          "  --dump-step K    with --dump: write step K (0 to S-1) as an FCLIB problem with its solution\n"
-          "  --dump FILE.hdf5 the file --dump-step writes (the step's warm start as guess 1)\n"
+          "  --dump-step K    with --dump or --dump-local: write step K (0 to S-1) as an FCLIB problem\n"
+          "  --dump FILE.hdf5 the file --dump-step writes: the global problem with its solution (the\n"
+          "                   step's warm start as guess 1)\n"
+          "  --dump-local FILE.hdf5 the same step's problem in the local form (W = H^T M^-1 H formed)\n"
           "  --settle         stop after the first step at which every grain is slower than 0.1 radius/s\n"
+          "  --rolling MU_R   rolling resistance of every contact, metres (>= 0; 0 rolls freely with the\n"
+          "                   rolling rows kept); default: none, three rows a contact\n"
           "  --check          exit 1 unless every step converged and the energy never grew\n"
           "  --quiet          no line per step (unconverged steps are still reported on stderr)\n"
           "  --help           this text\n"
@@ -85,8 +94,8 @@ static void help(void) {
 }
 
 static int parse(int argc, char **argv, settings *st) {
-    *st = (settings){.threads = 1, .dump_step = -1, .time_limit = 0.0, .solver = "auto", .dump = NULL, .check = 0,
-                     .quiet = 0};
+    *st = (settings){.threads = 1, .dump_step = -1, .time_limit = 0.0, .mu_r = -1.0, .solver = "auto", .dump = NULL,
+                     .check = 0, .quiet = 0};
     scene_defaults(&st->scene);
     for (int i = 1; i < argc; ++i) {
         const char *o = argv[i], *a = i + 1 < argc ? argv[i + 1] : NULL;
@@ -102,8 +111,10 @@ static int parse(int argc, char **argv, settings *st) {
         else if (!strcmp(o, "--threads")) ok = parse_int(a, &st->threads) && st->threads >= 1;
         else if (!strcmp(o, "--dump-step")) ok = parse_int(a, &st->dump_step) && st->dump_step >= 0;
         else if (!strcmp(o, "--time-limit")) ok = parse_double(a, &st->time_limit) && st->time_limit >= 0.0;
+        else if (!strcmp(o, "--rolling")) ok = parse_double(a, &st->mu_r) && st->mu_r >= 0.0;
         else if (!strcmp(o, "--solver")) st->solver = a;
         else if (!strcmp(o, "--dump")) st->dump = a;
+        else if (!strcmp(o, "--dump-local")) st->dump_local = a;
         else if (!strcmp(o, "--set")) {
             if (st->sets == (int)(sizeof st->set / sizeof st->set[0])) return usage("too many --set", a);
             st->set[st->sets++] = a;
@@ -112,7 +123,8 @@ static int parse(int argc, char **argv, settings *st) {
         if (!ok) return usage("bad value", a);
         i += takes;
     }
-    if ((st->dump != NULL) != (st->dump_step >= 0)) return usage("--dump and --dump-step go together", NULL);
+    if ((st->dump || st->dump_local) != (st->dump_step >= 0))
+        return usage("--dump-step goes with --dump or --dump-local, and they with it", NULL);
     /* A dump that would never happen is a mistake, not a no-op: the file would silently be missing. */
     if (st->dump_step >= st->scene.steps) {
         char why[128];
@@ -154,7 +166,7 @@ static int set_option(frix_options *opts, const char *assignment) {
  * that a benchmark can start where the time stepping did. */
 static frix_error dump_with_warm_start(const char *path, const frix_problem *p, const double *mdiag, const double *r,
                                        const double *u, const double *v, const double *r0) {
-    const int64_t m = 3 * frix_problem_contacts(p), dofs = frix_problem_dofs(p);
+    const int64_t m = frix_problem_contact_dofs(p), dofs = frix_problem_dofs(p);
     double *v0 = malloc(sizeof *v0 * (size_t)(dofs > 0 ? dofs : 1)), *u0 = malloc(sizeof *u0 * (size_t)(m > 0 ? m : 1));
     frix_error e = v0 && u0 ? FRIX_OK : FRIX_ERR_OUT_OF_MEMORY;
     if (!e) {
@@ -185,6 +197,7 @@ int main(int argc, char **argv) {
         return 2;
     }
     const int64_t n = w.n, dofs = 6 * n;
+    const int rolling = st.mu_r >= 0.0, dim = rolling ? 5 : 3; /* entries of r a contact */
     int status = 0;
     frix_error e = FRIX_OK;
     const char *failed = NULL;
@@ -196,7 +209,7 @@ int main(int argc, char **argv) {
     contacts now = {0}, before = {0};
     int64_t *cell_start = NULL, cells_capacity = 0, *order = malloc(sizeof *order * (size_t)n);
     int64_t *hr = NULL, *hc = NULL;
-    double *hv = NULL, *wv = NULL, *mu = NULL, *r = NULL, *u = NULL, *r_before = NULL, *r_warm = NULL;
+    double *hv = NULL, *wv = NULL, *mu = NULL, *mu_r = NULL, *r = NULL, *u = NULL, *r_before = NULL, *r_warm = NULL;
     int64_t c_capacity = 0;
     frix_matrix *M = NULL, *H = NULL, *H_next = NULL;
     frix_problem *problem = NULL;
@@ -230,9 +243,10 @@ int main(int argc, char **argv) {
                "max_overlap_per_rmin\n");
     const double e0 = energy(&w);
     double e_before = e0;
+    /* at_rest: the step from which every step so far left the pile at rest (-1: the last did not). */
     int64_t unconverged = 0, at_rest = -1, step = 0;
     pile_state pile = {0.0, 0.0, 0.0};
-    for (; step < st.scene.steps && at_rest < 0; ++step) {
+    for (; step < st.scene.steps && !(st.settle && at_rest >= 0); ++step) {
         step_reach(&w, st.scene.h, reach);
         contacts t = before;
         before = now;
@@ -245,39 +259,42 @@ int main(int argc, char **argv) {
         const int64_t nc = now.count;
         if (nc > c_capacity || !r) {
             const int64_t cap = nc > 2 * c_capacity ? nc : 2 * c_capacity + 1;
-            if (!grow_doubles(&wv, 3 * cap) || !grow_doubles(&mu, cap) || !grow_doubles(&r, 3 * cap) ||
-                !grow_doubles(&u, 3 * cap) || !grow_doubles(&r_before, 3 * cap) || !grow_doubles(&r_warm, 3 * cap) ||
-                !grow_indices(&hr, 36 * cap) ||
-                !grow_indices(&hc, 36 * cap) || !grow_doubles(&hv, 36 * cap)) {
+            if (!grow_doubles(&wv, dim * cap) || !grow_doubles(&mu, cap) || !grow_doubles(&mu_r, cap) ||
+                !grow_doubles(&r, dim * cap) || !grow_doubles(&u, dim * cap) || !grow_doubles(&r_before, dim * cap) ||
+                !grow_doubles(&r_warm, dim * cap) || !grow_indices(&hr, 12 * dim * cap) ||
+                !grow_indices(&hc, 12 * dim * cap) || !grow_doubles(&hv, 12 * dim * cap)) {
                 fprintf(stderr, "granular: out of memory\n");
                 status = 2;
                 goto done;
             }
             c_capacity = cap;
         }
-        const int64_t entries = assemble_h(&w, &now, hr, hc, hv);
-        if ((e = frix_matrix_from_triplets(dofs, 3 * nc, entries, hr, hc, hv, &H_next))) {
+        const int64_t entries = assemble_h(&w, &now, dim, hr, hc, hv);
+        if ((e = frix_matrix_from_triplets(dofs, dim * nc, entries, hr, hc, hv, &H_next))) {
             failed = "H";
             goto done;
         }
         for (int64_t a = 0; a < nc; ++a) {
-            wv[3 * a] = fmax(now.c[a].gap, 0.0) / st.scene.h;
-            wv[3 * a + 1] = wv[3 * a + 2] = 0.0;
+            for (int k = 0; k < dim; ++k) wv[dim * a + k] = 0.0;
+            wv[dim * a] = fmax(now.c[a].gap, 0.0) / st.scene.h;
             mu[a] = st.scene.mu;
+            mu_r[a] = st.mu_r;
         }
         for (int64_t i = 0; i < n; ++i)
             for (int q = 0; q < 6; ++q) f[6 * i + q] = mdiag[6 * i + q] * w.v[6 * i + q] - (q == 2 ? st.scene.h * w.mass[i] * GRAVITY : 0.0);
-        warm_start(&now, &before, r_before, r);
-        if (st.dump_step == step) memcpy(r_warm, r, sizeof *r * 3 * (size_t)nc);
+        warm_start(&now, &before, dim, r_before, r);
+        if (st.dump_step == step) memcpy(r_warm, r, sizeof *r * (size_t)(dim * nc));
         if (!ps) {
-            if ((e = frix_problem_global(M, H_next, f, wv, mu, nc, &problem)) ||
+            if ((e = rolling ? frix_problem_rolling_global(M, H_next, f, wv, mu, mu_r, nc, &problem)
+                             : frix_problem_global(M, H_next, f, wv, mu, nc, &problem)) ||
                 (e = frix_persistent_create(problem, opts, &ps))) {
                 failed = "the persistent solver";
                 goto done;
             }
             frix_problem_free(problem); /* the persistent solver keeps its own views */
             problem = NULL;
-        } else if ((e = frix_persistent_set_contacts_global(ps, H_next, wv, mu, nc))) {
+        } else if ((e = rolling ? frix_persistent_set_contacts_rolling_global(ps, H_next, wv, mu, mu_r, nc)
+                                : frix_persistent_set_contacts_global(ps, H_next, wv, mu, nc))) {
             failed = "the step's contacts";
             goto done;
         }
@@ -293,7 +310,8 @@ int main(int argc, char **argv) {
         const double err = frix_info_error(info);
         if (st.dump_step == step) {
             frix_problem *dumped = NULL;
-            if ((e = frix_problem_global(M, H, f, wv, mu, nc, &dumped))) {
+            if ((e = rolling ? frix_problem_rolling_global(M, H, f, wv, mu, mu_r, nc, &dumped)
+                             : frix_problem_global(M, H, f, wv, mu, nc, &dumped))) {
                 failed = "the dumped problem";
                 goto done;
             }
@@ -301,23 +319,27 @@ int main(int argc, char **argv) {
             snprintf(title, sizeof title, "granular: %lld spheres, step %lld, seed %lld", (long long)n, (long long)step,
                      (long long)st.scene.seed);
             frix_problem_set_title(dumped, title);
-            e = dump_with_warm_start(st.dump, dumped, mdiag, r, u, v_new, r_warm);
+            e = st.dump ? dump_with_warm_start(st.dump, dumped, mdiag, r, u, v_new, r_warm) : FRIX_OK;
             frix_problem_free(dumped);
             if (e) {
                 failed = "--dump";
+                goto done;
+            }
+            if (st.dump_local && (e = write_local_form(&w, &now, dim, mdiag, f, wv, mu, mu_r, title, st.dump_local))) {
+                failed = "--dump-local";
                 goto done;
             }
         }
         memcpy(w.v, v_new, sizeof *v_new * (size_t)dofs);
         for (int64_t i = 0; i < n; ++i)
             for (int q = 0; q < 3; ++q) w.x[3 * i + q] += st.scene.h * w.v[6 * i + q];
-        memcpy(r_before, r, sizeof *r * 3 * (size_t)nc);
+        memcpy(r_before, r, sizeof *r * (size_t)(dim * nc));
         const double en = energy(&w);
         pile = measure_pile(&w, &now);
-        if (st.settle && pile.max_rate < REST_RATE) at_rest = step;
+        at_rest = pile.max_rate < REST_RATE ? (at_rest < 0 ? step : at_rest) : -1;
         double err_siconos = NAN;
         frix_info_get_double(info, FRIX_INFO_ERROR_RELATIVE, &err_siconos);
-        if (!st.quiet && (step % st.scene.every == 0 || step == st.scene.steps - 1 || at_rest == step))
+        if (!st.quiet && (step % st.scene.every == 0 || step == st.scene.steps - 1 || (st.settle && at_rest == step)))
             printf("%lld %lld %s %lld %.3e %.3e %.4f %.9g %.4e %.4e %.3e\n", (long long)step, (long long)nc, st.solver,
                    (long long)frix_info_iterations(info), err, err_siconos, frix_info_solve_time(info), en,
                    pile.kinetic, pile.max_rate, pile.penetration);
@@ -371,6 +393,7 @@ done:
     free(hv);
     free(wv);
     free(mu);
+    free(mu_r);
     free(r);
     free(u);
     free(r_before);

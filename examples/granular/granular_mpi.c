@@ -193,7 +193,7 @@ static int run(const settings *st, int rank, int ranks) {
         for (int k = 0; k < ranks; ++k) b.counts[k] = b.displs[k];
         for (int64_t a = 0; a < nc; ++a) b.order[b.counts[b.owner_of_sphere[now.c[a].a]]++] = a;
         const int64_t first = b.displs[rank], owned = b.displs[rank + 1] - first;
-        warm_start(&now, &before, b.r_before, b.r_all);
+        warm_start(&now, &before, 3, b.r_before, b.r_all);
         /* This rank's contacts: bodies (-1 for a wall), blocks of H^T, w, mu, warm start; the
          * spheres given: those its contacts touch and its own. */
         for (int64_t i = 0; i < owned; ++i) {

@@ -212,20 +212,32 @@ void rolling_blocks(const world *w, const contact *c, double R[24]) {
     }
 }
 
-int64_t assemble_h(const world *w, const contacts *cs, int64_t *rows, int64_t *cols, double *vals) {
+void contact_blocks5(const world *w, const contact *c, double B[60]) {
+    double G[36], R[24];
+    contact_blocks(w, c, G);
+    rolling_blocks(w, c, R);
+    for (int side = 0; side < 2; ++side)
+        for (int q = 0; q < 6; ++q) {
+            for (int e = 0; e < 3; ++e) B[30 * side + 6 * e + q] = G[18 * side + 6 * e + q];
+            for (int k = 0; k < 2; ++k) B[30 * side + 6 * (3 + k) + q] = R[12 * side + 6 * k + q];
+        }
+}
+
+int64_t assemble_h(const world *w, const contacts *cs, int dim, int64_t *rows, int64_t *cols, double *vals) {
     int64_t k = 0;
-    double G[36];
+    double B[60];
     for (int64_t a = 0; a < cs->count; ++a) {
         const contact *c = &cs->c[a];
-        contact_blocks(w, c, G);
+        if (dim == 5) contact_blocks5(w, c, B);
+        else contact_blocks(w, c, B);
         for (int side = 0; side < 2; ++side) {
             const int64_t s = side ? c->b : c->a;
             if (s >= w->n) continue;
-            for (int e = 0; e < 3; ++e)
+            for (int e = 0; e < dim; ++e)
                 for (int q = 0; q < 6; ++q) {
                     rows[k] = 6 * s + q;
-                    cols[k] = 3 * a + e;
-                    vals[k] = G[18 * side + 6 * e + q];
+                    cols[k] = dim * a + e;
+                    vals[k] = B[6 * dim * side + 6 * e + q];
                     ++k;
                 }
         }
@@ -235,21 +247,91 @@ int64_t assemble_h(const world *w, const contacts *cs, int64_t *rows, int64_t *c
 
 /* Last step's impulse of the same pair, found by binary search in last step's sorted
  * contacts (zero for a new pair). */
-void warm_start(const contacts *now, const contacts *before, const double *r_before, double *r) {
+void warm_start(const contacts *now, const contacts *before, int dim, const double *r_before, double *r) {
     for (int64_t a = 0; a < now->count; ++a) {
         int64_t lo = 0, hi = before->count;
-        r[3 * a] = r[3 * a + 1] = r[3 * a + 2] = 0.0;
+        for (int q = 0; q < dim; ++q) r[dim * a + q] = 0.0;
         while (lo < hi) {
             const int64_t mid = lo + (hi - lo) / 2;
             const int cmp = by_pair(&before->c[mid], &now->c[a]);
             if (cmp == 0) {
-                for (int q = 0; q < 3; ++q) r[3 * a + q] = r_before[3 * mid + q];
+                for (int q = 0; q < dim; ++q) r[dim * a + q] = r_before[dim * mid + q];
                 break;
             }
             if (cmp < 0) lo = mid + 1;
             else hi = mid;
         }
     }
+}
+
+/* W's entries, block by block: each sphere couples every pair of its contacts' blocks. */
+frix_error write_local_form(const world *w, const contacts *cs, int dim, const double *mdiag, const double *f,
+                            const double *wv, const double *mu, const double *mu_r, const char *title,
+                            const char *path) {
+    const int64_t nc = cs->count, n = w->n, bs = 6 * dim; /* a block of H^T: dim x 6 */
+    /* The contacts of each sphere, with the side it is on. */
+    int64_t *deg = calloc((size_t)n + 1, sizeof *deg), *list = malloc(sizeof *list * 2 * (size_t)(nc + 1));
+    int64_t *next = malloc(sizeof *next * (size_t)(n + 1)), *rows = NULL, *cols = NULL;
+    double *q = calloc((size_t)(dim * nc) + 1, sizeof *q), *vals = NULL;
+    double *blocks = malloc(sizeof *blocks * 2 * (size_t)bs * (size_t)(nc + 1));
+    frix_matrix *W = NULL;
+    frix_problem *p = NULL;
+    frix_error e = deg && list && next && q && blocks ? FRIX_OK : FRIX_ERR_OUT_OF_MEMORY;
+    int64_t pairs = 0, k = 0;
+    for (int64_t a = 0; !e && a < nc; ++a)
+        for (int side = 0; side < 2; ++side) {
+            const int64_t s = side ? cs->c[a].b : cs->c[a].a;
+            if (s < n) ++deg[s + 1];
+        }
+    for (int64_t s = 0; !e && s < n; ++s) pairs += deg[s + 1] * deg[s + 1], deg[s + 1] += deg[s];
+    if (!e) {
+        rows = malloc(sizeof *rows * (size_t)(dim * dim) * (size_t)(pairs + 1));
+        cols = malloc(sizeof *cols * (size_t)(dim * dim) * (size_t)(pairs + 1));
+        vals = malloc(sizeof *vals * (size_t)(dim * dim) * (size_t)(pairs + 1));
+        if (!rows || !cols || !vals) e = FRIX_ERR_OUT_OF_MEMORY;
+    }
+    if (!e) {
+        memcpy(next, deg, sizeof *next * (size_t)n);
+        for (int64_t a = 0; a < nc; ++a) {
+            if (dim == 5) contact_blocks5(w, &cs->c[a], &blocks[2 * bs * a]);
+            else contact_blocks(w, &cs->c[a], &blocks[2 * bs * a]);
+            for (int side = 0; side < 2; ++side) {
+                const int64_t s = side ? cs->c[a].b : cs->c[a].a;
+                if (s < n) list[next[s]++] = 2 * a + side;
+            }
+        }
+        for (int64_t s = 0; s < n; ++s)
+            for (int64_t i = deg[s]; i < deg[s + 1]; ++i)
+                for (int64_t j = deg[s]; j < deg[s + 1]; ++j) {
+                    const int64_t a = list[i] / 2, b = list[j] / 2;
+                    const double *Ba = &blocks[2 * bs * a + bs * (list[i] % 2)];
+                    const double *Bb = &blocks[2 * bs * b + bs * (list[j] % 2)];
+                    for (int x = 0; x < dim; ++x)
+                        for (int y = 0; y < dim; ++y) {
+                            double sum = 0.0;
+                            for (int d = 0; d < 6; ++d) sum += Ba[6 * x + d] * Bb[6 * y + d] / mdiag[6 * s + d];
+                            rows[k] = dim * a + x, cols[k] = dim * b + y, vals[k++] = sum;
+                        }
+                }
+        for (int64_t a = 0; a < nc; ++a) {
+            for (int x = 0; x < dim; ++x) q[dim * a + x] = wv[dim * a + x];
+            for (int side = 0; side < 2; ++side) {
+                const int64_t s = side ? cs->c[a].b : cs->c[a].a;
+                if (s >= n) continue;
+                for (int x = 0; x < dim; ++x)
+                    for (int d = 0; d < 6; ++d)
+                        q[dim * a + x] += blocks[2 * bs * a + bs * side + 6 * x + d] * f[6 * s + d] / mdiag[6 * s + d];
+            }
+        }
+        e = frix_matrix_from_triplets(dim * nc, dim * nc, k, rows, cols, vals, &W);
+    }
+    if (!e) e = dim == 5 ? frix_problem_rolling_local(W, q, mu, mu_r, nc, &p) : frix_problem_local(W, q, mu, nc, &p);
+    if (!e) e = frix_problem_set_title(p, title);
+    if (!e) e = frix_fclib_write(path, p, NULL, NULL, NULL, 0, NULL, NULL, NULL);
+    frix_problem_free(p);
+    frix_matrix_free(W);
+    free(deg), free(list), free(q), free(next), free(rows), free(cols), free(vals), free(blocks);
+    return e;
 }
 
 /* *p reallocated to n entries (kept as it was when that fails). */

@@ -3,6 +3,7 @@
 #ifndef FRIX_EXAMPLE_POUR_H
 #define FRIX_EXAMPLE_POUR_H
 
+#include <frix/frix.h>
 #include <stdint.h>
 #include <stdio.h>
 
@@ -63,10 +64,21 @@ void contact_blocks(const world *w, const contact *c, double G[36]);
  * velocity of sphere a to sphere b on tangents 1 and 2, R[12 side + 6 k + q] as for
  * contact_blocks (zero for a wall). */
 void rolling_blocks(const world *w, const contact *c, double R[24]);
-/* H's entries (rows: dofs, 6 a sphere; columns: 3 a contact) as triplets; their count. */
-int64_t assemble_h(const world *w, const contacts *cs, int64_t *rows, int64_t *cols, double *vals);
-/* r: last step's impulse of each pair of `now` found in `before` (sorted), else 0. */
-void warm_start(const contacts *now, const contacts *before, const double *r_before, double *r);
+/* Contact c's two 5 x 6 blocks of H^T with rolling resistance (rows: normal, tangents, then
+ * the rolling rows of rolling_blocks), B[30 side + 6 row + q]. */
+void contact_blocks5(const world *w, const contact *c, double B[60]);
+/* H's entries (rows: dofs, 6 a sphere; columns: dim a contact, 3, or 5 with the rolling rows)
+ * as triplets (at most 12 dim a contact); their count. */
+int64_t assemble_h(const world *w, const contacts *cs, int dim, int64_t *rows, int64_t *cols, double *vals);
+/* r: last step's impulse of each pair of `now` found in `before` (sorted), else 0; dim
+ * entries a contact. */
+void warm_start(const contacts *now, const contacts *before, int dim, const double *r_before, double *r);
+/* The step's problem in the local form, W = H^T M^-1 H and q = H^T M^-1 f + w (M diagonal:
+ * mdiag, 6 a sphere; dim entries a contact, 5 with mu_r), titled `title`, written to `path` as
+ * an FCLIB file. */
+frix_error write_local_form(const world *w, const contacts *cs, int dim, const double *mdiag, const double *f,
+                            const double *wv, const double *mu, const double *mu_r, const char *title,
+                            const char *path);
 /* *p reallocated to n entries (kept as it was when that fails). */
 int grow_doubles(double **p, int64_t n);
 int grow_indices(int64_t **p, int64_t n);

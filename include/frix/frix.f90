@@ -625,6 +625,26 @@ module frix
       integer(c_int64_t), value :: nc
       integer(c_int) :: frix_persistent_set_contacts_global
     end function
+    ! Rolling problems: the next step's contacts with their mu_r, and a new mu_r.
+    function frix_persistent_set_contacts_rolling_local(ps, W, q, mu, mu_r, nc) &
+         bind(C, name='frix_persistent_set_contacts_rolling_local')
+      import :: c_ptr, c_int, c_int64_t
+      type(c_ptr), value :: ps, W, q, mu, mu_r
+      integer(c_int64_t), value :: nc
+      integer(c_int) :: frix_persistent_set_contacts_rolling_local
+    end function
+    function frix_persistent_set_contacts_rolling_global(ps, H, w, mu, mu_r, nc) &
+         bind(C, name='frix_persistent_set_contacts_rolling_global')
+      import :: c_ptr, c_int, c_int64_t
+      type(c_ptr), value :: ps, H, w, mu, mu_r
+      integer(c_int64_t), value :: nc
+      integer(c_int) :: frix_persistent_set_contacts_rolling_global
+    end function
+    function frix_persistent_update_mu_r(ps, mu_r) bind(C, name='frix_persistent_update_mu_r')
+      import :: c_ptr, c_int
+      type(c_ptr), value :: ps, mu_r
+      integer(c_int) :: frix_persistent_update_mu_r
+    end function
     ! What auto did, one line per step (a C string owned by info: frix_fstr copies it).
     function frix_info_trace(info) bind(C, name='frix_info_trace')
       import :: c_ptr

@@ -30,6 +30,13 @@
  * The number of dofs is fixed. The contacts may come and go: frix_persistent_set_contacts_*
  * gives the next step's contacts whatever their number (M's factorisation is kept across it).
  *
+ * Rolling friction (frix_problem.h): a rolling problem, local or global, makes a persistent
+ * solver of rolling problems (with a solver that solves them: auto or rolling-nsgs). Its r and
+ * u have 5 entries a contact, and so do the sizes the updates check (W 5nc x 5nc, q and w 5nc,
+ * H n x 5nc); mu_r is borrowed as mu is, replaced by frix_persistent_update_mu_r, and the
+ * contacts change by frix_persistent_set_contacts_rolling_*, which take the new contacts' mu_r.
+ * A problem keeps its law: the calls of the other law refuse it (FRIX_ERR_INVALID_ARGUMENT).
+ *
  * Threads. One persistent solver is used by one thread at a time (solve and update change
  * it); distinct persistent solvers may run in parallel, also on the same borrowed data,
  * which they only read. The options are copied at create; the log sink and the callback
@@ -52,10 +59,10 @@ extern "C" {
 
 typedef struct frix_persistent frix_persistent;
 
-/* A persistent solver for `problem` (local or global) with a copy of `options` (NULL: the
- * default solver with its defaults). FRIX_ERR_INVALID_ARGUMENT for a NULL problem or out,
- * FRIX_ERR_UNKNOWN_SOLVER, FRIX_ERR_UNSUPPORTED for a solver that cannot solve the
- * problem's kind; the problem's vectors are checked as by frix_solve. */
+/* A persistent solver for `problem` (local or global, rolling or not) with a copy of
+ * `options` (NULL: the default solver with its defaults). FRIX_ERR_INVALID_ARGUMENT for a
+ * NULL problem or out, FRIX_ERR_UNKNOWN_SOLVER, FRIX_ERR_UNSUPPORTED for a solver that
+ * cannot solve the problem's kind; the problem's vectors are checked as by frix_solve. */
 FRIX_API frix_error frix_persistent_create(const frix_problem *problem, const frix_options *options,
                                            frix_persistent **out);
 /* Frees it (NULL is accepted); never frees the borrowed data. */
@@ -67,12 +74,13 @@ FRIX_API frix_error frix_persistent_solve(frix_persistent *ps, double *r, double
                                           frix_info *info);
 
 /* The next local problem: each non-NULL argument replaces the current one (W: 3nc x 3nc;
- * q: 3nc; mu: nc, each >= 0; checked as by frix_problem_local). FRIX_ERR_INVALID_ARGUMENT
- * on a global problem's solver; on any error nothing is replaced. */
+ * q: 3nc; mu: nc, each >= 0; checked as by frix_problem_local; 5nc for a rolling problem).
+ * FRIX_ERR_INVALID_ARGUMENT on a global problem's solver; on any error nothing is replaced. */
 FRIX_API frix_error frix_persistent_update_local(frix_persistent *ps, const frix_matrix *W,
                                                  const double *q, const double *mu);
 /* The next global problem: each non-NULL argument replaces the current one (M: n x n;
- * H: n x 3nc; f: n; w: 3nc; mu: nc; checked as by frix_problem_global).
+ * H: n x 3nc; f: n; w: 3nc; mu: nc; checked as by frix_problem_global; 5nc for a rolling
+ * problem).
  * FRIX_ERR_INVALID_ARGUMENT on a local problem's solver; on any error nothing is replaced. */
 FRIX_API frix_error frix_persistent_update_global(frix_persistent *ps, const frix_matrix *M,
                                                   const frix_matrix *H, const double *f,
@@ -81,8 +89,8 @@ FRIX_API frix_error frix_persistent_update_global(frix_persistent *ps, const fri
 /* The next step's contacts, nc of them (any number, 0 included): W, q and mu together
  * replace the current ones (W: 3nc x 3nc; q: 3nc; mu: nc; checked as by frix_problem_local).
  * What was kept for the old contacts is dropped. r and u of the next solves have 3nc
- * entries. FRIX_ERR_INVALID_ARGUMENT on a global problem's solver; on any error nothing is
- * replaced. */
+ * entries. FRIX_ERR_INVALID_ARGUMENT on a global or rolling problem's solver; on any error
+ * nothing is replaced. */
 FRIX_API frix_error frix_persistent_set_contacts_local(frix_persistent *ps, const frix_matrix *W,
                                                        const double *q, const double *mu,
                                                        int64_t nc);
@@ -91,6 +99,21 @@ FRIX_API frix_error frix_persistent_set_contacts_local(frix_persistent *ps, cons
 FRIX_API frix_error frix_persistent_set_contacts_global(frix_persistent *ps, const frix_matrix *H,
                                                         const double *w, const double *mu,
                                                         int64_t nc);
+
+/* The next step's contacts of a rolling problem, nc of them: as frix_persistent_set_contacts_*
+ * with 5 entries a contact (W: 5nc x 5nc; q, w: 5nc; H: n x 5nc) and mu_r (nc values, each
+ * >= 0), checked as by frix_problem_rolling_local / _global. FRIX_ERR_INVALID_ARGUMENT on a
+ * solver of a problem of the other form or without rolling friction; on any error nothing is
+ * replaced. */
+FRIX_API frix_error frix_persistent_set_contacts_rolling_local(frix_persistent *ps, const frix_matrix *W,
+                                                               const double *q, const double *mu,
+                                                               const double *mu_r, int64_t nc);
+FRIX_API frix_error frix_persistent_set_contacts_rolling_global(frix_persistent *ps, const frix_matrix *H,
+                                                                const double *w, const double *mu,
+                                                                const double *mu_r, int64_t nc);
+/* The rolling coefficients of the current contacts (nc values, each >= 0) replace the current
+ * ones; FRIX_ERR_INVALID_ARGUMENT on a solver of a problem without rolling friction. */
+FRIX_API frix_error frix_persistent_update_mu_r(frix_persistent *ps, const double *mu_r);
 
 #ifdef __cplusplus
 }

@@ -204,8 +204,9 @@ typedef struct frix_plugin_table {
     frix_error (*option_choice_by_name)(frix_option_key key, const char *name, int64_t *value);
     frix_error (*options_set_by_name)(frix_options *opts, const char *key, const char *text);
 
-    /* ---- Table version 5: rolling friction and the problems' texts (frix_problem.h), and
-     * compressed FCLIB files (frix_fclib.h). */
+    /* ---- Table version 5: rolling friction and the problems' texts (frix_problem.h),
+     * compressed FCLIB files (frix_fclib.h), rolling problems in the persistent solver
+     * (frix_persistent.h). */
     frix_error (*problem_rolling_local)(const frix_matrix *W, const double *q, const double *mu,
                                         const double *mu_r, int64_t nc, frix_problem **out);
     frix_error (*problem_rolling_global)(const frix_matrix *M, const frix_matrix *H, const double *f,
@@ -221,6 +222,13 @@ typedef struct frix_plugin_table {
                                          const double *sol_v, int64_t n_guesses,
                                          const double *guess_r, const double *guess_u,
                                          const double *guess_v, int level);
+    frix_error (*persistent_set_contacts_rolling_local)(frix_persistent *ps, const frix_matrix *W,
+                                                        const double *q, const double *mu,
+                                                        const double *mu_r, int64_t nc);
+    frix_error (*persistent_set_contacts_rolling_global)(frix_persistent *ps, const frix_matrix *H,
+                                                         const double *w, const double *mu,
+                                                         const double *mu_r, int64_t nc);
+    frix_error (*persistent_update_mu_r)(frix_persistent *ps, const double *mu_r);
 
     /* New members go here, at the end, and nowhere else. */
 } frix_plugin_table;

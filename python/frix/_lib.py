@@ -130,6 +130,11 @@ _declare("frix_persistent_set_contacts_local", c_int, c_void_p, c_void_p, c_doub
          c_int64)
 _declare("frix_persistent_set_contacts_global", c_int, c_void_p, c_void_p, c_double_p, c_double_p,
          c_int64)
+_declare("frix_persistent_set_contacts_rolling_local", c_int, c_void_p, c_void_p, c_double_p,
+         c_double_p, c_double_p, c_int64)
+_declare("frix_persistent_set_contacts_rolling_global", c_int, c_void_p, c_void_p, c_double_p,
+         c_double_p, c_double_p, c_int64)
+_declare("frix_persistent_update_mu_r", c_int, c_void_p, c_double_p)
 
 _declare("frix_solver_count", c_int64)
 _declare("frix_solver_id_at", c_int, c_int64)

@@ -125,15 +125,17 @@ class Solver(_Closing):
         finally:
             self._exit()
 
-    def update(self, q=None, mu=None, W=None, W_values=None, f=None, w=None, M=None, H=None):
+    def update(self, q=None, mu=None, W=None, W_values=None, f=None, w=None, M=None, H=None,
+               mu_r=None):
         """The next step's data; what is not given stays. Local problems: q, mu, and W (a new
         matrix, any format) or W_values (new values on the structure of the scipy.sparse W
         the problem was built from, as it was then: in its data's order for csr, csc and coo,
-        in W.tocsr()'s for the other formats). Global problems: f, w, mu, M, H. Vectors are
-        borrowed as by Problem (a float64 contiguous array is used in place)."""
+        in W.tocsr()'s for the other formats). Global problems: f, w, mu, M, H. Rolling
+        problems (five entries a contact): mu_r too. Vectors are borrowed as by Problem (a
+        float64 contiguous array is used in place)."""
         p = self._problem
         nc = self._contacts
-        m = 3 * nc
+        m = (5 if p.rolling else 3) * nc
         if W_values is not None:
             if W is not None or p._pattern is None or self._contacts != p.contacts:
                 raise _refusal(InvalidArgumentError, "frix: W_values needs a problem built from a "
@@ -142,6 +144,11 @@ class Solver(_Closing):
         new = {}
         self._enter()
         try:
+            if mu_r is not None:
+                if not p.rolling:
+                    raise _refusal(InvalidArgumentError, "frix: mu_r belongs to rolling-friction problems")
+                new["mu_r"] = _vector(mu_r, nc, "mu_r")
+                _check(lib.frix_persistent_update_mu_r(self._handle, _ptr(new["mu_r"])))
             if p.kind == "local":
                 if any(x is not None for x in (f, w, M, H)):
                     raise _refusal(InvalidArgumentError, "frix: f, w, M, H belong to global problems")
@@ -170,12 +177,19 @@ class Solver(_Closing):
                     self._handle, new.get("M"), new.get("H"), _ptr(new.get("f")),
                     _ptr(new.get("w")), _ptr(new.get("mu"))))
         except BaseException:
+            if "mu_r" in new:  # taken before the update was refused: the kept one again
+                lib.frix_persistent_update_mu_r(self._handle, _ptr(self._current_mu_r()))
             self._discard(new)
             raise
         else:
             self._keep(new)
         finally:
             self._exit()
+
+    def _current_mu_r(self):
+        """The mu_r the persistent solver borrowed before this call."""
+        kept = self._kept.get("mu_r")
+        return kept if kept is not None else self._problem.mu_r
 
     _MATRICES = ("W", "M", "H")
 
@@ -194,12 +208,14 @@ class Solver(_Closing):
                 lib.frix_matrix_free(old)
             self._kept[key] = value
 
-    def set_contacts(self, mu, W=None, q=None, H=None, w=None):
+    def set_contacts(self, mu, W=None, q=None, H=None, w=None, mu_r=None):
         """The next step's contacts, whatever their number nc = len(mu): W (3nc x 3nc) and q
         for a local problem, H (n x 3nc) and w for a global one, with mu, all together
-        (frix_persistent_set_contacts_*). M, f and M's factorisation stay. The next solve
-        starts from r = 0 unless given r0 (the last r belongs to the old contacts)."""
+        (frix_persistent_set_contacts_*); a rolling problem takes 5nc for 3nc, and mu_r.
+        M, f and M's factorisation stay. The next solve starts from r = 0 unless given r0
+        (the last r belongs to the old contacts)."""
         p = self._problem
+        dim = 5 if p.rolling else 3
         mu = np.ascontiguousarray(mu, dtype=np.float64).reshape(-1)
         nc = mu.shape[0]
         new = {}
@@ -209,22 +225,32 @@ class Solver(_Closing):
             mat, vec = ("W", "q") if local else ("H", "w")
             given = {"W": W, "q": q, "H": H, "w": w}
             if given[mat] is None or given[vec] is None or any(
-                    given[k] is not None for k in given if k not in (mat, vec)):
-                raise _refusal(InvalidArgumentError, f"frix: set_contacts of a {p.kind} problem "
-                                                     f"takes {mat}, {vec} and mu")
+                    given[k] is not None for k in given if k not in (mat, vec)) or (
+                    (mu_r is not None) != p.rolling):
+                extra = ", mu and mu_r" if p.rolling else " and mu"
+                raise _refusal(InvalidArgumentError, f"frix: set_contacts of a {p.kind}"
+                                                     f"{' rolling' if p.rolling else ''} problem "
+                                                     f"takes {mat}, {vec}{extra}")
             new[mat] = _matrix(given[mat], mat)
-            new[vec] = _vector(given[vec], 3 * nc, vec)
+            new[vec] = _vector(given[vec], dim * nc, vec)
             new["mu"] = _vector(mu, nc, "mu")
-            setter = (lib.frix_persistent_set_contacts_local if local
-                      else lib.frix_persistent_set_contacts_global)
-            _check(setter(self._handle, new[mat], _ptr(new[vec]), _ptr(new["mu"]), nc))
+            if p.rolling:
+                new["mu_r"] = _vector(mu_r, nc, "mu_r")
+                setter = (lib.frix_persistent_set_contacts_rolling_local if local
+                          else lib.frix_persistent_set_contacts_rolling_global)
+                _check(setter(self._handle, new[mat], _ptr(new[vec]), _ptr(new["mu"]),
+                              _ptr(new["mu_r"]), nc))
+            else:
+                setter = (lib.frix_persistent_set_contacts_local if local
+                          else lib.frix_persistent_set_contacts_global)
+                _check(setter(self._handle, new[mat], _ptr(new[vec]), _ptr(new["mu"]), nc))
         except BaseException:
             self._discard(new)
             raise
         else:
             self._keep(new)
             self._contacts = nc
-            self._r, self._u = np.zeros(3 * nc), np.zeros(3 * nc)
+            self._r, self._u = np.zeros(dim * nc), np.zeros(dim * nc)
             self._addresses = (self._r.ctypes.data, self._u.ctypes.data,
                                None if self._v is None else self._v.ctypes.data)
         finally:

@@ -1,6 +1,6 @@
 """Rolling friction: Problem(..., mu_r=...) in both forms, the measure on a contact solved by
-hand, rolling-nsgs and auto, files written and read back, and the three-component solvers'
-refusal."""
+hand, rolling-nsgs and auto, the persistent solver, files written and read back, and the
+three-component solvers' refusal."""
 import numpy as np
 import pytest
 
@@ -73,9 +73,40 @@ def test_three_component_solvers_refuse():
     for name in ("nsgs", "nsn-ac", "admm"):
         with pytest.raises(frix.UnsupportedError, match="rolling"):
             frix.solve(p, solver=name)
-    # The persistent solver keeps three-component states: refused too (use frix.solve).
+    # So does a persistent solver by one of them.
     with pytest.raises(frix.UnsupportedError, match="rolling"):
-        frix.Solver(p)
+        frix.Solver(p, solver="nsgs")
+
+
+def test_persistent_solver():
+    """frix.Solver on a rolling problem: each solve is frix.solve's from the same start, through
+    a new f, a new mu_r and a new set of contacts (none, then the sphere again)."""
+    M, H, f, w, mu, mu_r = sphere_on_ground()
+    p = frix.Problem.from_global(M, H, f, w, mu, mu_r=mu_r)
+    s = frix.Solver(p, tol=1e-10)
+    first = s.solve()
+    np.testing.assert_array_equal(first.r, frix.solve(p, tol=1e-10).r)
+    f2, mu_r2 = 1.1 * f, np.array([0.005])
+    s.update(f=f2, mu_r=mu_r2)
+    second = s.solve()
+    expected = frix.solve(frix.Problem.from_global(M, H, f2, w, mu, mu_r=mu_r2), r0=first.r, tol=1e-10)
+    np.testing.assert_array_equal(second.r, expected.r)
+    assert second.iterations == expected.iterations
+    assert np.hypot(second.r[3], second.r[4]) <= mu_r2[0] * second.r[0] * (1 + 1e-12)
+    # No contact: the sphere flies (v = M^-1 f); then the contact again, with its mu_r.
+    s.set_contacts(np.zeros(0), H=np.zeros((6, 0)), w=np.zeros(0), mu_r=np.zeros(0))
+    np.testing.assert_allclose(s.solve().v, np.linalg.solve(M, f2), rtol=1e-14)
+    s.set_contacts(mu, H=H, w=w, mu_r=mu_r)
+    np.testing.assert_array_equal(s.solve().r, frix.solve(frix.Problem.from_global(M, H, f2, w, mu, mu_r=mu_r),
+                                                          tol=1e-10).r)
+    # Bad input: a negative mu_r, a mu_r missing or given to a problem without rolling friction.
+    with pytest.raises(frix.InvalidArgumentError, match="mu_r"):
+        s.update(mu_r=np.array([-1.0]))
+    with pytest.raises(frix.InvalidArgumentError, match="mu_r"):
+        s.set_contacts(mu, H=H, w=w)
+    plain = frix.Solver(frix.Problem(np.eye(3), np.array([-1.0, 0, 0]), np.array([0.3])))
+    with pytest.raises(frix.InvalidArgumentError, match="rolling"):
+        plain.update(mu_r=np.array([0.01]))
 
 
 def test_bad_input():
