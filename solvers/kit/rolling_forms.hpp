@@ -4,13 +4,16 @@
 // each change of a reaction, and measures r exactly.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
 #include "solvers/kit/local5x5.hpp"
 #include "solvers/kit/rigid_bodies.hpp"
 #include "src/measures.hpp"
+#include "src/error_state.hpp"
 #include "src/problem.hpp"
+#include "src/solver_api.hpp"
 
 namespace frix::rolling {
 
@@ -94,5 +97,28 @@ struct SweepStats {
 // One Gauss-Seidel sweep over every contact (the rolling NSGS's): each solved with the others
 // held fixed, its new reaction kept where finite, the form told of each change.
 SweepStats sweep(SweepForm &form, std::vector<local5::Contact> &contacts, const local5::Params &lp, double *r);
+
+// A rolling solver's entry (`name` in its messages): refuses other problems; runs run(form) on
+// the local form's rows (a RowForm) or on the rigid bodies' product form (a BodyForm set up
+// from ctx.r), and then writes v of the final r, free of the iterations' rounding drift. No
+// contacts: converged, v = M^-1 f.
+template <class Run>
+frix_error solve_on_form(SolveContext &ctx, const char *name, Run &&run) {
+    const frix_problem &p = ctx.problem;
+    if (!is_rolling(p)) return fail(FRIX_ERR_UNSUPPORTED, "%s: solves rolling-friction problems only", name);
+    if (p.kind == FRIX_PROBLEM_ROLLING_LOCAL) {
+        RowForm rows(p);
+        return run(rows);
+    }
+    BodyForm bodies(p);
+    if (frix_error e = bodies.setup(ctx.r)) return e;
+    if (p.nc == 0)
+        ctx.info.status = FRIX_STATUS_CONVERGED;
+    else if (frix_error e = run(bodies))
+        return e;
+    bodies.exact(ctx.r, ctx.u);
+    std::copy(bodies.v().begin(), bodies.v().end(), ctx.v);
+    return FRIX_OK;
+}
 
 }  // namespace frix::rolling

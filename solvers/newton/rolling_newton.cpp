@@ -324,28 +324,24 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, const rolling::Block
     return FRIX_OK;
 }
 
-frix_error solve(SolveContext &ctx) {
-    const frix_problem &p = ctx.problem;
-    if (!is_rolling(p)) return fail(FRIX_ERR_UNSUPPORTED, "rolling-nsn: solves rolling-friction problems only");
-    if (p.kind == FRIX_PROBLEM_ROLLING_LOCAL) {
-        rolling::RowForm rows(p);
+// run on either form: the local form's W and q as they are, the bodies' W = H^T M^-1 H and q
+// formed body by body.
+struct RunOnForm {
+    SolveContext &ctx;
+    frix_error operator()(rolling::RowForm &rows) const {
+        const frix_problem &p = ctx.problem;
         const std::vector<double> q(p.q, p.q + 5 * p.nc);
         return run(ctx, rows, rows.rows(), q);
     }
-    rolling::BodyForm bodies(p);
-    if (frix_error e = bodies.setup(ctx.r)) return e;
-    if (p.nc == 0) {
-        ctx.info.status = FRIX_STATUS_CONVERGED;
-    } else {
+    frix_error operator()(rolling::BodyForm &bodies) const {
         rolling::BlockRows W;
-        std::vector<double> q(5 * (size_t)p.nc);
+        std::vector<double> q(5 * (size_t)ctx.problem.nc);
         bodies.reduce(W, q.data());
-        if (frix_error e = run(ctx, bodies, W, q)) return e;
+        return run(ctx, bodies, W, q);
     }
-    bodies.exact(ctx.r, ctx.u);  // v for the final r
-    std::copy(bodies.v().begin(), bodies.v().end(), ctx.v);
-    return FRIX_OK;
-}
+};
+
+frix_error solve(SolveContext &ctx) { return rolling::solve_on_form(ctx, "rolling-nsn", RunOnForm{ctx}); }
 
 const frix_option_key kExtraKeys[] = {FRIX_OPT_PROX_SIGMA, FRIX_OPT_PROX_NU, FRIX_OPT_LINE_SEARCH,
                                       FRIX_OPT_LINE_SEARCH_MAX_ITER, (frix_option_key)0};

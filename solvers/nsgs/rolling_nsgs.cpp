@@ -92,21 +92,7 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form) {
 }
 
 frix_error solve(SolveContext &ctx) {
-    const frix_problem &p = ctx.problem;
-    if (!is_rolling(p)) return fail(FRIX_ERR_UNSUPPORTED, "rolling-nsgs: solves rolling-friction problems only");
-    if (p.kind == FRIX_PROBLEM_ROLLING_LOCAL) {
-        rolling::RowForm rows(p);
-        return run(ctx, rows);
-    }
-    rolling::BodyForm bodies(p);
-    if (frix_error e = bodies.setup(ctx.r)) return e;
-    const frix_error e = p.nc > 0 ? run(ctx, bodies) : FRIX_OK;
-    if (p.nc == 0) ctx.info.status = FRIX_STATUS_CONVERGED;
-    if (!e) {
-        bodies.exact(ctx.r, ctx.u);  // v for the final r, free of the sweeps' rounding drift
-        std::copy(bodies.v().begin(), bodies.v().end(), ctx.v);
-    }
-    return e;
+    return rolling::solve_on_form(ctx, "rolling-nsgs", [&](rolling::SweepForm &form) { return run(ctx, form); });
 }
 
 const frix_option_key kExtraKeys[] = {FRIX_OPT_LOCAL_TOLERANCE, FRIX_OPT_LOCAL_MAX_ITER, FRIX_OPT_ACCELERATION,
