@@ -71,19 +71,7 @@ frix_error create(const frix_problem *problem, const frix_options *options, frix
     const frix::SolverEntry *entry = frix::find_solver(copy->solver_id);
     if (!entry)
         return fail(FRIX_ERR_UNKNOWN_SOLVER, "frix_persistent_create: no solver has id %d", copy->solver_id);
-    if (frix::is_rolling(*problem)) {
-        if (!entry->solves_rolling)
-            return fail(FRIX_ERR_UNSUPPORTED,
-                        "frix_persistent_create: solver %s does not solve rolling-friction problems (auto, "
-                        "rolling-nsgs and rolling-nsn do)",
-                        entry->name);
-    } else if (!entry->solves_local && !entry->solves_global) {
-        return fail(FRIX_ERR_UNSUPPORTED, "frix_persistent_create: solver %s solves rolling-friction problems only",
-                    entry->name);
-    }
-    if (problem->kind == FRIX_PROBLEM_LOCAL && !entry->solves_local)
-        return fail(FRIX_ERR_UNSUPPORTED, "frix_persistent_create: solver %s solves global problems only",
-                    entry->name);
+    if (frix_error err = frix::check_solver_takes("frix_persistent_create", *entry, *problem)) return err;
     if (frix_error err = frix::check_problem_vectors(*problem)) return err;
     copy_views(*problem, ps->problem);
     if (problem->W) ps->W_pattern = frix::pattern_of(*problem->W);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "error_state.hpp"
@@ -126,6 +127,22 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
     return FRIX_OK;
 }
 
+frix_error check_solver_takes(const char *caller, const SolverEntry &entry, const frix_problem &p) {
+    if (is_rolling(p)) {
+        if (entry.solves_rolling) return FRIX_OK;
+        std::string which;  // the registry's solvers of rolling problems, for the message
+        for (int64_t k = 0; k < solver_count(); ++k)
+            if (solver_at(k).solves_rolling) which += (which.empty() ? "" : ", ") + std::string(solver_at(k).name);
+        return fail(FRIX_ERR_UNSUPPORTED, "%s: solver %s does not solve rolling-friction problems (%s do)", caller,
+                    entry.name, which.c_str());
+    }
+    if (!entry.solves_local && !entry.solves_global)
+        return fail(FRIX_ERR_UNSUPPORTED, "%s: solver %s solves rolling-friction problems only", caller, entry.name);
+    if (p.kind == FRIX_PROBLEM_LOCAL && !entry.solves_local)
+        return fail(FRIX_ERR_UNSUPPORTED, "%s: solver %s solves global problems only", caller, entry.name);
+    return FRIX_OK;
+}
+
 frix_error solve_problem(const char *caller, const frix_problem *problem, const frix_options *options,
                          double *r, double *u, double *v, frix_info *info, SolveCache *cache) {
     Stopwatch clock;
@@ -165,27 +182,21 @@ frix_error solve_problem(const char *caller, const frix_problem *problem, const 
     frix_options run = *options;
     const double tl = options->d(FRIX_OPT_TIME_LIMIT);
     if (tl > 0.0 && options->i(FRIX_OPT_EXISTENCE_CHECK)) run.dvalue[FRIX_OPT_TIME_LIMIT] = tl * (1.0 - kExistenceShare);
-    frix_error err;
-    if (is_rolling(*problem)) {
-        if (!entry->solves_rolling)
-            return fail(FRIX_ERR_UNSUPPORTED, "%s: solver %s does not solve rolling-friction problems (rolling-nsgs "
-                        "and auto do)", caller, entry->name);
-        if (problem->kind == FRIX_PROBLEM_ROLLING_GLOBAL && problem->n > 0 && !v)
-            return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: v is required for a global problem (%lld entries)", caller,
-                        (long long)problem->n);
-        err = solve_rolling_problem(*problem, run, *entry, r, u, v, out, clock, cache);
-    } else if (!entry->solves_local && !entry->solves_global) {
-        err = fail(FRIX_ERR_UNSUPPORTED, "%s: solver %s solves rolling-friction problems only", caller, entry->name);
-    } else if (problem->kind == FRIX_PROBLEM_GLOBAL) {
-        if (problem->n > 0 && !v)
-            return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: v is required for a global problem (%lld entries)", caller,
-                        (long long)problem->n);
-        err = solve_global_problem(*problem, run, *entry, r, u, v, out, clock, cache);
-    } else if (!entry->solves_local) {
-        err = fail(FRIX_ERR_UNSUPPORTED, "%s: solver %s solves global problems only", caller, entry->name);
-    } else {
-        err = solve_local_problem(*problem, run, *entry, r, u, out, clock, cache, nullptr, true);
+    if (frix_error e = check_solver_takes(caller, *entry, *problem)) {
+        out.solve_time = clock.seconds();
+        return e;
     }
+    const bool global = problem->kind == FRIX_PROBLEM_GLOBAL || problem->kind == FRIX_PROBLEM_ROLLING_GLOBAL;
+    if (global && problem->n > 0 && !v)
+        return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: v is required for a global problem (%lld entries)", caller,
+                    (long long)problem->n);
+    frix_error err;
+    if (is_rolling(*problem))
+        err = solve_rolling_problem(*problem, run, *entry, r, u, v, out, clock, cache);
+    else if (global)
+        err = solve_global_problem(*problem, run, *entry, r, u, v, out, clock, cache);
+    else
+        err = solve_local_problem(*problem, run, *entry, r, u, out, clock, cache, nullptr, true);
     if (!err) check_existence_after_failure(*problem, *options, clock, out);
     out.solve_time = clock.seconds();
     return err;

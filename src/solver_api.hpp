@@ -142,6 +142,11 @@ const SolverEntry *find_solver(int id);
 int64_t solver_count();
 const SolverEntry &solver_at(int64_t index);
 
+// FRIX_ERR_UNSUPPORTED, the message led by `caller`, where `entry` does not solve p's kind of
+// problem (rolling friction or three components; a local one for a solver of global problems
+// only); FRIX_OK otherwise. frix_solve and frix_persistent_create ask it alike.
+frix_error check_solver_takes(const char *caller, const SolverEntry &entry, const frix_problem &p);
+
 // The driver's local path (src/solve.cpp): the all-separating case, a finite warm start,
 // `entry`'s solve, the final measures of r and the status check against them. Also the local
 // step of the reduction route of global problems. `measures`, when given, receives the final
