@@ -485,13 +485,6 @@ class Search {
     Vec z_, z_prev_, z_ext_, z_new_, dz_;                 // z space
 };
 
-// Every contact separates at r = 0 (q_N >= 0): r = 0 solves a local problem.
-bool all_separating(const frix_problem &p) {
-    if (p.kind != FRIX_PROBLEM_LOCAL) return false;
-    for (int64_t a = 0; a < p.nc; ++a)
-        if (p.q[3 * a] < 0.0) return false;
-    return true;
-}
 
 }  // namespace
 
@@ -526,12 +519,12 @@ frix_existence check_existence(const frix_problem &p, double time_limit, double 
     // A strictly feasible z proves a solution only when W's symmetric part is PSD (W = -I
     // has one and no solution): with a negative curvature seen, or a factorisation that
     // finds one, the check cannot tell.
-    if (r.verdict == FRIX_EXISTENCE_GUARANTEED && p.kind == FRIX_PROBLEM_LOCAL && !all_separating(p) &&
+    if (r.verdict == FRIX_EXISTENCE_GUARANTEED && p.kind == FRIX_PROBLEM_LOCAL && !separates_at_zero(p) &&
         (indefinite || symmetric_part_psd(p, kIndefinite) == Psd::No)) {
         out = NAN;
         return FRIX_EXISTENCE_UNDETERMINED;
     }
-    if (r.verdict != FRIX_EXISTENCE_GUARANTEED && all_separating(p)) {
+    if (r.verdict != FRIX_EXISTENCE_GUARANTEED && separates_at_zero(p)) {
         out = 0.0;  // no strictly feasible point found, but r = 0 is a solution
         return FRIX_EXISTENCE_GUARANTEED;
     }
@@ -556,8 +549,7 @@ FRIX_API frix_error frix_problem_check_existence(const frix_problem *problem, do
         // decides only the case r = 0 solves (a local problem whose contacts all separate),
         // and otherwise says that it cannot decide.
         if (frix::is_rolling(*problem)) {
-            bool separating = problem->kind == FRIX_PROBLEM_ROLLING_LOCAL;
-            for (int64_t a = 0; a < problem->nc && separating; ++a) separating = problem->q[5 * a] >= 0.0;
+            const bool separating = frix::separates_at_zero(*problem);
             info->existence = separating ? FRIX_EXISTENCE_GUARANTEED : FRIX_EXISTENCE_UNDETERMINED;
             info->existence_margin = separating ? 0.0 : NAN;
             return FRIX_OK;

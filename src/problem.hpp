@@ -61,6 +61,15 @@ inline bool is_local_form(const frix_problem &p) {
 }
 // Entries of r and u a contact: 3, or 5 for a rolling problem.
 inline int contact_size(const frix_problem &p) { return is_rolling(p) ? 5 : 3; }
+// A local problem (either kind of contact) whose every contact separates at r = 0 (q_N >= 0):
+// r = 0 solves it, u = q having u_N >= 0 so that u^ lies in K*. False for a global problem.
+inline bool separates_at_zero(const frix_problem &p) {
+    if (!is_local_form(p)) return false;
+    const int dim = contact_size(p);
+    for (int64_t a = 0; a < p.nc; ++a)
+        if (p.q[dim * a] < 0.0) return false;
+    return true;
+}
 // FRIX_ERR_UNSUPPORTED naming `where` for a rolling problem (a part of frix that solves or
 // handles only the three-component law), FRIX_OK otherwise.
 frix_error refuse_rolling(const frix_problem &p, const char *where);

@@ -61,8 +61,6 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
                                const SolverEntry &entry, double *r, double *u, frix_info &info,
                                const Stopwatch &clock, SolveCache *cache, Measures *measures, bool return_best) {
     const int64_t m = 3 * p.nc;
-    bool separating = true;
-    for (int64_t a = 0; a < p.nc && separating; ++a) separating = p.q[3 * a] >= 0.0;
     // Kept to fall back on if the solver diverges: a finite but huge r can make W r + q
     // overflow, and the caller must never get a non-finite u or error back. Not copied when
     // it is r = 0 (the usual cold start: no allocation for it).
@@ -70,8 +68,7 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
     bool ran = false, has_measured = false, non_finite = false;
     double bound = 0.0;  // runaway_bound, for a problem a solver ran on
     frix::Measures measured;
-    if (p.nc == 0 || separating) {
-        // r = 0 is then the exact solution: u = q has u_N >= 0, so u^ lies in K*.
+    if (separates_at_zero(p)) {
         for (int64_t i = 0; i < m; ++i) r[i] = 0.0;
         info.status = FRIX_STATUS_CONVERGED;
         info.iterations = 0;

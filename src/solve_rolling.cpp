@@ -42,11 +42,8 @@ frix_error solve_rolling_problem(const frix_problem &p, const frix_options &opts
     // A non-finite warm start would poison every iterate; start such entries from 0.
     for (int64_t i = 0; i < m; ++i)
         if (!std::isfinite(r[i])) r[i] = 0.0;
-    bool separating = local;
-    for (int64_t a = 0; a < p.nc && separating; ++a) separating = p.q[5 * a] >= 0.0;
     std::vector<double> start(r, r + m);
-    if (local && (p.nc == 0 || separating)) {
-        // r = 0 is then the exact solution: u = q has u_N >= 0, so u^ lies in K*.
+    if (separates_at_zero(p)) {
         std::fill(r, r + m, 0.0);
         info.status = FRIX_STATUS_CONVERGED;
         info.iterations = 0;
