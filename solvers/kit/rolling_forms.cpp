@@ -66,10 +66,10 @@ void RowForm::local_q(int64_t a, const double *r, double *ql) const {
     }
 }
 
-frix_error BodyForm::setup(const double *r) {
+frix_error BodyForm::setup(const double *r, const char *who) {
     Csc M, H;
     if (frix_error e = to_csc(*p_.M, M)) return e;
-    if (frix_error e = bodies_.setup(M, "rolling-nsgs")) return e;
+    if (frix_error e = bodies_.setup(M, who)) return e;
     const int64_t nc = p_.nc;
     if (nc > 0)
         if (frix_error e = to_csc(*p_.H, H)) return e;

@@ -64,8 +64,8 @@ class BodyForm : public SweepForm {
    public:
     explicit BodyForm(const frix_problem &p) : p_(p) {}
     // The bodies, their inverses and the per-contact data; FRIX_ERR_UNSUPPORTED for a
-    // deformable M (rigid_bodies.hpp).
-    frix_error setup(const double *r);
+    // deformable M (rigid_bodies.hpp), the message naming `who`, the solver.
+    frix_error setup(const double *r, const char *who);
     const double *diagonal_block(int64_t a) const override { return &blocks_[25 * (size_t)a]; }
     void local_q(int64_t a, const double *r, double *ql) const override;
     void moved(int64_t a, const double *dr) override { add_g(a, dr, v_.data()); }
@@ -111,7 +111,7 @@ frix_error solve_on_form(SolveContext &ctx, const char *name, Run &&run) {
         return run(rows);
     }
     BodyForm bodies(p);
-    if (frix_error e = bodies.setup(ctx.r)) return e;
+    if (frix_error e = bodies.setup(ctx.r, name)) return e;
     if (p.nc == 0)
         ctx.info.status = FRIX_STATUS_CONVERGED;
     else if (frix_error e = run(bodies))
