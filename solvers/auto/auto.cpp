@@ -66,13 +66,9 @@ frix_error rolling_stage(SolveContext &ctx, int id, double tol, int64_t max_iter
     const double t0 = ctx.clock.seconds();
     ctx.info.error = INFINITY;
     if (frix_error e = entry->solve(inner)) return e;
-    TraceEvent ev = trace_event(kStage);
-    ev.solver_id = entry->id;
-    ev.status = ctx.info.status;
-    ev.iterations = ctx.info.iterations;
-    ev.seconds = ctx.clock.seconds() - t0;
-    ev.error = std::isfinite(ctx.info.error) ? ctx.info.error : INFINITY;
-    ctx.info.trace.push_back(ev);
+    const double error = ctx.info.error;
+    ctx.info.trace.push_back(stage_event(entry->id, ctx.info, ctx.clock.seconds() - t0,
+                                         std::isfinite(error) ? error : INFINITY));
     done += ctx.info.iterations;
     return FRIX_OK;
 }

@@ -152,13 +152,8 @@ frix_error GlobalRoutes::run(const SolverEntry &entry, int64_t max_iter, Watchdo
                                             reduction_, ctx_.mass))
         return e;
     if (meets_global_tolerance(run, tol)) run.status = FRIX_STATUS_CONVERGED;
-    TraceEvent stage = trace_event(kStage);
-    stage.solver_id = entry.id;
-    stage.status = run.status;
+    TraceEvent stage = stage_event(entry.id, run, ctx_.clock.seconds() - t0, run.error);
     stage.why = dog && dog->stopped_by_watchdog ? dog->why : nullptr;
-    stage.iterations = run.iterations;
-    stage.seconds = ctx_.clock.seconds() - t0;
-    stage.error = run.error;
     run.absorb(info_);
     run.trace.push_back(stage);
     info_ = std::move(run);

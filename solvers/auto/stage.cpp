@@ -116,15 +116,20 @@ int64_t stage_iterations(const Shared &shared, int64_t budget, bool *cut_short) 
     return std::max<int64_t>(1, std::min(left / 2, budget));
 }
 
-TraceEvent close_stage(int id, const frix_info &info, const Watchdog &dog, double seconds, double error) {
-    if (info.iterations > dog.last_iteration) dog.shared->iterations += info.iterations - dog.last_iteration;
+TraceEvent stage_event(int id, const frix_info &info, double seconds, double error) {
     TraceEvent ev = trace_event(kStage);
     ev.solver_id = id;
     ev.status = info.status;
-    ev.why = dog.stopped_by_watchdog ? dog.why : nullptr;
     ev.iterations = info.iterations;
     ev.seconds = seconds;
-    ev.error = std::isfinite(error) ? error : INFINITY;
+    ev.error = error;
+    return ev;
+}
+
+TraceEvent close_stage(int id, const frix_info &info, const Watchdog &dog, double seconds, double error) {
+    if (info.iterations > dog.last_iteration) dog.shared->iterations += info.iterations - dog.last_iteration;
+    TraceEvent ev = stage_event(id, info, seconds, std::isfinite(error) ? error : INFINITY);
+    ev.why = dog.stopped_by_watchdog ? dog.why : nullptr;
     return ev;
 }
 

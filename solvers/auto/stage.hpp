@@ -70,6 +70,11 @@ frix_options stage_options(const SolverEntry &entry, const frix_options &user, d
 // tight limit the stages after it still get their turn. *cut_short: fewer than its budget.
 int64_t stage_iterations(const Shared &shared, int64_t budget, bool *cut_short);
 
+// A stage's trace record: solver `id`'s run as `info` reports it (status, iterations),
+// `seconds` long, ending at `error` (as given: callers that record a non-finite one as
+// INFINITY say so).
+TraceEvent stage_event(int id, const frix_info &info, double seconds, double error);
+
 // After a stage's solve (solver `id`, its info, `seconds` long, ending at `error`): the
 // iterations its callback did not see go to the shared count, and its record is returned.
 TraceEvent close_stage(int id, const frix_info &info, const Watchdog &dog, double seconds, double error);
