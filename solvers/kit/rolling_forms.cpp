@@ -67,63 +67,19 @@ void RowForm::local_q(int64_t a, const double *r, double *ql) const {
 }
 
 frix_error BodyForm::setup(const double *r, const char *who) {
-    Csc M, H;
-    if (frix_error e = to_csc(*p_.M, M)) return e;
-    if (frix_error e = bodies_.setup(M, who)) return e;
+    {
+        Csc M;
+        if (frix_error e = to_csc(*p_.M, M)) return e;
+        if (frix_error e = bodies_.setup(M, who)) return e;
+    }
     const int64_t nc = p_.nc;
-    if (nc > 0)
-        if (frix_error e = to_csc(*p_.H, H)) return e;
-    // Each contact's bodies (those its five columns of H reach), whole, in increasing order.
-    std::vector<std::vector<int64_t>> bodies((size_t)nc);
-    for (int64_t a = 0; a < nc; ++a) {
-        std::vector<int64_t> &b = bodies[(size_t)a];
-        for (int64_t c = 5 * a; c < 5 * a + 5; ++c)
-            for (int64_t e = H.colptr[c]; e < H.colptr[c + 1]; ++e) b.push_back(bodies_.body_of[H.rowind[e]]);
-        std::sort(b.begin(), b.end());
-        b.erase(std::unique(b.begin(), b.end()), b.end());
+    {
+        ContactBodies cb;
+        cb.find(*p_.H, bodies_, 5, nc);
+        cp_.build(*p_.H, bodies_, cb, 5, nc, nullptr, false);
     }
-    dof_ptr_.assign((size_t)nc + 1, 0);
-    for (int64_t a = 0; a < nc; ++a) {
-        int64_t count = 0;
-        for (const int64_t b : bodies[(size_t)a]) count += bodies_.size(b);
-        dof_ptr_[(size_t)a + 1] = dof_ptr_[(size_t)a] + count;
-    }
-    const size_t total = (size_t)dof_ptr_[(size_t)nc];
-    dofs_.resize(total);
-    hd_.assign(5 * total, 0.0);
-    gd_.assign(5 * total, 0.0);
     blocks_.assign(25 * (size_t)nc, 0.0);
-    std::vector<int64_t> body_at((size_t)bodies_.count(), 0);
-    for (int64_t a = 0; a < nc; ++a) {
-        int64_t at = dof_ptr_[(size_t)a];
-        for (const int64_t b : bodies[(size_t)a]) {
-            body_at[(size_t)b] = at;
-            for (int64_t j = 0; j < bodies_.size(b); ++j) dofs_[(size_t)(at + j)] = bodies_.body_dofs[bodies_.body_ptr[b] + j];
-            at += bodies_.size(b);
-        }
-        for (int64_t c = 5 * a; c < 5 * a + 5; ++c)
-            for (int64_t e = H.colptr[c]; e < H.colptr[c + 1]; ++e) {
-                const int64_t row = H.rowind[e];
-                hd_[5 * (size_t)(body_at[(size_t)bodies_.body_of[row]] + bodies_.place[row]) + (size_t)(c - 5 * a)] +=
-                    H.val[e];
-            }
-        // M^-1 H_a body by body, and W_aa = H_a^T M^-1 H_a.
-        for (const int64_t b : bodies[(size_t)a]) {
-            const int64_t size = bodies_.size(b), start = body_at[(size_t)b];
-            const double *inv = &bodies_.inverse[bodies_.inverse_ptr[b]], *h = &hd_[5 * (size_t)start];
-            double *g = &gd_[5 * (size_t)start];
-            for (int64_t x = 0; x < size; ++x)
-                for (int f = 0; f < 5; ++f) {
-                    double sum = 0.0;
-                    for (int64_t j = 0; j < size; ++j) sum += inv[x + size * j] * h[5 * j + f];
-                    g[5 * x + f] = sum;
-                }
-        }
-        double *W = &blocks_[25 * (size_t)a];
-        for (int64_t t = dof_ptr_[(size_t)a]; t < dof_ptr_[(size_t)a + 1]; ++t)
-            for (int f = 0; f < 5; ++f)
-                for (int e = 0; e < 5; ++e) W[e + 5 * f] += hd_[5 * (size_t)t + e] * gd_[5 * (size_t)t + f];
-    }
+    for (int64_t a = 0; a < nc; ++a) cp_.add_diagonal_block(a, &blocks_[25 * (size_t)a]);
     v0_.assign((size_t)p_.n, 0.0);
     bodies_.apply_inverse(p_.f, v0_.data());
     v_ = v0_;
@@ -136,15 +92,15 @@ void BodyForm::reduce(BlockRows &W, double *q) const {
     // Each body's contacts, with where the body's dofs start among the contact's (a contact
     // holds its bodies whole, in increasing order, each from its place 0).
     std::vector<int64_t> ptr((size_t)nb + 1, 0);
-    for (int64_t t = 0; t < dof_ptr_[(size_t)nc]; ++t)
-        if (bodies_.place[dofs_[(size_t)t]] == 0) ++ptr[(size_t)bodies_.body_of[dofs_[(size_t)t]] + 1];
+    for (int64_t t = 0; t < cp_.dof_ptr[(size_t)nc]; ++t)
+        if (bodies_.place[cp_.dofs[(size_t)t]] == 0) ++ptr[(size_t)bodies_.body_of[cp_.dofs[(size_t)t]] + 1];
     for (int64_t b = 0; b < nb; ++b) ptr[(size_t)b + 1] += ptr[(size_t)b];
     std::vector<int64_t> contact((size_t)ptr[(size_t)nb]), start((size_t)ptr[(size_t)nb]);
     std::vector<int64_t> fill(ptr.begin(), ptr.end() - 1);
     for (int64_t a = 0; a < nc; ++a)
-        for (int64_t t = dof_ptr_[(size_t)a]; t < dof_ptr_[(size_t)a + 1]; ++t)
-            if (bodies_.place[dofs_[(size_t)t]] == 0) {
-                const int64_t at = fill[(size_t)bodies_.body_of[dofs_[(size_t)t]]]++;
+        for (int64_t t = cp_.dof_ptr[(size_t)a]; t < cp_.dof_ptr[(size_t)a + 1]; ++t)
+            if (bodies_.place[cp_.dofs[(size_t)t]] == 0) {
+                const int64_t at = fill[(size_t)bodies_.body_of[cp_.dofs[(size_t)t]]]++;
                 contact[(size_t)at] = a, start[(size_t)at] = t;
             }
     W.row_ptr.assign((size_t)nc + 1, 0);
@@ -154,9 +110,9 @@ void BodyForm::reduce(BlockRows &W, double *q) const {
     for (int pass = 0; pass < 2; ++pass)
         for (int64_t a = 0; a < nc; ++a) {
             cols.clear();
-            for (int64_t t = dof_ptr_[(size_t)a]; t < dof_ptr_[(size_t)a + 1]; ++t) {
-                if (bodies_.place[dofs_[(size_t)t]] != 0) continue;
-                const int64_t b = bodies_.body_of[dofs_[(size_t)t]];
+            for (int64_t t = cp_.dof_ptr[(size_t)a]; t < cp_.dof_ptr[(size_t)a + 1]; ++t) {
+                if (bodies_.place[cp_.dofs[(size_t)t]] != 0) continue;
+                const int64_t b = bodies_.body_of[cp_.dofs[(size_t)t]];
                 if (pass == 0) {
                     for (int64_t e = ptr[(size_t)b]; e < ptr[(size_t)b + 1]; ++e) cols.push_back(contact[(size_t)e]);
                     continue;
@@ -168,7 +124,7 @@ void BodyForm::reduce(BlockRows &W, double *q) const {
                     double *blk = &W.val[25 * (size_t)(std::lower_bound(first, last, contact[(size_t)e]) -
                                                        W.block_col.begin())];
                     for (int64_t j = 0; j < bodies_.size(b); ++j) {
-                        const double *h = &hd_[5 * (size_t)(t + j)], *g = &gd_[5 * (size_t)(start[(size_t)e] + j)];
+                        const double *h = &cp_.hd[5 * (size_t)(t + j)], *g = &cp_.gd[5 * (size_t)(start[(size_t)e] + j)];
                         for (int f = 0; f < 5; ++f)
                             for (int i = 0; i < 5; ++i) blk[i + 5 * f] += h[i] * g[f];
                     }
@@ -188,16 +144,16 @@ void BodyForm::reduce(BlockRows &W, double *q) const {
 }
 
 void BodyForm::add_g(int64_t a, const double *x, double *v) const {
-    for (int64_t t = dof_ptr_[(size_t)a]; t < dof_ptr_[(size_t)a + 1]; ++t) {
-        const double *g = &gd_[5 * (size_t)t];
-        v[dofs_[(size_t)t]] += g[0] * x[0] + g[1] * x[1] + g[2] * x[2] + g[3] * x[3] + g[4] * x[4];
+    for (int64_t t = cp_.dof_ptr[(size_t)a]; t < cp_.dof_ptr[(size_t)a + 1]; ++t) {
+        const double *g = &cp_.gd[5 * (size_t)t];
+        v[cp_.dofs[(size_t)t]] += g[0] * x[0] + g[1] * x[1] + g[2] * x[2] + g[3] * x[3] + g[4] * x[4];
     }
 }
 
 void BodyForm::contact_velocity(int64_t a, const double *v, double *s) const {
     for (int i = 0; i < 5; ++i) s[i] = p_.w[5 * a + i];
-    for (int64_t t = dof_ptr_[(size_t)a]; t < dof_ptr_[(size_t)a + 1]; ++t) {
-        const double x = v[dofs_[(size_t)t]], *h = &hd_[5 * (size_t)t];
+    for (int64_t t = cp_.dof_ptr[(size_t)a]; t < cp_.dof_ptr[(size_t)a + 1]; ++t) {
+        const double x = v[cp_.dofs[(size_t)t]], *h = &cp_.hd[5 * (size_t)t];
         for (int i = 0; i < 5; ++i) s[i] += h[i] * x;
     }
 }

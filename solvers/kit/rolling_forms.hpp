@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "solvers/kit/contact_products.hpp"
 #include "solvers/kit/local5x5.hpp"
 #include "solvers/kit/rigid_bodies.hpp"
 #include "src/measures.hpp"
@@ -81,8 +82,7 @@ class BodyForm : public SweepForm {
     void contact_velocity(int64_t a, const double *v, double *s) const;
     const frix_problem &p_;
     RigidBodies bodies_;
-    std::vector<int64_t> dof_ptr_, dofs_;  // contact a's dofs: dofs_[dof_ptr_[a] .. dof_ptr_[a+1])
-    std::vector<double> hd_, gd_;          // H_a and M^-1 H_a on them, 5 a dof
+    ContactProducts cp_;                   // contact a's dofs, H_a and M^-1 H_a on them
     std::vector<double> blocks_, v0_, v_;  // W_aa (25 a contact), M^-1 f, v
 };
 

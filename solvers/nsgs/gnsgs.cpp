@@ -12,6 +12,7 @@
 #include <cmath>
 #include <vector>
 
+#include "solvers/kit/contact_products.hpp"
 #include "solvers/kit/sweeps.hpp"
 #include "src/error_state.hpp"
 #include "src/log.hpp"
@@ -37,21 +38,20 @@ class ProductForm : public SweepForm {
 
     frix_error setup() {
         if (frix_error e = to_csc(*p_.M, M_)) return e;
-        if (frix_error e = to_csc(*p_.H, H_)) return e;
         if (frix_error e = bodies_.setup(M_, "gnsgs")) return e;
-        find_contact_bodies();
+        ContactBodies cb;  // the bodies of each contact, until the slots' data is built
+        cb.find(*p_.H, bodies_, 3, p_.nc);
         // The domains of one colour share no body: their sweeps touch disjoint parts of v. The
         // sweeps run on the contacts renumbered in sweep order (slots), so that a sweep reads
         // the per-contact data front to back.
         Domains domains = make_domains(
             p_.nc, bodies_.count(), std::max(kMinDomain, (p_.nc + kDomains - 1) / kDomains),
-            [this](int64_t a, std::vector<int64_t> &out) {
-                out.insert(out.end(), contact_bodies_.begin() + bodies_ptr_[a],
-                           contact_bodies_.begin() + bodies_ptr_[a + 1]);
+            [&cb](int64_t a, std::vector<int64_t> &out) {
+                out.insert(out.end(), cb.bodies.begin() + cb.ptr[a], cb.bodies.begin() + cb.ptr[a + 1]);
             });
         contact_of_slot_ = std::move(domains.contacts);
         slots_ = std::move(domains);  // its ranges are of slots; its contacts moved out
-        form_contacts();
+        cp_.build(*p_.H, bodies_, cb, 3, p_.nc, contact_of_slot_.data(), true);
         w_.resize(3 * (size_t)p_.nc);
         mu_.resize((size_t)p_.nc);
         weight_.resize((size_t)p_.nc);
@@ -68,7 +68,6 @@ class ProductForm : public SweepForm {
         for (int64_t d = 0; d < p_.n; ++d) v0_[(size_t)slot_of_dof_[(size_t)d]] = v0[(size_t)d];
         v_.resize((size_t)p_.n);
         M_ = Csc{};  // the sweeps read only the per-contact copies
-        H_ = Csc{};
         return FRIX_OK;
     }
     // v in the problem's numbering of the dofs.
@@ -85,15 +84,7 @@ class ProductForm : public SweepForm {
     // W_aa = H_a^T M^-1 H_a, 9 per contact, column-major.
     std::vector<double> diagonal_blocks() const {
         std::vector<double> blocks(9 * (size_t)p_.nc, 0.0);
-        for (int64_t a = 0; a < p_.nc; ++a) {
-            const double *h = hd_.data() + 3 * dof_ptr_[a];
-            for (int64_t t = 0; t < dof_ptr_[a + 1] - dof_ptr_[a]; ++t) {
-                double g[3];
-                g_row(a, t, g);
-                for (int f = 0; f < 3; ++f)
-                    for (int e = 0; e < 3; ++e) blocks[9 * a + e + 3 * f] += h[3 * t + e] * g[f];
-            }
-        }
+        for (int64_t a = 0; a < p_.nc; ++a) cp_.add_diagonal_block(a, &blocks[9 * (size_t)a]);
         return blocks;
     }
 
@@ -132,37 +123,28 @@ class ProductForm : public SweepForm {
     }
 
    private:
-    // Row t of slot a's M^-1 H_a (its t-th dof), into g[3].
-    void g_row(int64_t a, int64_t t, double *g) const {
-        if (g_ptr_[a] >= 0) {
-            std::copy(&gd_[3 * (size_t)(g_ptr_[a] + t)], &gd_[3 * (size_t)(g_ptr_[a] + t)] + 3, g);
-            return;
-        }
-        const double *h = hd_.data() + 3 * (dof_ptr_[a] + t), d = minv_[dof_ptr_[a] + t];
-        g[0] = d * h[0], g[1] = d * h[1], g[2] = d * h[2];
-    }
     // v += M^-1 H_a x: from H_a and M's diagonal where every body of the contact is one dof
     // (M diagonal there: half the data a sweep reads), from M^-1 H_a stored otherwise.
     void add_g(int64_t a, const double *x, double *v) const {
-        const int64_t *dofs = dofs_.data() + dof_ptr_[a];
-        const int64_t count = dof_ptr_[a + 1] - dof_ptr_[a];
-        if (g_ptr_[a] < 0) {
-            const double *h = hd_.data() + 3 * dof_ptr_[a], *d = minv_.data() + dof_ptr_[a];
+        const int64_t *dofs = cp_.dofs.data() + cp_.dof_ptr[a];
+        const int64_t count = cp_.dof_ptr[a + 1] - cp_.dof_ptr[a];
+        if (cp_.g_ptr[a] < 0) {
+            const double *h = cp_.hd.data() + 3 * cp_.dof_ptr[a], *d = cp_.minv.data() + cp_.dof_ptr[a];
             for (int64_t t = 0; t < count; ++t)
                 v[dofs[t]] += d[t] * (h[3 * t] * x[0] + h[3 * t + 1] * x[1] + h[3 * t + 2] * x[2]);
             return;
         }
-        const double *g = gd_.data() + 3 * g_ptr_[a];
+        const double *g = cp_.gd.data() + 3 * cp_.g_ptr[a];
         for (int64_t t = 0; t < count; ++t) v[dofs[t]] += g[3 * t] * x[0] + g[3 * t + 1] * x[1] + g[3 * t + 2] * x[2];
     }
     // u_a = H_a^T v + w_a.
     void contact_velocity(int64_t a, const double *v, double *s) const {
-        const int64_t *dofs = dofs_.data() + dof_ptr_[a];
-        const double *h = hd_.data() + 3 * dof_ptr_[a];
+        const int64_t *dofs = cp_.dofs.data() + cp_.dof_ptr[a];
+        const double *h = cp_.hd.data() + 3 * cp_.dof_ptr[a];
         s[0] = w_[3 * (size_t)a];
         s[1] = w_[3 * (size_t)a + 1];
         s[2] = w_[3 * (size_t)a + 2];
-        for (int64_t t = 0; t < dof_ptr_[a + 1] - dof_ptr_[a]; ++t) {
+        for (int64_t t = 0; t < cp_.dof_ptr[a + 1] - cp_.dof_ptr[a]; ++t) {
             const double x = v[dofs[t]];
             s[0] += h[3 * t] * x;
             s[1] += h[3 * t + 1] * x;
@@ -185,92 +167,13 @@ class ProductForm : public SweepForm {
         return measures_from_parts(all, r, u, mu_.data(), p_.nc, norm_w_, free_);
     }
 
-    // The bodies each contact's three columns of H touch, in increasing order.
-    void find_contact_bodies() {
-        bodies_ptr_.assign(1, 0);
-        contact_bodies_.clear();
-        std::vector<int64_t> touched;
-        for (int64_t a = 0; a < p_.nc; ++a) {
-            touched.clear();
-            for (int64_t c = 3 * a; c < 3 * a + 3; ++c)
-                for (int64_t e = H_.colptr[c]; e < H_.colptr[c + 1]; ++e)
-                    touched.push_back(bodies_.body_of[H_.rowind[e]]);
-            std::sort(touched.begin(), touched.end());
-            touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-            contact_bodies_.insert(contact_bodies_.end(), touched.begin(), touched.end());
-            bodies_ptr_.push_back((int64_t)contact_bodies_.size());
-        }
-    }
-
-    // Slot by slot, the dofs of its contact's bodies (each whole), and on them H_a and
-    // M^-1 H_a, 3 values per dof (one per column).
-    void form_contacts() {
-        const int64_t nc = p_.nc;
-        dof_ptr_.assign((size_t)nc + 1, 0);
-        for (int64_t k = 0; k < nc; ++k) {
-            const int64_t a = contact_of_slot_[(size_t)k];
-            int64_t dofs = 0;
-            for (int64_t i = bodies_ptr_[a]; i < bodies_ptr_[a + 1]; ++i)
-                dofs += bodies_.body_ptr[contact_bodies_[i] + 1] - bodies_.body_ptr[contact_bodies_[i]];
-            dof_ptr_[k + 1] = dof_ptr_[k] + dofs;
-        }
-        dofs_.resize((size_t)dof_ptr_[nc]);
-        hd_.assign(3 * (size_t)dof_ptr_[nc], 0.0);
-        g_ptr_.assign((size_t)nc, -1);
-        int64_t stored = 0;
-        for (int64_t k = 0; k < nc; ++k) {
-            const int64_t a = contact_of_slot_[(size_t)k];
-            bool one_dof_bodies = true;
-            for (int64_t i = bodies_ptr_[a]; i < bodies_ptr_[a + 1]; ++i)
-                one_dof_bodies = one_dof_bodies && bodies_.body_ptr[contact_bodies_[i] + 1] - bodies_.body_ptr[contact_bodies_[i]] == 1;
-            if (!one_dof_bodies) {
-                g_ptr_[(size_t)k] = stored;
-                stored += dof_ptr_[k + 1] - dof_ptr_[k];
-            }
-        }
-        gd_.assign(3 * (size_t)stored, 0.0);
-        minv_.assign((size_t)dof_ptr_[nc], 0.0);
-        // Where each body of the slot's contact starts in its dof list, then each of H's
-        // entries put there in one pass (O(nnz(H)), not entries x bodies).
-        std::vector<int64_t> body_at(bodies_.body_ptr.size() - 1, 0);
-        for (int64_t k = 0; k < nc; ++k) {
-            const int64_t a = contact_of_slot_[(size_t)k];
-            int64_t at = dof_ptr_[k];
-            for (int64_t i = bodies_ptr_[a]; i < bodies_ptr_[a + 1]; ++i) {
-                const int64_t b = contact_bodies_[i], size = bodies_.body_ptr[b + 1] - bodies_.body_ptr[b];
-                body_at[(size_t)b] = at;
-                for (int64_t j = 0; j < size; ++j) dofs_[at + j] = bodies_.body_dofs[bodies_.body_ptr[b] + j];
-                if (g_ptr_[(size_t)k] < 0) minv_[at] = bodies_.inverse[bodies_.inverse_ptr[b]];  // a one-dof body
-                at += size;
-            }
-            for (int64_t c = 3 * a; c < 3 * a + 3; ++c)
-                for (int64_t e = H_.colptr[c]; e < H_.colptr[c + 1]; ++e) {
-                    const int64_t row = H_.rowind[e];
-                    hd_[3 * (size_t)(body_at[(size_t)bodies_.body_of[row]] + bodies_.place[row]) + (size_t)(c - 3 * a)] += H_.val[e];
-                }
-            if (g_ptr_[(size_t)k] < 0) continue;
-            for (int64_t i = bodies_ptr_[a]; i < bodies_ptr_[a + 1]; ++i) {
-                const int64_t b = contact_bodies_[i], size = bodies_.body_ptr[b + 1] - bodies_.body_ptr[b];
-                const int64_t start = body_at[(size_t)b];
-                const double *h = hd_.data() + 3 * start, *inv = bodies_.inverse.data() + bodies_.inverse_ptr[b];
-                double *g = gd_.data() + 3 * (g_ptr_[(size_t)k] + start - dof_ptr_[k]);
-                for (int64_t x = 0; x < size; ++x)
-                    for (int f = 0; f < 3; ++f) {
-                        double sum = 0.0;
-                        for (int64_t j = 0; j < size; ++j) sum += inv[x + size * j] * h[3 * j + f];
-                        g[3 * x + f] = sum;
-                    }
-            }
-        }
-    }
-
     // The sweeps keep v with its dofs renumbered in the order the sweep first reaches them
     // (a body's together): a domain then reads and writes a compact part of v, and two
     // threads seldom share a cache line of it.
     void renumber_dofs() {
         slot_of_dof_.assign((size_t)p_.n, -1);
         int64_t next = 0;
-        for (int64_t &d : dofs_) {
+        for (int64_t &d : cp_.dofs) {
             if (slot_of_dof_[(size_t)d] < 0) slot_of_dof_[(size_t)d] = next++;
             d = slot_of_dof_[(size_t)d];
         }
@@ -283,14 +186,10 @@ class ProductForm : public SweepForm {
     std::vector<double> v_last_;  // v at the previous extrapolation's r (momentum)
     std::vector<int64_t> slot_of_dof_;
     double norm_w_, free_;
-    Csc M_, H_;
+    Csc M_;
     RigidBodies bodies_;
     std::vector<double> v0_;
-    std::vector<int64_t> dof_ptr_, dofs_;
-    std::vector<double> hd_, gd_;
-    std::vector<int64_t> g_ptr_;  // per slot: where its M^-1 H_a starts in gd_, -1: from minv_
-    std::vector<double> minv_;    // beside H_a where g_ptr_ is -1: each dof's inverse mass
-    std::vector<int64_t> bodies_ptr_, contact_bodies_;  // the bodies of each contact
+    ContactProducts cp_;   // by slot: its dofs, H_a and M^-1 H_a
     std::vector<int64_t> contact_of_slot_;
     Domains slots_;  // the domains and colours as ranges of slots
     std::vector<double> w_, mu_, weight_;
