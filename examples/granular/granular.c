@@ -29,7 +29,7 @@
  * say whether the pile is at rest at the end, from which step on, and its angle of repose. A step whose solve did not
  * converge is reported on stderr, and their count at the end. --dump writes step K's problem,
  * its solution and, as guess 1, the warm start the step's solve began from, as an FCLIB file;
- * --dump-local writes it in the local form (W = H^T M^-1 H formed: what solvers of local
+ * --dump-local writes the same in the local form (W = H^T M^-1 H formed: what solvers of local
  * problems, Siconos's rolling NSGS among them, take).
  * --check exits with 1 unless every step converged and the energy (kinetic + potential) never
  * grew by more than the tolerance of the step's solve allows. Exit status 2 for a usage or
@@ -325,7 +325,7 @@ int main(int argc, char **argv) {
                 failed = "--dump";
                 goto done;
             }
-            if (st.dump_local && (e = write_local_form(&w, &now, dim, mdiag, f, wv, mu, mu_r, title, st.dump_local))) {
+            if (st.dump_local && (e = write_local_form(&w, &now, dim, mdiag, f, wv, mu, mu_r, title, r, u, r_warm, st.dump_local))) {
                 failed = "--dump-local";
                 goto done;
             }

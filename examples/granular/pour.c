@@ -267,16 +267,17 @@ void warm_start(const contacts *now, const contacts *before, int dim, const doub
 /* W's entries, block by block: each sphere couples every pair of its contacts' blocks. */
 frix_error write_local_form(const world *w, const contacts *cs, int dim, const double *mdiag, const double *f,
                             const double *wv, const double *mu, const double *mu_r, const char *title,
-                            const char *path) {
+                            const double *r, const double *u, const double *r0, const char *path) {
     const int64_t nc = cs->count, n = w->n, bs = 6 * dim; /* a block of H^T: dim x 6 */
     /* The contacts of each sphere, with the side it is on. */
     int64_t *deg = calloc((size_t)n + 1, sizeof *deg), *list = malloc(sizeof *list * 2 * (size_t)(nc + 1));
     int64_t *next = malloc(sizeof *next * (size_t)(n + 1)), *rows = NULL, *cols = NULL;
-    double *q = calloc((size_t)(dim * nc) + 1, sizeof *q), *vals = NULL;
+    double *q = calloc((size_t)(dim * nc) + 1, sizeof *q), *u0 = malloc(sizeof *u0 * ((size_t)(dim * nc) + 1));
+    double *vals = NULL;
     double *blocks = malloc(sizeof *blocks * 2 * (size_t)bs * (size_t)(nc + 1));
     frix_matrix *W = NULL;
     frix_problem *p = NULL;
-    frix_error e = deg && list && next && q && blocks ? FRIX_OK : FRIX_ERR_OUT_OF_MEMORY;
+    frix_error e = deg && list && next && q && u0 && blocks ? FRIX_OK : FRIX_ERR_OUT_OF_MEMORY;
     int64_t pairs = 0, k = 0;
     for (int64_t a = 0; !e && a < nc; ++a)
         for (int side = 0; side < 2; ++side) {
@@ -327,10 +328,14 @@ frix_error write_local_form(const world *w, const contacts *cs, int dim, const d
     }
     if (!e) e = dim == 5 ? frix_problem_rolling_local(W, q, mu, mu_r, nc, &p) : frix_problem_local(W, q, mu, nc, &p);
     if (!e) e = frix_problem_set_title(p, title);
-    if (!e) e = frix_fclib_write(path, p, NULL, NULL, NULL, 0, NULL, NULL, NULL);
+    if (!e) {
+        memcpy(u0, q, sizeof *u0 * (size_t)(dim * nc));
+        e = frix_matrix_gemv(W, 1.0, r0, 1.0, u0);
+    }
+    if (!e) e = frix_fclib_write(path, p, r, u, NULL, 1, r0, u0, NULL);
     frix_problem_free(p);
     frix_matrix_free(W);
-    free(deg), free(list), free(q), free(next), free(rows), free(cols), free(vals), free(blocks);
+    free(deg), free(list), free(q), free(u0), free(next), free(rows), free(cols), free(vals), free(blocks);
     return e;
 }
 

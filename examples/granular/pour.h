@@ -75,10 +75,11 @@ int64_t assemble_h(const world *w, const contacts *cs, int dim, int64_t *rows, i
 void warm_start(const contacts *now, const contacts *before, int dim, const double *r_before, double *r);
 /* The step's problem in the local form, W = H^T M^-1 H and q = H^T M^-1 f + w (M diagonal:
  * mdiag, 6 a sphere; dim entries a contact, 5 with mu_r), titled `title`, written to `path` as
- * an FCLIB file. */
+ * an FCLIB file with the step's answer (r, u) as its solution and the warm start r0 the solve
+ * began from as guess 1 (its u = W r0 + q), as --dump writes the global form. */
 frix_error write_local_form(const world *w, const contacts *cs, int dim, const double *mdiag, const double *f,
                             const double *wv, const double *mu, const double *mu_r, const char *title,
-                            const char *path);
+                            const double *r, const double *u, const double *r0, const char *path);
 /* *p reallocated to n entries (kept as it was when that fails). */
 int grow_doubles(double **p, int64_t n);
 int grow_indices(int64_t **p, int64_t n);
