@@ -45,7 +45,8 @@ struct frix_mpi_problem {
     std::vector<int64_t> ids;
     frix_problem view;  // nc = owned, over W, q and mu: what the sweeps and measures read; its
                         // weight: the owned contacts' W_aa normal entries (empty, so 1, for
-                        // a global problem with the host's M)
+                        // a global problem with the host's M, whose Newton measures with
+                        // RanksWeights)
 
     // The exchange. neighbours: the ranks coupled to this one (either way), increasing.
     // For neighbour k: the owned contacts it needs, send[send_ptr[k] .. send_ptr[k+1]), and

@@ -67,9 +67,11 @@ class RanksRescue : public MeasureRescue {
 };
 
 // The measures of the ranks' (r, u) (nc contacts on this rank) over all contacts, combined in
-// a fixed order; norm_q: the norm over all contacts of the relative error's scale.
+// a fixed order; norm_q: the norm over all contacts of the relative error's scale, free the
+// scaled measure's floor over all contacts (measures_from_ru; negative: norm_q).
 inline Measures measures_over_ranks(MPI_Comm comm, const double *r, const double *u, const double *mu,
-                                    const std::vector<double> &weight, int64_t nc, double norm_q) {
+                                    const std::vector<double> &weight, int64_t nc, double norm_q,
+                                    double free = -1.0) {
     const MeasureParts mine = measure_parts(r, u, mu, weight.empty() ? nullptr : weight.data(), 0, nc);
     double all[7] = {mine.residual_sq, mine.cone,      mine.penetration,  mine.complementarity,
                      mine.r_sq,        mine.u_sq,      mine.scaled_scale};
@@ -83,7 +85,7 @@ inline Measures measures_over_ranks(MPI_Comm comm, const double *r, const double
     reduce_all(comm, &ssq, 1, "s");
     total.scaled_ssq = all[6] > 0.0 ? ssq : 1.0;
     RanksRescue rescue(comm, r, u, mu, nc);
-    return measures_from_parts(total, rescue, norm_q);
+    return measures_from_parts(total, rescue, norm_q, free);
 }
 
 // The sweep over the ranks and its measures; r holds the owned reactions, then the ghosts'.
@@ -289,6 +291,16 @@ class DistributedBodies : public DistributedForm {
     std::vector<double> v_;
 };
 
+// The default measure's weights of a global problem with the host's M, over the ranks
+// (distributed_weights.cpp): what set_contact_weights and free_velocity give the whole
+// problem, so that a distributed answer measures as frix_problem_measure measures it.
+struct RanksWeights {
+    std::vector<double> contact;  // the owned contacts' w_a (frix_problem::weight)
+    std::vector<double> dof;      // the owned dofs' 1 / sqrt(M_ii) (frix_problem::dof_weight)
+    double free = 0.0;            // free_velocity over all contacts
+};
+// Collective.
+RanksWeights ranks_weights(const frix_mpi_problem &p);
 
 // The distributed global Newton (distributed_global_newton.cpp) on a global problem with the
 // host's M, from r (this rank's reactions); u receives H^T v + w, p.v the owned dofs' v; info

@@ -7,7 +7,6 @@
 #include <petscksp.h>
 
 #include <algorithm>
-#include <cfloat>
 #include <cmath>
 #include <utility>
 #include <vector>
@@ -359,9 +358,11 @@ class RanksVrSystem : public kit::SystemDefaults {
     RanksVrSystem(frix_mpi_problem &p, GlobalSystem &sys, RanksRho rho, const newton::Settings &s, const frix_options &o,
                   const double *r)
         : p_(p), g_(*p.global), sys_(sys), comm_(p.ctx->comm), n_(g_.dofs), nc_(p.owned), m_(3 * p.owned),
-          rho_(std::move(rho)), s_(s), o_(o), norm_w_(norm2_all(comm_, p.w.data(), m_)),
+          rho_(std::move(rho)), s_(s), o_(o), weights_(ranks_weights(p)), norm_w_(norm2_all(comm_, p.w.data(), m_)),
           norm_f_(norm2_all(comm_, g_.f.data(), n_)), rhs_((size_t)(n_ + m_)), dx_((size_t)(n_ + m_)), Mdv_((size_t)n_),
-          Hdr_((size_t)n_), Htdv_((size_t)m_) {
+          Hdr_((size_t)n_), Htdv_((size_t)m_), scaled_res_((size_t)n_), scaled_hr_((size_t)n_) {
+        for (int64_t j = 0; j < n_; ++j) scaled_res_[(size_t)j] = weights_.dof[(size_t)j] * g_.f[(size_t)j];
+        norm_df_ = norm2_all(comm_, scaled_res_.data(), n_);
         x_.v.assign((size_t)n_, 0.0);  // v from 0, as the serial gnsn-ac
         x_.r.assign(r, r + m_);
         x_.u.resize((size_t)m_);
@@ -484,17 +485,21 @@ class RanksVrSystem : public kit::SystemDefaults {
                                   rho_.rho_n[(size_t)a], rho_.rho_t[(size_t)a], &st.phi[3 * (size_t)a],
                                   jacobian ? &st.A[9 * (size_t)a] : nullptr, jacobian ? &st.B[9 * (size_t)a] : nullptr);
     }
-    // The error of (r, u) over all contacts with the equilibrium residual relative to
-    // max(|f|, |M v|, |H r|) (frix_solve's plain one; the distributed forms weigh every dof by
-    // 1, for both measures), as selected_error takes it.
+    // The measures of (r, v) over all ranks, as global_measures takes them on the whole
+    // problem (the same weights: RanksWeights), and the error selected_error takes of them.
     double error_of(const State &st) {
-        measures_ = measures_over_ranks(comm_, st.r.data(), st.u.data(), p_.mu.data(), p_.view.weight, nc_, norm_w_);
-        const double res = norm2_all(comm_, st.res.data(), n_);
-        const double scale =
-            std::max({norm_f_, norm2_all(comm_, st.mv.data(), n_), norm2_all(comm_, st.hr.data(), n_)});
-        equilibrium_ = scale > DBL_EPSILON ? res / scale : res;
+        measures_ = measures_over_ranks(comm_, st.r.data(), st.u.data(), p_.mu.data(), weights_.contact, nc_, norm_w_,
+                                        weights_.free);
+        for (int64_t j = 0; j < n_; ++j) {
+            scaled_res_[(size_t)j] = weights_.dof[(size_t)j] * st.res[(size_t)j];
+            scaled_hr_[(size_t)j] = weights_.dof[(size_t)j] * st.hr[(size_t)j];
+        }
         measures_.global = true;
-        measures_.equilibrium = measures_.equilibrium_scaled = equilibrium_;
+        const double norm_mv = norm2_all(comm_, st.mv.data(), n_), norm_hr = norm2_all(comm_, st.hr.data(), n_);
+        measures_.equilibrium = relative_equilibrium(norm2_all(comm_, st.res.data(), n_), norm_f_, norm_mv, norm_hr);
+        measures_.equilibrium_scaled = scaled_equilibrium(norm2_all(comm_, scaled_res_.data(), n_), norm_df_,
+                                                          norm2_all(comm_, scaled_hr_.data(), n_));
+        equilibrium_ = measures_.equilibrium;
         return selected_error(measures_, s_.measure);
     }
     frix_error stopped() { return mpi::agree(comm_, failed_, "frix_mpi_solve"); }
@@ -507,9 +512,12 @@ class RanksVrSystem : public kit::SystemDefaults {
     RanksRho rho_;
     const newton::Settings &s_;
     const frix_options &o_;
+    const RanksWeights weights_;
     const double norm_w_, norm_f_;
+    double norm_df_ = 0.0;  // |D f|
     State x_, trial_;
     std::vector<double> rhs_, dx_, Mdv_, Hdr_, Htdv_;
+    std::vector<double> scaled_res_, scaled_hr_;  // D (M v - H r - f) and D H r
     frix_error failed_ = FRIX_OK;
     RhoCuts cuts_;
     Measures measures_;

@@ -225,6 +225,16 @@ double with_equilibrium(double contact, double equilibrium) {
 
 }  // namespace
 
+double relative_equilibrium(double res, double norm_f, double norm_mv, double norm_hr) {
+    const double scale = std::max({norm_f, norm_mv, norm_hr});
+    return scale > DBL_EPSILON ? res / scale : res;
+}
+
+double scaled_equilibrium(double scaled_res, double norm_df, double norm_dhr) {
+    const double scale = std::max(norm_df, norm_dhr);
+    return scale > 0.0 ? clamped_ratio(scaled_res, scale) : (scaled_res > 0.0 ? DBL_MAX : 0.0);
+}
+
 double selected_error(const Measures &m, int64_t measure_kind) {
     switch (measure_kind) {
         case FRIX_MEASURE_RELATIVE: return m.global ? with_equilibrium(m.relative, m.equilibrium) : m.relative;
@@ -262,9 +272,8 @@ void equilibrium_residuals(const frix_problem &p, const double *r, const double 
     for (int64_t i = 0; i < n; ++i) d[i] = mv[i] - hr[i] - p.f[i];
     double res = 0.0;
     for (int64_t i = 0; i < n; ++i) res += d[i] * d[i];
-    const double scale = std::max({frix::norm2(p.f, n), frix::norm2(mv.data(), n), frix::norm2(hr.data(), n)});
-    res = std::sqrt(res);
-    m.equilibrium = scale > DBL_EPSILON ? res / scale : res;
+    m.equilibrium = frix::relative_equilibrium(std::sqrt(res), frix::norm2(p.f, n), frix::norm2(mv.data(), n),
+                                               frix::norm2(hr.data(), n));
     // The scaled one: every dof weighted by its own 1 / sqrt(M_ii), hr and d reused for D H r
     // and D d, mv for D f.
     const bool weighted = (int64_t)p.dof_weight.size() == n;
@@ -274,10 +283,8 @@ void equilibrium_residuals(const frix_problem &p, const double *r, const double 
         hr[i] *= di;
         mv[i] = di * p.f[i];
     }
-    const double res_scaled = frix::norm2(d.data(), n);
-    const double scale_scaled = std::max(frix::norm2(mv.data(), n), frix::norm2(hr.data(), n));
-    m.equilibrium_scaled = scale_scaled > 0.0 ? frix::clamped_ratio(res_scaled, scale_scaled)
-                                              : (res_scaled > 0.0 ? DBL_MAX : 0.0);
+    m.equilibrium_scaled =
+        frix::scaled_equilibrium(frix::norm2(d.data(), n), frix::norm2(mv.data(), n), frix::norm2(hr.data(), n));
 }
 
 }  // namespace

@@ -107,6 +107,12 @@ Measures global_measures(const frix_problem &p, const double *r, const double *v
 Measures rolling_measures_from_ru(const double *r, const double *u, const double *mu, const double *mu_r,
                                   const double *weight, int64_t nc, double norm_q, double free = -1.0);
 
+// The two equilibrium residuals (Measures) from their norms, for a problem held whole or by
+// ranks (mpi/): res = |d| over max(|f|, |M v|, |H r|), and scaled_res = |D d| over
+// max(|D f|, |D H r|).
+double relative_equilibrium(double res, double norm_f, double norm_mv, double norm_hr);
+double scaled_equilibrium(double scaled_res, double norm_df, double norm_dhr);
+
 // The value compared with the tolerance for a given frix_error_measure: for a global problem
 // the larger of the contact measure and the matching equilibrium residual (equilibrium_scaled
 // with the default measure), so that no answer out of equilibrium meets a tolerance.

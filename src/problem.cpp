@@ -246,9 +246,39 @@ frix_error make_owned_rolling_global_problem(std::unique_ptr<frix_matrix> M, std
                                   std::move(H), std::move(f), std::move(w), std::move(mu), std::move(mu_r), out);
 }
 
+double inverse_mass(double m_ii, double otherwise) {
+    return m_ii > 0.0 && std::isfinite(1.0 / m_ii) ? 1.0 / m_ii : otherwise;
+}
+
+void PositiveMean::add(const std::vector<double> &x) {
+    for (double v : x)
+        if (v > 0.0 && std::isfinite(v)) {
+            sum += v;
+            count += 1.0;
+        }
+}
+
+double PositiveMean::fill() const { return count > 0.0 && std::isfinite(sum / count) ? sum / count : 1.0; }
+
+void fill_not_positive(std::vector<double> &x, double fill) {
+    for (double &v : x)
+        if (!(v > 0.0 && std::isfinite(v))) v = fill;
+}
+
+double load_velocity_of(double mean_weight, int64_t nc, double load_norm, int64_t load_dofs) {
+    if (load_dofs == 0) return 0.0;
+    // The load's root mean square at each of the nc contacts.
+    const double v = std::sqrt(mean_weight * (double)nc / (double)load_dofs) * load_norm;
+    return std::isfinite(v) ? v : 0.0;
+}
+
+double free_velocity_of(double norm_w, double norm_jacobi, double load_velocity) {
+    return std::max({norm_w, std::isfinite(norm_jacobi) ? norm_jacobi : 0.0, load_velocity});
+}
+
 std::vector<double> inverse_mass_diagonal(const frix_problem &p, double otherwise) {
     std::vector<double> inverse = p.M ? matrix_diagonal(*p.M) : std::vector<double>((size_t)p.n, 0.0);
-    for (double &x : inverse) x = x > 0.0 && std::isfinite(1.0 / x) ? 1.0 / x : otherwise;
+    for (double &x : inverse) x = inverse_mass(x, otherwise);
     return inverse;
 }
 
@@ -265,16 +295,9 @@ namespace {
 
 // Every value that is not positive and finite becomes the mean of those that are (1 if none).
 void fill_with_mean(std::vector<double> &x) {
-    double sum = 0.0;
-    int64_t count = 0;
-    for (double v : x)
-        if (v > 0.0 && std::isfinite(v)) {
-            sum += v;
-            ++count;
-        }
-    const double fill = count > 0 && std::isfinite(sum / (double)count) ? sum / (double)count : 1.0;
-    for (double &v : x)
-        if (!(v > 0.0 && std::isfinite(v))) v = fill;
+    PositiveMean mean;
+    mean.add(x);
+    fill_not_positive(x, mean.fill());
 }
 
 // p.dof_weight and p.load_weight of a global problem (problem.hpp), from 1 / M_ii.
@@ -328,8 +351,7 @@ double free_velocity(const frix_problem &p) {
             const double d = mass[(size_t)row];
             if (d > 0.0) free[(size_t)col] += value * (p.f[row] / d);
         });
-    const double norm_free = norm2(free.data(), m);
-    return std::max({norm2(p.w, m), std::isfinite(norm_free) ? norm_free : 0.0, load_velocity(p)});
+    return free_velocity_of(norm2(p.w, m), norm2(free.data(), m), load_velocity(p));
 }
 
 double load_velocity(const frix_problem &p) {
@@ -337,12 +359,9 @@ double load_velocity(const frix_problem &p) {
     std::vector<double> load;
     for (int64_t i = 0; i < p.n; ++i)
         if (p.load_weight[(size_t)i] > 0.0) load.push_back(p.f[i] * p.load_weight[(size_t)i]);
-    if (load.empty()) return 0.0;
     double mean_weight = 0.0;
     for (double x : p.weight) mean_weight += x / (double)p.nc;
-    // Their root mean square at each of the nc contacts.
-    const double v = std::sqrt(mean_weight * (double)p.nc / (double)load.size()) * norm2(load.data(), (int64_t)load.size());
-    return std::isfinite(v) ? v : 0.0;
+    return load_velocity_of(mean_weight, p.nc, norm2(load.data(), (int64_t)load.size()), (int64_t)load.size());
 }
 
 frix_error check_problem_vectors(const frix_problem &p) {

@@ -139,6 +139,26 @@ double free_velocity(const frix_problem &p);
 // reached, and it adds nothing.
 double load_velocity(const frix_problem &p);
 
+// The rules of those weights and floors, one value at a time or from their parts, so that a
+// problem held by several ranks (mpi/) computes what set_contact_weights and free_velocity
+// compute on the whole problem.
+// 1 / m_ii where m_ii is positive with a finite inverse, `otherwise` elsewhere.
+double inverse_mass(double m_ii, double otherwise);
+// The sum and number of the positive finite values of some weights (ranks add theirs up):
+// the value that those not positive and finite take, their mean, or 1 if there are none.
+struct PositiveMean {
+    double sum = 0.0, count = 0.0;
+    void add(const std::vector<double> &x);
+    double fill() const;
+};
+// x's values that are not positive and finite set to `fill`.
+void fill_not_positive(std::vector<double> &x, double fill);
+// load_velocity from its parts: the mean contact weight over nc contacts, and the load's
+// norm |D^-1/2 f| and number of values over the load dofs.
+double load_velocity_of(double mean_weight, int64_t nc, double load_norm, int64_t load_dofs);
+// free_velocity from |w|, |H^T D^-1 f + w| (not finite: ignored) and load_velocity.
+double free_velocity_of(double norm_w, double norm_jacobi, double load_velocity);
+
 // Re-checks the vectors a caller may have changed in place since creation (q/f/w, mu).
 frix_error check_problem_vectors(const frix_problem &p);
 

@@ -8,120 +8,7 @@
 #include <string.h>
 
 #include "check_main.h"
-
-/* Units: a length, a mass and a time unit, as factors from m, kg, s (mm: L = 1000). A value
- * of dimension mass^a length^b time^c is multiplied by Mu^a L^b T^-c. */
-typedef struct {
-    const char *name;
-    double L, Mu, T;
-} units;
-static const units kUnits[3] = {{"m/kg/s", 1, 1, 1}, {"mm/kg/s", 1000, 1, 1}, {"m/g/ms", 1, 1000, 1000}};
-
-typedef struct {
-    int64_t n, nc;
-    double *M, *H, *f, *w, *mu; /* M n x n and H n x 3nc dense, column-major */
-    frix_matrix *Mm, *Hm;
-    frix_problem *p;
-} dense_case;
-
-static void case_alloc(dense_case *c, int64_t n, int64_t nc) {
-    c->n = n, c->nc = nc;
-    c->M = calloc((size_t)(n * n), sizeof(double));
-    c->H = calloc((size_t)(n * 3 * nc), sizeof(double));
-    c->f = calloc((size_t)n, sizeof(double));
-    c->w = calloc((size_t)(3 * nc), sizeof(double));
-    c->mu = calloc((size_t)nc, sizeof(double));
-}
-
-static void case_make(dense_case *c) {
-    ck_assert_int_eq(frix_matrix_from_dense(c->n, c->n, c->M, c->n, &c->Mm), FRIX_OK);
-    ck_assert_int_eq(frix_matrix_from_dense(c->n, 3 * c->nc, c->H, c->n, &c->Hm), FRIX_OK);
-    ck_assert_int_eq(frix_problem_global(c->Mm, c->Hm, c->f, c->w, c->mu, c->nc, &c->p), FRIX_OK);
-}
-
-static void case_free(dense_case *c) {
-    frix_problem_free(c->p);
-    frix_matrix_free(c->Mm);
-    frix_matrix_free(c->Hm);
-    free(c->M), free(c->H), free(c->f), free(c->w), free(c->mu);
-}
-
-/* A rigid cube (3 translations, 3 rotations) of 2 kg and side 0.1 m falling (1 m/s) and
- * sliding (0.1 m/s) onto a plane at its 4 bottom corners, a time step of 1 ms, in units u:
- * translations and rotations scale apart, which a measure that mixes them does not survive. */
-static void rigid_cube(dense_case *c, units u) {
-    case_alloc(c, 6, 4);
-    const double m = 2.0, a = 0.1, I = m * a * a / 6.0, h = 1e-3, g = 9.81;
-    const double v0[6] = {0.1, 0, -1.0, 0, 0.5, 0};
-    const double sm[6] = {u.Mu, u.Mu, u.Mu, u.Mu * u.L * u.L, u.Mu * u.L * u.L, u.Mu * u.L * u.L};
-    const double sp[6] = {u.Mu * u.L / u.T, u.Mu * u.L / u.T, u.Mu * u.L / u.T, u.Mu * u.L * u.L / u.T,
-                          u.Mu * u.L * u.L / u.T, u.Mu * u.L * u.L / u.T}; /* momentum */
-    for (int i = 0; i < 6; ++i) {
-        const double mi = i < 3 ? m : I;
-        c->M[i * 6 + i] = mi * sm[i];
-        c->f[i] = (mi * v0[i] - (i == 2 ? h * m * g : 0.0)) * sp[i];
-    }
-    /* Contact frame: normal z, tangents x and y; u = v + omega x p, p the corner. */
-    const double frame[3][3] = {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}};
-    for (int k = 0; k < 4; ++k) {
-        const double p[3] = {(k & 1 ? 0.5 : -0.5) * a, (k & 2 ? 0.5 : -0.5) * a, -0.5 * a};
-        for (int d = 0; d < 3; ++d) {
-            const double *e = frame[d];
-            double *col = c->H + 6 * (3 * k + d);
-            for (int i = 0; i < 3; ++i) col[i] = e[i];
-            col[3] = (p[1] * e[2] - p[2] * e[1]) * u.L; /* p x e: a lever arm, a length */
-            col[4] = (p[2] * e[0] - p[0] * e[2]) * u.L;
-            col[5] = (p[0] * e[1] - p[1] * e[0]) * u.L;
-        }
-        c->mu[k] = 0.3;
-    }
-    case_make(c);
-}
-
-/* A static elastic block of nx x ny x nz nodes joined by springs of stiffness k (the same in
- * each direction: a stiffness matrix whose free motions are the 3 translations), standing on
- * a plane at its bottom nodes (contact frame: normal z, tangents x, y; gaps 0), loaded on its
- * top nodes by (fx, 0, fz) in all. clamp: the top nodes are also held by springs to the
- * ground (M positive definite); else the contacts alone hold the block. In units u: M is a
- * stiffness (mass / time^2), v a displacement, f and r forces, w a length. */
-static void elastic_block(dense_case *c, int nx, int ny, int nz, int clamp, double fx, double fz, units u) {
-    const int64_t nodes = (int64_t)nx * ny * nz;
-    case_alloc(c, 3 * nodes, (int64_t)nx * ny);
-    const double k = 1e4 * u.Mu / (u.T * u.T), force = u.Mu * u.L / (u.T * u.T);
-    const int64_t n = c->n;
-#define NODE(i, j, l) (((int64_t)(l) * ny + (j)) * nx + (i))
-    for (int l = 0; l < nz; ++l)
-        for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i) {
-                const int64_t a = NODE(i, j, l);
-                const int64_t nb[3] = {i + 1 < nx ? NODE(i + 1, j, l) : -1, j + 1 < ny ? NODE(i, j + 1, l) : -1,
-                                       l + 1 < nz ? NODE(i, j, l + 1) : -1};
-                for (int s = 0; s < 3; ++s) {
-                    if (nb[s] < 0) continue;
-                    for (int d = 0; d < 3; ++d) {
-                        const int64_t x = 3 * a + d, y = 3 * nb[s] + d;
-                        c->M[x * n + x] += k, c->M[y * n + y] += k;
-                        c->M[x * n + y] -= k, c->M[y * n + x] -= k;
-                    }
-                }
-            }
-    const double top = (double)nx * ny;
-    for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i) {
-            const int64_t t = NODE(i, j, nz - 1), b = NODE(i, j, 0), a = (int64_t)j * nx + i;
-            c->f[3 * t] += fx / top * force;
-            c->f[3 * t + 2] += fz / top * force;
-            if (clamp)
-                for (int d = 0; d < 3; ++d) c->M[(3 * t + d) * n + 3 * t + d] += k;
-            double *col = c->H + n * 3 * a;
-            col[3 * b + 2] = 1.0;          /* normal: z */
-            col[n + 3 * b] = 1.0;          /* tangent: x */
-            col[2 * n + 3 * b + 1] = 1.0;  /* tangent: y */
-            c->mu[a] = 0.3;
-        }
-#undef NODE
-    case_make(c);
-}
+#include "unit_cases.h"
 
 typedef struct {
     frix_error err;
@@ -164,8 +51,8 @@ START_TEST(three_unit_systems_one_verdict) {
             for (int k = 0; k < 3; ++k) {
                 dense_case c;
                 const units un = kUnits[k];
-                if (shape == 0) rigid_cube(&c, un);
-                else elastic_block(&c, 4, 4, 3, 1, 0.2, -1.0, un);
+                ck_assert_int_eq(shape == 0 ? rigid_cube(&c, un) : elastic_block(&c, 4, 4, 3, 1, 0.2, -1.0, un),
+                                 FRIX_OK);
                 const run out = solve_case(&c, solver, 1e-8,
                                            shape == 0 ? un.Mu * un.L / un.T : un.Mu * un.L / (un.T * un.T));
                 case_free(&c);
@@ -193,7 +80,7 @@ START_TEST(measure_is_unit_free_and_complete) {
     for (int k = 0; k < 3; ++k) {
         dense_case c;
         const units un = kUnits[k];
-        rigid_cube(&c, un);
+        ck_assert_int_eq(rigid_cube(&c, un), FRIX_OK);
         /* r: 0.4 N s at each contact, normal; v: the start's velocity, scaled. */
         double r[12] = {0}, v[6] = {0.1 * un.L / un.T, 0, -0.2 * un.L / un.T, 0, 0.3 / un.T, 0};
         for (int a = 0; a < 4; ++a) r[3 * a] = 0.4 * un.Mu * un.L / un.T, r[3 * a + 1] = 0.05 * un.Mu * un.L / un.T;
@@ -211,7 +98,7 @@ START_TEST(measure_is_unit_free_and_complete) {
         case_free(&c);
     }
     dense_case c;
-    elastic_block(&c, 3, 3, 2, 1, 0.0, -1.0, kUnits[0]);
+    ck_assert_int_eq(elastic_block(&c, 3, 3, 2, 1, 0.0, -1.0, kUnits[0]), FRIX_OK);
     double *r = calloc((size_t)(3 * c.nc), sizeof(double)), *v = calloc((size_t)c.n, sizeof(double));
     frix_info *info = NULL;
     ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
@@ -235,7 +122,7 @@ static int stop_at_once(void *data, int64_t iteration, double error, double seco
  * never 0 for an answer that is not one. */
 START_TEST(stopped_run_reports_its_error) {
     dense_case c;
-    elastic_block(&c, 3, 3, 2, 1, 0.0, -1.0, kUnits[0]);
+    ck_assert_int_eq(elastic_block(&c, 3, 3, 2, 1, 0.0, -1.0, kUnits[0]), FRIX_OK);
     for (size_t s = 0; s < sizeof kGlobalSolvers / sizeof kGlobalSolvers[0]; ++s) {
         double *r = calloc((size_t)(3 * c.nc), sizeof(double)), *u = calloc((size_t)(3 * c.nc), sizeof(double));
         double *v = calloc((size_t)c.n, sizeof(double));
@@ -265,7 +152,7 @@ START_TEST(floating_block_held_or_refused) {
     for (int l = 0; l < 3; ++l)
         for (size_t s = 0; s < sizeof solvers / sizeof solvers[0]; ++s) {
             dense_case c;
-            elastic_block(&c, 4, 4, 3, 0, loads[l][0], loads[l][1], kUnits[0]);
+            ck_assert_int_eq(elastic_block(&c, 4, 4, 3, 0, loads[l][0], loads[l][1], kUnits[0]), FRIX_OK);
             const run out = solve_case(&c, solvers[s], 1e-8, 1.0);
             case_free(&c);
             if (l == 0) {
@@ -288,7 +175,7 @@ END_TEST
  * M or of the shifted M again: only what the solver itself factorises). */
 START_TEST(floating_block_persistent_steps) {
     dense_case c;
-    elastic_block(&c, 4, 4, 3, 0, 0.2, -1.0, kUnits[0]);
+    ck_assert_int_eq(elastic_block(&c, 4, 4, 3, 0, 0.2, -1.0, kUnits[0]), FRIX_OK);
     frix_options *o = NULL;
     frix_persistent *ps = NULL;
     frix_info *info = NULL;

@@ -5,8 +5,9 @@
  * rank fails all of them instead of leaving the others waiting. Public API only.
  *
  * The distributed solves are compared with the serial ones on Siconos's measure, the default
- * these cases were written on (frix_test_siconos_measure): the distributed global forms do not
- * yet weight the default measure as the serial ones do (a global one not at all). */
+ * these cases were written on (frix_test_siconos_measure): the distributed reduced and rigid
+ * forms do not yet weight the default measure as the serial ones do. (gnsn-ac on the host's M
+ * does: test_mpi_newton's the_serial_measure_over_the_ranks.) */
 #ifndef FRIX_TEST_MPI_FIXTURES_H
 #define FRIX_TEST_MPI_FIXTURES_H
 

@@ -13,6 +13,7 @@
 #include "../check_main.h"
 #include "mpi_fixtures.h"
 #include "elastic_grid.h"
+#include "unit_cases.h"
 
 /* The distributed Newton (nsn-ac, PETSc with MUMPS): on all ranks (a chain, and two shared
  * problems cut by Scotch), the gathered answer meets the tolerance by libfrix's measure and
@@ -89,7 +90,7 @@ END_TEST
 typedef struct {
     frix_status status;
     int64_t iterations;
-    double error, equilibrium;
+    double error, equilibrium, error_contact, equilibrium_scaled;
     double *r, *v;
 } global_outcome;
 
@@ -129,6 +130,8 @@ static global_outcome solve_global_part(MPI_Comm comm, frix_mpi_problem *dist, c
     out.iterations = frix_info_iterations(info);
     out.error = frix_info_error(info);
     frix_info_get_double(info, FRIX_INFO_EQUILIBRIUM, &out.equilibrium);
+    frix_info_get_double(info, FRIX_INFO_ERROR_CONTACT, &out.error_contact);
+    frix_info_get_double(info, FRIX_INFO_EQUILIBRIUM_SCALED, &out.equilibrium_scaled);
     out.r = calloc((size_t)(3 * nc) + 1, sizeof(double));
     out.v = calloc((size_t)n + 1, sizeof(double));
     ck_assert_int_eq(frix_mpi_gather(dist, 0, r, out.r), FRIX_OK);
@@ -330,6 +333,110 @@ START_TEST(the_hosts_mass_matrix) {
 }
 END_TEST
 
+/* Whether a distributed value x is the serial measure's y of the same answer: to 1e-10 of it,
+ * or both at rounding (1e-14: u = H^T v + w and M v - H r - f are summed in another order). */
+static int same_measure(double x, double y) { return fabs(x - y) <= 1e-10 * fabs(y) + 1e-14; }
+
+/* gnsn-ac over the ranks on p (scattered from rank 0) with the default measure at tol,
+ * max_iter steps at most: its reported error, contact part and equilibrium part are
+ * frix_problem_measure's of the gathered (r, v). *out: the outcome (free it). */
+static int measured_as_serial(const frix_problem *p, double tol, int max_iter, const char *what,
+                              global_outcome *out) {
+    const int64_t nc = frix_problem_contacts(p), n = frix_problem_dofs(p);
+    frix_options *o = NULL;
+    frix_mpi_context *ctx = NULL;
+    frix_mpi_problem *dist = NULL;
+    frix_info *info = NULL;
+    double error = NAN, contact = NAN, equilibrium = NAN;
+    int ok;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_GLOBAL_NSN_AC, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, tol), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, max_iter), FRIX_OK);
+    ck_assert_int_eq(frix_mpi_context_create(MPI_COMM_WORLD, &ctx), FRIX_OK);
+    ck_assert_msg(frix_mpi_problem_scatter_global(ctx, 0, g_rank == 0 ? p : NULL, NULL, &dist) == FRIX_OK, "%s",
+                  frix_mpi_last_error_message());
+    *out = solve_global_part(MPI_COMM_WORLD, dist, o, nc, n);
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_problem_measure(p, out->r, out->v, NULL, info), FRIX_OK);
+    error = frix_info_error(info);
+    frix_info_get_double(info, FRIX_INFO_ERROR_CONTACT, &contact);
+    frix_info_get_double(info, FRIX_INFO_EQUILIBRIUM_SCALED, &equilibrium);
+    ok = same_measure(out->error, error) && same_measure(out->error_contact, contact) &&
+         same_measure(out->equilibrium_scaled, equilibrium);
+    if (g_rank == 0)
+        printf("gnsn-ac, %s, %d ranks, at most %d steps: %s after %d, error %.9e (contact %.9e, equilibrium %.9e); "
+               "libfrix: %.9e (%.9e, %.9e)\n",
+               what, g_size, max_iter, frix_status_string(out->status), (int)out->iterations, out->error,
+               out->error_contact, out->equilibrium_scaled, error, contact, equilibrium);
+    frix_info_free(info);
+    frix_mpi_problem_free(dist);
+    frix_mpi_context_free(ctx);
+    frix_options_free(o);
+    return ok;
+}
+
+/* The default measure over the ranks is the serial one: the error gnsn-ac reports of its
+ * answer (after 1 step, where it is large, and converged) is frix_problem_measure's of the
+ * gathered (r, v), on the rigid cube, the clamped elastic block, the elastic grid and two
+ * shared FEM files (LMGC_GFC3D's floor is the load's velocity: H^T D^-1 f is 0 there); and the
+ * cube and the block in three unit systems converge, with the same normal reactions, and with
+ * the same error to 3 digits where they took the same steps. (The steps themselves may
+ * differ: MUMPS's pivoting of the Jacobian, whose rows mix units, may turn the Newton's
+ * regularisation on in one system and not in another, as on the block at 1 rank.) */
+START_TEST(the_serial_measure_over_the_ranks) {
+    frix_elastic_grid grid;
+    frix_problem *files[2] = {shared_problem("fclib/global/CubeH8.hdf5"),
+                              shared_problem("fclib/global/LMGC_GFC3D-i00501-4-00000.hdf5")};
+    const char *names[2] = {"CubeH8", "LMGC_GFC3D-i00501"};
+    int ok = 1, shape, k, steps;
+    ck_assert_int_eq(frix_elastic_grid_make(6, 6, 3, 0.1, 1e4, &grid), FRIX_OK);
+    for (k = 0; k < 3; ++k)
+        for (steps = 0; steps < 2; ++steps) {
+            const frix_problem *p = k == 0 ? grid.problem : files[k - 1];
+            global_outcome out;
+            if (!p) continue;
+            ok = measured_as_serial(p, 1e-8, steps == 0 ? 1 : 100, k == 0 ? "elastic grid 6x6x3" : names[k - 1], &out) &&
+                 ok;
+            global_outcome_free(&out);
+        }
+    for (k = 0; k < 2; ++k) frix_problem_free(files[k]);
+    for (shape = 0; shape < 2; ++shape) {
+        global_outcome first = {FRIX_STATUS_CONVERGED, 0, 0.0, 0.0, 0.0, 0.0, NULL, NULL};
+        double first_sum = 0.0;
+        for (k = 0; k < 3; ++k) {
+            const units un = kUnits[k];
+            const double force = shape == 0 ? un.Mu * un.L / un.T : un.Mu * un.L / (un.T * un.T);
+            char what[64];
+            dense_case c;
+            global_outcome out;
+            double sum = 0.0;
+            int64_t a;
+            snprintf(what, sizeof what, "%s in %s", shape == 0 ? "rigid cube" : "clamped block 4x4x3", un.name);
+            ck_assert_int_eq(shape == 0 ? rigid_cube(&c, un) : elastic_block(&c, 4, 4, 3, 1, 0.2, -1.0, un), FRIX_OK);
+            for (steps = 0; steps < 2; ++steps) {
+                ok = measured_as_serial(c.p, 1e-8, steps == 0 ? 1 : 100, what, &out) && ok;
+                if (steps == 0) global_outcome_free(&out);
+            }
+            for (a = 0; a < c.nc; ++a) sum += out.r[3 * a] / force;
+            ok = ok && out.status == FRIX_STATUS_CONVERGED && out.error <= 1e-8;
+            if (k == 0) {
+                first = out;
+                first_sum = sum;
+            } else {
+                ok = ok && out.status == first.status && fabs(sum - first_sum) <= 1e-6 &&
+                     (out.iterations != first.iterations ||
+                      fabs(out.error - first.error) <= 1e-3 * fmax(out.error, first.error) + 1e-14);
+                global_outcome_free(&out);
+            }
+            case_free(&c);
+        }
+        global_outcome_free(&first);
+    }
+    frix_elastic_grid_free(&grid);
+    ck_assert_msg(all_true(MPI_COMM_WORLD, ok), "the distributed measure is not the serial one, or depends on the units");
+}
+END_TEST
+
 #ifdef FRIX_TEST_PETSC_HOST
 /* The host started PETSc (mpi_test_start, in this build): the chain given as PETSc objects
  * (an AIJ matrix, a vector) gives the problem its arrays give, to the bit; nsn-ac runs on the
@@ -503,6 +610,7 @@ int main(int argc, char **argv) {
     tcase_set_timeout(tc, 0);
     tcase_add_test(tc, newton_over_the_ranks);
     tcase_add_test(tc, the_hosts_mass_matrix);
+    tcase_add_test(tc, the_serial_measure_over_the_ranks);
 #ifdef FRIX_TEST_PETSC_HOST
     tcase_add_test(tc, the_hosts_petsc_objects);
     tcase_add_test(tc, the_hosts_petsc_mass_matrix);
