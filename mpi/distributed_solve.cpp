@@ -18,8 +18,6 @@ namespace frix {
 namespace mpi {
 namespace {
 
-bool finite_measures(const Measures &m) { return std::isfinite(m.relative) && std::isfinite(m.norm_u); }
-
 // The driver (as solve_local_problem for one process): the all-separating case, the warm
 // start, the sweeps, the final measures and the status check against them.
 frix_error solve(frix_mpi_problem &p, const frix_options &opts, double *r_out, double *u_out, frix_info &info,

@@ -82,12 +82,17 @@ class Monitor {
     // run away (r, for a solver that iterates on its own copy; else ctx.r): then it asks to
     // stop and marks the run (frix_info::ran_away), which the driver reports as diverged.
     bool report(int64_t iteration, double error, const double *r = nullptr) const {
-        if (ctx_ && ctx_->runaway_bound > 0.0 && iteration % kRunawayEvery == 0 &&
-            runs_away(ctx_->problem, r ? r : ctx_->r, ctx_->runaway_bound)) {
-            ctx_->info.ran_away = true;
-            return true;
-        }
+        if (iteration % kRunawayEvery == 0 && ran_away(r)) return true;
         return o_.callback && o_.callback(o_.callback_data, iteration, error, clock_.seconds()) != 0;
+    }
+    // Whether the iterate (r, or ctx.r) has run away (runs_away past ctx.runaway_bound; never
+    // without a context): then it marks the run as report() does. For a solver whose steps are
+    // few and each a solve of its own (a proximal step), asked after every one.
+    bool ran_away(const double *r = nullptr) const {
+        if (!ctx_ || !(ctx_->runaway_bound > 0.0) || !runs_away(ctx_->problem, r ? r : ctx_->r, ctx_->runaway_bound))
+            return false;
+        ctx_->info.ran_away = true;
+        return true;
     }
 
     // Whether a flag raised on this process is raised anywhere: none (the default) on one

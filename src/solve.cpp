@@ -49,22 +49,61 @@ double runaway_bound(double free_velocity_norm) {
 
 bool runs_away(const frix_problem &p, const double *r, double bound) {
     if (!r || !(bound > 0.0)) return false;
+    const int dim = contact_size(p);
     for (int64_t a = 0; a < p.nc; ++a) {
         const double w = p.weight.empty() ? 1.0 : p.weight[(size_t)a];
-        const double *ra = r + 3 * a;
-        if (!(w * std::max({std::fabs(ra[0]), std::fabs(ra[1]), std::fabs(ra[2])}) <= bound)) return true;
+        const double *ra = r + dim * a;
+        for (int i = 0; i < dim; ++i)
+            if (!(w * std::fabs(ra[i]) <= bound)) return true;
     }
     return false;
+}
+
+std::vector<double> finite_warm_start(double *r, int64_t m) {
+    for (int64_t i = 0; i < m; ++i)
+        if (!std::isfinite(r[i])) r[i] = 0.0;
+    if (std::all_of(r, r + m, [](double x) { return x == 0.0; })) return {};
+    return std::vector<double>(r, r + m);
+}
+
+bool finite_measures(const Measures &x) {
+    return std::isfinite(x.relative) && std::isfinite(x.norm_u) && (!x.global || std::isfinite(x.equilibrium));
+}
+
+frix_error fall_back_on_divergence(const frix_problem &p, int64_t measure_kind, const std::vector<double> &warm_start,
+                                   bool broken, double bound, const MeasureAnswer &measure, double *r, double *u,
+                                   double *v, Measures &meas, frix_info &info) {
+    if (info.ran_away && info.status == FRIX_STATUS_STOPPED_BY_CALLBACK) info.status = FRIX_STATUS_DIVERGED;
+    if (!broken && (info.status == FRIX_STATUS_CONVERGED || !runs_away(p, r, bound))) return FRIX_OK;
+    // The start is returned (r = 0 where the start overflows too: u = q, or the free motion,
+    // then), a finite runaway's r only where its error is below half of the start's: an r of
+    // 1e150 is no answer to hand a caller.
+    const int64_t m = contact_size(p) * p.nc, n = is_local_form(p) ? 0 : p.n;
+    std::vector<double> start = warm_start.empty() ? std::vector<double>((size_t)m, 0.0) : warm_start;
+    std::vector<double> u_start((size_t)m), v_start((size_t)n);
+    Measures at_start;
+    if (frix_error e = measure(start.data(), u_start.data(), v_start.data(), at_start)) return e;
+    if (broken && !finite_measures(at_start)) {
+        std::fill(start.begin(), start.end(), 0.0);
+        if (frix_error e = measure(start.data(), u_start.data(), v_start.data(), at_start)) return e;
+    }
+    const bool keep_start = finite_measures(at_start) &&
+                            selected_error(at_start, measure_kind) <= 2.0 * selected_error(meas, measure_kind);
+    if (broken || keep_start) {
+        std::copy(start.begin(), start.end(), r);
+        std::copy(u_start.begin(), u_start.end(), u);
+        if (v) std::copy(v_start.begin(), v_start.end(), v);
+        meas = at_start;
+    }
+    info.status = FRIX_STATUS_DIVERGED;
+    return FRIX_OK;
 }
 
 frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
                                const SolverEntry &entry, double *r, double *u, frix_info &info,
                                const Stopwatch &clock, SolveCache *cache, Measures *measures, bool return_best) {
-    const int64_t m = 3 * p.nc;
-    // Kept to fall back on if the solver diverges: a finite but huge r can make W r + q
-    // overflow, and the caller must never get a non-finite u or error back. Not copied when
-    // it is r = 0 (the usual cold start: no allocation for it).
-    std::vector<double> warm_start;
+    const int64_t m = contact_size(p) * p.nc;
+    std::vector<double> warm_start;  // finite_warm_start, for a problem a solver ran on
     bool ran = false, has_measured = false, non_finite = false;
     double bound = 0.0;  // runaway_bound, for a problem a solver ran on
     frix::Measures measured;
@@ -73,12 +112,10 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
         info.status = FRIX_STATUS_CONVERGED;
         info.iterations = 0;
     } else {
-        // A non-finite warm start would poison every iterate; start such entries from 0.
-        for (int64_t i = 0; i < m; ++i)
-            if (!std::isfinite(r[i])) r[i] = 0.0;
-        if (!entry.solves_local)
-            return fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s does not solve local problems", entry.name);
-        if (std::any_of(r, r + m, [](double x) { return x != 0.0; })) warm_start.assign(r, r + m);
+        if (!(is_rolling(p) ? entry.solves_rolling : entry.solves_local))
+            return fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s does not solve %s local problems", entry.name,
+                        is_rolling(p) ? "rolling-friction" : "three-component");
+        warm_start = finite_warm_start(r, m);
         ran = true;
         frix::SolveContext ctx = frix::SolveContext::local(p, opts, r, u, info, clock).with_cache(cache);
         ctx.runaway_bound = bound = runaway_bound(norm2(p.q, m));
@@ -90,32 +127,18 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
         has_measured = ctx.has_measured && !non_finite;
         measured = ctx.measured;
     }
-    // |u| is part of the test: an overflowed u can leave the relative error finite (it
-    // divides by |u| = Inf).
-    auto finite = [](const frix::Measures &x) { return std::isfinite(x.relative) && std::isfinite(x.norm_u); };
     frix::Measures meas = has_measured ? measured : (non_finite ? frix::Measures{} : frix::local_measures(p, r, u));
-    // Diverged: an r that left the doubles or overflows u, or a finite runaway.
-    const bool broken = ran && (non_finite || !finite(meas));
-    if (broken || (ran && info.status != FRIX_STATUS_CONVERGED && runs_away(p, r, bound))) {
-        // The start is returned (r = 0 where the start overflows too: u = q then, finite since
-        // q was checked), a finite runaway's r only where its error is below half of the
-        // start's: an r of 1e150 is no answer to hand a caller.
-        const int64_t kind = opts.i(FRIX_OPT_ERROR_MEASURE);
-        std::vector<double> start = warm_start.empty() ? std::vector<double>((size_t)m, 0.0) : warm_start;
-        std::vector<double> u_start((size_t)m);
-        frix::Measures at_start = frix::local_measures(p, start.data(), u_start.data());
-        if (broken && !finite(at_start)) {
-            std::fill(start.begin(), start.end(), 0.0);
-            at_start = frix::local_measures(p, start.data(), u_start.data());
-        }
-        if (broken || (finite(at_start) && selected_error(at_start, kind) <= 2.0 * selected_error(meas, kind))) {
-            std::copy(start.begin(), start.end(), r);
-            std::copy(u_start.begin(), u_start.end(), u);
-            meas = at_start;
-        }
-        info.status = FRIX_STATUS_DIVERGED;
+    if (ran) {
+        // Diverged: an r that left the doubles or overflows u, or a finite runaway.
+        const MeasureAnswer at = [&p](const double *x, double *ux, double *, Measures &out) {
+            out = local_measures(p, x, ux);
+            return FRIX_OK;
+        };
+        if (frix_error e = fall_back_on_divergence(p, opts.i(FRIX_OPT_ERROR_MEASURE), warm_start,
+                                                   non_finite || !finite_measures(meas), bound, at, r, u, nullptr,
+                                                   meas, info))
+            return e;
     }
-    if (info.ran_away && info.status == FRIX_STATUS_STOPPED_BY_CALLBACK) info.status = FRIX_STATUS_DIVERGED;
     frix::record_measures(info, meas, opts.i(FRIX_OPT_ERROR_MEASURE));
     if (measures) *measures = meas;
     // The status must agree with the final, independent measure.
@@ -183,14 +206,12 @@ frix_error solve_problem(const char *caller, const frix_problem *problem, const 
         out.solve_time = clock.seconds();
         return e;
     }
-    const bool global = problem->kind == FRIX_PROBLEM_GLOBAL || problem->kind == FRIX_PROBLEM_ROLLING_GLOBAL;
+    const bool global = !is_local_form(*problem);
     if (global && problem->n > 0 && !v)
         return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: v is required for a global problem (%lld entries)", caller,
                     (long long)problem->n);
     frix_error err;
-    if (is_rolling(*problem))
-        err = solve_rolling_problem(*problem, run, *entry, r, u, v, out, clock, cache);
-    else if (global)
+    if (global)
         err = solve_global_problem(*problem, run, *entry, r, u, v, out, clock, cache);
     else
         err = solve_local_problem(*problem, run, *entry, r, u, out, clock, cache, nullptr, true);

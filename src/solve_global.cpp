@@ -225,11 +225,58 @@ frix_error solve_floating(const frix_problem &p, const frix_options &opts, const
     return FRIX_OK;
 }
 
+// The end of a global solve (either kind of contact) that ran from warm_start
+// (finite_warm_start): the final measures of (r, v), the fallback of a diverged run (its start's
+// v recovered with ms, M's factorisation; null: factorised here if the fallback needs it) and
+// the status checked against the measures.
+frix_error settle_global(const frix_problem &p, const frix_options &opts, const std::vector<double> &warm_start,
+                         const MassSolver *ms, double *r, double *u, double *v, frix_info &info) {
+    const int64_t m = contact_size(p) * p.nc, kind = opts.i(FRIX_OPT_ERROR_MEASURE);
+    const auto finite = [](const double *x, int64_t n) {
+        return std::all_of(x, x + n, [](double y) { return std::isfinite(y); });
+    };
+    Measures meas = global_measures(p, r, v, u, nullptr);
+    const bool broken = !finite_measures(meas) || !finite(r, m) || !finite(v, p.n);
+    MassSolver own;
+    const MeasureAnswer at = [&](const double *x, double *ux, double *vx, Measures &out) {
+        if (!ms) {
+            if (frix_error e = own.factor(*p.M)) return e;
+            ms = &own;
+        }
+        if (frix_error e = recover_velocity(p, *ms, x, vx)) return e;
+        out = global_measures(p, x, vx, ux, nullptr);
+        return FRIX_OK;
+    };
+    if (frix_error e = fall_back_on_divergence(p, kind, warm_start, broken, runaway_bound(meas.norm_free), at, r, u, v,
+                                               meas, info))
+        return e;
+    if (!finite_measures(meas))  // the start, r = 0, overflows too
+        return fail(FRIX_ERR_NUMERICAL, "frix_solve: M^-1 f overflows: M is too ill-conditioned");
+    record_measures(info, meas, kind);
+    if (info.status == FRIX_STATUS_CONVERGED && !meets_global_tolerance(info, info.tolerance))
+        info.status = FRIX_STATUS_STAGNATED;
+    return FRIX_OK;
+}
+
+// A rolling-friction problem goes to its solver as it is (the rolling solvers take M body by
+// body, solvers/kit/rolling_forms.hpp), watched for a runaway as the native route is.
+frix_error solve_rolling_global(const frix_problem &p, const frix_options &opts, const SolverEntry &entry, double *r,
+                                double *u, double *v, frix_info &info, const Stopwatch &clock, SolveCache *cache) {
+    if (!entry.solves_rolling)
+        return fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s does not solve rolling-friction problems", entry.name);
+    const std::vector<double> warm_start = finite_warm_start(r, contact_size(p) * p.nc);
+    SolveContext ctx = SolveContext::global(p, opts, r, u, v, info, clock, nullptr).with_cache(cache);
+    ctx.runaway_bound = runaway_bound(free_velocity(p));
+    if (frix_error e = entry.solve(ctx)) return e;
+    return settle_global(p, opts, warm_start, nullptr, r, u, v, info);
+}
+
 }  // namespace
 
 frix_error solve_global_problem(const frix_problem &p, const frix_options &opts, const SolverEntry &entry,
                                 double *r, double *u, double *v, frix_info &info, const Stopwatch &clock,
                                 SolveCache *cache, MassSolver *enclosing) {
+    if (is_rolling(p)) return solve_rolling_global(p, opts, entry, r, u, v, info, clock, cache);
     return solve_global(p, opts, entry, r, u, v, info, clock, cache, enclosing, true);
 }
 
@@ -266,8 +313,7 @@ frix_error solve_global(const frix_problem &p, const frix_options &opts, const S
     const int64_t m = 3 * p.nc;
     if (!entry.solves_global && !entry.solves_local)
         return fail(FRIX_ERR_UNSUPPORTED, "frix_solve: solver %s solves no global problem", entry.name);
-    for (int64_t i = 0; i < m; ++i)
-        if (!std::isfinite(r[i])) r[i] = 0.0;
+    const std::vector<double> warm_start = finite_warm_start(r, m);
     // v0 = M^-1 f and q = H^T v0 + w, the velocity without contact forces: if every contact
     // separates there (q_N >= 0), r = 0 and v = v0 is the exact solution, for every solver.
     const Stopwatch setup;
@@ -325,7 +371,6 @@ frix_error solve_global(const frix_problem &p, const frix_options &opts, const S
         SolveContext ctx = SolveContext::global(p, opts, r, u, v, native, clock, &ms).with_cache(cache);
         ctx.runaway_bound = runaway_bound(free_velocity(p));
         if (frix_error e = entry.solve(ctx)) return e;
-        if (native.ran_away && native.status == FRIX_STATUS_STOPPED_BY_CALLBACK) native.status = FRIX_STATUS_DIVERGED;
         native.setup_time += info.setup_time;
         Monitor::add_factorizations(native, info);
         info = native;
@@ -348,27 +393,7 @@ frix_error solve_global(const frix_problem &p, const frix_options &opts, const S
         Monitor::add_factorizations(info, before);
         info.setup_time += before.setup_time;
     }
-    // The final measures of the global problem, from the (r, v) returned.
-    Measures meas = global_measures(p, r, v, u, &info.equilibrium);
-    bool finite = std::isfinite(meas.relative) && std::isfinite(meas.norm_u) &&
-                  std::isfinite(info.equilibrium);
-    for (int64_t i = 0; i < m && finite; ++i) finite = std::isfinite(r[i]);
-    for (int64_t j = 0; j < p.n && finite; ++j) finite = std::isfinite(v[j]);
-    if (!finite) {
-        // A diverged solve (a huge r whose H r or M^-1 H r overflows) falls back
-        // to the contact-free state, which is finite: the caller never gets NaN or Inf.
-        std::fill(r, r + m, 0.0);
-        if (frix_error e = recover_velocity(p, ms, r, v)) return e;
-        meas = global_measures(p, r, v, u, &info.equilibrium);
-        if (!std::isfinite(meas.relative) || !std::isfinite(info.equilibrium))
-            return fail(FRIX_ERR_NUMERICAL, "frix_solve: M^-1 f overflows: M is too ill-conditioned");
-        info.status = FRIX_STATUS_DIVERGED;
-    }
-    if (finite && info.status != FRIX_STATUS_CONVERGED && runs_away(p, r, runaway_bound(meas.norm_free)))
-        info.status = FRIX_STATUS_DIVERGED;
-    record_measures(info, meas, opts.i(FRIX_OPT_ERROR_MEASURE));
-    if (info.status == FRIX_STATUS_CONVERGED && !meets_global_tolerance(info, info.tolerance))
-        info.status = FRIX_STATUS_STAGNATED;
+    if (frix_error e = settle_global(p, opts, warm_start, &ms, r, u, v, info)) return e;
     state.keep();
     return FRIX_OK;
 }

@@ -6,9 +6,10 @@
 #include <frix/frix_solve.h>
 
 #include <chrono>
-#include <mutex>
 #include <cstdint>
 #include <functional>
+#include <mutex>
+#include <vector>
 
 #include "info.hpp"
 #include "measures.hpp"
@@ -57,8 +58,8 @@ class Stopwatch {
 struct SolveContext {
     const frix_problem &problem;
     const frix_options &options;
-    double *r;   // 3nc, warm start in, result out
-    double *u;   // 3nc, output (the driver recomputes it at the end)
+    double *r;   // contact_size(problem) nc, warm start in, result out
+    double *u;   // as r, output (the driver recomputes it at the end)
     double *v;   // n, global problems only
     frix_info &info;
     const Stopwatch &clock;
@@ -108,8 +109,34 @@ constexpr double kRunawayFactor = 1e8;
 // nothing is checked) or not finite.
 double runaway_bound(double free_velocity_norm);
 
-// Whether r (3 nc entries) has run away past `bound` (> 0).
+// Whether r (contact_size(p) nc entries) has run away past `bound` (> 0): some w_a |r_a,i|
+// above it (frix_problem::weight).
 bool runs_away(const frix_problem &p, const double *r, double bound);
+
+// A solve's warm start r (m entries) made finite (a non-finite entry would poison every
+// iterate: 0 instead), and a copy of it to fall back on if the run diverges (a finite but huge
+// r can make u overflow, and the caller must never get a non-finite u or error back); empty
+// when r = 0 (the usual cold start: no allocation for it).
+std::vector<double> finite_warm_start(double *r, int64_t m);
+
+// Whether measures of an answer are finite: the relative error, |u| (an overflowed u can leave
+// the relative error finite, dividing by |u| = Inf) and, for a global problem, the equilibrium.
+bool finite_measures(const Measures &x);
+
+// How the driver measures an answer r of p (for a global problem with its velocity v = M^-1
+// (H r + f)): u (and v) set for it, and its measures into `out`.
+using MeasureAnswer = std::function<frix_error(const double *r, double *u, double *v, Measures &out)>;
+
+// The driver's rule for a run that diverged, on every path: a run the Monitor stopped as a
+// runaway (frix_info::ran_away) is DIVERGED; so is one that is `broken` (its r, v or measures
+// `meas` not finite) or that did not converge with an r that runs_away past `bound`. Such a run
+// answers with the start (warm_start; r = 0 where it is empty, or where a broken run's start is
+// not finite either), measured by `measure` into r, u, v (v: null for a local problem) and
+// meas; a finite runaway keeps its own r only where its error (measure_kind) is below half of
+// the start's.
+frix_error fall_back_on_divergence(const frix_problem &p, int64_t measure_kind, const std::vector<double> &warm_start,
+                                   bool broken, double bound, const MeasureAnswer &measure, double *r, double *u,
+                                   double *v, Measures &meas, frix_info &info);
 
 using SolverFn = frix_error (*)(SolveContext &ctx);
 
@@ -147,9 +174,11 @@ const SolverEntry &solver_at(int64_t index);
 // only); FRIX_OK otherwise. frix_solve and frix_persistent_create ask it alike.
 frix_error check_solver_takes(const char *caller, const SolverEntry &entry, const frix_problem &p);
 
-// The driver's local path (src/solve.cpp): the all-separating case, a finite warm start,
-// `entry`'s solve, the final measures of r and the status check against them. Also the local
-// step of the reduction route of global problems. `measures`, when given, receives the final
+// The driver's local path (src/solve.cpp), for either kind of contact (three entries, or five
+// for rolling friction): the all-separating case, a finite warm start, `entry`'s solve watched
+// for a runaway, the final measures of r, the fallback of a diverged run
+// (fall_back_on_divergence) and the status check against the measures. Also the local step of
+// the reduction route of global problems. `measures`, when given, receives the final
 // measures (u then holds W r + q).
 frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
                                const SolverEntry &entry, double *r, double *u, frix_info &info,
@@ -157,21 +186,15 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
                                Measures *measures = nullptr, bool return_best = false);
 
 // The driver's global path (src/solve_global.cpp): runs `entry` natively if it solves global
-// problems, through the reduction W = H^T M^-1 H otherwise. r, u (3nc) and v (n) as in
+// problems, through the reduction W = H^T M^-1 H otherwise; a rolling-friction problem goes to
+// its solver as it is (the rolling solvers handle M themselves). Either way watched for a
+// runaway, with the fallback of a diverged run. r, u (contact_size(p) nc) and v (n) as in
 // frix_solve. `enclosing`, when given, is M's factorisation made by an enclosing driver on the
 // same problem (SolveContext::mass): used instead of one of its own.
 frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
                                 const SolverEntry &entry, double *r, double *u, double *v,
                                 frix_info &info, const Stopwatch &clock, SolveCache *cache = nullptr,
                                 MassSolver *enclosing = nullptr);
-
-// The driver's rolling path (src/solve_rolling.cpp), for an entry that solves_rolling: the
-// all-separating case of the local form, a finite warm start, `entry`'s solve (which sets v in
-// the global form), the final rolling measures and the status checked against them; `cache`:
-// a persistent solver's states, handed to the solver.
-frix_error solve_rolling_problem(const frix_problem &p, const frix_options &opts, const SolverEntry &entry,
-                                 double *r, double *u, double *v, frix_info &info, const Stopwatch &clock,
-                                 SolveCache *cache = nullptr);
 
 // frix_solve's whole contract (argument checks, the default solver, a fresh info), with the
 // states of a persistent solver when `cache` is given.

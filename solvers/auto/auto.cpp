@@ -63,6 +63,7 @@ frix_error rolling_stage(SolveContext &ctx, int id, double tol, int64_t max_iter
     SolveContext inner = ctx.problem.kind == FRIX_PROBLEM_ROLLING_LOCAL
                              ? SolveContext::local(ctx.problem, o, ctx.r, ctx.u, ctx.info, ctx.clock)
                              : SolveContext::global(ctx.problem, o, ctx.r, ctx.u, ctx.v, ctx.info, ctx.clock, ctx.mass);
+    inner.runaway_bound = ctx.runaway_bound;  // each stage's Monitor watches the iterate, as the driver asked
     const double t0 = ctx.clock.seconds();
     ctx.info.error = INFINITY;
     if (frix_error e = entry->solve(inner)) return e;

@@ -262,7 +262,7 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, const rolling::Block
     const frix_options &o = ctx.options;
     const Monitor monitor(ctx);
     const double tol = monitor.tolerance(), sigma = o.d(FRIX_OPT_PROX_SIGMA), nu = o.d(FRIX_OPT_PROX_NU);
-    kit::Steps inner{Monitor(o, ctx.clock)};  // the Newton steps, on each proximal step's limits
+    kit::Steps inner{Monitor(ctx)};  // the Newton steps, on each proximal step's limits
     const std::vector<local5::Contact> contacts = rolling::contacts_of(form, ctx.problem);
     double *r = ctx.r;
     System sys(ctx.problem, form, W, q, contacts, r, o, inner.monitor);
@@ -289,10 +289,12 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, const rolling::Block
                                   std::min(inner.done + kInnerMaxIter, monitor.max_iterations()));
         kit::RunResult res;
         if (frix_error e = kit::newton(sys, inner, rules, counters, res)) return e;
+        // Each proximal answer is watched too (Monitor::ran_away): on a problem without a
+        // solution they run away as alpha falls, and are undone before the next step's check.
         if (res.status == FRIX_STATUS_TIME_LIMIT || res.status == FRIX_STATUS_MEMORY_LIMIT ||
-            res.status == FRIX_STATUS_STOPPED_BY_CALLBACK) {
+            res.status == FRIX_STATUS_STOPPED_BY_CALLBACK || monitor.ran_away()) {
             std::copy(rk.begin(), rk.end(), r);
-            status = res.status;
+            status = ctx.info.ran_away ? FRIX_STATUS_STOPPED_BY_CALLBACK : res.status;
             break;
         }
         const double e_new = sys.error();
