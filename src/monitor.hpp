@@ -43,19 +43,22 @@ class Monitor {
     // FRIX_STATUS_NOT_RUN if it does, else the limit it would overrun. A factorisation cannot
     // be stopped once started, so one that would overrun is not started. Time: without a time
     // limit it always fits; a repeat is priced at its last time (price.seconds), a first one
-    // at its flop count. Memory: its peak (price.bytes) against memory_left(); below
-    // kMemoryAskedAbove and without the option memory_limit the system is not asked.
+    // at its flop count and its writes (each at the machine's rate). Memory: its peak
+    // (price.bytes) against memory_left(); below kMemoryAskedAbove and without the option
+    // memory_limit the system is not asked.
     frix_status affords(const linalg::FactorPrice &price) const {
         if (!fits_memory(price.bytes)) return FRIX_STATUS_MEMORY_LIMIT;
         const double tl = o_.d(FRIX_OPT_TIME_LIMIT);
         if (!(tl > 0.0)) return FRIX_STATUS_NOT_RUN;
         const double left = tl - clock_.seconds();
-        // One that fits even at the slowest rate is afforded without timing the machine.
-        if (price.flops <= kSlowestRate * left) return FRIX_STATUS_NOT_RUN;
+        // One that fits even at the slowest rates is afforded without timing the machine.
+        if (price.flops / kSlowestRate + price.writes / kSlowestWriteRate <= left) return FRIX_STATUS_NOT_RUN;
+        if (std::isfinite(price.seconds))
+            return kRepeatMargin * price.seconds <= left ? FRIX_STATUS_NOT_RUN : FRIX_STATUS_TIME_LIMIT;
         const double share = price.flops_upper_bound ? kUpperBoundShare : kExactCountShare;
-        const bool fits = std::isfinite(price.seconds) ? kRepeatMargin * price.seconds <= left
-                                                       : price.flops <= share * clock_.factor_rate() * left;
-        return fits ? FRIX_STATUS_NOT_RUN : FRIX_STATUS_TIME_LIMIT;
+        const double seconds = price.flops / (share * clock_.factor_rate()) +
+                               (price.writes > 0.0 ? price.writes / clock_.write_rate() : 0.0);
+        return seconds <= left ? FRIX_STATUS_NOT_RUN : FRIX_STATUS_TIME_LIMIT;
     }
     // The budget to give a factorisation (linalg::FactorBudget), on this Monitor's limits.
     linalg::FactorBudget budget() const {
@@ -170,6 +173,9 @@ class Monitor {
     // Flops per second no machine we run on is slower than, sparse kernels included: below
     // it the rate (a timed dense LU of a few milliseconds, once per solve) is not needed.
     static constexpr double kSlowestRate = 1e8;
+    // Entries per second no machine we run on writes more slowly, its first touch of a page
+    // included: below it the write rate (tens of milliseconds of timed writes) is not needed.
+    static constexpr double kSlowestWriteRate = 1e7;
     // A factorisation repeated on the same analysis is priced at its last time, with this margin.
     static constexpr double kRepeatMargin = 1.5;
     // Without the option memory_limit, a factorisation smaller than this is not checked (the

@@ -130,8 +130,10 @@ class MassSolver {
         return columns.finish(W);
     }
     // What congruence(H) will cost, priced as a factorisation is (linalg::FactorPrice): from
-    // CHOLMOD's factor, its exact flops, and in bytes W's blocks and the dense blocks formed
-    // besides; false where it is not known (UMFPACK's factor: one solve per column of H).
+    // CHOLMOD's factor, its exact flops; its writes, W's entries (9 a block, written first
+    // when zeroed) and the entries of the terms summed into them; in bytes W's blocks and the
+    // dense blocks formed besides. False where it is not known (UMFPACK's factor: one solve per
+    // column of H).
     bool congruence_price(const frix_matrix &H, linalg::FactorPrice *price) const {
         if (!use_chol_ || empty_) return false;
         Csc h;
@@ -142,7 +144,8 @@ class MassSolver {
         }
         double blocks = 0.0;  // at most: sets may overlap
         for (const auto &c : contact_sets(cost.groups)) blocks += (double)c.size() * (double)c.size();
-        *price = linalg::FactorPrice{cost.flops, NAN, cost.workspace_bytes + kBytesPerReducedBlock * blocks, false};
+        *price = linalg::FactorPrice{cost.flops, NAN, cost.workspace_bytes + kBytesPerReducedBlock * blocks, false,
+                                     9.0 * blocks + cost.summed};
         return true;
     }
     const linalg::FactorStats &last_stats() const { return last_; }

@@ -32,6 +32,10 @@ class Stopwatch {
     // measured on first use (milliseconds; never without a time limit): what a
     // factorisation's flop count costs in seconds.
     double factor_rate() const;
+    // Entries per second this machine writes outside the BLAS into memory it has not touched
+    // yet (the first write of a page and scattered additions), measured as factor_rate is:
+    // what a count of such writes (linalg::FactorPrice::writes) costs in seconds.
+    double write_rate() const;
     // Bytes the solve may still take: `limit` (the option memory_limit; when 0, the memory the
     // process may use less what it held when first asked) less what the process has grown by
     // since that first question. INFINITY when the system does not say.
@@ -41,6 +45,8 @@ class Stopwatch {
     std::chrono::steady_clock::time_point start_;
     mutable std::once_flag rate_once_;
     mutable double rate_ = 0.0;
+    mutable std::once_flag write_once_;
+    mutable double write_rate_ = 0.0;
     mutable std::once_flag memory_once_;
     mutable double resident_at_start_ = 0.0, available_ = 0.0;
 };

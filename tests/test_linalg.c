@@ -327,6 +327,60 @@ START_TEST(factor_prices_match_the_work) {
 }
 END_TEST
 
+/* The price of forming W = H^T M^-1 H counts, besides its flops, the entries it writes outside
+ * the BLAS: W's 9 per block (first touched) and those of the terms summed into them (the lower
+ * part of X^T X per supernode of M's factor, X the rows of L^-1 P H there). Fixed inputs, no
+ * timing. */
+START_TEST(w_price_counts_its_writes) {
+    /* A dense M (one supernode) and 2 contacts on it: one term of 6 columns, 21 entries. */
+    enum { kDofs = 6, kCols = 6 };
+    int64_t mp[kDofs + 1], mi[kDofs * kDofs], hp[kCols + 1], hi[kDofs * kCols];
+    double mx[kDofs * kDofs], hx[kDofs * kCols];
+    for (int64_t j = 0; j <= kDofs; ++j) mp[j] = hp[j] = kDofs * j;
+    for (int64_t j = 0; j < kDofs; ++j)
+        for (int64_t i = 0; i < kDofs; ++i) {
+            mi[kDofs * j + i] = hi[kDofs * j + i] = i;
+            mx[kDofs * j + i] = i == j ? 10.0 : 1.0;
+            hx[kDofs * j + i] = 1.0 + (double)((i + 2 * j) % 5);
+        }
+    double flops = 0.0, writes = 0.0;
+    int64_t blocks = 0;
+    ck_assert_int_eq(frix_testing_w_price(kDofs, mp, mi, mx, kCols, hp, hi, hx, &flops, &writes, &blocks), FRIX_OK);
+    ck_assert_int_eq(blocks, 4);
+    ck_assert_double_eq(writes, 9.0 * 4 + 6.0 * 7.0 / 2.0);
+    /* the triangular solve with the 6 x 6 diagonal block for 6 columns, then X^T X */
+    ck_assert_double_eq(flops, 6.0 * 36.0 + 36.0 * 6.0);
+    /* The mesh with its bottom face's nodes in contact: W dense; every column reaches the
+     * root, whose term alone has k (k + 1) / 2 entries; the separators below take fewer
+     * columns each, a few times the root's entries in all. */
+    static int64_t colptr[kMeshDofs + 1], rowind[kMeshDofs * 81];
+    static double values[kMeshDofs * 81];
+    mesh_matrix(colptr, rowind, values);
+    enum { kFace = kG * kG, kFaceCols = 3 * kFace };
+    static int64_t fp[kFaceCols + 1], fi[kFaceCols];
+    static double fx[kFaceCols];
+    for (int64_t j = 0; j < kFaceCols; ++j) {
+        fp[j] = j;
+        fi[j] = j; /* node j / 3 of the face z = 0, dof j % 3 */
+        fx[j] = 1.0;
+    }
+    fp[kFaceCols] = kFaceCols;
+    ck_assert_int_eq(frix_testing_w_price(kMeshDofs, colptr, rowind, values, kFaceCols, fp, fi, fx, &flops, &writes,
+                                          &blocks),
+                     FRIX_OK);
+    ck_assert_int_eq(blocks, (int64_t)kFace * kFace);
+    const double stored = 9.0 * (double)blocks, root = (double)kFaceCols * (kFaceCols + 1.0) / 2.0;
+    ck_assert_double_ge(writes - stored, root);
+    ck_assert_double_le(writes - stored, 4.0 * root);
+    /* A time limit prices the writes: 1e12 of them overrun a second at any rate a machine
+     * writes (forming W's 1e12 entries takes tens of minutes), without a flop; 1e3 fit without
+     * timing the machine. */
+    ck_assert_int_eq(frix_testing_affords(0.0, 1e12, 1.0), FRIX_STATUS_TIME_LIMIT);
+    ck_assert_int_eq(frix_testing_affords(0.0, 1e3, 1.0), FRIX_STATUS_NOT_RUN);
+    ck_assert_int_eq(frix_testing_affords(1e3, 0.0, 1.0), FRIX_STATUS_NOT_RUN);
+}
+END_TEST
+
 START_TEST(congruence_up_the_supernodal_tree) {
     static CongruenceCase c;
     build_congruence_case(&c);
@@ -392,6 +446,7 @@ int main(void) {
     tcase_add_test(tc, dense_lu_and_cholesky);
     tcase_add_test(tc, cholesky_cost_from_the_pattern);
     tcase_add_test(tc, factor_prices_match_the_work);
+    tcase_add_test(tc, w_price_counts_its_writes);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

@@ -34,7 +34,10 @@ struct RoutePrices {
 // (18 flops each), memory-bound. Without W: one factorisation of M + rho H H^T (CHOLMOD's
 // analysis of its pattern), then kWFreeIterations of ADMM, each two triangular solves with
 // that factor (4 flops per entry of L), memory-bound too. False where that factor cannot be
-// priced (the route is then not taken).
+// priced (the route is then not taken). W's writes (forming_w.writes, which a time limit
+// prices) are left out: these constants were set on the flops alone, and with the writes
+// added a thick elastic grid near the boundary took the slower route
+// (notes/2026-11-28-w-price.md).
 bool price_w_free_route(const frix_problem &p, const linalg::FactorPrice &forming_w, double w_blocks,
                         RoutePrices *prices);
 

@@ -316,6 +316,8 @@ struct CongruencePlan {
     std::vector<Entry> own;
     std::vector<std::vector<int64_t>> cols;  // per supernode, increasing
     double flops = 0.0;
+    // The entries of the terms handed to the sink: the lower part of each supernode's X^T X.
+    double summed = 0.0;
     // The most entries held at once besides C: a supernode's dense block and term tile, with
     // the updates its children and the supernodes still waiting for their parent hand on.
     double workspace = 0.0;
@@ -385,6 +387,7 @@ struct CongruencePlan {
             std::sort(K.begin(), K.end());
             const double nk = (double)K.size(), nbelow = (double)(nsrow(s) - nscol(s));
             flops += supernode_flops(nk, (double)nscol(s), nbelow);
+            summed += nk * (nk + 1.0) / 2.0;
             workspace = std::max(workspace, pending + nk * ((double)nsrow(s) + (double)kTermColumns));
             for (int64_t c = child_ptr[(size_t)s]; c < child_ptr[(size_t)s + 1]; ++c) {
                 const int64_t ch = children[(size_t)c];
@@ -406,7 +409,7 @@ frix_error SparseCholesky::congruence_cost(const CscView &B, CongruenceCost *cos
                     (long long)m.L->n);
     if (!m.L->is_super) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: B^T A^-1 B needs a supernodal factor");
     const CongruencePlan plan(*m.L, B);
-    *cost = CongruenceCost{plan.flops, 8.0 * plan.workspace, plan.groups()};
+    *cost = CongruenceCost{plan.flops, 8.0 * plan.workspace, plan.groups(), plan.summed};
     return FRIX_OK;
 }
 

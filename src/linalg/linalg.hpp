@@ -59,6 +59,10 @@ struct FactorPrice {
     // UMFPACK's estimate (an upper bound) of a small LU; not CHOLMOD's count (exact), nor the
     // count of a large LU's symmetrised pattern (SparseLU).
     bool flops_upper_bound = false;
+    // Entries written outside the BLAS, priced at the machine's rate of such writes (forming
+    // W: its blocks' entries, first touched, and the terms summed into them). Where the flops
+    // run on small blocks these cost more than the flops.
+    double writes = 0.0;
 };
 // Asked before each numeric factorisation: FRIX_STATUS_NOT_RUN lets it start; any other status
 // (FRIX_STATUS_TIME_LIMIT, FRIX_STATUS_MEMORY_LIMIT: a caller's limit it would overrun) refuses
@@ -184,10 +188,12 @@ class SparseCholesky {
                                   bool *stopped = nullptr, double questions = kCongruenceQuestions,
                                   double min_flops_per_question = kCongruenceMinFlopsPerQuestion);
     // What inverse_congruence(B) will cost, from the patterns of L and B alone: its flops, the
-    // bytes of its dense blocks besides C, and C's pattern (the groups it hands its sink).
+    // bytes of its dense blocks besides C, C's pattern (the groups it hands its sink) and the
+    // entries of the terms it hands it (each added into C by the sink, outside the BLAS).
     struct CongruenceCost {
         double flops = 0.0, workspace_bytes = 0.0;
         std::vector<std::vector<int64_t>> groups;
+        double summed = 0.0;
     };
     frix_error congruence_cost(const CscView &B, CongruenceCost *cost) const;
     // The same, C as CSC (k x k, rows sorted); left empty when stopped.

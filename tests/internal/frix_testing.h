@@ -95,6 +95,14 @@ int frix_testing_block_cholesky_cost(int64_t n, const int64_t *colptr, const int
 int frix_testing_reduction(int64_t n, const int64_t *mp, const int64_t *mi, const double *mx, int64_t k,
                            const int64_t *hp, const int64_t *hi, const double *hx, double *D,
                            int64_t *blocks);
+/* The price of forming W = H^T M^-1 H (MassSolver::congruence_price, M n x n and H n x k as
+ * CSC): its flops and writes; *blocks: the blocks of the W then formed. */
+/* Monitor::affords (the frix_status it answers) on a first factorisation priced at flops
+ * and writes, under a time limit of time_limit seconds. */
+int frix_testing_affords(double flops, double writes, double time_limit);
+int frix_testing_w_price(int64_t n, const int64_t *mp, const int64_t *mi, const double *mx, int64_t k,
+                         const int64_t *hp, const int64_t *hi, const double *hx, double *flops, double *writes,
+                         int64_t *blocks);
 /* The n x n CSC matrix (n a multiple of 3) assembled column by column as the reduction
  * assembles W (room reserved for expected_blocks blocks), as a dense column-major D; *blocks:
  * its 3x3 blocks; *in_place: 1 when it was found symmetric to the bit (its columns' storage

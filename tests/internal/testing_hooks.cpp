@@ -220,26 +220,61 @@ FRIX_TESTING_HOOK int frix_testing_block_cholesky_cost(int64_t n, const int64_t 
 // dense column-major D (k x k); *blocks: W's 3x3 blocks.
 #include "src/reduction.hpp"
 
-FRIX_TESTING_HOOK int frix_testing_reduction(int64_t n, const int64_t *mp, const int64_t *mi, const double *mx,
-                                             int64_t k, const int64_t *hp, const int64_t *hi, const double *hx,
-                                             double *D, int64_t *blocks) {
+namespace {
+// M (n x n) factorised and W = H^T M^-1 H formed as the reduction does (H n x k, both CSC);
+// *price, when given, W's price asked before.
+int reduce(int64_t n, const int64_t *mp, const int64_t *mi, const double *mx, int64_t k, const int64_t *hp,
+           const int64_t *hi, const double *hx, std::unique_ptr<frix_matrix> &W, frix::linalg::FactorPrice *price) {
     frix_matrix *M = nullptr, *H = nullptr;
     int e = frix_matrix_from_csc(n, n, mp, mi, mx, &M);
     if (e == FRIX_OK) e = frix_matrix_from_csc(n, k, hp, hi, hx, &H);
-    std::unique_ptr<frix_matrix> W;
     if (e == FRIX_OK) {
         frix::MassSolver ms;
         bool stopped = false;
         e = ms.factor(*M);
+        if (e == FRIX_OK && price && !ms.congruence_price(*H, price)) e = FRIX_ERR_INTERNAL;
         if (e == FRIX_OK) e = ms.congruence(*H, 0.0, W, nullptr, stopped);
     }
     frix_matrix_free(M);
     frix_matrix_free(H);
-    if (e != FRIX_OK) return e;
+    return e;
+}
+}  // namespace
+
+FRIX_TESTING_HOOK int frix_testing_reduction(int64_t n, const int64_t *mp, const int64_t *mi, const double *mx,
+                                             int64_t k, const int64_t *hp, const int64_t *hi, const double *hx,
+                                             double *D, int64_t *blocks) {
+    std::unique_ptr<frix_matrix> W;
+    if (int e = reduce(n, mp, mi, mx, k, hp, hi, hx, W, nullptr)) return e;
     for (int64_t i = 0; i < k * k; ++i) D[i] = 0.0;
     frix::for_each_entry(*W, [&](int64_t i, int64_t j, double v) { D[i + k * j] = v; });
     *blocks = W->nblocks();
     return FRIX_OK;
+}
+
+FRIX_TESTING_HOOK int frix_testing_w_price(int64_t n, const int64_t *mp, const int64_t *mi, const double *mx,
+                                           int64_t k, const int64_t *hp, const int64_t *hi, const double *hx,
+                                           double *flops, double *writes, int64_t *blocks) {
+    std::unique_ptr<frix_matrix> W;
+    frix::linalg::FactorPrice price;
+    if (int e = reduce(n, mp, mi, mx, k, hp, hi, hx, W, &price)) return e;
+    *flops = price.flops;
+    *writes = price.writes;
+    *blocks = W->nblocks();
+    return FRIX_OK;
+}
+
+// Monitor::affords on a first factorisation priced at `flops` and `writes`, under a time limit
+// of `time_limit` seconds (no memory asked): FRIX_STATUS_NOT_RUN when it fits.
+#include "src/monitor.hpp"
+FRIX_TESTING_HOOK int frix_testing_affords(double flops, double writes, double time_limit) {
+    frix_options o;
+    o.dvalue[FRIX_OPT_TIME_LIMIT] = time_limit;
+    const frix::Stopwatch clock;
+    frix::linalg::FactorPrice price;
+    price.flops = flops;
+    price.writes = writes;
+    return frix::Monitor(o, clock).affords(price);
 }
 
 // Dense LU (cholesky = 0) or Cholesky (1) of the column-major n x n A: x = A^-1 b.
