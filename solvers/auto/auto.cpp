@@ -67,6 +67,8 @@ frix_error rolling_stage(SolveContext &ctx, int id, double tol, int64_t max_iter
     const double t0 = ctx.clock.seconds();
     ctx.info.error = INFINITY;
     if (frix_error e = entry->solve(inner)) return e;
+    ctx.has_measured = inner.has_measured;  // the stage's measures of the r it returned, if it took them
+    ctx.measured = inner.measured;
     const double error = ctx.info.error;
     ctx.info.trace.push_back(stage_event(entry->id, ctx.info, ctx.clock.seconds() - t0,
                                          std::isfinite(error) ? error : INFINITY));

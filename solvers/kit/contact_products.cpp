@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "solvers/kit/pairs_by_key.hpp"
+
 namespace frix {
 
 namespace {
@@ -17,26 +19,12 @@ void for_each_contact_entry(const frix_matrix &H, int width, F &&f) {
 }  // namespace
 
 void ContactBodies::find(const frix_matrix &H, const RigidBodies &rigid, int width, int64_t nc) {
-    // The (contact, body) pairs bucketed by contact (a counting sort, O(nnz(H))), then each
-    // contact's bodies sorted and made unique in place.
-    ptr.assign((size_t)nc + 1, 0);
-    for_each_contact_entry(H, width, [&](int64_t, int64_t a, int, double) { ++ptr[(size_t)a + 1]; });
-    for (int64_t a = 0; a < nc; ++a) ptr[(size_t)a + 1] += ptr[(size_t)a];
-    bodies.resize((size_t)ptr[(size_t)nc]);
-    std::vector<int64_t> fill(ptr.begin(), ptr.end() - 1);
-    for_each_contact_entry(H, width,
-                           [&](int64_t i, int64_t a, int, double) { bodies[(size_t)fill[(size_t)a]++] = rigid.body_of[i]; });
-    int64_t kept = 0, begin = 0;
-    for (int64_t a = 0; a < nc; ++a) {
-        const int64_t end = ptr[(size_t)a + 1];
-        std::sort(bodies.begin() + begin, bodies.begin() + end);
-        const auto last = std::unique(bodies.begin() + begin, bodies.begin() + end);
-        kept = std::copy(bodies.begin() + begin, last, bodies.begin() + kept) - bodies.begin();
-        ptr[(size_t)a + 1] = kept;
-        begin = end;
-    }
-    bodies.resize((size_t)kept);
-    bodies.shrink_to_fit();
+    unique_pairs_by_key(
+        nc,
+        [&](auto &&emit) {
+            for_each_contact_entry(H, width, [&](int64_t i, int64_t a, int, double) { emit(a, rigid.body_of[i]); });
+        },
+        ptr, bodies);
 }
 
 void ContactProducts::build(const frix_matrix &H, const RigidBodies &rigid, const ContactBodies &cb, int w,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solvers/kit/pairs_by_key.hpp"
 #include "src/error_state.hpp"
 #include "src/matrix.hpp"
 #include "src/reduction.hpp"
@@ -25,30 +26,26 @@ void BlockRows::multiply(const double *x, double *y) const {
 RowForm::RowForm(const frix_problem &p) : p_(p) {
     const int64_t nc = p.nc;
     // The blocks of each row: every (row, column) contact pair an entry falls in, once.
-    std::vector<std::vector<int64_t>> cols((size_t)nc);
-    for_each_entry(*p.W, [&](int64_t i, int64_t j, double) { cols[(size_t)(i / 5)].push_back(j / 5); });
-    w_.row_ptr.assign((size_t)nc + 1, 0);
-    for (int64_t a = 0; a < nc; ++a) {
-        std::vector<int64_t> &c = cols[(size_t)a];
-        std::sort(c.begin(), c.end());
-        c.erase(std::unique(c.begin(), c.end()), c.end());
-        w_.row_ptr[(size_t)a + 1] = w_.row_ptr[(size_t)a] + (int64_t)c.size();
-    }
-    w_.block_col.reserve((size_t)w_.row_ptr[(size_t)nc]);
-    for (const std::vector<int64_t> &c : cols) w_.block_col.insert(w_.block_col.end(), c.begin(), c.end());
-    cols = {};
+    unique_pairs_by_key(
+        nc, [&](auto &&emit) { for_each_entry(*p.W, [&](int64_t i, int64_t j, double) { emit(i / 5, j / 5); }); },
+        w_.row_ptr, w_.block_col);
     w_.val.assign(25 * w_.block_col.size(), 0.0);
+    // Each entry into its block; consecutive entries mostly share one, found once.
+    int64_t last_a = -1, last_b = -1, k = 0;
     for_each_entry(*p.W, [&](int64_t i, int64_t j, double v) {
         const int64_t a = i / 5, b = j / 5;
-        const auto first = w_.block_col.begin() + w_.row_ptr[(size_t)a];
-        const auto last = w_.block_col.begin() + w_.row_ptr[(size_t)a + 1];
-        const int64_t k = std::lower_bound(first, last, b) - w_.block_col.begin();
+        if (a != last_a || b != last_b) {
+            const auto first = w_.block_col.begin() + w_.row_ptr[(size_t)a];
+            const auto last = w_.block_col.begin() + w_.row_ptr[(size_t)a + 1];
+            k = std::lower_bound(first, last, b) - w_.block_col.begin();
+            last_a = a, last_b = b;
+        }
         w_.val[25 * (size_t)k + (size_t)(i % 5) + 5 * (size_t)(j % 5)] += v;
     });
     w_.diag.assign((size_t)nc, -1);
     for (int64_t a = 0; a < nc; ++a)
-        for (int64_t k = w_.row_ptr[(size_t)a]; k < w_.row_ptr[(size_t)a + 1]; ++k)
-            if (w_.block_col[(size_t)k] == a) w_.diag[(size_t)a] = k;
+        for (int64_t kk = w_.row_ptr[(size_t)a]; kk < w_.row_ptr[(size_t)a + 1]; ++kk)
+            if (w_.block_col[(size_t)kk] == a) w_.diag[(size_t)a] = kk;
 }
 
 const double *RowForm::diagonal_block(int64_t a) const {

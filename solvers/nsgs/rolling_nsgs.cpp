@@ -69,13 +69,18 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form) {
     frix_status status = FRIX_STATUS_NOT_RUN;
     int64_t it = 0;
     Momentum momentum(o.i(FRIX_OPT_ACCELERATION) != 0, 5 * p.nc, ctx.r);
+    Measures last;       // the last full check's measures,
+    bool at_r = false;   // taken at the r returned
     while (status == FRIX_STATUS_NOT_RUN) {
         ++it;
         const rolling::SweepStats st = rolling::sweep(form, contacts, lp, ctx.r);
         momentum.after_sweep(st.dr2, ctx.r, p, form);
+        at_r = false;
         const double light = std::sqrt(st.dr2) / (st.r2 > 0.0 ? std::sqrt(st.r2) : 1.0);
         if (light <= light_tol || it % kFullEvery == 0 || monitor.out_of_iterations(it)) {
-            const double error = selected_error(form.exact(ctx.r, ctx.u), measure);
+            last = form.exact(ctx.r, ctx.u);
+            at_r = true;
+            const double error = selected_error(last, measure);
             ctx.info.error = error;
             momentum.judge(it, error);
             if (o.i(FRIX_OPT_VERBOSITY) >= 2) log_line(&o, "rolling-nsgs: sweep %lld, error %.3e", (long long)it, error);
@@ -88,6 +93,9 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form) {
     }
     ctx.info.iterations = it;
     ctx.info.status = status;
+    // The local form measures as the driver does (local_measures): it need not measure again.
+    ctx.has_measured = at_r && p.kind == FRIX_PROBLEM_ROLLING_LOCAL;
+    ctx.measured = last;
     return FRIX_OK;
 }
 
