@@ -81,7 +81,8 @@ struct frix_info {
     int64_t islands = 0;
     int64_t switches = 0;
     frix_existence existence = FRIX_EXISTENCE_NOT_CHECKED;
-    // The Monitor stopped the run because r ran away: the driver reports it as diverged.
+    // r ran away (the Monitor stopped the run, or the driver found its answer past the bound):
+    // the driver reports it as diverged.
     bool ran_away = false;
     double existence_margin = NAN;
     std::vector<frix::TraceEvent> trace;

@@ -74,10 +74,12 @@ frix_error fall_back_on_divergence(const frix_problem &p, int64_t measure_kind, 
                                    bool broken, double bound, const MeasureAnswer &measure, double *r, double *u,
                                    double *v, Measures &meas, frix_info &info) {
     if (info.ran_away && info.status == FRIX_STATUS_STOPPED_BY_CALLBACK) info.status = FRIX_STATUS_DIVERGED;
-    if (!broken && (info.status == FRIX_STATUS_CONVERGED || !runs_away(p, r, bound))) return FRIX_OK;
+    if (!broken && info.status != FRIX_STATUS_CONVERGED && runs_away(p, r, bound)) info.ran_away = true;
+    if (!broken && (info.status == FRIX_STATUS_CONVERGED || !info.ran_away)) return FRIX_OK;
     // The start is returned (r = 0 where the start overflows too: u = q, or the free motion,
-    // then), a finite runaway's r only where its error is below half of the start's: an r of
-    // 1e150 is no answer to hand a caller.
+    // then), the r of a run that ran away (its last, or the best it kept) only where its error
+    // is below half of the start's: an r of 1e150 is no answer to hand a caller, nor one that
+    // a diverging run drifted to.
     const int64_t m = contact_size(p) * p.nc, n = is_local_form(p) ? 0 : p.n;
     std::vector<double> start = warm_start.empty() ? std::vector<double>((size_t)m, 0.0) : warm_start;
     std::vector<double> u_start((size_t)m), v_start((size_t)n);

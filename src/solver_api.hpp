@@ -135,11 +135,11 @@ using MeasureAnswer = std::function<frix_error(const double *r, double *u, doubl
 
 // The driver's rule for a run that diverged, on every path: a run the Monitor stopped as a
 // runaway (frix_info::ran_away) is DIVERGED; so is one that is `broken` (its r, v or measures
-// `meas` not finite) or that did not converge with an r that runs_away past `bound`. Such a run
-// answers with the start (warm_start; r = 0 where it is empty, or where a broken run's start is
-// not finite either), measured by `measure` into r, u, v (v: null for a local problem) and
-// meas; a finite runaway keeps its own r only where its error (measure_kind) is below half of
-// the start's.
+// `meas` not finite) or that did not converge with an r that runs_away past `bound` (then
+// marked ran_away too). Such a run answers with the start (warm_start; r = 0 where it is empty,
+// or where a broken run's start is not finite either), measured by `measure` into r, u, v (v:
+// null for a local problem) and meas; a run that ran away keeps the r it returned only where
+// its error (measure_kind) is below half of the start's.
 frix_error fall_back_on_divergence(const frix_problem &p, int64_t measure_kind, const std::vector<double> &warm_start,
                                    bool broken, double bound, const MeasureAnswer &measure, double *r, double *u,
                                    double *v, Measures &meas, frix_info &info);

@@ -15,16 +15,19 @@
 #include "shared_data.h"
 #include "stage_records.h"
 
-/* Two contacts pressing one body from opposite sides (u_0N = r_0N - r_1N - 1, u_1N = r_1N - r_0N
- * - 1): no solution, and with the |q| measure no run can pass, so auto goes round after round
- * until its iteration limit, Newton stalling every time on this small part. Round k makes 2^k
- * random starts; the trace must give each round's starts one line (2^k of them). (An
- * iteration limit, not a time limit: under valgrind 0.5 s gave one round only.) */
+/* Two coupled contacts, both pressed and sliding: a solution exists, but to a tolerance of
+ * 1e-300 on the |q| measure no run can pass (rounding leaves ~1e-17), so auto goes round after
+ * round, Newton stalling every time on this small part, until its iteration limit or until
+ * rounds stop lowering the error (it gives up: stagnated). Round k makes 2^k random starts;
+ * the trace must give each round's starts one line (2^k of them). (An iteration limit, not a
+ * time limit: under valgrind 0.5 s gave one round only. A problem without a solution would not
+ * do: its iterates run away, and auto then ends diverged at once.) */
 START_TEST(test_random_restarts_one_trace_line_per_round) {
     double Wd[36] = {0};
-    Wd[0] = Wd[3 * 6 + 3] = 1.0, Wd[3] = Wd[3 * 6] = -1.0;
-    Wd[1 * 6 + 1] = Wd[2 * 6 + 2] = Wd[4 * 6 + 4] = Wd[5 * 6 + 5] = 1.0;
-    const double q[6] = {-1, 0.1, 0, -1, 0.1, 0}, mu[2] = {0.3, 0.3};
+    for (int i = 0; i < 6; ++i) Wd[i * 6 + i] = 1.0;
+    Wd[3] = Wd[3 * 6] = 0.6, Wd[1 * 6 + 4] = Wd[4 * 6 + 1] = 0.3, Wd[2 * 6 + 5] = Wd[5 * 6 + 2] = 0.2;
+    Wd[4] = Wd[4 * 6] = Wd[1 * 6 + 3] = Wd[3 * 6 + 1] = 0.12;
+    const double q[6] = {-1, 0.71, 0.37, -0.7, 0.53, -0.29}, mu[2] = {0.3, 0.3};
     double r[6] = {0}, u[6];
     frix_matrix *W = NULL;
     frix_problem *p = NULL;
@@ -35,10 +38,13 @@ START_TEST(test_random_restarts_one_trace_line_per_round) {
     ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &o), FRIX_OK);
     ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
     ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_ERROR_MEASURE, FRIX_MEASURE_Q_RELATIVE), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-300), FRIX_OK);
     ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 100000), FRIX_OK);
     ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
-    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_MAX_ITER);
-    ck_assert_int_eq(frix_info_iterations(info), 100000);
+    const frix_status status = frix_info_status(info);
+    ck_assert_msg(status == FRIX_STATUS_MAX_ITER || status == FRIX_STATUS_STAGNATED, "status %s",
+                  frix_status_string(status));
+    ck_assert_int_le(frix_info_iterations(info), 100000);
     const int64_t lines = frix_info_stage_count(info);
     int64_t restart_lines = 0, newton_lines = 0;
     long long starts_of[64] = {0};

@@ -206,6 +206,69 @@ START_TEST(test_one_contact_without_normal_stiffness) {
 }
 END_TEST
 
+/* The same contact solved, without the existence check: nothing holds r_N, which grows without
+ * end. A solver that watches its iterate (the driver's runaway bound; auto in each stage, part
+ * and route) ends the run diverged within a few hundred iterations of 100000, and answers with
+ * a finite r on the scale of its start and of q, never the runaway; u (and v) finite. */
+static void expect_diverges(const frix_problem *p, int64_t n, const double start[3], int solver) {
+    double scale = 1.0; /* |q|_inf */
+    for (int i = 0; i < 3; ++i) scale = fmax(scale, fabs(start[i]));
+    double r[3], u[3], v[3] = {0};
+    memcpy(r, start, sizeof r);
+    frix_options *o = NULL;
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_options_create(solver, &o), FRIX_OK);
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 100000), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_EXISTENCE_CHECK, 0), FRIX_OK);
+    ck_assert_int_eq(frix_solve(p, o, r, u, n > 0 ? v : NULL, info), FRIX_OK);
+    const char *form = n > 0 ? "global" : "local";
+    ck_assert_msg(frix_info_status(info) == FRIX_STATUS_DIVERGED, "%s, %s: status %s", frix_solver_name(solver), form,
+                  frix_status_string(frix_info_status(info)));
+    ck_assert_msg(frix_info_iterations(info) < 1000, "%s, %s: %lld iterations", frix_solver_name(solver), form,
+                  (long long)frix_info_iterations(info));
+    ck_assert(isfinite(frix_info_error(info)));
+    for (int i = 0; i < 3; ++i) {
+        ck_assert(isfinite(r[i]) && isfinite(u[i]));
+        ck_assert_msg(fabs(r[i]) <= scale, "%s, %s: r[%d] = %g", frix_solver_name(solver), form, i, r[i]);
+    }
+    for (int64_t j = 0; j < n; ++j) ck_assert(isfinite(v[j]));
+    frix_info_free(info);
+    frix_options_free(o);
+}
+
+/* W = diag(0, 1, 1) and W = 0, each also in global form (M = I, H reaching the tangential rows
+ * only, or nothing), q = (-1, 0, 0), from r = 0 and from a start inside the cone. auto's first
+ * sweeps drift slowly on diag(0, 1, 1) from the warm start (thousands of sweeps before the
+ * bound): auto is asked there from r = 0 only. */
+START_TEST(test_no_solution_diverges) {
+    const double q[3] = {-1, 0, 0}, f[3] = {0}, mu = 0.5, cold[3] = {0}, warm[3] = {0.5, 0.1, 0};
+    const double diag[9] = {0, 0, 0, 0, 1, 0, 0, 0, 1}, zero[9] = {0}, I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    const double *Ws[2] = {diag, zero};
+    for (int k = 0; k < 2; ++k) {
+        frix_matrix *W = NULL, *M = NULL, *H = NULL;
+        frix_problem *local = NULL, *global = NULL;
+        ck_assert_int_eq(frix_matrix_from_dense(3, 3, Ws[k], 3, &W), FRIX_OK);
+        ck_assert_int_eq(frix_matrix_from_dense(3, 3, I3, 3, &M), FRIX_OK);
+        ck_assert_int_eq(frix_matrix_from_dense(3, 3, Ws[k], 3, &H), FRIX_OK); /* H^T M^-1 H = W */
+        ck_assert_int_eq(frix_problem_local(W, q, &mu, 1, &local), FRIX_OK);
+        ck_assert_int_eq(frix_problem_global(M, H, f, q, &mu, 1, &global), FRIX_OK);
+        for (int g = 0; g < 2; ++g) {
+            const frix_problem *p = g ? global : local;
+            const int64_t n = g ? 3 : 0;
+            expect_diverges(p, n, cold, FRIX_SOLVER_PROX);
+            expect_diverges(p, n, warm, FRIX_SOLVER_PROX);
+            expect_diverges(p, n, cold, FRIX_SOLVER_AUTO);
+            if (k == 1) expect_diverges(p, n, warm, FRIX_SOLVER_AUTO);
+        }
+        /* The interior point's own iterate, watched (its answer is its best iterate). */
+        if (k == 0) expect_diverges(global, 3, warm, FRIX_SOLVER_IPM);
+        frix_problem_free(local), frix_problem_free(global);
+        frix_matrix_free(W), frix_matrix_free(M), frix_matrix_free(H);
+    }
+}
+END_TEST
+
 /* ---- N bodies on a line between two walls, N + 1 contacts along x: contact k has
  * u_N = v_k - v_{k-1} + w_N,k (v_0 = v_{N+1} = 0, the walls), u_T = w_T,k = 0. The normal
  * velocities telescope: t* = mean_k w_N,k, and y = (1, 0, 0) at every contact is the
@@ -546,6 +609,7 @@ static Suite *existence_suite(void) {
     tcase_add_test(tc, test_walls_local);
     tcase_add_loop_test(tc, test_walls_scaled, 0, 4);
     tcase_add_test(tc, test_one_contact_without_normal_stiffness);
+    tcase_add_test(tc, test_no_solution_diverges);
     tcase_add_loop_test(tc, test_chain, 0, 2);
     tcase_add_test(tc, test_trivial);
     tcase_add_test(tc, test_budget);

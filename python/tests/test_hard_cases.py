@@ -60,7 +60,7 @@ def test_nsgs_returns_its_best_iterate():
     assert longer.error <= first.error
 
 
-@pytest.mark.parametrize("solver", ["nsgs", "nsn-fb", "vi-fpp", "vi-eg", "hp", "admm"])
+@pytest.mark.parametrize("solver", ["nsgs", "nsn-fb", "vi-fpp", "vi-eg", "hp", "admm", "prox", "auto"])
 def test_runaway_ends_diverged_early(solver):
     """W = diag(0, 1, 1), q_N = -1: r_N grows without end. The Monitor stops the run within a
     few hundred iterations of a 100000 limit and it ends diverged."""

@@ -118,10 +118,11 @@ class GlobalRoutes {
     frix_error reduced_solve(const frix_info &like, int64_t max_iter);
     frix_error w_free_route(int64_t max_iter);
     frix_error reduce_after(int64_t left, const GlobalAnswer *from);
-    // Whether a route may go on after a run that did not converge: not stopped, time and
-    // `left` iterations left.
+    // Whether a route may go on after a run that did not converge: not stopped, not run away
+    // (no solution: no route finds one), time and `left` iterations left.
     bool may_go_on(bool stopped, int64_t left) const {
-        return info_.status != FRIX_STATUS_CONVERGED && !stopped && !Monitor(ctx_).out_of_time() && left > 0;
+        return info_.status != FRIX_STATUS_CONVERGED && !stopped && !info_.ran_away && !Monitor(ctx_).out_of_time() &&
+               left > 0;
     }
 
     SolveContext &ctx_;

@@ -324,6 +324,10 @@ frix_error IslandSolver::run(const StageRequest &req, double *r, StageOutcome &o
     u_at_best_ = false;  // every stage writes the part's u
     if (frix_error e = run_stage(ground, req, r, out)) return e;
     Monitor::add_work(ledger_, out.info);
+    if (out.info.ran_away) {
+        shared_.ran_away = true;
+        shared_.stop_requested = true;
+    }
     if (out.stopped_by_caller) stopped_ = true;
     if (out.event.error < best_error_) {
         best_error_ = out.event.error;

@@ -85,6 +85,7 @@ frix_error direct_nsgs(SolveContext &ctx, Shared &shared, double tol, int64_t sw
     info.iterations = 0;
     const double t0 = ctx.clock.seconds();
     SolveContext sub = SolveContext::local(p, o, ctx.r, ctx.u, info, ctx.clock);
+    sub.runaway_bound = ctx.runaway_bound;  // the whole problem's, as the driver set it: a runaway stops the solve
     if (frix_error e = nsgs.solve(sub)) return e;
     ctx.has_measured = sub.has_measured;
     ctx.measured = sub.measured;
@@ -259,6 +260,7 @@ void close_parts(SolveContext &ctx, Shared &shared, Parts &parts, double tol, do
     for (const Island &is : parts.islands) stopped = stopped || is.solver->stopped();
     const frix_status status = shared.ending(error <= tol, stopped);
     info.status = status == FRIX_STATUS_NOT_RUN ? FRIX_STATUS_STAGNATED : status;
+    if (shared.ran_away.load()) info.ran_away = true;  // stopped: the driver reports it as diverged
 }
 
 }  // namespace

@@ -66,6 +66,8 @@ frix_error run_stage(const StageGround &ground, const StageRequest &req, double 
     out.info.contacts = ground.p.nc;
     out.info.tolerance = req.tolerance;
     const double t0 = shared.clock.seconds();
+    // The driver's local path watches the stage against the part's own runaway bound (its |q|):
+    // a part is a problem of its own, whose solution scales with its q, not with the whole's.
     if (frix_error e = solve_local_problem(ground.p, o, entry, r, ground.u, out.info, shared.clock, ground.cache,
                                            &out.measures))
         return e;

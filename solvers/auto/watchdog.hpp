@@ -26,6 +26,9 @@ struct Shared {
     std::mutex lock;
     std::atomic<int64_t> iterations{0};
     std::atomic<bool> stop_requested{false};
+    // A stage's iterate ran away (frix_info::ran_away): no solution, and no other stage will find
+    // one; stop_requested is raised with it, and the solve is reported as diverged.
+    std::atomic<bool> ran_away{false};
     bool scaled_penalty = false;  // ADMM with per-contact penalties (kScaledPenaltySpread)
     Shared(const frix_options &u, const Stopwatch &c) : user(u), clock(c) {}
 

@@ -26,7 +26,7 @@ Run::Run(SolveContext &ctx, KeptSystem &kept, int stall_after)
       stall_after_(stall_after),
       tol_(Monitor(ctx).tolerance()),
       measure_(ctx.options.i(FRIX_OPT_ERROR_MEASURE)),
-      steps_(Monitor(ctx.options, ctx.clock)),
+      steps_(Monitor(ctx)),
       best_(ctx.r, ctx.r + 3 * ctx.problem.nc) {
     const frix_problem &p = ctx.problem;
     kept_.refresh(ctx.cache, *p.W, p.mu, p.nc);
@@ -45,7 +45,7 @@ Run::Next Run::check(const double *r) {
         std::copy(r, r + best_.size(), best_.begin());
     }
     if (err <= tol_) return kStop;
-    if (steps_.done > 0) steps_.report(err);
+    if (steps_.done > 0) steps_.report(err, r);  // the interior point's own iterate, watched for a runaway
     const frix_status stop = steps_.limits();
     if (stop != FRIX_STATUS_NOT_RUN) {
         ctx_.info.status = stop;

@@ -156,8 +156,8 @@ class Run {
     // Also refreshes the kept system for this problem and gives its LU the solve's limits.
     Run(SolveContext &ctx, KeptSystem &kept, int stall_after);
     // Measures r (3 per contact) and keeps it if it is the best so far; then whether to
-    // iterate, to stop (converged, the callback, max_iter, the time limit: the status is in
-    // ctx.info) or to hand over to Newton.
+    // iterate, to stop (converged, the callback or a runaway of r, max_iter, the time limit:
+    // the status is in ctx.info) or to hand over to Newton.
     Next check(const double *r);
     void count_iteration() { ++steps_.done; }
     int64_t iterations() const { return steps_.done; }

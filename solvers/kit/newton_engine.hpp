@@ -87,8 +87,9 @@ class Steps {
     explicit Steps(const Monitor &run) : monitor(run) {}
     Monitor monitor;
     int64_t done = 0;
-    bool report(double error) {
-        if (!asked_ && monitor.report(done, error)) asked_ = true;
+    // r: as for Monitor::report (a solver that iterates on its own copy; null: ctx.r).
+    bool report(double error, const double *r = nullptr) {
+        if (!asked_ && monitor.report(done, error, r)) asked_ = true;
         return asked_;
     }
     // Whether the callback asked to stop (with agree: on any rank).
@@ -115,6 +116,18 @@ inline frix_status status_before_step(const Monitor &monitor, double err, int64_
     if (inner.stop_asked()) return FRIX_STATUS_STOPPED_BY_CALLBACK;
     if (inner.monitor.out_of_time()) return FRIX_STATUS_TIME_LIMIT;
     return FRIX_STATUS_NOT_RUN;
+}
+
+// After a proximal step's inner solve ended with `inner`: the status that ends the proximal
+// method there (a limit or a stop of the inner solve; or its answer, ctx.r, has run away:
+// Monitor::ran_away, a stop the driver reports as diverged); FRIX_STATUS_NOT_RUN to go on.
+// Each answer is asked: on a problem without a solution the answers run away as alpha falls,
+// and a rejected one is undone before the Monitor's next periodic check could see it.
+inline frix_status status_after_step(const Monitor &monitor, frix_status inner) {
+    if (inner == FRIX_STATUS_TIME_LIMIT || inner == FRIX_STATUS_MEMORY_LIMIT ||
+        inner == FRIX_STATUS_STOPPED_BY_CALLBACK)
+        return inner;
+    return monitor.ran_away() ? FRIX_STATUS_STOPPED_BY_CALLBACK : FRIX_STATUS_NOT_RUN;
 }
 
 // Each caller's rules, where the Newtons differ.

@@ -75,7 +75,7 @@ frix_error solve(SolveContext &ctx) {
     std::vector<double> tried;  // alphas tried from the current accepted iterate rk
     int64_t outer = 0;
     info.status = FRIX_STATUS_MAX_ITER;
-    kit::Steps inner{Monitor(o, ctx.clock)};  // the Newton steps, on each proximal step's limits
+    kit::Steps inner{Monitor(ctx)};  // the Newton steps, on each proximal step's limits
     while (true) {
         frix_status stop = kit::status_before_step(monitor, err, outer, inner);
         // Each step starts from rk (a rejected step restores it): the same alpha from the same
@@ -94,10 +94,10 @@ frix_error solve(SolveContext &ctx) {
         // steps on a problem about to change, looser slows the outer convergence.
         inner.monitor.with_limits(0.1 * std::max(err, tol), inner.done + kInnerMaxIter);
         if (frix_error e = engine.run(r, qk.data(), alpha, inner, res, norm_q)) return e;
-        if (res.status == FRIX_STATUS_TIME_LIMIT || res.status == FRIX_STATUS_MEMORY_LIMIT ||
-            res.status == FRIX_STATUS_STOPPED_BY_CALLBACK) {
+        const frix_status stopped = kit::status_after_step(monitor, res.status);
+        if (stopped != FRIX_STATUS_NOT_RUN) {
             std::copy(rk.begin(), rk.end(), r);
-            info.status = res.status;
+            info.status = stopped;
             break;
         }
         const double e_new = selected_error(local_measures(p, r, ctx.u), s.measure);

@@ -289,12 +289,9 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, const rolling::Block
                                   std::min(inner.done + kInnerMaxIter, monitor.max_iterations()));
         kit::RunResult res;
         if (frix_error e = kit::newton(sys, inner, rules, counters, res)) return e;
-        // Each proximal answer is watched too (Monitor::ran_away): on a problem without a
-        // solution they run away as alpha falls, and are undone before the next step's check.
-        if (res.status == FRIX_STATUS_TIME_LIMIT || res.status == FRIX_STATUS_MEMORY_LIMIT ||
-            res.status == FRIX_STATUS_STOPPED_BY_CALLBACK || monitor.ran_away()) {
+        status = kit::status_after_step(monitor, res.status);
+        if (status != FRIX_STATUS_NOT_RUN) {
             std::copy(rk.begin(), rk.end(), r);
-            status = ctx.info.ran_away ? FRIX_STATUS_STOPPED_BY_CALLBACK : res.status;
             break;
         }
         const double e_new = sys.error();

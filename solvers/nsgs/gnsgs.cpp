@@ -221,6 +221,7 @@ frix_error solve(SolveContext &ctx) {
         SolveContext::global(slots, ctx.options, r.data(), u.data(), ctx.v, ctx.info, ctx.clock, ctx.mass)
             .with_cache(ctx.cache);
     inner.return_best = ctx.return_best;
+    inner.runaway_bound = ctx.runaway_bound;  // the same contacts renumbered: watched as the driver asked
     if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1)
         log_line(&ctx.options, "gnsgs: %lld contacts in %lld domains of %lld colours, %lld threads", (long long)p.nc,
                  (long long)form.domains(), (long long)form.colours(), (long long)ctx.options.i(FRIX_OPT_THREADS));
