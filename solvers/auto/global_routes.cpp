@@ -7,12 +7,14 @@
 // Every route keeps one ledger in ctx.info: each run adds its work to the earlier ones'.
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "solvers/entries.hpp"
 #include "solvers/auto/routes.hpp"
 #include "solvers/auto/stage.hpp"
 #include "solvers/kit/global_newton.hpp"
+#include "solvers/kit/mass_plus_contacts.hpp"
 #include "solvers/kit/sweeps.hpp"
 #include "src/log.hpp"
 #include "src/reduction.hpp"
@@ -53,17 +55,33 @@ struct RouteChoice {
     bool w_free = false;   // the route without W is priced below forming W, and fits
     bool product = false;  // rigid bodies with a large W: NSGS without W first
     RoutePrices prices;
+    // M + H S H^T as the pricing built and analysed it, for the route without W (null: not priced).
+    std::unique_ptr<KeptMassPlusContacts> w_free_system;
 };
 
-RouteChoice choose_route(const SolveContext &ctx, const ReductionSize &size) {
+// Forming W and the route without it priced, or their prices kept from the step before
+// (`kept`, where a persistent solver's M and H are the same).
+void price_routes(const SolveContext &ctx, const ReductionSize &size, KeptAuto::Prices &kept, RouteChoice &c) {
     const frix_problem &p = ctx.problem;
+    if (ctx.cache && kept.m_values == ctx.cache->m_values && kept.h_values == ctx.cache->h_values) return;
+    kept = KeptAuto::Prices{};
+    kept.forming_w_priced = ctx.mass && ctx.mass->congruence_price(*p.H, &kept.forming_w);
+    if (kept.forming_w_priced) {
+        c.w_free_system = std::make_unique<KeptMassPlusContacts>();
+        kept.w_free_priced =
+            price_w_free_route(p, kept.forming_w, size.w_blocks, &kept.routes, c.w_free_system->system);
+    }
+    if (ctx.cache) kept.m_values = ctx.cache->m_values, kept.h_values = ctx.cache->h_values;
+}
+
+RouteChoice choose_route(const SolveContext &ctx, const ReductionSize &size, KeptAuto::Prices &kept) {
     RouteChoice c;
     if (size.w_entries > kReductionMaxEntries && size.w_entries > kReductionMaxGrowth * size.input_entries) {
-        linalg::FactorPrice price;
-        if (ctx.mass && ctx.mass->congruence_price(*p.H, &price)) {
-            c.refused = Monitor(ctx).affords(price);
-            c.w_free = price_w_free_route(p, price, size.w_blocks, &c.prices) &&
-                       Monitor(ctx).fits_memory(c.prices.without_w_bytes) &&
+        price_routes(ctx, size, kept, c);
+        if (kept.forming_w_priced) {
+            c.prices = kept.routes;
+            c.refused = Monitor(ctx).affords(kept.forming_w);
+            c.w_free = kept.w_free_priced && Monitor(ctx).fits_memory(c.prices.without_w_bytes) &&
                        (c.refused || c.prices.without_w < c.prices.with_w);
             if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1)
                 log_line(&ctx.options, "auto: forming W priced %.3g flops, the route without W %.3g", c.prices.with_w,
@@ -111,12 +129,12 @@ class GlobalRoutes {
 
     frix_error product_then_reduce(int64_t max_iter, bool may_reduce);
     frix_error reduce_then_newton(int64_t max_iter, int64_t reduction_iter);
-    frix_error without_w(int64_t max_iter, const RouteChoice &choice);
+    frix_error without_w(int64_t max_iter, RouteChoice &choice);
 
    private:
-    frix_error run(const SolverEntry &entry, int64_t max_iter, Watchdog *dog = nullptr);
+    frix_error run(const SolverEntry &entry, int64_t max_iter, Watchdog *dog = nullptr, SolveCache *cache = nullptr);
     frix_error reduced_solve(const frix_info &like, int64_t max_iter);
-    frix_error w_free_route(int64_t max_iter);
+    frix_error w_free_route(int64_t max_iter, std::unique_ptr<KeptMassPlusContacts> system);
     frix_error reduce_after(int64_t left, const GlobalAnswer *from);
     // Whether a route may go on after a run that did not converge: not stopped, not run away
     // (no solution: no route finds one), time and `left` iterations left.
@@ -134,10 +152,11 @@ class GlobalRoutes {
 
 // A solver of global problems (`entry`: 607, 613, 901, gnsgs) from ctx's (r, v), for at most
 // max_iter iterations (and its own limit), on the caller's clock, tolerance, measure and
-// callback (`dog`, when given, watches it and passes the callback on). Its run joins the
+// callback (`dog`, when given, watches it and passes the callback on), on `cache` where given
+// (else the routes' own: the persistent solver's, or none). Its run joins the
 // ledger, its record the trace. Converged is the driver's verdict on the returned (r, v)
 // (error and equilibrium), whatever the solver's own stopping test said.
-frix_error GlobalRoutes::run(const SolverEntry &entry, int64_t max_iter, Watchdog *dog) {
+frix_error GlobalRoutes::run(const SolverEntry &entry, int64_t max_iter, Watchdog *dog, SolveCache *cache) {
     const double tol = Monitor(ctx_).tolerance();
     frix_options o = stage_options(entry, options_, tol, max_iter, nullptr);
     if (dog) {
@@ -150,7 +169,7 @@ frix_error GlobalRoutes::run(const SolverEntry &entry, int64_t max_iter, Watchdo
     run.tolerance = info_.tolerance;
     const double t0 = ctx_.clock.seconds();
     if (frix_error e = solve_global_problem(ctx_.problem, o, entry, ctx_.r, ctx_.u, ctx_.v, run, ctx_.clock,
-                                            reduction_, ctx_.mass))
+                                            cache ? cache : reduction_, ctx_.mass))
         return e;
     if (meets_global_tolerance(run, tol)) run.status = FRIX_STATUS_CONVERGED;
     TraceEvent stage = stage_event(entry.id, run, ctx_.clock.seconds() - t0, run.error);
@@ -236,8 +255,14 @@ frix_error GlobalRoutes::product_then_reduce(int64_t max_iter, bool may_reduce) 
 
 // The route without W: ADMM on (v, r) (613) with at most half of max_iter, then, where it
 // misses the tolerance, the augmented Lagrangian Newton (901) from its result with the rest.
-frix_error GlobalRoutes::w_free_route(int64_t max_iter) {
-    if (frix_error e = run(kGadmmEntry, std::clamp<int64_t>(max_iter / 2, 1, kWFreeAdmmIterations))) return e;
+// ADMM takes `system` (the pricing's M + H S H^T and its analysis) on the routes' cache, or on
+// one of its own for a one-shot solve.
+frix_error GlobalRoutes::w_free_route(int64_t max_iter, std::unique_ptr<KeptMassPlusContacts> system) {
+    SolveCache own;
+    SolveCache *cache = reduction_ ? reduction_ : &own;
+    if (system) offer_mass_plus_contacts(*cache, FRIX_SOLVER_GLOBAL_ADMM, std::move(system));
+    const int64_t admm_iter = std::clamp<int64_t>(max_iter / 2, 1, kWFreeAdmmIterations);
+    if (frix_error e = run(kGadmmEntry, admm_iter, nullptr, cache)) return e;
     const int64_t left = max_iter - info_.iterations;
     if (!may_go_on(info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK, left)) return FRIX_OK;
     const GlobalAnswer admm(ctx_, info_);
@@ -253,7 +278,7 @@ frix_error GlobalRoutes::w_free_route(int64_t max_iter) {
 // such a body r is far from unique, and the reduction's own path leads where the equilibrium's
 // rounding is smaller relative to H r. Where forming W would overrun a limit and M + H H^T has
 // no Cholesky factor or would not fit either: Newton on (v, r) alone.
-frix_error GlobalRoutes::without_w(int64_t max_iter, const RouteChoice &choice) {
+frix_error GlobalRoutes::without_w(int64_t max_iter, RouteChoice &choice) {
     TraceEvent direct = summary_event(kGlobalDirect, figures_);
     direct.status = choice.refused;
     direct.value = choice.prices.with_w / choice.prices.without_w;
@@ -261,7 +286,7 @@ frix_error GlobalRoutes::without_w(int64_t max_iter, const RouteChoice &choice) 
     info_.trace.push_back(direct);
     if (!choice.w_free) return run(kGnsnAcEntry, max_iter);
     const GlobalAnswer start(ctx_, info_);
-    if (frix_error e = w_free_route(max_iter)) return e;
+    if (frix_error e = w_free_route(max_iter, std::move(choice.w_free_system))) return e;
     const int64_t left = max_iter - info_.iterations;
     if (choice.refused || !may_go_on(info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK, left)) return FRIX_OK;
     TraceEvent after = trace_event(kGlobalReduceAfter);
@@ -288,7 +313,7 @@ frix_error solve_global(SolveContext &ctx) {
     }
     const ReductionSize size = reduction_size(p);
     const int64_t max_iter = Monitor(ctx).max_iterations();
-    const RouteChoice choice = choose_route(ctx, size);
+    RouteChoice choice = choose_route(ctx, size, kept->prices);
     GlobalRoutes routes(ctx, reduction, global_figures(p, size));
     if (choice.product) return routes.product_then_reduce(max_iter, !choice.refused);
     if (!choice.refused && !choice.w_free) return routes.reduce_then_newton(max_iter, max_iter / 2);

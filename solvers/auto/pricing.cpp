@@ -26,11 +26,10 @@ frix_error price_stages(const frix_problem &p, StageCosts *c) {
 }
 
 bool price_w_free_route(const frix_problem &p, const linalg::FactorPrice &forming_w, double w_blocks,
-                        RoutePrices *prices) {
+                        RoutePrices *prices, MassPlusContacts &system) {
     Csc M, H;
-    MassPlusContacts system;
     linalg::FactorCost cost;
-    if (to_csc(*p.M, M) || to_csc(*p.H, H) || system.build(M, H, p.nc, "auto") || system.cost(&cost)) {
+    if (to_csc(*p.M, M) || to_csc(*p.H, H) || system.build(M, H, p.nc, "auto") || system.analyse(&cost)) {
         clear_error();
         return false;
     }

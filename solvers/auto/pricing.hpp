@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "solvers/kit/mass_plus_contacts.hpp"
 #include "src/linalg/linalg.hpp"
 #include "src/problem.hpp"
 
@@ -37,8 +38,9 @@ struct RoutePrices {
 // priced (the route is then not taken). W's writes (forming_w.writes, which a time limit
 // prices) are left out: these constants were set on the flops alone, and with the writes
 // added a thick elastic grid near the boundary took the slower route
-// (notes/2026-11-28-w-price.md).
+// (notes/2026-11-28-w-price.md). `system`: M + H S H^T built and analysed for the route's
+// solver, which takes it (offer_mass_plus_contacts) rather than doing both again.
 bool price_w_free_route(const frix_problem &p, const linalg::FactorPrice &forming_w, double w_blocks,
-                        RoutePrices *prices);
+                        RoutePrices *prices, MassPlusContacts &system);
 
 }  // namespace frix::autosolve

@@ -6,6 +6,8 @@
 #include <memory>
 #include <vector>
 
+#include "solvers/auto/pricing.hpp"
+#include "src/linalg/linalg.hpp"
 #include "src/solve_cache.hpp"
 #include "src/solver_api.hpp"
 
@@ -20,6 +22,14 @@ struct KeptAuto : CachedState {
     std::vector<std::vector<int64_t>> parts;
     std::vector<std::unique_ptr<SolveCache>> part_caches;
     SolveCache reduction;
+    // A global problem's route prices, kept while M's and H's values stay: pricing analyses M
+    // + H S H^T (and L's paths for W), which a persistent solver's next step need not redo.
+    struct Prices {
+        uint64_t m_values = 0, h_values = 0;  // the versions they were priced for (0: none)
+        bool forming_w_priced = false, w_free_priced = false;
+        linalg::FactorPrice forming_w;
+        RoutePrices routes;
+    } prices;
 };
 
 // A local problem: analysis, the first sweeps, the parts (on threads), their tightening and

@@ -250,8 +250,8 @@ void Solver::finish(frix_status status) {
 // factorisation and its rho: a time-stepping host pays the factorisation once.
 frix_error solve(SolveContext &ctx) {
     Kept<KeptMassPlusContacts> kept(ctx.cache, FRIX_SOLVER_GLOBAL_ADMM);
-    const linalg::FactorStats before = kept->system.stats();
-    if (frix_error e = prepare_mass_plus_contacts(ctx, *kept, "gadmm", kScaleSamples)) return e;
+    linalg::FactorStats before;
+    if (frix_error e = prepare_mass_plus_contacts(ctx, *kept, "gadmm", kScaleSamples, &before)) return e;
     kept.keep();
     return Solver(ctx, *kept, before).run();
 }

@@ -229,8 +229,8 @@ frix_error solve(SolveContext &ctx) {
     // A persistent solver's next step with the same M and H keeps the pattern, its symbolic
     // analysis and rho's unit.
     Kept<KeptMassPlusContacts> kept(ctx.cache, FRIX_SOLVER_GLOBAL_AL_NEWTON);
-    const linalg::FactorStats before = kept->system.stats();
-    if (frix_error e = prepare_mass_plus_contacts(ctx, *kept, "gnsn-al", kScaleSamples)) return e;
+    linalg::FactorStats before;
+    if (frix_error e = prepare_mass_plus_contacts(ctx, *kept, "gnsn-al", kScaleSamples, &before)) return e;
     kept.keep();
     AlRun run(ctx, kept->system, kept->scale);
     if (frix_error e = run.run()) return e;

@@ -112,20 +112,41 @@ frix_error MassPlusContacts::factor(const double *S, const linalg::FactorBudget 
 }
 
 frix_error prepare_mass_plus_contacts(const SolveContext &ctx, KeptMassPlusContacts &kept, const char *solver,
-                                      int samples) {
+                                      int samples, linalg::FactorStats *before) {
     const frix_problem &p = ctx.problem;
-    if (ctx.cache && kept.m_values == ctx.cache->m_values && kept.h_values == ctx.cache->h_values) return FRIX_OK;
-    kept.m_values = kept.h_values = 0;  // until built
-    kept.factored_rho = NAN;
+    *before = kept.system.stats() - kept.handed;
+    kept.handed = {};
+    const bool built = ctx.cache && kept.m_values == ctx.cache->m_values && kept.h_values == ctx.cache->h_values;
+    if (built && !std::isnan(kept.scale)) return FRIX_OK;
+    if (!built) {
+        kept.m_values = kept.h_values = 0;  // until built
+        kept.factored_rho = kept.scale = NAN;
+    }
     if (!ctx.mass) return fail(FRIX_ERR_INTERNAL, "%s: no factorisation of M was given", solver);
     Csc M, H;
-    if (frix_error e = to_csc(*p.M, M)) return e;
     if (frix_error e = to_csc(*p.H, H)) return e;
-    if (frix_error e = kept.system.build(M, H, p.nc, solver)) return e;
+    if (!built) {
+        if (frix_error e = to_csc(*p.M, M)) return e;
+        if (frix_error e = kept.system.build(M, H, p.nc, solver)) return e;
+    }
     kept.scale = sampled_delassus_scale(p, H, mass_solve(*ctx.mass), samples);
     if (!(kept.scale > 0.0) || !std::isfinite(kept.scale)) kept.scale = 1.0;
     if (ctx.cache) kept.m_values = ctx.cache->m_values, kept.h_values = ctx.cache->h_values;
     return FRIX_OK;
+}
+
+void offer_mass_plus_contacts(SolveCache &cache, int key, std::unique_ptr<KeptMassPlusContacts> offered) {
+    std::unique_ptr<CachedState> held = cache.take(key);
+    const auto *kept = static_cast<const KeptMassPlusContacts *>(held.get());
+    if (kept && kept->m_values == cache.m_values && kept->h_values == cache.h_values) {
+        cache.give_back(key, std::move(held));
+        return;
+    }
+    offered->m_values = cache.m_values;
+    offered->h_values = cache.h_values;
+    offered->factored_rho = offered->scale = NAN;
+    offered->handed = offered->system.stats();
+    cache.give_back(key, std::move(offered));
 }
 
 void de_saxce_shift(const frix_problem &p, const double *u, double *shift) {

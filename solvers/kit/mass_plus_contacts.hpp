@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "src/linalg/linalg.hpp"
@@ -31,8 +32,9 @@ class MassPlusContacts {
     // Whether M is not exactly symmetric: the factorised matrix is then (M + M^T) / 2 + H S H^T,
     // and the solver must apply K = (M - M^T) / 2 itself (matrix_skew_gemv).
     bool skewed() const { return skewed_; }
-    // What factorising M + H S H^T costs, from its pattern alone (linalg::cholesky_cost).
-    frix_error cost(linalg::FactorCost *cost) const { return linalg::cholesky_cost(A_.view(), cost); }
+    // What factorising M + H S H^T costs, from the symbolic analysis of its pattern, which the
+    // system keeps for its first factorisation (linalg::SparseCholesky::analyze).
+    frix_error analyse(linalg::FactorCost *cost) { return chol_.analyze(A_.view(), cost); }
     // Factorises M + H S H^T, S = 9 nc values (column-major 3x3 blocks, symmetric), asking
     // `budget` first (see linalg::FactorBudget); refused() then says which limit.
     frix_error factor(const double *S, const linalg::FactorBudget &budget);
@@ -59,14 +61,24 @@ class MassPlusContacts {
 struct KeptMassPlusContacts : CachedState {
     uint64_t m_values = 0, h_values = 0;  // the versions they were built from (0: none)
     MassPlusContacts system;
-    double scale = 1.0;        // rho's unit (sampled_delassus_scale)
+    double scale = NAN;        // rho's unit (sampled_delassus_scale; NAN: not sampled yet)
     double factored_rho = NAN;  // the rho of the factorisation the system holds (NAN: none usable)
+    // The work done on a system handed over (offer_mass_plus_contacts: its analysis), which the
+    // taker's solve reports as its own.
+    linalg::FactorStats handed;
 };
 // Makes `kept` current for ctx's problem: built anew (pattern, rho's unit from `samples`
-// sampled contacts) unless ctx's cache shows it was built from the same M and H. Fails as
-// MassPlusContacts::build does.
+// sampled contacts) unless ctx's cache shows it was built from the same M and H (then only
+// rho's unit where it was not sampled). *before: the system's counters from which this solve's
+// work counts. Fails as MassPlusContacts::build does.
 frix_error prepare_mass_plus_contacts(const SolveContext &ctx, KeptMassPlusContacts &kept, const char *solver,
-                                      int samples);
+                                      int samples, linalg::FactorStats *before);
+// Hands `offered` (its system built, and analysed, for the M and H of the cache's current
+// versions) to the solver that next runs on `cache` and keeps its state under `key`: that
+// solver's prepare_mass_plus_contacts then neither builds nor analyses it again. Where the
+// cache holds that solver's state built from the same M and H (a persistent solver's, with its
+// factorisation at the last rho) that state stays and `offered` is dropped.
+void offer_mass_plus_contacts(SolveCache &cache, int key, std::unique_ptr<KeptMassPlusContacts> offered);
 
 // The De Saxce term of the global solvers without W from u = H^T v + w: shift[3a] =
 // mu_a |u_T,a| (the normal entry of each contact; the tangential ones are not written).

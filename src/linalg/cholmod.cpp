@@ -105,6 +105,7 @@ struct SparseCholesky::Impl {
     int64_t rows = -1;
     std::vector<int64_t> colptr, rowind;
     double flops = 0.0;  // of a numeric factorisation on that analysis
+    double entries = 0.0;  // of L on that analysis
     double bytes = 0.0;  // of L's values and indices on that analysis
     bool numeric = false;  // L holds a numeric factorisation (not only the analysis)
     double last_seconds = NAN;  // of the last numeric factorisation on that analysis
@@ -137,31 +138,58 @@ SparseCholesky::SparseCholesky(Layout layout) : impl_(std::make_unique<Impl>()) 
 }
 SparseCholesky::~SparseCholesky() = default;
 
+// Fails where A is not square with rows, dropping the analysis held.
+frix_error SparseCholesky::refuse_unless_square(const CscView &A) {
+    Impl &m = *impl_;
+    if (A.rows == A.cols && A.rows > 0) return FRIX_OK;
+    if (m.L) cholmod_l_free_factor(&m.L, &m.c);
+    return fail(FRIX_ERR_DIMENSION, "sparse Cholesky: the matrix is %lld x %lld, not square", (long long)A.rows,
+                (long long)A.cols);
+}
+
+// Analyses A's pattern unless it is the one L holds; false where CHOLMOD fails (m.L null).
+bool SparseCholesky::analyse_pattern(const CscView &A) {
+    Impl &m = *impl_;
+    if (m.same_pattern(A)) return true;
+    if (m.L) cholmod_l_free_factor(&m.L, &m.c);
+    cholmod_sparse a = view_of(A, 1);
+    {
+        const std::lock_guard<std::mutex> lock(metis_mutex());  // may try METIS on large M
+        m.L = analyze_symmetric(a, m.c);
+    }
+    if (!m.L) return false;
+    ++stats_.symbolic;
+    m.rows = A.rows;
+    m.colptr.assign(A.colptr, A.colptr + A.cols + 1);
+    m.rowind.assign(A.rowind, A.rowind + A.nnz());
+    m.flops = m.c.fl;
+    m.entries = m.c.lnz;
+    m.bytes = factor_bytes(*m.L, m.c);
+    m.last_seconds = NAN;
+    return true;
+}
+
+frix_error SparseCholesky::analyze(const CscView &A, FactorCost *cost) {
+    Impl &m = *impl_;
+    *cost = FactorCost{};
+    if (frix_error e = refuse_unless_square(A)) return e;
+    const auto t0 = Clock::now();
+    const bool ok = analyse_pattern(A);
+    stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+    if (!ok) {
+        if (m.c.status == CHOLMOD_OUT_OF_MEMORY) return fail(FRIX_ERR_OUT_OF_MEMORY, "sparse Cholesky: out of memory");
+        return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: symbolic analysis failed (CHOLMOD status %d)", m.c.status);
+    }
+    *cost = FactorCost{m.flops, m.entries, m.bytes};
+    return FRIX_OK;
+}
+
 frix_error SparseCholesky::factor(const CscView &A) {
     Impl &m = *impl_;
-    if (A.rows != A.cols || A.rows <= 0) {
-        if (m.L) cholmod_l_free_factor(&m.L, &m.c);
-        return fail(FRIX_ERR_DIMENSION, "sparse Cholesky: the matrix is %lld x %lld, not square",
-                    (long long)A.rows, (long long)A.cols);
-    }
+    if (frix_error e = refuse_unless_square(A)) return e;
     const auto t0 = Clock::now();
     cholmod_sparse a = view_of(A, 1);
-    if (!m.same_pattern(A)) {
-        if (m.L) cholmod_l_free_factor(&m.L, &m.c);
-        {
-            const std::lock_guard<std::mutex> lock(metis_mutex());  // may try METIS on large M
-            m.L = analyze_symmetric(a, m.c);
-        }
-        if (m.L) {
-            ++stats_.symbolic;
-            m.rows = A.rows;
-            m.colptr.assign(A.colptr, A.colptr + A.cols + 1);
-            m.rowind.assign(A.rowind, A.rowind + A.nnz());
-            m.flops = m.c.fl;
-            m.bytes = factor_bytes(*m.L, m.c);
-            m.last_seconds = NAN;
-        }
-    }
+    analyse_pattern(A);
     // A factorisation on an analysis whose L already holds values refactorises in place: it
     // takes no memory the process does not hold already.
     const double bytes = m.L && m.L->xtype != CHOLMOD_PATTERN ? 0.0 : m.bytes;

@@ -154,6 +154,14 @@ class CongruenceSink {
     virtual frix_error add(int64_t count, const int64_t *cols, int64_t width, const double *T, int64_t ld) = 0;
 };
 
+// What a Cholesky factorisation of a symmetric matrix costs, from its symbolic analysis alone
+// (cholesky_cost, SparseCholesky::analyze).
+struct FactorCost {
+    double flops = 0.0;           // of the numeric factorisation
+    double factor_entries = 0.0;  // entries of L (each solve reads them twice)
+    double bytes = 0.0;           // L's values and indices, and the workspace
+};
+
 class SparseCholesky {
    public:
     // kSupernodal: L is always supernodal (inverse_congruence needs it). kForSolves: simplicial
@@ -168,6 +176,10 @@ class SparseCholesky {
     // Analyses A's pattern (unless it is the one of the last successful factorisation: the
     // ordering depends on the pattern alone) and factorises.
     frix_error factor(const CscView &A);
+    // The analysis alone, as factor() would run it (same rule for a pattern analysed last):
+    // the next factor() of a matrix with A's pattern starts from it. *cost: what that
+    // factorisation will cost, counted as cholesky_cost counts it (bytes: of this layout).
+    frix_error analyze(const CscView &A, FactorCost *cost);
     // x = A^-1 b for one dense right-hand side.
     frix_error solve(const double *b, double *x) const;
     // Whether the factor held is supernodal (false: simplicial, or none).
@@ -209,6 +221,8 @@ class SparseCholesky {
     frix_status refused() const { return refused_; }
 
    private:
+    frix_error refuse_unless_square(const CscView &A);
+    bool analyse_pattern(const CscView &A);
     struct Impl;
     std::unique_ptr<Impl> impl_;
     FactorStats stats_;
@@ -220,11 +234,6 @@ class SparseCholesky {
 // the symbolic analysis alone (the ordering a SparseCholesky of it picks; no numeric work): a stage
 // can be priced before it is paid. Only A's pattern is read (values may be null), and of it
 // the upper triangle.
-struct FactorCost {
-    double flops = 0.0;           // of the numeric factorisation
-    double factor_entries = 0.0;  // entries of L (each solve reads them twice)
-    double bytes = 0.0;           // L's values and indices, and the workspace
-};
 frix_error cholesky_cost(const CscView &A, FactorCost *cost);
 // inv = A^-1 for a small dense k x k matrix A (column-major, overwritten; inv must hold the
 // identity on entry), by Gauss-Jordan elimination with partial pivoting: a rigid body's mass
