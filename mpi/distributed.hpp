@@ -44,9 +44,14 @@ struct frix_mpi_problem {
     // renumbered them by part): what frix_mpi_gather puts them back at.
     std::vector<int64_t> ids;
     frix_problem view;  // nc = owned, over W, q and mu: what the sweeps and measures read; its
-                        // weight: the owned contacts' W_aa normal entries (empty, so 1, for
-                        // a global problem with the host's M, whose Newton measures with
-                        // RanksWeights)
+                        // weight: the owned contacts' weights in the serial default measure
+                        // of the whole problem (set_contact_weights: a local problem's W_aa
+                        // normal entries; a reduced or rigid global problem's from H and
+                        // diag(M)); empty, so 1, for a global problem with the host's M, whose
+                        // Newton measures with RanksWeights
+    // The default measure's velocity floor over all contacts (free_velocity of a reduced or
+    // rigid global problem); negative: the norm of scale() (a local problem's |q|).
+    double free = -1.0;
 
     // The exchange. neighbours: the ranks coupled to this one (either way), increasing.
     // For neighbour k: the owned contacts it needs, send[send_ptr[k] .. send_ptr[k+1]), and
@@ -63,9 +68,13 @@ struct frix_mpi_problem {
     // slot (-1: no body, or one this rank does not hold), its block G (18 values, row-major,
     // as given) and M^-1 G^T of its body (18, column-major 6 x 3). diag: W_aa of the owned
     // contacts (9, column-major). v: the bodies' velocities after the last solve.
+    // The equilibrium measure counts each body once: kept, the bodies whose lowest holding
+    // rank this is; M and f of the bodies held (36 and 6 values), dof_weight the kept
+    // bodies' 6 values of diag(M)^-1/2 (RanksWeights::dof, in the order of their slots).
     bool rigid = false, solved = false;
     std::vector<int64_t> body_ids, side_slot;
-    std::vector<double> minv, v0, G, mg, diag, v;
+    std::vector<double> minv, v0, G, mg, diag, v, mass, body_f, dof_weight;
+    std::vector<char> kept;
     // Set for a global problem with the host's M: W is empty, w and mu are the contacts', and a
     // solve leaves the owned dofs' velocities in v.
     std::unique_ptr<frix_mpi_global_rows> global;
@@ -111,6 +120,10 @@ unsigned or_all(MPI_Comm comm, unsigned flags);
 frix_error use_petsc(frix_mpi_context &ctx);
 void release_petsc(frix_mpi_context &ctx);
 
+// x's values that are not positive and finite set to the mean of those of all ranks' x, or 1
+// (PositiveMean's fill over the ranks: set_contact_weights' rule on a problem held by ranks).
+// Collective.
+void fill_over_ranks(MPI_Comm comm, std::vector<double> &x);
 // The rank that owns contact g.
 int owner_of(const std::vector<int64_t> &starts, int64_t g);
 // n as an MPI count; throws Failure (FRIX_ERR_DIMENSION) beyond INT_MAX.

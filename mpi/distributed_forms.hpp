@@ -157,7 +157,7 @@ class DistributedForm : public nsgs::SweepForm {
     }
     // The measures of this rank's (r, u), combined over the ranks.
     Measures combine(const double *r, const double *u) {
-        return measures_over_ranks(comm_, r, u, p_.mu.data(), p_.view.weight, p_.owned, norm_q_);
+        return measures_over_ranks(comm_, r, u, p_.mu.data(), p_.view.weight, p_.owned, norm_q_, p_.free);
     }
 
     const frix_mpi_problem &p_;
@@ -225,14 +225,25 @@ class DistributedRows : public DistributedForm {
 
 // Rigid bodies: v = M^-1 (H r + f) kept for the bodies held; contact a reads
 // u_a = sum_s G_as v_s + w_a, and a change of r_a (or of a ghost's) adds M^-1 G_as^T dr to its
-// bodies' v.
+// bodies' v. The measures are global_measures' of (r, v), equilibrium included.
 class DistributedBodies : public DistributedForm {
    public:
-    explicit DistributedBodies(frix_mpi_problem &p) : DistributedForm(p), v_(p.v0) {}
+    explicit DistributedBodies(frix_mpi_problem &p) : DistributedForm(p), v_(p.v0) {
+        std::vector<double> f, df;
+        for (size_t b = 0, i = 0; b < p.kept.size(); ++b)
+            for (int j = 0; j < 6 && p.kept[b]; ++j, ++i) {
+                f.push_back(p.body_f[6 * b + (size_t)j]);
+                df.push_back(p.dof_weight[i] * f.back());
+            }
+        norm_f_ = norm2_all(p.ctx->comm, f.data(), (int64_t)f.size());
+        norm_df_ = norm2_all(p.ctx->comm, df.data(), (int64_t)df.size());
+    }
     Measures exact(const double *r, double *u) override {
         restart(r, u);
         for (int64_t a = 0; a < p_.owned; ++a) velocity(a, u + 3 * a);
-        return combine(r, u);
+        Measures m = combine(r, u);
+        equilibrium(r, m);
+        return m;
     }
     // v = M^-1 f + M^-1 H r over the held contacts (owned and ghosts).
     void restart(const double *r, double *) override {
@@ -265,6 +276,34 @@ class DistributedBodies : public DistributedForm {
     }
 
    private:
+    // global_measures' equilibrium residuals of (r, v) (d = M v - H r - f: rounding), over the
+    // bodies each rank keeps, H r from every held contact on them.
+    void equilibrium(const double *r, Measures &m) {
+        const size_t held = p_.kept.size(), contacts = (size_t)p_.owned + p_.ghosts.size();
+        hr_.assign(6 * held, 0.0);
+        for (size_t c = 0; c < contacts; ++c)
+            for (int s = 0; s < 2; ++s) {
+                const int64_t slot = p_.side_slot[2 * c + s];
+                if (slot < 0 || !p_.kept[(size_t)slot]) continue;
+                const double *g = &p_.G[36 * c + 18 * s], *rc = r + 3 * c;
+                for (int j = 0; j < 6; ++j)
+                    hr_[6 * (size_t)slot + j] += g[j] * rc[0] + g[6 + j] * rc[1] + g[12 + j] * rc[2];
+            }
+        std::vector<double> parts[5];  // d, M v, H r, D d, D H r over the kept dofs
+        for (size_t b = 0, i = 0; b < held; ++b)
+            for (int j = 0; j < 6 && p_.kept[b]; ++j, ++i) {
+                double mv = 0.0;
+                for (int k = 0; k < 6; ++k) mv += p_.mass[36 * b + 6 * (size_t)k + j] * v_[6 * b + (size_t)k];
+                const double hr = hr_[6 * b + (size_t)j], d = mv - hr - p_.body_f[6 * b + (size_t)j];
+                const double x[5] = {d, mv, hr, p_.dof_weight[i] * d, p_.dof_weight[i] * hr};
+                for (int e = 0; e < 5; ++e) parts[e].push_back(x[e]);
+            }
+        double norms[5];
+        for (int e = 0; e < 5; ++e) norms[e] = norm2_all(p_.ctx->comm, parts[e].data(), (int64_t)parts[e].size());
+        m.global = true;
+        m.equilibrium = relative_equilibrium(norms[0], norm_f_, norms[1], norms[2]);
+        m.equilibrium_scaled = scaled_equilibrium(norms[3], norm_df_, norms[4]);
+    }
     // u = sum_s G_cs v_s + w_c of owned contact c.
     void velocity(int64_t c, double *u) const { velocity(c, u, v_); }
     void velocity(int64_t c, double *u, const std::vector<double> &velocities) const {
@@ -288,7 +327,8 @@ class DistributedBodies : public DistributedForm {
         }
     }
 
-    std::vector<double> v_;
+    std::vector<double> v_, hr_;
+    double norm_f_ = 0.0, norm_df_ = 0.0;  // |f| and |D f| over the kept bodies
 };
 
 // The default measure's weights of a global problem with the host's M, over the ranks
@@ -301,6 +341,12 @@ struct RanksWeights {
 };
 // Collective.
 RanksWeights ranks_weights(const frix_mpi_problem &p);
+// RanksWeights from this rank's parts (whatever holds the problem): the owned contacts' w_a and
+// the dofs' 1 / sqrt(M_ii) before their fill, f and whether load_velocity counts each dof,
+// w and H^T D^-1 f + w of the owned contacts; total: the contacts of all ranks. Collective.
+RanksWeights finish_weights(MPI_Comm comm, int64_t total, std::vector<double> contact, std::vector<double> dof,
+                            const std::vector<double> &f, const std::vector<char> &load, const std::vector<double> &w,
+                            const std::vector<double> &jacobi);
 
 // The distributed global Newton (distributed_global_newton.cpp) on a global problem with the
 // host's M, from r (this rank's reactions); u receives H^T v + w, p.v the owned dofs' v; info

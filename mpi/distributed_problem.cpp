@@ -132,7 +132,9 @@ void build(frix_mpi_problem &p, const int64_t *row_ptr, const int64_t *block_col
     p.view.W = &p.W;
     p.view.q = p.q.data();
     p.view.mu = p.mu.data();
-    frix::set_contact_weights(p.view);
+    // The serial weights of the whole problem (set_contact_weights): the fill's mean over all ranks.
+    p.view.weight = unfilled_contact_weights(p.view, {});
+    fill_over_ranks(p.ctx->comm, p.view.weight);
     if (scale != q) p.w.assign(scale, scale + 3 * owned);
     plan_exchange(p, has_ghost);
 }
@@ -303,6 +305,8 @@ struct RootProblem {
     std::vector<int64_t> cut, order;
     const frix_matrix *W = nullptr;
     const double *q = nullptr, *mu = nullptr, *scale = nullptr;  // scale: a global problem's w
+    std::vector<double> weight;  // a global problem's contact weights (1 where it has none), its free velocity
+    double free = -1.0;
     std::unique_ptr<frix_matrix> reduced_W;
     std::vector<double> reduced_q;
     int64_t nc = 0;
@@ -325,7 +329,12 @@ frix_error prepare_root(const frix_problem *problem, const int *part, int ranks,
     root.W = global ? root.reduced_W.get() : problem->W;
     root.q = global ? root.reduced_q.data() : problem->q;
     root.mu = problem->mu;
-    if (global) root.scale = problem->w;
+    if (global) {  // the reduced answer is measured as the global problem's (frix_solve's rule)
+        root.scale = problem->w;
+        root.weight.assign((size_t)problem->nc, 1.0);
+        if (problem->weight.size() == (size_t)problem->nc) root.weight = problem->weight;
+        root.free = free_velocity(*problem);
+    }
     return cut_by_part(part, root.nc, ranks, root.cut, root.order, where);
 }
 
@@ -335,9 +344,9 @@ frix_error prepare_root(const frix_problem *problem, const int *part, int ranks,
 struct SentRows {
     std::vector<int64_t> lengths, block_at;  // block_at: where each row's blocks start
     std::vector<int64_t> col_store;
-    std::vector<double> val_store, q_store, mu_store, scale_store;
+    std::vector<double> val_store, q_store, mu_store, scale_store, weight_store;
     const int64_t *cols = nullptr;
-    const double *vals = nullptr, *q = nullptr, *mu = nullptr, *scale = nullptr;
+    const double *vals = nullptr, *q = nullptr, *mu = nullptr, *scale = nullptr, *weight = nullptr;
 };
 
 // The rows in the order of the parts, each row's blocks by increasing new column.
@@ -351,6 +360,7 @@ void permute_rows(const RootProblem &root, bool global, SentRows &out) {
     out.q_store.resize(3 * (size_t)nc);
     out.mu_store.resize((size_t)nc);
     if (global) out.scale_store.resize(3 * (size_t)nc);
+    if (global) out.weight_store.resize((size_t)nc);
     std::vector<std::pair<int64_t, int64_t>> row;  // (new column, block)
     for (int64_t k = 0; k < nc; ++k) {
         const int64_t a = root.order[(size_t)k];
@@ -366,12 +376,14 @@ void permute_rows(const RootProblem &root, bool global, SentRows &out) {
         std::copy(root.q + 3 * a, root.q + 3 * a + 3, out.q_store.begin() + 3 * k);
         out.mu_store[(size_t)k] = root.mu[a];
         if (global) std::copy(root.scale + 3 * a, root.scale + 3 * a + 3, out.scale_store.begin() + 3 * k);
+        if (global) out.weight_store[(size_t)k] = root.weight[(size_t)a];
     }
     out.cols = out.col_store.data();
     out.vals = out.val_store.data();
     out.q = out.q_store.data();
     out.mu = out.mu_store.data();
     out.scale = out.scale_store.data();
+    out.weight = out.weight_store.data();
 }
 
 void rows_to_send(const RootProblem &root, bool permuted, bool global, SentRows &out) {
@@ -380,6 +392,7 @@ void rows_to_send(const RootProblem &root, bool permuted, bool global, SentRows 
     out.q = root.q;
     out.mu = root.mu;
     out.scale = root.scale;
+    out.weight = root.weight.data();
     out.lengths.resize((size_t)nc);
     for (int64_t k = 0; k < nc; ++k) {
         const int64_t a = permuted ? root.order[(size_t)k] : k;
@@ -420,13 +433,13 @@ struct Shares {
 // This rank's part as received, and the problem made of it (collective).
 frix_error receive_part(frix_mpi_context *ctx, int root, const SentRows &sent, const Shares &shares,
                         const std::vector<int64_t> &order, int64_t first, int64_t owned, bool global, bool permuted,
-                        frix_mpi_problem **out, const char *where) {
+                        double free, frix_mpi_problem **out, const char *where) {
     int my_blocks = 0;
     check(MPI_Scatter(shares.blocks.data(), 1, MPI_INT, &my_blocks, 1, MPI_INT, root, ctx->comm), "MPI_Scatter");
     std::vector<int64_t> my_lengths((size_t)owned), row_ptr((size_t)owned + 1, 0), block_col((size_t)my_blocks),
         ids((size_t)owned);
     std::vector<double> block_val(9 * (size_t)my_blocks), q(3 * (size_t)owned), mu((size_t)owned),
-        w(global ? 3 * (size_t)owned : 0);
+        w(global ? 3 * (size_t)owned : 0), weight(global ? (size_t)owned : 0);
     const auto scatter = [&](const void *from, const std::vector<int> &counts, const std::vector<int> &at,
                              MPI_Datatype type, void *to, int64_t count) {
         check(MPI_Scatterv(from, counts.data(), at.data(), type, to, checked_count(count), type, root, ctx->comm),
@@ -439,6 +452,7 @@ frix_error receive_part(frix_mpi_context *ctx, int root, const SentRows &sent, c
     scatter(sent.q, shares.three, shares.three_at, MPI_DOUBLE, q.data(), 3 * owned);
     scatter(sent.mu, shares.rows, shares.rows_at, MPI_DOUBLE, mu.data(), owned);
     if (global) scatter(sent.scale, shares.three, shares.three_at, MPI_DOUBLE, w.data(), 3 * owned);
+    if (global) scatter(sent.weight, shares.rows, shares.rows_at, MPI_DOUBLE, weight.data(), owned);
     if (permuted)
         scatter(order.data(), shares.rows, shares.rows_at, MPI_INT64_T, ids.data(), owned);
     else
@@ -447,6 +461,7 @@ frix_error receive_part(frix_mpi_context *ctx, int root, const SentRows &sent, c
                                mu.data(), global ? w.data() : nullptr, out, where))
         return made;
     (*out)->ids = std::move(ids);
+    if (global) (*out)->view.weight = std::move(weight), (*out)->free = free;
     return FRIX_OK;
 }
 
@@ -493,6 +508,7 @@ FRIX_API frix_error frix_mpi_problem_scatter(frix_mpi_context *ctx, int root, co
         check(MPI_Bcast(cut.data(), (int)P + 1, MPI_INT64_T, root, ctx->comm), "MPI_Bcast");
         int flags[2] = {is_root && on_root.scale ? 1 : 0, is_root && !on_root.order.empty() ? 1 : 0};
         check(MPI_Bcast(flags, 2, MPI_INT, root, ctx->comm), "MPI_Bcast");
+        check(MPI_Bcast(&on_root.free, 1, MPI_DOUBLE, root, ctx->comm), "MPI_Bcast");
         const bool global = flags[0] != 0, permuted = flags[1] != 0;
         const int64_t first = cut[(size_t)ctx->rank], owned = cut[(size_t)ctx->rank + 1] - first;
         frix::mpi::SentRows sent;
@@ -502,7 +518,7 @@ FRIX_API frix_error frix_mpi_problem_scatter(frix_mpi_context *ctx, int root, co
             shares.count(cut, sent.block_at);
         }
         return frix::mpi::receive_part(ctx, root, sent, shares, on_root.order, first, owned, global, permuted,
-                                       out, where);
+                                       on_root.free, out, where);
     });
 }
 

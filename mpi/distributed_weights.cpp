@@ -153,38 +153,46 @@ RanksWeights ranks_weights(const frix_mpi_problem &p) {
         return &fetched[2 * (size_t)position(foreign, j)];
     };
     // w_a: the normal entry of H_a^T diag(M)^-1 H_a; |H^T D^-1 f + w|'s terms on the way.
-    RanksWeights out;
-    out.contact.assign((size_t)nc, 0.0);
-    std::vector<double> jacobi(p.w);
+    std::vector<double> contact((size_t)nc, 0.0), jacobi(p.w);
     for (int64_t row = 0; row < 3 * nc; ++row)
         for (int64_t k = g.ht_ptr[(size_t)row]; k < g.ht_ptr[(size_t)row + 1]; ++k) {
             const double h = g.ht_val[(size_t)k], *df = at(g.ht_col[(size_t)k]);
-            if (row % 3 == 0) out.contact[(size_t)(row / 3)] += h * h * inverse_mass(df[0], 0.0);
+            if (row % 3 == 0) contact[(size_t)(row / 3)] += h * h * inverse_mass(df[0], 0.0);
             if (df[0] > 0.0) jacobi[(size_t)row] += h * (df[1] / df[0]);
         }
-    out.dof.resize((size_t)n);
-    for (int64_t i = 0; i < n; ++i) out.dof[(size_t)i] = std::sqrt(inverse_mass(diag_f[2 * (size_t)i], 0.0));
-    PositiveMean means[2];
-    means[0].add(out.contact);
-    means[1].add(out.dof);
-    double sums[4] = {means[0].sum, means[0].count, means[1].sum, means[1].count};
-    reduce_all(comm, sums, 4, "ssss");
-    means[0].sum = sums[0], means[0].count = sums[1], means[1].sum = sums[2], means[1].count = sums[3];
-    fill_not_positive(out.contact, means[0].fill());
-    fill_not_positive(out.dof, means[1].fill());
+    std::vector<double> dof((size_t)n);
+    for (int64_t i = 0; i < n; ++i) dof[(size_t)i] = std::sqrt(inverse_mass(diag_f[2 * (size_t)i], 0.0));
+    return finish_weights(comm, p.total, std::move(contact), std::move(dof), g.f, load_dofs(p), p.w, jacobi);
+}
+
+void fill_over_ranks(MPI_Comm comm, std::vector<double> &x) {
+    PositiveMean mean;
+    mean.add(x);
+    double sums[2] = {mean.sum, mean.count};
+    reduce_all(comm, sums, 2, "ss");
+    mean.sum = sums[0], mean.count = sums[1];
+    fill_not_positive(x, mean.fill());
+}
+
+RanksWeights finish_weights(MPI_Comm comm, int64_t total, std::vector<double> contact, std::vector<double> dof,
+                            const std::vector<double> &f, const std::vector<char> &load, const std::vector<double> &w,
+                            const std::vector<double> &jacobi) {
+    RanksWeights out;
+    out.contact = std::move(contact);
+    out.dof = std::move(dof);
+    fill_over_ranks(comm, out.contact);
+    fill_over_ranks(comm, out.dof);
     // load_velocity over the load dofs of all ranks.
-    const std::vector<char> load = load_dofs(p);
     std::vector<double> scaled_load;
-    for (int64_t i = 0; i < n; ++i)
-        if (load[(size_t)i]) scaled_load.push_back(g.f[(size_t)i] * out.dof[(size_t)i]);
+    for (size_t i = 0; i < load.size(); ++i)
+        if (load[i]) scaled_load.push_back(f[i] * out.dof[i]);
     double counts[2] = {(double)scaled_load.size(), 0.0};
-    for (const double x : out.contact) counts[1] += x / (double)p.total;
+    for (const double x : out.contact) counts[1] += x / (double)total;
     reduce_all(comm, counts, 2, "ss");
     const double load_norm = norm2_all(comm, scaled_load.data(), (int64_t)scaled_load.size());
-    const double load_velocity =
-        p.total > 0 ? load_velocity_of(counts[1], p.total, load_norm, (int64_t)counts[0]) : 0.0;
-    out.free =
-        free_velocity_of(norm2_all(comm, p.w.data(), 3 * nc), norm2_all(comm, jacobi.data(), 3 * nc), load_velocity);
+    const double load_velocity = total > 0 ? load_velocity_of(counts[1], total, load_norm, (int64_t)counts[0]) : 0.0;
+    out.free = free_velocity_of(norm2_all(comm, w.data(), (int64_t)w.size()),
+                                norm2_all(comm, jacobi.data(), (int64_t)jacobi.size()), load_velocity);
     return out;
 }
 

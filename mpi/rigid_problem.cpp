@@ -7,7 +7,8 @@
 #include <utility>
 #include <vector>
 
-#include "mpi/distributed.hpp"
+#include "mpi/distributed_forms.hpp"
+#include "src/disjoint_sets.hpp"
 #include "src/error_state.hpp"
 #include "src/problem.hpp"
 #include "src/linalg/linalg.hpp"
@@ -200,9 +201,96 @@ frix_error form_bodies(frix_mpi_problem &p, const std::vector<int64_t> &bodies, 
                     p.diag[9 * (size_t)c + k + 3 * l] += t;
                 }
         }
-    p.view.weight.resize((size_t)p.owned);
-    for (int64_t c = 0; c < p.owned; ++c) p.view.weight[(size_t)c] = p.diag[9 * (size_t)c];
+    p.mass.assign(M, M + 36 * held);
+    p.body_f.assign(f, f + 6 * held);
     return FRIX_OK;
+}
+
+// Whether this rank is the lowest to hold each of its bodies, in their order (the bodies'
+// home ranks, body % size, hear of every rank holding them).
+std::vector<char> kept_bodies(const frix_mpi_problem &p) {
+    const MPI_Comm comm = p.ctx->comm;
+    const size_t P = (size_t)p.ctx->size;
+    std::vector<std::vector<int64_t>> to_home(P), back(P);
+    for (const int64_t b : p.body_ids) to_home[(size_t)(b % (int64_t)P)].push_back(b);
+    std::vector<int> at;
+    const std::vector<int64_t> heard = exchange_lists(comm, to_home, &at);
+    std::vector<std::pair<int64_t, int>> holders;
+    for (size_t k = 0; k < P; ++k)
+        for (int e = at[k]; e < at[k + 1]; ++e) holders.emplace_back(heard[(size_t)e], (int)k);
+    std::sort(holders.begin(), holders.end());
+    for (size_t e = 0; e < holders.size(); ++e)
+        if (e == 0 || holders[e].first != holders[e - 1].first)
+            back[(size_t)holders[e].second].push_back(holders[e].first);
+    std::vector<int64_t> mine = exchange_lists(comm, back);
+    std::sort(mine.begin(), mine.end());
+    std::vector<char> kept(p.body_ids.size(), 0);
+    for (size_t b = 0; b < kept.size(); ++b) kept[b] = std::binary_search(mine.begin(), mine.end(), p.body_ids[b]);
+    return kept;
+}
+
+// Held contact c's blocks of H^T on the bodies held here (slots[k], 18 values row-major in
+// blocks[k]); the two sides' blocks added where both are one body, as the whole H holds them.
+int contact_blocks(const frix_mpi_problem &p, int64_t c, int64_t slots[2], double blocks[2][18]) {
+    int count = 0;
+    for (int s = 0; s < 2; ++s) {
+        const int64_t slot = p.side_slot[2 * (size_t)c + s];
+        if (slot < 0) continue;
+        const double *g = &p.G[36 * (size_t)c + 18 * s];
+        if (count == 1 && slots[0] == slot) {
+            for (int e = 0; e < 18; ++e) blocks[0][e] += g[e];
+            continue;
+        }
+        slots[count] = slot;
+        std::copy(g, g + 18, blocks[count++]);
+    }
+    return count;
+}
+
+// The default measure's weights and floor of the whole problem (set_contact_weights and
+// free_velocity on M = diag(M_b), H^T = the blocks G): w_a from diag(M) at the contacts' bodies,
+// diag(M)^-1/2 and the load dofs of the kept bodies (every contact on a body held here is a
+// held contact). Collective.
+void rigid_weights(frix_mpi_problem &p) {
+    const int64_t held = (int64_t)p.body_ids.size(), contacts = p.owned + (int64_t)p.ghosts.size();
+    const auto m_jj = [&](int64_t slot, int j) { return p.mass[36 * (size_t)slot + 7 * (size_t)j]; };
+    std::vector<double> contact((size_t)p.owned, 0.0), jacobi(p.w);
+    std::vector<char> reached(6 * (size_t)held, 0);
+    int64_t slots[2];
+    double blocks[2][18];
+    for (int64_t c = 0; c < contacts; ++c)
+        for (int k = 0, n = contact_blocks(p, c, slots, blocks); k < n; ++k)
+            for (int j = 0; j < 6; ++j) {
+                const double d = m_jj(slots[k], j), *col = &blocks[k][j];
+                if (col[0] != 0.0 || col[6] != 0.0 || col[12] != 0.0) reached[6 * (size_t)slots[k] + j] = 1;
+                if (c >= p.owned) continue;
+                contact[(size_t)c] += col[0] * col[0] * inverse_mass(d, 0.0);
+                const double f_j = p.body_f[6 * (size_t)slots[k] + j];
+                if (d > 0.0)
+                    for (int e = 0; e < 3; ++e) jacobi[3 * (size_t)c + e] += col[6 * e] * (f_j / d);
+            }
+    p.kept = kept_bodies(p);
+    std::vector<double> dof, f;
+    std::vector<char> load;
+    for (int64_t b = 0; b < held; ++b) {
+        if (!p.kept[(size_t)b]) continue;
+        DisjointSets parts(6);  // the body's dofs joined by M's entries, as M's graph joins them
+        for (int i = 0; i < 6; ++i)
+            for (int j = 0; j < 6; ++j)
+                if (p.mass[36 * (size_t)b + 6 * (size_t)j + i] != 0.0) parts.unite(i, j);
+        char touched[6] = {0};
+        for (int j = 0; j < 6; ++j) touched[parts.find(j)] |= reached[6 * (size_t)b + j];
+        for (int j = 0; j < 6; ++j) {
+            dof.push_back(std::sqrt(inverse_mass(m_jj(b, j), 0.0)));
+            f.push_back(p.body_f[6 * (size_t)b + j]);
+            load.push_back(!reached[6 * (size_t)b + j] && touched[parts.find(j)]);
+        }
+    }
+    RanksWeights weights =
+        finish_weights(p.ctx->comm, p.total, std::move(contact), std::move(dof), f, load, p.w, jacobi);
+    p.view.weight = std::move(weights.contact);
+    p.dof_weight = std::move(weights.dof);
+    p.free = weights.free;
 }
 
 }  // namespace
@@ -253,6 +341,7 @@ FRIX_API frix_error frix_mpi_problem_rigid(frix_mpi_context *ctx, int64_t first,
         frix::mpi::fetch_ghost_data(part, all_bodies, part.G);
         e = frix::mpi::form_bodies(part, all_bodies, held, M, f, where);
         if (frix_error agreed = frix::mpi::agree(ctx->comm, e, where)) return agreed;
+        frix::mpi::rigid_weights(part);
         part.view.kind = FRIX_PROBLEM_GLOBAL;
         part.view.nc = owned;
         part.view.mu = part.mu.data();

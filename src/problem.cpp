@@ -325,17 +325,21 @@ void set_dof_weights(frix_problem &p, const std::vector<double> &inverse_mass) {
 
 }  // namespace
 
+std::vector<double> unfilled_contact_weights(const frix_problem &p, const std::vector<double> &inverse_mass) {
+    const std::vector<double> diag = delassus_diagonal(p, inverse_mass);
+    std::vector<double> w((size_t)p.nc, 0.0);
+    const int dim = contact_size(p);
+    for (int64_t a = 0; a < p.nc; ++a) w[(size_t)a] = diag[(size_t)(dim * a)];
+    return w;
+}
+
 void set_contact_weights(frix_problem &p) {
     // A dof whose mass is not positive moves nothing here (0), unlike the existence check's
     // metric, which gives it 1.
     const std::vector<double> inverse_mass =
         is_local_form(p) ? std::vector<double>() : inverse_mass_diagonal(p, 0.0);
-    const std::vector<double> diag = delassus_diagonal(p, inverse_mass);
-    std::vector<double> &w = p.weight;
-    w.assign((size_t)p.nc, 0.0);
-    const int dim = contact_size(p);
-    for (int64_t a = 0; a < p.nc; ++a) w[(size_t)a] = diag[(size_t)(dim * a)];
-    fill_with_mean(w);
+    p.weight = unfilled_contact_weights(p, inverse_mass);
+    fill_with_mean(p.weight);
     p.dof_weight.clear();
     p.load_weight.clear();
     if (!is_local_form(p)) set_dof_weights(p, inverse_mass);

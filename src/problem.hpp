@@ -119,6 +119,10 @@ std::vector<double> inverse_mass_diagonal(const frix_problem &p, double otherwis
 // inverse_mass_diagonal): contact_size(p) nc values.
 std::vector<double> delassus_diagonal(const frix_problem &p, const std::vector<double> &inverse_mass);
 
+// The contact weights before their fill (set_contact_weights): delassus_diagonal's normal
+// entries, inverse_mass as from inverse_mass_diagonal(p, 0) (empty for a local problem).
+std::vector<double> unfilled_contact_weights(const frix_problem &p, const std::vector<double> &inverse_mass);
+
 // p.weight from the problem's matrices: delassus_diagonal's normal entries (M's diagonal for
 // M^-1 in a global problem: cheap, and exact for a diagonal M). A value that is not positive
 // and finite (a contact W or H does not reach) takes the mean of the others, or 1. Also

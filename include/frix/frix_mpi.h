@@ -112,8 +112,8 @@ FRIX_API frix_error frix_mpi_problem_local(frix_mpi_context *ctx, int64_t first,
  * gives every body its contacts act on (and may give more): `held` bodies, body_ids[b] with its
  * 6 x 6 mass block M[36b ..] (symmetric positive definite) and its f[6b ..]. Ranks that give one
  * body must give it the same M and f. The data are copied. A rank learns which other ranks'
- * contacts act on its bodies by itself (collectively). The error's scale is |w| over all
- * contacts, as for global problems in frix_solve; frix_mpi_problem_velocities gives v after a
+ * contacts act on its bodies by itself (collectively). The error is frix_solve's measure of
+ * this global problem, equilibrium included; frix_mpi_problem_velocities gives v after a
  * solve. */
 FRIX_API frix_error frix_mpi_problem_rigid(frix_mpi_context *ctx, int64_t first, int64_t owned,
                                            const int64_t *bodies, const double *G, const double *w,
@@ -159,7 +159,7 @@ FRIX_API frix_error frix_mpi_problem_scatter_global(frix_mpi_context *ctx, int r
  * contacts a rank holds, and frix_mpi_gather puts them back in the problem's order. A local
  * problem's W must be stored in 3x3 blocks, as problems read from files are. A global problem
  * is reduced on the root (W = H^T M^-1 H, q = H^T M^-1 f + w, as frix_solve reduces it for
- * nsgs) and its error measure keeps its own scale, |w|. */
+ * nsgs) and its answer is measured as frix_solve measures the global problem's. */
 FRIX_API frix_error frix_mpi_problem_scatter(frix_mpi_context *ctx, int root, const frix_problem *problem,
                                              const int *part, frix_mpi_problem **out);
 /* A part (rank) for each contact of a whole problem held by rank `root` (collective; part:
