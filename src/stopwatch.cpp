@@ -26,8 +26,8 @@ constexpr int kRateRuns = 9;
 // The timed writes: kWriteEntries doubles in pages the process never touched (as W's, which
 // is large), each first written, then kWriteAdds additions in an order that jumps kWriteStride
 // entries (32 KB: past the caches' lines and pages), as the terms summed into W, the fastest
-// of kWriteRuns (about 20 ms each). On 4 MB the same work ran two to three times faster per
-// entry than forming W does; from 16 MB on it comes within 2x (notes/2026-11-28-w-price.md).
+// of kWriteRuns. Larger than the caches, or it writes faster than forming W does
+// (notes/2026-11-28-w-price.md).
 // Fresh pages come from the system (mmap): the allocator would hand back the last run's.
 constexpr int64_t kWriteEntries = int64_t(1) << 21;  // 16 MB
 constexpr int64_t kWriteAdds = int64_t(1) << 20;
