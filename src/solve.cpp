@@ -11,6 +11,7 @@
 #include "existence.hpp"
 #include "measures.hpp"
 #include "solver_api.hpp"
+#include "vec.hpp"
 
 using frix::fail;
 
@@ -125,7 +126,7 @@ frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
         if (frix_error e = entry.solve(ctx)) return e;
         // A solver whose iterates ran away past the doubles (no solution to approach) has
         // diverged: the fallback below answers with a finite r.
-        non_finite = std::any_of(r, r + m, [](double x) { return !std::isfinite(x); });
+        non_finite = !vec::all_finite(r, m);
         has_measured = ctx.has_measured && !non_finite;
         measured = ctx.measured;
     }

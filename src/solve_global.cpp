@@ -14,6 +14,7 @@
 #include "measures.hpp"
 #include "monitor.hpp"
 #include "reduction.hpp"
+#include "vec.hpp"
 #include "solver_api.hpp"
 
 namespace frix {
@@ -232,11 +233,8 @@ frix_error solve_floating(const frix_problem &p, const frix_options &opts, const
 frix_error settle_global(const frix_problem &p, const frix_options &opts, const std::vector<double> &warm_start,
                          const MassSolver *ms, double *r, double *u, double *v, frix_info &info) {
     const int64_t m = contact_size(p) * p.nc, kind = opts.i(FRIX_OPT_ERROR_MEASURE);
-    const auto finite = [](const double *x, int64_t n) {
-        return std::all_of(x, x + n, [](double y) { return std::isfinite(y); });
-    };
     Measures meas = global_measures(p, r, v, u, nullptr);
-    const bool broken = !finite_measures(meas) || !finite(r, m) || !finite(v, p.n);
+    const bool broken = !finite_measures(meas) || !vec::all_finite(r, m) || !vec::all_finite(v, p.n);
     MassSolver own;
     const MeasureAnswer at = [&](const double *x, double *ux, double *vx, Measures &out) {
         if (!ms) {

@@ -8,6 +8,13 @@
 
 namespace frix::vec {
 
+// Whether every x_i is finite (no NaN, no Inf).
+inline bool all_finite(const double *x, int64_t n) {
+    for (int64_t i = 0; i < n; ++i)
+        if (!std::isfinite(x[i])) return false;
+    return true;
+}
+
 inline double dot(const double *x, const double *y, int64_t n) {
     double s = 0.0;
     for (int64_t i = 0; i < n; ++i) s += x[i] * y[i];

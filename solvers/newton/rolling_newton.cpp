@@ -171,7 +171,7 @@ class System : public kit::SystemDefaults, public kit::InPlaceIterate {
     frix_error solve(bool &finite) {
         for (int64_t i = 0; i < m_; ++i) rhs_[i] = -F_[i];
         if (frix_error e = lu_.solve(rhs_.data(), d_.data(), true)) return e;
-        finite = std::all_of(d_.begin(), d_.end(), [](double x) { return std::isfinite(x); });
+        finite = vec::all_finite(d_.data(), (int64_t)d_.size());
         return FRIX_OK;
     }
     // The merit's slope along d: F . (A d + B (W + shift) d).
