@@ -291,27 +291,30 @@ void equilibrium_residuals(const frix_problem &p, const double *r, const double 
 
 namespace frix {
 
-Measures rolling_measures_from_ru(const double *r, const double *u, const double *mu, const double *mu_r,
-                                  const double *weight, int64_t nc, double norm_q, double free) {
+Measures rolling_measures_from_ru(const frix_problem &p, const double *r, const double *u, double norm_q,
+                                  double free) {
     double res_scale = 0.0, res_ssq = 1.0, sc_scale = 0.0, sc_ssq = 1.0;
     Measures m;
-    for (int64_t a = 0; a < nc; ++a) {
-        const double *ra = r + 5 * a, *ua = u + 5 * a, w = weight ? weight[a] : 1.0;
-        add_scaled_squares(res_scale, res_ssq, std::fabs(rolling::residual(ra, ua, mu[a], mu_r[a])), 1.0);
-        const double sa[5] = {w * ra[0], w * ra[1], w * ra[2], w * ra[3], w * ra[4]};
-        add_scaled_squares(sc_scale, sc_ssq, std::fabs(rolling::residual(sa, ua, mu[a], mu_r[a])), 1.0);
-        m.cone_violation = std::max(m.cone_violation, rolling::cone_distance(ra, mu[a], mu_r[a]));
+    const int size = contact_size(p);
+    for (int64_t a = 0; a < p.nc; ++a) {
+        const rolling::Cones k = rolling::cones_of(p, a);
+        const double *ra = r + size * a, *ua = u + size * a, w = p.weight.empty() ? 1.0 : p.weight[(size_t)a];
+        add_scaled_squares(res_scale, res_ssq, std::fabs(rolling::residual(ra, ua, k)), 1.0);
+        double sa[6];
+        for (int i = 0; i < size; ++i) sa[i] = w * ra[i];
+        add_scaled_squares(sc_scale, sc_ssq, std::fabs(rolling::residual(sa, ua, k)), 1.0);
+        m.cone_violation = std::max(m.cone_violation, rolling::cone_distance(ra, k));
         m.penetration = std::max(m.penetration, -ua[0]);
-        double uh[5];
-        rolling::shifted_velocity(ua, mu[a], mu_r[a], uh);
+        double uh[6];
+        rolling::shifted_velocity(ua, k, uh);
         double dot = 0.0;
-        for (int i = 0; i < 5; ++i) dot += ra[i] * uh[i];
+        for (int i = 0; i < size; ++i) dot += ra[i] * uh[i];
         m.complementarity = std::max(m.complementarity, std::fabs(dot));
     }
     m.residual_absolute = res_scale * std::sqrt(res_ssq);
     m.residual_scaled = sc_scale * std::sqrt(sc_ssq);
-    m.norm_r = norm2(r, 5 * nc);
-    m.norm_u = norm2(u, 5 * nc);
+    m.norm_r = norm2(r, size * p.nc);
+    m.norm_u = norm2(u, size * p.nc);
     return with_norm_q(m, norm_q, free);
 }
 
@@ -319,7 +322,7 @@ namespace {
 
 // The contact measures of (r, u) for p's kind of contact (three or five entries).
 Measures contact_measures(const frix_problem &p, const double *r, const double *u, double norm_q, double free) {
-    return is_rolling(p) ? rolling_measures_from_ru(r, u, p.mu, p.mu_r, p.weight.data(), p.nc, norm_q, free)
+    return is_rolling(p) ? rolling_measures_from_ru(p, r, u, norm_q, free)
                          : measures_from_ru(r, u, p.mu, p.weight.data(), p.nc, norm_q, free);
 }
 

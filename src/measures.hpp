@@ -100,12 +100,12 @@ Measures local_measures(const frix_problem &p, const double *r, double *u);
 Measures global_measures(const frix_problem &p, const double *r, const double *v, double *u,
                          double *equilibrium);
 
-// The measures of a rolling problem (5 entries a contact; rolling.hpp's residual): the same
-// fields with the same normalisations, Measures::relative being Siconos 4.4's
-// rolling_fc3d_compute_error (its norm = |q|). The scaled residual weighs all five entries of
-// r_a by the contact's weight.
-Measures rolling_measures_from_ru(const double *r, const double *u, const double *mu, const double *mu_r,
-                                  const double *weight, int64_t nc, double norm_q, double free = -1.0);
+// The measures of a rolling problem (5 entries a contact, 6 with spinning friction; rolling.hpp's
+// residual): the same fields with the same normalisations, Measures::relative being Siconos
+// 4.4's rolling_fc3d_compute_error (its norm = |q|). The scaled residual weighs every entry of
+// r_a by the contact's weight (p.weight; empty: 1).
+Measures rolling_measures_from_ru(const frix_problem &p, const double *r, const double *u, double norm_q,
+                                  double free = -1.0);
 
 // The two equilibrium residuals (Measures) from their norms, for a problem held whole or by
 // ranks (mpi/): res = |d| over max(|f|, |M v|, |H r|), and scaled_res = |D d| over

@@ -31,10 +31,12 @@ frix_error validate(const frix_problem &p) {
     switch (p.kind) {
         case FRIX_PROBLEM_LOCAL: e = frix::make_local_problem(p.W, p.q, p.mu, p.nc, &check); break;
         case FRIX_PROBLEM_ROLLING_LOCAL:
-            e = frix::make_rolling_local_problem(p.W, p.q, p.mu, p.mu_r, p.nc, &check);
+            e = p.spinning ? frix::make_spinning_local_problem(p.W, p.q, p.mu, p.mu_r, p.mu_s, p.nc, &check)
+                           : frix::make_rolling_local_problem(p.W, p.q, p.mu, p.mu_r, p.nc, &check);
             break;
         case FRIX_PROBLEM_ROLLING_GLOBAL:
-            e = frix::make_rolling_global_problem(p.M, p.H, p.f, p.w, p.mu, p.mu_r, p.nc, &check);
+            e = p.spinning ? frix::make_spinning_global_problem(p.M, p.H, p.f, p.w, p.mu, p.mu_r, p.mu_s, p.nc, &check)
+                           : frix::make_rolling_global_problem(p.M, p.H, p.f, p.w, p.mu, p.mu_r, p.nc, &check);
             break;
         default: e = frix::make_global_problem(p.M, p.H, p.f, p.w, p.mu, p.nc, &check); break;
     }
@@ -54,6 +56,8 @@ void copy_views(const frix_problem &from, frix_problem &to) {
     to.w = from.w;
     to.mu = from.mu;
     to.mu_r = from.mu_r;
+    to.spinning = from.spinning;
+    to.mu_s = from.mu_s;
     to.weight = from.weight;
     to.dof_weight = from.dof_weight;
     to.load_weight = from.load_weight;
@@ -169,6 +173,9 @@ namespace {
 // Whether the solver's problem has the law the caller's call is for: the rolling calls carry
 // mu_r, the others do not, and a problem keeps its law for its whole life.
 frix_error check_law(const char *where, const frix_persistent *ps, bool rolling, const char *instead) {
+    if (ps->problem.spinning)
+        return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the problem has spinning friction, which this call does not carry",
+                    where);
     if (frix::is_rolling(ps->problem) == rolling) return FRIX_OK;
     return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the problem %s rolling friction (use %s)", where,
                 rolling ? "has no" : "has", instead);

@@ -49,9 +49,27 @@ frix_error check_nc(const char *where, int64_t nc) {
     return FRIX_OK;
 }
 
-// dim: entries a contact (3, or 5 for rolling friction); mu_r checked where dim is 5.
-frix_error check_local(const char *where, const frix_matrix *W, const double *q, const double *mu,
-                       const double *mu_r, int64_t nc, int dim) {
+// The coefficients of a law beyond mu: none (3 entries a contact), mu_r (rolling friction, 5)
+// or mu_r and mu_s (rolling and spinning friction, 6).
+struct Law {
+    const double *mu_r = nullptr, *mu_s = nullptr;
+    int dim = 3;
+};
+constexpr Law kCoulomb{};
+Law rolling_law(const double *mu_r) { return {mu_r, nullptr, 5}; }
+Law spinning_law(const double *mu_r, const double *mu_s) { return {mu_r, mu_s, 6}; }
+
+frix_error check_law(const char *where, const Law &law, int64_t nc) {
+    if (law.dim >= 5)
+        if (frix_error e = check_mu(where, law.mu_r, nc, "mu_r")) return e;
+    if (law.dim == 6)
+        if (frix_error e = check_mu(where, law.mu_s, nc, "mu_s")) return e;
+    return FRIX_OK;
+}
+
+frix_error check_local(const char *where, const frix_matrix *W, const double *q, const double *mu, const Law &law,
+                       int64_t nc) {
+    const int dim = law.dim;
     if (frix_error e = check_nc(where, nc)) return e;
     if (!W) {
         if (nc == 0) return FRIX_OK;
@@ -68,14 +86,13 @@ frix_error check_local(const char *where, const frix_matrix *W, const double *q,
                     where, (long long)W->rows, (long long)W->cols, (long long)nc,
                     (long long)(dim * nc), (long long)(dim * nc));
     if (frix_error e = check_vector(where, "q", q, dim * nc)) return e;
-    if (dim == 5)
-        if (frix_error e = check_mu(where, mu_r, nc, "mu_r")) return e;
+    if (frix_error e = check_law(where, law, nc)) return e;
     return check_mu(where, mu, nc);
 }
 
 frix_error check_global(const char *where, const frix_matrix *M, const frix_matrix *H,
-                        const double *f, const double *w, const double *mu, const double *mu_r, int64_t nc,
-                        int dim) {
+                        const double *f, const double *w, const double *mu, const Law &law, int64_t nc) {
+    const int dim = law.dim;
     if (frix_error e = check_nc(where, nc)) return e;
     if (!M) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: M is NULL", where);
     if (M->rows != M->cols)
@@ -88,37 +105,40 @@ frix_error check_global(const char *where, const frix_matrix *M, const frix_matr
                     where, (long long)H->rows, (long long)H->cols, (long long)n, (long long)(dim * nc), dim);
     if (frix_error e = check_vector(where, "f", f, n)) return e;
     if (frix_error e = check_vector(where, "w", w, dim * nc)) return e;
-    if (dim == 5)
-        if (frix_error e = check_mu(where, mu_r, nc, "mu_r")) return e;
+    if (frix_error e = check_law(where, law, nc)) return e;
     return check_mu(where, mu, nc);
+}
+
+void set_law(frix_problem &p, const Law &law) {
+    p.mu_r = law.dim >= 5 ? law.mu_r : nullptr;
+    p.spinning = law.dim == 6;
+    p.mu_s = p.spinning ? law.mu_s : nullptr;
 }
 
 // The borrowing constructors of every kind: checks, then the views and the weights.
 frix_error make_local_kind(frix_problem_kind kind, const char *where, const frix_matrix *W, const double *q,
-                           const double *mu, const double *mu_r, int64_t nc, frix_problem **out) {
+                           const double *mu, const Law &law, int64_t nc, frix_problem **out) {
     if (!out) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: out is NULL", where);
     *out = nullptr;
-    const int dim = kind == FRIX_PROBLEM_ROLLING_LOCAL ? 5 : 3;
-    if (frix_error e = check_local(where, W, q, mu, mu_r, nc, dim)) return e;
+    if (frix_error e = check_local(where, W, q, mu, law, nc)) return e;
     auto p = std::make_unique<frix_problem>();
     p->kind = kind;
     p->nc = nc;
     p->W = W;
     p->q = q;
     p->mu = mu;
-    if (dim == 5) p->mu_r = mu_r;
+    set_law(*p, law);
     frix::set_contact_weights(*p);
     *out = p.release();
     return FRIX_OK;
 }
 
 frix_error make_global_kind(frix_problem_kind kind, const char *where, const frix_matrix *M, const frix_matrix *H,
-                            const double *f, const double *w, const double *mu, const double *mu_r, int64_t nc,
+                            const double *f, const double *w, const double *mu, const Law &law, int64_t nc,
                             frix_problem **out) {
     if (!out) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: out is NULL", where);
     *out = nullptr;
-    const int dim = kind == FRIX_PROBLEM_ROLLING_GLOBAL ? 5 : 3;
-    if (frix_error e = check_global(where, M, H, f, w, mu, mu_r, nc, dim)) return e;
+    if (frix_error e = check_global(where, M, H, f, w, mu, law, nc)) return e;
     auto p = std::make_unique<frix_problem>();
     p->kind = kind;
     p->nc = nc;
@@ -128,54 +148,71 @@ frix_error make_global_kind(frix_problem_kind kind, const char *where, const fri
     p->f = f;
     p->w = w;
     p->mu = mu;
-    if (dim == 5) p->mu_r = mu_r;
+    set_law(*p, law);
     frix::set_contact_weights(*p);
     *out = p.release();
     return FRIX_OK;
 }
 
+// The owned coefficients beyond mu (as Law, in vectors): dim 3, 5 (mu_r) or 6 (mu_r, mu_s).
+struct OwnedLaw {
+    std::vector<double> mu_r, mu_s;
+    int dim = 3;
+};
+
+// Their sizes against the number of contacts; the law that points at them.
+frix_error check_owned_law(const char *where, const OwnedLaw &law, int64_t nc) {
+    if (law.dim >= 5 && (int64_t)law.mu_r.size() != nc)
+        return fail(FRIX_ERR_DIMENSION, "%s: mu_r has %lld entries but mu has %lld", where,
+                    (long long)law.mu_r.size(), (long long)nc);
+    if (law.dim == 6 && (int64_t)law.mu_s.size() != nc)
+        return fail(FRIX_ERR_DIMENSION, "%s: mu_s has %lld entries but mu has %lld", where,
+                    (long long)law.mu_s.size(), (long long)nc);
+    return FRIX_OK;
+}
+Law law_of(const OwnedLaw &law) { return {law.mu_r.data(), law.mu_s.data(), law.dim}; }
+
+void own_law(frix_problem &p, OwnedLaw law) {
+    const int dim = law.dim;
+    p.owned_mu_r = std::move(law.mu_r);
+    p.owned_mu_s = std::move(law.mu_s);
+    set_law(p, {p.owned_mu_r.data(), p.owned_mu_s.data(), dim});
+}
+
 // The owning forms: sizes checked against each other first (the borrowing checks trust them).
 frix_error make_owned_local_kind(frix_problem_kind kind, const char *where, std::unique_ptr<frix_matrix> W,
-                                 std::vector<double> q, std::vector<double> mu, std::vector<double> mu_r,
-                                 frix_problem **out) {
+                                 std::vector<double> q, std::vector<double> mu, OwnedLaw law, frix_problem **out) {
     int64_t nc = (int64_t)mu.size();
     if (W && (int64_t)q.size() != W->rows)
         return fail(FRIX_ERR_DIMENSION, "%s: q has %lld entries but W has %lld rows", where,
                     (long long)q.size(), (long long)W->rows);
-    const bool rolling = kind == FRIX_PROBLEM_ROLLING_LOCAL;
-    if (rolling && (int64_t)mu_r.size() != nc)
-        return fail(FRIX_ERR_DIMENSION, "%s: mu_r has %lld entries but mu has %lld", where,
-                    (long long)mu_r.size(), (long long)nc);
-    if (frix_error e = make_local_kind(kind, where, W.get(), q.data(), mu.data(), mu_r.data(), nc, out)) return e;
+    if (frix_error e = check_owned_law(where, law, nc)) return e;
+    if (frix_error e = make_local_kind(kind, where, W.get(), q.data(), mu.data(), law_of(law), nc, out)) return e;
     frix_problem &p = **out;
     p.owned_W = std::move(W);
     p.owned_q = std::move(q);
     p.owned_mu = std::move(mu);
-    p.owned_mu_r = std::move(mu_r);
     // Moving a vector keeps its buffer, but re-point anyway so the invariant is explicit.
     p.W = p.owned_W.get();
     p.q = p.owned_q.data();
     p.mu = p.owned_mu.data();
-    p.mu_r = rolling ? p.owned_mu_r.data() : nullptr;
+    own_law(p, std::move(law));
     return FRIX_OK;
 }
 
 frix_error make_owned_global_kind(frix_problem_kind kind, const char *where, std::unique_ptr<frix_matrix> M,
                                   std::unique_ptr<frix_matrix> H, std::vector<double> f, std::vector<double> w,
-                                  std::vector<double> mu, std::vector<double> mu_r, frix_problem **out) {
+                                  std::vector<double> mu, OwnedLaw law, frix_problem **out) {
     int64_t nc = (int64_t)mu.size();
-    const bool rolling = kind == FRIX_PROBLEM_ROLLING_GLOBAL;
-    const int dim = rolling ? 5 : 3;
+    const int dim = law.dim;
     if (M && (int64_t)f.size() != M->rows)
         return fail(FRIX_ERR_DIMENSION, "%s: f has %lld entries but M has %lld rows", where,
                     (long long)f.size(), (long long)M->rows);
     if ((int64_t)w.size() != dim * nc)
         return fail(FRIX_ERR_DIMENSION, "%s: w has %lld entries but %lld contacts need %lld", where,
                     (long long)w.size(), (long long)nc, (long long)(dim * nc));
-    if (rolling && (int64_t)mu_r.size() != nc)
-        return fail(FRIX_ERR_DIMENSION, "%s: mu_r has %lld entries but mu has %lld", where,
-                    (long long)mu_r.size(), (long long)nc);
-    if (frix_error e = make_global_kind(kind, where, M.get(), H.get(), f.data(), w.data(), mu.data(), mu_r.data(),
+    if (frix_error e = check_owned_law(where, law, nc)) return e;
+    if (frix_error e = make_global_kind(kind, where, M.get(), H.get(), f.data(), w.data(), mu.data(), law_of(law),
                                         nc, out))
         return e;
     frix_problem &p = **out;
@@ -184,13 +221,12 @@ frix_error make_owned_global_kind(frix_problem_kind kind, const char *where, std
     p.owned_f = std::move(f);
     p.owned_w = std::move(w);
     p.owned_mu = std::move(mu);
-    p.owned_mu_r = std::move(mu_r);
     p.M = p.owned_M.get();
     p.H = p.owned_H.get();
     p.f = p.owned_f.data();
     p.w = p.owned_w.data();
     p.mu = p.owned_mu.data();
-    p.mu_r = rolling ? p.owned_mu_r.data() : nullptr;
+    own_law(p, std::move(law));
     return FRIX_OK;
 }
 
@@ -200,50 +236,81 @@ namespace frix {
 
 frix_error make_local_problem(const frix_matrix *W, const double *q, const double *mu, int64_t nc,
                               frix_problem **out) {
-    return make_local_kind(FRIX_PROBLEM_LOCAL, "frix_problem_local", W, q, mu, nullptr, nc, out);
+    return make_local_kind(FRIX_PROBLEM_LOCAL, "frix_problem_local", W, q, mu, kCoulomb, nc, out);
 }
 
 frix_error make_global_problem(const frix_matrix *M, const frix_matrix *H, const double *f,
                                const double *w, const double *mu, int64_t nc,
                                frix_problem **out) {
-    return make_global_kind(FRIX_PROBLEM_GLOBAL, "frix_problem_global", M, H, f, w, mu, nullptr, nc, out);
+    return make_global_kind(FRIX_PROBLEM_GLOBAL, "frix_problem_global", M, H, f, w, mu, kCoulomb, nc, out);
 }
 
 frix_error make_rolling_local_problem(const frix_matrix *W, const double *q, const double *mu, const double *mu_r,
                                       int64_t nc, frix_problem **out) {
-    return make_local_kind(FRIX_PROBLEM_ROLLING_LOCAL, "frix_problem_rolling_local", W, q, mu, mu_r, nc, out);
+    return make_local_kind(FRIX_PROBLEM_ROLLING_LOCAL, "frix_problem_rolling_local", W, q, mu, rolling_law(mu_r), nc,
+                           out);
+}
+
+frix_error make_spinning_local_problem(const frix_matrix *W, const double *q, const double *mu, const double *mu_r,
+                                       const double *mu_s, int64_t nc, frix_problem **out) {
+    return make_local_kind(FRIX_PROBLEM_ROLLING_LOCAL, "frix_problem_spinning_local", W, q, mu,
+                           spinning_law(mu_r, mu_s), nc, out);
 }
 
 frix_error make_rolling_global_problem(const frix_matrix *M, const frix_matrix *H, const double *f, const double *w,
                                        const double *mu, const double *mu_r, int64_t nc, frix_problem **out) {
-    return make_global_kind(FRIX_PROBLEM_ROLLING_GLOBAL, "frix_problem_rolling_global", M, H, f, w, mu, mu_r, nc,
-                            out);
+    return make_global_kind(FRIX_PROBLEM_ROLLING_GLOBAL, "frix_problem_rolling_global", M, H, f, w, mu,
+                            rolling_law(mu_r), nc, out);
+}
+
+frix_error make_spinning_global_problem(const frix_matrix *M, const frix_matrix *H, const double *f, const double *w,
+                                        const double *mu, const double *mu_r, const double *mu_s, int64_t nc,
+                                        frix_problem **out) {
+    return make_global_kind(FRIX_PROBLEM_ROLLING_GLOBAL, "frix_problem_spinning_global", M, H, f, w, mu,
+                            spinning_law(mu_r, mu_s), nc, out);
 }
 
 frix_error make_owned_local_problem(std::unique_ptr<frix_matrix> W, std::vector<double> q,
                                     std::vector<double> mu, frix_problem **out) {
     return make_owned_local_kind(FRIX_PROBLEM_LOCAL, "frix_problem_local", std::move(W), std::move(q), std::move(mu),
-                                 {}, out);
+                                 OwnedLaw{}, out);
 }
 
 frix_error make_owned_global_problem(std::unique_ptr<frix_matrix> M, std::unique_ptr<frix_matrix> H,
                                      std::vector<double> f, std::vector<double> w,
                                      std::vector<double> mu, frix_problem **out) {
     return make_owned_global_kind(FRIX_PROBLEM_GLOBAL, "frix_problem_global", std::move(M), std::move(H),
-                                  std::move(f), std::move(w), std::move(mu), {}, out);
+                                  std::move(f), std::move(w), std::move(mu), OwnedLaw{}, out);
 }
 
 frix_error make_owned_rolling_local_problem(std::unique_ptr<frix_matrix> W, std::vector<double> q,
                                             std::vector<double> mu, std::vector<double> mu_r, frix_problem **out) {
     return make_owned_local_kind(FRIX_PROBLEM_ROLLING_LOCAL, "frix_problem_rolling_local", std::move(W),
-                                 std::move(q), std::move(mu), std::move(mu_r), out);
+                                 std::move(q), std::move(mu), OwnedLaw{std::move(mu_r), {}, 5}, out);
+}
+
+frix_error make_owned_spinning_local_problem(std::unique_ptr<frix_matrix> W, std::vector<double> q,
+                                             std::vector<double> mu, std::vector<double> mu_r,
+                                             std::vector<double> mu_s, frix_problem **out) {
+    return make_owned_local_kind(FRIX_PROBLEM_ROLLING_LOCAL, "frix_problem_spinning_local", std::move(W),
+                                 std::move(q), std::move(mu), OwnedLaw{std::move(mu_r), std::move(mu_s), 6}, out);
 }
 
 frix_error make_owned_rolling_global_problem(std::unique_ptr<frix_matrix> M, std::unique_ptr<frix_matrix> H,
                                              std::vector<double> f, std::vector<double> w, std::vector<double> mu,
                                              std::vector<double> mu_r, frix_problem **out) {
     return make_owned_global_kind(FRIX_PROBLEM_ROLLING_GLOBAL, "frix_problem_rolling_global", std::move(M),
-                                  std::move(H), std::move(f), std::move(w), std::move(mu), std::move(mu_r), out);
+                                  std::move(H), std::move(f), std::move(w), std::move(mu),
+                                  OwnedLaw{std::move(mu_r), {}, 5}, out);
+}
+
+frix_error make_owned_spinning_global_problem(std::unique_ptr<frix_matrix> M, std::unique_ptr<frix_matrix> H,
+                                              std::vector<double> f, std::vector<double> w, std::vector<double> mu,
+                                              std::vector<double> mu_r, std::vector<double> mu_s,
+                                              frix_problem **out) {
+    return make_owned_global_kind(FRIX_PROBLEM_ROLLING_GLOBAL, "frix_problem_spinning_global", std::move(M),
+                                  std::move(H), std::move(f), std::move(w), std::move(mu),
+                                  OwnedLaw{std::move(mu_r), std::move(mu_s), 6}, out);
 }
 
 double inverse_mass(double m_ii, double otherwise) {
@@ -379,6 +446,8 @@ frix_error check_problem_vectors(const frix_problem &p) {
     }
     if (is_rolling(p))
         if (frix_error e = check_mu(where, p.mu_r, p.nc, "mu_r")) return e;
+    if (p.spinning)
+        if (frix_error e = check_mu(where, p.mu_s, p.nc, "mu_s")) return e;
     return check_mu(where, p.mu, p.nc);
 }
 
@@ -428,6 +497,20 @@ FRIX_API frix_error frix_problem_rolling_global(const frix_matrix *M, const frix
                        [&] { return frix::make_rolling_global_problem(M, H, f, w, mu, mu_r, nc, out); });
 }
 
+FRIX_API frix_error frix_problem_spinning_local(const frix_matrix *W, const double *q, const double *mu,
+                                                const double *mu_r, const double *mu_s, int64_t nc,
+                                                frix_problem **out) {
+    return frix::guard("frix_problem_spinning_local",
+                       [&] { return frix::make_spinning_local_problem(W, q, mu, mu_r, mu_s, nc, out); });
+}
+
+FRIX_API frix_error frix_problem_spinning_global(const frix_matrix *M, const frix_matrix *H, const double *f,
+                                                 const double *w, const double *mu, const double *mu_r,
+                                                 const double *mu_s, int64_t nc, frix_problem **out) {
+    return frix::guard("frix_problem_spinning_global",
+                       [&] { return frix::make_spinning_global_problem(M, H, f, w, mu, mu_r, mu_s, nc, out); });
+}
+
 FRIX_API void frix_problem_free(frix_problem *p) { delete p; }
 
 FRIX_API frix_problem_kind frix_problem_get_kind(const frix_problem *p) {
@@ -446,6 +529,7 @@ FRIX_API const double *frix_problem_f(const frix_problem *p) { return p ? p->f :
 FRIX_API const double *frix_problem_w(const frix_problem *p) { return p ? p->w : nullptr; }
 FRIX_API const double *frix_problem_mu(const frix_problem *p) { return p ? p->mu : nullptr; }
 FRIX_API const double *frix_problem_mu_r(const frix_problem *p) { return p ? p->mu_r : nullptr; }
+FRIX_API const double *frix_problem_mu_s(const frix_problem *p) { return p ? p->mu_s : nullptr; }
 
 FRIX_API frix_error frix_problem_set_title(frix_problem *p, const char *title) {
     return set_text("frix_problem_set_title", p, &frix_problem::title, title);

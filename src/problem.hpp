@@ -26,6 +26,11 @@ struct frix_problem {
     const double *w = nullptr;       // global
     const double *mu = nullptr;
     const double *mu_r = nullptr;  // rolling kinds only
+    // Rolling kinds with spinning friction: a sixth entry a contact (the moment and relative
+    // angular velocity about the normal) and its coefficients mu_s (nc values; may be null
+    // when nc is 0).
+    bool spinning = false;
+    const double *mu_s = nullptr;
 
     // Free text (FCLIB's info group: title, description, math_info), each at most
     // frix::kMaxProblemText bytes.
@@ -46,12 +51,13 @@ struct frix_problem {
 
     // Owned storage, used only by problems that own their data (see make_owned_* below).
     std::unique_ptr<frix_matrix> owned_W, owned_M, owned_H;
-    std::vector<double> owned_q, owned_f, owned_w, owned_mu, owned_mu_r;
+    std::vector<double> owned_q, owned_f, owned_w, owned_mu, owned_mu_r, owned_mu_s;
 };
 
 namespace frix {
 
-// Rolling friction: five components a contact (frix_problem.h), in the local or global form.
+// Rolling friction: five components a contact (frix_problem.h), six with spinning friction,
+// in the local or global form.
 inline bool is_rolling(const frix_problem &p) {
     return p.kind == FRIX_PROBLEM_ROLLING_LOCAL || p.kind == FRIX_PROBLEM_ROLLING_GLOBAL;
 }
@@ -59,8 +65,8 @@ inline bool is_rolling(const frix_problem &p) {
 inline bool is_local_form(const frix_problem &p) {
     return p.kind == FRIX_PROBLEM_LOCAL || p.kind == FRIX_PROBLEM_ROLLING_LOCAL;
 }
-// Entries of r and u a contact: 3, or 5 for a rolling problem.
-inline int contact_size(const frix_problem &p) { return is_rolling(p) ? 5 : 3; }
+// Entries of r and u a contact: 3, or 5 for a rolling problem, 6 with spinning friction.
+inline int contact_size(const frix_problem &p) { return is_rolling(p) ? (p.spinning ? 6 : 5) : 3; }
 // A local problem (either kind of contact) whose every contact separates at r = 0 (q_N >= 0):
 // r = 0 solves it, u = q having u_N >= 0 so that u^ lies in K*. False for a global problem.
 inline bool separates_at_zero(const frix_problem &p) {
@@ -106,6 +112,20 @@ frix_error make_owned_rolling_local_problem(std::unique_ptr<frix_matrix> W, std:
 frix_error make_owned_rolling_global_problem(std::unique_ptr<frix_matrix> M, std::unique_ptr<frix_matrix> H,
                                              std::vector<double> f, std::vector<double> w, std::vector<double> mu,
                                              std::vector<double> mu_r, frix_problem **out);
+
+// The rolling kinds with spinning friction (mu_s: nc values >= 0): 6 components a contact.
+frix_error make_spinning_local_problem(const frix_matrix *W, const double *q, const double *mu, const double *mu_r,
+                                       const double *mu_s, int64_t nc, frix_problem **out);
+frix_error make_spinning_global_problem(const frix_matrix *M, const frix_matrix *H, const double *f, const double *w,
+                                        const double *mu, const double *mu_r, const double *mu_s, int64_t nc,
+                                        frix_problem **out);
+frix_error make_owned_spinning_local_problem(std::unique_ptr<frix_matrix> W, std::vector<double> q,
+                                             std::vector<double> mu, std::vector<double> mu_r,
+                                             std::vector<double> mu_s, frix_problem **out);
+frix_error make_owned_spinning_global_problem(std::unique_ptr<frix_matrix> M, std::unique_ptr<frix_matrix> H,
+                                              std::vector<double> f, std::vector<double> w, std::vector<double> mu,
+                                              std::vector<double> mu_r, std::vector<double> mu_s,
+                                              frix_problem **out);
 
 // x (n values, named `name` in the message) given and finite; mu (nc values) finite and >= 0.
 frix_error check_vector(const char *where, const char *name, const double *x, int64_t n);

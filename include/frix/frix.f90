@@ -287,6 +287,23 @@ module frix
       type(c_ptr), intent(out) :: out
       integer(c_int) :: frix_problem_rolling_global
     end function
+    function frix_problem_spinning_local(W, q, mu, mu_r, mu_s, nc, out) bind(C, name='frix_problem_spinning_local')
+      import :: c_ptr, c_int, c_int64_t, c_double
+      type(c_ptr), value :: W
+      real(c_double), intent(in) :: q(*), mu(*), mu_r(*), mu_s(*)
+      integer(c_int64_t), value :: nc
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: frix_problem_spinning_local
+    end function
+    function frix_problem_spinning_global(M, H, f, w, mu, mu_r, mu_s, nc, out) &
+         bind(C, name='frix_problem_spinning_global')
+      import :: c_ptr, c_int, c_int64_t, c_double
+      type(c_ptr), value :: M, H
+      real(c_double), intent(in) :: f(*), w(*), mu(*), mu_r(*), mu_s(*)
+      integer(c_int64_t), value :: nc
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: frix_problem_spinning_global
+    end function
     subroutine frix_problem_free(p) bind(C, name='frix_problem_free')
       import :: c_ptr
       type(c_ptr), value :: p
@@ -387,6 +404,11 @@ module frix
       import :: c_ptr
       type(c_ptr), value :: p
       type(c_ptr) :: frix_problem_mu_r
+    end function
+    function frix_problem_mu_s(p) bind(C, name='frix_problem_mu_s')
+      import :: c_ptr
+      type(c_ptr), value :: p
+      type(c_ptr) :: frix_problem_mu_s
     end function
 
     ! ---- options

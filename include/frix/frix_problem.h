@@ -19,6 +19,12 @@
  * their own: the rolling solvers (FRIX_SOLVER_ROLLING_NSGS and _NSN, and auto, which picks between
  * them) solve them;
  * every other solver refuses them (FRIX_ERR_UNSUPPORTED).
+ *
+ * Rolling and spinning friction (frix_problem_spinning_*): a rolling problem whose contacts have
+ * a sixth component, the moment m_S about the normal and the relative angular velocity w_S about
+ * it (Chrono's spinning friction; Siconos has no such problem), with |m_S| <= mu_s,a r_N in K_a
+ * and mu_s,a |w_S| added to u^_a's normal entry. Its kind is the rolling one of its form;
+ * frix_problem_mu_s is not NULL and frix_problem_contact_dofs is 6 nc.
  */
 #ifndef FRIX_PROBLEM_H
 #define FRIX_PROBLEM_H
@@ -37,7 +43,7 @@ typedef struct frix_problem frix_problem;
 typedef enum frix_problem_kind FRIX_ENUM_BASE {
     FRIX_PROBLEM_LOCAL = 1,
     FRIX_PROBLEM_GLOBAL = 2,
-    FRIX_PROBLEM_ROLLING_LOCAL = 3,  /* rolling friction, local form (5 components a contact) */
+    FRIX_PROBLEM_ROLLING_LOCAL = 3,  /* rolling friction, local form (5 components a contact, 6 with spin) */
     FRIX_PROBLEM_ROLLING_GLOBAL = 4  /* rolling friction, global form */
 } frix_problem_kind;
 
@@ -55,11 +61,21 @@ FRIX_API frix_error frix_problem_rolling_local(const frix_matrix *W, const doubl
 FRIX_API frix_error frix_problem_rolling_global(const frix_matrix *M, const frix_matrix *H,
                                                 const double *f, const double *w, const double *mu,
                                                 const double *mu_r, int64_t nc, frix_problem **out);
+/* Rolling and spinning friction, local form: W 6nc x 6nc; q 6nc; mu, mu_r and mu_s nc, each >= 0. */
+FRIX_API frix_error frix_problem_spinning_local(const frix_matrix *W, const double *q, const double *mu,
+                                                const double *mu_r, const double *mu_s, int64_t nc,
+                                                frix_problem **out);
+/* Rolling and spinning friction, global form: M n x n; H n x 6nc; f n; w 6nc; mu, mu_r, mu_s nc. */
+FRIX_API frix_error frix_problem_spinning_global(const frix_matrix *M, const frix_matrix *H,
+                                                 const double *f, const double *w, const double *mu,
+                                                 const double *mu_r, const double *mu_s, int64_t nc,
+                                                 frix_problem **out);
 FRIX_API void frix_problem_free(frix_problem *p);
 
 FRIX_API frix_problem_kind frix_problem_get_kind(const frix_problem *p);
 FRIX_API int64_t frix_problem_contacts(const frix_problem *p);
-/* Size of r and u: 3 * contacts (5 * contacts for a rolling problem). */
+/* Size of r and u: 3 * contacts (5 * contacts for a rolling problem, 6 * contacts with spinning
+ * friction). */
 FRIX_API int64_t frix_problem_contact_dofs(const frix_problem *p);
 /* Size of v: n for a global problem, 0 for a local one. */
 FRIX_API int64_t frix_problem_dofs(const frix_problem *p);
@@ -74,6 +90,9 @@ FRIX_API const double *frix_problem_w(const frix_problem *p);
 FRIX_API const double *frix_problem_mu(const frix_problem *p);
 /* The rolling coefficients (nc values) of a rolling problem; NULL for any other. */
 FRIX_API const double *frix_problem_mu_r(const frix_problem *p);
+/* The spinning coefficients (nc values) of a problem with spinning friction; NULL for any other
+ * (and for one of zero contacts made with mu_s NULL). */
+FRIX_API const double *frix_problem_mu_s(const frix_problem *p);
 
 /* Free text about the problem, as FCLIB's info group holds it: a title, a description and
  * its mathematical information (each empty by default; NULL sets it empty). The string is

@@ -82,9 +82,9 @@ void projection_jacobian(const double *x, int which, double mu, double mu_r, dou
 void natural_map(const Contact &c, const double *q, const double *r, double rho, double *F, double *x, int &which) {
     double u[5], uh[5], p[5];
     velocity(c.W, q, r, u);
-    rolling::shifted_velocity(u, c.mu, c.mu_r, uh);
+    rolling::shifted_velocity(u, rolling::Cones{c.mu, c.mu_r, 0.0, 5}, uh);
     for (int i = 0; i < 5; ++i) x[i] = p[i] = r[i] - rho * uh[i];
-    which = rolling::project_on_cone(p, c.mu, c.mu_r);
+    which = rolling::project_on_cone(p, rolling::Cones{c.mu, c.mu_r, 0.0, 5});
     for (int i = 0; i < 5; ++i) F[i] = r[i] - p[i];
 }
 
@@ -227,12 +227,12 @@ bool projected(Contact &c, const double *q, double *r, const Params &p, Best &be
         if (best.error <= p.tol) return true;
         std::copy(r, r + 5, r_k);
         velocity(c.W, q, r_k, u_k);
-        rolling::shifted_velocity(u_k, c.mu, c.mu_r, uh);
+        rolling::shifted_velocity(u_k, rolling::Cones{c.mu, c.mu_r, 0.0, 5}, uh);
         double rho_k = c.rho / kTau, a1 = 0.0, a2 = 0.0;
         for (int ls = 0; ls < kStepSearches; ++ls) {
             rho_k *= kTau;
             for (int i = 0; i < 5; ++i) r[i] = r_k[i] - rho_k * uh[i];
-            rolling::project_on_cone(r, c.mu, c.mu_r);
+            rolling::project_on_cone(r, rolling::Cones{c.mu, c.mu_r, 0.0, 5});
             velocity(c.W, q, r, u);
             a1 = a2 = 0.0;
             for (int i = 0; i < 5; ++i) {
@@ -281,7 +281,7 @@ void contact_setup(const double *Waa, double mu, double mu_r, Contact &c) {
 double relative_residual(const Contact &c, const double *q, const double *r) {
     double u[5];
     velocity(c.W, q, r, u);
-    const double res = rolling::residual(r, u, c.mu, c.mu_r);
+    const double res = rolling::residual(r, u, rolling::Cones{c.mu, c.mu_r, 0.0, 5});
     const double scale = std::max({norm5(q), norm5(r), norm5(u)});
     return scale > DBL_EPSILON ? res / scale : res;
 }
@@ -324,13 +324,13 @@ Outcome solve_scaled(Contact &c, const double *q, double *r, const Params &p) {
         }
         // Its projection on K: a start that often beats the warm start after a change of regime.
         if (finite5(s)) {
-            rolling::project_on_cone(s, c.mu, c.mu_r);
+            rolling::project_on_cone(s, rolling::Cones{c.mu, c.mu_r, 0.0, 5});
             best.offer(c, q, s);
         }
     }
     double start[5] = {r[0], r[1], r[2], r[3], r[4]};
     if (!finite5(start)) std::fill(start, start + 5, 0.0);
-    rolling::project_on_cone(start, c.mu, c.mu_r);
+    rolling::project_on_cone(start, rolling::Cones{c.mu, c.mu_r, 0.0, 5});
     best.offer(c, q, start);
     double x[5];
     std::copy(best.r, best.r + 5, x);

@@ -174,8 +174,7 @@ void BodyForm::restart(const double *r) {
 Measures BodyForm::exact(const double *r, double *u) {
     restart(r);
     for (int64_t a = 0; a < p_.nc; ++a) contact_velocity(a, v_.data(), u + 5 * a);
-    return rolling_measures_from_ru(r, u, p_.mu, p_.mu_r, p_.weight.data(), p_.nc, norm2(p_.w, 5 * p_.nc),
-                                    free_velocity(p_));
+    return rolling_measures_from_ru(p_, r, u, norm2(p_.w, 5 * p_.nc), free_velocity(p_));
 }
 
 std::vector<local5::Contact> contacts_of(const SweepForm &form, const frix_problem &p) {

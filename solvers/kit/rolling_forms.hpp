@@ -106,6 +106,7 @@ template <class Run>
 frix_error solve_on_form(SolveContext &ctx, const char *name, Run &&run) {
     const frix_problem &p = ctx.problem;
     if (!is_rolling(p)) return fail(FRIX_ERR_UNSUPPORTED, "%s: solves rolling-friction problems only", name);
+    if (p.spinning) return fail(FRIX_ERR_UNSUPPORTED, "%s: spinning friction is not solved yet", name);
     if (p.kind == FRIX_PROBLEM_ROLLING_LOCAL) {
         RowForm rows(p);
         return run(rows);

@@ -231,7 +231,7 @@ class System : public kit::SystemDefaults, public kit::InPlaceIterate {
     double error_at(const double *r, const double *u) {
         if (alpha_ == 0.0) return selected_error(form_.exact(r, scratch_.data()), measure_);
         const frix_problem &p = *problem_;
-        return selected_error(rolling_measures_from_ru(r, u, p.mu, p.mu_r, p.weight.data(), p.nc, norm_q_), measure_);
+        return selected_error(rolling_measures_from_ru(p, r, u, norm_q_), measure_);
     }
 
     const frix_options *log_;

@@ -42,7 +42,7 @@ class Momentum {
             last_[i] = x;
         }
         if (beta == 0.0) return;
-        for (int64_t a = 0; a < p.nc; ++a) rolling::project_on_cone(r + 5 * a, p.mu[a], p.mu_r[a]);
+        for (int64_t a = 0; a < p.nc; ++a) rolling::project_on_cone(r + 5 * a, rolling::cones_of(p, a));
         form.restart(r);
     }
 
