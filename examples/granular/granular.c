@@ -4,7 +4,7 @@
  *   granular [--spheres N] [--aspect A] [--steps S] [--step H] [--mu MU] [--radius R] [--seed K]
  *            [--solver NAME] [--tol T] [--threads T] [--max-iter I] [--time-limit SEC]
  *            [--set NAME=VALUE ...] [--dump-step K --dump FILE.hdf5 --dump-local FILE.hdf5]
- *            [--every K] [--settle] [--floor F] [--rolling MU_R] [--check] [--quiet]
+ *            [--every K] [--settle] [--floor F] [--rolling MU_R] [--spinning MU_S] [--check] [--quiet]
  *
  * Bodies: N spheres of radii in [0.7 R, R] (density 2500), set on a loose lattice A times as
  * tall as wide (default 2) in the middle of the floor (F times as wide as the lattice) of a box
@@ -17,9 +17,11 @@
  *     w_N = max(gap, 0) / h, so that u_N >= 0 closes the gap no further than to touching;
  *     with --rolling MU_R, a rolling-friction problem (frix_problem.h): two more rows a
  *     contact, the relative angular velocity of the two spheres on the tangents, whose moment
- *     is at most MU_R (a length) times the normal impulse;
+ *     is at most MU_R (a length) times the normal impulse; with --spinning MU_S as well, a sixth
+ *     row, the relative angular velocity about the normal, whose moment is at most MU_S (a
+ *     length) times the normal impulse (spinning friction);
  *   - the persistent solver, given the step's contacts (frix_persistent_set_contacts_global,
- *     or _rolling_global) and warm-started from last step's impulses of the same pairs;
+ *     _rolling_global or _spinning_global) and warm-started from last step's impulses of the same pairs;
  *   - positions x += h v.
  * --steps S runs steps 0 to S-1. One line per step (every K-th with --every, and the last):
  * step, contacts, solver, iterations, the error in the default measure and in Siconos's, solve
@@ -51,7 +53,7 @@
 typedef struct {
     scene_settings scene;
     int64_t threads, dump_step;
-    double time_limit, mu_r; /* mu_r < 0: no rolling resistance (three rows a contact) */
+    double time_limit, mu_r, mu_s; /* mu_r < 0: no rolling resistance (three rows a contact); mu_s < 0: no spin row */
     const char *solver, *dump, *dump_local;
     const char *set[16]; /* --set NAME=VALUE: any other solver option, by name */
     int sets, check, quiet, settle;
@@ -62,7 +64,7 @@ static const char kUsage[] =
     "usage: granular [--spheres N] [--aspect A] [--steps S] [--step H] [--mu MU] [--radius R] [--seed K]\n"
     "         [--solver NAME] [--tol T] [--threads T] [--max-iter I] [--time-limit SEC]\n"
     "         [--set NAME=VALUE ...] [--dump-step K --dump FILE.hdf5 --dump-local FILE.hdf5]\n"
-    "         [--every K] [--settle] [--floor F] [--rolling MU_R] [--check] [--quiet]\n";
+    "         [--every K] [--settle] [--floor F] [--rolling MU_R] [--spinning MU_S] [--check] [--quiet]\n";
 
 static int usage(const char *msg, const char *arg) {
     fprintf(stderr, "granular: %s%s%s\n%s", msg, arg ? ": " : "", arg ? arg : "", kUsage);
@@ -86,6 +88,8 @@ static void help(void) {
           "  --settle         stop after the first step at which every grain is slower than 0.1 radius/s\n"
           "  --rolling MU_R   rolling resistance of every contact, metres (>= 0; 0 rolls freely with the\n"
           "                   rolling rows kept); default: none, three rows a contact\n"
+          "  --spinning MU_S  with --rolling, spinning friction of every contact, metres (>= 0): a sixth\n"
+          "                   row, the moment about the normal at most MU_S times the normal impulse\n"
           "  --check          exit 1 unless every step converged and the energy never grew\n"
           "  --quiet          no line per step (unconverged steps are still reported on stderr)\n"
           "  --help           this text\n"
@@ -93,8 +97,17 @@ static void help(void) {
           stdout);
 }
 
+/* The step's global problem of the law that dim entries a contact carry (3, 5 or 6). */
+static frix_error global_problem(const frix_matrix *M, const frix_matrix *H, const double *f, const double *wv,
+                                 const double *mu, const double *mu_r, const double *mu_s, int64_t nc, int dim,
+                                 frix_problem **out) {
+    if (dim == 6) return frix_problem_spinning_global(M, H, f, wv, mu, mu_r, mu_s, nc, out);
+    if (dim == 5) return frix_problem_rolling_global(M, H, f, wv, mu, mu_r, nc, out);
+    return frix_problem_global(M, H, f, wv, mu, nc, out);
+}
+
 static int parse(int argc, char **argv, settings *st) {
-    *st = (settings){.threads = 1, .dump_step = -1, .time_limit = 0.0, .mu_r = -1.0, .solver = "auto", .dump = NULL,
+    *st = (settings){.threads = 1, .dump_step = -1, .time_limit = 0.0, .mu_r = -1.0, .mu_s = -1.0, .solver = "auto", .dump = NULL,
                      .check = 0, .quiet = 0};
     scene_defaults(&st->scene);
     for (int i = 1; i < argc; ++i) {
@@ -112,6 +125,7 @@ static int parse(int argc, char **argv, settings *st) {
         else if (!strcmp(o, "--dump-step")) ok = parse_int(a, &st->dump_step) && st->dump_step >= 0;
         else if (!strcmp(o, "--time-limit")) ok = parse_double(a, &st->time_limit) && st->time_limit >= 0.0;
         else if (!strcmp(o, "--rolling")) ok = parse_double(a, &st->mu_r) && st->mu_r >= 0.0;
+        else if (!strcmp(o, "--spinning")) ok = parse_double(a, &st->mu_s) && st->mu_s >= 0.0;
         else if (!strcmp(o, "--solver")) st->solver = a;
         else if (!strcmp(o, "--dump")) st->dump = a;
         else if (!strcmp(o, "--dump-local")) st->dump_local = a;
@@ -123,6 +137,7 @@ static int parse(int argc, char **argv, settings *st) {
         if (!ok) return usage("bad value", a);
         i += takes;
     }
+    if (st->mu_s >= 0.0 && st->mu_r < 0.0) return usage("--spinning goes with --rolling", NULL);
     if ((st->dump || st->dump_local) != (st->dump_step >= 0))
         return usage("--dump-step goes with --dump or --dump-local, and they with it", NULL);
     /* A dump that would never happen is a mistake, not a no-op: the file would silently be missing. */
@@ -197,7 +212,7 @@ int main(int argc, char **argv) {
         return 2;
     }
     const int64_t n = w.n, dofs = 6 * n;
-    const int rolling = st.mu_r >= 0.0, dim = rolling ? 5 : 3; /* entries of r a contact */
+    const int dim = st.mu_s >= 0.0 ? 6 : st.mu_r >= 0.0 ? 5 : 3; /* entries of r a contact */
     int status = 0;
     frix_error e = FRIX_OK;
     const char *failed = NULL;
@@ -209,7 +224,7 @@ int main(int argc, char **argv) {
     contacts now = {0}, before = {0};
     int64_t *cell_start = NULL, cells_capacity = 0, *order = malloc(sizeof *order * (size_t)n);
     int64_t *hr = NULL, *hc = NULL;
-    double *hv = NULL, *wv = NULL, *mu = NULL, *mu_r = NULL, *r = NULL, *u = NULL, *r_before = NULL, *r_warm = NULL;
+    double *hv = NULL, *wv = NULL, *mu = NULL, *mu_r = NULL, *mu_s = NULL, *r = NULL, *u = NULL, *r_before = NULL, *r_warm = NULL;
     int64_t c_capacity = 0;
     frix_matrix *M = NULL, *H = NULL, *H_next = NULL;
     frix_problem *problem = NULL;
@@ -260,6 +275,7 @@ int main(int argc, char **argv) {
         if (nc > c_capacity || !r) {
             const int64_t cap = nc > 2 * c_capacity ? nc : 2 * c_capacity + 1;
             if (!grow_doubles(&wv, dim * cap) || !grow_doubles(&mu, cap) || !grow_doubles(&mu_r, cap) ||
+                !grow_doubles(&mu_s, cap) ||
                 !grow_doubles(&r, dim * cap) || !grow_doubles(&u, dim * cap) || !grow_doubles(&r_before, dim * cap) ||
                 !grow_doubles(&r_warm, dim * cap) || !grow_indices(&hr, 12 * dim * cap) ||
                 !grow_indices(&hc, 12 * dim * cap) || !grow_doubles(&hv, 12 * dim * cap)) {
@@ -279,22 +295,23 @@ int main(int argc, char **argv) {
             wv[dim * a] = fmax(now.c[a].gap, 0.0) / st.scene.h;
             mu[a] = st.scene.mu;
             mu_r[a] = st.mu_r;
+            mu_s[a] = st.mu_s;
         }
         for (int64_t i = 0; i < n; ++i)
             for (int q = 0; q < 6; ++q) f[6 * i + q] = mdiag[6 * i + q] * w.v[6 * i + q] - (q == 2 ? st.scene.h * w.mass[i] * GRAVITY : 0.0);
         warm_start(&now, &before, dim, r_before, r);
         if (st.dump_step == step) memcpy(r_warm, r, sizeof *r * (size_t)(dim * nc));
         if (!ps) {
-            if ((e = rolling ? frix_problem_rolling_global(M, H_next, f, wv, mu, mu_r, nc, &problem)
-                             : frix_problem_global(M, H_next, f, wv, mu, nc, &problem)) ||
+            if ((e = global_problem(M, H_next, f, wv, mu, mu_r, mu_s, nc, dim, &problem)) ||
                 (e = frix_persistent_create(problem, opts, &ps))) {
                 failed = "the persistent solver";
                 goto done;
             }
             frix_problem_free(problem); /* the persistent solver keeps its own views */
             problem = NULL;
-        } else if ((e = rolling ? frix_persistent_set_contacts_rolling_global(ps, H_next, wv, mu, mu_r, nc)
-                                : frix_persistent_set_contacts_global(ps, H_next, wv, mu, nc))) {
+        } else if ((e = dim == 6   ? frix_persistent_set_contacts_spinning_global(ps, H_next, wv, mu, mu_r, mu_s, nc)
+                        : dim == 5 ? frix_persistent_set_contacts_rolling_global(ps, H_next, wv, mu, mu_r, nc)
+                                   : frix_persistent_set_contacts_global(ps, H_next, wv, mu, nc))) {
             failed = "the step's contacts";
             goto done;
         }
@@ -310,8 +327,7 @@ int main(int argc, char **argv) {
         const double err = frix_info_error(info);
         if (st.dump_step == step) {
             frix_problem *dumped = NULL;
-            if ((e = rolling ? frix_problem_rolling_global(M, H, f, wv, mu, mu_r, nc, &dumped)
-                             : frix_problem_global(M, H, f, wv, mu, nc, &dumped))) {
+            if ((e = global_problem(M, H, f, wv, mu, mu_r, mu_s, nc, dim, &dumped))) {
                 failed = "the dumped problem";
                 goto done;
             }
@@ -325,7 +341,8 @@ int main(int argc, char **argv) {
                 failed = "--dump";
                 goto done;
             }
-            if (st.dump_local && (e = write_local_form(&w, &now, dim, mdiag, f, wv, mu, mu_r, title, r, u, r_warm, st.dump_local))) {
+            if (st.dump_local && (e = write_local_form(&w, &now, dim, mdiag, f, wv, mu, mu_r, mu_s, title, r, u, r_warm,
+                                                        st.dump_local))) {
                 failed = "--dump-local";
                 goto done;
             }
@@ -394,6 +411,7 @@ done:
     free(wv);
     free(mu);
     free(mu_r);
+    free(mu_s);
     free(r);
     free(u);
     free(r_before);

@@ -202,34 +202,39 @@ void contact_blocks(const world *w, const contact *c, double G[36]) {
     }
 }
 
-void rolling_blocks(const world *w, const contact *c, double R[24]) {
+void angular_blocks(const world *w, const contact *c, double R[36]) {
+    /* Rows 0 and 1 on the tangents (frame vectors 1 and 2), row 2 on the normal (frame vector 0). */
     for (int side = 0; side < 2; ++side) {
         const int64_t s = side ? c->b : c->a;
         const double sign = side ? -1.0 : 1.0;
-        for (int k = 0; k < 2; ++k)
-            for (int q = 0; q < 6; ++q)
-                R[12 * side + 6 * k + q] = s < w->n && q >= 3 ? sign * c->frame[3 * (k + 1) + q - 3] : 0.0;
+        for (int k = 0; k < 3; ++k) {
+            const double *axis = &c->frame[3 * (k < 2 ? k + 1 : 0)];
+            for (int q = 0; q < 6; ++q) R[18 * side + 6 * k + q] = s < w->n && q >= 3 ? sign * axis[q - 3] : 0.0;
+        }
     }
 }
 
-void contact_blocks5(const world *w, const contact *c, double B[60]) {
-    double G[36], R[24];
+void contact_blocks_of(const world *w, const contact *c, int dim, double B[72]) {
+    double G[36], R[36];
     contact_blocks(w, c, G);
-    rolling_blocks(w, c, R);
+    if (dim == 3) {
+        memcpy(B, G, sizeof G);
+        return;
+    }
+    angular_blocks(w, c, R);
     for (int side = 0; side < 2; ++side)
         for (int q = 0; q < 6; ++q) {
-            for (int e = 0; e < 3; ++e) B[30 * side + 6 * e + q] = G[18 * side + 6 * e + q];
-            for (int k = 0; k < 2; ++k) B[30 * side + 6 * (3 + k) + q] = R[12 * side + 6 * k + q];
+            for (int e = 0; e < 3; ++e) B[6 * dim * side + 6 * e + q] = G[18 * side + 6 * e + q];
+            for (int k = 0; k < dim - 3; ++k) B[6 * dim * side + 6 * (3 + k) + q] = R[18 * side + 6 * k + q];
         }
 }
 
 int64_t assemble_h(const world *w, const contacts *cs, int dim, int64_t *rows, int64_t *cols, double *vals) {
     int64_t k = 0;
-    double B[60];
+    double B[72];
     for (int64_t a = 0; a < cs->count; ++a) {
         const contact *c = &cs->c[a];
-        if (dim == 5) contact_blocks5(w, c, B);
-        else contact_blocks(w, c, B);
+        contact_blocks_of(w, c, dim, B);
         for (int side = 0; side < 2; ++side) {
             const int64_t s = side ? c->b : c->a;
             if (s >= w->n) continue;
@@ -266,8 +271,9 @@ void warm_start(const contacts *now, const contacts *before, int dim, const doub
 
 /* W's entries, block by block: each sphere couples every pair of its contacts' blocks. */
 frix_error write_local_form(const world *w, const contacts *cs, int dim, const double *mdiag, const double *f,
-                            const double *wv, const double *mu, const double *mu_r, const char *title,
-                            const double *r, const double *u, const double *r0, const char *path) {
+                            const double *wv, const double *mu, const double *mu_r, const double *mu_s,
+                            const char *title, const double *r, const double *u, const double *r0,
+                            const char *path) {
     const int64_t nc = cs->count, n = w->n, bs = 6 * dim; /* a block of H^T: dim x 6 */
     /* The contacts of each sphere, with the side it is on. */
     int64_t *deg = calloc((size_t)n + 1, sizeof *deg), *list = malloc(sizeof *list * 2 * (size_t)(nc + 1));
@@ -294,8 +300,7 @@ frix_error write_local_form(const world *w, const contacts *cs, int dim, const d
     if (!e) {
         memcpy(next, deg, sizeof *next * (size_t)n);
         for (int64_t a = 0; a < nc; ++a) {
-            if (dim == 5) contact_blocks5(w, &cs->c[a], &blocks[2 * bs * a]);
-            else contact_blocks(w, &cs->c[a], &blocks[2 * bs * a]);
+            contact_blocks_of(w, &cs->c[a], dim, &blocks[2 * bs * a]);
             for (int side = 0; side < 2; ++side) {
                 const int64_t s = side ? cs->c[a].b : cs->c[a].a;
                 if (s < n) list[next[s]++] = 2 * a + side;
@@ -326,7 +331,10 @@ frix_error write_local_form(const world *w, const contacts *cs, int dim, const d
         }
         e = frix_matrix_from_triplets(dim * nc, dim * nc, k, rows, cols, vals, &W);
     }
-    if (!e) e = dim == 5 ? frix_problem_rolling_local(W, q, mu, mu_r, nc, &p) : frix_problem_local(W, q, mu, nc, &p);
+    if (!e)
+        e = dim == 6   ? frix_problem_spinning_local(W, q, mu, mu_r, mu_s, nc, &p)
+            : dim == 5 ? frix_problem_rolling_local(W, q, mu, mu_r, nc, &p)
+                       : frix_problem_local(W, q, mu, nc, &p);
     if (!e) e = frix_problem_set_title(p, title);
     if (!e) {
         memcpy(u0, q, sizeof *u0 * (size_t)(dim * nc));

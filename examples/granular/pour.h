@@ -60,26 +60,28 @@ int find_contacts(const world *w, double floor_margin, const double *reach, cont
 /* Contact c's two 3 x 6 blocks of H^T (side 0: sphere a, side 1: sphere b; zero for a wall):
  * G[18 side + 6 k + q] for frame vector k and dof q of the sphere (translation, rotation). */
 void contact_blocks(const world *w, const contact *c, double G[36]);
-/* Contact c's two 2 x 6 blocks of the rolling rows (rolling resistance): the relative angular
- * velocity of sphere a to sphere b on tangents 1 and 2, R[12 side + 6 k + q] as for
- * contact_blocks (zero for a wall). */
-void rolling_blocks(const world *w, const contact *c, double R[24]);
-/* Contact c's two 5 x 6 blocks of H^T with rolling resistance (rows: normal, tangents, then
- * the rolling rows of rolling_blocks), B[30 side + 6 row + q]. */
-void contact_blocks5(const world *w, const contact *c, double B[60]);
-/* H's entries (rows: dofs, 6 a sphere; columns: dim a contact, 3, or 5 with the rolling rows)
+/* Contact c's two 3 x 6 blocks of the angular rows: the relative angular velocity of sphere a to
+ * sphere b on tangents 1 and 2 (rolling resistance) and on the normal (spinning friction),
+ * R[18 side + 6 k + q] as for contact_blocks (zero for a wall). */
+void angular_blocks(const world *w, const contact *c, double R[36]);
+/* Contact c's two dim x 6 blocks of H^T, B[6 dim side + 6 row + q]: the rows of contact_blocks,
+ * then with dim 5 the two rolling rows of angular_blocks, with dim 6 its three rows. */
+void contact_blocks_of(const world *w, const contact *c, int dim, double B[72]);
+/* H's entries (rows: dofs, 6 a sphere; columns: dim a contact, 3, 5 with the rolling rows or 6
+ * with the spinning row too)
  * as triplets (at most 12 dim a contact); their count. */
 int64_t assemble_h(const world *w, const contacts *cs, int dim, int64_t *rows, int64_t *cols, double *vals);
 /* r: last step's impulse of each pair of `now` found in `before` (sorted), else 0; dim
  * entries a contact. */
 void warm_start(const contacts *now, const contacts *before, int dim, const double *r_before, double *r);
 /* The step's problem in the local form, W = H^T M^-1 H and q = H^T M^-1 f + w (M diagonal:
- * mdiag, 6 a sphere; dim entries a contact, 5 with mu_r), titled `title`, written to `path` as
+ * mdiag, 6 a sphere; dim entries a contact, 5 with mu_r, 6 with mu_s too), titled `title`, written to `path` as
  * an FCLIB file with the step's answer (r, u) as its solution and the warm start r0 the solve
  * began from as guess 1 (its u = W r0 + q), as --dump writes the global form. */
 frix_error write_local_form(const world *w, const contacts *cs, int dim, const double *mdiag, const double *f,
-                            const double *wv, const double *mu, const double *mu_r, const char *title,
-                            const double *r, const double *u, const double *r0, const char *path);
+                            const double *wv, const double *mu, const double *mu_r, const double *mu_s,
+                            const char *title, const double *r, const double *u, const double *r0,
+                            const char *path);
 /* *p reallocated to n entries (kept as it was when that fails). */
 int grow_doubles(double **p, int64_t n);
 int grow_indices(int64_t **p, int64_t n);
