@@ -11,8 +11,9 @@ namespace {
 // Six entries: the exact projection. Its normal part t minimises the strictly convex
 // phi(t) = (t - r_N)^2 + sum_k (n_k - c_k t)_+^2 over the three parts k (n_k = |part k|, c_k its
 // coefficient); on the minimiser's set S of parts cut back, t = (r_N + sum_S c_k n_k) /
-// (1 + sum_S c_k^2), so the minimiser is the best of the eight candidates: exact, rounding
-// included.
+// (1 + sum_S c_k^2). Of the eight candidates, the minimiser is the one where phi'/2 = t - r_N -
+// sum_k c_k (n_k - c_k t)_+ vanishes: its slope is at least 1, so |phi'| bounds the distance to
+// the minimiser (phi's own values would only fix t to the square root of the rounding).
 int project_with_spin(double *r, double mu, double mu_r, double mu_s) {
     const double n[3] = {std::sqrt(r[1] * r[1] + r[2] * r[2]), std::sqrt(r[3] * r[3] + r[4] * r[4]), std::fabs(r[5])};
     const double c[3] = {mu, mu_r, mu_s};
@@ -21,22 +22,19 @@ int project_with_spin(double *r, double mu, double mu_r, double mu_s) {
         return 0;
     }
     if (n[0] <= c[0] * r[0] && n[1] <= c[1] * r[0] && n[2] <= c[2] * r[0]) return 1;
-    const auto phi = [&](double t) {
-        double s = (t - r[0]) * (t - r[0]);
-        for (int k = 0; k < 3; ++k) {
-            const double e = std::max(n[k] - c[k] * t, 0.0);
-            s += e * e;
-        }
-        return s;
+    const auto slope = [&](double t) {
+        double s = t - r[0];
+        for (int k = 0; k < 3; ++k) s -= c[k] * std::max(n[k] - c[k] * t, 0.0);
+        return std::fabs(s);
     };
-    double t = std::max(r[0], 0.0), best = phi(t);
+    double t = std::max(r[0], 0.0), best = slope(t);
     for (int set = 1; set < 8; ++set) {
         double num = r[0], den = 1.0;
         for (int k = 0; k < 3; ++k)
             if (set & (1 << k)) num += c[k] * n[k], den += c[k] * c[k];
         const double candidate = num / den;
         if (candidate < 0.0) continue;
-        const double value = phi(candidate);
+        const double value = slope(candidate);
         if (value < best) best = value, t = candidate;
     }
     r[0] = t;

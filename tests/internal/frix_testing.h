@@ -27,6 +27,10 @@ enum {
 
 void frix_testing_project_on_cone(double r[3], double mu);
 void frix_testing_project_on_disk(double r[3], double radius);
+/* r <- its projection on the rolling cone of `size` entries (5, or 6 with spinning friction:
+ * src/rolling.hpp); returns the case (0: r = 0; else 1 + the parts cut back: 1 friction,
+ * 2 rolling, 4 spinning). */
+int frix_testing_project_on_rolling_cone(double *r, double mu, double mu_r, double mu_s, int size);
 
 /* One contact: r is the warm start in, the result out; local_solver is one of the
  * FRIX_LOCAL_* values of the option local_solver (frix_options.h). Returns an outcome. */

@@ -5,6 +5,7 @@
 
 #include "solvers/kit/local3x3.hpp"
 #include "src/coulomb.hpp"
+#include "src/rolling.hpp"
 
 #define FRIX_TESTING_HOOK extern "C"
 
@@ -23,6 +24,11 @@ FRIX_TESTING_HOOK void frix_testing_project_on_cone(double r[3], double mu) {
 
 FRIX_TESTING_HOOK void frix_testing_project_on_disk(double r[3], double radius) {
     frix::coulomb::project_on_disk(r, radius);
+}
+
+FRIX_TESTING_HOOK int frix_testing_project_on_rolling_cone(double *r, double mu, double mu_r, double mu_s,
+                                                           int size) {
+    return frix::rolling::project_on_cone(r, frix::rolling::Cones{mu, mu_r, mu_s, size});
 }
 
 FRIX_TESTING_HOOK int frix_testing_solve_contact(const double W[9], const double q[3], double mu,
