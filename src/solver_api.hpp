@@ -185,11 +185,13 @@ frix_error check_solver_takes(const char *caller, const SolverEntry &entry, cons
 // for a runaway, the final measures of r, the fallback of a diverged run
 // (fall_back_on_divergence) and the status check against the measures. Also the local step of
 // the reduction route of global problems. `measures`, when given, receives the final
-// measures (u then holds W r + q).
+// measures (u then holds W r + q). accept_start: a warm start that already meets the tolerance
+// is the answer, with no iteration (frix_solve's own call; a stage or a pass of a solve starts
+// from an r that was just found short of it).
 frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
                                const SolverEntry &entry, double *r, double *u, frix_info &info,
                                const Stopwatch &clock, SolveCache *cache = nullptr,
-                               Measures *measures = nullptr, bool return_best = false);
+                               Measures *measures = nullptr, bool return_best = false, bool accept_start = false);
 
 // The driver's global path (src/solve_global.cpp): runs `entry` natively if it solves global
 // problems, through the reduction W = H^T M^-1 H otherwise; a rolling-friction problem goes to

@@ -176,6 +176,64 @@ END_TEST
 START_TEST(test_same_answers_native_global) { same_answers(FRIX_SOLVER_GLOBAL_NSN_AC, 1); }
 END_TEST
 
+/* A warm start that already meets the tolerance is the answer, unchanged, after no iteration
+ * (a time step at rest); one that does not, or one short of a tighter tolerance, is iterated.
+ * frix_solve and the persistent solver alike, for the local form. */
+static void start_that_solves(int solver) {
+    sequence s;
+    make_sequence(&s, 3);
+    frix_problem *p = s.forms[0].local;
+    const int64_t m = 3 * s.scene[0].nc;
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(solver, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
+    double *star = calloc((size_t)m, sizeof *star), *r = calloc((size_t)m, sizeof *r);
+    double *u = calloc((size_t)m, sizeof *u);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_solve(p, o, star, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    ck_assert_int_gt(frix_info_iterations(info), 0);
+    const double found = frix_info_error(info);
+
+    memcpy(r, star, sizeof *r * (size_t)m);
+    ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    ck_assert_int_eq(frix_info_iterations(info), 0);
+    ck_assert_double_eq(frix_info_error(info), found);
+    ck_assert_mem_eq(r, star, sizeof *r * (size_t)m);
+
+    frix_persistent *ps = NULL;
+    ck_assert_int_eq(frix_persistent_create(p, o, &ps), FRIX_OK);
+    memcpy(r, star, sizeof *r * (size_t)m);
+    ck_assert_int_eq(frix_persistent_solve(ps, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    ck_assert_int_eq(frix_info_iterations(info), 0);
+    ck_assert_mem_eq(r, star, sizeof *r * (size_t)m);
+    frix_persistent_free(ps);
+
+    /* Half the answer misses the tolerance: iterated. */
+    for (int64_t i = 0; i < m; ++i) r[i] = 0.5 * star[i];
+    ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_gt(frix_info_iterations(info), 0);
+    /* The answer itself, against a tolerance below its error: iterated too. */
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 0.5 * found), FRIX_OK);
+    memcpy(r, star, sizeof *r * (size_t)m);
+    ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_gt(frix_info_iterations(info), 0);
+    frix_info_free(info);
+    frix_options_free(o);
+    free(star), free(r), free(u);
+    free_sequence(&s);
+}
+
+/* Those of kSolvers that solve the pyramid to 1e-8 from r = 0. */
+static const int kStartSolvers[] = {FRIX_SOLVER_NSGS, FRIX_SOLVER_ADMM, FRIX_SOLVER_IPM, FRIX_SOLVER_IPM_ANM,
+                                    FRIX_SOLVER_AUTO};
+
+START_TEST(test_start_that_solves) { start_that_solves(kStartSolvers[_i]); }
+END_TEST
+
 /* A stack of 40 cubes on 4 contacts a face (160 contacts: sparse systems, above the dense
  * sizes), its frames turned by `turn`. */
 static void make_stack(frix_scene *scene, frix_scene_problems *forms, double turn) {
@@ -611,6 +669,7 @@ int main(void) {
     tcase_add_loop_test(tc, test_same_answers_local, 0, (int)(sizeof kSolvers / sizeof *kSolvers));
     tcase_add_loop_test(tc, test_same_answers_global, 0, (int)(sizeof kSolvers / sizeof *kSolvers));
     tcase_add_test(tc, test_same_answers_native_global);
+    tcase_add_loop_test(tc, test_start_that_solves, 0, (int)(sizeof kStartSolvers / sizeof *kStartSolvers));
     tcase_add_test(tc, test_kept_between_solves);
     tcase_add_test(tc, test_new_pattern);
     tcase_add_test(tc, test_problem_handle_freed);

@@ -21,7 +21,9 @@ extern "C" {
  * options may be NULL (the default solver with its defaults); info may be NULL.
  * Returns FRIX_OK when the solve ran, whatever its status; the status is in info. r and u
  * are always finite on return. A problem with no contacts, or whose contacts all separate
- * (every q_N >= 0 for a local problem), returns r = 0 at once with status CONVERGED.
+ * (every q_N >= 0 for a local problem), returns r = 0 at once with status CONVERGED; a local
+ * problem whose warm start already meets the tolerance returns it unchanged, CONVERGED after
+ * 0 iterations.
  * A local solver on a global problem works on W = H^T M^-1 H; where W would be larger than
  * the memory (a large deformable body makes it dense), FRIX_ERR_OUT_OF_MEMORY at once, before
  * it is formed: gnsn-ac (607) and auto solve such problems without W. A global problem whose M
