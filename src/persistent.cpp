@@ -170,31 +170,50 @@ FRIX_API frix_error frix_persistent_update_global(frix_persistent *ps, const fri
 
 namespace {
 
-// Whether the solver's problem has the law the caller's call is for: the rolling calls carry
-// mu_r, the others do not, and a problem keeps its law for its whole life.
-frix_error check_law(const char *where, const frix_persistent *ps, bool rolling, const char *instead) {
-    if (ps->problem.spinning)
-        return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the problem has spinning friction, which this call does not carry",
-                    where);
-    if (frix::is_rolling(ps->problem) == rolling) return FRIX_OK;
-    return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the problem %s rolling friction (use %s)", where,
-                rolling ? "has no" : "has", instead);
+// A contact law, as the calls that change contacts carry it: mu (Coulomb), mu and mu_r
+// (rolling), or mu, mu_r and mu_s (rolling and spinning).
+enum class Law { Coulomb, Rolling, Spinning };
+
+Law law_of(const frix_problem &p) {
+    return p.spinning ? Law::Spinning : frix::is_rolling(p) ? Law::Rolling : Law::Coulomb;
 }
 
-// The next step's contacts of a local problem (mu_r: nc values for a rolling one).
-frix_error set_contacts_local(const char *where, frix_persistent *ps, const frix_matrix *W, const double *q,
-                              const double *mu, const double *mu_r, int64_t nc, bool rolling) {
+// The call that sets a problem's contacts in its form and law.
+const char *set_contacts_call(bool local, Law law) {
+    switch (law) {
+        case Law::Rolling:
+            return local ? "frix_persistent_set_contacts_rolling_local" : "frix_persistent_set_contacts_rolling_global";
+        case Law::Spinning:
+            return local ? "frix_persistent_set_contacts_spinning_local"
+                         : "frix_persistent_set_contacts_spinning_global";
+        default: return local ? "frix_persistent_set_contacts_local" : "frix_persistent_set_contacts_global";
+    }
+}
+
+const char *law_name(Law law) {
+    return law == Law::Spinning ? "rolling and spinning friction"
+                                : law == Law::Rolling ? "rolling friction" : "Coulomb friction alone";
+}
+
+// The call's form and law against the solver's problem: a problem keeps both for its whole life.
+frix_error check_call(const char *where, const frix_persistent *ps, bool local, Law law) {
     if (!ps) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the persistent solver is NULL", where);
-    if (!frix::is_local_form(ps->problem))
-        return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the problem is global (use %s)", where,
-                    rolling ? "frix_persistent_set_contacts_rolling_global" : "frix_persistent_set_contacts_global");
-    const char *instead =
-        rolling ? "frix_persistent_set_contacts_local" : "frix_persistent_set_contacts_rolling_local";
-    if (frix_error e = check_law(where, ps, rolling, instead)) return e;
+    const bool is_local = frix::is_local_form(ps->problem);
+    const Law has = law_of(ps->problem);
+    if (is_local == local && has == law) return FRIX_OK;
+    return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the problem is %s with %s (use %s)", where,
+                is_local ? "local" : "global", law_name(has), set_contacts_call(is_local, has));
+}
+
+// The next step's contacts of a local problem (mu_r, mu_s: nc values where the law has them).
+frix_error set_contacts_local(const char *where, frix_persistent *ps, const frix_matrix *W, const double *q,
+                              const double *mu, const double *mu_r, const double *mu_s, int64_t nc, Law law) {
+    if (frix_error e = check_call(where, ps, true, law)) return e;
     frix_problem *check = nullptr;
-    if (frix_error e = rolling ? frix::make_rolling_local_problem(W, q, mu, mu_r, nc, &check)
-                               : frix::make_local_problem(W, q, mu, nc, &check))
-        return e;
+    const frix_error e = law == Law::Spinning ? frix::make_spinning_local_problem(W, q, mu, mu_r, mu_s, nc, &check)
+                         : law == Law::Rolling ? frix::make_rolling_local_problem(W, q, mu, mu_r, nc, &check)
+                                               : frix::make_local_problem(W, q, mu, nc, &check);
+    if (e) return e;
     copy_views(*check, ps->problem);
     frix_problem_free(check);
     // Every kept state was built for the old contacts: the versions say they are stale.
@@ -206,23 +225,32 @@ frix_error set_contacts_local(const char *where, frix_persistent *ps, const frix
 
 // The same for a global problem: M, its factorisation and f stay.
 frix_error set_contacts_global(const char *where, frix_persistent *ps, const frix_matrix *H, const double *w,
-                               const double *mu, const double *mu_r, int64_t nc, bool rolling) {
-    if (!ps) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the persistent solver is NULL", where);
-    if (frix::is_local_form(ps->problem))
-        return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the problem is local (use %s)", where,
-                    rolling ? "frix_persistent_set_contacts_rolling_local" : "frix_persistent_set_contacts_local");
-    const char *instead =
-        rolling ? "frix_persistent_set_contacts_global" : "frix_persistent_set_contacts_rolling_global";
-    if (frix_error e = check_law(where, ps, rolling, instead)) return e;
+                               const double *mu, const double *mu_r, const double *mu_s, int64_t nc, Law law) {
+    if (frix_error e = check_call(where, ps, false, law)) return e;
     const frix_problem &p = ps->problem;
     frix_problem *check = nullptr;
-    if (frix_error e = rolling ? frix::make_rolling_global_problem(p.M, H, p.f, w, mu, mu_r, nc, &check)
-                               : frix::make_global_problem(p.M, H, p.f, w, mu, nc, &check))
-        return e;
+    const frix_error e =
+        law == Law::Spinning ? frix::make_spinning_global_problem(p.M, H, p.f, w, mu, mu_r, mu_s, nc, &check)
+        : law == Law::Rolling ? frix::make_rolling_global_problem(p.M, H, p.f, w, mu, mu_r, nc, &check)
+                              : frix::make_global_problem(p.M, H, p.f, w, mu, nc, &check);
+    if (e) return e;
     copy_views(*check, ps->problem);
     frix_problem_free(check);
     // M's factorisation follows M's version, which stays; what was formed from H does not.
     ++ps->cache.h_values;
+    return FRIX_OK;
+}
+
+// Replaces the coefficients `field` (nc values, named `name`) of a problem whose law has them.
+frix_error update_coefficients(const char *where, frix_persistent *ps, const double *x, const char *name,
+                               const double *frix_problem::*field, Law needs) {
+    if (!ps) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the persistent solver is NULL", where);
+    const Law has = law_of(ps->problem);
+    if (has == Law::Coulomb || (needs == Law::Spinning && has != Law::Spinning))
+        return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the problem has no %s", where,
+                    needs == Law::Spinning ? "spinning friction" : "rolling friction");
+    if (frix_error e = frix::check_mu(where, x, ps->problem.nc, name)) return e;
+    ps->problem.*field = x;
     return FRIX_OK;
 }
 
@@ -233,38 +261,55 @@ extern "C" {
 FRIX_API frix_error frix_persistent_set_contacts_local(frix_persistent *ps, const frix_matrix *W, const double *q,
                                                        const double *mu, int64_t nc) {
     const char *where = "frix_persistent_set_contacts_local";
-    return frix::guard(where, [&] { return set_contacts_local(where, ps, W, q, mu, nullptr, nc, false); });
+    return frix::guard(where, [&] { return set_contacts_local(where, ps, W, q, mu, nullptr, nullptr, nc, Law::Coulomb); });
 }
 
 FRIX_API frix_error frix_persistent_set_contacts_global(frix_persistent *ps, const frix_matrix *H, const double *w,
                                                         const double *mu, int64_t nc) {
     const char *where = "frix_persistent_set_contacts_global";
-    return frix::guard(where, [&] { return set_contacts_global(where, ps, H, w, mu, nullptr, nc, false); });
+    return frix::guard(where, [&] { return set_contacts_global(where, ps, H, w, mu, nullptr, nullptr, nc, Law::Coulomb); });
 }
 
 FRIX_API frix_error frix_persistent_set_contacts_rolling_local(frix_persistent *ps, const frix_matrix *W,
                                                                const double *q, const double *mu, const double *mu_r,
                                                                int64_t nc) {
     const char *where = "frix_persistent_set_contacts_rolling_local";
-    return frix::guard(where, [&] { return set_contacts_local(where, ps, W, q, mu, mu_r, nc, true); });
+    return frix::guard(where, [&] { return set_contacts_local(where, ps, W, q, mu, mu_r, nullptr, nc, Law::Rolling); });
 }
 
 FRIX_API frix_error frix_persistent_set_contacts_rolling_global(frix_persistent *ps, const frix_matrix *H,
                                                                 const double *w, const double *mu,
                                                                 const double *mu_r, int64_t nc) {
     const char *where = "frix_persistent_set_contacts_rolling_global";
-    return frix::guard(where, [&] { return set_contacts_global(where, ps, H, w, mu, mu_r, nc, true); });
+    return frix::guard(where, [&] { return set_contacts_global(where, ps, H, w, mu, mu_r, nullptr, nc, Law::Rolling); });
+}
+
+FRIX_API frix_error frix_persistent_set_contacts_spinning_local(frix_persistent *ps, const frix_matrix *W,
+                                                                const double *q, const double *mu,
+                                                                const double *mu_r, const double *mu_s, int64_t nc) {
+    const char *where = "frix_persistent_set_contacts_spinning_local";
+    return frix::guard(where, [&] { return set_contacts_local(where, ps, W, q, mu, mu_r, mu_s, nc, Law::Spinning); });
+}
+
+FRIX_API frix_error frix_persistent_set_contacts_spinning_global(frix_persistent *ps, const frix_matrix *H,
+                                                                 const double *w, const double *mu,
+                                                                 const double *mu_r, const double *mu_s,
+                                                                 int64_t nc) {
+    const char *where = "frix_persistent_set_contacts_spinning_global";
+    return frix::guard(where,
+                       [&] { return set_contacts_global(where, ps, H, w, mu, mu_r, mu_s, nc, Law::Spinning); });
 }
 
 FRIX_API frix_error frix_persistent_update_mu_r(frix_persistent *ps, const double *mu_r) {
     const char *where = "frix_persistent_update_mu_r";
-    return frix::guard(where, [&]() -> frix_error {
-        if (!ps) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the persistent solver is NULL", where);
-        if (!frix::is_rolling(ps->problem))
-            return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the problem has no rolling friction", where);
-        if (frix_error e = frix::check_mu(where, mu_r, ps->problem.nc, "mu_r")) return e;
-        ps->problem.mu_r = mu_r;
-        return FRIX_OK;
+    return frix::guard(where,
+                       [&] { return update_coefficients(where, ps, mu_r, "mu_r", &frix_problem::mu_r, Law::Rolling); });
+}
+
+FRIX_API frix_error frix_persistent_update_mu_s(frix_persistent *ps, const double *mu_s) {
+    const char *where = "frix_persistent_update_mu_s";
+    return frix::guard(where, [&] {
+        return update_coefficients(where, ps, mu_s, "mu_s", &frix_problem::mu_s, Law::Spinning);
     });
 }
 

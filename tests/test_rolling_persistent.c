@@ -251,6 +251,9 @@ START_TEST(test_bad_input) {
                    FRIX_ERR_INVALID_ARGUMENT, "the problem is global");
     assert_refused(frix_persistent_update_local(ps, NULL, pile.q, NULL), FRIX_ERR_INVALID_ARGUMENT,
                    "the problem is global");
+    assert_refused(frix_persistent_set_contacts_spinning_global(ps, pile.H, pile.w, pile.mu, pile.mu_r, pile.mu_r, nc),
+                   FRIX_ERR_INVALID_ARGUMENT, "frix_persistent_set_contacts_rolling_global");
+    assert_refused(frix_persistent_update_mu_s(ps, pile.mu_r), FRIX_ERR_INVALID_ARGUMENT, "no spinning friction");
     /* Nothing was taken: the next solve is the first's. */
     answer again = persistent_solve(ps, nc, n, NULL);
     assert_same(&first, &again, nc, n);

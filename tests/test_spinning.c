@@ -111,11 +111,43 @@ START_TEST(test_measure_by_hand) {
 }
 END_TEST
 
+/* The persistent solver's calls of the six-entry law: they take its contacts and coefficients,
+ * and refuse those of another law or form, naming the call to use. */
+START_TEST(test_persistent_calls) {
+    frix_matrix *W = identity(12), *W10 = identity(10);
+    double q[12] = {-1, 0, 0, 0, 0, 0.05, -1, 0, 0, 0, 0, 0};
+    double mu[2] = {0.3, 0.3}, mu_r[2] = {0.01, 0.02}, mu_s[2] = {0.001, 0.002}, neg[2] = {0.001, -1.0};
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_problem_spinning_local(W, q, mu, mu_r, mu_s, 2, &p), FRIX_OK);
+    frix_persistent *ps = NULL;
+    ck_assert_int_eq(frix_persistent_create(p, NULL, &ps), FRIX_OK);
+    ck_assert_int_eq(frix_persistent_update_mu_s(ps, mu_s), FRIX_OK);
+    ck_assert_int_eq(frix_persistent_update_mu_r(ps, mu_r), FRIX_OK);
+    ck_assert_int_eq(frix_persistent_update_mu_s(ps, neg), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert(strstr(frix_last_error_message(), "mu_s[1]") != NULL);
+    ck_assert_int_eq(frix_persistent_set_contacts_spinning_local(ps, W, q, mu, mu_r, mu_s, 2), FRIX_OK);
+    ck_assert_int_eq(frix_persistent_set_contacts_spinning_local(ps, W, q, mu, mu_r, NULL, 2),
+                     FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert(strstr(frix_last_error_message(), "mu_s is NULL") != NULL);
+    ck_assert_int_eq(frix_persistent_set_contacts_spinning_local(ps, W10, q, mu, mu_r, mu_s, 2), FRIX_ERR_DIMENSION);
+    ck_assert_int_eq(frix_persistent_set_contacts_rolling_local(ps, W10, q, mu, mu_r, 2), FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert(strstr(frix_last_error_message(), "frix_persistent_set_contacts_spinning_local") != NULL);
+    ck_assert_int_eq(frix_persistent_set_contacts_spinning_global(ps, W, q, mu, mu_r, mu_s, 2),
+                     FRIX_ERR_INVALID_ARGUMENT);
+    ck_assert(strstr(frix_last_error_message(), "the problem is local") != NULL);
+    frix_persistent_free(ps);
+    frix_problem_free(p);
+    frix_matrix_free(W10);
+    frix_matrix_free(W);
+}
+END_TEST
+
 int main(void) {
     Suite *s = suite_create("spinning");
     TCase *tc = tcase_create("core");
     tcase_add_test(tc, test_validation);
     tcase_add_test(tc, test_measure_by_hand);
+    tcase_add_test(tc, test_persistent_calls);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

@@ -667,6 +667,25 @@ module frix
       type(c_ptr), value :: ps, mu_r
       integer(c_int) :: frix_persistent_update_mu_r
     end function
+    function frix_persistent_set_contacts_spinning_local(ps, W, q, mu, mu_r, mu_s, nc) &
+         bind(C, name='frix_persistent_set_contacts_spinning_local')
+      import :: c_ptr, c_int, c_int64_t
+      type(c_ptr), value :: ps, W, q, mu, mu_r, mu_s
+      integer(c_int64_t), value :: nc
+      integer(c_int) :: frix_persistent_set_contacts_spinning_local
+    end function
+    function frix_persistent_set_contacts_spinning_global(ps, H, w, mu, mu_r, mu_s, nc) &
+         bind(C, name='frix_persistent_set_contacts_spinning_global')
+      import :: c_ptr, c_int, c_int64_t
+      type(c_ptr), value :: ps, H, w, mu, mu_r, mu_s
+      integer(c_int64_t), value :: nc
+      integer(c_int) :: frix_persistent_set_contacts_spinning_global
+    end function
+    function frix_persistent_update_mu_s(ps, mu_s) bind(C, name='frix_persistent_update_mu_s')
+      import :: c_ptr, c_int
+      type(c_ptr), value :: ps, mu_s
+      integer(c_int) :: frix_persistent_update_mu_s
+    end function
     ! What auto did, one line per step (a C string owned by info: frix_fstr copies it).
     function frix_info_trace(info) bind(C, name='frix_info_trace')
       import :: c_ptr

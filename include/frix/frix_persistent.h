@@ -35,7 +35,9 @@
  * u have 5 entries a contact, and so do the sizes the updates check (W 5nc x 5nc, q and w 5nc,
  * H n x 5nc); mu_r is borrowed as mu is, replaced by frix_persistent_update_mu_r, and the
  * contacts change by frix_persistent_set_contacts_rolling_*, which take the new contacts' mu_r.
- * A problem keeps its law: the calls of the other law refuse it (FRIX_ERR_INVALID_ARGUMENT).
+ * With spinning friction (6 entries a contact), frix_persistent_update_mu_s and
+ * frix_persistent_set_contacts_spinning_* carry mu_s as well. A problem keeps its law: the calls
+ * of another law refuse it (FRIX_ERR_INVALID_ARGUMENT).
  *
  * Threads. One persistent solver is used by one thread at a time (solve and update change
  * it); distinct persistent solvers may run in parallel, also on the same borrowed data,
@@ -103,8 +105,8 @@ FRIX_API frix_error frix_persistent_set_contacts_global(frix_persistent *ps, con
 /* The next step's contacts of a rolling problem, nc of them: as frix_persistent_set_contacts_*
  * with 5 entries a contact (W: 5nc x 5nc; q, w: 5nc; H: n x 5nc) and mu_r (nc values, each
  * >= 0), checked as by frix_problem_rolling_local / _global. FRIX_ERR_INVALID_ARGUMENT on a
- * solver of a problem of the other form or without rolling friction; on any error nothing is
- * replaced. */
+ * solver of a problem of the other form or of another law (without rolling friction, or with
+ * spinning friction); on any error nothing is replaced. */
 FRIX_API frix_error frix_persistent_set_contacts_rolling_local(frix_persistent *ps, const frix_matrix *W,
                                                                const double *q, const double *mu,
                                                                const double *mu_r, int64_t nc);
@@ -114,6 +116,22 @@ FRIX_API frix_error frix_persistent_set_contacts_rolling_global(frix_persistent 
 /* The rolling coefficients of the current contacts (nc values, each >= 0) replace the current
  * ones; FRIX_ERR_INVALID_ARGUMENT on a solver of a problem without rolling friction. */
 FRIX_API frix_error frix_persistent_update_mu_r(frix_persistent *ps, const double *mu_r);
+
+/* The next step's contacts of a problem with rolling and spinning friction: as the rolling calls
+ * with 6 entries a contact (W: 6nc x 6nc; q, w: 6nc; H: n x 6nc) and mu_s (nc values, each >= 0),
+ * checked as by frix_problem_spinning_local / _global. FRIX_ERR_INVALID_ARGUMENT on a solver of
+ * a problem of the other form or of another law; on any error nothing is replaced. */
+FRIX_API frix_error frix_persistent_set_contacts_spinning_local(frix_persistent *ps, const frix_matrix *W,
+                                                                const double *q, const double *mu,
+                                                                const double *mu_r, const double *mu_s,
+                                                                int64_t nc);
+FRIX_API frix_error frix_persistent_set_contacts_spinning_global(frix_persistent *ps, const frix_matrix *H,
+                                                                 const double *w, const double *mu,
+                                                                 const double *mu_r, const double *mu_s,
+                                                                 int64_t nc);
+/* The spinning coefficients of the current contacts (nc values, each >= 0) replace the current
+ * ones; FRIX_ERR_INVALID_ARGUMENT on a solver of a problem without spinning friction. */
+FRIX_API frix_error frix_persistent_update_mu_s(frix_persistent *ps, const double *mu_s);
 
 #ifdef __cplusplus
 }
