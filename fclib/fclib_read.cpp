@@ -1,6 +1,7 @@
 // frix_fclib_read: an FCLIB file's local (/fclib_local) or global (/fclib_global) problem, or
 // a rolling-friction one (/fclib_global_rolling, FCLIB's and Siconos's; /fclib_local_rolling,
-// frix's, the local group with mu_r; docs/rolling.md).
+// frix's, the local group with mu_r; docs/rolling.md), with spinning friction when its spacedim
+// is 6 (frix's extension: mu_s in vectors).
 #include <frix/frix.h>
 
 #include <memory>
@@ -19,18 +20,29 @@ namespace {
 
 using ProblemPtr = std::unique_ptr<frix_problem, void (*)(frix_problem *)>;
 
-// Which group the file holds: the entries a contact (spacedim) and whether mu_r comes along.
+// Which group the file holds: the entries a contact (spacedim; 5 for a rolling group, which
+// may say 6) and whether mu_r comes along.
 struct Group {
     std::string root;
     int dim;
     bool rolling;
 };
 
-void check_spacedim(const FileReader &file, const Group &g) {
+// The entries a contact: the group's, or for a rolling group 5 or 6 (spinning friction, with
+// vectors/mu_s). A rolling group of spacedim 5 with mu_s says two things and is refused.
+int read_spacedim(const FileReader &file, const Group &g) {
     const int64_t d = file.read_int_scalar(g.root + "/spacedim");
-    if (d != g.dim)
-        raise(FRIX_ERR_UNSUPPORTED, "'%s': %s/spacedim is %lld; frix solves 3D %scontact (spacedim %d)",
-              file.path(), g.root.c_str(), static_cast<long long>(d), g.rolling ? "rolling-friction " : "", g.dim);
+    const bool spinning = g.rolling && d == 6;
+    if (d != g.dim && !spinning)
+        raise(FRIX_ERR_UNSUPPORTED, "'%s': %s/spacedim is %lld; frix solves 3D %scontact (spacedim %s)",
+              file.path(), g.root.c_str(), static_cast<long long>(d), g.rolling ? "rolling-friction " : "",
+              g.rolling ? "5, or 6 with spinning friction" : "3");
+    if (g.rolling && !spinning && file.exists(g.root + "/vectors/mu_s"))
+        raise(FRIX_ERR_FORMAT,
+              "'%s': %s/spacedim is 5 (no spinning friction) but the group has vectors/mu_s, which "
+              "needs spacedim 6",
+              file.path(), g.root.c_str());
+    return static_cast<int>(d);
 }
 
 void check_mu(const FileReader &file, const std::string &name, const std::vector<double> &mu) {
@@ -49,19 +61,29 @@ int64_t contacts_of(const FileReader &file, const std::string &matrix, int64_t c
     return contact_dofs / dim;
 }
 
-// mu, and mu_r for a rolling group: nc values each, >= 0.
-void read_coefficients(const FileReader &file, const Group &g, int64_t nc, const std::string &counted,
-                       std::vector<double> &mu, std::vector<double> &mu_r) {
-    mu = file.read_vector(g.root + "/vectors/mu", nc, counted.c_str());
-    check_mu(file, g.root + "/vectors/mu", mu);
-    if (!g.rolling) return;
-    mu_r = file.read_vector(g.root + "/vectors/mu_r", nc, counted.c_str());
-    check_mu(file, g.root + "/vectors/mu_r", mu_r);
+// The friction coefficients: mu, mu_r for a rolling group, mu_s with spinning friction (nc
+// values each, >= 0).
+struct Coefficients {
+    std::vector<double> mu, mu_r, mu_s;
+};
+
+Coefficients read_coefficients(const FileReader &file, const Group &g, int dim, int64_t nc,
+                               const std::string &counted) {
+    Coefficients c;
+    const char *names[3] = {"mu", "mu_r", "mu_s"};
+    std::vector<double> *values[3] = {&c.mu, &c.mu_r, &c.mu_s};
+    const int count = !g.rolling ? 1 : dim == 6 ? 3 : 2;
+    for (int k = 0; k < count; ++k) {
+        const std::string name = g.root + "/vectors/" + names[k];
+        *values[k] = file.read_vector(name, nc, counted.c_str());
+        check_mu(file, name, *values[k]);
+    }
+    return c;
 }
 
 ProblemPtr read_local(const FileReader &file, const Group &g) {
     const std::string &root = g.root;
-    check_spacedim(file, g);
+    const int dim = read_spacedim(file, g);
     if (file.exists(root + "/V") || file.exists(root + "/R"))
         raise(FRIX_ERR_UNSUPPORTED,
               "'%s': the local problem has V and R (equality constraints), which frix does not "
@@ -71,17 +93,21 @@ ProblemPtr read_local(const FileReader &file, const Group &g) {
     if (W.m != W.n)
         raise(FRIX_ERR_FORMAT, "'%s': %s is %lld x %lld, expected square", file.path(),
               W.group.c_str(), static_cast<long long>(W.m), static_cast<long long>(W.n));
-    const int64_t nc = contacts_of(file, W.group, W.m, "rows", g.dim);
+    const int64_t nc = contacts_of(file, W.group, W.m, "rows", dim);
     std::vector<double> q = file.read_vector(root + "/vectors/q", W.m, ("rows of " + W.group).c_str());
-    std::vector<double> mu, mu_r;
-    read_coefficients(file, g, nc, "contacts: rows of " + W.group + " / " + std::to_string(g.dim), mu, mu_r);
+    Coefficients c = read_coefficients(file, g, dim, nc, "contacts: rows of " + W.group + " / " + std::to_string(dim));
     std::unique_ptr<frix_matrix> matrix = read_matrix(file, W);
 
     frix_problem *raw = nullptr;
-    const frix_error err =
-        g.rolling ? make_owned_rolling_local_problem(std::move(matrix), std::move(q), std::move(mu), std::move(mu_r),
-                                                     &raw)
-                  : make_owned_local_problem(std::move(matrix), std::move(q), std::move(mu), &raw);
+    frix_error err;
+    if (dim == 6)
+        err = make_owned_spinning_local_problem(std::move(matrix), std::move(q), std::move(c.mu), std::move(c.mu_r),
+                                                std::move(c.mu_s), &raw);
+    else if (g.rolling)
+        err = make_owned_rolling_local_problem(std::move(matrix), std::move(q), std::move(c.mu), std::move(c.mu_r),
+                                               &raw);
+    else
+        err = make_owned_local_problem(std::move(matrix), std::move(q), std::move(c.mu), &raw);
     ProblemPtr problem(raw, frix_problem_free);
     if (err != FRIX_OK) raise_from_core(err, std::string("'") + file.path() + "'");
     return problem;
@@ -89,7 +115,7 @@ ProblemPtr read_local(const FileReader &file, const Group &g) {
 
 ProblemPtr read_global(const FileReader &file, const Group &g) {
     const std::string &root = g.root;
-    check_spacedim(file, g);
+    const int dim = read_spacedim(file, g);
     if (file.exists(root + "/G"))
         raise(FRIX_ERR_UNSUPPORTED,
               "'%s': the global problem has G (equality constraints), which frix does not solve",
@@ -103,20 +129,25 @@ ProblemPtr read_global(const FileReader &file, const Group &g) {
         raise(FRIX_ERR_FORMAT, "'%s': %s has %lld rows, expected %lld (the size of %s)",
               file.path(), H.group.c_str(), static_cast<long long>(H.m),
               static_cast<long long>(M.m), M.group.c_str());
-    const int64_t nc = contacts_of(file, H.group, H.n, "columns", g.dim);
+    const int64_t nc = contacts_of(file, H.group, H.n, "columns", dim);
     std::vector<double> f = file.read_vector(root + "/vectors/f", M.m, ("size of " + M.group).c_str());
     std::vector<double> w = file.read_vector(root + "/vectors/w", H.n, ("columns of " + H.group).c_str());
-    std::vector<double> mu, mu_r;
-    read_coefficients(file, g, nc, "contacts: columns of " + H.group + " / " + std::to_string(g.dim), mu, mu_r);
+    Coefficients c =
+        read_coefficients(file, g, dim, nc, "contacts: columns of " + H.group + " / " + std::to_string(dim));
     std::unique_ptr<frix_matrix> Mm = read_matrix(file, M);
     std::unique_ptr<frix_matrix> Hm = read_matrix(file, H);
 
     frix_problem *raw = nullptr;
-    const frix_error err =
-        g.rolling ? make_owned_rolling_global_problem(std::move(Mm), std::move(Hm), std::move(f), std::move(w),
-                                                      std::move(mu), std::move(mu_r), &raw)
-                  : make_owned_global_problem(std::move(Mm), std::move(Hm), std::move(f), std::move(w),
-                                              std::move(mu), &raw);
+    frix_error err;
+    if (dim == 6)
+        err = make_owned_spinning_global_problem(std::move(Mm), std::move(Hm), std::move(f), std::move(w),
+                                                 std::move(c.mu), std::move(c.mu_r), std::move(c.mu_s), &raw);
+    else if (g.rolling)
+        err = make_owned_rolling_global_problem(std::move(Mm), std::move(Hm), std::move(f), std::move(w),
+                                                std::move(c.mu), std::move(c.mu_r), &raw);
+    else
+        err = make_owned_global_problem(std::move(Mm), std::move(Hm), std::move(f), std::move(w), std::move(c.mu),
+                                        &raw);
     ProblemPtr problem(raw, frix_problem_free);
     if (err != FRIX_OK) raise_from_core(err, std::string("'") + file.path() + "'");
     return problem;

@@ -133,7 +133,8 @@ std::vector<unsigned char> build_file(const char *path, const frix_problem &prob
     Session session;
     FileWriter file(path, deflate_level);
     // A rolling problem: FCLIB's /fclib_global_rolling, or frix's /fclib_local_rolling (the
-    // local group with mu_r), spacedim 5 (docs/rolling.md).
+    // local group with mu_r), spacedim 5; with spinning friction spacedim 6 and mu_s, frix's
+    // extension (docs/rolling.md).
     const std::string root = std::string(global ? "/fclib_global" : "/fclib_local") + (rolling ? "_rolling" : "");
     file.create_group(root);
     file.write_int32_scalar(root + "/spacedim", contact_size(problem));
@@ -149,6 +150,7 @@ std::vector<unsigned char> build_file(const char *path, const frix_problem &prob
     }
     file.write_doubles(root + "/vectors/mu", problem.mu, problem.nc);
     if (rolling) file.write_doubles(root + "/vectors/mu_r", problem.mu_r, problem.nc);
+    if (problem.spinning) file.write_doubles(root + "/vectors/mu_s", problem.mu_s, problem.nc);
     write_info(file, root, problem);
 
     if (e.with_solution) write_vectors(file, "/solution", e.solution, m, n);

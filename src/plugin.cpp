@@ -97,6 +97,7 @@ const frix_plugin_table kTableV1 = {
     nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
     nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
     nullptr, nullptr, nullptr,
+    nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
 };
 
 #define FRIX_TABLE_V2_FUNCTIONS \
@@ -113,6 +114,7 @@ const frix_plugin_table kTableV2 = {
     nullptr, nullptr, nullptr, nullptr, nullptr,
     nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
     nullptr, nullptr, nullptr,
+    nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
 };
 
 #define FRIX_TABLE_V3_FUNCTIONS \
@@ -126,6 +128,7 @@ const frix_plugin_table kTableV3 = {
     nullptr, nullptr, nullptr,
     nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
     nullptr, nullptr, nullptr,
+    nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
 };
 
 #define FRIX_TABLE_V4_FUNCTIONS \
@@ -139,24 +142,40 @@ const frix_plugin_table kTableV4 = {
     offsetof(frix_plugin_table, problem_rolling_local), 4, FRIX_VERSION_NUMBER, FRIX_TABLE_V4_FUNCTIONS,
     nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
     nullptr, nullptr, nullptr,
+    nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
 };
 
+#define FRIX_TABLE_V5_FUNCTIONS \
+    FRIX_TABLE_V4_FUNCTIONS,\
+    frix_problem_rolling_local,\
+    frix_problem_rolling_global,\
+    frix_problem_mu_r,\
+    frix_problem_set_description,\
+    frix_problem_description,\
+    frix_problem_set_math_info,\
+    frix_problem_math_info,\
+    frix_fclib_write_compressed,\
+    frix_persistent_set_contacts_rolling_local,\
+    frix_persistent_set_contacts_rolling_global,\
+    frix_persistent_update_mu_r
+
+// Version 5 ends where version 6's members begin.
 const frix_plugin_table kTableV5 = {
+    offsetof(frix_plugin_table, problem_spinning_local), 5, FRIX_VERSION_NUMBER, FRIX_TABLE_V5_FUNCTIONS,
+    nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
+};
+
+const frix_plugin_table kTableV6 = {
     sizeof(frix_plugin_table),
-    5,
+    6,
     FRIX_VERSION_NUMBER,
-    FRIX_TABLE_V4_FUNCTIONS,
-    frix_problem_rolling_local,
-    frix_problem_rolling_global,
-    frix_problem_mu_r,
-    frix_problem_set_description,
-    frix_problem_description,
-    frix_problem_set_math_info,
-    frix_problem_math_info,
-    frix_fclib_write_compressed,
-    frix_persistent_set_contacts_rolling_local,
-    frix_persistent_set_contacts_rolling_global,
-    frix_persistent_update_mu_r,
+    FRIX_TABLE_V5_FUNCTIONS,
+    frix_problem_spinning_local,
+    frix_problem_spinning_global,
+    frix_problem_mu_s,
+    frix_persistent_set_contacts_spinning_local,
+    frix_persistent_set_contacts_spinning_global,
+    frix_persistent_update_mu_s,
 };
 
 }  // namespace
@@ -169,6 +188,7 @@ extern "C" FRIX_API const frix_plugin_table *frix_plugin_api(int requested_abi_v
         else if (requested_abi_version == 3) table = &kTableV3;
         else if (requested_abi_version == 4) table = &kTableV4;
         else if (requested_abi_version == 5) table = &kTableV5;
+        else if (requested_abi_version == 6) table = &kTableV6;
         else
             return frix::fail(FRIX_ERR_UNSUPPORTED,
                               "frix_plugin_api: table ABI version %d requested; libfrix %s serves "

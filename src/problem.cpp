@@ -31,8 +31,8 @@ frix_error check_mu(const char *where, const double *mu, int64_t nc, const char 
 
 frix_error refuse_rolling(const frix_problem &p, const char *where) {
     if (!is_rolling(p)) return FRIX_OK;
-    return fail(FRIX_ERR_UNSUPPORTED, "%s: rolling-friction problems are not supported here (see frix_problem.h)",
-                where);
+    return fail(FRIX_ERR_UNSUPPORTED, "%s: rolling-friction problems%s are not supported here (see frix_problem.h)",
+                where, p.spinning ? " (this one with spinning friction)" : "");
 }
 
 }  // namespace frix

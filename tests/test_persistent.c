@@ -507,12 +507,14 @@ END_TEST
 
 START_TEST(test_plugin_table_versions) {
     const frix_plugin_table *v1 = frix_plugin_api(1), *v2 = frix_plugin_api(2), *v3 = frix_plugin_api(3),
-                            *v4 = frix_plugin_api(4), *v5 = frix_plugin_api(5);
+                            *v4 = frix_plugin_api(4), *v5 = frix_plugin_api(5), *v6 = frix_plugin_api(6);
     ck_assert_ptr_nonnull(v1);
     ck_assert_ptr_nonnull(v2);
     ck_assert_ptr_nonnull(v3);
     ck_assert_ptr_nonnull(v4);
     ck_assert_ptr_nonnull(v5);
+    ck_assert_ptr_nonnull(v6);
+    ck_assert_int_eq(v6->abi_version, 6);
     ck_assert_int_eq(v5->abi_version, 5);
     ck_assert_int_eq(v4->abi_version, 4);
     ck_assert_int_eq(v1->abi_version, 1);
@@ -522,7 +524,18 @@ START_TEST(test_plugin_table_versions) {
     ck_assert_uint_eq(v2->size, offsetof(frix_plugin_table, persistent_set_contacts_local));
     ck_assert_uint_eq(v3->size, offsetof(frix_plugin_table, option_choice_name));
     ck_assert_uint_eq(v4->size, offsetof(frix_plugin_table, problem_rolling_local));
-    ck_assert_uint_eq(v5->size, sizeof(frix_plugin_table));
+    ck_assert_uint_eq(v5->size, offsetof(frix_plugin_table, problem_spinning_local));
+    ck_assert_uint_eq(v6->size, sizeof(frix_plugin_table));
+    ck_assert(FRIX_PLUGIN_HAS(v5, persistent_update_mu_r));
+    ck_assert(!FRIX_PLUGIN_HAS(v5, problem_spinning_local));
+    ck_assert(FRIX_PLUGIN_HAS(v6, persistent_update_mu_s));
+    ck_assert_ptr_eq(v6->problem_spinning_local, frix_problem_spinning_local);
+    ck_assert_ptr_eq(v6->problem_spinning_global, frix_problem_spinning_global);
+    ck_assert_ptr_eq(v6->problem_mu_s, frix_problem_mu_s);
+    ck_assert_ptr_eq(v6->persistent_set_contacts_spinning_local, frix_persistent_set_contacts_spinning_local);
+    ck_assert_ptr_eq(v6->persistent_set_contacts_spinning_global, frix_persistent_set_contacts_spinning_global);
+    ck_assert_ptr_eq(v6->persistent_update_mu_s, frix_persistent_update_mu_s);
+    ck_assert_ptr_eq(v6->problem_rolling_local, v5->problem_rolling_local);
     ck_assert(!FRIX_PLUGIN_HAS(v4, problem_rolling_local));
     ck_assert(FRIX_PLUGIN_HAS(v5, fclib_write_compressed));
     ck_assert_ptr_eq(v5->problem_rolling_global, frix_problem_rolling_global);
@@ -539,7 +552,7 @@ START_TEST(test_plugin_table_versions) {
     ck_assert_ptr_eq(v2->persistent_solve, frix_persistent_solve);
     ck_assert_ptr_eq(v3->persistent_set_contacts_global, frix_persistent_set_contacts_global);
     ck_assert_ptr_eq(v1->solve, v2->solve);
-    ck_assert_ptr_null(frix_plugin_api(6));
+    ck_assert_ptr_null(frix_plugin_api(7));
     ck_assert_ptr_null(frix_plugin_api(0));
 }
 END_TEST
@@ -568,6 +581,46 @@ START_TEST(test_plugin_table_rolling) {
     ck_assert_double_eq_tol(u[0], 0.0, 1e-8);
     fx->info_free(info);
     fx->problem_free(p);
+    fx->matrix_free(W);
+}
+END_TEST
+
+/* A problem with spinning friction made and measured through the version-6 table alone: W = I,
+ * q = (-1, 0, 0, 0, 0, 0.05), mu_s = 0.02: r = (1, 0, 0, 0, 0, -0.02) spins against w_S = 0.03
+ * on the spinning bound, error 0 (tests/test_spinning.c works the case by hand). */
+START_TEST(test_plugin_table_spinning) {
+    const frix_plugin_table *fx = frix_plugin_api(6);
+    ck_assert(FRIX_PLUGIN_HAS(fx, problem_spinning_local));
+    double dense[36] = {0}, q[6] = {-1.0, 0.0, 0.0, 0.0, 0.0, 0.05}, mu = 0.5, mu_r = 0.01, mu_s = 0.02;
+    for (int i = 0; i < 6; ++i) dense[7 * i] = 1.0;
+    frix_matrix *W = NULL;
+    ck_assert_int_eq(fx->matrix_from_dense(6, 6, dense, 6, &W), FRIX_OK);
+    frix_problem *p = NULL;
+    ck_assert_int_eq(fx->problem_spinning_local(W, q, &mu, &mu_r, &mu_s, 1, &p), FRIX_OK);
+    ck_assert_int_eq(fx->problem_get_kind(p), FRIX_PROBLEM_ROLLING_LOCAL);
+    ck_assert_int_eq(fx->problem_contact_dofs(p), 6);
+    ck_assert_double_eq(fx->problem_mu_s(p)[0], 0.02);
+    double r[6] = {1.0, 0.0, 0.0, 0.0, 0.0, -0.02}, u[6] = {0}, e = NAN;
+    frix_info *info = NULL;
+    ck_assert_int_eq(fx->info_create(&info), FRIX_OK);
+    ck_assert_int_eq(fx->problem_measure(p, r, NULL, u, info), FRIX_OK);
+    ck_assert_int_eq(fx->info_get_double(info, FRIX_INFO_ERROR_RELATIVE, &e), FRIX_OK);
+    ck_assert_double_le(e, 1e-15);
+    ck_assert_double_eq_tol(u[5], 0.03, 1e-15);
+    /* The global form, and the rolling constructor's refusal of six entries a contact. */
+    frix_matrix *M = NULL, *H = NULL;
+    ck_assert_int_eq(fx->matrix_from_dense(6, 6, dense, 6, &M), FRIX_OK);
+    ck_assert_int_eq(fx->matrix_from_dense(6, 6, dense, 6, &H), FRIX_OK);
+    double f[6] = {0}, w[6] = {0};
+    frix_problem *g = NULL;
+    ck_assert_int_eq(fx->problem_spinning_global(M, H, f, w, &mu, &mu_r, &mu_s, 1, &g), FRIX_OK);
+    ck_assert_ptr_eq(fx->problem_mu_s(g), &mu_s);
+    fx->problem_free(g);
+    ck_assert_int_eq(fx->problem_rolling_local(W, q, &mu, &mu_r, 1, &g), FRIX_ERR_DIMENSION);
+    fx->info_free(info);
+    fx->problem_free(p);
+    fx->matrix_free(H);
+    fx->matrix_free(M);
     fx->matrix_free(W);
 }
 END_TEST
@@ -676,6 +729,7 @@ int main(void) {
     tcase_add_test(tc, test_threads_share_data);
     tcase_add_test(tc, test_plugin_table_versions);
     tcase_add_test(tc, test_plugin_table_rolling);
+    tcase_add_test(tc, test_plugin_table_spinning);
     tcase_add_test(tc, test_set_contacts);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);

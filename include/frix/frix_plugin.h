@@ -41,10 +41,11 @@ extern "C" {
  * the versions before it, in the same places, and a new group after them. The library serves
  * every version it has had (version 1: up to info_stage_note; version 2: the persistent
  * solver too; version 3: its set_contacts; version 4: options' choices by name; version 5:
- * rolling friction, the problems' texts and compressed files), each with its
+ * rolling friction, the problems' texts and compressed files; version 6: spinning friction),
+ * each with its
  * own size and abi_version, so a host asks for the version its header has and gets nothing it
  * does not know. */
-#define FRIX_PLUGIN_ABI_VERSION 5
+#define FRIX_PLUGIN_ABI_VERSION 6
 
 /* Non-zero if the loaded table has `member` (a table from an older library may end
  * before it). */
@@ -229,6 +230,24 @@ typedef struct frix_plugin_table {
                                                          const double *w, const double *mu,
                                                          const double *mu_r, int64_t nc);
     frix_error (*persistent_update_mu_r)(frix_persistent *ps, const double *mu_r);
+
+    /* ---- Table version 6: spinning friction (frix_problem.h, frix_persistent.h). */
+    frix_error (*problem_spinning_local)(const frix_matrix *W, const double *q, const double *mu,
+                                         const double *mu_r, const double *mu_s, int64_t nc,
+                                         frix_problem **out);
+    frix_error (*problem_spinning_global)(const frix_matrix *M, const frix_matrix *H, const double *f,
+                                          const double *w, const double *mu, const double *mu_r,
+                                          const double *mu_s, int64_t nc, frix_problem **out);
+    const double *(*problem_mu_s)(const frix_problem *p);
+    frix_error (*persistent_set_contacts_spinning_local)(frix_persistent *ps, const frix_matrix *W,
+                                                         const double *q, const double *mu,
+                                                         const double *mu_r, const double *mu_s,
+                                                         int64_t nc);
+    frix_error (*persistent_set_contacts_spinning_global)(frix_persistent *ps, const frix_matrix *H,
+                                                          const double *w, const double *mu,
+                                                          const double *mu_r, const double *mu_s,
+                                                          int64_t nc);
+    frix_error (*persistent_update_mu_s)(frix_persistent *ps, const double *mu_s);
 
     /* New members go here, at the end, and nowhere else. */
 } frix_plugin_table;

@@ -36,9 +36,9 @@ def _c_string(value, what):
 
 
 def _contacts_of(axis_size, mu, dim=3):
-    """nc from a matrix of dim nc rows or columns (W, H; dim 5 for rolling friction), which the
-    other inputs are checked against; from mu where that size is no multiple of dim (the
-    library then names the matrix)."""
+    """nc from a matrix of dim nc rows or columns (W, H; dim 5 for rolling friction, 6 with
+    spinning friction too), which the other inputs are checked against; from mu where that
+    size is no multiple of dim (the library then names the matrix)."""
     return axis_size // dim if axis_size % dim == 0 else np.asarray(mu).reshape(-1).shape[0]
 
 

@@ -60,6 +60,10 @@ _declare("frix_problem_rolling_local", c_int, c_void_p, c_double_p, c_double_p, 
          POINTER(c_void_p))
 _declare("frix_problem_rolling_global", c_int, c_void_p, c_void_p, c_double_p, c_double_p, c_double_p,
          c_double_p, c_int64, POINTER(c_void_p))
+_declare("frix_problem_spinning_local", c_int, c_void_p, c_double_p, c_double_p, c_double_p, c_double_p,
+         c_int64, POINTER(c_void_p))
+_declare("frix_problem_spinning_global", c_int, c_void_p, c_void_p, c_double_p, c_double_p, c_double_p,
+         c_double_p, c_double_p, c_int64, POINTER(c_void_p))
 _declare("frix_problem_free", None, c_void_p)
 _declare("frix_problem_get_kind", c_int, c_void_p)
 _declare("frix_problem_contacts", c_int64, c_void_p)
@@ -73,6 +77,7 @@ _declare("frix_problem_f", c_double_p, c_void_p)
 _declare("frix_problem_w", c_double_p, c_void_p)
 _declare("frix_problem_mu", c_double_p, c_void_p)
 _declare("frix_problem_mu_r", c_double_p, c_void_p)
+_declare("frix_problem_mu_s", c_double_p, c_void_p)
 _declare("frix_problem_title", c_char_p, c_void_p)
 _declare("frix_problem_set_title", c_int, c_void_p, c_char_p)
 _declare("frix_problem_description", c_char_p, c_void_p)
@@ -135,6 +140,11 @@ _declare("frix_persistent_set_contacts_rolling_local", c_int, c_void_p, c_void_p
 _declare("frix_persistent_set_contacts_rolling_global", c_int, c_void_p, c_void_p, c_double_p,
          c_double_p, c_double_p, c_int64)
 _declare("frix_persistent_update_mu_r", c_int, c_void_p, c_double_p)
+_declare("frix_persistent_set_contacts_spinning_local", c_int, c_void_p, c_void_p, c_double_p,
+         c_double_p, c_double_p, c_double_p, c_int64)
+_declare("frix_persistent_set_contacts_spinning_global", c_int, c_void_p, c_void_p, c_double_p,
+         c_double_p, c_double_p, c_double_p, c_int64)
+_declare("frix_persistent_update_mu_s", c_int, c_void_p, c_double_p)
 
 _declare("frix_solver_count", c_int64)
 _declare("frix_solver_id_at", c_int, c_int64)

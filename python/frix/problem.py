@@ -41,39 +41,46 @@ class Problem(_Closing):
     each contact has five entries, r = (r_N, r_T (2), m_R (2)): W is 5nc x 5nc and q 5nc (H
     has 5nc columns and w 5nc entries). Such a problem's `rolling` is True; the rolling
     solvers (rolling-nsgs, rolling-nsn, and auto, which picks between them) solve it.
+    Spinning friction too: give mu_s as well (nc entries >= 0), and each contact has six
+    entries, the sixth the moment about the normal (W 6nc x 6nc, q 6nc; H 6nc columns, w
+    6nc); `spinning` is then True.
 
     q, mu (and f, w) are borrowed, not copied, when they are float64 and contiguous: the
     problem keeps them alive and reads them at every solve, so a time-stepping script may
     change them in place between solves. W, M and H are copied into the library's storage.
     """
 
-    def __init__(self, W, q, mu, mu_r=None):
+    def __init__(self, W, q, mu, mu_r=None, mu_s=None):
         self._init_state()
         mu_a = np.asarray(mu)
-        dim = 3 if mu_r is None else 5
+        dim = _entries_a_contact(mu_r, mu_s)
         self._matrices.append(_matrix(W, "W"))
         nc = _contacts_of(lib.frix_matrix_rows(self._matrices[0]), mu_a, dim)
         self._q = _vector(q, dim * nc, "q")
         self._mu = _vector(mu_a, nc, "mu")
         self._pattern = _pattern_of(W)
         handle = ctypes.c_void_p()
+        start = (self._matrices[0], _ptr(self._q), _ptr(self._mu))
         if mu_r is None:
-            _check(lib.frix_problem_local(self._matrices[0], _ptr(self._q), _ptr(self._mu), nc,
-                                          ctypes.byref(handle)))
-        else:
+            _check(lib.frix_problem_local(*start, nc, ctypes.byref(handle)))
+        elif mu_s is None:
             self._mu_r = _vector(mu_r, nc, "mu_r")
-            _check(lib.frix_problem_rolling_local(self._matrices[0], _ptr(self._q), _ptr(self._mu),
-                                                  _ptr(self._mu_r), nc, ctypes.byref(handle)))
+            _check(lib.frix_problem_rolling_local(*start, _ptr(self._mu_r), nc, ctypes.byref(handle)))
+        else:
+            self._mu_r, self._mu_s = _vector(mu_r, nc, "mu_r"), _vector(mu_s, nc, "mu_s")
+            _check(lib.frix_problem_spinning_local(*start, _ptr(self._mu_r), _ptr(self._mu_s), nc,
+                                                   ctypes.byref(handle)))
         self._handle = handle.value
 
     @classmethod
-    def from_global(cls, M, H, f, w, mu, mu_r=None):
+    def from_global(cls, M, H, f, w, mu, mu_r=None, mu_s=None):
         """A global problem: M v = H r + f, u = H^T v + w (M: n x n, H: n x 3nc, f: n, w: 3nc,
-        mu: nc); with mu_r (nc), a rolling-friction one (H: n x 5nc, w: 5nc)."""
+        mu: nc); with mu_r (nc), a rolling-friction one (H: n x 5nc, w: 5nc); with mu_r and mu_s
+        (nc), rolling and spinning friction (H: n x 6nc, w: 6nc)."""
         self = cls.__new__(cls)
         self._init_state()
         mu_a = np.asarray(mu)
-        dim = 3 if mu_r is None else 5
+        dim = _entries_a_contact(mu_r, mu_s)
         self._matrices.append(_matrix(M, "M"))
         self._matrices.append(_matrix(H, "H"))
         n = lib.frix_matrix_rows(self._matrices[0])
@@ -82,14 +89,16 @@ class Problem(_Closing):
         self._w = _vector(w, dim * nc, "w")
         self._mu = _vector(mu_a, nc, "mu")
         handle = ctypes.c_void_p()
+        start = (self._matrices[0], self._matrices[1], _ptr(self._f), _ptr(self._w), _ptr(self._mu))
         if mu_r is None:
-            _check(lib.frix_problem_global(self._matrices[0], self._matrices[1], _ptr(self._f),
-                                           _ptr(self._w), _ptr(self._mu), nc, ctypes.byref(handle)))
-        else:
+            _check(lib.frix_problem_global(*start, nc, ctypes.byref(handle)))
+        elif mu_s is None:
             self._mu_r = _vector(mu_r, nc, "mu_r")
-            _check(lib.frix_problem_rolling_global(self._matrices[0], self._matrices[1], _ptr(self._f),
-                                                   _ptr(self._w), _ptr(self._mu), _ptr(self._mu_r), nc,
-                                                   ctypes.byref(handle)))
+            _check(lib.frix_problem_rolling_global(*start, _ptr(self._mu_r), nc, ctypes.byref(handle)))
+        else:
+            self._mu_r, self._mu_s = _vector(mu_r, nc, "mu_r"), _vector(mu_s, nc, "mu_s")
+            _check(lib.frix_problem_spinning_global(*start, _ptr(self._mu_r), _ptr(self._mu_s), nc,
+                                                    ctypes.byref(handle)))
         self._handle = handle.value
         return self
 
@@ -104,7 +113,7 @@ class Problem(_Closing):
     def _init_state(self):
         self._handle = None
         self._matrices = []
-        self._q = self._mu = self._mu_r = self._f = self._w = None
+        self._q = self._mu = self._mu_r = self._mu_s = self._f = self._w = None
         self._pattern = None
         # Solves in progress and open Solvers read the problem: it is freed only without them.
         self._users = 0
@@ -168,13 +177,18 @@ class Problem(_Closing):
         return lib.frix_problem_get_kind(self._live()) in rolling
 
     @property
+    def spinning(self):
+        """Whether the problem has spinning friction too (six entries a contact, mu_s)."""
+        return bool(lib.frix_problem_mu_s(self._live()))
+
+    @property
     def contacts(self):
         """Number of contacts nc."""
         return lib.frix_problem_contacts(self._live())
 
     @property
     def contact_dofs(self):
-        """Size of r and u: 3 nc (5 nc with rolling friction)."""
+        """Size of r and u: 3 nc (5 nc with rolling friction, 6 nc with spinning friction too)."""
         return lib.frix_problem_contact_dofs(self._live())
 
     @property
@@ -205,6 +219,8 @@ class Problem(_Closing):
     mu = _vector_property("_mu", lib.frix_problem_mu, "contacts", "mu, one per contact.")
     mu_r = _vector_property("_mu_r", lib.frix_problem_mu_r, "contacts",
                             "mu_r, one per contact (rolling friction; None otherwise).")
+    mu_s = _vector_property("_mu_s", lib.frix_problem_mu_s, "contacts",
+                            "mu_s, one per contact (spinning friction; None otherwise).")
     f = _vector_property("_f", lib.frix_problem_f, "dofs", "f (global problems).")
     w = _vector_property("_w", lib.frix_problem_w, "contact_dofs", "w (global problems).")
 
@@ -293,8 +309,17 @@ class Problem(_Closing):
         if not self._handle:
             return "<frix.Problem (closed)>"
         extra = f", {self.dofs} dofs" if self.kind == "global" else ""
-        rolling = " rolling" if self.rolling else ""
+        rolling = " spinning" if self.spinning else " rolling" if self.rolling else ""
         return f"<frix.Problem {self.kind}{rolling}, {self.contacts} contacts{extra}>"
+
+
+def _entries_a_contact(mu_r, mu_s):
+    """The entries of r and u a contact: 3, 5 with mu_r, 6 with mu_r and mu_s. Spinning friction
+    comes with rolling friction (frix_problem.h): mu_s alone is refused."""
+    if mu_s is not None and mu_r is None:
+        raise _refusal(InvalidArgumentError, "frix: mu_s (spinning friction) needs mu_r (rolling "
+                                             "friction; zeros for none)")
+    return 3 if mu_r is None else 5 if mu_s is None else 6
 
 
 def measure(problem, r, v=None):

@@ -52,6 +52,11 @@ def solve(problem, solver="auto", tol=None, max_iter=None, time_limit=None, r0=N
         opts.close()
 
 
+def _entries_a_contact(problem):
+    """Entries of r and u a contact: 3, 5 with rolling friction, 6 with spinning friction too."""
+    return 6 if problem.spinning else 5 if problem.rolling else 3
+
+
 class Solver(_Closing):
     """A persistent solver for time stepping: created once from a problem and options (those of
     frix.solve), it solves, is updated with the next step's data and solves again, keeping
@@ -126,16 +131,16 @@ class Solver(_Closing):
             self._exit()
 
     def update(self, q=None, mu=None, W=None, W_values=None, f=None, w=None, M=None, H=None,
-               mu_r=None):
+               mu_r=None, mu_s=None):
         """The next step's data; what is not given stays. Local problems: q, mu, and W (a new
         matrix, any format) or W_values (new values on the structure of the scipy.sparse W
         the problem was built from, as it was then: in its data's order for csr, csc and coo,
         in W.tocsr()'s for the other formats). Global problems: f, w, mu, M, H. Rolling
-        problems (five entries a contact): mu_r too. Vectors are borrowed as by Problem (a
-        float64 contiguous array is used in place)."""
+        problems (five entries a contact): mu_r too; with spinning friction (six), mu_s too.
+        Vectors are borrowed as by Problem (a float64 contiguous array is used in place)."""
         p = self._problem
         nc = self._contacts
-        m = (5 if p.rolling else 3) * nc
+        m = _entries_a_contact(p) * nc
         if W_values is not None:
             if W is not None or p._pattern is None or self._contacts != p.contacts:
                 raise _refusal(InvalidArgumentError, "frix: W_values needs a problem built from a "
@@ -149,6 +154,11 @@ class Solver(_Closing):
                     raise _refusal(InvalidArgumentError, "frix: mu_r belongs to rolling-friction problems")
                 new["mu_r"] = _vector(mu_r, nc, "mu_r")
                 _check(lib.frix_persistent_update_mu_r(self._handle, _ptr(new["mu_r"])))
+            if mu_s is not None:
+                if not p.spinning:
+                    raise _refusal(InvalidArgumentError, "frix: mu_s belongs to problems with spinning friction")
+                new["mu_s"] = _vector(mu_s, nc, "mu_s")
+                _check(lib.frix_persistent_update_mu_s(self._handle, _ptr(new["mu_s"])))
             if p.kind == "local":
                 if any(x is not None for x in (f, w, M, H)):
                     raise _refusal(InvalidArgumentError, "frix: f, w, M, H belong to global problems")
@@ -177,8 +187,11 @@ class Solver(_Closing):
                     self._handle, new.get("M"), new.get("H"), _ptr(new.get("f")),
                     _ptr(new.get("w")), _ptr(new.get("mu"))))
         except BaseException:
-            if "mu_r" in new:  # taken before the update was refused: the kept one again
-                lib.frix_persistent_update_mu_r(self._handle, _ptr(self._current_mu_r()))
+            # Coefficients taken before the update was refused: the kept ones again.
+            if "mu_r" in new:
+                lib.frix_persistent_update_mu_r(self._handle, _ptr(self._current("mu_r")))
+            if "mu_s" in new:
+                lib.frix_persistent_update_mu_s(self._handle, _ptr(self._current("mu_s")))
             self._discard(new)
             raise
         else:
@@ -186,10 +199,10 @@ class Solver(_Closing):
         finally:
             self._exit()
 
-    def _current_mu_r(self):
-        """The mu_r the persistent solver borrowed before this call."""
-        kept = self._kept.get("mu_r")
-        return kept if kept is not None else self._problem.mu_r
+    def _current(self, name):
+        """The coefficients (mu_r, mu_s) the persistent solver borrowed before this call."""
+        kept = self._kept.get(name)
+        return kept if kept is not None else getattr(self._problem, name)
 
     _MATRICES = ("W", "M", "H")
 
@@ -208,14 +221,14 @@ class Solver(_Closing):
                 lib.frix_matrix_free(old)
             self._kept[key] = value
 
-    def set_contacts(self, mu, W=None, q=None, H=None, w=None, mu_r=None):
+    def set_contacts(self, mu, W=None, q=None, H=None, w=None, mu_r=None, mu_s=None):
         """The next step's contacts, whatever their number nc = len(mu): W (3nc x 3nc) and q
         for a local problem, H (n x 3nc) and w for a global one, with mu, all together
-        (frix_persistent_set_contacts_*); a rolling problem takes 5nc for 3nc, and mu_r.
-        M, f and M's factorisation stay. The next solve starts from r = 0 unless given r0
-        (the last r belongs to the old contacts)."""
+        (frix_persistent_set_contacts_*); a rolling problem takes 5nc for 3nc, and mu_r; one
+        with spinning friction 6nc, mu_r and mu_s. M, f and M's factorisation stay. The next
+        solve starts from r = 0 unless given r0 (the last r belongs to the old contacts)."""
         p = self._problem
-        dim = 5 if p.rolling else 3
+        dim = _entries_a_contact(p)
         mu = np.ascontiguousarray(mu, dtype=np.float64).reshape(-1)
         nc = mu.shape[0]
         new = {}
@@ -226,15 +239,21 @@ class Solver(_Closing):
             given = {"W": W, "q": q, "H": H, "w": w}
             if given[mat] is None or given[vec] is None or any(
                     given[k] is not None for k in given if k not in (mat, vec)) or (
-                    (mu_r is not None) != p.rolling):
-                extra = ", mu and mu_r" if p.rolling else " and mu"
-                raise _refusal(InvalidArgumentError, f"frix: set_contacts of a {p.kind}"
-                                                     f"{' rolling' if p.rolling else ''} problem "
+                    (mu_r is not None) != p.rolling) or ((mu_s is not None) != p.spinning):
+                extra = ", mu, mu_r and mu_s" if p.spinning else ", mu and mu_r" if p.rolling else " and mu"
+                law = " spinning" if p.spinning else " rolling" if p.rolling else ""
+                raise _refusal(InvalidArgumentError, f"frix: set_contacts of a {p.kind}{law} problem "
                                                      f"takes {mat}, {vec}{extra}")
             new[mat] = _matrix(given[mat], mat)
             new[vec] = _vector(given[vec], dim * nc, vec)
             new["mu"] = _vector(mu, nc, "mu")
-            if p.rolling:
+            if p.spinning:
+                new["mu_r"], new["mu_s"] = _vector(mu_r, nc, "mu_r"), _vector(mu_s, nc, "mu_s")
+                setter = (lib.frix_persistent_set_contacts_spinning_local if local
+                          else lib.frix_persistent_set_contacts_spinning_global)
+                _check(setter(self._handle, new[mat], _ptr(new[vec]), _ptr(new["mu"]),
+                              _ptr(new["mu_r"]), _ptr(new["mu_s"]), nc))
+            elif p.rolling:
                 new["mu_r"] = _vector(mu_r, nc, "mu_r")
                 setter = (lib.frix_persistent_set_contacts_rolling_local if local
                           else lib.frix_persistent_set_contacts_rolling_global)

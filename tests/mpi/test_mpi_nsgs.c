@@ -292,6 +292,24 @@ START_TEST(refusals_and_stops_reach_every_rank) {
     ok = ok && e == FRIX_ERR_INVALID_ARGUMENT && part == NULL;
     e = frix_mpi_problem_scatter(ctx, 0, NULL, NULL, &part);
     ok = ok && e == FRIX_ERR_INVALID_ARGUMENT && part == NULL;
+    /* A problem with spinning friction on the root (a rolling problem of six entries a
+     * contact): refused on every rank, by the partition and the scatter, naming its law. */
+    {
+        double eye[36] = {0}, q6[6] = {-1, 0, 0, 0, 0, 0.05}, mu1 = 0.5, mu_r = 0.01, mu_s = 0.02;
+        frix_matrix *I6 = NULL;
+        frix_problem *spinning = NULL;
+        int part1[1] = {0};
+        for (i = 0; i < 6; ++i) eye[7 * i] = 1.0;
+        ck_assert_int_eq(frix_matrix_from_dense(6, 6, eye, 6, &I6), FRIX_OK);
+        ck_assert_int_eq(frix_problem_spinning_local(I6, q6, &mu1, &mu_r, &mu_s, 1, &spinning), FRIX_OK);
+        e = frix_mpi_partition(ctx, 0, g_rank == 0 ? spinning : NULL, g_rank == 0 ? part1 : NULL);
+        ok = ok && e == FRIX_ERR_UNSUPPORTED;
+        e = frix_mpi_problem_scatter(ctx, 0, g_rank == 0 ? spinning : NULL, NULL, &part);
+        ok = ok && e == FRIX_ERR_UNSUPPORTED && part == NULL;
+        ok = ok && strstr(frix_mpi_last_error_message(), "spinning friction") != NULL;
+        frix_problem_free(spinning);
+        frix_matrix_free(I6);
+    }
 
     /* A good part; options the distributed solve refuses; missing r. */
     ck_assert_int_eq(frix_mpi_problem_local(ctx, first, per_rank, row_ptr, c.cols + c.row_ptr[first],

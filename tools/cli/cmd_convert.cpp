@@ -40,8 +40,9 @@ int cmd_convert(int argc, char **argv) {
     const frix_error err =
         frix_fclib_write(out.c_str(), p.get(), nullptr, nullptr, nullptr, 0, nullptr, nullptr, nullptr);
     if (err != FRIX_OK) fail("cannot write " + out + ": " + library_message(err));
-    std::printf("%s: %s problem, %lld contacts, written as FCLIB to %s\n", in.c_str(),
+    std::printf("%s: %s problem%s, %lld contacts, written as FCLIB to %s\n", in.c_str(),
                 kind_name(frix_problem_get_kind(p.get())),
+                frix_problem_mu_s(p.get()) != nullptr ? " with spinning friction" : "",
                 static_cast<long long>(frix_problem_contacts(p.get())), out.c_str());
     return kExitConverged;
 }

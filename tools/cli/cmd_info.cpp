@@ -20,8 +20,8 @@ struct Facts {
     frix_problem_kind kind = FRIX_PROBLEM_LOCAL;
     int64_t contacts = 0, contact_dofs = 0, dofs = 0;
     MatrixFacts W, M, H;
-    double mu_min = NAN, mu_max = NAN, mu_r_min = NAN, mu_r_max = NAN;
-    bool local = true, rolling = false;
+    double mu_min = NAN, mu_max = NAN, mu_r_min = NAN, mu_r_max = NAN, mu_s_min = NAN, mu_s_max = NAN;
+    bool local = true, rolling = false, spinning = false;
     double norm_q = NAN, norm_f = NAN, norm_w = NAN;
     bool has_solution = false;
     double solution_error = NAN;        // the stored solution's relative error, if any
@@ -47,6 +47,20 @@ double norm2(const double *x, int64_t n) {
     return std::sqrt(s);
 }
 
+// The smallest and largest of n coefficients (left NaN when there are none).
+void range_of(const double *x, int64_t n, double &lo, double &hi) {
+    if (!x || n <= 0) return;
+    auto range = std::minmax_element(x, x + n);
+    lo = *range.first;
+    hi = *range.second;
+}
+
+// The contact law, named for people (text) and for programs (JSON).
+const char *law_text(const Facts &f) {
+    return f.spinning ? "Coulomb, rolling and spinning friction" : f.rolling ? "Coulomb and rolling friction" : "Coulomb";
+}
+const char *law_token(const Facts &f) { return f.spinning ? "spinning" : f.rolling ? "rolling" : "coulomb"; }
+
 std::string one_line(std::string s) {
     std::replace(s.begin(), s.end(), '\n', ' ');
     std::replace(s.begin(), s.end(), '\r', ' ');
@@ -67,20 +81,12 @@ Facts gather(const std::string &path) {
     f.W = matrix_facts(frix_problem_W(p.get()));
     f.M = matrix_facts(frix_problem_M(p.get()));
     f.H = matrix_facts(frix_problem_H(p.get()));
-    const double *mu = frix_problem_mu(p.get());
-    if (mu && f.contacts > 0) {
-        auto range = std::minmax_element(mu, mu + f.contacts);
-        f.mu_min = *range.first;
-        f.mu_max = *range.second;
-    }
-    const double *mu_r = frix_problem_mu_r(p.get());
-    if (mu_r && f.contacts > 0) {
-        auto range = std::minmax_element(mu_r, mu_r + f.contacts);
-        f.mu_r_min = *range.first;
-        f.mu_r_max = *range.second;
-    }
+    range_of(frix_problem_mu(p.get()), f.contacts, f.mu_min, f.mu_max);
+    range_of(frix_problem_mu_r(p.get()), f.contacts, f.mu_r_min, f.mu_r_max);
+    range_of(frix_problem_mu_s(p.get()), f.contacts, f.mu_s_min, f.mu_s_max);
     f.local = f.kind == FRIX_PROBLEM_LOCAL || f.kind == FRIX_PROBLEM_ROLLING_LOCAL;
-    f.rolling = mu_r != nullptr;
+    f.rolling = f.kind == FRIX_PROBLEM_ROLLING_LOCAL || f.kind == FRIX_PROBLEM_ROLLING_GLOBAL;
+    f.spinning = frix_problem_mu_s(p.get()) != nullptr;
     if (f.local) {
         f.norm_q = norm2(frix_problem_q(p.get()), f.contact_dofs);
     } else {
@@ -124,6 +130,7 @@ void print_json(const Facts &f) {
     w.string("description", f.description);
     w.string("math_info", f.math_info);
     w.string("kind", kind_name(f.kind));
+    w.string("law", law_token(f));
     w.integer("contacts", f.contacts);
     w.integer("contact_dofs", f.contact_dofs);
     w.integer("dofs", f.dofs);
@@ -135,6 +142,10 @@ void print_json(const Facts &f) {
     if (f.rolling) {
         w.number("mu_r_min", f.mu_r_min);
         w.number("mu_r_max", f.mu_r_max);
+    }
+    if (f.spinning) {
+        w.number("mu_s_min", f.mu_s_min);
+        w.number("mu_s_max", f.mu_s_max);
     }
     if (f.local) {
         w.number("norm_q", f.norm_q);
@@ -164,6 +175,7 @@ void print_text(const Facts &f) {
     if (!f.description.empty()) std::printf("%-16s %s\n", "description", one_line(f.description).c_str());
     if (!f.math_info.empty()) std::printf("%-16s %s\n", "math info", one_line(f.math_info).c_str());
     std::printf("%-16s %s\n", "kind", kind_name(f.kind));
+    std::printf("%-16s %s\n", "law", law_text(f));
     std::printf("%-16s %lld\n", "contacts", static_cast<long long>(f.contacts));
     if (f.local)
         std::printf("%-16s %lld (r, u)\n", "dofs", static_cast<long long>(f.contact_dofs));
@@ -178,6 +190,7 @@ void print_text(const Facts &f) {
     else
         std::printf("%-16s -\n", "mu");
     if (f.rolling && f.contacts > 0) std::printf("%-16s %g .. %g\n", "mu_r", f.mu_r_min, f.mu_r_max);
+    if (f.spinning && f.contacts > 0) std::printf("%-16s %g .. %g\n", "mu_s", f.mu_s_min, f.mu_s_max);
     if (f.local) {
         std::printf("%-16s %.4g\n", "|q|", f.norm_q);
     } else {

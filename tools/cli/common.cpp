@@ -120,10 +120,11 @@ struct ChildWriter {
             const frix_problem_kind kind = frix_problem_get_kind(p.get());
             const bool global = kind == FRIX_PROBLEM_GLOBAL || kind == FRIX_PROBLEM_ROLLING_GLOBAL;
             const bool rolling = kind == FRIX_PROBLEM_ROLLING_LOCAL || kind == FRIX_PROBLEM_ROLLING_GLOBAL;
+            const bool spinning = frix_problem_mu_s(p.get()) != nullptr;
             const int64_t nc = frix_problem_contacts(p.get()), n = frix_problem_dofs(p.get());
             const int64_t m = frix_problem_contact_dofs(p.get());
             w.bytes("P", 1);
-            w.integer((global ? 1 : 0) + (rolling ? 2 : 0));
+            w.integer((global ? 1 : 0) + (rolling ? 2 : 0) + (spinning ? 4 : 0));
             w.integer(nc);
             w.integer(n);
             w.text(frix_problem_title(p.get()));
@@ -140,6 +141,7 @@ struct ChildWriter {
             }
             w.doubles(frix_problem_mu(p.get()), nc);
             if (rolling) w.doubles(frix_problem_mu_r(p.get()), nc);
+            if (spinning) w.doubles(frix_problem_mu_s(p.get()), nc);
         }
         code = w.ok ? 0 : 1;
     } catch (const std::bad_alloc &) {
@@ -190,7 +192,7 @@ struct MatrixFree {
 // What a problem sent by the child borrows: it lives as long as the problem (ProblemDeleter).
 struct SentProblem {
     std::unique_ptr<frix_matrix, MatrixFree> W, M, H;
-    std::vector<double> q, f, w, mu, mu_r;
+    std::vector<double> q, f, w, mu, mu_r, mu_s;
 };
 
 }  // namespace
@@ -399,8 +401,10 @@ ProblemPtr read_problem(const std::string &path, double time_limit, double secon
         fail("cannot read " + path + ": " + message);
     }
     if (tag != 'P') broken();
-    int64_t form = 0, nc = 0, n = 0;  // form: 1 global, + 2 rolling
-    if (!in.integer(form, 3) || !in.integer(nc, kMaxCount) || !in.integer(n, kMaxCount)) broken();
+    int64_t form = 0, nc = 0, n = 0;  // form: 1 global, + 2 rolling, + 4 spinning (with rolling)
+    if (!in.integer(form, 7) || (form >= 4 && (form & 2) == 0) || !in.integer(nc, kMaxCount) ||
+        !in.integer(n, kMaxCount))
+        broken();
     // The problem's texts: title, description, math info (the library keeps them short).
     std::string texts[3];
     for (std::string &text : texts) {
@@ -424,25 +428,37 @@ ProblemPtr read_problem(const std::string &path, double time_limit, double secon
     };
     frix_problem *raw = nullptr;
     frix_error err;
-    const bool global = (form & 1) != 0, rolling = (form & 2) != 0;
-    const int64_t m = (rolling ? 5 : 3) * nc;
-    const auto coefficients = [&]() { return in.array(data->mu, nc) && (!rolling || in.array(data->mu_r, nc)); };
+    const bool global = (form & 1) != 0, rolling = (form & 2) != 0, spinning = (form & 4) != 0;
+    const int64_t m = (spinning ? 6 : rolling ? 5 : 3) * nc;
+    const auto coefficients = [&]() {
+        return in.array(data->mu, nc) && (!rolling || in.array(data->mu_r, nc)) &&
+               (!spinning || in.array(data->mu_s, nc));
+    };
+    SentProblem &d = *data;
     if (global) {
-        matrix(data->M);
-        matrix(data->H);
-        if (!in.array(data->f, n) || !in.array(data->w, m) || !coefficients()) broken();
+        matrix(d.M);
+        matrix(d.H);
+        if (!in.array(d.f, n) || !in.array(d.w, m) || !coefficients()) broken();
         child.reap();
-        err = rolling ? frix_problem_rolling_global(data->M.get(), data->H.get(), data->f.data(), data->w.data(),
-                                                    data->mu.data(), data->mu_r.data(), nc, &raw)
-                      : frix_problem_global(data->M.get(), data->H.get(), data->f.data(), data->w.data(),
-                                            data->mu.data(), nc, &raw);
+        if (spinning)
+            err = frix_problem_spinning_global(d.M.get(), d.H.get(), d.f.data(), d.w.data(), d.mu.data(),
+                                               d.mu_r.data(), d.mu_s.data(), nc, &raw);
+        else if (rolling)
+            err = frix_problem_rolling_global(d.M.get(), d.H.get(), d.f.data(), d.w.data(), d.mu.data(),
+                                              d.mu_r.data(), nc, &raw);
+        else
+            err = frix_problem_global(d.M.get(), d.H.get(), d.f.data(), d.w.data(), d.mu.data(), nc, &raw);
     } else {
-        matrix(data->W);
-        if (!in.array(data->q, m) || !coefficients()) broken();
+        matrix(d.W);
+        if (!in.array(d.q, m) || !coefficients()) broken();
         child.reap();
-        err = rolling ? frix_problem_rolling_local(data->W.get(), data->q.data(), data->mu.data(), data->mu_r.data(),
-                                                   nc, &raw)
-                      : frix_problem_local(data->W.get(), data->q.data(), data->mu.data(), nc, &raw);
+        if (spinning)
+            err = frix_problem_spinning_local(d.W.get(), d.q.data(), d.mu.data(), d.mu_r.data(), d.mu_s.data(), nc,
+                                              &raw);
+        else if (rolling)
+            err = frix_problem_rolling_local(d.W.get(), d.q.data(), d.mu.data(), d.mu_r.data(), nc, &raw);
+        else
+            err = frix_problem_local(d.W.get(), d.q.data(), d.mu.data(), nc, &raw);
     }
     ProblemPtr problem(raw, ProblemDeleter{data});
     if (err == FRIX_OK) err = frix_problem_set_title(problem.get(), texts[0].c_str());

@@ -110,9 +110,10 @@ void print_info_help(std::FILE *out) {
     std::fputs(
         "Usage: frix info FILE.hdf5 [--json]\n"
         "\n"
-        "Describes the FCLIB problem in FILE: kind (local or global), contacts, sizes,\n"
-        "stored entries (W, or M and H), friction coefficients, title, and whether the\n"
-        "file holds a solution and guesses.\n"
+        "Describes the FCLIB problem in FILE: kind (local or global), the contact law\n"
+        "(Coulomb; with rolling friction; with rolling and spinning friction), contacts,\n"
+        "sizes, stored entries (W, or M and H), friction coefficients (mu, mu_r, mu_s),\n"
+        "title, and whether the file holds a solution and guesses.\n"
         "\n"
         "Options:\n"
         "  --json              print one JSON object instead of text\n"

@@ -207,10 +207,16 @@ int run(int argc, char **argv) {
     const std::string name = std::string("siconos:") + frix_siconos_solver_name(id);
     // A solver for the other kind of problem is a usage error, found before anything runs;
     // the bench, which runs every solver on every problem, records it as unsupported.
+    // Siconos has no problem with spinning friction (its rolling problems have five entries a
+    // contact): every one of its solvers refuses one.
     const bool rolling_solver = frix_siconos_solver_is_rolling(id) == 1;
-    if (frix_siconos_solver_is_global(id) != (global ? 1 : 0) || rolling_solver != rolling) {
+    const bool spinning = frix_problem_mu_s(problem.get()) != nullptr;
+    if (spinning || frix_siconos_solver_is_global(id) != (global ? 1 : 0) || rolling_solver != rolling) {
         const std::string why =
-            rolling != rolling_solver
+            spinning ? name + " cannot solve " + a.file +
+                           ": it has spinning friction (six entries a contact), which Siconos has no problem for "
+                           "(frix's rolling solvers take it)"
+            : rolling != rolling_solver
                 ? (rolling ? name + " does not solve rolling-friction problems (" + a.file +
                                  " is one): use RFC3D_NSGS or RFC3D_ADMM (local form) or GRFC3D_NSGS_WR (global)"
                            : name + " solves rolling-friction problems only, and " + a.file + " is not one")

@@ -379,6 +379,15 @@ int frix_siconos_solve(const frix_problem *problem, int solver_id, double tolera
     const int global = kind == FRIX_PROBLEM_GLOBAL || kind == FRIX_PROBLEM_ROLLING_GLOBAL;
     const int rolling = kind == FRIX_PROBLEM_ROLLING_LOCAL || kind == FRIX_PROBLEM_ROLLING_GLOBAL;
     const int rolling_solver = frix_siconos_solver_is_rolling(solver_id);
+    /* Siconos's rolling problems have five entries a contact: it has no spinning friction. */
+    if (frix_problem_mu_s(problem) != NULL) {
+        res->refused_kind = 1;
+        snprintf(res->message, sizeof res->message,
+                 "the problem has spinning friction (six entries a contact), which Siconos has no problem "
+                 "for: %s cannot solve it (frix's rolling solvers do)",
+                 frix_siconos_solver_name(solver_id));
+        return -1;
+    }
     /* The rolling drivers take rolling problems, and nothing else does. */
     if (rolling != rolling_solver) {
         res->refused_kind = 1;
