@@ -40,6 +40,11 @@ inline double norm2_all(MPI_Comm comm, const double *x, int64_t n) {
     return a * std::sqrt(s);
 }
 
+// frix::Agree over the ranks of comm: a flag raised on any of them.
+inline Agree over_ranks(MPI_Comm comm) {
+    return [comm](bool flag) { return or_all(comm, flag ? 1u : 0u) != 0; };
+}
+
 // measures_from_parts' rescue over the ranks' contacts.
 class RanksRescue : public MeasureRescue {
    public:
@@ -136,6 +141,9 @@ class DistributedForm : public nsgs::SweepForm {
 
     unsigned agree(unsigned flags) override { return or_all(comm_, flags); }
     int64_t all_contacts(int64_t) const override { return p_.total; }
+    // The free velocity's norm over all contacts (Measures::norm_free of combine()): what the
+    // runaway bound scales with, as the serial problem's.
+    double norm_free() const { return p_.free >= 0.0 ? p_.free : norm_q_; }
 
     // Every ghost from its owner: at the start, and after r changed outside a sweep.
     void exchange(double *r) {
@@ -341,6 +349,10 @@ struct RanksWeights {
 };
 // Collective.
 RanksWeights ranks_weights(const frix_mpi_problem &p);
+// This rank's contacts of a global problem with the host's M (nc = owned, n = its dofs, mu, w),
+// weighed as the whole problem weighs them (weights.contact): what the serial rules on a
+// runaway (Monitor, fall_back_on_divergence) read of this rank's part.
+frix_problem watched_contacts(const frix_mpi_problem &p, const RanksWeights &weights);
 // RanksWeights from this rank's parts (whatever holds the problem): the owned contacts' w_a and
 // the dofs' 1 / sqrt(M_ii) before their fill, f and whether load_velocity counts each dof,
 // w and H^T D^-1 f + w of the owned contacts; total: the contacts of all ranks. Collective.
@@ -349,15 +361,17 @@ RanksWeights finish_weights(MPI_Comm comm, int64_t total, std::vector<double> co
                             const std::vector<double> &jacobi);
 
 // The distributed global Newton (distributed_global_newton.cpp) on a global problem with the
-// host's M, from r (this rank's reactions); u receives H^T v + w, p.v the owned dofs' v; info
-// gets status, iterations, the measures and the equilibrium residual.
-frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, double *r, double *u, frix_info &info,
-                             const Stopwatch &clock);
+// host's M, from r (this rank's reactions, finite), watched for a runaway as the serial
+// native route is, with the driver's fallback of a diverged run (to warm_start,
+// finite_warm_start of r); u receives H^T v + w, p.v the owned dofs' v; info gets status,
+// iterations, the measures and the equilibrium residual.
+frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, const std::vector<double> &warm_start,
+                             double *r, double *u, frix_info &info, const Stopwatch &clock);
 
-// The distributed Newton (distributed_newton.cpp) from r (owned then ghost reactions, the
-// ghosts current) on a local problem; u receives W r + q; info gets status and iterations.
-frix_error run_newton(frix_mpi_problem &p, const frix_options &o, DistributedForm &form, double *r, double *u,
-                      frix_info &info, const Stopwatch &clock);
+// The distributed Newton (distributed_newton.cpp) on a local problem, from ctx.r (owned then
+// ghost reactions, the ghosts current; ctx.problem: p.view), watched for a runaway past
+// ctx.runaway_bound; ctx.u receives W r + q; ctx.info gets status and iterations.
+frix_error run_newton(frix_mpi_problem &p, SolveContext &ctx, DistributedForm &form);
 
 }  // namespace mpi
 }  // namespace frix

@@ -19,6 +19,7 @@
 #include "src/error_state.hpp"
 #include "src/log.hpp"
 #include "src/monitor.hpp"
+#include "src/vec.hpp"
 
 namespace frix {
 namespace mpi {
@@ -176,15 +177,13 @@ class GlobalSystem {
     // same a), by MUMPS's LU of M; NaN when M does not factorise.
     frix_error exact_trace(int64_t a, double &trace) {
         trace = 0.0;
-        if (!mass_ksp_)
-            if (frix_error e = mumps_lu(comm_, M_, mass_ksp_, "gnsn-ac", kMumpsMetis)) return e;
         std::vector<double> unit(3 * (size_t)p_.owned), b((size_t)g_.dofs), x((size_t)g_.dofs);
         for (int c = 0; c < 3; ++c) {
             std::fill(unit.begin(), unit.end(), 0.0);
             if (a >= p_.first && a < p_.first + p_.owned) unit[3 * (size_t)(a - p_.first) + (size_t)c] = 1.0;
             if (frix_error e = mult_H(unit.data(), b.data())) return e;
             bool solved = false;
-            if (frix_error e = solve_with(M_, mass_ksp_, b.data(), x.data(), dofs_in_, dofs_out_, solved)) return e;
+            if (frix_error e = solve_mass(b.data(), x.data(), solved)) return e;
             if (!solved) {
                 trace = NAN;
                 return FRIX_OK;
@@ -192,6 +191,14 @@ class GlobalSystem {
             trace += dot_all(comm_, b.data(), x.data(), g_.dofs);
         }
         return FRIX_OK;
+    }
+
+    // x = M^-1 b over this rank's dofs, by MUMPS's LU of M (made on the first call); solved:
+    // false where M does not factorise (on every rank).
+    frix_error solve_mass(const double *b, double *x, bool &solved) {
+        if (!mass_ksp_)
+            if (frix_error e = mumps_lu(comm_, M_, mass_ksp_, "gnsn-ac", kMumpsMetis)) return e;
+        return solve_with(M_, mass_ksp_, b, x, dofs_in_, dofs_out_, solved);
     }
 
     // The contacts' rows of J at A, B (9 values a contact each, column-major) and delta.
@@ -356,9 +363,9 @@ class RanksVrSystem : public kit::SystemDefaults {
         std::vector<double> v, r;
     };
     RanksVrSystem(frix_mpi_problem &p, GlobalSystem &sys, RanksRho rho, const newton::Settings &s, const frix_options &o,
-                  const double *r)
+                  const RanksWeights &weights, const double *r)
         : p_(p), g_(*p.global), sys_(sys), comm_(p.ctx->comm), n_(g_.dofs), nc_(p.owned), m_(3 * p.owned),
-          rho_(std::move(rho)), s_(s), o_(o), weights_(ranks_weights(p)), norm_w_(norm2_all(comm_, p.w.data(), m_)),
+          rho_(std::move(rho)), s_(s), o_(o), weights_(weights), norm_w_(norm2_all(comm_, p.w.data(), m_)),
           norm_f_(norm2_all(comm_, g_.f.data(), n_)), rhs_((size_t)(n_ + m_)), dx_((size_t)(n_ + m_)), Mdv_((size_t)n_),
           Hdr_((size_t)n_), Htdv_((size_t)m_), scaled_res_((size_t)n_), scaled_hr_((size_t)n_) {
         for (int64_t j = 0; j < n_; ++j) scaled_res_[(size_t)j] = weights_.dof[(size_t)j] * g_.f[(size_t)j];
@@ -430,10 +437,12 @@ class RanksVrSystem : public kit::SystemDefaults {
         x.v = x_.v;
         x.r = x_.r;
     }
-    void load(const Point &x) {
-        x_.v = x.v;
-        x_.r = x.r;
+    void load(const Point &x) {  // in place: reactions() stays where it points
+        std::copy(x.v.begin(), x.v.end(), x_.v.begin());
+        std::copy(x.r.begin(), x.r.end(), x_.r.begin());
     }
+    // This rank's reactions of the iterate (3 a contact), where they stay during the run.
+    double *reactions() { return x_.r.data(); }
     // The best iterate's measures, for the driver.
     frix_error restored_best() {
         merit(x_, false);
@@ -447,21 +456,37 @@ class RanksVrSystem : public kit::SystemDefaults {
         psi = merit(x_, true);
         return stopped();
     }
-    Monitor::Agree agree() const {
-        return [comm = comm_](bool flag) { return or_all(comm, flag ? 1u : 0u) != 0; };
-    }
+    Monitor::Agree agree() const { return over_ranks(comm_); }
     void log_step(int64_t step, double t, double err, double, double delta) const {
         if (s_.verbosity >= 2)
             log_line(&o_, "global newton (distributed): step %lld t %.3g error %.3e equilibrium %.3e delta %.1e",
                      (long long)step, t, err, equilibrium_, delta);
     }
-    // The iterate and its measures into the caller's r, u, p.v and info.
-    void hand_over(double *r, double *u, frix_info &info) {
+    // The iterate into the caller's r, u and p.v; its measures.
+    Measures hand_over(double *r, double *u) {
         std::copy(x_.r.begin(), x_.r.end(), r);
         std::copy(x_.u.begin(), x_.u.end(), u);
         p_.v = x_.v;
         p_.solved = true;
-        record_measures(info, measures_, s_.measure);
+        return measures_;
+    }
+    // The measures of the answer r (this rank's reactions) with v = M^-1 (H r + f) (collective):
+    // into u, v and out (not finite where M does not factorise).
+    frix_error measure_answer(const double *r, double *u, double *v, Measures &out) {
+        State st = x_;
+        st.r.assign(r, r + m_);
+        bool solved = false;
+        failed_ = sys_.mult_H(st.r.data(), st.hr.data());
+        for (int64_t j = 0; j < n_; ++j) st.hr[(size_t)j] += g_.f[(size_t)j];
+        if (!failed_) failed_ = sys_.solve_mass(st.hr.data(), st.v.data(), solved);
+        merit(st, false);  // (no product once one failed)
+        if (frix_error e = stopped()) return e;
+        error_of(st);
+        out = measures_;
+        if (!solved) out.relative = out.scaled = NAN;
+        std::copy(st.u.begin(), st.u.end(), u);
+        std::copy(st.v.begin(), st.v.end(), v);
+        return FRIX_OK;
     }
 
    private:
@@ -526,8 +551,8 @@ class RanksVrSystem : public kit::SystemDefaults {
 
 }  // namespace
 
-frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, double *r_io, double *u_out,
-                             frix_info &info, const Stopwatch &clock) {
+frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, const std::vector<double> &warm_start,
+                             double *r_io, double *u_out, frix_info &info, const Stopwatch &clock) {
     const MPI_Comm comm = p.ctx->comm;
     const newton::Settings s = newton::settings_from(o, FRIX_SOLVER_NSN_AC);
     if (frix_error e = agree(comm, use_petsc(*p.ctx), "frix_mpi_solve")) return e;
@@ -535,13 +560,31 @@ frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, double 
     if (frix_error e = agree(comm, sys.setup(), "frix_mpi_solve")) return e;
     RanksRho rho;
     if (frix_error e = lumped_rho(p, s, sys, o, rho)) return e;
-    RanksVrSystem system(p, sys, std::move(rho), s, o, r_io);
-    kit::Steps steps{Monitor(o, clock)};
+    const RanksWeights weights = ranks_weights(p);
+    RanksVrSystem system(p, sys, std::move(rho), s, o, weights, r_io);
+    // Watched for a runaway past the serial bound (of free_velocity) on this rank's contacts.
+    const frix_problem watched = watched_contacts(p, weights);
+    const double bound = runaway_bound(weights.free);
+    SolveContext ctx = SolveContext::global(watched, o, system.reactions(), u_out, nullptr, info, clock, nullptr);
+    ctx.runaway_bound = bound;
+    kit::Steps steps{Monitor(ctx)};
     kit::Counters counters;
     kit::RunResult res;
     if (frix_error e = kit::newton(system, steps, rules_of(s.line_search, s.ls_max_iter), counters, res)) return e;
-    system.hand_over(r_io, u_out, info);
+    Measures meas = system.hand_over(r_io, u_out);
     kit::record(info, res, steps, counters);
+    const bool broken = !finite_measures(meas) || !vec::all_finite(r_io, 3 * p.owned) ||
+                        !vec::all_finite(p.v.data(), p.global->dofs);
+    const MeasureAnswer at = [&system](const double *x, double *ux, double *vx, Measures &out) {
+        return system.measure_answer(x, ux, vx, out);
+    };
+    if (frix_error e = fall_back_on_divergence(watched, s.measure, warm_start, broken, bound, at, r_io, u_out,
+                                               p.v.data(), meas, info, over_ranks(comm)))
+        return e;
+    if (!finite_measures(meas))  // the start, r = 0, has no finite velocity either
+        return fail(FRIX_ERR_NUMERICAL, "frix_mpi_solve: gnsn-ac diverged, and M^-1 f is not finite: M is singular "
+                                        "or too ill-conditioned");
+    record_measures(info, meas, s.measure);
     if (info.status == FRIX_STATUS_CONVERGED && !(res.error <= steps.monitor.tolerance()))
         info.status = FRIX_STATUS_STAGNATED;
     if (s.verbosity >= 1)

@@ -25,11 +25,6 @@ namespace {
 
 frix_error petsc(PetscErrorCode rc, const char *what) { return petsc_call(rc, FRIX_ERR_INTERNAL, "nsn-ac", what); }
 
-// A status flag over the ranks: set on any of them.
-Monitor::Agree over(MPI_Comm comm) {
-    return [comm](bool flag) { return or_all(comm, flag ? 1u : 0u) != 0; };
-}
-
 // The Newton system over the ranks: J (3 x 3 blocks, this rank's rows), Phi and the step.
 class PetscSystem {
    public:
@@ -190,7 +185,7 @@ class RanksSystem : public kit::SystemDefaults {
     }
     void save(Point &x) const { x.assign(r_, r_ + held_); }
     void load(const Point &x) { std::copy(x.begin(), x.end(), r_); }
-    Monitor::Agree agree() const { return over(comm_); }
+    Monitor::Agree agree() const { return over_ranks(comm_); }
     void log_step(int64_t step, double t, double err, double, double) const {
         if (verbosity_ >= 1) log_line(&o_, "nsn-ac (distributed): step %lld, t %.3g, error %.3e", (long long)step, t, err);
     }
@@ -266,22 +261,23 @@ kit::Rules rules_of(const frix_options &o) {
 
 }  // namespace
 
-frix_error run_newton(frix_mpi_problem &p, const frix_options &o, DistributedForm &form, double *r, double *u,
-                      frix_info &info, const Stopwatch &clock) {
+frix_error run_newton(frix_mpi_problem &p, SolveContext &ctx, DistributedForm &form) {
     const MPI_Comm comm = p.ctx->comm;
+    const frix_options &o = ctx.options;
+    double *r = ctx.r, *u = ctx.u;
     if (frix_error e = agree(comm, use_petsc(*p.ctx), "frix_mpi_solve")) return e;
     PetscSystem petsc(p);
     if (frix_error e = agree(comm, petsc.setup(), "frix_mpi_solve")) return e;
     RanksSystem system(p, form, petsc, o, r, u);
     const kit::Rules rules = rules_of(o);
-    kit::Steps steps{Monitor(o, clock)};
+    kit::Steps steps{Monitor(ctx)};  // r watched on this rank's contacts, the stop agreed
     kit::Counters counters;
     kit::RunResult res;
     RanksRounds rounds(system, rules, steps, counters, p, form, o, r, u);
     if (frix_error e = kit::newton_with_sweeps(rounds, steps, o.i(FRIX_OPT_HYBRID) == FRIX_HYBRID_NSGS,
                                                o.i(FRIX_OPT_HYBRID_SWEEPS), counters, res))
         return e;
-    kit::record(info, res, steps, counters);
+    kit::record(ctx.info, res, steps, counters);
     return FRIX_OK;
 }
 

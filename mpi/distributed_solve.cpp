@@ -19,20 +19,19 @@ namespace mpi {
 namespace {
 
 // The driver (as solve_local_problem for one process): the all-separating case, the warm
-// start, the sweeps, the final measures and the status check against them.
+// start, the solver watched for a runaway (its bound: the serial problem's, runaway_bound of
+// the free velocity over all ranks; each rank watches its contacts, the stop agreed), the final
+// measures, the serial fallback of a diverged run (fall_back_on_divergence, decided over the
+// ranks) and the status check against the measures.
 frix_error solve(frix_mpi_problem &p, const frix_options &opts, double *r_out, double *u_out, frix_info &info,
                  const Stopwatch &clock) {
     const MPI_Comm comm = p.ctx->comm;
     const int64_t m = 3 * p.owned;
-    if (p.global) {  // (v, r) by the global Newton, from r's finite entries
-        for (int64_t i = 0; i < m; ++i)
-            if (!std::isfinite(r_out[i])) r_out[i] = 0.0;
-        return run_global_newton(p, opts, r_out, u_out, info, clock);
-    }
+    // (A non-finite entry would poison every iterate: 0 instead.)
+    const std::vector<double> warm_start = finite_warm_start(r_out, m);
+    if (p.global) return run_global_newton(p, opts, warm_start, r_out, u_out, info, clock);  // (v, r)
     std::vector<double> r((size_t)(3 * (p.owned + (int64_t)p.ghosts.size())), 0.0);
     std::copy(r_out, r_out + m, r.begin());
-    for (int64_t i = 0; i < m; ++i)
-        if (!std::isfinite(r[(size_t)i])) r[(size_t)i] = 0.0;
     // The form of the problem's kind (bodies: set for rigid bodies only).
     DistributedBodies *bodies = p.rigid ? new DistributedBodies(p) : nullptr;
     const std::unique_ptr<DistributedForm> owner(bodies ? (DistributedForm *)bodies : new DistributedRows(p));
@@ -45,8 +44,7 @@ frix_error solve(frix_mpi_problem &p, const frix_options &opts, double *r_out, d
         approaching = u[0] < 0.0;
     }
     const bool separating = or_all(comm, approaching ? 1u : 0u) == 0;
-    const bool cold = or_all(comm, std::any_of(r.begin(), r.begin() + m, [](double x) { return x != 0.0; }) ? 1u : 0u) == 0;
-    const std::vector<double> warm_start = cold ? std::vector<double>() : std::vector<double>(r.begin(), r.begin() + m);
+    const double bound = runaway_bound(form.norm_free());
     bool ran = false;
     if (p.total == 0 || separating) {
         std::fill(r.begin(), r.end(), 0.0);
@@ -55,27 +53,35 @@ frix_error solve(frix_mpi_problem &p, const frix_options &opts, double *r_out, d
     } else {
         ran = true;
         form.exchange(r.data());
+        SolveContext ctx = SolveContext::local(p.view, opts, r.data(), u_out, info, clock);
+        ctx.runaway_bound = bound;
         if (opts.solver_id == FRIX_SOLVER_NSN_AC) {
-            if (frix_error e = run_newton(p, opts, form, r.data(), u_out, info, clock)) return e;
+            if (frix_error e = run_newton(p, ctx, form)) return e;
         } else {
             const nsgs::Settings settings = nsgs::settings_from(opts);
             std::unique_ptr<nsgs::Workspace> ws(p.rigid ? new nsgs::Workspace(p.diag.data(), p.mu.data(), p.owned, settings)
                                                         : new nsgs::Workspace(p.view, settings));
-            SolveContext ctx = SolveContext::local(p.view, opts, r.data(), u_out, info, clock);
             if (frix_error e = nsgs::run_sweeps(ctx, *ws, form, "nsgs")) return e;
         }
     }
     Measures meas = form.exact(r.data(), u_out);
-    if (!finite_measures(meas) && ran) {
-        std::fill(r.begin(), r.end(), 0.0);
-        if (!warm_start.empty()) std::copy(warm_start.begin(), warm_start.end(), r.begin());
-        form.exchange(r.data());
-        meas = form.exact(r.data(), u_out);
-        if (!finite_measures(meas)) {
-            std::fill(r.begin(), r.end(), 0.0);
+    if (ran) {
+        // An answer x of this rank's contacts, measured over the ranks (collective).
+        const MeasureAnswer at = [&](const double *x, double *ux, double *, Measures &out) {
+            std::vector<double> held(r.size(), 0.0);
+            std::copy(x, x + m, held.begin());
+            form.exchange(held.data());
+            out = form.exact(held.data(), ux);
+            return FRIX_OK;
+        };
+        if (frix_error e = fall_back_on_divergence(p.view, opts.i(FRIX_OPT_ERROR_MEASURE), warm_start,
+                                                   !finite_measures(meas), bound, at, r.data(), u_out, nullptr, meas,
+                                                   info, over_ranks(comm)))
+            return e;
+        if (p.rigid && info.status == FRIX_STATUS_DIVERGED) {  // the bodies' velocities at the answer returned
+            form.exchange(r.data());
             meas = form.exact(r.data(), u_out);
         }
-        info.status = FRIX_STATUS_DIVERGED;
     }
     std::copy(r.begin(), r.begin() + m, r_out);
     if (p.rigid) {

@@ -165,6 +165,17 @@ RanksWeights ranks_weights(const frix_mpi_problem &p) {
     return finish_weights(comm, p.total, std::move(contact), std::move(dof), g.f, load_dofs(p), p.w, jacobi);
 }
 
+frix_problem watched_contacts(const frix_mpi_problem &p, const RanksWeights &weights) {
+    frix_problem part;
+    part.kind = FRIX_PROBLEM_GLOBAL;
+    part.nc = p.owned;
+    part.n = p.global->dofs;
+    part.mu = p.mu.data();
+    part.w = p.w.data();
+    part.weight = weights.contact;
+    return part;
+}
+
 void fill_over_ranks(MPI_Comm comm, std::vector<double> &x) {
     PositiveMean mean;
     mean.add(x);

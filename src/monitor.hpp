@@ -98,9 +98,8 @@ class Monitor {
         return true;
     }
 
-    // Whether a flag raised on this process is raised anywhere: none (the default) on one
-    // process; the distributed solvers pass an OR over ranks, so that every rank decides alike.
-    using Agree = std::function<bool(bool)>;
+    // Whether a flag raised on this process is raised anywhere (frix::Agree).
+    using Agree = ::frix::Agree;
 
     // The one place a run's status is decided (the convergence test of PETSc's SNES). After
     // iteration `it` (the caller's count, against max_iterations()) whose error is `error` (on

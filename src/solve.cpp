@@ -73,10 +73,12 @@ bool finite_measures(const Measures &x) {
 
 frix_error fall_back_on_divergence(const frix_problem &p, int64_t measure_kind, const std::vector<double> &warm_start,
                                    bool broken, double bound, const MeasureAnswer &measure, double *r, double *u,
-                                   double *v, Measures &meas, frix_info &info) {
-    if (info.ran_away && info.status == FRIX_STATUS_STOPPED_BY_CALLBACK) info.status = FRIX_STATUS_DIVERGED;
-    if (!broken && info.status != FRIX_STATUS_CONVERGED && runs_away(p, r, bound)) info.ran_away = true;
-    if (!broken && (info.status == FRIX_STATUS_CONVERGED || !info.ran_away)) return FRIX_OK;
+                                   double *v, Measures &meas, frix_info &info, const Agree &agree) {
+    const auto agreed = [&agree](bool flag) { return agree ? agree(flag) : flag; };
+    broken = agreed(broken);
+    if (!broken && info.status == FRIX_STATUS_CONVERGED) return FRIX_OK;
+    info.ran_away = agreed(info.ran_away || (!broken && runs_away(p, r, bound)));
+    if (!broken && !info.ran_away) return FRIX_OK;
     // The start is returned (r = 0 where the start overflows too: u = q, or the free motion,
     // then), the r of a run that ran away (its last, or the best it kept) only where its error
     // is below half of the start's: an r of 1e150 is no answer to hand a caller, nor one that

@@ -129,6 +129,10 @@ std::vector<double> finite_warm_start(double *r, int64_t m);
 // the relative error finite, dividing by |u| = Inf) and, for a global problem, the equilibrium.
 bool finite_measures(const Measures &x);
 
+// Whether a flag raised on this process is raised anywhere (Monitor::Agree): none (the default)
+// on one process; the distributed solves pass an OR over ranks, so that every rank decides alike.
+using Agree = std::function<bool(bool)>;
+
 // How the driver measures an answer r of p (for a global problem with its velocity v = M^-1
 // (H r + f)): u (and v) set for it, and its measures into `out`.
 using MeasureAnswer = std::function<frix_error(const double *r, double *u, double *v, Measures &out)>;
@@ -139,10 +143,13 @@ using MeasureAnswer = std::function<frix_error(const double *r, double *u, doubl
 // marked ran_away too). Such a run answers with the start (warm_start; r = 0 where it is empty,
 // or where a broken run's start is not finite either), measured by `measure` into r, u, v (v:
 // null for a local problem) and meas; a run that ran away keeps the r it returned only where
-// its error (measure_kind) is below half of the start's.
+// its error (measure_kind) is below half of the start's. A distributed solve passes p, r, u, v
+// and warm_start of this rank's contacts, meas and info.status as every rank has them, a
+// collective `measure`, and `agree`: whether the run broke or ran away is then decided over
+// the ranks (a runaway is one rank's contact past the bound), the same on every one.
 frix_error fall_back_on_divergence(const frix_problem &p, int64_t measure_kind, const std::vector<double> &warm_start,
                                    bool broken, double bound, const MeasureAnswer &measure, double *r, double *u,
-                                   double *v, Measures &meas, frix_info &info);
+                                   double *v, Measures &meas, frix_info &info, const Agree &agree = nullptr);
 
 using SolverFn = frix_error (*)(SolveContext &ctx);
 

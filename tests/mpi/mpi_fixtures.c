@@ -95,20 +95,12 @@ outcome solve_serial(const frix_problem *p, const frix_options *o, const double 
     return out;
 }
 
-outcome solve_distributed(MPI_Comm comm, const frix_problem *p, const int *part, const frix_options *o,
-                                 const double *r0, frix_mpi_problem **keep) {
-    const int64_t m = 3 * frix_problem_contacts(p);
-    frix_mpi_context *ctx = NULL;
-    frix_mpi_problem *dist = NULL;
+outcome solve_part(MPI_Comm comm, frix_mpi_problem *dist, const frix_options *o, const double *r0, int64_t nc) {
+    const int64_t m = 3 * nc;
     frix_info *info = NULL;
     int64_t owned = 0, i, *ids;
-    int rank = 0;
     outcome out;
     double *r, *u;
-    MPI_Comm_rank(comm, &rank);
-    ck_assert_int_eq(frix_mpi_context_create(comm, &ctx), FRIX_OK);
-    ck_assert_msg(frix_mpi_problem_scatter(ctx, 0, rank == 0 ? p : NULL, part, &dist) == FRIX_OK, "%s",
-                  frix_mpi_last_error_message());
     frix_mpi_problem_get_int(dist, FRIX_MPI_OWNED, &owned);
     r = calloc((size_t)(3 * owned) + 1, sizeof(double));
     u = calloc((size_t)(3 * owned) + 1, sizeof(double));
@@ -131,6 +123,20 @@ outcome solve_distributed(MPI_Comm comm, const frix_problem *p, const int *part,
     free(u);
     free(ids);
     frix_info_free(info);
+    return out;
+}
+
+outcome solve_distributed(MPI_Comm comm, const frix_problem *p, const int *part, const frix_options *o,
+                                 const double *r0, frix_mpi_problem **keep) {
+    frix_mpi_context *ctx = NULL;
+    frix_mpi_problem *dist = NULL;
+    int rank = 0;
+    outcome out;
+    MPI_Comm_rank(comm, &rank);
+    ck_assert_int_eq(frix_mpi_context_create(comm, &ctx), FRIX_OK);
+    ck_assert_msg(frix_mpi_problem_scatter(ctx, 0, rank == 0 ? p : NULL, part, &dist) == FRIX_OK, "%s",
+                  frix_mpi_last_error_message());
+    out = solve_part(comm, dist, o, r0, frix_problem_contacts(p));
     if (keep)
         *keep = dist;
     else
@@ -193,4 +199,33 @@ frix_problem *chain_problem(const chain *c, frix_matrix **W) {
     ck_assert_int_eq(frix_matrix_from_blocks(c->nc, c->nc, c->nb, c->rows, c->cols, c->vals, W), FRIX_OK);
     ck_assert_int_eq(frix_problem_local(*W, c->q, c->mu, c->nc, &p), FRIX_OK);
     return p;
+}
+
+frix_error rigid_part(frix_mpi_context *ctx, const frix_scene *scene, int64_t first, int64_t owned, int all,
+                             frix_mpi_problem **out, int64_t *held, int64_t **ids_out) {
+    const int64_t bodies = scene->bodies;
+    int64_t *ids = calloc((size_t)bodies + 1, sizeof(int64_t)), b, i, n = 0;
+    char *touched = calloc((size_t)bodies + 1, 1);
+    double *M = calloc(36 * (size_t)bodies + 1, sizeof(double)), *f = calloc(6 * (size_t)bodies + 1, sizeof(double));
+    frix_error e;
+    int j;
+    for (i = 2 * first; i < 2 * (first + owned); ++i)
+        if (scene->body[i] >= 0) touched[scene->body[i]] = 1;
+    for (b = 0; b < bodies; ++b) {
+        if (!all && !touched[b]) continue;
+        ids[n] = b;
+        for (j = 0; j < 6; ++j) {
+            M[36 * n + 7 * j] = 1.0 / scene->minv[6 * b + j];
+            f[6 * n + j] = scene->f[6 * b + j];
+        }
+        ++n;
+    }
+    e = frix_mpi_problem_rigid(ctx, first, owned, scene->body + 2 * first, scene->G + 36 * first, scene->w + 3 * first,
+                               scene->mu + first, n, ids, M, f, out);
+    *held = n;
+    *ids_out = ids;
+    free(touched);
+    free(M);
+    free(f);
+    return e;
 }

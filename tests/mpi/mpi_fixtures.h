@@ -20,6 +20,8 @@
 #include <frix/frix_mpi_petsc.h>
 #endif
 
+#include "scenes.h"
+
 /* This process's rank in MPI_COMM_WORLD, and the number of ranks (set by mpi_test_start). */
 extern int g_rank, g_size;
 
@@ -58,6 +60,9 @@ void outcome_free(outcome *o);
 outcome solve_serial(const frix_problem *p, const frix_options *o, const double *r0);
 outcome solve_distributed(MPI_Comm comm, const frix_problem *p, const int *part, const frix_options *o,
                           const double *r0, frix_mpi_problem **keep);
+/* frix_mpi_solve on dist, this rank's part of a problem of nc contacts, from r0 (the whole
+ * problem's warm start; NULL: 0), its r and u gathered to every rank of comm (3nc). */
+outcome solve_part(MPI_Comm comm, frix_mpi_problem *dist, const frix_options *o, const double *r0, int64_t nc);
 /* The same status, iterations, error, r and u, bit for bit (m = 3nc). */
 int same_bits(const outcome *a, const outcome *b, int64_t m);
 
@@ -73,5 +78,11 @@ chain chain_make(int64_t nc);
 void chain_free(chain *c);
 /* The chain as a local problem (*W holds its matrix; free both). */
 frix_problem *chain_problem(const chain *c, frix_matrix **W);
+
+/* A scene of rigid bodies given as H^T's blocks and M's, each rank its block of contacts and
+ * every body (all: a rank may give more bodies than its contacts touch), or only the bodies
+ * its contacts touch; *held and *ids: how many and which (free *ids). */
+frix_error rigid_part(frix_mpi_context *ctx, const frix_scene *scene, int64_t first, int64_t owned, int all,
+                      frix_mpi_problem **out, int64_t *held, int64_t **ids_out);
 
 #endif

@@ -86,38 +86,6 @@ START_TEST(a_global_problem_reduced_on_the_root) {
 }
 END_TEST
 
-/* A scene of rigid bodies given as H^T's blocks and M's, each rank its block of contacts and
- * every body (all: a rank may give more bodies than its contacts touch), or only the bodies
- * its contacts touch; *held and *ids: how many and which (free *ids). */
-static frix_error rigid_part(frix_mpi_context *ctx, const frix_scene *scene, int64_t first, int64_t owned, int all,
-                             frix_mpi_problem **out, int64_t *held, int64_t **ids_out) {
-    const int64_t bodies = scene->bodies;
-    int64_t *ids = calloc((size_t)bodies + 1, sizeof(int64_t)), b, i, n = 0;
-    char *touched = calloc((size_t)bodies + 1, 1);
-    double *M = calloc(36 * (size_t)bodies + 1, sizeof(double)), *f = calloc(6 * (size_t)bodies + 1, sizeof(double));
-    frix_error e;
-    int j;
-    for (i = 2 * first; i < 2 * (first + owned); ++i)
-        if (scene->body[i] >= 0) touched[scene->body[i]] = 1;
-    for (b = 0; b < bodies; ++b) {
-        if (!all && !touched[b]) continue;
-        ids[n] = b;
-        for (j = 0; j < 6; ++j) {
-            M[36 * n + 7 * j] = 1.0 / scene->minv[6 * b + j];
-            f[6 * n + j] = scene->f[6 * b + j];
-        }
-        ++n;
-    }
-    e = frix_mpi_problem_rigid(ctx, first, owned, scene->body + 2 * first, scene->G + 36 * first, scene->w + 3 * first,
-                               scene->mu + first, n, ids, M, f, out);
-    *held = n;
-    *ids_out = ids;
-    free(touched);
-    free(M);
-    free(f);
-    return e;
-}
-
 /* Rigid bodies in product form, on 1 to 4 ranks: the reactions gathered, with the velocities
  * they give, meet the global measure's tolerance; the error, contact and equilibrium parts
  * reported, converged and after one sweep, are frix_problem_measure's of them; the ranks'
