@@ -304,54 +304,9 @@ START_TEST(test_separating) {
 }
 END_TEST
 
-/* One contact that nothing holds in the normal direction, pressed (q_N = -1, or w_N = -1 with
- * the body's normal column of H zero): no solution, r_N grows without end. Every solver of
- * rolling problems ends it diverged, early (the Monitor watches the iterate), and answers with
- * a finite r on the scale of its start and of q, never the runaway; u (and v) finite. */
-static void check_diverges(frix_problem *p, int64_t n, const double *start) {
-    const int solvers[3] = {FRIX_SOLVER_ROLLING_NSGS, FRIX_SOLVER_ROLLING_NSN, FRIX_SOLVER_AUTO};
-    double scale = 1.0; /* |q|_inf, |w|_inf */
-    for (int i = 0; i < 5; ++i) scale = fmax(scale, fabs(start[i]));
-    for (int k = 0; k < 3; ++k) {
-        double r[5], u[5], v[6] = {0};
-        memcpy(r, start, sizeof r);
-        frix_options *o = NULL;
-        frix_info *info = NULL;
-        ck_assert_int_eq(frix_options_create(solvers[k], &o), FRIX_OK);
-        ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
-        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 100000), FRIX_OK);
-        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_EXISTENCE_CHECK, 0), FRIX_OK);
-        ck_assert_int_eq(frix_solve(p, o, r, u, n > 0 ? v : NULL, info), FRIX_OK);
-        ck_assert_msg(frix_info_status(info) == FRIX_STATUS_DIVERGED, "solver %d: status %s", solvers[k],
-                      frix_status_string(frix_info_status(info)));
-        ck_assert_int_lt(frix_info_iterations(info), 100);
-        ck_assert(isfinite(frix_info_error(info)));
-        for (int i = 0; i < 5; ++i) {
-            ck_assert(isfinite(r[i]) && isfinite(u[i]));
-            ck_assert_double_le(fabs(r[i]), scale);
-        }
-        for (int64_t j = 0; j < n; ++j) ck_assert(isfinite(v[j]));
-        frix_info_free(info);
-        frix_options_free(o);
-    }
-}
-
-START_TEST(test_no_solution_diverges) {
-    const double mu = 0.5, mu_r = 0.1, q[5] = {-1, 0, 0, 0, 0}, cold[5] = {0};
-    const double warm[5] = {0.5, 0.1, 0, 0.01, 0}; /* inside both cones */
-    double Wd[25] = {0}, Hd[30] = {0}, f[6] = {0};
-    for (int i = 1; i < 5; ++i) Wd[i + 5 * i] = 1.0, Hd[i + 6 * i] = 1.0;
-    frix_matrix *W = dense(5, 5, Wd), *M = identity(6), *H = dense(6, 5, Hd);
-    frix_problem *local = NULL, *global = NULL;
-    ck_assert_int_eq(frix_problem_rolling_local(W, q, &mu, &mu_r, 1, &local), FRIX_OK);
-    ck_assert_int_eq(frix_problem_rolling_global(M, H, f, q, &mu, &mu_r, 1, &global), FRIX_OK);
-    check_diverges(local, 0, cold);
-    check_diverges(local, 0, warm);
-    check_diverges(global, 6, cold);
-    check_diverges(global, 6, warm);
-    frix_problem_free(local), frix_problem_free(global);
-    frix_matrix_free(W), frix_matrix_free(M), frix_matrix_free(H);
-}
+/* One contact that nothing holds in the normal direction, pressed: no solution
+ * (rolling_check_no_solution). */
+START_TEST(test_no_solution_diverges) { rolling_check_no_solution(5); }
 END_TEST
 
 int main(void) {

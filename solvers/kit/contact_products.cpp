@@ -107,7 +107,7 @@ void ContactProducts::g_row(int64_t k, int64_t t, double *g) const {
 
 void ContactProducts::add_diagonal_block(int64_t k, double *W) const {
     const double *h = hd.data() + (size_t)width * dof_ptr[k];
-    double g[8];  // width <= 8: the forms' contacts have 3 or 5 entries
+    double g[8];  // width <= 8: the forms' contacts have 3, 5 or 6 entries
     for (int64_t t = 0; t < dof_count(k); ++t) {
         g_row(k, t, g);
         for (int f = 0; f < width; ++f)

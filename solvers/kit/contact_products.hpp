@@ -1,4 +1,4 @@
-// The product forms' per-contact data (gnsgs: three entries a contact, rolling-nsgs: five):
+// The product forms' per-contact data (gnsgs: three entries a contact, rolling-nsgs: five or six):
 // for each contact, the dofs of the bodies its columns of H touch (each body whole, in
 // increasing order), and on them H_a and M^-1 H_a, so that a sweep reads u_a = H_a^T v + w_a
 // and adds M^-1 H_a dr_a to v without W. One builder for both forms: the layout is the sweeps'.

@@ -10,37 +10,63 @@
 
 namespace frix::rolling {
 
-void BlockRows::multiply(const double *x, double *y) const {
-    const int64_t nc = (int64_t)row_ptr.size() - 1;
+using local_rolling::with_size;
+
+namespace {
+
+// y_a = sum_k B_k x_{b_k} over the blocks k of row a (N x N): W x, row by row.
+template <int N>
+void multiply_rows(const BlockRows &W, const double *x, double *y) {
+    const int64_t nc = (int64_t)W.row_ptr.size() - 1;
     for (int64_t a = 0; a < nc; ++a) {
-        double s[5] = {0, 0, 0, 0, 0};
-        for (int64_t k = row_ptr[(size_t)a]; k < row_ptr[(size_t)a + 1]; ++k) {
-            const double *B = &val[25 * (size_t)k], *xb = x + 5 * block_col[(size_t)k];
-            for (int j = 0; j < 5; ++j)
-                for (int i = 0; i < 5; ++i) s[i] += B[i + 5 * j] * xb[j];
+        double s[N] = {};
+        for (int64_t k = W.row_ptr[(size_t)a]; k < W.row_ptr[(size_t)a + 1]; ++k) {
+            const double *B = &W.val[N * N * (size_t)k], *xb = x + N * W.block_col[(size_t)k];
+            for (int j = 0; j < N; ++j)
+                for (int i = 0; i < N; ++i) s[i] += B[i + N * j] * xb[j];
         }
-        std::copy(s, s + 5, y + 5 * a);
+        std::copy(s, s + N, y + N * a);
     }
 }
 
-RowForm::RowForm(const frix_problem &p) : p_(p) {
-    const int64_t nc = p.nc;
+// ql = q_a + sum_{b != a} W_ab r_b (N entries).
+template <int N>
+void local_q_rows(const BlockRows &W, const double *q, int64_t a, const double *r, double *ql) {
+    for (int i = 0; i < N; ++i) ql[i] = q[N * a + i];
+    for (int64_t k = W.row_ptr[(size_t)a]; k < W.row_ptr[(size_t)a + 1]; ++k) {
+        const int64_t b = W.block_col[(size_t)k];
+        if (b == a) continue;  // stepped over, not subtracted: no cancellation
+        const double *B = &W.val[N * N * (size_t)k], *rb = r + N * b;
+        for (int j = 0; j < N; ++j)
+            for (int i = 0; i < N; ++i) ql[i] += B[i + N * j] * rb[j];
+    }
+}
+
+}  // namespace
+
+void BlockRows::multiply(const double *x, double *y) const {
+    with_size(size, [&](auto n) { multiply_rows<decltype(n)::value>(*this, x, y); });
+}
+
+RowForm::RowForm(const frix_problem &p) : SweepForm(contact_size(p)), p_(p) {
+    const int64_t nc = p.nc, n = size();
+    w_.size = (int)n;
     // The blocks of each row: every (row, column) contact pair an entry falls in, once.
     unique_pairs_by_key(
-        nc, [&](auto &&emit) { for_each_entry(*p.W, [&](int64_t i, int64_t j, double) { emit(i / 5, j / 5); }); },
+        nc, [&](auto &&emit) { for_each_entry(*p.W, [&](int64_t i, int64_t j, double) { emit(i / n, j / n); }); },
         w_.row_ptr, w_.block_col);
-    w_.val.assign(25 * w_.block_col.size(), 0.0);
+    w_.val.assign((size_t)(n * n) * w_.block_col.size(), 0.0);
     // Each entry into its block; consecutive entries mostly share one, found once.
     int64_t last_a = -1, last_b = -1, k = 0;
     for_each_entry(*p.W, [&](int64_t i, int64_t j, double v) {
-        const int64_t a = i / 5, b = j / 5;
+        const int64_t a = i / n, b = j / n;
         if (a != last_a || b != last_b) {
             const auto first = w_.block_col.begin() + w_.row_ptr[(size_t)a];
             const auto last = w_.block_col.begin() + w_.row_ptr[(size_t)a + 1];
             k = std::lower_bound(first, last, b) - w_.block_col.begin();
             last_a = a, last_b = b;
         }
-        w_.val[25 * (size_t)k + (size_t)(i % 5) + 5 * (size_t)(j % 5)] += v;
+        w_.val[(size_t)(n * n) * (size_t)k + (size_t)(i % n) + (size_t)n * (size_t)(j % n)] += v;
     });
     w_.diag.assign((size_t)nc, -1);
     for (int64_t a = 0; a < nc; ++a)
@@ -49,18 +75,11 @@ RowForm::RowForm(const frix_problem &p) : p_(p) {
 }
 
 const double *RowForm::diagonal_block(int64_t a) const {
-    return w_.diag[(size_t)a] >= 0 ? &w_.val[25 * (size_t)w_.diag[(size_t)a]] : zero_;
+    return w_.diag[(size_t)a] >= 0 ? &w_.val[(size_t)(size() * size()) * (size_t)w_.diag[(size_t)a]] : zero_;
 }
 
 void RowForm::local_q(int64_t a, const double *r, double *ql) const {
-    for (int i = 0; i < 5; ++i) ql[i] = p_.q[5 * a + i];
-    for (int64_t k = w_.row_ptr[(size_t)a]; k < w_.row_ptr[(size_t)a + 1]; ++k) {
-        const int64_t b = w_.block_col[(size_t)k];
-        if (b == a) continue;  // stepped over, not subtracted: no cancellation
-        const double *B = &w_.val[25 * (size_t)k], *rb = r + 5 * b;
-        for (int j = 0; j < 5; ++j)
-            for (int i = 0; i < 5; ++i) ql[i] += B[i + 5 * j] * rb[j];
-    }
+    with_size(size(), [&](auto n) { local_q_rows<decltype(n)::value>(w_, p_.q, a, r, ql); });
 }
 
 frix_error BodyForm::setup(const double *r, const char *who) {
@@ -69,23 +88,23 @@ frix_error BodyForm::setup(const double *r, const char *who) {
         if (frix_error e = to_csc(*p_.M, M)) return e;
         if (frix_error e = bodies_.setup(M, who)) return e;
     }
-    const int64_t nc = p_.nc;
+    const int64_t nc = p_.nc, n = size();
     {
         ContactBodies cb;
-        cb.find(*p_.H, bodies_, 5, nc);
-        cp_.build(*p_.H, bodies_, cb, 5, nc, nullptr, false);
+        cb.find(*p_.H, bodies_, (int)n, nc);
+        cp_.build(*p_.H, bodies_, cb, (int)n, nc, nullptr, false);
     }
-    blocks_.assign(25 * (size_t)nc, 0.0);
-    for (int64_t a = 0; a < nc; ++a) cp_.add_diagonal_block(a, &blocks_[25 * (size_t)a]);
+    blocks_.assign((size_t)(n * n * nc), 0.0);
+    for (int64_t a = 0; a < nc; ++a) cp_.add_diagonal_block(a, &blocks_[(size_t)(n * n * a)]);
     v0_.assign((size_t)p_.n, 0.0);
     bodies_.apply_inverse(p_.f, v0_.data());
     v_ = v0_;
-    for (int64_t a = 0; a < nc; ++a) add_g(a, r + 5 * a, v_.data());
+    for (int64_t a = 0; a < nc; ++a) add_g(a, r + n * a, v_.data());
     return FRIX_OK;
 }
 
 void BodyForm::reduce(BlockRows &W, double *q) const {
-    const int64_t nc = p_.nc, nb = bodies_.count();
+    const int64_t nc = p_.nc, nb = bodies_.count(), n = size();
     // Each body's contacts, with where the body's dofs start among the contact's (a contact
     // holds its bodies whole, in increasing order, each from its place 0).
     std::vector<int64_t> ptr((size_t)nb + 1, 0);
@@ -100,6 +119,7 @@ void BodyForm::reduce(BlockRows &W, double *q) const {
                 const int64_t at = fill[(size_t)bodies_.body_of[cp_.dofs[(size_t)t]]]++;
                 contact[(size_t)at] = a, start[(size_t)at] = t;
             }
+    W.size = (int)n;
     W.row_ptr.assign((size_t)nc + 1, 0);
     W.block_col.clear();
     W.diag.assign((size_t)nc, -1);
@@ -118,12 +138,13 @@ void BodyForm::reduce(BlockRows &W, double *q) const {
                 for (int64_t e = ptr[(size_t)b]; e < ptr[(size_t)b + 1]; ++e) {
                     const auto first = W.block_col.begin() + W.row_ptr[(size_t)a];
                     const auto last = W.block_col.begin() + W.row_ptr[(size_t)a + 1];
-                    double *blk = &W.val[25 * (size_t)(std::lower_bound(first, last, contact[(size_t)e]) -
-                                                       W.block_col.begin())];
+                    double *blk = &W.val[(size_t)(n * n) * (size_t)(std::lower_bound(first, last, contact[(size_t)e]) -
+                                                                    W.block_col.begin())];
                     for (int64_t j = 0; j < bodies_.size(b); ++j) {
-                        const double *h = &cp_.hd[5 * (size_t)(t + j)], *g = &cp_.gd[5 * (size_t)(start[(size_t)e] + j)];
-                        for (int f = 0; f < 5; ++f)
-                            for (int i = 0; i < 5; ++i) blk[i + 5 * f] += h[i] * g[f];
+                        const double *h = &cp_.hd[(size_t)(n * (t + j))];
+                        const double *g = &cp_.gd[(size_t)(n * (start[(size_t)e] + j))];
+                        for (int64_t f = 0; f < n; ++f)
+                            for (int64_t i = 0; i < n; ++i) blk[i + n * f] += h[i] * g[f];
                     }
                 }
             }
@@ -135,80 +156,115 @@ void BodyForm::reduce(BlockRows &W, double *q) const {
                 W.block_col.push_back(c);
             }
             W.row_ptr[(size_t)a + 1] = (int64_t)W.block_col.size();
-            if (a == nc - 1) W.val.assign(25 * W.block_col.size(), 0.0);
+            if (a == nc - 1) W.val.assign((size_t)(n * n) * W.block_col.size(), 0.0);
         }
-    for (int64_t a = 0; a < nc; ++a) contact_velocity(a, v0_.data(), q + 5 * a);
+    for (int64_t a = 0; a < nc; ++a) contact_velocity(a, v0_.data(), q + n * a);
 }
 
-void BodyForm::add_g(int64_t a, const double *x, double *v) const {
-    for (int64_t t = cp_.dof_ptr[(size_t)a]; t < cp_.dof_ptr[(size_t)a + 1]; ++t) {
-        const double *g = &cp_.gd[5 * (size_t)t];
-        v[cp_.dofs[(size_t)t]] += g[0] * x[0] + g[1] * x[1] + g[2] * x[2] + g[3] * x[3] + g[4] * x[4];
+namespace {
+
+// v += M^-1 H_a x (N entries of x): the dofs of contact a's bodies.
+template <int N>
+void add_g_sized(const ContactProducts &cp, int64_t a, const double *x, double *v) {
+    for (int64_t t = cp.dof_ptr[(size_t)a]; t < cp.dof_ptr[(size_t)a + 1]; ++t) {
+        const double *g = &cp.gd[N * (size_t)t];
+        double s = g[0] * x[0];
+        for (int i = 1; i < N; ++i) s += g[i] * x[i];
+        v[cp.dofs[(size_t)t]] += s;
     }
 }
 
-void BodyForm::contact_velocity(int64_t a, const double *v, double *s) const {
-    for (int i = 0; i < 5; ++i) s[i] = p_.w[5 * a + i];
-    for (int64_t t = cp_.dof_ptr[(size_t)a]; t < cp_.dof_ptr[(size_t)a + 1]; ++t) {
-        const double x = v[cp_.dofs[(size_t)t]], *h = &cp_.hd[5 * (size_t)t];
-        for (int i = 0; i < 5; ++i) s[i] += h[i] * x;
+// s = w_a + H_a^T v (N entries).
+template <int N>
+void velocity_sized(const ContactProducts &cp, const double *w, int64_t a, const double *v, double *s) {
+    for (int i = 0; i < N; ++i) s[i] = w[N * a + i];
+    for (int64_t t = cp.dof_ptr[(size_t)a]; t < cp.dof_ptr[(size_t)a + 1]; ++t) {
+        const double x = v[cp.dofs[(size_t)t]], *h = &cp.hd[N * (size_t)t];
+        for (int i = 0; i < N; ++i) s[i] += h[i] * x;
     }
 }
 
-void BodyForm::local_q(int64_t a, const double *r, double *ql) const {
-    double s[5];
-    contact_velocity(a, v_.data(), s);
-    const double *W = &blocks_[25 * (size_t)a], *ra = r + 5 * a;
-    for (int i = 0; i < 5; ++i) {
+// ql = s - W_aa r_a, s = w_a + H_a^T v (N entries).
+template <int N>
+void body_local_q(const ContactProducts &cp, const double *w, const double *blocks, int64_t a, const double *v,
+                  const double *r, double *ql) {
+    double s[N];
+    velocity_sized<N>(cp, w, a, v, s);
+    const double *W = &blocks[N * N * (size_t)a], *ra = r + N * a;
+    for (int i = 0; i < N; ++i) {
         double wr = 0.0;
-        for (int j = 0; j < 5; ++j) wr += W[i + 5 * j] * ra[j];
+        for (int j = 0; j < N; ++j) wr += W[i + N * j] * ra[j];
         ql[i] = s[i] - wr;
     }
 }
 
+// Contact a of the sweep (N entries): solved with the others held fixed, kept where finite.
+template <int N>
+void sweep_contact(SweepForm &form, local_rolling::Contact &c, const local_rolling::Params &lp, int64_t a, double *r,
+                   SweepStats &st) {
+    double *ra = r + N * a, ql[N], rn[N];
+    form.local_q(a, r, ql);
+    std::copy(ra, ra + N, rn);
+    const local_rolling::Outcome out = local_rolling::solve_contact(c, ql, rn, lp);
+    if (out == local_rolling::Outcome::NotConverged || out == local_rolling::Outcome::NoSolution) ++st.unsolved;
+    double dr[N], d2 = 0.0;
+    bool finite = true;
+    for (int i = 0; i < N; ++i) {
+        dr[i] = rn[i] - ra[i];
+        d2 += dr[i] * dr[i];
+        finite = finite && std::isfinite(rn[i]);
+    }
+    if (!finite) {
+        ++st.rejected;
+    } else if (d2 > 0.0) {
+        std::copy(rn, rn + N, ra);
+        form.moved(a, dr);
+        st.dr2 += d2;
+    }
+    for (int i = 0; i < N; ++i) st.r2 += ra[i] * ra[i];
+}
+
+}  // namespace
+
+void BodyForm::add_g(int64_t a, const double *x, double *v) const {
+    with_size(size(), [&](auto n) { add_g_sized<decltype(n)::value>(cp_, a, x, v); });
+}
+
+void BodyForm::contact_velocity(int64_t a, const double *v, double *s) const {
+    with_size(size(), [&](auto n) { velocity_sized<decltype(n)::value>(cp_, p_.w, a, v, s); });
+}
+
+void BodyForm::local_q(int64_t a, const double *r, double *ql) const {
+    with_size(size(),
+              [&](auto n) { body_local_q<decltype(n)::value>(cp_, p_.w, blocks_.data(), a, v_.data(), r, ql); });
+}
+
 void BodyForm::restart(const double *r) {
     v_ = v0_;
-    for (int64_t a = 0; a < p_.nc; ++a) add_g(a, r + 5 * a, v_.data());
+    for (int64_t a = 0; a < p_.nc; ++a) add_g(a, r + size() * a, v_.data());
 }
 
 Measures BodyForm::exact(const double *r, double *u) {
     restart(r);
-    for (int64_t a = 0; a < p_.nc; ++a) contact_velocity(a, v_.data(), u + 5 * a);
-    return rolling_measures_from_ru(p_, r, u, norm2(p_.w, 5 * p_.nc), free_velocity(p_));
+    const int64_t n = size();
+    for (int64_t a = 0; a < p_.nc; ++a) contact_velocity(a, v_.data(), u + n * a);
+    return rolling_measures_from_ru(p_, r, u, norm2(p_.w, n * p_.nc), free_velocity(p_));
 }
 
-std::vector<local5::Contact> contacts_of(const SweepForm &form, const frix_problem &p) {
-    std::vector<local5::Contact> contacts((size_t)p.nc);
+std::vector<local_rolling::Contact> contacts_of(const SweepForm &form, const frix_problem &p) {
+    std::vector<local_rolling::Contact> contacts((size_t)p.nc);
     for (int64_t a = 0; a < p.nc; ++a)
-        local5::contact_setup(form.diagonal_block(a), p.mu[a], p.mu_r[a], contacts[(size_t)a]);
+        local_rolling::contact_setup(form.diagonal_block(a), cones_of(p, a), contacts[(size_t)a]);
     return contacts;
 }
 
-SweepStats sweep(SweepForm &form, std::vector<local5::Contact> &contacts, const local5::Params &lp, double *r) {
+SweepStats sweep(SweepForm &form, std::vector<local_rolling::Contact> &contacts, const local_rolling::Params &lp,
+                 double *r) {
     SweepStats st;
     const int64_t nc = (int64_t)contacts.size();
-    for (int64_t a = 0; a < nc; ++a) {
-        double *ra = r + 5 * a, ql[5], rn[5];
-        form.local_q(a, r, ql);
-        std::copy(ra, ra + 5, rn);
-        const local5::Outcome out = local5::solve_contact(contacts[(size_t)a], ql, rn, lp);
-        if (out == local5::Outcome::NotConverged || out == local5::Outcome::NoSolution) ++st.unsolved;
-        double dr[5], d2 = 0.0;
-        bool finite = true;
-        for (int i = 0; i < 5; ++i) {
-            dr[i] = rn[i] - ra[i];
-            d2 += dr[i] * dr[i];
-            finite = finite && std::isfinite(rn[i]);
-        }
-        if (!finite) {
-            ++st.rejected;
-        } else if (d2 > 0.0) {
-            std::copy(rn, rn + 5, ra);
-            form.moved(a, dr);
-            st.dr2 += d2;
-        }
-        for (int i = 0; i < 5; ++i) st.r2 += ra[i] * ra[i];
-    }
+    with_size(form.size(), [&](auto n) {
+        for (int64_t a = 0; a < nc; ++a) sweep_contact<decltype(n)::value>(form, contacts[(size_t)a], lp, a, r, st);
+    });
     return st;
 }
 

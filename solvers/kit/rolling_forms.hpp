@@ -1,7 +1,7 @@
-// What the rolling NSGS sweeps run on (five entries a contact): W's 5x5 block rows (the local
-// form), or H and M^-1 H with v = M^-1 (H r + f) kept up to date (the global form of rigid
-// bodies: W is never formed). Each gives a contact's diagonal block and local q, is told of
-// each change of a reaction, and measures r exactly.
+// What the rolling NSGS sweeps run on (n = 5 entries a contact, 6 with spinning friction): W's
+// n x n block rows (the local form), or H and M^-1 H with v = M^-1 (H r + f) kept up to date (the
+// global form of rigid bodies: W is never formed). Each gives a contact's diagonal block and
+// local q, is told of each change of a reaction, and measures r exactly.
 #pragma once
 
 #include <algorithm>
@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "solvers/kit/contact_products.hpp"
-#include "solvers/kit/local5x5.hpp"
+#include "solvers/kit/local_rolling.hpp"
 #include "solvers/kit/rigid_bodies.hpp"
 #include "src/measures.hpp"
 #include "src/error_state.hpp"
@@ -18,33 +18,40 @@
 
 namespace frix::rolling {
 
-// W by 5x5 block rows: row a's blocks k in [row_ptr[a], row_ptr[a + 1]), in increasing block
-// column block_col[k], values val[25 k ..] (column-major); diag[a]: its diagonal block, -1 if
-// none.
+// W by n x n block rows (n = size): row a's blocks k in [row_ptr[a], row_ptr[a + 1]), in
+// increasing block column block_col[k], values val[n^2 k ..] (column-major); diag[a]: its
+// diagonal block, -1 if none.
 struct BlockRows {
+    int size = 5;
     std::vector<int64_t> row_ptr, block_col, diag;
     std::vector<double> val;
-    // y = W x (5 entries a contact).
+    // y = W x (size entries a contact).
     void multiply(const double *x, double *y) const;
 };
 
 class SweepForm {
    public:
+    explicit SweepForm(int size) : size_(size) {}
     virtual ~SweepForm() = default;
-    // Contact a's diagonal block W_aa (25 values, column-major).
+    // Entries a contact, n: 5, or 6 with spinning friction.
+    int size() const { return size_; }
+    // Contact a's diagonal block W_aa (n^2 values, column-major).
     virtual const double *diagonal_block(int64_t a) const = 0;
-    // Contact a's local q: q_a + sum_{b != a} W_ab r_b (5 values).
+    // Contact a's local q: q_a + sum_{b != a} W_ab r_b (n values).
     virtual void local_q(int64_t a, const double *r, double *ql) const = 0;
-    // r_a changed by dr (5 values).
+    // r_a changed by dr (n values).
     virtual void moved(int64_t a, const double *dr) { (void)a, (void)dr; }
     // The rolling measures at r (u receives the velocities), and what the form keeps
     // resynchronised with r (rounding drifts).
     virtual Measures exact(const double *r, double *u) = 0;
     // r changed other than by a sweep (momentum): what the form keeps follows.
     virtual void restart(const double *r) { (void)r; }
+
+   private:
+    int size_;
 };
 
-// W's 5x5 block rows, taken from W in either storage (memory: its blocks).
+// W's block rows, taken from W in either storage (memory: its blocks).
 class RowForm : public SweepForm {
    public:
     explicit RowForm(const frix_problem &p);
@@ -56,18 +63,20 @@ class RowForm : public SweepForm {
    private:
     const frix_problem &p_;
     BlockRows w_;
-    double zero_[25] = {};
+    double zero_[local_rolling::kMaxSize * local_rolling::kMaxSize] = {};
 };
 
 // The product form: per contact, the dofs of the bodies it touches, H_a and M^-1 H_a on them
-// (5 values a dof); v = M^-1 (H r + f) updated by each change of r.
+// (n values a dof); v = M^-1 (H r + f) updated by each change of r.
 class BodyForm : public SweepForm {
    public:
-    explicit BodyForm(const frix_problem &p) : p_(p) {}
+    explicit BodyForm(const frix_problem &p) : SweepForm(contact_size(p)), p_(p) {}
     // The bodies, their inverses and the per-contact data; FRIX_ERR_UNSUPPORTED for a
     // deformable M (rigid_bodies.hpp), the message naming `who`, the solver.
     frix_error setup(const double *r, const char *who);
-    const double *diagonal_block(int64_t a) const override { return &blocks_[25 * (size_t)a]; }
+    const double *diagonal_block(int64_t a) const override {
+        return &blocks_[(size_t)(size() * size()) * (size_t)a];
+    }
     void local_q(int64_t a, const double *r, double *ql) const override;
     void moved(int64_t a, const double *dr) override { add_g(a, dr, v_.data()); }
     Measures exact(const double *r, double *u) override;
@@ -83,11 +92,11 @@ class BodyForm : public SweepForm {
     const frix_problem &p_;
     RigidBodies bodies_;
     ContactProducts cp_;                   // contact a's dofs, H_a and M^-1 H_a on them
-    std::vector<double> blocks_, v0_, v_;  // W_aa (25 a contact), M^-1 f, v
+    std::vector<double> blocks_, v0_, v_;  // W_aa (n^2 a contact), M^-1 f, v
 };
 
-// Each contact's one-contact data (local5::contact_setup) from the form's diagonal blocks.
-std::vector<local5::Contact> contacts_of(const SweepForm &form, const frix_problem &p);
+// Each contact's one-contact data (local_rolling::contact_setup) from the form's diagonal blocks.
+std::vector<local_rolling::Contact> contacts_of(const SweepForm &form, const frix_problem &p);
 
 struct SweepStats {
     double dr2 = 0.0, r2 = 0.0;
@@ -96,7 +105,8 @@ struct SweepStats {
 
 // One Gauss-Seidel sweep over every contact (the rolling NSGS's): each solved with the others
 // held fixed, its new reaction kept where finite, the form told of each change.
-SweepStats sweep(SweepForm &form, std::vector<local5::Contact> &contacts, const local5::Params &lp, double *r);
+SweepStats sweep(SweepForm &form, std::vector<local_rolling::Contact> &contacts, const local_rolling::Params &lp,
+                 double *r);
 
 // A rolling solver's entry (`name` in its messages): refuses other problems; runs run(form) on
 // the local form's rows (a RowForm) or on the rigid bodies' product form (a BodyForm set up
@@ -106,7 +116,6 @@ template <class Run>
 frix_error solve_on_form(SolveContext &ctx, const char *name, Run &&run) {
     const frix_problem &p = ctx.problem;
     if (!is_rolling(p)) return fail(FRIX_ERR_UNSUPPORTED, "%s: solves rolling-friction problems only", name);
-    if (p.spinning) return fail(FRIX_ERR_UNSUPPORTED, "%s: spinning friction is not solved yet", name);
     if (p.kind == FRIX_PROBLEM_ROLLING_LOCAL) {
         RowForm rows(p);
         return run(rows);

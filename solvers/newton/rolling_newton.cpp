@@ -1,18 +1,18 @@
 // rolling-nsn (3010): proximal semismooth Newton on rolling-friction problems (five entries a
-// contact), for tight tolerances where W has full rank. Each proximal step (PROX's rule on
-// W + alpha I, which a rank-deficient W needs) is solved by a Newton on the Alart-Curnier
-// function of each contact (kit/local5x5.hpp) in the contact's units (moments in units of
-// force, as the sweeps' one-contact solver has them); the Jacobian A + B (W + alpha) is
-// assembled from W's 5x5 blocks (the local form's, or H^T M^-1 H formed body by body for rigid
-// bodies) and factorised by UMFPACK; the loop, line search, regularisation and status are the
-// Newton kit's (kit/newton_engine.hpp).
+// contact, six with spinning friction), for tight tolerances where W has full rank. Each
+// proximal step (PROX's rule on W + alpha I, which a rank-deficient W needs) is solved by a
+// Newton on the Alart-Curnier function of each contact (kit/local_rolling.hpp) in the contact's
+// units (moments in units of force, as the sweeps' one-contact solver has them); the Jacobian
+// A + B (W + alpha) is assembled from W's n x n blocks (the local form's, or H^T M^-1 H formed
+// body by body for rigid bodies) and factorised by UMFPACK; the loop, line search,
+// regularisation and status are the Newton kit's (kit/newton_engine.hpp).
 // Id 3010, not 3001-3003: those are Siconos's rolling one-contact solvers and ADMM.
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "solvers/entries.hpp"
-#include "solvers/kit/local5x5.hpp"
+#include "solvers/kit/local_rolling.hpp"
 #include "solvers/kit/newton_engine.hpp"
 #include "solvers/kit/rolling_forms.hpp"
 #include "src/error_state.hpp"
@@ -25,15 +25,16 @@ namespace frix {
 namespace rolling_newton {
 namespace {
 
+using local_rolling::with_size;
 using vec::dot;
 
-// J = A + B (W + reg), A and B block-diagonal (25 values a contact), reg diagonal (5 a
-// contact), on W's block pattern plus the diagonal blocks, stored as the CSC of J^T (J's rows:
-// they are W's block rows), so that the transposed solve gives J x = b.
+// J = A + B (W + reg), A and B block-diagonal (n^2 values a contact, n = W.size), reg diagonal
+// (n a contact), on W's block pattern plus the diagonal blocks, stored as the CSC of J^T (J's
+// rows: they are W's block rows), so that the transposed solve gives J x = b.
 class Jacobian {
    public:
     explicit Jacobian(const rolling::BlockRows &W) : W_(W) {
-        const int64_t nc = (int64_t)W.row_ptr.size() - 1;
+        const int64_t nc = (int64_t)W.row_ptr.size() - 1, n = W.size;
         slot_ptr_.assign((size_t)nc + 1, 0);
         for (int64_t a = 0; a < nc; ++a) {
             const size_t first = slots_.size();
@@ -46,43 +47,22 @@ class Jacobian {
             }
             slot_ptr_[(size_t)a + 1] = (int64_t)slots_.size();
         }
-        ptr_.assign(5 * (size_t)nc + 1, 0);
+        ptr_.assign((size_t)(n * nc) + 1, 0);
         for (int64_t a = 0; a < nc; ++a)
-            for (int i = 0; i < 5; ++i)
-                ptr_[5 * (size_t)a + i + 1] =
-                    ptr_[5 * (size_t)a + i] + 5 * (slot_ptr_[(size_t)a + 1] - slot_ptr_[(size_t)a]);
+            for (int64_t i = 0; i < n; ++i)
+                ptr_[(size_t)(n * a + i + 1)] =
+                    ptr_[(size_t)(n * a + i)] + n * (slot_ptr_[(size_t)a + 1] - slot_ptr_[(size_t)a]);
         ind_.resize((size_t)ptr_.back());
         val_.assign(ind_.size(), 0.0);
         for (int64_t a = 0; a < nc; ++a)
-            for (int i = 0; i < 5; ++i) {
-                int64_t at = ptr_[5 * (size_t)a + i];
+            for (int64_t i = 0; i < n; ++i) {
+                int64_t at = ptr_[(size_t)(n * a + i)];
                 for (int64_t s = slot_ptr_[(size_t)a]; s < slot_ptr_[(size_t)a + 1]; ++s)
-                    for (int j = 0; j < 5; ++j) ind_[(size_t)at++] = 5 * slots_[(size_t)s].col + j;
+                    for (int64_t j = 0; j < n; ++j) ind_[(size_t)at++] = n * slots_[(size_t)s].col + j;
             }
     }
     void assemble(const double *A, const double *B, const double *reg) {
-        const int64_t nc = (int64_t)slot_ptr_.size() - 1;
-        for (int64_t a = 0; a < nc; ++a) {
-            const double *Aa = A + 25 * a, *Ba = B + 25 * a;
-            const int64_t width = 5 * (slot_ptr_[(size_t)a + 1] - slot_ptr_[(size_t)a]);
-            for (int64_t s = slot_ptr_[(size_t)a]; s < slot_ptr_[(size_t)a + 1]; ++s) {
-                const Slot &sl = slots_[(size_t)s];
-                double blk[25] = {};
-                if (sl.w >= 0) {
-                    const double *Wk = &W_.val[25 * (size_t)sl.w];
-                    for (int j = 0; j < 5; ++j)
-                        for (int k = 0; k < 5; ++k)
-                            for (int i = 0; i < 5; ++i) blk[i + 5 * j] += Ba[i + 5 * k] * Wk[k + 5 * j];
-                }
-                if (sl.col == a)
-                    for (int j = 0; j < 5; ++j)
-                        for (int i = 0; i < 5; ++i) blk[i + 5 * j] += Aa[i + 5 * j] + Ba[i + 5 * j] * reg[5 * a + j];
-                const int64_t off = 5 * (s - slot_ptr_[(size_t)a]);
-                for (int i = 0; i < 5; ++i)
-                    for (int j = 0; j < 5; ++j)
-                        val_[(size_t)(ptr_[5 * (size_t)a] + i * width + off + j)] = blk[i + 5 * j];
-            }
-        }
+        with_size(W_.size, [&](auto n) { assemble_sized<decltype(n)::value>(A, B, reg); });
     }
     linalg::CscView view() const {
         const int64_t m = (int64_t)ptr_.size() - 1;
@@ -90,6 +70,31 @@ class Jacobian {
     }
 
    private:
+    template <int N>
+    void assemble_sized(const double *A, const double *B, const double *reg) {
+        const int64_t nc = (int64_t)slot_ptr_.size() - 1;
+        for (int64_t a = 0; a < nc; ++a) {
+            const double *Aa = A + N * N * a, *Ba = B + N * N * a;
+            const int64_t width = N * (slot_ptr_[(size_t)a + 1] - slot_ptr_[(size_t)a]);
+            for (int64_t s = slot_ptr_[(size_t)a]; s < slot_ptr_[(size_t)a + 1]; ++s) {
+                const Slot &sl = slots_[(size_t)s];
+                double blk[N * N] = {};
+                if (sl.w >= 0) {
+                    const double *Wk = &W_.val[N * N * (size_t)sl.w];
+                    for (int j = 0; j < N; ++j)
+                        for (int k = 0; k < N; ++k)
+                            for (int i = 0; i < N; ++i) blk[i + N * j] += Ba[i + N * k] * Wk[k + N * j];
+                }
+                if (sl.col == a)
+                    for (int j = 0; j < N; ++j)
+                        for (int i = 0; i < N; ++i) blk[i + N * j] += Aa[i + N * j] + Ba[i + N * j] * reg[N * a + j];
+                const int64_t off = N * (s - slot_ptr_[(size_t)a]);
+                for (int i = 0; i < N; ++i)
+                    for (int j = 0; j < N; ++j)
+                        val_[(size_t)(ptr_[(size_t)(N * a)] + i * width + off + j)] = blk[i + N * j];
+            }
+        }
+    }
     struct Slot {
         int64_t col, w;  // block column; W's block (-1: a diagonal block W lacks)
     };
@@ -101,7 +106,7 @@ class Jacobian {
 
 // A run's Newton system (kit/newton_engine.hpp) on r (the caller's, in place): F(r) the
 // contacts' Alart-Curnier functions in their units, F_a = F_AC(r'_a, u'_a) with r'_a =
-// T_a^-1 r_a, u'_a = T_a u_a, T_a = diag(1, 1, 1, L_a, L_a) (local5::alart_curnier); its
+// T_a^-1 r_a, u'_a = T_a u_a, T_a = diag(1, 1, 1, L_a, L_a[, L_a]) (local_rolling::alart_curnier); its
 // Jacobian in r is A + B W with A_a = A'_a T_a^-1 and B_a = B'_a T_a (A', B' its blocks in
 // the contact's units).
 class System : public kit::SystemDefaults, public kit::InPlaceIterate {
@@ -109,9 +114,11 @@ class System : public kit::SystemDefaults, public kit::InPlaceIterate {
     static constexpr bool kWatchable = true;
 
     System(const frix_problem &p, rolling::SweepForm &form, const rolling::BlockRows &W, const std::vector<double> &q,
-           const std::vector<local5::Contact> &contacts, double *r, const frix_options &o, const Monitor &monitor)
-        : InPlaceIterate(r, 5 * (int64_t)contacts.size()),
+           const std::vector<local_rolling::Contact> &contacts, double *r, const frix_options &o,
+           const Monitor &monitor)
+        : InPlaceIterate(r, W.size * (int64_t)contacts.size()),
           log_(&o),
+          n_(W.size),
           problem_(&p),
           norm_q_(norm2(q.data(), (int64_t)q.size())),
           form_(form),
@@ -120,8 +127,8 @@ class System : public kit::SystemDefaults, public kit::InPlaceIterate {
           c_(contacts),
           measure_(o.i(FRIX_OPT_ERROR_MEASURE)),
           jac_(W),
-          A_(5 * m_),
-          B_(5 * m_),
+          A_(n_ * m_),
+          B_(n_ * m_),
           reg_(m_),
           shift_(m_),
           F_(m_),
@@ -130,7 +137,7 @@ class System : public kit::SystemDefaults, public kit::InPlaceIterate {
           scratch_(m_) {
         lu_.set_budget(monitor.budget());
         double sum = 0.0;  // the mean |W'_aa|_inf: delta's unit
-        for (const local5::Contact &c : c_) sum += c.degenerate ? 0.0 : 1.0 / c.rho0;
+        for (const local_rolling::Contact &c : c_) sum += c.degenerate ? 0.0 : 1.0 / c.rho0;
         w_scale_ = !c_.empty() && sum > 0.0 ? sum / (double)c_.size() : 1.0;
     }
     // The proximal problem of PROX: u = W r + q + alpha T^-2 (r - anchor) (W' + alpha I in the
@@ -138,8 +145,8 @@ class System : public kit::SystemDefaults, public kit::InPlaceIterate {
     // W does not; alpha = 0: the problem itself.
     void set_proximal(double alpha, const double *anchor) {
         for (size_t a = 0; a < c_.size(); ++a)
-            for (int i = 0; i < 5; ++i)
-                shift_[5 * a + i] = alpha * w_scale_ / (i >= 3 ? c_[a].length * c_[a].length : 1.0);
+            for (int i = 0; i < n_; ++i)
+                shift_[n_ * a + i] = alpha * w_scale_ / (i >= 3 ? c_[a].length * c_[a].length : 1.0);
         alpha_ = alpha;
         anchor_ = anchor;
     }
@@ -154,8 +161,8 @@ class System : public kit::SystemDefaults, public kit::InPlaceIterate {
     double error() { return selected_error(form_.exact(r_, scratch_.data()), measure_); }
     frix_error factor(double delta, kit::Factorisation &f) {
         for (size_t a = 0; a < c_.size(); ++a)  // W' + delta I in the contact's units
-            for (int i = 0; i < 5; ++i)
-                reg_[5 * a + i] = shift_[5 * a + i] + delta * w_scale_ / (i >= 3 ? c_[a].length * c_[a].length : 1.0);
+            for (int i = 0; i < n_; ++i)
+                reg_[n_ * a + i] = shift_[n_ * a + i] + delta * w_scale_ / (i >= 3 ? c_[a].length * c_[a].length : 1.0);
         jac_.assemble(A_.data(), B_.data(), reg_.data());
         if (!analysed_) {
             if (frix_error e = lu_.analyze(jac_.view()))
@@ -178,15 +185,7 @@ class System : public kit::SystemDefaults, public kit::InPlaceIterate {
     frix_error directional(double &slope) {
         W_.multiply(d_.data(), du_.data());
         for (int64_t i = 0; i < m_; ++i) du_[i] += shift_[i] * d_[i];
-        slope = 0.0;
-        for (int64_t a = 0; a < m_ / 5; ++a) {
-            const double *Aa = &A_[25 * a], *Ba = &B_[25 * a], *d = &d_[5 * a], *du = &du_[5 * a];
-            for (int i = 0; i < 5; ++i) {
-                double s = 0.0;
-                for (int j = 0; j < 5; ++j) s += Aa[i + 5 * j] * d[j] + Ba[i + 5 * j] * du[j];
-                slope += F_[5 * a + i] * s;
-            }
-        }
+        slope = with_size(n_, [&](auto n) { return slope_sized<decltype(n)::value>(); });
         return FRIX_OK;
     }
     double merit_at(double t) {
@@ -207,6 +206,20 @@ class System : public kit::SystemDefaults, public kit::InPlaceIterate {
     }
 
    private:
+    // F . (A d + B du), contact by contact (N entries each).
+    template <int N>
+    double slope_sized() const {
+        double slope = 0.0;
+        for (int64_t a = 0; a < m_ / N; ++a) {
+            const double *Aa = &A_[N * N * a], *Ba = &B_[N * N * a], *d = &d_[N * a], *du = &du_[N * a];
+            for (int i = 0; i < N; ++i) {
+                double s = 0.0;
+                for (int j = 0; j < N; ++j) s += Aa[i + N * j] * d[j] + Ba[i + N * j] * du[j];
+                slope += F_[N * a + i] * s;
+            }
+        }
+        return slope;
+    }
     void velocity(const double *r, double *u) const {
         W_.multiply(r, u);
         for (int64_t i = 0; i < m_; ++i) u[i] += q_[(size_t)i];
@@ -215,16 +228,18 @@ class System : public kit::SystemDefaults, public kit::InPlaceIterate {
     }
     // F at (r, u), with A and B when jacobian.
     void equations(const double *r, const double *u, double *F, bool jacobian) {
+        const int n = n_;
         for (size_t a = 0; a < c_.size(); ++a) {
-            const local5::Contact &c = c_[a];
-            const double L = c.length, *ra = r + 5 * a, *ua = u + 5 * a;
-            const double rs[5] = {ra[0], ra[1], ra[2], ra[3] / L, ra[4] / L};
-            const double us[5] = {ua[0], ua[1], ua[2], ua[3] * L, ua[4] * L};
-            double *Aa = jacobian ? &A_[25 * a] : nullptr, *Ba = jacobian ? &B_[25 * a] : nullptr;
-            local5::alart_curnier(rs, us, c.mu, c.mu_r, c.rho0, F + 5 * a, Aa, Ba);
+            const local_rolling::Contact &c = c_[a];
+            const double L = c.length, *ra = r + n * a, *ua = u + n * a;
+            double rs[local_rolling::kMaxSize], us[local_rolling::kMaxSize];
+            for (int i = 0; i < n; ++i) rs[i] = i >= 3 ? ra[i] / L : ra[i], us[i] = i >= 3 ? ua[i] * L : ua[i];
+            double *Aa = jacobian ? &A_[(size_t)(n * n) * a] : nullptr;
+            double *Ba = jacobian ? &B_[(size_t)(n * n) * a] : nullptr;
+            local_rolling::alart_curnier(rs, us, c.cones(), c.rho0, F + n * a, Aa, Ba);
             if (!jacobian) continue;
-            for (int i = 0; i < 5; ++i)
-                for (int j = 3; j < 5; ++j) Aa[i + 5 * j] /= L, Ba[i + 5 * j] *= L;
+            for (int i = 0; i < n; ++i)
+                for (int j = 3; j < n; ++j) Aa[i + n * j] /= L, Ba[i + n * j] *= L;
         }
     }
     // The error of the problem solved (the proximal one when alpha > 0), u its velocity at r.
@@ -235,6 +250,7 @@ class System : public kit::SystemDefaults, public kit::InPlaceIterate {
     }
 
     const frix_options *log_;
+    const int n_;  // entries a contact
     const frix_problem *problem_;
     double norm_q_;
     double alpha_ = 0.0;
@@ -242,7 +258,7 @@ class System : public kit::SystemDefaults, public kit::InPlaceIterate {
     rolling::SweepForm &form_;
     const rolling::BlockRows &W_;
     const std::vector<double> &q_;
-    const std::vector<local5::Contact> &c_;
+    const std::vector<local_rolling::Contact> &c_;
     const int64_t measure_;
     Jacobian jac_;
     linalg::SparseLU lu_;
@@ -263,7 +279,7 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, const rolling::Block
     const Monitor monitor(ctx);
     const double tol = monitor.tolerance(), sigma = o.d(FRIX_OPT_PROX_SIGMA), nu = o.d(FRIX_OPT_PROX_NU);
     kit::Steps inner{Monitor(ctx)};  // the Newton steps, on each proximal step's limits
-    const std::vector<local5::Contact> contacts = rolling::contacts_of(form, ctx.problem);
+    const std::vector<local_rolling::Contact> contacts = rolling::contacts_of(form, ctx.problem);
     double *r = ctx.r;
     System sys(ctx.problem, form, W, q, contacts, r, o, inner.monitor);
     kit::Counters counters;
@@ -272,7 +288,7 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, const rolling::Block
     rules.delta_start = 0.0;            // alpha regularises J already
     rules.full_step_on_failure = true;  // PROX's rule: short steps stall on the regularised problems
     const auto adapted = [&](double err) { return std::clamp(sigma * std::pow(err, nu), kAlphaMin, kAlphaMax); };
-    const int64_t m = 5 * ctx.problem.nc;
+    const int64_t m = contact_size(ctx.problem) * ctx.problem.nc;
     std::vector<double> rk(r, r + m), tried;
     double err = sys.error(), alpha = adapted(err);
     int64_t outer = 0;
@@ -329,12 +345,12 @@ struct RunOnForm {
     SolveContext &ctx;
     frix_error operator()(rolling::RowForm &rows) const {
         const frix_problem &p = ctx.problem;
-        const std::vector<double> q(p.q, p.q + 5 * p.nc);
+        const std::vector<double> q(p.q, p.q + contact_size(p) * p.nc);
         return run(ctx, rows, rows.rows(), q);
     }
     frix_error operator()(rolling::BodyForm &bodies) const {
         rolling::BlockRows W;
-        std::vector<double> q(5 * (size_t)ctx.problem.nc);
+        std::vector<double> q((size_t)(contact_size(ctx.problem) * ctx.problem.nc));
         bodies.reduce(W, q.data());
         return run(ctx, bodies, W, q);
     }
@@ -354,15 +370,17 @@ const SolverEntry kRollingNsnEntry = {
     FRIX_SOLVER_ROLLING_NSN,
     "rolling-nsn",
     nullptr,  // Siconos 4.4 has no Newton for rolling friction
-    "Proximal semismooth Newton for rolling-friction problems (five entries a contact), for "
+    "Proximal semismooth Newton for rolling-friction problems (five entries a contact, six "
+    "with spinning friction), for "
     "tight tolerances: proximal point steps on W + alpha I (alpha = prox_sigma error^prox_nu in "
     "units of the mean |W_aa|, lowered at least tenfold after a solved step, raised tenfold "
     "after a failed one; a step that does not lower the error is undone), each solved by a "
     "semismooth Newton on the Alart-Curnier function of the rolling law (Signorini, and "
-    "Coulomb's law in the sliding disk of radius mu r_N and in the rolling disk of radius "
-    "mu_r r_N), per contact in units where moments are forces (m / L, L = sqrt(tr W_TT / tr "
+    "Coulomb's law in the sliding disk of radius mu r_N, in the rolling disk of radius "
+    "mu_r r_N and on the spinning interval of half-width mu_s r_N), per contact in units where "
+    "moments are forces (m / L, L = sqrt(tr W_TT / tr "
     "W_RR)) with rho = 1 / |W_aa|_inf in those units. The Jacobian A + B (W + alpha) is "
-    "assembled from W's 5x5 blocks (local problems) or from H^T M^-1 H formed body by body "
+    "assembled from W's 5x5 (6x6) blocks (local problems) or from H^T M^-1 H formed body by body "
     "(global problems of rigid bodies, M block-diagonal with blocks of at most 64 dofs; a "
     "deformable M is refused) and factorised by UMFPACK each step; the step is damped by a "
     "line search on 1/2 |F|^2. Converges in a few steps where W has full rank; on rigid "

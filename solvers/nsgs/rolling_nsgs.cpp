@@ -1,7 +1,7 @@
 // rolling-nsgs (3000, Siconos 4.4's ROLLING_FRICTION_3D_NSGS): nonsmooth Gauss-Seidel on
-// rolling-friction problems (five entries a contact). Each sweep solves every contact with
-// the others held fixed (kit/local5x5.hpp); the local form reads W's 5x5 block rows, the
-// global form of rigid bodies keeps v = M^-1 (H r + f) and never forms W
+// rolling-friction problems (five entries a contact, six with spinning friction). Each sweep
+// solves every contact with the others held fixed (kit/local_rolling.hpp); the local form reads
+// W's block rows, the global form of rigid bodies keeps v = M^-1 (H r + f) and never forms W
 // (kit/rolling_forms.hpp). Stops as Siconos's LIGHT_WITH_FULL_FINAL: on the light error
 // |dr| / |r| confirmed by the full measure (and a full check every kFullEvery sweeps).
 #include <algorithm>
@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "solvers/entries.hpp"
-#include "solvers/kit/local5x5.hpp"
+#include "solvers/kit/local_rolling.hpp"
 #include "solvers/kit/rolling_forms.hpp"
 #include "solvers/kit/sweeps.hpp"
 #include "src/error_state.hpp"
@@ -42,7 +42,8 @@ class Momentum {
             last_[i] = x;
         }
         if (beta == 0.0) return;
-        for (int64_t a = 0; a < p.nc; ++a) rolling::project_on_cone(r + 5 * a, rolling::cones_of(p, a));
+        const int n = contact_size(p);
+        for (int64_t a = 0; a < p.nc; ++a) rolling::project_on_cone(r + n * a, rolling::cones_of(p, a));
         form.restart(r);
     }
 
@@ -54,10 +55,10 @@ class Momentum {
 frix_error run(SolveContext &ctx, rolling::SweepForm &form) {
     const frix_problem &p = ctx.problem;
     const frix_options &o = ctx.options;
-    local5::Params lp;
+    local_rolling::Params lp;
     lp.tol = o.d(FRIX_OPT_LOCAL_TOLERANCE);
     lp.max_iter = (int)o.i(FRIX_OPT_LOCAL_MAX_ITER);
-    std::vector<local5::Contact> contacts = rolling::contacts_of(form, p);
+    std::vector<local_rolling::Contact> contacts = rolling::contacts_of(form, p);
     const Monitor monitor(ctx);
     const double tol = monitor.tolerance();
     if (o.i(FRIX_OPT_VERBOSITY) >= 1)
@@ -68,7 +69,7 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form) {
     double light_tol = tol;  // tightened when a light convergence is not confirmed
     frix_status status = FRIX_STATUS_NOT_RUN;
     int64_t it = 0;
-    Momentum momentum(o.i(FRIX_OPT_ACCELERATION) != 0, 5 * p.nc, ctx.r);
+    Momentum momentum(o.i(FRIX_OPT_ACCELERATION) != 0, contact_size(p) * p.nc, ctx.r);
     Measures last;       // the last full check's measures,
     bool at_r = false;   // taken at the r returned
     while (status == FRIX_STATUS_NOT_RUN) {
@@ -120,12 +121,13 @@ const SolverEntry kRollingNsgsEntry = {
     "rolling-nsgs",
     "ROLLING_FRICTION_3D_NSGS",
     "Nonsmooth Gauss-Seidel for rolling-friction problems (five entries a contact: r_N, r_T, "
-    "m_R; frix_problem.h): sweeps over the contacts, each solved with the others held fixed. "
+    "m_R, and with spinning friction a sixth, m_S; frix_problem.h): sweeps over the contacts, "
+    "each solved with the others held fixed. "
     "The one-contact solver is exact for take-off and for stick (r = -W_aa^-1 q inside the "
     "rolling cone), and otherwise runs a semismooth Newton on the natural map (the projection "
-    "on the rolling cone, both De Saxce shifts) from the better of the warm start and the "
+    "on the rolling cone, every De Saxce shift) from the better of the warm start and the "
     "projected stick reaction, finished where it stalls by Siconos's projected iterations with "
-    "a self-adaptive step. Local problems: W's 5x5 block rows. Global problems whose M is "
+    "a self-adaptive step. Local problems: W's 5x5 (6x6) block rows. Global problems whose M is "
     "block-diagonal with small blocks (rigid bodies, at most 64 dofs a block): the product "
     "form, v = M^-1 (H r + f) kept up to date, W never formed; a deformable M is refused "
     "(FRIX_ERR_UNSUPPORTED). Stops on the light error |dr|/|r| confirmed by the full error "

@@ -52,6 +52,32 @@ void frix_testing_contact_function(int formulation, const double r[3], const dou
                                    double mu, double rho_n, double rho_t, double phi[3],
                                    double A[9], double B[9]);
 
+/* ---- The rolling one-contact kernels (solvers/kit/local_rolling.hpp): size entries a contact
+ * (5, or 6 with spinning friction), W size x size column-major. */
+
+/* Outcomes of frix_testing_rolling_solve_contact (the values of frix::local_rolling::Outcome). */
+enum {
+    FRIX_TESTING_ROLLING_TAKE_OFF = 1,
+    FRIX_TESTING_ROLLING_STICK = 2,
+    FRIX_TESTING_ROLLING_NEWTON = 3,
+    FRIX_TESTING_ROLLING_ITERATED = 4,
+    FRIX_TESTING_ROLLING_NOT_CONVERGED = 5,
+    FRIX_TESTING_ROLLING_NO_SOLUTION = 6
+};
+
+/* One contact: r is the warm start in, the result out. Returns an outcome. */
+int frix_testing_rolling_solve_contact(int size, const double *W, const double *q, double mu, double mu_r,
+                                       double mu_s, double *r, double tol, int max_iter);
+
+/* x <- P_K(x) and D (size x size, may be NULL) its generalized Jacobian at the x given; returns
+ * the projection's case (src/rolling.hpp). */
+int frix_testing_rolling_projection(int size, double *x, double mu, double mu_r, double mu_s, double *D);
+
+/* The Alart-Curnier function F(r, u) of one contact and its blocks A = dF/dr, B = dF/du (size x
+ * size; may be NULL). */
+void frix_testing_rolling_alart_curnier(int size, const double *r, const double *u, double mu, double mu_r,
+                                        double mu_s, double rho, double *F, double *A, double *B);
+
 /* ---- Linear algebra back-end (src/linalg). Return a frix_error value. */
 /* Analyses once, factorises A then 2A, solves (2A) x = b; counters out. */
 int frix_testing_sparse_lu(int64_t n, const int64_t *colptr, const int64_t *rowind,

@@ -1,9 +1,11 @@
 // The frix_testing_* hooks of frix_testing.h: thin wrappers over internal kernels, built
 // into the tests only (the library they link), never into libfrix.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
 #include "solvers/kit/local3x3.hpp"
+#include "solvers/kit/local_rolling.hpp"
 #include "src/coulomb.hpp"
 #include "src/rolling.hpp"
 
@@ -17,6 +19,44 @@ static_assert((int)Outcome::TakeOff == 1 && (int)Outcome::Stick == 2 && (int)Out
                   (int)Outcome::Newton == 8,
               "frix_testing.h mirrors these values");
 }  // namespace
+
+namespace {
+using Rolling = frix::local_rolling::Outcome;
+static_assert((int)Rolling::TakeOff == 1 && (int)Rolling::Stick == 2 && (int)Rolling::Newton == 3 &&
+                  (int)Rolling::Iterated == 4 && (int)Rolling::NotConverged == 5 && (int)Rolling::NoSolution == 6,
+              "frix_testing.h mirrors these values");
+
+frix::rolling::Cones rolling_cones(int size, double mu, double mu_r, double mu_s) {
+    return frix::rolling::Cones{mu, mu_r, size == 6 ? mu_s : 0.0, size == 6 ? 6 : 5};
+}
+}  // namespace
+
+FRIX_TESTING_HOOK int frix_testing_rolling_solve_contact(int size, const double *W, const double *q, double mu,
+                                                         double mu_r, double mu_s, double *r, double tol,
+                                                         int max_iter) {
+    frix::local_rolling::Contact c;
+    frix::local_rolling::contact_setup(W, rolling_cones(size, mu, mu_r, mu_s), c);
+    frix::local_rolling::Params p;
+    p.tol = tol;
+    p.max_iter = max_iter;
+    return (int)frix::local_rolling::solve_contact(c, q, r, p);
+}
+
+FRIX_TESTING_HOOK int frix_testing_rolling_projection(int size, double *x, double mu, double mu_r, double mu_s,
+                                                      double *D) {
+    const frix::rolling::Cones k = rolling_cones(size, mu, mu_r, mu_s);
+    double given[frix::local_rolling::kMaxSize];
+    std::copy(x, x + k.size, given);
+    const int which = frix::rolling::project_on_cone(x, k);
+    if (D) frix::local_rolling::projection_jacobian(given, which, k, D);
+    return which;
+}
+
+FRIX_TESTING_HOOK void frix_testing_rolling_alart_curnier(int size, const double *r, const double *u, double mu,
+                                                          double mu_r, double mu_s, double rho, double *F, double *A,
+                                                          double *B) {
+    frix::local_rolling::alart_curnier(r, u, rolling_cones(size, mu, mu_r, mu_s), rho, F, A, B);
+}
 
 FRIX_TESTING_HOOK void frix_testing_project_on_cone(double r[3], double mu) {
     frix::coulomb::project_on_cone(r, mu);
