@@ -2,9 +2,11 @@
  * three-component solvers and services, the measure on hand-checked contacts (stick, rolling,
  * sliding and rolling), rolling-nsgs (local and product forms, and auto's route) on
  * generated sphere piles, checked against the independent measure, and every rolling solver
- * on a problem without a solution (diverged, never the runaway r). */
+ * on a problem without a solution (diverged, never the runaway r); the product form's sweeps
+ * the same bit for bit on any number of threads. */
 #include <frix/frix.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -235,7 +237,8 @@ START_TEST(test_nsgs_on_piles) {
         solve_to(pile.global, FRIX_SOLVER_ROLLING_NSGS, pile.nc, pile.n, &global_it);
         solve_to(pile.local, FRIX_SOLVER_AUTO, pile.nc, 0, &auto_it);
         solve_to(pile.global, FRIX_SOLVER_AUTO, pile.nc, pile.n, &auto_it);
-        /* The product form sweeps the same contacts in the same order: the same iterates. */
+        /* The pile is one domain: the product form sweeps the same contacts in the same
+         * order as the local form, the same iterates. */
         ck_assert_int_eq(local_it, global_it);
         rolling_pile_free(&pile);
     }
@@ -258,6 +261,73 @@ START_TEST(test_global_velocity) {
     for (int64_t i = 0; i < m; ++i) ck_assert_double_eq_tol(u[i], hv[i] + pile.w[i], 1e-12);
     ck_assert_int_eq(frix_solve(pile.global, NULL, r, u, NULL, NULL), FRIX_ERR_INVALID_ARGUMENT);
     free(r), free(u), free(v), free(b), free(mv), free(hv);
+    rolling_pile_free(&pile);
+}
+END_TEST
+
+/* rolling-nsgs's log of its domains: the most domains of one colour, and the threads. */
+typedef struct {
+    long long widest;
+    int threads;
+} domain_log;
+
+static void read_domains(void *data, const char *line) {
+    domain_log *d = data;
+    long long domains = 0, colours = 0, widest = 0;
+    int threads = 0;
+    if (sscanf(line, "rolling-nsgs: %lld domains of %lld colours, at most %lld a colour, %d threads", &domains,
+               &colours, &widest, &threads) == 4)
+        d->widest = widest, d->threads = threads;
+}
+
+/* The product form sweeps domains of contacts, those of one colour at once on the threads:
+ * rolling-nsgs and auto (whose sweeps get the caller's threads) answer the same r, u, v, the
+ * same iterations and error bit for bit on 1, 2 and 3 threads, five and six entries a contact
+ * (the loop's index: solver, then spinning). The 4 x 4 x 4 pile (160 contacts) has two domains
+ * of one colour, which the log shows swept on the threads asked for. */
+START_TEST(test_threads_bit_identical) {
+    const int solver = _i % 2 ? FRIX_SOLVER_AUTO : FRIX_SOLVER_ROLLING_NSGS, spinning = _i / 2;
+    rolling_pile pile;
+    ck_assert_int_eq(spinning ? rolling_pile_make_spinning(4, 4, 0.3, 0.02, 0.01, 5, &pile)
+                              : rolling_pile_make(4, 4, 0.3, 0.02, 5, &pile),
+                     0);
+    const int64_t m = pile.size * pile.nc, n = pile.n;
+    double *r[3], *u[3], *v[3], error[3];
+    int64_t iterations[3];
+    for (int t = 0; t < 3; ++t) {
+        r[t] = calloc((size_t)m, sizeof(double));
+        u[t] = calloc((size_t)m, sizeof(double));
+        v[t] = calloc((size_t)n, sizeof(double));
+        frix_options *o = NULL;
+        frix_info *info = NULL;
+        domain_log log = {0, 0};
+        ck_assert_int_eq(frix_options_create(solver, &o), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_THREADS, t + 1), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_log(o, read_domains, &log), FRIX_OK);
+        ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+        ck_assert_int_eq(frix_solve(pile.global, o, r[t], u[t], v[t], info), FRIX_OK);
+        ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+        error[t] = frix_info_error(info);
+        ck_assert_double_le(error[t], 1e-8);
+        iterations[t] = frix_info_iterations(info);
+        ck_assert_int_gt(iterations[t], 10); /* the sweeps, not the start, decide the answer */
+        if (solver == FRIX_SOLVER_ROLLING_NSGS) {
+            ck_assert_int_ge(log.widest, 2);
+            ck_assert_int_eq(log.threads, t + 1);
+        }
+        frix_info_free(info);
+        frix_options_free(o);
+    }
+    for (int t = 1; t < 3; ++t) {
+        ck_assert_int_eq(iterations[t], iterations[0]);
+        ck_assert(error[t] == error[0]);
+        ck_assert_mem_eq(r[t], r[0], sizeof(double) * (size_t)m);
+        ck_assert_mem_eq(u[t], u[0], sizeof(double) * (size_t)m);
+        ck_assert_mem_eq(v[t], v[0], sizeof(double) * (size_t)n);
+    }
+    for (int t = 0; t < 3; ++t) free(r[t]), free(u[t]), free(v[t]);
     rolling_pile_free(&pile);
 }
 END_TEST
@@ -320,6 +390,7 @@ int main(void) {
     tcase_add_test(tc, test_one_sphere_on_ground);
     tcase_add_test(tc, test_nsgs_on_piles);
     tcase_add_test(tc, test_global_velocity);
+    tcase_add_loop_test(tc, test_threads_bit_identical, 0, 4);
     tcase_add_test(tc, test_separating);
     tcase_add_test(tc, test_limits);
     tcase_add_test(tc, test_no_solution_diverges);

@@ -378,7 +378,8 @@ START_TEST(test_piles) {
                 check_spin(r, pile.nc, 0.01);
                 ck_assert_double_gt(five_entry_error(&five, r), 1e-6);
             }
-        /* The product form sweeps the same contacts in the same order: the same iterates. */
+        /* The pile is one domain: the product form sweeps the same contacts in the same
+         * order as the local form, the same iterates. */
         ck_assert_int_eq(local_it, global_it);
         memset(r, 0, (size_t)m * sizeof(double));
         solve_checked(free_pile.local, FRIX_SOLVER_ROLLING_NSGS, 1e-8, 0, r);

@@ -115,4 +115,19 @@ void ContactProducts::add_diagonal_block(int64_t k, double *W) const {
     }
 }
 
+void ContactProducts::renumber_dofs(int64_t n, const int64_t *order, int64_t count, std::vector<int64_t> &slot_of_dof) {
+    slot_of_dof.assign((size_t)n, -1);
+    int64_t next = 0;
+    for (int64_t i = 0; i < count; ++i) {
+        const int64_t k = order ? order[i] : i;
+        for (int64_t t = dof_ptr[(size_t)k]; t < dof_ptr[(size_t)k + 1]; ++t) {
+            int64_t &d = dofs[(size_t)t];
+            if (slot_of_dof[(size_t)d] < 0) slot_of_dof[(size_t)d] = next++;
+            d = slot_of_dof[(size_t)d];
+        }
+    }
+    for (int64_t &s : slot_of_dof)
+        if (s < 0) s = next++;  // dofs no contact touches
+}
+
 }  // namespace frix

@@ -38,6 +38,11 @@ struct ContactProducts {
     void g_row(int64_t k, int64_t t, double *g) const;
     // W_aa = H_a^T M^-1 H_a of position k, width^2 values column-major, added to W.
     void add_diagonal_block(int64_t k, double *W) const;
+    // Renumbers the n dofs in the order a sweep over positions order[0 .. count) (nullptr: 0 ..
+    // count) first reaches them, a body's together, the dofs no contact touches last: a sweep
+    // then reads and writes v front to back, and a domain a compact part of it. dofs is
+    // rewritten; slot_of_dof[d] is dof d's new number.
+    void renumber_dofs(int64_t n, const int64_t *order, int64_t count, std::vector<int64_t> &slot_of_dof);
 };
 
 }  // namespace frix

@@ -82,7 +82,14 @@ void RowForm::local_q(int64_t a, const double *r, double *ql) const {
     with_size(size(), [&](auto n) { local_q_rows<decltype(n)::value>(w_, p_.q, a, r, ql); });
 }
 
-frix_error BodyForm::setup(const double *r, const char *who) {
+// Domains of the threaded sweeps: about kDomains of them, enough for the threads to share each
+// colour's evenly, and none under kMinDomain contacts (a domain's sweep must outweigh handing
+// it to a thread; a rolling contact's solve costs several times a three-entry one's). A problem
+// of one domain has nothing to share: it is swept in its own order on the caller's thread.
+constexpr int64_t kDomains = 128;
+constexpr int64_t kMinDomain = 64;
+
+frix_error BodyForm::setup(const double *r, const char *who, int threads) {
     {
         Csc M;
         if (frix_error e = to_csc(*p_.M, M)) return e;
@@ -92,31 +99,65 @@ frix_error BodyForm::setup(const double *r, const char *who) {
     {
         ContactBodies cb;
         cb.find(*p_.H, bodies_, (int)n, nc);
-        cp_.build(*p_.H, bodies_, cb, (int)n, nc, nullptr, false);
+        // The domains of one colour share no body: their contacts touch disjoint dofs of v.
+        const int64_t domain_size = std::max(kMinDomain, (nc + kDomains - 1) / kDomains);
+        if (threads > 0 && nc > domain_size) {
+            domains_ = nsgs::make_domains(nc, bodies_.count(), domain_size,
+                                          [&cb](int64_t a, std::vector<int64_t> &out) {
+                                              out.insert(out.end(), cb.bodies.begin() + cb.ptr[a],
+                                                         cb.bodies.begin() + cb.ptr[a + 1]);
+                                          });
+            team_ = std::make_unique<ThreadTeam>(threads);
+            position_.resize((size_t)nc);
+            for (int64_t k = 0; k < nc; ++k) position_[(size_t)domains_.contacts[(size_t)k]] = k;
+        }
+        const int64_t *order = team_ ? domains_.contacts.data() : nullptr;
+        cp_.build(*p_.H, bodies_, cb, (int)n, nc, order, false);
+        if (order) {
+            cp_.renumber_dofs(p_.n, nullptr, nc, slot_of_dof_);
+            dof_of_slot_.resize((size_t)p_.n);
+            for (int64_t d = 0; d < p_.n; ++d) dof_of_slot_[(size_t)slot_of_dof_[(size_t)d]] = d;
+        }
     }
     blocks_.assign((size_t)(n * n * nc), 0.0);
-    for (int64_t a = 0; a < nc; ++a) cp_.add_diagonal_block(a, &blocks_[(size_t)(n * n * a)]);
+    w_.resize((size_t)(n * nc));
+    for (int64_t a = 0; a < nc; ++a) {
+        cp_.add_diagonal_block(at(a), &blocks_[(size_t)(n * n * at(a))]);
+        std::copy(p_.w + n * a, p_.w + n * (a + 1), &w_[(size_t)(n * at(a))]);
+    }
     v0_.assign((size_t)p_.n, 0.0);
     bodies_.apply_inverse(p_.f, v0_.data());
-    v_ = v0_;
-    for (int64_t a = 0; a < nc; ++a) add_g(a, r + n * a, v_.data());
+    if (!slot_of_dof_.empty()) {
+        const std::vector<double> v0 = v0_;
+        for (int64_t d = 0; d < p_.n; ++d) v0_[(size_t)slot_of_dof_[(size_t)d]] = v0[(size_t)d];
+    }
+    restart(r);
     return FRIX_OK;
+}
+
+void BodyForm::copy_v(double *v) const {
+    for (int64_t d = 0; d < p_.n; ++d) v[d] = v_[slot_of_dof_.empty() ? (size_t)d : (size_t)slot_of_dof_[(size_t)d]];
 }
 
 void BodyForm::reduce(BlockRows &W, double *q) const {
     const int64_t nc = p_.nc, nb = bodies_.count(), n = size();
+    // The problem's dof of cp_'s t-th entry.
+    const auto dof = [this](int64_t t) {
+        const int64_t d = cp_.dofs[(size_t)t];
+        return dof_of_slot_.empty() ? d : dof_of_slot_[(size_t)d];
+    };
     // Each body's contacts, with where the body's dofs start among the contact's (a contact
     // holds its bodies whole, in increasing order, each from its place 0).
     std::vector<int64_t> ptr((size_t)nb + 1, 0);
     for (int64_t t = 0; t < cp_.dof_ptr[(size_t)nc]; ++t)
-        if (bodies_.place[cp_.dofs[(size_t)t]] == 0) ++ptr[(size_t)bodies_.body_of[cp_.dofs[(size_t)t]] + 1];
+        if (bodies_.place[dof(t)] == 0) ++ptr[(size_t)bodies_.body_of[dof(t)] + 1];
     for (int64_t b = 0; b < nb; ++b) ptr[(size_t)b + 1] += ptr[(size_t)b];
     std::vector<int64_t> contact((size_t)ptr[(size_t)nb]), start((size_t)ptr[(size_t)nb]);
     std::vector<int64_t> fill(ptr.begin(), ptr.end() - 1);
     for (int64_t a = 0; a < nc; ++a)
-        for (int64_t t = cp_.dof_ptr[(size_t)a]; t < cp_.dof_ptr[(size_t)a + 1]; ++t)
-            if (bodies_.place[cp_.dofs[(size_t)t]] == 0) {
-                const int64_t at = fill[(size_t)bodies_.body_of[cp_.dofs[(size_t)t]]]++;
+        for (int64_t t = cp_.dof_ptr[(size_t)at(a)]; t < cp_.dof_ptr[(size_t)at(a) + 1]; ++t)
+            if (bodies_.place[dof(t)] == 0) {
+                const int64_t at = fill[(size_t)bodies_.body_of[dof(t)]]++;
                 contact[(size_t)at] = a, start[(size_t)at] = t;
             }
     W.size = (int)n;
@@ -127,9 +168,9 @@ void BodyForm::reduce(BlockRows &W, double *q) const {
     for (int pass = 0; pass < 2; ++pass)
         for (int64_t a = 0; a < nc; ++a) {
             cols.clear();
-            for (int64_t t = cp_.dof_ptr[(size_t)a]; t < cp_.dof_ptr[(size_t)a + 1]; ++t) {
-                if (bodies_.place[cp_.dofs[(size_t)t]] != 0) continue;
-                const int64_t b = bodies_.body_of[cp_.dofs[(size_t)t]];
+            for (int64_t t = cp_.dof_ptr[(size_t)at(a)]; t < cp_.dof_ptr[(size_t)at(a) + 1]; ++t) {
+                if (bodies_.place[dof(t)] != 0) continue;
+                const int64_t b = bodies_.body_of[dof(t)];
                 if (pass == 0) {
                     for (int64_t e = ptr[(size_t)b]; e < ptr[(size_t)b + 1]; ++e) cols.push_back(contact[(size_t)e]);
                     continue;
@@ -163,10 +204,10 @@ void BodyForm::reduce(BlockRows &W, double *q) const {
 
 namespace {
 
-// v += M^-1 H_a x (N entries of x): the dofs of contact a's bodies.
+// v += M^-1 H_a x (N entries of x): the dofs of the bodies of the contact at position k.
 template <int N>
-void add_g_sized(const ContactProducts &cp, int64_t a, const double *x, double *v) {
-    for (int64_t t = cp.dof_ptr[(size_t)a]; t < cp.dof_ptr[(size_t)a + 1]; ++t) {
+void add_g_sized(const ContactProducts &cp, int64_t k, const double *x, double *v) {
+    for (int64_t t = cp.dof_ptr[(size_t)k]; t < cp.dof_ptr[(size_t)k + 1]; ++t) {
         const double *g = &cp.gd[N * (size_t)t];
         double s = g[0] * x[0];
         for (int i = 1; i < N; ++i) s += g[i] * x[i];
@@ -174,23 +215,23 @@ void add_g_sized(const ContactProducts &cp, int64_t a, const double *x, double *
     }
 }
 
-// s = w_a + H_a^T v (N entries).
+// s = w_a + H_a^T v (N entries), the contact at position k (w by position).
 template <int N>
-void velocity_sized(const ContactProducts &cp, const double *w, int64_t a, const double *v, double *s) {
-    for (int i = 0; i < N; ++i) s[i] = w[N * a + i];
-    for (int64_t t = cp.dof_ptr[(size_t)a]; t < cp.dof_ptr[(size_t)a + 1]; ++t) {
+void velocity_sized(const ContactProducts &cp, const double *w, int64_t k, const double *v, double *s) {
+    for (int i = 0; i < N; ++i) s[i] = w[N * k + i];
+    for (int64_t t = cp.dof_ptr[(size_t)k]; t < cp.dof_ptr[(size_t)k + 1]; ++t) {
         const double x = v[cp.dofs[(size_t)t]], *h = &cp.hd[N * (size_t)t];
         for (int i = 0; i < N; ++i) s[i] += h[i] * x;
     }
 }
 
-// ql = s - W_aa r_a, s = w_a + H_a^T v (N entries).
+// ql = s - W_aa r_a, s = w_a + H_a^T v (N entries), the contact at position k.
 template <int N>
-void body_local_q(const ContactProducts &cp, const double *w, const double *blocks, int64_t a, const double *v,
-                  const double *r, double *ql) {
+void body_local_q(const ContactProducts &cp, const double *w, const double *blocks, int64_t k, const double *v,
+                  const double *ra, double *ql) {
     double s[N];
-    velocity_sized<N>(cp, w, a, v, s);
-    const double *W = &blocks[N * N * (size_t)a], *ra = r + N * a;
+    velocity_sized<N>(cp, w, k, v, s);
+    const double *W = &blocks[N * N * (size_t)k];
     for (int i = 0; i < N; ++i) {
         double wr = 0.0;
         for (int j = 0; j < N; ++j) wr += W[i + N * j] * ra[j];
@@ -227,34 +268,53 @@ void sweep_contact(SweepForm &form, local_rolling::Contact &c, const local_rolli
 }  // namespace
 
 void BodyForm::add_g(int64_t a, const double *x, double *v) const {
-    with_size(size(), [&](auto n) { add_g_sized<decltype(n)::value>(cp_, a, x, v); });
+    with_size(size(), [&](auto n) { add_g_sized<decltype(n)::value>(cp_, at(a), x, v); });
 }
 
 void BodyForm::contact_velocity(int64_t a, const double *v, double *s) const {
-    with_size(size(), [&](auto n) { velocity_sized<decltype(n)::value>(cp_, p_.w, a, v, s); });
+    with_size(size(), [&](auto n) { velocity_sized<decltype(n)::value>(cp_, w_.data(), at(a), v, s); });
 }
 
 void BodyForm::local_q(int64_t a, const double *r, double *ql) const {
-    with_size(size(),
-              [&](auto n) { body_local_q<decltype(n)::value>(cp_, p_.w, blocks_.data(), a, v_.data(), r, ql); });
+    with_size(size(), [&](auto n) {
+        body_local_q<decltype(n)::value>(cp_, w_.data(), blocks_.data(), at(a), v_.data(), r + n * a, ql);
+    });
+}
+
+template <class F>
+void BodyForm::for_positions(F &&f) {
+    if (!team_) {
+        for (int64_t k = 0; k < p_.nc; ++k) f(k);
+        return;
+    }
+    for (int64_t c = 0; c < domains_.colours(); ++c) {
+        const int64_t first = domains_.colour_ptr[(size_t)c];
+        team_->for_chunks(domains_.colour_ptr[(size_t)c + 1] - first, 1, [&](int64_t begin, int64_t end) {
+            for (int64_t d = first + begin; d < first + end; ++d)
+                for (int64_t k = domains_.domain_ptr[(size_t)d]; k < domains_.domain_ptr[(size_t)d + 1]; ++k) f(k);
+        });
+    }
 }
 
 void BodyForm::restart(const double *r) {
     v_ = v0_;
-    for (int64_t a = 0; a < p_.nc; ++a) add_g(a, r + size() * a, v_.data());
+    for_positions([&](int64_t k) { add_g(contact_at(k), r + size() * contact_at(k), v_.data()); });
 }
 
 Measures BodyForm::exact(const double *r, double *u) {
     restart(r);
     const int64_t n = size();
-    for (int64_t a = 0; a < p_.nc; ++a) contact_velocity(a, v_.data(), u + n * a);
+    for_positions([&](int64_t k) { contact_velocity(contact_at(k), v_.data(), u + n * contact_at(k)); });
     return rolling_measures_from_ru(p_, r, u, norm2(p_.w, n * p_.nc), free_velocity(p_));
 }
 
 std::vector<local_rolling::Contact> contacts_of(const SweepForm &form, const frix_problem &p) {
     std::vector<local_rolling::Contact> contacts((size_t)p.nc);
-    for (int64_t a = 0; a < p.nc; ++a)
-        local_rolling::contact_setup(form.diagonal_block(a), cones_of(p, a), contacts[(size_t)a]);
+    const nsgs::Domains *dom = form.domains();
+    for (int64_t k = 0; k < p.nc; ++k) {
+        const int64_t a = dom ? dom->contacts[(size_t)k] : k;
+        local_rolling::contact_setup(form.diagonal_block(a), cones_of(p, a), contacts[(size_t)k]);
+    }
     return contacts;
 }
 
@@ -262,9 +322,34 @@ SweepStats sweep(SweepForm &form, std::vector<local_rolling::Contact> &contacts,
                  double *r) {
     SweepStats st;
     const int64_t nc = (int64_t)contacts.size();
+    const nsgs::Domains *dom = form.domains();
+    if (!dom) {
+        with_size(form.size(), [&](auto n) {
+            for (int64_t a = 0; a < nc; ++a) sweep_contact<decltype(n)::value>(form, contacts[(size_t)a], lp, a, r, st);
+        });
+        return st;
+    }
+    // Each domain's statistics in its own slot, written once at its end.
+    std::vector<SweepStats> parts((size_t)dom->domains());
     with_size(form.size(), [&](auto n) {
-        for (int64_t a = 0; a < nc; ++a) sweep_contact<decltype(n)::value>(form, contacts[(size_t)a], lp, a, r, st);
+        const auto sweep_domain = [&](int64_t d) {
+            SweepStats part;
+            for (int64_t i = dom->domain_ptr[(size_t)d]; i < dom->domain_ptr[(size_t)d + 1]; ++i) {
+                sweep_contact<decltype(n)::value>(form, contacts[(size_t)i], lp, dom->contacts[(size_t)i], r, part);
+            }
+            parts[(size_t)d] = part;
+        };
+        for (int64_t k = 0; k < dom->colours(); ++k) {
+            const int64_t first = dom->colour_ptr[(size_t)k];
+            form.team()->for_chunks(dom->colour_ptr[(size_t)k + 1] - first, 1, [&](int64_t begin, int64_t end) {
+                for (int64_t d = first + begin; d < first + end; ++d) sweep_domain(d);
+            });
+        }
     });
+    for (const SweepStats &part : parts) {  // in domain order, whatever the threads
+        st.dr2 += part.dr2, st.r2 += part.r2;
+        st.unsolved += part.unsolved, st.rejected += part.rejected;
+    }
     return st;
 }
 

@@ -1,20 +1,24 @@
 // What the rolling NSGS sweeps run on (n = 5 entries a contact, 6 with spinning friction): W's
 // n x n block rows (the local form), or H and M^-1 H with v = M^-1 (H r + f) kept up to date (the
-// global form of rigid bodies: W is never formed). Each gives a contact's diagonal block and
-// local q, is told of each change of a reaction, and measures r exactly.
+// global form of rigid bodies: W is never formed; its contacts cut into domains, those of a
+// colour swept at once on threads). Each gives a contact's diagonal block and local q, is told
+// of each change of a reaction, and measures r exactly.
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "solvers/kit/contact_products.hpp"
 #include "solvers/kit/local_rolling.hpp"
 #include "solvers/kit/rigid_bodies.hpp"
+#include "solvers/kit/sweeps.hpp"
 #include "src/measures.hpp"
 #include "src/error_state.hpp"
 #include "src/problem.hpp"
 #include "src/solver_api.hpp"
+#include "src/thread_team.hpp"
 
 namespace frix::rolling {
 
@@ -46,6 +50,11 @@ class SweepForm {
     virtual Measures exact(const double *r, double *u) = 0;
     // r changed other than by a sweep (momentum): what the form keeps follows.
     virtual void restart(const double *r) { (void)r; }
+    // The sweep order cut into domains (kit/sweeps.hpp), the domains of a colour sharing no
+    // data of the form, and the team that sweeps them at once; null: every contact in order,
+    // on the caller's thread.
+    virtual const nsgs::Domains *domains() const { return nullptr; }
+    virtual ThreadTeam *team() { return nullptr; }
 
    private:
     int size_;
@@ -72,30 +81,51 @@ class BodyForm : public SweepForm {
    public:
     explicit BodyForm(const frix_problem &p) : SweepForm(contact_size(p)), p_(p) {}
     // The bodies, their inverses and the per-contact data; FRIX_ERR_UNSUPPORTED for a
-    // deformable M (rigid_bodies.hpp), the message naming `who`, the solver.
-    frix_error setup(const double *r, const char *who);
+    // deformable M (rigid_bodies.hpp), the message naming `who`, the solver. threads > 0:
+    // the contacts are also cut into domains coloured by body, swept on that many threads
+    // (0: no sweeps on this form; a problem of one domain: swept in order on one thread).
+    frix_error setup(const double *r, const char *who, int threads = 0);
     const double *diagonal_block(int64_t a) const override {
-        return &blocks_[(size_t)(size() * size()) * (size_t)a];
+        return &blocks_[(size_t)(size() * size()) * (size_t)at(a)];
     }
     void local_q(int64_t a, const double *r, double *ql) const override;
     void moved(int64_t a, const double *dr) override { add_g(a, dr, v_.data()); }
     Measures exact(const double *r, double *u) override;
     void restart(const double *r) override;
-    const std::vector<double> &v() const { return v_; }
+    // v in the problem's numbering of the dofs.
+    void copy_v(double *v) const;
     // W = H^T M^-1 H by block rows (the blocks of contacts that share a body), and the free
     // velocity q = H^T M^-1 f + w: the local form, for solvers that need W (after setup).
     void reduce(BlockRows &W, double *q) const;
+    const nsgs::Domains *domains() const override { return team_ ? &domains_ : nullptr; }
+    ThreadTeam *team() override { return team_.get(); }
 
    private:
+    // Contact a's position in the per-contact data (cp_, blocks_, w_): the sweep order.
+    int64_t at(int64_t a) const { return position_.empty() ? a : position_[(size_t)a]; }
+    // The contact at position k (loops over every contact run in this order).
+    int64_t contact_at(int64_t k) const { return position_.empty() ? k : domains_.contacts[(size_t)k]; }
+    // f(k) for every position k; with domains, a colour's domains at once on the team: each
+    // dof of v is then written by the contacts in position order, whatever the threads.
+    template <class F>
+    void for_positions(F &&f);
     void add_g(int64_t a, const double *x, double *v) const;
     void contact_velocity(int64_t a, const double *v, double *s) const;
     const frix_problem &p_;
     RigidBodies bodies_;
-    ContactProducts cp_;                   // contact a's dofs, H_a and M^-1 H_a on them
-    std::vector<double> blocks_, v0_, v_;  // W_aa (n^2 a contact), M^-1 f, v
+    ContactProducts cp_;                   // by position: the contact's dofs, H_a and M^-1 H_a on them
+    std::vector<double> blocks_, w_;       // by position: W_aa (n^2 a contact), w_a
+    std::vector<double> v0_, v_;           // M^-1 f, v (in the sweeps' numbering of the dofs)
+    std::vector<int64_t> position_;        // with domains: contact a's position (else a)
+    // With domains, v's dofs renumbered in the order the sweep first reaches them (cp_'s dofs
+    // too): a domain reads and writes a compact part of v. Empty: the problem's numbering.
+    std::vector<int64_t> slot_of_dof_, dof_of_slot_;
+    nsgs::Domains domains_;  // of the contacts, in the problem's numbering
+    std::unique_ptr<ThreadTeam> team_;
 };
 
-// Each contact's one-contact data (local_rolling::contact_setup) from the form's diagonal blocks.
+// Each contact's one-contact data (local_rolling::contact_setup) from the form's diagonal blocks,
+// in the sweep order: with domains, the k-th is that of contact domains()->contacts[k].
 std::vector<local_rolling::Contact> contacts_of(const SweepForm &form, const frix_problem &p);
 
 struct SweepStats {
@@ -104,16 +134,18 @@ struct SweepStats {
 };
 
 // One Gauss-Seidel sweep over every contact (the rolling NSGS's): each solved with the others
-// held fixed, its new reaction kept where finite, the form told of each change.
+// held fixed, its new reaction kept where finite, the form told of each change. On a form with
+// domains, domain by domain in their order, a colour's domains at once on the form's team, the
+// statistics summed in domain order: r does not depend on the number of threads.
 SweepStats sweep(SweepForm &form, std::vector<local_rolling::Contact> &contacts, const local_rolling::Params &lp,
                  double *r);
 
 // A rolling solver's entry (`name` in its messages): refuses other problems; runs run(form) on
 // the local form's rows (a RowForm) or on the rigid bodies' product form (a BodyForm set up
-// from ctx.r), and then writes v of the final r, free of the iterations' rounding drift. No
-// contacts: converged, v = M^-1 f.
+// from ctx.r, with domains swept on `threads` threads if threads > 0), and then writes v of the
+// final r, free of the iterations' rounding drift. No contacts: converged, v = M^-1 f.
 template <class Run>
-frix_error solve_on_form(SolveContext &ctx, const char *name, Run &&run) {
+frix_error solve_on_form(SolveContext &ctx, const char *name, Run &&run, int threads = 0) {
     const frix_problem &p = ctx.problem;
     if (!is_rolling(p)) return fail(FRIX_ERR_UNSUPPORTED, "%s: solves rolling-friction problems only", name);
     if (p.kind == FRIX_PROBLEM_ROLLING_LOCAL) {
@@ -121,13 +153,13 @@ frix_error solve_on_form(SolveContext &ctx, const char *name, Run &&run) {
         return run(rows);
     }
     BodyForm bodies(p);
-    if (frix_error e = bodies.setup(ctx.r, name)) return e;
+    if (frix_error e = bodies.setup(ctx.r, name, threads)) return e;
     if (p.nc == 0)
         ctx.info.status = FRIX_STATUS_CONVERGED;
     else if (frix_error e = run(bodies))
         return e;
     bodies.exact(ctx.r, ctx.u);
-    std::copy(bodies.v().begin(), bodies.v().end(), ctx.v);
+    bodies.copy_v(ctx.v);
     return FRIX_OK;
 }
 

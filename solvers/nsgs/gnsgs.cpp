@@ -61,7 +61,7 @@ class ProductForm : public SweepForm {
             mu_[(size_t)k] = p_.mu[a];
             weight_[(size_t)k] = p_.weight.empty() ? 1.0 : p_.weight[(size_t)a];
         }
-        renumber_dofs();
+        cp_.renumber_dofs(p_.n, nullptr, p_.nc, slot_of_dof_);
         std::vector<double> v0((size_t)p_.n);
         bodies_.apply_inverse(p_.f, v0.data());
         v0_.resize((size_t)p_.n);
@@ -167,24 +167,10 @@ class ProductForm : public SweepForm {
         return measures_from_parts(all, r, u, mu_.data(), p_.nc, norm_w_, free_);
     }
 
-    // The sweeps keep v with its dofs renumbered in the order the sweep first reaches them
-    // (a body's together): a domain then reads and writes a compact part of v, and two
-    // threads seldom share a cache line of it.
-    void renumber_dofs() {
-        slot_of_dof_.assign((size_t)p_.n, -1);
-        int64_t next = 0;
-        for (int64_t &d : cp_.dofs) {
-            if (slot_of_dof_[(size_t)d] < 0) slot_of_dof_[(size_t)d] = next++;
-            d = slot_of_dof_[(size_t)d];
-        }
-        for (int64_t &s : slot_of_dof_)
-            if (s < 0) s = next++;  // dofs no contact touches
-    }
-
     const frix_problem &p_;
     std::vector<double> v_;       // in the sweeps' numbering of the dofs
     std::vector<double> v_last_;  // v at the previous extrapolation's r (momentum)
-    std::vector<int64_t> slot_of_dof_;
+    std::vector<int64_t> slot_of_dof_;  // the sweeps' numbering of v (two threads seldom share a cache line)
     double norm_w_, free_;
     Csc M_;
     RigidBodies bodies_;

@@ -1,8 +1,8 @@
 // rolling-nsgs (3000, Siconos 4.4's ROLLING_FRICTION_3D_NSGS): nonsmooth Gauss-Seidel on
 // rolling-friction problems (five entries a contact, six with spinning friction). Each sweep
 // solves every contact with the others held fixed (kit/local_rolling.hpp); the local form reads
-// W's block rows, the global form of rigid bodies keeps v = M^-1 (H r + f) and never forms W
-// (kit/rolling_forms.hpp). Stops as Siconos's LIGHT_WITH_FULL_FINAL: on the light error
+// W's block rows, the global form of rigid bodies keeps v = M^-1 (H r + f) and never forms W,
+// its domains of contacts of one colour swept at once on the threads (kit/rolling_forms.hpp). Stops as Siconos's LIGHT_WITH_FULL_FINAL: on the light error
 // |dr| / |r| confirmed by the full measure (and a full check every kFullEvery sweeps).
 #include <algorithm>
 #include <cmath>
@@ -61,10 +61,18 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form) {
     std::vector<local_rolling::Contact> contacts = rolling::contacts_of(form, p);
     const Monitor monitor(ctx);
     const double tol = monitor.tolerance();
-    if (o.i(FRIX_OPT_VERBOSITY) >= 1)
+    if (o.i(FRIX_OPT_VERBOSITY) >= 1) {
         log_line(&o, "rolling-nsgs: %lld contacts, %s form, momentum %s", (long long)p.nc,
                  p.kind == FRIX_PROBLEM_ROLLING_LOCAL ? "local" : "product (global)",
                  o.i(FRIX_OPT_ACCELERATION) ? "on" : "off");
+        if (const nsgs::Domains *d = form.domains()) {
+            int64_t widest = 0;  // the most domains of one colour: what the threads share
+            for (int64_t k = 0; k < d->colours(); ++k)
+                widest = std::max(widest, d->colour_ptr[(size_t)k + 1] - d->colour_ptr[(size_t)k]);
+            log_line(&o, "rolling-nsgs: %lld domains of %lld colours, at most %lld a colour, %d threads",
+                     (long long)d->domains(), (long long)d->colours(), (long long)widest, form.team()->size());
+        }
+    }
     const int64_t measure = o.i(FRIX_OPT_ERROR_MEASURE);
     double light_tol = tol;  // tightened when a light convergence is not confirmed
     frix_status status = FRIX_STATUS_NOT_RUN;
@@ -101,11 +109,13 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form) {
 }
 
 frix_error solve(SolveContext &ctx) {
-    return rolling::solve_on_form(ctx, "rolling-nsgs", [&](rolling::SweepForm &form) { return run(ctx, form); });
+    return rolling::solve_on_form(
+        ctx, "rolling-nsgs", [&](rolling::SweepForm &form) { return run(ctx, form); },
+        (int)ctx.options.i(FRIX_OPT_THREADS));
 }
 
 const frix_option_key kExtraKeys[] = {FRIX_OPT_LOCAL_TOLERANCE, FRIX_OPT_LOCAL_MAX_ITER, FRIX_OPT_ACCELERATION,
-                                      (frix_option_key)0};
+                                      FRIX_OPT_THREADS, (frix_option_key)0};
 
 const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 20000},
                                    {FRIX_OPT_LOCAL_TOLERANCE, 1e-12},
@@ -129,9 +139,11 @@ const SolverEntry kRollingNsgsEntry = {
     "projected stick reaction, finished where it stalls by Siconos's projected iterations with "
     "a self-adaptive step. Local problems: W's 5x5 (6x6) block rows. Global problems whose M is "
     "block-diagonal with small blocks (rigid bodies, at most 64 dofs a block): the product "
-    "form, v = M^-1 (H r + f) kept up to date, W never formed; a deformable M is refused "
+    "form, v = M^-1 (H r + f) kept up to date, W never formed, the contacts cut into domains "
+    "coloured by body as gnsgs's, the domains of a colour swept at once on `threads` threads (r "
+    "does not depend on their number); the local form sweeps on one thread. A deformable M is refused "
     "(FRIX_ERR_UNSUPPORTED). Stops on the light error |dr|/|r| confirmed by the full error "
-    "(Siconos LIGHT_WITH_FULL_FINAL), with a full check every 16 sweeps. Options: "
+    "(Siconos LIGHT_WITH_FULL_FINAL), with a full check every 16 sweeps. Options: threads, "
     "local_tolerance, local_max_iter (Newton steps; the projected iterations take ten times "
     "as many), acceleration (1, the default: after each sweep r moves on along its last step, "
     "Nesterov's momentum restarted whenever a sweep moves r more than each of the two before, "
