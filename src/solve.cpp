@@ -63,7 +63,7 @@ bool runs_away(const frix_problem &p, const double *r, double bound) {
 std::vector<double> finite_warm_start(double *r, int64_t m) {
     for (int64_t i = 0; i < m; ++i)
         if (!std::isfinite(r[i])) r[i] = 0.0;
-    if (std::all_of(r, r + m, [](double x) { return x == 0.0; })) return {};
+    if (vec::all_zero(r, m)) return {};
     return std::vector<double>(r, r + m);
 }
 

@@ -15,6 +15,13 @@ inline bool all_finite(const double *x, int64_t n) {
     return true;
 }
 
+// Whether every x_i is 0 (a cold start).
+inline bool all_zero(const double *x, int64_t n) {
+    for (int64_t i = 0; i < n; ++i)
+        if (x[i] != 0.0) return false;
+    return true;
+}
+
 inline double dot(const double *x, const double *y, int64_t n) {
     double s = 0.0;
     for (int64_t i = 0; i < n; ++i) s += x[i] * y[i];
