@@ -61,18 +61,20 @@ int64_t contacts_of(const FileReader &file, const std::string &matrix, int64_t c
     return contact_dofs / dim;
 }
 
-// The friction coefficients: mu, mu_r for a rolling group, mu_s with spinning friction (nc
-// values each, >= 0).
+// The friction coefficients: mu, and the law's others (mu_r for a rolling group, mu_s with
+// spinning friction), nc values each, >= 0.
 struct Coefficients {
-    std::vector<double> mu, mu_r, mu_s;
+    std::vector<double> mu;
+    OwnedContactLaw law;
 };
 
 Coefficients read_coefficients(const FileReader &file, const Group &g, int dim, int64_t nc,
                                const std::string &counted) {
     Coefficients c;
+    c.law.dim = g.rolling ? dim : 3;
     const char *names[3] = {"mu", "mu_r", "mu_s"};
-    std::vector<double> *values[3] = {&c.mu, &c.mu_r, &c.mu_s};
-    const int count = !g.rolling ? 1 : dim == 6 ? 3 : 2;
+    std::vector<double> *values[3] = {&c.mu, &c.law.mu_r, &c.law.mu_s};
+    const int count = c.law.dim == 6 ? 3 : c.law.dim == 5 ? 2 : 1;
     for (int k = 0; k < count; ++k) {
         const std::string name = g.root + "/vectors/" + names[k];
         *values[k] = file.read_vector(name, nc, counted.c_str());
@@ -99,15 +101,8 @@ ProblemPtr read_local(const FileReader &file, const Group &g) {
     std::unique_ptr<frix_matrix> matrix = read_matrix(file, W);
 
     frix_problem *raw = nullptr;
-    frix_error err;
-    if (dim == 6)
-        err = make_owned_spinning_local_problem(std::move(matrix), std::move(q), std::move(c.mu), std::move(c.mu_r),
-                                                std::move(c.mu_s), &raw);
-    else if (g.rolling)
-        err = make_owned_rolling_local_problem(std::move(matrix), std::move(q), std::move(c.mu), std::move(c.mu_r),
-                                               &raw);
-    else
-        err = make_owned_local_problem(std::move(matrix), std::move(q), std::move(c.mu), &raw);
+    const frix_error err =
+        make_owned_local_problem_of(std::move(c.law), std::move(matrix), std::move(q), std::move(c.mu), &raw);
     ProblemPtr problem(raw, frix_problem_free);
     if (err != FRIX_OK) raise_from_core(err, std::string("'") + file.path() + "'");
     return problem;
@@ -138,16 +133,8 @@ ProblemPtr read_global(const FileReader &file, const Group &g) {
     std::unique_ptr<frix_matrix> Hm = read_matrix(file, H);
 
     frix_problem *raw = nullptr;
-    frix_error err;
-    if (dim == 6)
-        err = make_owned_spinning_global_problem(std::move(Mm), std::move(Hm), std::move(f), std::move(w),
-                                                 std::move(c.mu), std::move(c.mu_r), std::move(c.mu_s), &raw);
-    else if (g.rolling)
-        err = make_owned_rolling_global_problem(std::move(Mm), std::move(Hm), std::move(f), std::move(w),
-                                                std::move(c.mu), std::move(c.mu_r), &raw);
-    else
-        err = make_owned_global_problem(std::move(Mm), std::move(Hm), std::move(f), std::move(w), std::move(c.mu),
-                                        &raw);
+    const frix_error err = make_owned_global_problem_of(std::move(c.law), std::move(Mm), std::move(Hm), std::move(f),
+                                                        std::move(w), std::move(c.mu), &raw);
     ProblemPtr problem(raw, frix_problem_free);
     if (err != FRIX_OK) raise_from_core(err, std::string("'") + file.path() + "'");
     return problem;

@@ -27,19 +27,9 @@ using frix::fail;
 // A problem of the views given, validated as the public constructors of its kind validate them.
 frix_error validate(const frix_problem &p) {
     frix_problem *check = nullptr;
-    frix_error e;
-    switch (p.kind) {
-        case FRIX_PROBLEM_LOCAL: e = frix::make_local_problem(p.W, p.q, p.mu, p.nc, &check); break;
-        case FRIX_PROBLEM_ROLLING_LOCAL:
-            e = p.spinning ? frix::make_spinning_local_problem(p.W, p.q, p.mu, p.mu_r, p.mu_s, p.nc, &check)
-                           : frix::make_rolling_local_problem(p.W, p.q, p.mu, p.mu_r, p.nc, &check);
-            break;
-        case FRIX_PROBLEM_ROLLING_GLOBAL:
-            e = p.spinning ? frix::make_spinning_global_problem(p.M, p.H, p.f, p.w, p.mu, p.mu_r, p.mu_s, p.nc, &check)
-                           : frix::make_rolling_global_problem(p.M, p.H, p.f, p.w, p.mu, p.mu_r, p.nc, &check);
-            break;
-        default: e = frix::make_global_problem(p.M, p.H, p.f, p.w, p.mu, p.nc, &check); break;
-    }
+    const frix_error e = frix::is_local_form(p)
+                             ? frix::make_local_problem_of(frix::law_of(p), p.W, p.q, p.mu, p.nc, &check)
+                             : frix::make_global_problem_of(frix::law_of(p), p.M, p.H, p.f, p.w, p.mu, p.nc, &check);
     frix_problem_free(check);
     return e;
 }
@@ -170,50 +160,38 @@ FRIX_API frix_error frix_persistent_update_global(frix_persistent *ps, const fri
 
 namespace {
 
-// A contact law, as the calls that change contacts carry it: mu (Coulomb), mu and mu_r
-// (rolling), or mu, mu_r and mu_s (rolling and spinning).
-enum class Law { Coulomb, Rolling, Spinning };
+using frix::ContactLaw;
 
-Law law_of(const frix_problem &p) {
-    return p.spinning ? Law::Spinning : frix::is_rolling(p) ? Law::Rolling : Law::Coulomb;
+// The call that sets a problem's contacts in its form and law (law.dim).
+const char *set_contacts_call(bool local, const ContactLaw &law) {
+    if (law.dim == 6)
+        return local ? "frix_persistent_set_contacts_spinning_local" : "frix_persistent_set_contacts_spinning_global";
+    if (law.dim == 5)
+        return local ? "frix_persistent_set_contacts_rolling_local" : "frix_persistent_set_contacts_rolling_global";
+    return local ? "frix_persistent_set_contacts_local" : "frix_persistent_set_contacts_global";
 }
 
-// The call that sets a problem's contacts in its form and law.
-const char *set_contacts_call(bool local, Law law) {
-    switch (law) {
-        case Law::Rolling:
-            return local ? "frix_persistent_set_contacts_rolling_local" : "frix_persistent_set_contacts_rolling_global";
-        case Law::Spinning:
-            return local ? "frix_persistent_set_contacts_spinning_local"
-                         : "frix_persistent_set_contacts_spinning_global";
-        default: return local ? "frix_persistent_set_contacts_local" : "frix_persistent_set_contacts_global";
-    }
-}
-
-const char *law_name(Law law) {
-    return law == Law::Spinning ? "rolling and spinning friction"
-                                : law == Law::Rolling ? "rolling friction" : "Coulomb friction alone";
+const char *law_name(const ContactLaw &law) {
+    if (law.dim == 6) return "rolling and spinning friction";
+    return law.dim == 5 ? "rolling friction" : "Coulomb friction alone";
 }
 
 // The call's form and law against the solver's problem: a problem keeps both for its whole life.
-frix_error check_call(const char *where, const frix_persistent *ps, bool local, Law law) {
+frix_error check_call(const char *where, const frix_persistent *ps, bool local, const ContactLaw &law) {
     if (!ps) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the persistent solver is NULL", where);
     const bool is_local = frix::is_local_form(ps->problem);
-    const Law has = law_of(ps->problem);
-    if (is_local == local && has == law) return FRIX_OK;
+    const ContactLaw has = frix::law_of(ps->problem);
+    if (is_local == local && has.dim == law.dim) return FRIX_OK;
     return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the problem is %s with %s (use %s)", where,
                 is_local ? "local" : "global", law_name(has), set_contacts_call(is_local, has));
 }
 
-// The next step's contacts of a local problem (mu_r, mu_s: nc values where the law has them).
+// The next step's contacts of a local problem, with the call's law.
 frix_error set_contacts_local(const char *where, frix_persistent *ps, const frix_matrix *W, const double *q,
-                              const double *mu, const double *mu_r, const double *mu_s, int64_t nc, Law law) {
+                              const double *mu, const ContactLaw &law, int64_t nc) {
     if (frix_error e = check_call(where, ps, true, law)) return e;
     frix_problem *check = nullptr;
-    const frix_error e = law == Law::Spinning ? frix::make_spinning_local_problem(W, q, mu, mu_r, mu_s, nc, &check)
-                         : law == Law::Rolling ? frix::make_rolling_local_problem(W, q, mu, mu_r, nc, &check)
-                                               : frix::make_local_problem(W, q, mu, nc, &check);
-    if (e) return e;
+    if (frix_error e = frix::make_local_problem_of(law, W, q, mu, nc, &check)) return e;
     copy_views(*check, ps->problem);
     frix_problem_free(check);
     // Every kept state was built for the old contacts: the versions say they are stale.
@@ -225,15 +203,11 @@ frix_error set_contacts_local(const char *where, frix_persistent *ps, const frix
 
 // The same for a global problem: M, its factorisation and f stay.
 frix_error set_contacts_global(const char *where, frix_persistent *ps, const frix_matrix *H, const double *w,
-                               const double *mu, const double *mu_r, const double *mu_s, int64_t nc, Law law) {
+                               const double *mu, const ContactLaw &law, int64_t nc) {
     if (frix_error e = check_call(where, ps, false, law)) return e;
     const frix_problem &p = ps->problem;
     frix_problem *check = nullptr;
-    const frix_error e =
-        law == Law::Spinning ? frix::make_spinning_global_problem(p.M, H, p.f, w, mu, mu_r, mu_s, nc, &check)
-        : law == Law::Rolling ? frix::make_rolling_global_problem(p.M, H, p.f, w, mu, mu_r, nc, &check)
-                              : frix::make_global_problem(p.M, H, p.f, w, mu, nc, &check);
-    if (e) return e;
+    if (frix_error e = frix::make_global_problem_of(law, p.M, H, p.f, w, mu, nc, &check)) return e;
     copy_views(*check, ps->problem);
     frix_problem_free(check);
     // M's factorisation follows M's version, which stays; what was formed from H does not.
@@ -241,14 +215,14 @@ frix_error set_contacts_global(const char *where, frix_persistent *ps, const fri
     return FRIX_OK;
 }
 
-// Replaces the coefficients `field` (nc values, named `name`) of a problem whose law has them.
+// Replaces the coefficients `field` (nc values, named `name`) of a problem whose law has them
+// (at least `needs` entries a contact: 5 for mu_r, 6 for mu_s).
 frix_error update_coefficients(const char *where, frix_persistent *ps, const double *x, const char *name,
-                               const double *frix_problem::*field, Law needs) {
+                               const double *frix_problem::*field, int needs) {
     if (!ps) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the persistent solver is NULL", where);
-    const Law has = law_of(ps->problem);
-    if (has == Law::Coulomb || (needs == Law::Spinning && has != Law::Spinning))
+    if (frix::law_of(ps->problem).dim < needs)
         return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the problem has no %s", where,
-                    needs == Law::Spinning ? "spinning friction" : "rolling friction");
+                    needs == 6 ? "spinning friction" : "rolling friction");
     if (frix_error e = frix::check_mu(where, x, ps->problem.nc, name)) return e;
     ps->problem.*field = x;
     return FRIX_OK;
@@ -261,34 +235,34 @@ extern "C" {
 FRIX_API frix_error frix_persistent_set_contacts_local(frix_persistent *ps, const frix_matrix *W, const double *q,
                                                        const double *mu, int64_t nc) {
     const char *where = "frix_persistent_set_contacts_local";
-    return frix::guard(where, [&] { return set_contacts_local(where, ps, W, q, mu, nullptr, nullptr, nc, Law::Coulomb); });
+    return frix::guard(where, [&] { return set_contacts_local(where, ps, W, q, mu, {}, nc); });
 }
 
 FRIX_API frix_error frix_persistent_set_contacts_global(frix_persistent *ps, const frix_matrix *H, const double *w,
                                                         const double *mu, int64_t nc) {
     const char *where = "frix_persistent_set_contacts_global";
-    return frix::guard(where, [&] { return set_contacts_global(where, ps, H, w, mu, nullptr, nullptr, nc, Law::Coulomb); });
+    return frix::guard(where, [&] { return set_contacts_global(where, ps, H, w, mu, {}, nc); });
 }
 
 FRIX_API frix_error frix_persistent_set_contacts_rolling_local(frix_persistent *ps, const frix_matrix *W,
                                                                const double *q, const double *mu, const double *mu_r,
                                                                int64_t nc) {
     const char *where = "frix_persistent_set_contacts_rolling_local";
-    return frix::guard(where, [&] { return set_contacts_local(where, ps, W, q, mu, mu_r, nullptr, nc, Law::Rolling); });
+    return frix::guard(where, [&] { return set_contacts_local(where, ps, W, q, mu, {mu_r, nullptr, 5}, nc); });
 }
 
 FRIX_API frix_error frix_persistent_set_contacts_rolling_global(frix_persistent *ps, const frix_matrix *H,
                                                                 const double *w, const double *mu,
                                                                 const double *mu_r, int64_t nc) {
     const char *where = "frix_persistent_set_contacts_rolling_global";
-    return frix::guard(where, [&] { return set_contacts_global(where, ps, H, w, mu, mu_r, nullptr, nc, Law::Rolling); });
+    return frix::guard(where, [&] { return set_contacts_global(where, ps, H, w, mu, {mu_r, nullptr, 5}, nc); });
 }
 
 FRIX_API frix_error frix_persistent_set_contacts_spinning_local(frix_persistent *ps, const frix_matrix *W,
                                                                 const double *q, const double *mu,
                                                                 const double *mu_r, const double *mu_s, int64_t nc) {
     const char *where = "frix_persistent_set_contacts_spinning_local";
-    return frix::guard(where, [&] { return set_contacts_local(where, ps, W, q, mu, mu_r, mu_s, nc, Law::Spinning); });
+    return frix::guard(where, [&] { return set_contacts_local(where, ps, W, q, mu, {mu_r, mu_s, 6}, nc); });
 }
 
 FRIX_API frix_error frix_persistent_set_contacts_spinning_global(frix_persistent *ps, const frix_matrix *H,
@@ -297,19 +271,19 @@ FRIX_API frix_error frix_persistent_set_contacts_spinning_global(frix_persistent
                                                                  int64_t nc) {
     const char *where = "frix_persistent_set_contacts_spinning_global";
     return frix::guard(where,
-                       [&] { return set_contacts_global(where, ps, H, w, mu, mu_r, mu_s, nc, Law::Spinning); });
+                       [&] { return set_contacts_global(where, ps, H, w, mu, {mu_r, mu_s, 6}, nc); });
 }
 
 FRIX_API frix_error frix_persistent_update_mu_r(frix_persistent *ps, const double *mu_r) {
     const char *where = "frix_persistent_update_mu_r";
     return frix::guard(where,
-                       [&] { return update_coefficients(where, ps, mu_r, "mu_r", &frix_problem::mu_r, Law::Rolling); });
+                       [&] { return update_coefficients(where, ps, mu_r, "mu_r", &frix_problem::mu_r, 5); });
 }
 
 FRIX_API frix_error frix_persistent_update_mu_s(frix_persistent *ps, const double *mu_s) {
     const char *where = "frix_persistent_update_mu_s";
     return frix::guard(where, [&] {
-        return update_coefficients(where, ps, mu_s, "mu_s", &frix_problem::mu_s, Law::Spinning);
+        return update_coefficients(where, ps, mu_s, "mu_s", &frix_problem::mu_s, 6);
     });
 }
 

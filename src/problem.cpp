@@ -49,15 +49,19 @@ frix_error check_nc(const char *where, int64_t nc) {
     return FRIX_OK;
 }
 
-// The coefficients of a law beyond mu: none (3 entries a contact), mu_r (rolling friction, 5)
-// or mu_r and mu_s (rolling and spinning friction, 6).
-struct Law {
-    const double *mu_r = nullptr, *mu_s = nullptr;
-    int dim = 3;
-};
-constexpr Law kCoulomb{};
-Law rolling_law(const double *mu_r) { return {mu_r, nullptr, 5}; }
-Law spinning_law(const double *mu_r, const double *mu_s) { return {mu_r, mu_s, 6}; }
+using Law = frix::ContactLaw;
+using OwnedLaw = frix::OwnedContactLaw;
+
+// The kind and the public constructor's name (in messages) of a law's problems in one form.
+frix_problem_kind kind_of(bool local, const Law &law) {
+    if (local) return law.dim == 3 ? FRIX_PROBLEM_LOCAL : FRIX_PROBLEM_ROLLING_LOCAL;
+    return law.dim == 3 ? FRIX_PROBLEM_GLOBAL : FRIX_PROBLEM_ROLLING_GLOBAL;
+}
+const char *constructor_of(bool local, const Law &law) {
+    if (law.dim == 6) return local ? "frix_problem_spinning_local" : "frix_problem_spinning_global";
+    if (law.dim == 5) return local ? "frix_problem_rolling_local" : "frix_problem_rolling_global";
+    return local ? "frix_problem_local" : "frix_problem_global";
+}
 
 frix_error check_law(const char *where, const Law &law, int64_t nc) {
     if (law.dim >= 5)
@@ -154,12 +158,6 @@ frix_error make_global_kind(frix_problem_kind kind, const char *where, const fri
     return FRIX_OK;
 }
 
-// The owned coefficients beyond mu (as Law, in vectors): dim 3, 5 (mu_r) or 6 (mu_r, mu_s).
-struct OwnedLaw {
-    std::vector<double> mu_r, mu_s;
-    int dim = 3;
-};
-
 // Their sizes against the number of contacts; the law that points at them.
 frix_error check_owned_law(const char *where, const OwnedLaw &law, int64_t nc) {
     if (law.dim >= 5 && (int64_t)law.mu_r.size() != nc)
@@ -170,7 +168,7 @@ frix_error check_owned_law(const char *where, const OwnedLaw &law, int64_t nc) {
                     (long long)law.mu_s.size(), (long long)nc);
     return FRIX_OK;
 }
-Law law_of(const OwnedLaw &law) { return {law.mu_r.data(), law.mu_s.data(), law.dim}; }
+Law views_of(const OwnedLaw &law) { return {law.mu_r.data(), law.mu_s.data(), law.dim}; }
 
 void own_law(frix_problem &p, OwnedLaw law) {
     const int dim = law.dim;
@@ -187,7 +185,7 @@ frix_error make_owned_local_kind(frix_problem_kind kind, const char *where, std:
         return fail(FRIX_ERR_DIMENSION, "%s: q has %lld entries but W has %lld rows", where,
                     (long long)q.size(), (long long)W->rows);
     if (frix_error e = check_owned_law(where, law, nc)) return e;
-    if (frix_error e = make_local_kind(kind, where, W.get(), q.data(), mu.data(), law_of(law), nc, out)) return e;
+    if (frix_error e = make_local_kind(kind, where, W.get(), q.data(), mu.data(), views_of(law), nc, out)) return e;
     frix_problem &p = **out;
     p.owned_W = std::move(W);
     p.owned_q = std::move(q);
@@ -212,7 +210,7 @@ frix_error make_owned_global_kind(frix_problem_kind kind, const char *where, std
         return fail(FRIX_ERR_DIMENSION, "%s: w has %lld entries but %lld contacts need %lld", where,
                     (long long)w.size(), (long long)nc, (long long)(dim * nc));
     if (frix_error e = check_owned_law(where, law, nc)) return e;
-    if (frix_error e = make_global_kind(kind, where, M.get(), H.get(), f.data(), w.data(), mu.data(), law_of(law),
+    if (frix_error e = make_global_kind(kind, where, M.get(), H.get(), f.data(), w.data(), mu.data(), views_of(law),
                                         nc, out))
         return e;
     frix_problem &p = **out;
@@ -234,83 +232,100 @@ frix_error make_owned_global_kind(frix_problem_kind kind, const char *where, std
 
 namespace frix {
 
+frix_error make_local_problem_of(const ContactLaw &law, const frix_matrix *W, const double *q, const double *mu,
+                                 int64_t nc, frix_problem **out) {
+    return make_local_kind(kind_of(true, law), constructor_of(true, law), W, q, mu, law, nc, out);
+}
+
+frix_error make_global_problem_of(const ContactLaw &law, const frix_matrix *M, const frix_matrix *H, const double *f,
+                                  const double *w, const double *mu, int64_t nc, frix_problem **out) {
+    return make_global_kind(kind_of(false, law), constructor_of(false, law), M, H, f, w, mu, law, nc, out);
+}
+
+frix_error make_owned_local_problem_of(OwnedContactLaw law, std::unique_ptr<frix_matrix> W, std::vector<double> q,
+                                       std::vector<double> mu, frix_problem **out) {
+    const Law views = views_of(law);
+    return make_owned_local_kind(kind_of(true, views), constructor_of(true, views), std::move(W), std::move(q),
+                                 std::move(mu), std::move(law), out);
+}
+
+frix_error make_owned_global_problem_of(OwnedContactLaw law, std::unique_ptr<frix_matrix> M,
+                                        std::unique_ptr<frix_matrix> H, std::vector<double> f,
+                                        std::vector<double> w, std::vector<double> mu, frix_problem **out) {
+    const Law views = views_of(law);
+    return make_owned_global_kind(kind_of(false, views), constructor_of(false, views), std::move(M), std::move(H),
+                                  std::move(f), std::move(w), std::move(mu), std::move(law), out);
+}
+
 frix_error make_local_problem(const frix_matrix *W, const double *q, const double *mu, int64_t nc,
                               frix_problem **out) {
-    return make_local_kind(FRIX_PROBLEM_LOCAL, "frix_problem_local", W, q, mu, kCoulomb, nc, out);
+    return make_local_problem_of({}, W, q, mu, nc, out);
 }
 
 frix_error make_global_problem(const frix_matrix *M, const frix_matrix *H, const double *f,
                                const double *w, const double *mu, int64_t nc,
                                frix_problem **out) {
-    return make_global_kind(FRIX_PROBLEM_GLOBAL, "frix_problem_global", M, H, f, w, mu, kCoulomb, nc, out);
+    return make_global_problem_of({}, M, H, f, w, mu, nc, out);
 }
 
 frix_error make_rolling_local_problem(const frix_matrix *W, const double *q, const double *mu, const double *mu_r,
                                       int64_t nc, frix_problem **out) {
-    return make_local_kind(FRIX_PROBLEM_ROLLING_LOCAL, "frix_problem_rolling_local", W, q, mu, rolling_law(mu_r), nc,
-                           out);
+    return make_local_problem_of({mu_r, nullptr, 5}, W, q, mu, nc, out);
 }
 
 frix_error make_spinning_local_problem(const frix_matrix *W, const double *q, const double *mu, const double *mu_r,
                                        const double *mu_s, int64_t nc, frix_problem **out) {
-    return make_local_kind(FRIX_PROBLEM_ROLLING_LOCAL, "frix_problem_spinning_local", W, q, mu,
-                           spinning_law(mu_r, mu_s), nc, out);
+    return make_local_problem_of({mu_r, mu_s, 6}, W, q, mu, nc, out);
 }
 
 frix_error make_rolling_global_problem(const frix_matrix *M, const frix_matrix *H, const double *f, const double *w,
                                        const double *mu, const double *mu_r, int64_t nc, frix_problem **out) {
-    return make_global_kind(FRIX_PROBLEM_ROLLING_GLOBAL, "frix_problem_rolling_global", M, H, f, w, mu,
-                            rolling_law(mu_r), nc, out);
+    return make_global_problem_of({mu_r, nullptr, 5}, M, H, f, w, mu, nc, out);
 }
 
 frix_error make_spinning_global_problem(const frix_matrix *M, const frix_matrix *H, const double *f, const double *w,
                                         const double *mu, const double *mu_r, const double *mu_s, int64_t nc,
                                         frix_problem **out) {
-    return make_global_kind(FRIX_PROBLEM_ROLLING_GLOBAL, "frix_problem_spinning_global", M, H, f, w, mu,
-                            spinning_law(mu_r, mu_s), nc, out);
+    return make_global_problem_of({mu_r, mu_s, 6}, M, H, f, w, mu, nc, out);
 }
 
 frix_error make_owned_local_problem(std::unique_ptr<frix_matrix> W, std::vector<double> q,
                                     std::vector<double> mu, frix_problem **out) {
-    return make_owned_local_kind(FRIX_PROBLEM_LOCAL, "frix_problem_local", std::move(W), std::move(q), std::move(mu),
-                                 OwnedLaw{}, out);
+    return make_owned_local_problem_of({}, std::move(W), std::move(q), std::move(mu), out);
 }
 
 frix_error make_owned_global_problem(std::unique_ptr<frix_matrix> M, std::unique_ptr<frix_matrix> H,
                                      std::vector<double> f, std::vector<double> w,
                                      std::vector<double> mu, frix_problem **out) {
-    return make_owned_global_kind(FRIX_PROBLEM_GLOBAL, "frix_problem_global", std::move(M), std::move(H),
-                                  std::move(f), std::move(w), std::move(mu), OwnedLaw{}, out);
+    return make_owned_global_problem_of({}, std::move(M), std::move(H), std::move(f), std::move(w), std::move(mu),
+                                        out);
 }
 
 frix_error make_owned_rolling_local_problem(std::unique_ptr<frix_matrix> W, std::vector<double> q,
                                             std::vector<double> mu, std::vector<double> mu_r, frix_problem **out) {
-    return make_owned_local_kind(FRIX_PROBLEM_ROLLING_LOCAL, "frix_problem_rolling_local", std::move(W),
-                                 std::move(q), std::move(mu), OwnedLaw{std::move(mu_r), {}, 5}, out);
+    return make_owned_local_problem_of({std::move(mu_r), {}, 5}, std::move(W), std::move(q), std::move(mu), out);
 }
 
 frix_error make_owned_spinning_local_problem(std::unique_ptr<frix_matrix> W, std::vector<double> q,
                                              std::vector<double> mu, std::vector<double> mu_r,
                                              std::vector<double> mu_s, frix_problem **out) {
-    return make_owned_local_kind(FRIX_PROBLEM_ROLLING_LOCAL, "frix_problem_spinning_local", std::move(W),
-                                 std::move(q), std::move(mu), OwnedLaw{std::move(mu_r), std::move(mu_s), 6}, out);
+    return make_owned_local_problem_of({std::move(mu_r), std::move(mu_s), 6}, std::move(W), std::move(q),
+                                       std::move(mu), out);
 }
 
 frix_error make_owned_rolling_global_problem(std::unique_ptr<frix_matrix> M, std::unique_ptr<frix_matrix> H,
                                              std::vector<double> f, std::vector<double> w, std::vector<double> mu,
                                              std::vector<double> mu_r, frix_problem **out) {
-    return make_owned_global_kind(FRIX_PROBLEM_ROLLING_GLOBAL, "frix_problem_rolling_global", std::move(M),
-                                  std::move(H), std::move(f), std::move(w), std::move(mu),
-                                  OwnedLaw{std::move(mu_r), {}, 5}, out);
+    return make_owned_global_problem_of({std::move(mu_r), {}, 5}, std::move(M), std::move(H), std::move(f),
+                                        std::move(w), std::move(mu), out);
 }
 
 frix_error make_owned_spinning_global_problem(std::unique_ptr<frix_matrix> M, std::unique_ptr<frix_matrix> H,
                                               std::vector<double> f, std::vector<double> w, std::vector<double> mu,
                                               std::vector<double> mu_r, std::vector<double> mu_s,
                                               frix_problem **out) {
-    return make_owned_global_kind(FRIX_PROBLEM_ROLLING_GLOBAL, "frix_problem_spinning_global", std::move(M),
-                                  std::move(H), std::move(f), std::move(w), std::move(mu),
-                                  OwnedLaw{std::move(mu_r), std::move(mu_s), 6}, out);
+    return make_owned_global_problem_of({std::move(mu_r), std::move(mu_s), 6}, std::move(M), std::move(H),
+                                        std::move(f), std::move(w), std::move(mu), out);
 }
 
 double inverse_mass(double m_ii, double otherwise) {

@@ -127,6 +127,31 @@ frix_error make_owned_spinning_global_problem(std::unique_ptr<frix_matrix> M, st
                                               std::vector<double> mu_r, std::vector<double> mu_s,
                                               frix_problem **out);
 
+// A contact law's coefficients beyond mu, as the constructors take them: none (Coulomb, 3
+// entries a contact), mu_r (rolling friction, 5) or mu_r and mu_s (with spinning friction, 6).
+struct ContactLaw {
+    const double *mu_r = nullptr, *mu_s = nullptr;
+    int dim = 3;
+};
+// The same, owned (readers).
+struct OwnedContactLaw {
+    std::vector<double> mu_r, mu_s;
+    int dim = 3;
+};
+// p's law (views of its coefficients).
+inline ContactLaw law_of(const frix_problem &p) { return {p.mu_r, p.mu_s, contact_size(p)}; }
+// The constructors above for a law given as data: the kind (and the name in messages) follows
+// law.dim.
+frix_error make_local_problem_of(const ContactLaw &law, const frix_matrix *W, const double *q, const double *mu,
+                                 int64_t nc, frix_problem **out);
+frix_error make_global_problem_of(const ContactLaw &law, const frix_matrix *M, const frix_matrix *H, const double *f,
+                                  const double *w, const double *mu, int64_t nc, frix_problem **out);
+frix_error make_owned_local_problem_of(OwnedContactLaw law, std::unique_ptr<frix_matrix> W, std::vector<double> q,
+                                       std::vector<double> mu, frix_problem **out);
+frix_error make_owned_global_problem_of(OwnedContactLaw law, std::unique_ptr<frix_matrix> M,
+                                        std::unique_ptr<frix_matrix> H, std::vector<double> f,
+                                        std::vector<double> w, std::vector<double> mu, frix_problem **out);
+
 // x (n values, named `name` in the message) given and finite; mu (nc values) finite and >= 0.
 frix_error check_vector(const char *where, const char *name, const double *x, int64_t n);
 frix_error check_mu(const char *where, const double *mu, int64_t nc, const char *name = "mu");
