@@ -2,8 +2,9 @@
 // rolling-friction problems (five entries a contact, six with spinning friction). Each sweep
 // solves every contact with the others held fixed (kit/local_rolling.hpp); the local form reads
 // W's block rows, the global form of rigid bodies keeps v = M^-1 (H r + f) and never forms W,
-// its domains of contacts of one colour swept at once on the threads (kit/rolling_forms.hpp). Stops as Siconos's LIGHT_WITH_FULL_FINAL: on the light error
-// |dr| / |r| confirmed by the full measure (and a full check every kFullEvery sweeps).
+// its domains of contacts of one colour swept at once on the threads (kit/rolling_forms.hpp).
+// Stops as Siconos's LIGHT_WITH_FULL_FINAL: on the light error |dr| / |r| confirmed by the full
+// measure (and a full check every kFullEvery sweeps).
 #include <algorithm>
 #include <cmath>
 #include <vector>
