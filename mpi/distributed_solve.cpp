@@ -121,10 +121,10 @@ frix_error check_options(const frix_options *given, const frix_mpi_problem &p, f
         out = *given;
     }
     if (out.solver_id == FRIX_SOLVER_NSGS &&
-        (out.i(FRIX_OPT_DRIFT_WINDOW) != 0 || out.i(FRIX_OPT_ACCELERATION) != 0 ||
+        (out.i(FRIX_OPT_DRIFT_WINDOW) != 0 || out.i(FRIX_OPT_ACCELERATION) != 0 || out.i(FRIX_OPT_ANDERSON) != 0 ||
          out.i(FRIX_OPT_SHUFFLE) != FRIX_SHUFFLE_NONE))
-        return fail(FRIX_ERR_UNSUPPORTED, "%s: drift_window, acceleration and shuffle are not distributed (set them to 0)",
-                    where);
+        return fail(FRIX_ERR_UNSUPPORTED,
+                    "%s: drift_window, acceleration, anderson and shuffle are not distributed (set them to 0)", where);
     if (p.ctx->rank != 0) out.ivalue[FRIX_OPT_VERBOSITY] = 0;
     return FRIX_OK;
 }

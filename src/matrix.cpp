@@ -238,6 +238,16 @@ void index_diagonal_blocks(frix_matrix &A) {
 
 std::vector<double> matrix_diagonal(const frix_matrix &A) {
     std::vector<double> diag((size_t)std::min(A.rows, A.cols), 0.0);
+    // A square block matrix's diagonal lies in its diagonal blocks: read those, not every
+    // entry (a deformable body's dense W holds millions).
+    if (A.block && A.block_rows == A.block_cols && (int64_t)A.diag_index.size() == A.block_rows) {
+        for (int64_t k = 0; k < A.block_rows; ++k) {
+            const int64_t b = A.diag_index[(size_t)k];
+            if (b < 0) continue;
+            for (int i = 0; i < 3; ++i) diag[(size_t)(3 * k + i)] = A.block_val[(size_t)(9 * b + 4 * i)];
+        }
+        return diag;
+    }
     for_each_entry(A, [&](int64_t i, int64_t j, double v) {
         if (i == j) diag[(size_t)i] += v;
     });

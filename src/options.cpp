@@ -111,6 +111,7 @@ const KeySpec kKeys[] = {
     {FRIX_OPT_DRIFT_WINDOW, "drift_window", true, 0.0, 1e9, 0.0},
     {FRIX_OPT_WATCHDOG, "watchdog", true, 0.0, 1000.0, 0.0},
     {FRIX_OPT_MEMORY_LIMIT, "memory_limit", false, 0.0, 1e18, 0.0},
+    {FRIX_OPT_ANDERSON, "anderson", true, 0.0, 50.0, 0.0},
 };
 
 const frix_option_key kCommonKeys[] = {FRIX_OPT_TOLERANCE,     FRIX_OPT_MAX_ITER,     FRIX_OPT_TIME_LIMIT,

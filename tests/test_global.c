@@ -356,6 +356,39 @@ START_TEST(product_form_sweeps_as_nsgs_v) {
 }
 END_TEST
 
+/* gnsgs with Anderson's mix (option anderson) keeps v following the mixed r: on the rigid
+ * spheres at 1e-8, where the plain sweeps reach their 20000-sweep limit, the mixed ones
+ * converge, and the answer, measured afresh, meets the tolerance. */
+START_TEST(product_form_mixes_sweeps) {
+    frix_problem *p = load("global/spheres-in-a-box-98-i10000-256-10.hdf5");
+    if (!p) return;
+    const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
+    for (int64_t depth = 0; depth <= 10; depth += 10) {
+        double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u), *v = calloc((size_t)n, sizeof *v);
+        frix_options *o = NULL;
+        frix_info *info = NULL;
+        ck_assert_int_eq(frix_options_create(FRIX_SOLVER_GLOBAL_NSGS, &o), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_ANDERSON, depth), FRIX_OK);
+        ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+        ck_assert_msg(frix_solve(p, o, r, u, v, info) == FRIX_OK, "%s", frix_last_error_message());
+        const frix_status status = frix_info_status(info);
+        ck_assert_int_eq(frix_problem_measure(p, r, v, NULL, info), FRIX_OK);
+        const double error = frix_info_error(info);
+        if (depth == 0) {
+            ck_assert_msg(status == FRIX_STATUS_MAX_ITER && error > 1e-8, "plain gnsgs: %s at %g: the case tests nothing",
+                          frix_status_string(status), error);
+        } else {
+            ck_assert_msg(status == FRIX_STATUS_CONVERGED && error <= 1e-8, "gnsgs, anderson %lld: %s, measured %g",
+                          (long long)depth, frix_status_string(status), error);
+        }
+        frix_info_free(info);
+        frix_options_free(o);
+        free(r), free(u), free(v);
+    }
+    frix_problem_free(p);
+}
+END_TEST
+
 /* A massless dof (M singular) that a contact's friction reaches: held where the friction cone
  * takes its load (0.2 against mu r_N = 0.3), solved to the tolerance equilibrium included;
  * refused with the reason where it does not (0.5). */
@@ -568,32 +601,51 @@ START_TEST(auto_reduces_where_newton_fails) {
 }
 END_TEST
 
-/* The sweeps (nsgs-v, 501) on an elastic grid to 1e-8 with the given acceleration; their count. */
-static int64_t grid_sweeps(int solver, int64_t acceleration) {
-    grid_case c = grid_case_make(10, 10, 4, 0.0, 1e4);
+/* The sweeps on a 10 x 10 x 4 elastic grid (gap and spring stiffness as given) to 1e-8 with
+ * the given acceleration (momentum) and Anderson depth (-1: the solver's default); their count.
+ * The answer must meet the tolerance. */
+static int64_t grid_sweeps(int solver, double gap, double stiffness, int64_t acceleration, int64_t anderson) {
+    grid_case c = grid_case_make(10, 10, 4, gap, stiffness);
     frix_options *o = NULL;
     ck_assert_int_eq(frix_options_create(solver, &o), FRIX_OK);
     ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_ACCELERATION, acceleration), FRIX_OK);
+    if (anderson >= 0) ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_ANDERSON, anderson), FRIX_OK);
     frix_info *info = NULL;
     ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
     ck_assert_msg(frix_solve(c.p, o, c.r, c.u, c.v, info) == FRIX_OK, "%s", frix_last_error_message());
     ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
     const int64_t sweeps = frix_info_iterations(info);
+    frix_info *check = NULL;
+    ck_assert_int_eq(frix_info_create(&check), FRIX_OK);
+    ck_assert_int_eq(frix_problem_measure(c.p, c.r, c.v, NULL, check), FRIX_OK);
+    double error = NAN;
+    ck_assert_int_eq(frix_info_get_double(check, FRIX_INFO_ERROR, &error), FRIX_OK);
+    ck_assert_msg(error <= 1e-8, "solver %d, acceleration %lld, anderson %lld: measured %.3e", solver,
+                  (long long)acceleration, (long long)anderson, error);
+    frix_info_free(check);
     frix_info_free(info);
     frix_options_free(o);
     grid_case_free(&c);
     return sweeps;
 }
 
-/* On a regular W (an elastic body, 3 nc <= n) momentum takes several times the plain sweeps:
- * auto sweeps plainly there, whatever its acceleration option says. */
-START_TEST(auto_sweeps_plainly_on_a_regular_w) {
-    const int64_t plain = grid_sweeps(FRIX_SOLVER_NSGS_VELOCITY, 0);
-    const int64_t momentum = grid_sweeps(FRIX_SOLVER_NSGS_VELOCITY, 1);
+/* On a regular W (an elastic body, 3 nc <= n) momentum takes several times the plain sweeps,
+ * and Anderson's mix of the last sweeps fewer: auto's acceleration takes Anderson's there. */
+START_TEST(auto_mixes_sweeps_on_a_regular_w) {
+    const int64_t plain = grid_sweeps(FRIX_SOLVER_NSGS_VELOCITY, 0.0, 1e4, 0, 0);
+    const int64_t momentum = grid_sweeps(FRIX_SOLVER_NSGS_VELOCITY, 0.0, 1e4, 1, 0);
     ck_assert_msg(2 * plain < momentum, "nsgs-v: %lld sweeps plain, %lld with momentum: the case tests nothing",
                   (long long)plain, (long long)momentum);
-    ck_assert_int_eq(grid_sweeps(FRIX_SOLVER_AUTO, 1), grid_sweeps(FRIX_SOLVER_AUTO, 0));
-    ck_assert_int_le(grid_sweeps(FRIX_SOLVER_AUTO, 1), plain);
+    /* Stiffer springs: the sweeps contract slowly, and the mix gains most. */
+    const int64_t stiff_plain = grid_sweeps(FRIX_SOLVER_NSGS_VELOCITY, 0.05, 1e6, 0, 0);
+    const int64_t stiff_mixed = grid_sweeps(FRIX_SOLVER_NSGS_VELOCITY, 0.05, 1e6, 0, 10);
+    ck_assert_msg(2 * stiff_mixed < stiff_plain, "nsgs-v, stiff grid: %lld sweeps plain, %lld with anderson 10",
+                  (long long)stiff_plain, (long long)stiff_mixed);
+    /* Anderson takes the place of momentum when both are asked. */
+    ck_assert_int_eq(grid_sweeps(FRIX_SOLVER_NSGS_VELOCITY, 0.05, 1e6, 1, 10), stiff_mixed);
+    const int64_t auto_plain = grid_sweeps(FRIX_SOLVER_AUTO, 0.0, 1e4, 0, -1);
+    ck_assert_int_le(auto_plain, plain);
+    ck_assert_int_lt(grid_sweeps(FRIX_SOLVER_AUTO, 0.0, 1e4, 1, -1), auto_plain);
 }
 END_TEST
 
@@ -765,6 +817,7 @@ int main(void) {
     tcase_add_test(tc, the_rigid_spheres_by_both_routes);
     tcase_add_test(tc, small_problems_stored_as_csc);
     tcase_add_test(tc, product_form_sweeps_as_nsgs_v);
+    tcase_add_test(tc, product_form_mixes_sweeps);
     tcase_add_test(tc, singular_mass_matrix_held_or_refused);
     tcase_add_test(tc, no_contacts);
     tcase_add_test(tc, auto_prices_the_reduction_of_a_deformable_body);
@@ -774,7 +827,7 @@ int main(void) {
     tcase_add_test(tc, newton_corrects_the_lumped_rho);
     tcase_add_test(tc, newton_cuts_a_rho_too_large);
     tcase_add_test(tc, auto_reduces_where_newton_fails);
-    tcase_add_test(tc, auto_sweeps_plainly_on_a_regular_w);
+    tcase_add_test(tc, auto_mixes_sweeps_on_a_regular_w);
     tcase_add_test(tc, auto_stopped_while_forming_w_returns_the_start);
     tcase_add_test(tc, time_limit_and_callback_end_the_forming_of_w);
     tcase_add_test(tc, callback_ends_the_forming_of_w_with_lu);

@@ -44,7 +44,7 @@
  * rank they are those of frix_solve with the same options. With more ranks the order of the
  * sweep differs, and so do the iterates: the answer meets the same tolerance. The error
  * measure is computed over all contacts, in a fixed order. Options drift_window,
- * acceleration and shuffle are refused (they steer the whole iterate at once).
+ * acceleration, anderson and shuffle are refused (they steer the whole iterate at once).
  *
  * nsn-ac solves Alart-Curnier's equations over all ranks: each Newton system, a matrix of
  * 3 x 3 blocks over the ranks' rows, by PETSc (KSP, MUMPS's LU), with Armijo's backtracking on

@@ -81,13 +81,19 @@ typedef enum frix_option_key FRIX_ENUM_BASE {
                                      where the line search would cut them short), and go back
                                      unless the error fell tenfold; 0 = never. Default 5 for
                                      504 and 513, 0 for 520 */
-    FRIX_OPT_MEMORY_LIMIT = 32    /* double: bytes the solve may add to the process's memory;
+    FRIX_OPT_MEMORY_LIMIT = 32,   /* double: bytes the solve may add to the process's memory;
                                      0 = what the process may use (the machine's or its
                                      control group's memory) less what it holds (default). A
                                      factorisation whose peak (priced from its symbolic
                                      analysis) would exceed what is left is not started:
                                      status FRIX_STATUS_MEMORY_LIMIT; auto leaves out the
                                      stages that would */
+    /* NSGS (500, 501, 902) */
+    FRIX_OPT_ANDERSON = 33        /* int 0..50: Anderson acceleration of the sweeps over the
+                                     last k of them, 0 = off (default); in place of
+                                     acceleration, freezing then off. auto takes it (depth 10)
+                                     on global problems whose W may be regular (3 nc <= n) when
+                                     its acceleration is on */
 } frix_option_key;
 
 typedef enum frix_rho_strategy FRIX_ENUM_BASE {

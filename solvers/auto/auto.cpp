@@ -122,8 +122,9 @@ const OptionDefault kDefaults[] = {{FRIX_OPT_MAX_ITER, 1e9}, {FRIX_OPT_ACCELERAT
 #define FRIX_AUTO_DESCRIPTION                                                                       \
     "The default solver. Analyses the problem (sizes, the ranges of |W_aa| and mu, the islands: "   \
     "groups of contacts that do not interact, each large one solved as a part of its own, the "    \
-    "small ones together, with threads > 1 at once), then runs on each part NSGS (with momentum, unless "           \
-    "acceleration = 0 or the problem is global with 3 nc <= n dofs, where W may be regular) while its "  \
+    "small ones together, with threads > 1 at once), then runs on each part NSGS (with momentum, or "  \
+    "Anderson's mix of the last ten sweeps on a global problem with 3 nc <= n dofs, where W may be " \
+    "regular; plain with acceleration = 0) while its "  \
     "convergence rate promises the tolerance soon, and otherwise rounds of semismooth Newton "     \
     "(Alart-Curnier; on parts of at most 64 contacts also from seeded random starts), NSGS (one " \
     "chain over the rounds, steady drifts of r carried ahead), ADMM and PROX (from the best "    \

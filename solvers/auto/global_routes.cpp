@@ -107,14 +107,17 @@ AnalysisSummary global_figures(const frix_problem &p, const ReductionSize &size)
     return s;
 }
 
-// The caller's options for the routes' solvers, with the sweeps' momentum (auto's option
-// acceleration) only where W = H^T M^-1 H is singular (3nc > n): momentum carries the drift
-// along W's null space that holds the plain sweeps for thousands of sweeps; where W may be
-// regular (a deformable body, few contacts for its dofs), the plain sweeps converge in tens
-// and momentum only overshoots.
+// The caller's options for the routes' solvers. auto's option acceleration steers the sweeps
+// by W's rank: momentum where W = H^T M^-1 H is singular (3nc > n), carrying the drift along
+// W's null space that holds the plain sweeps for thousands of sweeps; Anderson's mix of the
+// last sweeps where W may be regular (a deformable body, few contacts for its dofs), whose
+// sweeps contract at a steady rate that momentum only overshoots.
 frix_options route_options(const frix_options &user, const AnalysisSummary &figures) {
     frix_options o = user;
-    if (figures.rank_ratio <= 1.0) o.ivalue[FRIX_OPT_ACCELERATION] = 0;
+    if (figures.rank_ratio <= 1.0) {
+        o.ivalue[FRIX_OPT_ANDERSON] = user.i(FRIX_OPT_ACCELERATION) != 0 ? kRegularWAndersonDepth : 0;
+        o.ivalue[FRIX_OPT_ACCELERATION] = 0;
+    }
     return o;
 }
 

@@ -64,6 +64,9 @@ constexpr StageSpec kRound[] = {
 // NSGS's stages carry steady drifts of r ahead every this many sweeps (option drift_window):
 // they cross the plateaus of piles; the window matters little between 1000 and 20000.
 constexpr int64_t kDriftWindow = 1000;
+// The sweeps' Anderson depth (option anderson) on a W that may be regular: the last ten sweeps
+// span the slow modes of an elastic body's contacts; deeper mixes gain a sweep or two.
+constexpr int64_t kRegularWAndersonDepth = 10;
 // Without a deadline, this many rounds in a row without halving the error end the sequence.
 constexpr int kMaxIdleRounds = 3;
 // When max |W_aa| / min |W_aa| exceeds this, ADMM scales its penalty per contact

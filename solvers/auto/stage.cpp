@@ -93,6 +93,7 @@ frix_options stage_options(const SolverEntry &entry, const frix_options &user, d
     if (entry.id == FRIX_SOLVER_NSGS_VELOCITY || entry.id == FRIX_SOLVER_NSGS || entry.id == FRIX_SOLVER_GLOBAL_NSGS) {
         o.ivalue[FRIX_OPT_DRIFT_WINDOW] = kDriftWindow;
         o.ivalue[FRIX_OPT_ACCELERATION] = user.i(FRIX_OPT_ACCELERATION);
+        o.ivalue[FRIX_OPT_ANDERSON] = user.i(FRIX_OPT_ANDERSON);
     }
     if (part) {
         o.ivalue[FRIX_OPT_MAX_ITER] = max_iter;

@@ -128,6 +128,146 @@ class Momentum {
     std::vector<double> last_, line_;  // x_{k-1}; the line point before its projection
 };
 
+// Anderson acceleration of the sweep (option anderson = depth): the sweep is a fixed-point map
+// g; with f_i = g(x_i) - x_i over the last depth + 1 sweeps, r moves after each sweep to
+// y = P_K(g_k - sum_j gamma_j (g_{j+1} - g_j)), gamma the least-squares fit of the changes
+// f_{j+1} - f_j to f_k, and the form's affine state follows the same combination. Where the
+// sweep contracts at a steady rate (a regular W: elastic bodies), the mix extrapolates the
+// slow modes as a Krylov method would. The history starts again when a sweep's step grows
+// (the map changed: contacts changed state) and whenever r jumps.
+class AndersonMixing {
+   public:
+    AndersonMixing(int64_t depth, int64_t m, const double *r) : depth_(depth), m_((size_t)m) {
+        if (depth_ <= 0) return;
+        x_.assign(r, r + m);
+        const size_t slots = (size_t)depth_ + 1;
+        g_.resize(slots * m_);
+        f_.resize(slots * m_);
+        columns_.resize((size_t)depth_ * m_);
+        line_.resize(m_);
+    }
+    bool on() const { return depth_ > 0; }
+    // Off for the rest of the run (a form that cannot follow a combination).
+    void off() { depth_ = 0; }
+    // r changed other than by a sweep: the history starts again from r.
+    void restart(const double *r) {
+        if (!on()) return;
+        count_ = 0;
+        std::copy(r, r + m_, x_.begin());
+    }
+    void after_sweep(double *r, const double *mu, Workspace &ws, SweepForm &form, double *u);
+
+   private:
+    size_t slot(int64_t i) const { return (size_t)((newest_ - count_ + 1 + i + 2 * (depth_ + 1)) % (depth_ + 1)); }
+    int64_t fit(int64_t columns);
+
+    int64_t depth_;
+    size_t m_;
+    std::vector<double> x_;                   // the last sweep's start
+    std::vector<double> g_, f_, k_;           // per slot: g, f = g - x, the affine state at g
+    std::vector<double> columns_, line_;      // the fit's orthogonalised columns; the mixed point
+    std::vector<double> r_fit_, gamma_;       // the fit's triangle (columns x columns) and weights
+    std::vector<char> kept_column_;
+    int64_t count_ = 0, newest_ = -1;
+    double last_f2_ = INFINITY;
+};
+
+// gamma minimising |f_k - sum_j gamma_j (f_{j+1} - f_j)| over `columns` differences, by
+// modified Gram-Schmidt; a difference within rounding of the span of the earlier ones is left
+// out (gamma_j = 0). Returns the differences kept.
+int64_t AndersonMixing::fit(int64_t columns) {
+    const size_t c = (size_t)columns, m = m_;
+    r_fit_.assign(c * c, 0.0);
+    gamma_.assign(c, 0.0);
+    kept_column_.assign(c, 0);
+    std::vector<double> rhs(c, 0.0);
+    const double *fk = &f_[slot(count_ - 1) * m];
+    int64_t kept = 0;
+    for (size_t j = 0; j < c; ++j) {
+        double *q = &columns_[j * m];
+        const double *a = &f_[slot((int64_t)j + 1) * m], *b = &f_[slot((int64_t)j) * m];
+        double before = 0.0;
+        for (size_t i = 0; i < m; ++i) {
+            q[i] = a[i] - b[i];
+            before += q[i] * q[i];
+        }
+        for (size_t l = 0; l < j; ++l) {
+            if (!kept_column_[l]) continue;
+            const double *ql = &columns_[l * m];
+            double d = 0.0;
+            for (size_t i = 0; i < m; ++i) d += ql[i] * q[i];
+            r_fit_[l * c + j] = d;
+            for (size_t i = 0; i < m; ++i) q[i] -= d * ql[i];
+        }
+        double after = 0.0;
+        for (size_t i = 0; i < m; ++i) after += q[i] * q[i];
+        if (!(after > 1e-20 * before) || !(after > 0.0)) continue;
+        const double norm = std::sqrt(after);
+        for (size_t i = 0; i < m; ++i) q[i] /= norm;
+        r_fit_[j * c + j] = norm;
+        double d = 0.0;
+        for (size_t i = 0; i < m; ++i) d += q[i] * fk[i];
+        rhs[j] = d;
+        kept_column_[j] = 1;
+        ++kept;
+    }
+    for (size_t j = c; j-- > 0;) {
+        if (!kept_column_[j]) continue;
+        double t = rhs[j];
+        for (size_t l = j + 1; l < c; ++l)
+            if (kept_column_[l]) t -= r_fit_[j * c + l] * gamma_[l];
+        gamma_[j] = t / r_fit_[j * c + j];
+    }
+    return kept;
+}
+
+void AndersonMixing::after_sweep(double *r, const double *mu, Workspace &ws, SweepForm &form, double *u) {
+    if (!on()) return;
+    const SweepForm::AffineState state = form.affine_state(u);
+    if (!state.combines) {
+        off();
+        return;
+    }
+    const size_t m = m_, slots = (size_t)depth_ + 1;
+    if (k_.size() != slots * state.size) k_.resize(slots * state.size);
+    double f2 = 0.0;
+    for (size_t i = 0; i < m; ++i) f2 += (r[i] - x_[i]) * (r[i] - x_[i]);
+    // A step that grew: the older sweeps describe another map.
+    if (count_ > 0 && f2 > last_f2_) count_ = 0;
+    last_f2_ = f2;
+    newest_ = (newest_ + 1) % (int64_t)slots;
+    count_ = std::min<int64_t>(count_ + 1, (int64_t)slots);
+    {
+        double *g = &g_[(size_t)newest_ * m], *f = &f_[(size_t)newest_ * m];
+        for (size_t i = 0; i < m; ++i) {
+            g[i] = r[i];
+            f[i] = r[i] - x_[i];
+        }
+        if (state.size) std::copy(state.values, state.values + state.size, &k_[(size_t)newest_ * state.size]);
+    }
+    if (count_ < 2 || fit(count_ - 1) == 0) {
+        std::copy(r, r + m, x_.begin());
+        return;
+    }
+    // line = g_k - sum_j gamma_j (g_{j+1} - g_j); the affine state alike.
+    std::copy(r, r + m, line_.begin());
+    for (int64_t j = 0; j + 1 < count_; ++j) {
+        const double w = gamma_[(size_t)j];
+        if (w == 0.0) continue;
+        const double *a = &g_[slot(j + 1) * m], *b = &g_[slot(j) * m];
+        for (size_t i = 0; i < m; ++i) line_[i] -= w * (a[i] - b[i]);
+        const double *ka = &k_[slot(j + 1) * state.size], *kb = &k_[slot(j) * state.size];
+        for (size_t i = 0; i < state.size; ++i) state.values[i] -= w * (ka[i] - kb[i]);
+    }
+    std::copy(line_.begin(), line_.end(), r);
+    coulomb::project_on_cones(r, mu, (int64_t)(m / 3));
+    for (size_t a = 0; 3 * a < m; ++a) {
+        const double d[3] = {r[3 * a] - line_[3 * a], r[3 * a + 1] - line_[3 * a + 1], r[3 * a + 2] - line_[3 * a + 2]};
+        if (d[0] != 0.0 || d[1] != 0.0 || d[2] != 0.0) form.push_change(ws, (int64_t)a, d, u);
+    }
+    std::copy(r, r + m, x_.begin());
+}
+
 // Monitor::Agree for run_sweeps's limits: SweepForm::agree is one exchange among the processes
 // of a distributed form, so the callback's flag (asked first) travels with the clock's, which
 // the time test (asked second) then reads.
@@ -183,6 +323,7 @@ class SweepRun {
     bool at_r_ = false;
     const int64_t all_contacts_;
     DriftExtrapolation drift_;
+    AndersonMixing anderson_;
     Momentum momentum_;
     // The best r of the full checks, returned when the run ends worse (ctx.return_best).
     std::vector<double> best_r_;
@@ -214,7 +355,8 @@ SweepRun::SweepRun(SolveContext &ctx, Workspace &ws, SweepForm &form, const char
       info_(ctx.info),
       all_contacts_(form.all_contacts(p_.nc)),
       drift_(o_.i(FRIX_OPT_DRIFT_WINDOW), m_, ctx.r),
-      momentum_(o_.i(FRIX_OPT_ACCELERATION) != 0, m_, ctx.r),
+      anderson_(o_.i(FRIX_OPT_ANDERSON), m_, ctx.r),
+      momentum_(o_.i(FRIX_OPT_ACCELERATION) != 0 && !anderson_.on(), m_, ctx.r),
       keep_best_(ctx.return_best && form.restores()),
       tol_light_(tol_) {}
 
@@ -282,7 +424,7 @@ void SweepRun::run() {
 // share (not in the first sweeps, nor under momentum).
 SweepStats SweepRun::sweep() {
     if (freezing_ > 0)
-        ws_.set_freeze_threshold(it_ >= kFreezeAfter && !momentum_.on()
+        ws_.set_freeze_threshold(it_ >= kFreezeAfter && !momentum_.on() && !anderson_.on()
                                      ? tol_light_ * tol_light_ * last_r2_ / (10.0 * (double)all_contacts_)
                                      : -1.0);
     const SweepStats st = form_.sweep(ws_, r_, u_);
@@ -302,6 +444,8 @@ bool SweepRun::after_sweep(const SweepStats &st) {
             log_line(&o_, "%s: sweep %lld: drift carried ahead (jump %lld)", name_, (long long)it_,
                      (long long)drift_.jumps());
     }
+    if (jumped) anderson_.restart(r_);
+    anderson_.after_sweep(r_, p_.mu, ws_, form_, u_);
     momentum_.after_sweep(st.dr2, jumped, r_, p_.mu, ws_, form_, u_);
     return jumped;
 }

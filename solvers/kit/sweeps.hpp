@@ -393,6 +393,20 @@ class SweepForm {
         (void)ws, (void)line;
         if (beta != 0.0) restart(y, u);
     }
+    // What the form keeps affine in r (u of nsgs-v, v of gnsgs), for an acceleration that
+    // combines past iterates (Anderson): values and their count; `combines` false where the form
+    // cannot follow such a combination (then the acceleration is off).
+    struct AffineState {
+        double *values = nullptr;
+        size_t size = 0;
+        bool combines = false;
+    };
+    virtual AffineState affine_state(double *u) {
+        (void)u;
+        return {};
+    }
+    // Adds contact a's change d of r to the affine state.
+    virtual void push_change(Workspace &ws, int64_t a, const double *d, double *u) { (void)ws, (void)a, (void)d, (void)u; }
     // A form whose contacts are shared among processes (a distributed solve): the bitwise or
     // of `flags` over them, so that each decision taken on one process's own data (a warm
     // start, the callback, the clock) is taken by all of them alike.

@@ -121,6 +121,8 @@ class ProductForm : public SweepForm {
         extrapolate_affine(beta, line, y, p_.nc, v_.data(), v_.size(), v_last_,
                            [this](int64_t a, const double *d) { add_g(a, d, v_.data()); });
     }
+    AffineState affine_state(double *) override { return {v_.data(), v_.size(), true}; }
+    void push_change(Workspace &, int64_t a, const double *d, double *) override { add_g(a, d, v_.data()); }
 
    private:
     // v += M^-1 H_a x: from H_a and M's diagonal where every body of the contact is one dof
@@ -226,7 +228,7 @@ frix_error solve(SolveContext &ctx) {
 const frix_option_key kProductKeys[] = {FRIX_OPT_LOCAL_SOLVER, FRIX_OPT_LOCAL_TOLERANCE, FRIX_OPT_LOCAL_MAX_ITER,
                                         FRIX_OPT_RELAXATION,    FRIX_OPT_FREEZING,        FRIX_OPT_ERROR_FREQUENCY,
                                         FRIX_OPT_DRIFT_WINDOW,  FRIX_OPT_THREADS,         FRIX_OPT_ACCELERATION,
-                                        (frix_option_key)0};
+                                        FRIX_OPT_ANDERSON,      (frix_option_key)0};
 
 }  // namespace
 }  // namespace gnsgs
@@ -246,7 +248,7 @@ const SolverEntry kGnsgsEntry = {
     "once; r does not depend on the number of threads. Stopped by the "
     "global measure. Refuses a deformable M (FRIX_ERR_UNSUPPORTED). Options: threads, and "
     "those of nsgs-v but shuffle and seed (local_solver, local_tolerance, local_max_iter, "
-    "relaxation, freezing, error_frequency, drift_window, acceleration).",
+    "relaxation, freezing, error_frequency, drift_window, acceleration, anderson).",
     gnsgs::solve,
     false,
     true,

@@ -153,6 +153,7 @@ class RowForm : public SweepForm {
     explicit RowForm(const frix_problem &p) : p_(p) {}
     SweepStats sweep(Workspace &ws, double *r, double *) override { return ws.sweep(r); }
     Measures exact(const double *r, double *u) override { return local_measures(p_, r, u); }
+    AffineState affine_state(double *) override { return {nullptr, 0, true}; }
 
    private:
     const frix_problem &p_;
@@ -176,6 +177,8 @@ class VelocityForm : public SweepForm {
         extrapolate_affine(beta, line, y, p_.nc, u, 3 * (size_t)p_.nc, u_last_,
                            [&ws, u](int64_t a, const double *d) { ws.push_velocity(a, d, u); });
     }
+    AffineState affine_state(double *u) override { return {u, 3 * (size_t)p_.nc, true}; }
+    void push_change(Workspace &ws, int64_t a, const double *d, double *u) override { ws.push_velocity(a, d, u); }
 
    private:
     const frix_problem &p_;
@@ -217,7 +220,7 @@ const OptionDefault kDefaults[] = {
 const frix_option_key kExtraKeys[] = {FRIX_OPT_LOCAL_SOLVER,   FRIX_OPT_LOCAL_TOLERANCE, FRIX_OPT_LOCAL_MAX_ITER,
                                       FRIX_OPT_RELAXATION,     FRIX_OPT_SHUFFLE,         FRIX_OPT_SEED,
                                       FRIX_OPT_FREEZING,       FRIX_OPT_ERROR_FREQUENCY, FRIX_OPT_DRIFT_WINDOW,
-                                      FRIX_OPT_ACCELERATION,   (frix_option_key)0};
+                                      FRIX_OPT_ACCELERATION,   FRIX_OPT_ANDERSON,        (frix_option_key)0};
 
 // nsgs-v: freezing on by default; skipped contacts cost it nothing at all.
 const OptionDefault kVelocityDefaults[] = {
@@ -255,7 +258,11 @@ const SolverEntry kNsgsEntry = {
     "sweeps creep along a steady transfer of load; 0 = never, the default) and acceleration "
     "(1: after each sweep r moves on along its last step, Nesterov's momentum restarted whenever "
     "a sweep moves r more than each of the two before; freezing is then off; for piles whose "
-    "sweeps converge slowly but steadily; 0 = off, the default).",
+    "sweeps converge slowly but steadily; 0 = off, the default) and anderson (k > 0: after each "
+    "sweep r moves to the mix of the last k + 1 sweeps' results whose residuals' changes best "
+    "cancel the last residual, projected on the cones, the history restarted when a sweep's "
+    "step grows; in place of acceleration, freezing then off; for a regular W, such as an "
+    "elastic body's, where the sweeps contract at a steady rate; 0 = off, the default).",
     nsgs::solve,
     true,
     false,
@@ -275,7 +282,8 @@ const SolverEntry kNsgsVelocityEntry = {
     "(u is recomputed exactly to confirm the end, which also removes the rounding drift). "
     "Freezing is on by default (10 sweeps). Options: those of nsgs (local_solver, "
     "local_tolerance, local_max_iter, "
-    "relaxation, shuffle, seed, freezing, error_frequency, drift_window, acceleration). Unlike "
+    "relaxation, shuffle, seed, freezing, error_frequency, drift_window, acceleration, anderson). "
+    "Unlike "
     "Siconos 4.4's "
     "NSGSV "
     "(dense W only, pseudo-inverse, prints), it takes any sparse W.",

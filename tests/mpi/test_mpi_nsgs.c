@@ -320,6 +320,10 @@ START_TEST(refusals_and_stops_reach_every_rank) {
         int64_t v = 0;
         ck_assert_int_eq(frix_options_set_int(drift, FRIX_OPT_DRIFT_WINDOW, 10), FRIX_OK);
         ok = ok && frix_mpi_solve(part, drift, r, u, NULL) == FRIX_ERR_UNSUPPORTED;
+        ck_assert_int_eq(frix_options_set_int(drift, FRIX_OPT_DRIFT_WINDOW, 0), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_int(drift, FRIX_OPT_ANDERSON, 5), FRIX_OK);
+        ok = ok && frix_mpi_solve(part, drift, r, u, NULL) == FRIX_ERR_UNSUPPORTED;
+        ok = ok && strstr(frix_mpi_last_error_message(), "anderson") != NULL;
         ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &other), FRIX_OK);
         frix_test_siconos_measure(other);
         ok = ok && frix_mpi_solve(part, other, r, u, NULL) == FRIX_ERR_UNSUPPORTED;
