@@ -156,6 +156,10 @@ class AndersonMixing {
         std::copy(r, r + m_, x_.begin());
     }
     void after_sweep(double *r, const double *mu, Workspace &ws, SweepForm &form, double *u);
+    // form.exact(r, u): where it recomputes the affine state (clearing the drift of its updates:
+    // rounding, or single-precision columns), the kept states move by the same correction, so
+    // that the mix's differences carry no jump.
+    Measures measure_following(SweepForm &form, const double *r, double *u);
 
    private:
     size_t slot(int64_t i) const { return (size_t)((newest_ - count_ + 1 + i + 2 * (depth_ + 1)) % (depth_ + 1)); }
@@ -168,6 +172,7 @@ class AndersonMixing {
     std::vector<double> columns_, line_;      // the fit's orthogonalised columns; the mixed point
     std::vector<double> r_fit_, gamma_;       // the fit's triangle (columns x columns) and weights
     std::vector<char> kept_column_;
+    std::vector<double> before_;  // measure_following: the affine state before exact()
     int64_t count_ = 0, newest_ = -1;
     double last_f2_ = INFINITY;
 };
@@ -219,6 +224,18 @@ int64_t AndersonMixing::fit(int64_t columns) {
         gamma_[j] = t / r_fit_[j * c + j];
     }
     return kept;
+}
+
+Measures AndersonMixing::measure_following(SweepForm &form, const double *r, double *u) {
+    const SweepForm::AffineState state = on() && count_ > 0 ? form.affine_state(u) : SweepForm::AffineState{};
+    if (state.size == 0 || k_.size() != ((size_t)depth_ + 1) * state.size) return form.exact(r, u);
+    before_.assign(state.values, state.values + state.size);
+    const Measures out = form.exact(r, u);
+    for (int64_t i = 0; i < count_; ++i) {
+        double *k = &k_[slot(i) * state.size];
+        for (size_t j = 0; j < state.size; ++j) k[j] += state.values[j] - before_[j];
+    }
+    return out;
 }
 
 void AndersonMixing::after_sweep(double *r, const double *mu, Workspace &ws, SweepForm &form, double *u) {
@@ -361,7 +378,7 @@ SweepRun::SweepRun(SolveContext &ctx, Workspace &ws, SweepForm &form, const char
       tol_light_(tol_) {}
 
 double SweepRun::exact_error() {
-    last_ = form_.exact(r_, u_);
+    last_ = anderson_.measure_following(form_, r_, u_);
     at_r_ = true;
     return selected_error(last_, measure_);
 }

@@ -13,6 +13,7 @@
 
 #include "solvers/kit/local3x3.hpp"
 #include "solvers/kit/rigid_bodies.hpp"
+#include "solvers/kit/single_columns.hpp"
 #include "src/matrix.hpp"
 #include "src/problem.hpp"
 #include "src/solver_api.hpp"
@@ -198,6 +199,9 @@ class Workspace {
     SweepStats sweep_velocity(double *r, double *u);
     // u += W's block column a times dr: what sweep_velocity does after each change of r_a.
     void push_velocity(int64_t a, const double *dr, double *u);
+    // The pushes go through `columns` (a single-precision copy of W's columns; null: W's
+    // own), which must outlive the sweeps.
+    void push_through(const SingleColumns *columns) { single_ = columns; }
 
     // Freezing: a contact whose |r_a,new - r_a,old|^2 is <= dr2 is then skipped for
     // settings.freezing sweeps. thaw() releases every frozen contact.
@@ -272,6 +276,7 @@ class Workspace {
     // Block columns of W (velocity sweeps): for block column a, the blocks (row, index into
     // block_val) at col_ptr_[a] .. col_ptr_[a+1].
     std::vector<int64_t> col_ptr_, col_row_, col_block_;
+    const SingleColumns *single_ = nullptr;  // the pushes' columns in single precision, if any
     std::vector<double> domain_dr2_, domain_r2_;  // domain sweeps: per domain, summed after
 };
 
@@ -372,7 +377,7 @@ class SweepForm {
     // to date, drifting by rounding); u receives the velocities.
     virtual Measures exact(const double *r, double *u) = 0;
     // The measures from what the form keeps up to date, without a product: false where it
-    // keeps nothing (then only exact() measures).
+    // keeps nothing, or nothing close enough to measure by (then only exact() measures).
     virtual bool kept(const double *r, double *u, Measures &m) {
         (void)r, (void)u, (void)m;
         return false;
@@ -438,6 +443,11 @@ void extrapolate_affine(double beta, const double *line, const double *y, int64_
 // full checks, drift extrapolation, freezing, the monitor's limits and callback; ctx.info gets
 // the status and the sweeps.
 frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const char *name);
+
+// nsgs-v's solve (nsgs.cpp), its pushes through single-precision columns where W suits
+// them at single_min_bytes (SingleColumns::suits): its entry passes kSingleColumnsMinBytes,
+// a test may pass less.
+frix_error solve_velocity_at(SolveContext &ctx, double single_min_bytes);
 
 // The sweeps momentum (option acceleration) is given to halve its best error before it is off
 // for the rest of a run; its error rises and falls meanwhile, so a watch on its rate waits as

@@ -2,12 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <memory>
 #include <utility>
 
 #include "src/coulomb.hpp"
 #include "src/error_state.hpp"
+#include "src/log.hpp"
 #include "src/matrix.hpp"
 #include "src/measures.hpp"
+#include "src/monitor.hpp"
 #include "src/random.hpp"
 #include "solvers/entries.hpp"
 
@@ -133,6 +137,10 @@ SweepStats Workspace::sweep_velocity(double *r, double *u) {
 }
 
 void Workspace::push_velocity(int64_t a, const double *dr, double *u) {
+    if (single_) {
+        single_->push(a, dr, u);
+        return;
+    }
     // A symmetric W's column a is its row a transposed: read in order, in place of the column
     // index (whose blocks lie a row apart in memory).
     const double *val = W_->block_val.data();
@@ -160,12 +168,29 @@ class RowForm : public SweepForm {
 };
 
 // W's block columns (nsgs-v): u = W r + q kept up to date by each change of r.
+// With single-precision columns (single), the kept u drifts from W r + q by the single
+// rounding of the changes since it was last computed afresh; so every full check computes
+// it afresh from the double W (exact()), which bounds the drift by the changes between two
+// full checks (at most kFullCheckPeriod light-error tests, sweeps.cpp) and leaves every
+// verdict to the double W. Near the end those
+// changes, and the drift with them, shrink with the error: the sweeps do not stall short of
+// a tight tolerance.
 class VelocityForm : public SweepForm {
    public:
-    explicit VelocityForm(const frix_problem &p) : p_(p), norm_q_(norm2(p.q, 3 * p.nc)) {}
+    VelocityForm(const frix_problem &p, bool single) : p_(p), norm_q_(norm2(p.q, 3 * p.nc)), single_(single) {}
     SweepStats sweep(Workspace &ws, double *r, double *u) override { return ws.sweep_velocity(r, u); }
-    Measures exact(const double *r, double *u) override { return local_measures(p_, r, u); }
+    Measures exact(const double *r, double *u) override {
+        if (!single_ || u_last_.empty()) return local_measures(p_, r, u);
+        // Momentum's u at its last x moves with u, so that its extrapolation of the kept u
+        // carries no drift from before (extrapolate_affine).
+        const size_t m = 3 * (size_t)p_.nc;
+        u_before_.assign(u, u + m);
+        const Measures out = local_measures(p_, r, u);
+        for (size_t i = 0; i < m; ++i) u_last_[i] += u[i] - u_before_[i];
+        return out;
+    }
     bool kept(const double *r, double *u, Measures &m) override {
+        if (single_) return false;
         m = measures_from_ru(r, u, p_.mu, p_.weight.data(), p_.nc, norm_q_);
         return true;
     }
@@ -183,27 +208,58 @@ class VelocityForm : public SweepForm {
    private:
     const frix_problem &p_;
     double norm_q_;
+    const bool single_;
     std::vector<double> u_last_;  // u at the previous extrapolation's x
+    std::vector<double> u_before_;  // exact(): the kept u it replaces
 };
 
-frix_error run(SolveContext &ctx, bool velocity) {
-    const frix_problem &p = ctx.problem;
-    const char *name = velocity ? "nsgs-v" : "nsgs";
-    if (!p.W || !p.W->block)
-        return fail(FRIX_ERR_INTERNAL, "%s: W is not stored as 3x3 blocks", name);
-    Workspace ws(p, settings_from(ctx.options));
-    RowForm rows(p);
-    VelocityForm columns(p);
-    return run_sweeps(ctx, ws, velocity ? (SweepForm &)columns : (SweepForm &)rows, name);
+frix_error check_blocks(const frix_problem &p, const char *name) {
+    if (!p.W || !p.W->block) return fail(FRIX_ERR_INTERNAL, "%s: W is not stored as 3x3 blocks", name);
+    return FRIX_OK;
 }
+
+frix_error solve(SolveContext &ctx) {
+    if (frix_error e = check_blocks(ctx.problem, "nsgs")) return e;
+    Workspace ws(ctx.problem, settings_from(ctx.options));
+    RowForm rows(ctx.problem);
+    return run_sweeps(ctx, ws, rows, "nsgs");
+}
+
+// The single-precision columns of a large dense W (where the memory limit leaves room for
+// them), kept by a persistent solver while W's values stay; null where W does not suit.
+std::unique_ptr<Kept<SingleColumns>> single_columns(SolveContext &ctx, double min_bytes) {
+    const frix_matrix &W = *ctx.problem.W;
+    if (!SingleColumns::suits(W, min_bytes) || !Monitor(ctx).fits_memory(SingleColumns::bytes_for(W))) return nullptr;
+    auto columns = std::make_unique<Kept<SingleColumns>>(ctx.cache, FRIX_SOLVER_NSGS_VELOCITY);
+    const uint64_t values = ctx.cache ? ctx.cache->w_values : 0, pattern = ctx.cache ? ctx.cache->w_pattern : 0;
+    const bool reused = (**columns).holds(W, values, pattern);
+    const Stopwatch build;
+    if (!reused) (**columns).build(W, values, pattern);
+    if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1) {
+        char how[64];
+        snprintf(how, sizeof how, reused ? "kept" : "built in %.3g s", build.seconds());
+        log_line(&ctx.options, "nsgs-v: pushes through W's columns in single precision (%.0f MB, %s)",
+                 SingleColumns::bytes_for(W) / 1e6, how);
+    }
+    return columns;
+}
+
+frix_error solve_velocity(SolveContext &ctx) { return solve_velocity_at(ctx, kSingleColumnsMinBytes); }
 
 }  // namespace
 
+frix_error solve_velocity_at(SolveContext &ctx, double single_min_bytes) {
+    if (frix_error e = check_blocks(ctx.problem, "nsgs-v")) return e;
+    Workspace ws(ctx.problem, settings_from(ctx.options));
+    const std::unique_ptr<Kept<SingleColumns>> single = single_columns(ctx, single_min_bytes);
+    if (single) ws.push_through(&**single);
+    VelocityForm columns(ctx.problem, single != nullptr);
+    const frix_error e = run_sweeps(ctx, ws, columns, "nsgs-v");
+    if (single && !e) single->keep();
+    return e;
+}
+
 namespace {
-
-frix_error solve(SolveContext &ctx) { return run(ctx, false); }
-frix_error solve_velocity(SolveContext &ctx) { return run(ctx, true); }
-
 
 // The sweep limit covers the slowest FCLIB problems that NSGS solves at 1e-8 (Capsules:
 // ~8000 sweeps).
@@ -280,6 +336,10 @@ const SolverEntry kNsgsVelocityEntry = {
     "so that a contact whose reaction does not change (separated, or frozen) costs O(1) "
     "instead of a pass over its block row, and the periodic full checks cost no product "
     "(u is recomputed exactly to confirm the end, which also removes the rounding drift). "
+    "On a dense W of at least 32 MiB the pushes go through a single-precision copy of W's "
+    "columns (half W's memory more, where the memory limit leaves room): half the bytes a "
+    "sweep reads; every full check recomputes u from the double W, so the verdict stays in "
+    "double precision. "
     "Freezing is on by default (10 sweeps). Options: those of nsgs (local_solver, "
     "local_tolerance, local_max_iter, "
     "relaxation, shuffle, seed, freezing, error_frequency, drift_window, acceleration, anderson). "

@@ -7,6 +7,8 @@
 
 #include <stdint.h>
 
+#include <frix/frix.h>
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -142,6 +144,17 @@ int frix_testing_matrix_from_columns(int64_t n, const int64_t *colptr, const int
                                      int64_t *blocks, int *in_place);
 /* Dense LU (cholesky = 0) or Cholesky (1): x = A^-1 b. */
 int frix_testing_dense_solve(int cholesky, int64_t n, const double *A, const double *b, double *x);
+
+/* ---- Sweeps (solvers/kit/sweeps.hpp). */
+/* nsgs-v as frix_solve runs it with options o (of nsgs-v; a global p is reduced first), its
+ * pushes through W's columns in single precision (single = 1) or in double (0) whatever W's
+ * size: frix_solve's own choice goes by W's size (kSingleColumnsMinBytes). */
+int frix_testing_nsgs_velocity(int single, const frix_problem *p, const frix_options *o, double *r, double *u,
+                               double *v, frix_info *info);
+/* u += W's block column a times dr through the single-precision columns (solvers/kit/
+ * single_columns.hpp) of W, which must store every block; read from W's rows where symmetric
+ * = 1 (W then symmetric to the bit). FRIX_ERR_INVALID_ARGUMENT where W does not suit. */
+int frix_testing_single_push(const frix_matrix *W, int symmetric, int64_t a, const double dr[3], double *u);
 
 #ifdef __cplusplus
 }

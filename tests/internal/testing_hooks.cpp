@@ -1,6 +1,7 @@
 // The frix_testing_* hooks of frix_testing.h: thin wrappers over internal kernels, built
 // into the tests only (the library they link), never into libfrix.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -334,4 +335,42 @@ FRIX_TESTING_HOOK int frix_testing_dense_solve(int cholesky, int64_t n, const do
     frix::linalg::DenseLU lu;
     int e = lu.factor(n, A, n);
     return e == FRIX_OK ? lu.solve(b, x) : e;
+}
+
+// nsgs-v through the driver's path for p's form (a global p reduced first), as frix_solve
+// runs it with options o, but its pushes through W's columns in single precision whatever
+// W's size (single = 1) or in double whatever W's size (single = 0).
+#include "solvers/entries.hpp"
+#include "solvers/kit/sweeps.hpp"
+
+namespace {
+frix_error sweeps_single(frix::SolveContext &ctx) { return frix::nsgs::solve_velocity_at(ctx, 0.0); }
+frix_error sweeps_double(frix::SolveContext &ctx) { return frix::nsgs::solve_velocity_at(ctx, INFINITY); }
+}  // namespace
+
+FRIX_TESTING_HOOK int frix_testing_nsgs_velocity(int single, const frix_problem *p, const frix_options *o,
+                                                 double *r, double *u, double *v, frix_info *info) {
+    frix::SolverEntry entry = frix::kNsgsVelocityEntry;
+    entry.solve = single ? sweeps_single : sweeps_double;
+    const frix::Stopwatch clock;
+    *info = frix_info();
+    info->solver_id = entry.id;
+    info->contacts = p->nc;
+    info->tolerance = o->d(FRIX_OPT_TOLERANCE);
+    if (frix::is_local_form(*p))
+        return frix::solve_local_problem(*p, *o, entry, r, u, *info, clock, nullptr, nullptr, true, true);
+    return frix::solve_global_problem(*p, *o, entry, r, u, v, *info, clock);
+}
+
+// u += W's block column a times dr through SingleColumns (W storing every block), its
+// columns read from W's rows where `symmetric` (W must then be symmetric to the bit).
+FRIX_TESTING_HOOK int frix_testing_single_push(const frix_matrix *W, int symmetric, int64_t a, const double dr[3],
+                                               double *u) {
+    frix_matrix copy = *W;
+    copy.symmetric = symmetric != 0;
+    if (!frix::nsgs::SingleColumns::suits(copy, 0.0) || a < 0 || a >= copy.block_cols) return FRIX_ERR_INVALID_ARGUMENT;
+    frix::nsgs::SingleColumns columns;
+    columns.build(copy, 0, 0);
+    columns.push(a, dr, u);
+    return FRIX_OK;
 }

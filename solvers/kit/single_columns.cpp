@@ -1,0 +1,61 @@
+#include "solvers/kit/single_columns.hpp"
+
+namespace frix {
+namespace nsgs {
+
+bool SingleColumns::suits(const frix_matrix &W, double min_bytes) {
+    if (!W.block || W.block_rows != W.block_cols || W.block_rows == 0) return false;
+    const double nc = (double)W.block_rows;
+    return (double)W.nblocks() == nc * nc && 72.0 * nc * nc >= min_bytes;
+}
+
+double SingleColumns::bytes_for(const frix_matrix &W) {
+    const double chunks = (double)((3 * W.block_rows + kChunk - 1) / kChunk);
+    return (double)W.block_cols * chunks * 3.0 * (double)kChunk * sizeof(float);
+}
+
+bool SingleColumns::holds(const frix_matrix &W, uint64_t w_values, uint64_t w_pattern) const {
+    return w_values != 0 && w_values_ == w_values && w_pattern_ == w_pattern && rows_ == W.rows &&
+           !values_.empty();
+}
+
+void SingleColumns::build(const frix_matrix &W, uint64_t w_values, uint64_t w_pattern) {
+    const int64_t nc = W.block_rows;
+    rows_ = 3 * nc;
+    stride_ = (rows_ + kChunk - 1) / kChunk * 3 * kChunk;
+    values_.assign((size_t)(stride_ * nc), 0.0f);
+    const double *val = W.block_val.data();
+    for (int64_t a = 0; a < nc; ++a) {
+        float *column = values_.data() + stride_ * a;
+        for (int64_t b = 0; b < nc; ++b)
+            for (int64_t t = 0; t < 3; ++t) {
+                const int64_t i = 3 * b + t;
+                float *chunk = column + (i / kChunk) * 3 * kChunk + i % kChunk;
+                // W(3b+t, 3a+j): every block is stored, so W_ba is block b*nc + a; a
+                // symmetric W's column a is read from its row a instead (W_ab(j, t)), in order.
+                for (int64_t j = 0; j < 3; ++j)
+                    chunk[j * kChunk] = (float)(W.symmetric ? val[9 * (a * nc + b) + j + 3 * t]
+                                                            : val[9 * (b * nc + a) + t + 3 * j]);
+            }
+    }
+    w_values_ = w_values;
+    w_pattern_ = w_pattern;
+}
+
+void SingleColumns::push(int64_t a, const double *dr, double *u) const {
+    const float d0 = (float)dr[0], d1 = (float)dr[1], d2 = (float)dr[2];
+    const float *c = values_.data() + stride_ * a;
+    const int64_t whole = rows_ / kChunk * kChunk;
+    int64_t i = 0;
+    // Four rows a chunk, written out so that the compiler's vectoriser at -O2 takes it.
+    for (; i < whole; i += kChunk, c += 3 * kChunk) {
+        float s[kChunk];
+        for (int64_t t = 0; t < kChunk; ++t) s[t] = c[t] * d0 + c[kChunk + t] * d1 + c[2 * kChunk + t] * d2;
+        for (int64_t t = 0; t < kChunk; ++t) u[i + t] += (double)s[t];
+    }
+    for (int64_t t = 0; i + t < rows_; ++t)
+        u[i + t] += (double)(c[t] * d0 + c[kChunk + t] * d1 + c[2 * kChunk + t] * d2);
+}
+
+}  // namespace nsgs
+}  // namespace frix

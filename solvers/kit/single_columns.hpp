@@ -1,0 +1,52 @@
+// A dense W's block columns in single precision, for the pushes of the velocity sweeps
+// (nsgs-v): a sweep over a large dense W is bound by the bytes of W it reads and the
+// arithmetic on them, and this copy streams half the bytes in a layout the vectoriser takes
+// whole. Only the pushes use it; every measure (the full checks, the driver's) still reads
+// the double W.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "src/matrix.hpp"
+#include "src/solve_cache.hpp"
+
+namespace frix {
+namespace nsgs {
+
+// The bytes of W's stored blocks from which the velocity sweeps push through single-precision
+// columns: where a sweep reads tens of megabytes and costs milliseconds, past the last-level
+// cache a core of a current server processor sees. Smaller W keep the double pushes and their
+// iterates. Fixed, so that a solve's iterates never depend on the machine
+// (notes/2026-11-28-single-precision-sweeps.md).
+constexpr double kSingleColumnsMinBytes = 32.0 * 1024.0 * 1024.0;
+
+class SingleColumns : public CachedState {
+   public:
+    // Whether the pushes on W go through single-precision columns: W stores every block (a
+    // dense column streams contiguously) and its blocks take at least min_bytes.
+    static bool suits(const frix_matrix &W, double min_bytes);
+    // The bytes the copy of such a W takes.
+    static double bytes_for(const frix_matrix &W);
+    // Whether the copy is of W's values at these versions (SolveCache::w_values and
+    // w_pattern; 0 and 0 without a cache: never kept).
+    bool holds(const frix_matrix &W, uint64_t w_values, uint64_t w_pattern) const;
+    // The copy of W (one that suits()), at these versions.
+    void build(const frix_matrix &W, uint64_t w_values, uint64_t w_pattern);
+    // u += W's block column a times dr, each product and the sum of a row's three in single
+    // precision, added to u in double.
+    void push(int64_t a, const double *dr, double *u) const;
+
+   private:
+    // Column a's scalar rows in chunks of kChunk: its three scalar columns' values on the
+    // chunk's rows, one after another (rows past the last are zero), so that a column is one
+    // contiguous stream and a chunk a few vector operations.
+    static constexpr int64_t kChunk = 4;
+    int64_t rows_ = 0;    // 3 nc
+    int64_t stride_ = 0;  // floats per block column
+    std::vector<float> values_;
+    uint64_t w_values_ = 0, w_pattern_ = 0;
+};
+
+}  // namespace nsgs
+}  // namespace frix

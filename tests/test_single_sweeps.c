@@ -1,0 +1,248 @@
+/* nsgs-v's pushes through a single-precision copy of a large dense W (solvers/kit/
+ * single_columns.hpp): forced on problems small enough for the suite (frix_testing.h), the run
+ * still meets tight tolerances by the double measure and agrees with the double pushes'
+ * answer; below the size that takes them (every problem here), frix_solve's nsgs-v is the
+ * double path to the bit. */
+#include <frix/frix.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check_main.h"
+#include "elastic_grid.h"
+#include "frix_testing.h"
+#include "shared_data.h"
+
+/* The log sink: whether a line told of the single-precision pushes. */
+static void note_single(void *data, const char *line) {
+    if (strstr(line, "single precision")) *(int *)data = 1;
+}
+
+enum route { PUBLIC, SINGLE, DOUBLE };
+
+typedef struct {
+    frix_status status;
+    int64_t iterations;
+    double error;  /* frix_problem_error of (r, v): the double measure, recomputed */
+    int logged_single;
+    double *r, *u, *v;
+} run;
+
+/* nsgs-v at `tol` from r = 0 by frix_solve (PUBLIC) or with the pushes forced into single
+ * (SINGLE) or double (DOUBLE) precision where W suits them, under the option memory_limit
+ * (0: none). */
+static run solve_limited(const frix_problem *p, enum route route, double tol, double memory_limit) {
+    const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
+    run out = {0, 0, NAN, 0, calloc((size_t)m, sizeof(double)), calloc((size_t)m, sizeof(double)),
+               calloc((size_t)(n > 0 ? n : 1), sizeof(double))};
+    ck_assert(out.r && out.u && out.v);
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS_VELOCITY, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, tol), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_log(o, note_single, &out.logged_single), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_MEMORY_LIMIT, memory_limit), FRIX_OK);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    double *v = n > 0 ? out.v : NULL;
+    const int e = route == PUBLIC ? frix_solve(p, o, out.r, out.u, v, info)
+                                  : frix_testing_nsgs_velocity(route == SINGLE, p, o, out.r, out.u, v, info);
+    ck_assert_msg(e == FRIX_OK, "%s", frix_last_error_message());
+    out.status = frix_info_status(info);
+    out.iterations = frix_info_iterations(info);
+    ck_assert_int_eq(frix_problem_error(p, out.r, v, &out.error), FRIX_OK);
+    frix_info_free(info);
+    frix_options_free(o);
+    return out;
+}
+
+static run solve(const frix_problem *p, enum route route, double tol) { return solve_limited(p, route, tol, 0.0); }
+
+static void run_free(run *x) { free(x->r), free(x->u), free(x->v); }
+
+static double distance(const double *a, const double *b, int64_t m) {
+    double d = 0.0, s = 0.0;
+    for (int64_t i = 0; i < m; ++i) d += (a[i] - b[i]) * (a[i] - b[i]), s += b[i] * b[i];
+    return sqrt(d / (s > 0.0 ? s : 1.0));
+}
+
+/* A local problem with a dense W given by its caller (not formed by the reduction: W's
+ * columns are then read through its rows' index): W = I + G G^T / (3 nc), G pseudo-random,
+ * q pseudo-random with most normal parts negative, so that contacts stick, slide and
+ * separate. */
+typedef struct {
+    frix_matrix *W;
+    frix_problem *p;
+    double *q, *mu; /* borrowed by p */
+} dense_local;
+
+static dense_local dense_local_make(int64_t nc) {
+    const int64_t k = 3 * nc;
+    double *G = malloc((size_t)(k * k) * sizeof(double)), *D = malloc((size_t)(k * k) * sizeof(double));
+    double *q = malloc((size_t)k * sizeof(double)), *mu = malloc((size_t)nc * sizeof(double));
+    ck_assert(G && D && q && mu);
+    uint64_t s = 12345;
+    for (int64_t i = 0; i < k * k; ++i) {
+        s = s * 6364136223846793005ull + 1442695040888963407ull;
+        G[i] = (double)(s >> 11) / 9007199254740992.0 - 0.5;
+    }
+    for (int64_t i = 0; i < k; ++i)
+        for (int64_t j = 0; j < k; ++j) {
+            double g = 0.0;
+            for (int64_t t = 0; t < k; ++t) g += G[i + k * t] * G[j + k * t];
+            D[i + k * j] = (i == j ? 1.0 : 0.0) + g / (double)k;
+        }
+    for (int64_t a = 0; a < nc; ++a) {
+        q[3 * a] = a % 4 == 3 ? 0.3 : -1.0 + 0.01 * (double)a;
+        q[3 * a + 1] = G[3 * a] * 2.0;
+        q[3 * a + 2] = G[3 * a + 1] * 2.0;
+        mu[a] = 0.3;
+    }
+    dense_local out = {NULL, NULL, q, mu};
+    ck_assert_int_eq(frix_matrix_from_dense(k, k, D, k, &out.W), FRIX_OK);
+    ck_assert_int_eq(frix_matrix_block_count(out.W), nc * nc);
+    ck_assert_int_eq(frix_problem_local(out.W, q, mu, nc, &out.p), FRIX_OK);
+    free(G), free(D);
+    return out;
+}
+
+static void dense_local_free(dense_local *d) {
+    frix_problem_free(d->p);
+    frix_matrix_free(d->W);
+    free(d->q), free(d->mu);
+}
+
+/* The single pushes meet `tol` by the double measure, told in the log, and their answer is
+ * the double pushes' within what the tolerance leaves (both are within tol of the solution,
+ * in the error's scale; W is well conditioned here). */
+static void single_meets(const frix_problem *p, double tol) {
+    run single = solve(p, SINGLE, tol), twin = solve(p, DOUBLE, tol);
+    ck_assert_msg(single.status == FRIX_STATUS_CONVERGED && single.error <= tol, "single: %s after %lld, error %g",
+                  frix_status_string(single.status), (long long)single.iterations, single.error);
+    ck_assert(single.logged_single);
+    ck_assert(twin.status == FRIX_STATUS_CONVERGED && twin.error <= tol && !twin.logged_single);
+    const int64_t m = frix_problem_contact_dofs(p);
+    const double d = distance(single.r, twin.r, m);
+    ck_assert_msg(d <= 100.0 * tol, "|r_single - r_double| / |r_double| = %g at tolerance %g", d, tol);
+    /* The runs differ (the test sees the path), by rounding only. */
+    ck_assert(memcmp(single.r, twin.r, (size_t)m * sizeof(double)) != 0);
+    run_free(&single);
+    run_free(&twin);
+}
+
+/* A deformable body pressed on a plane, reduced to its dense W by the driver (symmetric:
+ * columns read from rows). */
+START_TEST(single_pushes_meet_tight_tolerances_on_a_reduced_body) {
+    frix_elastic_grid g;
+    ck_assert_int_eq(frix_elastic_grid_make(10, 10, 2, 0.5, 1e4, &g), FRIX_OK);
+    const double tol[] = {1e-8, 1e-10, 1e-12};
+    single_meets(g.problem, tol[_i]);
+    frix_elastic_grid_free(&g);
+}
+END_TEST
+
+START_TEST(single_pushes_meet_tight_tolerances_on_a_given_dense_w) {
+    dense_local d = dense_local_make(60);
+    const double tol[] = {1e-8, 1e-10, 1e-12};
+    single_meets(d.p, tol[_i]);
+    dense_local_free(&d);
+}
+END_TEST
+
+/* `pub` ran the double pushes: the same bits as `twin`, the double path forced, and nothing
+ * told. */
+static void same_as_double(run pub, run twin, const frix_problem *p) {
+    const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
+    ck_assert(!pub.logged_single && !twin.logged_single);
+    ck_assert_int_eq(pub.status, twin.status);
+    ck_assert_int_eq(pub.iterations, twin.iterations);
+    ck_assert(memcmp(pub.r, twin.r, (size_t)m * sizeof(double)) == 0);
+    ck_assert(memcmp(pub.u, twin.u, (size_t)m * sizeof(double)) == 0);
+    if (n > 0) ck_assert(memcmp(pub.v, twin.v, (size_t)n * sizeof(double)) == 0);
+    ck_assert(memcmp(&pub.error, &twin.error, sizeof(double)) == 0);
+    run_free(&pub);
+    run_free(&twin);
+}
+
+/* Below the size that takes single pushes, frix_solve's nsgs-v runs the double ones. */
+static void public_is_double(const frix_problem *p) {
+    same_as_double(solve(p, PUBLIC, 1e-8), solve(p, DOUBLE, 1e-8), p);
+}
+
+START_TEST(below_the_size_frix_solve_pushes_in_double) {
+    frix_elastic_grid g;
+    ck_assert_int_eq(frix_elastic_grid_make(10, 10, 2, 0.5, 1e4, &g), FRIX_OK);
+    public_is_double(g.problem);
+    frix_elastic_grid_free(&g);
+    dense_local d = dense_local_make(60);
+    public_is_double(d.p);
+    dense_local_free(&d);
+    frix_problem *p = load("converted/Rover4396.from_dat.hdf5"); /* a sparse W */
+    if (!p) return;
+    public_is_double(p);
+    frix_problem_free(p);
+}
+END_TEST
+
+/* Where the memory limit leaves no room for the copy, the pushes stay in double precision. */
+START_TEST(single_pushes_need_room_in_the_memory_limit) {
+    dense_local d = dense_local_make(60);
+    same_as_double(solve_limited(d.p, SINGLE, 1e-8, 1000.0), solve_limited(d.p, DOUBLE, 1e-8, 1000.0), d.p);
+    dense_local_free(&d);
+}
+END_TEST
+
+/* A push through the single-precision columns is W's column times dr up to single rounding,
+ * read by columns (any W) or from the rows (a symmetric W); a W with a block missing does not
+ * suit. */
+START_TEST(single_push_is_the_column_times_dr) {
+    const int64_t nc = 7, k = 3 * nc; /* 21 rows: the last chunk of four rows is partial */
+    double *A = malloc((size_t)(k * k) * sizeof(double)), *S = malloc((size_t)(k * k) * sizeof(double));
+    ck_assert(A && S);
+    for (int64_t i = 0; i < k; ++i)
+        for (int64_t j = 0; j < k; ++j) A[i + k * j] = 1.0 + sin(1.3 * (double)i + 0.7 * (double)(j * j));
+    for (int64_t i = 0; i < k; ++i)
+        for (int64_t j = 0; j < k; ++j) S[i + k * j] = A[i + k * j] + A[j + k * i];
+    const double dr[3] = {0.3, -1.7, 2.1};
+    for (int symmetric = 0; symmetric < 2; ++symmetric) {
+        const double *D = symmetric ? S : A;
+        frix_matrix *W = NULL;
+        ck_assert_int_eq(frix_matrix_from_dense(k, k, D, k, &W), FRIX_OK);
+        for (int64_t a = 0; a < nc; ++a) {
+            double u[21], x[21] = {0}, want[21] = {0};
+            for (int64_t i = 0; i < k; ++i) u[i] = 0.5 * (double)i;
+            for (int t = 0; t < 3; ++t) x[3 * a + t] = dr[t];
+            ck_assert_int_eq(frix_matrix_gemv(W, 1.0, x, 0.0, want), FRIX_OK);
+            ck_assert_int_eq(frix_testing_single_push(W, symmetric, a, dr, u), FRIX_OK);
+            for (int64_t i = 0; i < k; ++i)
+                ck_assert_msg(fabs(u[i] - 0.5 * (double)i - want[i]) <= 1e-6 * (1.0 + fabs(want[i])),
+                              "symmetric %d column %lld row %lld: %g, want %g", symmetric, (long long)a,
+                              (long long)i, u[i] - 0.5 * (double)i, want[i]);
+        }
+        frix_matrix_free(W);
+    }
+    /* Block (0, 1) zero: not stored, and W no longer suits. */
+    for (int64_t i = 0; i < 3; ++i)
+        for (int64_t j = 3; j < 6; ++j) A[i + k * j] = 0.0;
+    frix_matrix *W = NULL;
+    ck_assert_int_eq(frix_matrix_from_dense(k, k, A, k, &W), FRIX_OK);
+    double u[21] = {0};
+    ck_assert_int_eq(frix_testing_single_push(W, 0, 0, dr, u), FRIX_ERR_INVALID_ARGUMENT);
+    frix_matrix_free(W);
+    free(A), free(S);
+}
+END_TEST
+
+static Suite *single_suite(void) {
+    Suite *s = suite_create("single_sweeps");
+    TCase *t = tcase_create("single");
+    tcase_add_loop_test(t, single_pushes_meet_tight_tolerances_on_a_reduced_body, 0, 3);
+    tcase_add_loop_test(t, single_pushes_meet_tight_tolerances_on_a_given_dense_w, 0, 3);
+    tcase_add_test(t, below_the_size_frix_solve_pushes_in_double);
+    tcase_add_test(t, single_pushes_need_room_in_the_memory_limit);
+    tcase_add_test(t, single_push_is_the_column_times_dr);
+    suite_add_tcase(s, t);
+    return s;
+}
+
+int main(void) { return frix_run_suite(single_suite()); }
