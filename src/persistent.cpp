@@ -24,16 +24,6 @@ namespace {
 
 using frix::fail;
 
-// A problem of the views given, validated as the public constructors of its kind validate them.
-frix_error validate(const frix_problem &p) {
-    frix_problem *check = nullptr;
-    const frix_error e = frix::is_local_form(p)
-                             ? frix::make_local_problem_of(frix::law_of(p), p.W, p.q, p.mu, p.nc, &check)
-                             : frix::make_global_problem_of(frix::law_of(p), p.M, p.H, p.f, p.w, p.mu, p.nc, &check);
-    frix_problem_free(check);
-    return e;
-}
-
 void copy_views(const frix_problem &from, frix_problem &to) {
     to.kind = from.kind;
     to.nc = from.nc;
@@ -104,7 +94,7 @@ FRIX_API frix_error frix_persistent_update_local(frix_persistent *ps, const frix
         if (W) next.W = W;
         if (q) next.q = q;
         if (mu) next.mu = mu;
-        if (frix_error e = validate(next)) return e;
+        if (frix_error e = frix::check_problem_of(next)) return e;
         if (W) {
             ps->problem.W = W;
             ++ps->cache.w_values;
@@ -134,7 +124,7 @@ FRIX_API frix_error frix_persistent_update_global(frix_persistent *ps, const fri
         if (f) next.f = f;
         if (w) next.w = w;
         if (mu) next.mu = mu;
-        if (frix_error e = validate(next)) return e;
+        if (frix_error e = frix::check_problem_of(next)) return e;
         if (M && M->rows != ps->problem.n)
             return fail(FRIX_ERR_DIMENSION, "frix_persistent_update_global: M is %lld x %lld, the problem has %lld dofs",
                         (long long)M->rows, (long long)M->cols, (long long)ps->problem.n);

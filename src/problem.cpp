@@ -242,6 +242,12 @@ frix_error make_global_problem_of(const ContactLaw &law, const frix_matrix *M, c
     return make_global_kind(kind_of(false, law), constructor_of(false, law), M, H, f, w, mu, law, nc, out);
 }
 
+frix_error check_problem_of(const frix_problem &p) {
+    const Law law = law_of(p);
+    if (is_local_form(p)) return check_local(constructor_of(true, law), p.W, p.q, p.mu, law, p.nc);
+    return check_global(constructor_of(false, law), p.M, p.H, p.f, p.w, p.mu, law, p.nc);
+}
+
 frix_error make_owned_local_problem_of(OwnedContactLaw law, std::unique_ptr<frix_matrix> W, std::vector<double> q,
                                        std::vector<double> mu, frix_problem **out) {
     const Law views = views_of(law);

@@ -148,6 +148,9 @@ frix_error make_global_problem_of(const ContactLaw &law, const frix_matrix *M, c
                                   const double *w, const double *mu, int64_t nc, frix_problem **out);
 frix_error make_owned_local_problem_of(OwnedContactLaw law, std::unique_ptr<frix_matrix> W, std::vector<double> q,
                                        std::vector<double> mu, frix_problem **out);
+// The checks make_local_problem_of or make_global_problem_of would make of p's views (the same
+// messages), without building a problem: its weights cost passes over M, H or W.
+frix_error check_problem_of(const frix_problem &p);
 frix_error make_owned_global_problem_of(OwnedContactLaw law, std::unique_ptr<frix_matrix> M,
                                         std::unique_ptr<frix_matrix> H, std::vector<double> f,
                                         std::vector<double> w, std::vector<double> mu, frix_problem **out);

@@ -2,6 +2,7 @@
 // the recovery of v = M^-1 (H r + f), and what forming W would cost in memory.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -39,6 +40,7 @@ class MassSolver {
    public:
     // The work of each factor() is in last_stats().
     frix_error factor(const frix_matrix &M) {
+        load_.clear();
         const linalg::FactorStats chol0 = chol_.stats(), lu0 = lu_.stats();
         const frix_error e = factor_counted(M);
         last_ = (chol_.stats() - chol0) + (lu_.stats() - lu0);
@@ -81,6 +83,20 @@ class MassSolver {
     frix_error solve(const double *b, double *x) const {
         if (empty_) return FRIX_OK;
         return use_chol_ ? chol_.solve(b, x) : lu_.solve(b, x);
+    }
+    // x = M^-1 f (n values) for a load f: the last load's answer is kept, and a load equal to
+    // it value for value is not solved again (the driver's setup and the global solves a
+    // solver runs within it, such as auto's routes, ask for the same one).
+    frix_error solve_load(const double *f, int64_t n, double *x) {
+        if ((int64_t)load_.size() == n && std::equal(f, f + n, load_.begin())) {
+            std::copy(load_x_.begin(), load_x_.end(), x);
+            return FRIX_OK;
+        }
+        load_.clear();
+        if (frix_error e = solve(f, x)) return e;
+        load_.assign(f, f + n);
+        load_x_.assign(x, x + n);
+        return FRIX_OK;
     }
     // W = H^T M^-1 H, block-CSR. From CHOLMOD's factor it is summed supernode by supernode
     // into its final storage (BlockMatrixFromTerms; see SparseCholesky::inverse_congruence);
@@ -161,6 +177,7 @@ class MassSolver {
     frix_status refused_ = FRIX_STATUS_NOT_RUN;  // why the last factor() was not started
     bool empty_ = false;
     bool symmetric_ = false;
+    std::vector<double> load_, load_x_;  // solve_load: the last load and M^-1 of it
 };
 
 // Global problems: what the reduction W = H^T M^-1 H would cost, from the structure of M and H

@@ -83,9 +83,10 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
     if (w_current) W = std::move(kept->W);
     // Where W is dense (a deformable body) forming it can take minutes: the time limit and
     // the caller's callback (told iteration 0 and the start's error) can end it as they end
-    // an iteration, with the caller's start returned.
+    // an iteration, with the caller's start returned. A W kept from the last solve is not
+    // formed: the callback hears from the solver's first iteration on.
     double start_error = NAN;
-    if (opts.callback) {
+    if (opts.callback && !w_current) {
         if (frix_error e = recover_velocity(p, ms, r, v)) return e;
         start_error = selected_error(global_measures(p, r, v, u, nullptr), opts.i(FRIX_OPT_ERROR_MEASURE));
     }
@@ -343,7 +344,7 @@ frix_error solve_global(const frix_problem &p, const frix_options &opts, const S
         return e;
     }
     std::vector<double> q(m);
-    if (frix_error e = ms.solve(p.f, v)) return e;
+    if (frix_error e = ms.solve_load(p.f, p.n, v)) return e;
     if (m > 0) matrix_gemv_transposed(*p.H, 1.0, v, 0.0, q.data());
     bool separating = true;
     for (int64_t i = 0; i < m; ++i) {
@@ -358,8 +359,9 @@ frix_error solve_global(const frix_problem &p, const frix_options &opts, const S
         info.iterations = 0;
     } else if (entry.solves_global) {
         // Newton on (v, r) from the caller's r, with the velocity that r gives (not M^-1 f:
-        // a warm-started (v, r) must satisfy the equilibrium M v = H r + f to start with).
-        if (std::any_of(r, r + m, [](double x) { return x != 0.0; }))
+        // a warm-started (v, r) must satisfy the equilibrium M v = H r + f to start with);
+        // a solver that starts from r alone recovers it where it needs it.
+        if (!entry.starts_from_r && std::any_of(r, r + m, [](double x) { return x != 0.0; }))
             if (frix_error e = recover_velocity(p, ms, r, v)) return e;
         // The solver's own setup (auto's reduction route) adds to the driver's.
         frix_info native = info;

@@ -175,6 +175,10 @@ struct SolverEntry {
     // solver is handed one. A solver of rolling problems only has solves_local and
     // solves_global false (they are about the three-component problems).
     bool solves_rolling = false;
+    // A solver of global problems that reads the start's r alone: the global solves it runs
+    // recover the velocity a warm r gives where they need it (auto's routes), so the driver
+    // does not before it.
+    bool starts_from_r = false;
 };
 
 // nullptr if unknown.

@@ -25,7 +25,8 @@ Analysis analyse_local(const frix_problem &p) {
     for (int64_t i = 0; i < nc; ++i) {
         for (int64_t b = W.row_ptr[(size_t)i]; b < W.row_ptr[(size_t)i + 1]; ++b) {
             const int64_t j = W.block_col[(size_t)b];
-            if (j == i) continue;
+            // Contacts already joined need not be read (a dense W: after its first row, none).
+            if (j == i || sets.find(i) == sets.find(j)) continue;
             // A stored block of zeros couples nothing.
             const double *B = &W.block_val[9 * (size_t)b];
             if (std::any_of(B, B + 9, [](double x) { return x != 0.0; })) sets.unite(i, j);
