@@ -314,7 +314,14 @@ frix_error solve_global(SolveContext &ctx) {
         reduction->m_values = ctx.cache->m_values;
         reduction->h_values = ctx.cache->h_values;
     }
-    const ReductionSize size = reduction_size(p);
+    KeptAuto::Size &kept_size = kept->size;
+    if (!ctx.cache || !kept_size.known || kept_size.m_values != ctx.cache->m_values ||
+        kept_size.h_values != ctx.cache->h_values) {
+        kept_size.figures = reduction_size(p);
+        kept_size.known = ctx.cache != nullptr;
+        if (ctx.cache) kept_size.m_values = ctx.cache->m_values, kept_size.h_values = ctx.cache->h_values;
+    }
+    const ReductionSize size = kept_size.figures;
     const int64_t max_iter = Monitor(ctx).max_iterations();
     RouteChoice choice = choose_route(ctx, size, kept->prices);
     GlobalRoutes routes(ctx, reduction, global_figures(p, size));

@@ -30,6 +30,12 @@ struct KeptAuto : CachedState {
         linalg::FactorPrice forming_w;
         RoutePrices routes;
     } prices;
+    // reduction_size's figures (a pass over M's and H's entries), kept while their values stay.
+    struct Size {
+        bool known = false;
+        uint64_t m_values = 0, h_values = 0;
+        ReductionSize figures;
+    } size;
 };
 
 // A local problem: analysis, the first sweeps, the parts (on threads), their tightening and
