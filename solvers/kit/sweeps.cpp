@@ -186,11 +186,11 @@ int64_t AndersonMixing::fit(int64_t columns) {
     gamma_.assign(c, 0.0);
     kept_column_.assign(c, 0);
     std::vector<double> rhs(c, 0.0);
-    const double *fk = &f_[slot(count_ - 1) * m];
+    const double *fk = f_.data() + slot(count_ - 1) * m;
     int64_t kept = 0;
     for (size_t j = 0; j < c; ++j) {
-        double *q = &columns_[j * m];
-        const double *a = &f_[slot((int64_t)j + 1) * m], *b = &f_[slot((int64_t)j) * m];
+        double *q = columns_.data() + j * m;
+        const double *a = f_.data() + slot((int64_t)j + 1) * m, *b = f_.data() + slot((int64_t)j) * m;
         double before = 0.0;
         for (size_t i = 0; i < m; ++i) {
             q[i] = a[i] - b[i];
@@ -198,7 +198,7 @@ int64_t AndersonMixing::fit(int64_t columns) {
         }
         for (size_t l = 0; l < j; ++l) {
             if (!kept_column_[l]) continue;
-            const double *ql = &columns_[l * m];
+            const double *ql = columns_.data() + l * m;
             double d = 0.0;
             for (size_t i = 0; i < m; ++i) d += ql[i] * q[i];
             r_fit_[l * c + j] = d;
@@ -232,7 +232,7 @@ Measures AndersonMixing::measure_following(SweepForm &form, const double *r, dou
     before_.assign(state.values, state.values + state.size);
     const Measures out = form.exact(r, u);
     for (int64_t i = 0; i < count_; ++i) {
-        double *k = &k_[slot(i) * state.size];
+        double *k = k_.data() + slot(i) * state.size;
         for (size_t j = 0; j < state.size; ++j) k[j] += state.values[j] - before_[j];
     }
     return out;
@@ -255,12 +255,12 @@ void AndersonMixing::after_sweep(double *r, const double *mu, Workspace &ws, Swe
     newest_ = (newest_ + 1) % (int64_t)slots;
     count_ = std::min<int64_t>(count_ + 1, (int64_t)slots);
     {
-        double *g = &g_[(size_t)newest_ * m], *f = &f_[(size_t)newest_ * m];
+        double *g = g_.data() + (size_t)newest_ * m, *f = f_.data() + (size_t)newest_ * m;
         for (size_t i = 0; i < m; ++i) {
             g[i] = r[i];
             f[i] = r[i] - x_[i];
         }
-        if (state.size) std::copy(state.values, state.values + state.size, &k_[(size_t)newest_ * state.size]);
+        if (state.size) std::copy(state.values, state.values + state.size, k_.data() + (size_t)newest_ * state.size);
     }
     if (count_ < 2 || fit(count_ - 1) == 0) {
         std::copy(r, r + m, x_.begin());
@@ -271,9 +271,9 @@ void AndersonMixing::after_sweep(double *r, const double *mu, Workspace &ws, Swe
     for (int64_t j = 0; j + 1 < count_; ++j) {
         const double w = gamma_[(size_t)j];
         if (w == 0.0) continue;
-        const double *a = &g_[slot(j + 1) * m], *b = &g_[slot(j) * m];
+        const double *a = g_.data() + slot(j + 1) * m, *b = g_.data() + slot(j) * m;
         for (size_t i = 0; i < m; ++i) line_[i] -= w * (a[i] - b[i]);
-        const double *ka = &k_[slot(j + 1) * state.size], *kb = &k_[slot(j) * state.size];
+        const double *ka = k_.data() + slot(j + 1) * state.size, *kb = k_.data() + slot(j) * state.size;
         for (size_t i = 0; i < state.size; ++i) state.values[i] -= w * (ka[i] - kb[i]);
     }
     std::copy(line_.begin(), line_.end(), r);
