@@ -62,7 +62,9 @@ frix_error tighten_to_global_measure(const frix_problem &p, const frix_problem &
         more.solver_id = info.solver_id;
         more.contacts = info.contacts;
         more.tolerance = tighter.dvalue[FRIX_OPT_TOLERANCE];
-        if (frix_error e = solve_local_problem(local, tighter, entry, r, u, more, clock, local_cache, &measures))
+        const Measures start = measures;  // of the r the pass starts from, u holding W r + q
+        if (frix_error e = solve_local_problem(local, tighter, entry, r, u, more, clock, local_cache, &measures, false,
+                                               false, &start))
             return e;
         more.absorb(info);
         more.tolerance = info.tolerance;  // the caller's, not the tightened pass's

@@ -80,6 +80,10 @@ struct SolveContext {
     // call was there (see above); the driver measures r itself when it is not set.
     bool has_measured = false;
     Measures measured{};
+    // Local problems: local_measures(problem, r, u) at the warm start, when the caller has them
+    // (u then holds W r + q on entry): a solver that would measure its start takes these instead
+    // of paying for the same product with W again. Null: not known.
+    const Measures *measured_start = nullptr;
     // Set by the driver: the bound past which r runs away (runaway_bound); 0: no check.
     double runaway_bound = 0.0;
     // Set by frix_solve for the caller's own solve: a solver that did not converge returns
@@ -198,11 +202,14 @@ frix_error check_solver_takes(const char *caller, const SolverEntry &entry, cons
 // the reduction route of global problems. `measures`, when given, receives the final
 // measures (u then holds W r + q). accept_start: a warm start that already meets the tolerance
 // is the answer, with no iteration (frix_solve's own call; a stage or a pass of a solve starts
-// from an r that was just found short of it).
+// from an r that was just found short of it). measured_start: the caller's measures of the
+// finite warm start r, u holding W r + q on entry (SolveContext::measured_start); the solver
+// gets them, as it gets accept_start's.
 frix_error solve_local_problem(const frix_problem &p, const frix_options &opts,
                                const SolverEntry &entry, double *r, double *u, frix_info &info,
                                const Stopwatch &clock, SolveCache *cache = nullptr,
-                               Measures *measures = nullptr, bool return_best = false, bool accept_start = false);
+                               Measures *measures = nullptr, bool return_best = false, bool accept_start = false,
+                               const Measures *measured_start = nullptr);
 
 // The driver's global path (src/solve_global.cpp): runs `entry` natively if it solves global
 // problems, through the reduction W = H^T M^-1 H otherwise; a rolling-friction problem goes to

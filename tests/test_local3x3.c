@@ -4,6 +4,7 @@
 
 #include "check_main.h"
 #include "frix_testing.h"
+#include "support/lcg.h"
 
 static const double kIdentity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 
@@ -19,10 +20,7 @@ static int finite3(const double *x) { return isfinite(x[0]) && isfinite(x[1]) &&
 
 /* A small deterministic generator, so failures reproduce. */
 static uint64_t rng_state = 12345;
-static double uniform(double lo, double hi) {
-    rng_state = rng_state * 6364136223846793005ull + 1442695040888963407ull;
-    return lo + (hi - lo) * (double)(rng_state >> 11) * (1.0 / 9007199254740992.0);
-}
+static double uniform(double lo, double hi) { return lo + (hi - lo) * lcg_uniform(&rng_state); }
 
 /* W = A A^T + shift I (column-major), plus a non-symmetric part of relative size skew. */
 static void random_W(double *W, double shift, double skew) {

@@ -12,15 +12,13 @@
 #include "check_main.h"
 #include "shared_data.h"
 #include "frix_testing.h"
+#include "support/lcg.h"
 
 
 
 /* A small deterministic generator (the tests must not depend on rand()). */
 static uint64_t rng_state = 12345;
-static double uniform(double lo, double hi) {
-    rng_state = rng_state * 6364136223846793005ull + 1442695040888963407ull;
-    return lo + (hi - lo) * (double)(rng_state >> 11) / 9007199254740992.0;
-}
+static double uniform(double lo, double hi) { return lo + (hi - lo) * lcg_uniform(&rng_state); }
 
 /* ---- Jacobians against central finite differences. */
 

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "check_main.h"
+#include "frix_testing.h"
 #include "shared_data.h"
 
 
@@ -254,6 +255,40 @@ START_TEST(warm_start_from_solution) {
 }
 END_TEST
 
+/* A stage of auto whose part already holds its warm start's measures (u = W r + q) takes them
+ * instead of paying for the same product with W again: handed a start that claims to solve
+ * the problem it ends at once on that claim; handed the true measures it sweeps, to the same
+ * answer as from a start it measures itself. */
+START_TEST(stage_takes_the_measured_start) {
+    frix_problem *p = load("converted/Capsules-i100-1090.from_dat.hdf5");
+    if (!p) return;
+    const int64_t m = frix_problem_contact_dofs(p);
+    frix_options *o = nsgs_options(1e-8);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 5), FRIX_OK);
+    double *start = zeros(p), *r = zeros(p);
+    ck_assert_int_eq(solve(p, o, start).status, FRIX_STATUS_MAX_ITER); /* a warm start short of 1e-8 */
+    const int solvers[] = {FRIX_SOLVER_NSGS, FRIX_SOLVER_NSGS_VELOCITY};
+    for (int k = 0; k < 2; ++k) {
+        int64_t sweeps = -1;
+        double error = NAN;
+        memcpy(r, start, (size_t)m * sizeof *r);
+        ck_assert_int_eq(frix_testing_stage_from_measured_start(p, solvers[k], 0.0, r, &sweeps, &error), FRIX_OK);
+        ck_assert_int_eq(sweeps, 0);
+        ck_assert(error == 0.0);
+        ck_assert(memcmp(r, start, (size_t)m * sizeof *r) == 0);
+        memcpy(r, start, (size_t)m * sizeof *r);
+        ck_assert_int_eq(frix_testing_stage_from_measured_start(p, solvers[k], 1.0, r, &sweeps, &error), FRIX_OK);
+        ck_assert_int_gt(sweeps, 0);
+        ck_assert(error <= 1e-8);
+        ck_assert_double_eq_tol(error, frix_test_error_of(p, r, NULL, o), 1e-12);
+    }
+    free(r);
+    free(start);
+    frix_options_free(o);
+    frix_problem_free(p);
+}
+END_TEST
+
 START_TEST(max_iter_status) {
     frix_problem *p = load("local/Capsules-i125-1213.hdf5");
     if (!p) return;
@@ -394,6 +429,7 @@ static Suite *nsgs_suite(void) {
     tcase_add_test(files, momentum_gives_up_on_a_plateau);
     tcase_add_test(files, same_seed_same_bits);
     tcase_add_test(files, warm_start_from_solution);
+    tcase_add_test(files, stage_takes_the_measured_start);
     suite_add_tcase(s, files);
     TCase *stops = tcase_create("stopping");
     tcase_add_test(stops, max_iter_status);

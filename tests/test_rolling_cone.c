@@ -8,12 +8,10 @@
 
 #include "check_main.h"
 #include "frix_testing.h"
+#include "support/lcg.h"
 
 /* A deterministic stream in [-1, 1). */
-static double next(uint64_t *state) {
-    *state = *state * 6364136223846793005ull + 1442695040888963407ull;
-    return (double)(*state >> 11) / 4503599627370496.0 - 1.0;
-}
+static double next(uint64_t *state) { return 2.0 * lcg_uniform(state) - 1.0; }
 
 static double norm_of(const double *x, int n) {
     double s = 0.0;

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "check_main.h"
+#include "support/lcg.h"
 #include "support/rolling_pile.h"
 
 /* A chain of nc contacts, W = (tridiag(-1, 2, -1) (x) I_5) + eps I (symmetric positive
@@ -39,10 +40,7 @@ static void chain_make(int64_t nc, double eps, chain *c) {
     c->mu = malloc((size_t)nc * sizeof(double));
     c->mu_r = malloc((size_t)nc * sizeof(double));
     uint64_t s = 12345;
-    for (int64_t i = 0; i < m; ++i) {
-        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-        c->q[i] = i % 5 == 0 ? -1.0 : 0.1 * ((double)(s >> 11) / 9007199254740992.0 - 0.5);
-    }
+    for (int64_t i = 0; i < m; ++i) c->q[i] = i % 5 == 0 ? -1.0 : 0.1 * (lcg_uniform(&s) - 0.5);
     for (int64_t a = 0; a < nc; ++a) c->mu[a] = 0.3, c->mu_r[a] = 0.05;
     ck_assert_int_eq(frix_problem_rolling_local(c->W, c->q, c->mu, c->mu_r, nc, &c->p), FRIX_OK);
 }

@@ -11,6 +11,7 @@
 
 #include "check_main.h"
 #include "frix_testing.h"
+#include "support/lcg.h"
 #include "support/rolling_pile.h"
 
 static frix_matrix *identity(int64_t m) {
@@ -147,11 +148,6 @@ START_TEST(test_persistent_calls) {
 }
 END_TEST
 
-static double uniform(uint64_t *s) {
-    *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (double)(*s >> 11) / 9007199254740992.0;
-}
-
 /* dP_K (six entries, and five) against central differences of the projection, at points of
  * every case of the projection (the polar cone, inside, and each of the seven sets of parts cut
  * back), away from the cases' boundaries (where both one-sided differences agree). */
@@ -162,9 +158,9 @@ START_TEST(test_projection_jacobian) {
         int seen[9] = {0};
         for (int trial = 0; trial < 4000; ++trial) {
             double x[6], c[3];
-            for (int k = 0; k < 3; ++k) c[k] = 0.05 + uniform(&s);
-            x[0] = 2.0 * uniform(&s) - 1.0;
-            for (int i = 1; i < size; ++i) x[i] = (2.0 * uniform(&s) - 1.0) * (i >= 3 ? 0.3 * uniform(&s) : 1.0);
+            for (int k = 0; k < 3; ++k) c[k] = 0.05 + lcg_uniform(&s);
+            x[0] = 2.0 * lcg_uniform(&s) - 1.0;
+            for (int i = 1; i < size; ++i) x[i] = (2.0 * lcg_uniform(&s) - 1.0) * (i >= 3 ? 0.3 * lcg_uniform(&s) : 1.0);
             double D[36], p[6];
             memcpy(p, x, sizeof p);
             const int which = frix_testing_rolling_projection(size, p, c[0], c[1], c[2], D);
@@ -205,7 +201,7 @@ START_TEST(test_alart_curnier_jacobian) {
     int compared = 0, spin_slides = 0;
     for (int trial = 0; trial < 2000; ++trial) {
         double r[6], u[6], F[6], A[36], B[36];
-        for (int i = 0; i < 6; ++i) r[i] = 2.0 * uniform(&s) - 0.5, u[i] = 2.0 * uniform(&s) - 1.0;
+        for (int i = 0; i < 6; ++i) r[i] = 2.0 * lcg_uniform(&s) - 0.5, u[i] = 2.0 * lcg_uniform(&s) - 1.0;
         frix_testing_rolling_alart_curnier(6, r, u, mu, mu_r, mu_s, rho, F, A, B);
         int smooth = 1;
         double fa[36], fb[36];
@@ -409,7 +405,7 @@ START_TEST(test_nsn_on_a_chain) {
     frix_matrix *W = NULL;
     ck_assert_int_eq(frix_matrix_from_triplets(m, m, nnz, ri, ci, x, &W), FRIX_OK);
     uint64_t s = 12345;
-    for (int64_t i = 0; i < m; ++i) q[i] = i % 6 == 0 ? -1.0 : 0.1 * (uniform(&s) - 0.5);
+    for (int64_t i = 0; i < m; ++i) q[i] = i % 6 == 0 ? -1.0 : 0.1 * (lcg_uniform(&s) - 0.5);
     for (int64_t a = 0; a < nc; ++a) mu[a] = 0.3, mu_r[a] = 0.05, mu_s[a] = 1e-3;
     frix_problem *p = NULL;
     ck_assert_int_eq(frix_problem_spinning_local(W, q, mu, mu_r, mu_s, nc, &p), FRIX_OK);

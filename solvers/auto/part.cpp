@@ -6,6 +6,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 #include "src/error_state.hpp"
 #include "src/random.hpp"
@@ -36,7 +37,8 @@ frix_error IslandSolver::solve(Phase phase, double *r, double tolerance, double 
         held_error_ = INFINITY;
         // From r = 0 the first stage measures its own start; a warm start is measured
         // here, since it may already be the answer (a tightened pass over the parts).
-        if (std::any_of(r, r + m_, [](double x) { return x != 0.0; })) best_error_ = measure(r);
+        if (std::any_of(r, r + m_, [](double x) { return x != 0.0; }))
+            best_error_ = u_holds(r) ? error_of(u_measures_) : measure(r);
     }
     if (phase == kFirst && first_ran_) {
         best_solver_ = first_solver_;
@@ -51,10 +53,15 @@ frix_error IslandSolver::solve(Phase phase, double *r, double tolerance, double 
 }
 
 bool IslandSolver::final_measures(Measures *m, double *u) const {
-    if (!returned_best_ || !u_at_best_) return false;
-    *m = best_measures_;
+    if (!returned_best_ || !u_holds(best_r_.data())) return false;
+    *m = u_measures_;
     std::copy(u_.begin(), u_.end(), u);
     return true;
+}
+
+void IslandSolver::know_start(const double *r, const double *u, const Measures &m) {
+    std::copy(u, u + m_, u_.begin());
+    u_now_at(r, m);
 }
 
 void IslandSolver::first_stage_ran(int id) {
@@ -65,9 +72,24 @@ void IslandSolver::first_stage_ran(int id) {
 
 // The part's error at r (a non-finite one counts as infinite).
 double IslandSolver::measure(const double *r) {
-    u_at_best_ = false;
-    const double e = selected_error(local_measures(p_, r, u_.data()), shared_.user.i(FRIX_OPT_ERROR_MEASURE));
+    u_now_at(r, local_measures(p_, r, u_.data()));
+    return error_of(u_measures_);
+}
+
+double IslandSolver::error_of(const Measures &m) const {
+    const double e = selected_error(m, shared_.user.i(FRIX_OPT_ERROR_MEASURE));
     return std::isfinite(e) ? e : INFINITY;
+}
+
+// Bit for bit: the r of a stage is a copy of one the part kept, or the stage's own result.
+bool IslandSolver::u_holds(const double *r) const {
+    return u_known_ && std::memcmp(r, u_r_.data(), sizeof(double) * (size_t)m_) == 0;
+}
+
+void IslandSolver::u_now_at(const double *r, const Measures &m) {
+    u_r_.assign(r, r + m_);
+    u_measures_ = m;
+    u_known_ = true;
 }
 
 void IslandSolver::note(TraceEvent e) {
@@ -320,9 +342,11 @@ void IslandSolver::record(const TraceEvent &ev) {
 }
 
 frix_error IslandSolver::run(const StageRequest &req, double *r, StageOutcome &out) {
-    const StageGround ground{p_, shared_, u_.data(), cache_, req.watch == Watch::Rate ? prices() : nullptr};
-    u_at_best_ = false;  // every stage writes the part's u
+    const StageGround ground{p_, shared_, u_.data(), cache_, req.watch == Watch::Rate ? prices() : nullptr,
+                             u_holds(r) ? &u_measures_ : nullptr};
+    u_known_ = false;  // every stage writes the part's u
     if (frix_error e = run_stage(ground, req, r, out)) return e;
+    u_now_at(r, out.measures);  // the driver's measures of the r the stage returned
     Monitor::add_work(ledger_, out.info);
     if (out.info.ran_away) {
         shared_.ran_away = true;
@@ -333,8 +357,6 @@ frix_error IslandSolver::run(const StageRequest &req, double *r, StageOutcome &o
         best_error_ = out.event.error;
         best_solver_ = req.solver;
         std::copy(r, r + m_, best_r_.begin());
-        best_measures_ = out.measures;
-        u_at_best_ = true;
     }
     return FRIX_OK;
 }

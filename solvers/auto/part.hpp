@@ -28,6 +28,9 @@ class IslandSolver {
     // The measures of the r that solve() last returned, with u = W r + q copied into `u`,
     // when they are at hand (the stage that found it was the last to use the part's u).
     bool final_measures(Measures *m, double *u) const;
+    // The part's u at r is known: W r + q = u, its measures m (the caller measured r, the
+    // warm start of solve(kFirst), which then does not measure it again).
+    void know_start(const double *r, const double *u, const Measures &m);
     // The first stage ran before this part was set up (direct_nsgs: solver `id`, its record
     // in the trace, its iterate the warm start of solve(kFirst)), which then goes on from there.
     void first_stage_ran(int id);
@@ -40,6 +43,10 @@ class IslandSolver {
 
    private:
     double measure(const double *r);
+    double error_of(const Measures &m) const;
+    // Whether u_ holds W r + q (its measures u_measures_), and the note that it does.
+    bool u_holds(const double *r) const;
+    void u_now_at(const double *r, const Measures &m);
     void note(TraceEvent e);
     bool can_continue() const;
 
@@ -81,10 +88,12 @@ class IslandSolver {
     std::vector<double> held_r_;
     double held_error_ = INFINITY;
     double tolerance_ = 0.0, best_error_ = INFINITY;
-    // The measures of best_r_, and whether u_ is still W best_r_ + q; whether solve() last
-    // returned best_r_ (not the held result).
-    Measures best_measures_;
-    bool u_at_best_ = false, returned_best_ = false;
+    // Where u_ = W r + q is known: at r = u_r_, with measures u_measures_ (a stage from there
+    // takes them instead of measuring its start again; so does the driver, for the r returned).
+    std::vector<double> u_r_;
+    Measures u_measures_;
+    bool u_known_ = false;
+    bool returned_best_ = false;  // whether solve() last returned best_r_ (not the held result)
     int best_solver_ = 0;       // the stage that found the best iterate
     uint64_t rng_;              // random restarts: seeded by the part, so threads do not matter
     double start_scale_ = 0.0;  // of the random starts (draw_start); 0 until first needed

@@ -68,8 +68,10 @@ void part_caches(KeptAuto &kept, const SolveCache &cache, const std::vector<std:
 // stage of a problem that is one part of fewer than kPlainNsgsMaxContacts contacts (the rate
 // watch, as IslandSolver::first_stage runs it), otherwise that many sweeps (the stall watch
 // then only counts). Its sweeps are counted in `shared`, its record goes into the trace. Sets
-// *converged; ctx holds its iterate, counters and measures either way.
-frix_error direct_nsgs(SolveContext &ctx, Shared &shared, double tol, int64_t sweeps, bool *converged) {
+// *converged; ctx holds its iterate, counters and measures either way, and *measured the
+// measures of that iterate (ctx.u holds W r + q).
+frix_error direct_nsgs(SolveContext &ctx, Shared &shared, double tol, int64_t sweeps, bool *converged,
+                       Measures *measured) {
     const frix_problem &p = ctx.problem;
     const SolverEntry &nsgs = *find_solver(FRIX_SOLVER_NSGS);
     const StageRequest req = sweeps > 0 ? stall_request(FRIX_SOLVER_NSGS, sweeps + 1, sweeps, tol)
@@ -86,11 +88,12 @@ frix_error direct_nsgs(SolveContext &ctx, Shared &shared, double tol, int64_t sw
     const double t0 = ctx.clock.seconds();
     SolveContext sub = SolveContext::local(p, o, ctx.r, ctx.u, info, ctx.clock);
     sub.runaway_bound = ctx.runaway_bound;  // the whole problem's, as the driver set it: a runaway stops the solve
+    sub.measured_start = ctx.measured_start;
     if (frix_error e = nsgs.solve(sub)) return e;
     ctx.has_measured = sub.has_measured;
     ctx.measured = sub.measured;
-    const double err = selected_error(sub.has_measured ? sub.measured : local_measures(p, ctx.r, ctx.u),
-                                      ctx.options.i(FRIX_OPT_ERROR_MEASURE));
+    *measured = sub.has_measured ? sub.measured : local_measures(p, ctx.r, ctx.u);
+    const double err = selected_error(*measured, ctx.options.i(FRIX_OPT_ERROR_MEASURE));
     const TraceEvent ev = close_stage(FRIX_SOLVER_NSGS, info, dog, ctx.clock.seconds() - t0, err);
     info.trace.push_back(ev);
     log_event(shared, ev);
@@ -102,10 +105,12 @@ frix_error direct_nsgs(SolveContext &ctx, Shared &shared, double tol, int64_t sw
 // A small problem that is one part gets its first stage at once (direct); a problem of several
 // parts first gets kWholeNsgsSweeps sweeps of plain NSGS on the whole of it, which end many easy
 // problems before the parts cost their setup (the parts go on from there). *done: they ended
-// the solve, whose status is set.
-frix_error first_sweeps(SolveContext &ctx, Shared &shared, double tol, bool several_parts, bool *done) {
+// the solve, whose status is set. *measured: the measures of the r they left (ctx.u holds W r + q).
+frix_error first_sweeps(SolveContext &ctx, Shared &shared, double tol, bool several_parts, bool *done,
+                        Measures *measured) {
     bool converged = false;
-    if (frix_error e = direct_nsgs(ctx, shared, tol, several_parts ? kWholeNsgsSweeps : 0, &converged)) return e;
+    if (frix_error e = direct_nsgs(ctx, shared, tol, several_parts ? kWholeNsgsSweeps : 0, &converged, measured))
+        return e;
     const frix_status status = shared.ending(converged, shared.stop_requested.load());
     *done = status != FRIX_STATUS_NOT_RUN;
     if (*done) {
@@ -119,9 +124,11 @@ frix_error first_sweeps(SolveContext &ctx, Shared &shared, double tol, bool seve
 
 // The parts: every island of at least kMinIslandContacts contacts on its own, the smaller ones
 // together (one sub-problem, still block-diagonal), each from its share of ctx.r. `kept`: a
-// persistent solver's state (null: none); `direct`: the first stage already ran on the whole.
+// persistent solver's state (null: none); `direct`: the first stage already ran on the whole;
+// `measured`: the measures of ctx.r, ctx.u holding W r + q (null: not known), which a part that
+// is the whole problem takes.
 frix_error set_up_parts(SolveContext &ctx, Shared &shared, const Analysis &a, KeptAuto *kept, bool direct,
-                        Parts &parts) {
+                        const Measures *measured, Parts &parts) {
     const frix_problem &p = ctx.problem;
     std::vector<std::vector<int64_t>> units = solve_units(a, kMinIslandContacts);
     if (kept) part_caches(*kept, *ctx.cache, units);
@@ -143,6 +150,7 @@ frix_error set_up_parts(SolveContext &ctx, Shared &shared, const Analysis &a, Ke
         is.solver = std::make_unique<IslandSolver>(*sub, shared, parts.whole ? 0 : (int64_t)k + 1,
                                                    kept ? kept->part_caches[k].get() : nullptr);
         if (direct) is.solver->first_stage_ran(FRIX_SOLVER_NSGS);
+        if (parts.whole && measured) is.solver->know_start(ctx.r, ctx.u, *measured);
     }
     if (!parts.whole) {
         const double norm_q = norm2(p.q, 3 * p.nc);
@@ -276,16 +284,19 @@ frix_error solve_local(SolveContext &ctx) {
     shared.scaled_penalty = !(a.diag_max <= kScaledPenaltySpread * a.diag_min);
     const bool several_parts = a.islands > 1 && a.largest_island >= kMinIslandContacts;
     const bool direct = p.nc < kPlainNsgsMaxContacts && !several_parts;
+    Measures first;  // of the first sweeps' iterate
+    const Measures *measured = ctx.measured_start;
     if (direct || several_parts) {
         bool done = false;
-        if (frix_error e = first_sweeps(ctx, shared, tol, several_parts, &done)) return e;
+        if (frix_error e = first_sweeps(ctx, shared, tol, several_parts, &done, &first)) return e;
         if (done) return FRIX_OK;
+        measured = &first;
     }
     // Taken after the first sweeps: a problem that they solve leaves the kept state in the
     // cache as it was.
     Kept<KeptAuto> kept(ctx.cache, FRIX_SOLVER_AUTO);
     Parts parts;
-    if (frix_error e = set_up_parts(ctx, shared, a, ctx.cache ? &*kept : nullptr, direct, parts)) return e;
+    if (frix_error e = set_up_parts(ctx, shared, a, ctx.cache ? &*kept : nullptr, direct, measured, parts)) return e;
     double error = INFINITY;
     if (frix_error e = solve_combined(ctx, shared, parts, tol, &error)) return e;
     close_parts(ctx, shared, parts, tol, error);

@@ -69,7 +69,7 @@ frix_error run_stage(const StageGround &ground, const StageRequest &req, double 
     // The driver's local path watches the stage against the part's own runaway bound (its |q|):
     // a part is a problem of its own, whose solution scales with its q, not with the whole's.
     if (frix_error e = solve_local_problem(ground.p, o, entry, r, ground.u, out.info, shared.clock, ground.cache,
-                                           &out.measures))
+                                           &out.measures, false, false, ground.measured_start))
         return e;
     out.event = close_stage(req.solver, out.info, dog, shared.clock.seconds() - t0, out.info.error);
     out.slow = dog.stopped_slow();

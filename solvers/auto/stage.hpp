@@ -46,13 +46,15 @@ struct StageOutcome {
 };
 
 // Where a part's stages run: its problem, its u (W r + q, written by every stage), the states
-// its solvers keep (null: none) and its stages' prices (null: unpriced).
+// its solvers keep (null: none), its stages' prices (null: unpriced) and, where u already holds
+// W r + q for the stage's start r, their measures (null: not known; SolveContext::measured_start).
 struct StageGround {
     const frix_problem &p;
     Shared &shared;
     double *u;
     SolveCache *cache;
     const StageCosts *prices;
+    const Measures *measured_start;
 };
 
 // One stage on a part from r (its iterate out); the iterations its callback did not see go to

@@ -143,9 +143,13 @@ SweepStats sweep(SweepForm &form, std::vector<local_rolling::Contact> &contacts,
 // A rolling solver's entry (`name` in its messages): refuses other problems; runs run(form) on
 // the local form's rows (a RowForm) or on the rigid bodies' product form (a BodyForm set up
 // from ctx.r, with domains swept on `threads` threads if threads > 0), and then writes v of the
-// final r, free of the iterations' rounding drift. No contacts: converged, v = M^-1 f.
+// final r, free of the iterations' rounding drift, by a last exact(); none where the run sets
+// *measured_at_r: its last exact() was at the r it returned, into ctx.u, nothing moved since
+// (exact() recomputes v from r alone: u and v are then that one's to the bit). No contacts:
+// converged, v = M^-1 f.
 template <class Run>
-frix_error solve_on_form(SolveContext &ctx, const char *name, Run &&run, int threads = 0) {
+frix_error solve_on_form(SolveContext &ctx, const char *name, Run &&run, int threads = 0,
+                         const bool *measured_at_r = nullptr) {
     const frix_problem &p = ctx.problem;
     if (!is_rolling(p)) return fail(FRIX_ERR_UNSUPPORTED, "%s: solves rolling-friction problems only", name);
     if (p.kind == FRIX_PROBLEM_ROLLING_LOCAL) {
@@ -158,7 +162,7 @@ frix_error solve_on_form(SolveContext &ctx, const char *name, Run &&run, int thr
         ctx.info.status = FRIX_STATUS_CONVERGED;
     else if (frix_error e = run(bodies))
         return e;
-    bodies.exact(ctx.r, ctx.u);
+    if (!(measured_at_r && *measured_at_r)) bodies.exact(ctx.r, ctx.u);
     bodies.copy_v(ctx.v);
     return FRIX_OK;
 }

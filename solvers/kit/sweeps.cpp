@@ -397,7 +397,8 @@ double SweepRun::full_error() {
     return e <= tol_ ? exact_error() : e;
 }
 
-// A warm start that already solves the problem costs one product, not a sweep.
+// A warm start that already solves the problem costs one product, not a sweep; none where
+// the caller measured it (SolveContext::measured_start: u holds W r + q already).
 bool SweepRun::warm_start_solves() {
     bool warm = false;
     for (int64_t i = 0; i < m_ && !warm; ++i) warm = r_[i] != 0.0;
@@ -406,7 +407,10 @@ bool SweepRun::warm_start_solves() {
         form_.restart(r_, u_);
         return false;
     }
-    return exact_error() <= tol_;
+    if (!ctx_.measured_start || !form_.measures_are_local()) return exact_error() <= tol_;
+    last_ = *ctx_.measured_start;
+    at_r_ = true;
+    return selected_error(last_, measure_) <= tol_;
 }
 
 void SweepRun::run() {

@@ -54,7 +54,8 @@ class Momentum {
     std::vector<double> last_;  // x_{k-1}
 };
 
-frix_error run(SolveContext &ctx, rolling::SweepForm &form) {
+// *at_r_out: whether the last form.exact() was at the r returned, into ctx.u (rolling::solve_on_form).
+frix_error run(SolveContext &ctx, rolling::SweepForm &form, bool *at_r_out) {
     const frix_problem &p = ctx.problem;
     const frix_options &o = ctx.options;
     local_rolling::Params lp;
@@ -115,13 +116,15 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form) {
     // The local form measures as the driver does (local_measures): it need not measure again.
     ctx.has_measured = at_r && p.kind == FRIX_PROBLEM_ROLLING_LOCAL;
     ctx.measured = last;
+    *at_r_out = at_r;
     return FRIX_OK;
 }
 
 frix_error solve(SolveContext &ctx) {
+    bool at_r = false;
     return rolling::solve_on_form(
-        ctx, "rolling-nsgs", [&](rolling::SweepForm &form) { return run(ctx, form); },
-        (int)ctx.options.i(FRIX_OPT_THREADS));
+        ctx, "rolling-nsgs", [&](rolling::SweepForm &form) { return run(ctx, form, &at_r); },
+        (int)ctx.options.i(FRIX_OPT_THREADS), &at_r);
 }
 
 const frix_option_key kExtraKeys[] = {FRIX_OPT_LOCAL_TOLERANCE, FRIX_OPT_LOCAL_MAX_ITER, FRIX_OPT_ACCELERATION,

@@ -97,6 +97,28 @@ FRIX_TESTING_HOOK double frix_testing_contact_residual(const double W[9], const 
     return frix::coulomb::contact_residual(W, q, mu, r, relative);
 }
 
+// ---- A stage of auto from a warm start whose measures its part holds.
+#include "solvers/auto/stage.hpp"
+
+FRIX_TESTING_HOOK int frix_testing_stage_from_measured_start(const frix_problem *p, int solver_id, double claim,
+                                                             double *r, int64_t *sweeps, double *error) {
+    std::vector<double> u((size_t)(3 * p->nc));
+    frix::Measures start = frix::local_measures(*p, r, u.data());
+    start.relative *= claim, start.q_relative *= claim, start.scaled *= claim;
+    frix_options *o = nullptr;
+    if (frix_error e = frix_options_create(FRIX_SOLVER_AUTO, &o)) return e;
+    const frix::Stopwatch clock;
+    frix::autosolve::Shared shared(*o, clock);
+    const frix::autosolve::StageGround ground{*p, shared, u.data(), nullptr, nullptr, &start};
+    frix::autosolve::StageOutcome out;
+    const frix_error e =
+        frix::autosolve::run_stage(ground, frix::autosolve::stall_request(solver_id, 1000, 1000, 1e-8), r, out);
+    frix_options_free(o);
+    *sweeps = out.info.iterations;
+    *error = out.info.error;
+    return e;
+}
+
 // ---- Semismooth functions (solvers/kit/nsn_functions.hpp) and the linear algebra back-end.
 #include "solvers/kit/local_newton.hpp"
 #include "solvers/kit/nsn_functions.hpp"

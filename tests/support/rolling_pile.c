@@ -5,10 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static double uniform(uint64_t *s) {
-    *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (double)(*s >> 11) / 9007199254740992.0;
-}
+#include "lcg.h"
 
 static void cross(const double *a, const double *b, double *c) {
     c[0] = a[1] * b[2] - a[2] * b[1];
@@ -66,12 +63,12 @@ static int make(int side, int layers, double mu, double mu_r, double mu_s, uint6
     if (!H || !Mdiag || !vfree || !out->mu || !out->mu_r || (size == 6 && !out->mu_s)) return 1;
     uint64_t s = seed * 2654435761ULL + 1;
     for (int64_t b = 0; b < bodies; ++b) {
-        const double m = 1.0 + uniform(&s), inertia = 0.4 * m * radius * radius;
+        const double m = 1.0 + lcg_uniform(&s), inertia = 0.4 * m * radius * radius;
         for (int i = 0; i < 3; ++i) Mdiag[6 * b + i] = m, Mdiag[6 * b + 3 + i] = inertia;
-        vfree[6 * b] = 0.05 * (uniform(&s) - 0.5);
-        vfree[6 * b + 1] = 0.05 * (uniform(&s) - 0.5);
+        vfree[6 * b] = 0.05 * (lcg_uniform(&s) - 0.5);
+        vfree[6 * b + 1] = 0.05 * (lcg_uniform(&s) - 0.5);
         vfree[6 * b + 2] = -h * g;
-        for (int i = 3; i < 6; ++i) vfree[6 * b + i] = 0.1 * (uniform(&s) - 0.5);
+        for (int i = 3; i < 6; ++i) vfree[6 * b + i] = 0.1 * (lcg_uniform(&s) - 0.5);
     }
     int64_t c = 0;
 #define BODY(x, y, z) ((int64_t)(z) * side * side + (int64_t)(y) * side + (x))
@@ -79,7 +76,7 @@ static int make(int side, int layers, double mu, double mu_r, double mu_s, uint6
         for (int x = 0; x < side; ++x) {
             const double nrm[3] = {0, 0, 1};
             double t1[3], t2[3];
-            frame(nrm, 6.283185307179586 * uniform(&s), t1, t2);
+            frame(nrm, 6.283185307179586 * lcg_uniform(&s), t1, t2);
             body_columns(H, n, size, c, BODY(x, y, 0), 1.0, nrm, t1, t2, radius);
             ++c;
         }
@@ -91,7 +88,7 @@ static int make(int side, int layers, double mu, double mu_r, double mu_s, uint6
                     if (xb >= side || yb >= side || zb >= layers) continue;
                     const double nrm[3] = {d == 0, d == 1, d == 2};
                     double t1[3], t2[3];
-                    frame(nrm, 6.283185307179586 * uniform(&s), t1, t2);
+                    frame(nrm, 6.283185307179586 * lcg_uniform(&s), t1, t2);
                     body_columns(H, n, size, c, BODY(xb, yb, zb), 1.0, nrm, t1, t2, radius);
                     body_columns(H, n, size, c, BODY(x, y, z), -1.0, nrm, t1, t2, radius);
                     ++c;
