@@ -170,7 +170,7 @@ class AndersonMixing {
     std::vector<double> x_;                   // the last sweep's start
     std::vector<double> g_, f_, k_;           // per slot: g, f = g - x, the affine state at g
     std::vector<double> columns_, line_;      // the fit's orthogonalised columns; the mixed point
-    std::vector<double> r_fit_, gamma_;       // the fit's triangle (columns x columns) and weights
+    std::vector<double> r_fit_, gamma_, rhs_;  // the fit's triangle (columns x columns), weights, Q^T f_k
     std::vector<char> kept_column_;
     std::vector<double> before_;  // measure_following: the affine state before exact()
     int64_t count_ = 0, newest_ = -1;
@@ -185,7 +185,8 @@ int64_t AndersonMixing::fit(int64_t columns) {
     r_fit_.assign(c * c, 0.0);
     gamma_.assign(c, 0.0);
     kept_column_.assign(c, 0);
-    std::vector<double> rhs(c, 0.0);
+    std::vector<double> &rhs = rhs_;
+    rhs.assign(c, 0.0);
     const double *fk = f_.data() + slot(count_ - 1) * m;
     int64_t kept = 0;
     for (size_t j = 0; j < c; ++j) {
@@ -465,8 +466,10 @@ bool SweepRun::after_sweep(const SweepStats &st) {
             log_line(&o_, "%s: sweep %lld: drift carried ahead (jump %lld)", name_, (long long)it_,
                      (long long)drift_.jumps());
     }
-    if (jumped) anderson_.restart(r_);
-    anderson_.after_sweep(r_, p_.mu, ws_, form_, u_);
+    if (jumped)
+        anderson_.restart(r_);
+    else
+        anderson_.after_sweep(r_, p_.mu, ws_, form_, u_);
     momentum_.after_sweep(st.dr2, jumped, r_, p_.mu, ws_, form_, u_);
     return jumped;
 }
