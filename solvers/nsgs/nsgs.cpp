@@ -191,6 +191,9 @@ class VelocityForm : public SweepForm {
     }
     bool kept(const double *r, double *u, Measures &m) override {
         if (single_) return false;
+        return kept_drifting(r, u, m);
+    }
+    bool kept_drifting(const double *r, double *u, Measures &m) override {
         m = measures_from_ru(r, u, p_.mu, p_.weight.data(), p_.nc, norm_q_);
         return true;
     }
