@@ -170,7 +170,8 @@ class RowForm : public SweepForm {
 // W's block columns (nsgs-v): u = W r + q kept up to date by each change of r.
 // With single-precision columns (single), the kept u drifts from W r + q by the single
 // rounding of the changes since it was last computed afresh; so every full check computes
-// it afresh from the double W (exact()), which bounds the drift by the changes between two
+// it afresh from the double W (exact(); the first, one sweep in, only where kept_drifting()
+// does not show an error far above the tolerance), which bounds the drift by the changes between two
 // full checks (at most kFullCheckPeriod light-error tests, sweeps.cpp) and leaves every
 // verdict to the double W. Near the end those
 // changes, and the drift with them, shrink with the error: the sweeps do not stall short of
@@ -341,7 +342,7 @@ const SolverEntry kNsgsVelocityEntry = {
     "(u is recomputed exactly to confirm the end, which also removes the rounding drift). "
     "On a dense W of at least 32 MiB the pushes go through a single-precision copy of W's "
     "columns (half W's memory more, where the memory limit leaves room): half the bytes a "
-    "sweep reads; every full check recomputes u from the double W, so the verdict stays in "
+    "sweep reads; the full checks recompute u from the double W, so the verdict stays in "
     "double precision. "
     "Freezing is on by default (10 sweeps). Options: those of nsgs (local_solver, "
     "local_tolerance, local_max_iter, "
