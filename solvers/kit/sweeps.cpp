@@ -1,5 +1,6 @@
 // The NSGS iteration on a form (run_sweeps): sweeps, the light error calibrated by full
-// checks, drift extrapolation, momentum, freezing, the best iterate, and the Monitor's limits.
+// checks, drift extrapolation, momentum or Anderson's mix (anderson_mixing.hpp), freezing, the
+// best iterate, and the Monitor's limits.
 // The forms (W's rows, W's columns, the product form, the distributed ones) only sweep and
 // measure.
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <functional>
 #include <vector>
 
+#include "solvers/kit/anderson_mixing.hpp"
 #include "solvers/kit/sweeps.hpp"
 #include "src/coulomb.hpp"
 #include "src/log.hpp"
@@ -16,6 +18,13 @@
 
 namespace frix {
 namespace nsgs {
+
+void push_projection(SweepForm &form, Workspace &ws, const double *line, const double *y, size_t m, double *u) {
+    for (size_t a = 0; 3 * a < m; ++a) {
+        const double d[3] = {y[3 * a] - line[3 * a], y[3 * a + 1] - line[3 * a + 1], y[3 * a + 2] - line[3 * a + 2]};
+        if (d[0] != 0.0 || d[1] != 0.0 || d[2] != 0.0) form.push_change(ws, (int64_t)a, d, u);
+    }
+}
 
 namespace {
 
@@ -111,6 +120,13 @@ class Momentum {
     }
     bool on() const { return schedule_.on(); }
     void judge(int64_t sweep, double e) { schedule_.judge(sweep, e); }
+    // Whether it keeps a copy of the form's affine state (its value at x_prev).
+    bool holds_state() const { return !state_last_.empty(); }
+    // That copy moves by `correction` (the form's exact() corrected the state by it).
+    void shift_state(const std::vector<double> &correction) {
+        if (state_last_.size() != correction.size()) return;
+        for (size_t i = 0; i < correction.size(); ++i) state_last_[i] += correction[i];
+    }
     // After a sweep that moved r by |dr|^2 = dr2 (jumped: r then jumped ahead of the sweep).
     void after_sweep(double dr2, bool jumped, double *r, const double *mu, Workspace &ws, SweepForm &form, double *u) {
         if (!schedule_.on()) return;
@@ -123,171 +139,26 @@ class Momentum {
             r[i] = line_[i];
         }
         if (beta != 0.0) coulomb::project_on_cones(r, mu, (int64_t)(m / 3));
-        form.extrapolate(ws, beta, line_.data(), r, u);
+        // The affine state: state + beta (state - state at x_prev), then the projection's part.
+        const SweepForm::AffineState state = form.affine_state(u);
+        if (!state.combines) {
+            if (beta != 0.0) form.restart(r, u);
+            return;
+        }
+        if (state_last_.size() != state.size) state_last_.assign(state.size, 0.0);
+        for (size_t i = 0; i < state.size; ++i) {
+            const double now = state.values[i];
+            state.values[i] = now + beta * (now - state_last_[i]);
+            state_last_[i] = now;
+        }
+        if (beta != 0.0) push_projection(form, ws, line_.data(), r, m, u);
     }
 
    private:
     MomentumSchedule schedule_;
+    std::vector<double> state_last_;  // the form's affine state at x_prev
     std::vector<double> last_, line_;  // x_{k-1}; the line point before its projection
 };
-
-// Anderson acceleration of the sweep (option anderson = depth): the sweep is a fixed-point map
-// g; with f_i = g(x_i) - x_i over the last depth + 1 sweeps, r moves after each sweep to
-// y = P_K(g_k - sum_j gamma_j (g_{j+1} - g_j)), gamma the least-squares fit of the changes
-// f_{j+1} - f_j to f_k, and the form's affine state follows the same combination. Where the
-// sweep contracts at a steady rate (a regular W: elastic bodies), the mix extrapolates the
-// slow modes as a Krylov method would. The history starts again when a sweep's step grows
-// (the map changed: contacts changed state) and whenever r jumps.
-class AndersonMixing {
-   public:
-    AndersonMixing(int64_t depth, int64_t m, const double *r) : depth_(depth), m_((size_t)m) {
-        if (depth_ <= 0) return;
-        x_.assign(r, r + m);
-        const size_t slots = (size_t)depth_ + 1;
-        g_.resize(slots * m_);
-        f_.resize(slots * m_);
-        columns_.resize((size_t)depth_ * m_);
-        line_.resize(m_);
-    }
-    bool on() const { return depth_ > 0; }
-    // Off for the rest of the run (a form that cannot follow a combination).
-    void off() { depth_ = 0; }
-    // r changed other than by a sweep: the history starts again from r.
-    void restart(const double *r) {
-        if (!on()) return;
-        count_ = 0;
-        std::copy(r, r + m_, x_.begin());
-    }
-    void after_sweep(double *r, const double *mu, Workspace &ws, SweepForm &form, double *u);
-    // form.exact(r, u): where it recomputes the affine state (clearing the drift of its updates:
-    // rounding, or single-precision columns), the kept states move by the same correction, so
-    // that the mix's differences carry no jump.
-    Measures measure_following(SweepForm &form, const double *r, double *u);
-
-   private:
-    size_t slot(int64_t i) const { return (size_t)((newest_ - count_ + 1 + i + 2 * (depth_ + 1)) % (depth_ + 1)); }
-    int64_t fit(int64_t columns);
-
-    int64_t depth_;
-    size_t m_;
-    std::vector<double> x_;                   // the last sweep's start
-    std::vector<double> g_, f_, k_;           // per slot: g, f = g - x, the affine state at g
-    std::vector<double> columns_, line_;      // the fit's orthogonalised columns; the mixed point
-    std::vector<double> r_fit_, gamma_, rhs_;  // the fit's triangle (columns x columns), weights, Q^T f_k
-    std::vector<char> kept_column_;
-    std::vector<double> before_;  // measure_following: the affine state before exact()
-    int64_t count_ = 0, newest_ = -1;
-    double last_f2_ = INFINITY;
-};
-
-// gamma minimising |f_k - sum_j gamma_j (f_{j+1} - f_j)| over `columns` differences, by
-// modified Gram-Schmidt; a difference within rounding of the span of the earlier ones is left
-// out (gamma_j = 0). Returns the differences kept.
-int64_t AndersonMixing::fit(int64_t columns) {
-    const size_t c = (size_t)columns, m = m_;
-    r_fit_.assign(c * c, 0.0);
-    gamma_.assign(c, 0.0);
-    kept_column_.assign(c, 0);
-    std::vector<double> &rhs = rhs_;
-    rhs.assign(c, 0.0);
-    const double *fk = f_.data() + slot(count_ - 1) * m;
-    int64_t kept = 0;
-    for (size_t j = 0; j < c; ++j) {
-        double *q = columns_.data() + j * m;
-        const double *a = f_.data() + slot((int64_t)j + 1) * m, *b = f_.data() + slot((int64_t)j) * m;
-        double before = 0.0;
-        for (size_t i = 0; i < m; ++i) {
-            q[i] = a[i] - b[i];
-            before += q[i] * q[i];
-        }
-        for (size_t l = 0; l < j; ++l) {
-            if (!kept_column_[l]) continue;
-            const double *ql = columns_.data() + l * m;
-            double d = 0.0;
-            for (size_t i = 0; i < m; ++i) d += ql[i] * q[i];
-            r_fit_[l * c + j] = d;
-            for (size_t i = 0; i < m; ++i) q[i] -= d * ql[i];
-        }
-        double after = 0.0;
-        for (size_t i = 0; i < m; ++i) after += q[i] * q[i];
-        if (!(after > 1e-20 * before) || !(after > 0.0)) continue;
-        const double norm = std::sqrt(after);
-        for (size_t i = 0; i < m; ++i) q[i] /= norm;
-        r_fit_[j * c + j] = norm;
-        double d = 0.0;
-        for (size_t i = 0; i < m; ++i) d += q[i] * fk[i];
-        rhs[j] = d;
-        kept_column_[j] = 1;
-        ++kept;
-    }
-    for (size_t j = c; j-- > 0;) {
-        if (!kept_column_[j]) continue;
-        double t = rhs[j];
-        for (size_t l = j + 1; l < c; ++l)
-            if (kept_column_[l]) t -= r_fit_[j * c + l] * gamma_[l];
-        gamma_[j] = t / r_fit_[j * c + j];
-    }
-    return kept;
-}
-
-Measures AndersonMixing::measure_following(SweepForm &form, const double *r, double *u) {
-    const SweepForm::AffineState state = on() && count_ > 0 ? form.affine_state(u) : SweepForm::AffineState{};
-    if (state.size == 0 || k_.size() != ((size_t)depth_ + 1) * state.size) return form.exact(r, u);
-    before_.assign(state.values, state.values + state.size);
-    const Measures out = form.exact(r, u);
-    for (int64_t i = 0; i < count_; ++i) {
-        double *k = k_.data() + slot(i) * state.size;
-        for (size_t j = 0; j < state.size; ++j) k[j] += state.values[j] - before_[j];
-    }
-    return out;
-}
-
-void AndersonMixing::after_sweep(double *r, const double *mu, Workspace &ws, SweepForm &form, double *u) {
-    if (!on()) return;
-    const SweepForm::AffineState state = form.affine_state(u);
-    if (!state.combines) {
-        off();
-        return;
-    }
-    const size_t m = m_, slots = (size_t)depth_ + 1;
-    if (k_.size() != slots * state.size) k_.resize(slots * state.size);
-    double f2 = 0.0;
-    for (size_t i = 0; i < m; ++i) f2 += (r[i] - x_[i]) * (r[i] - x_[i]);
-    // A step that grew: the older sweeps describe another map.
-    if (count_ > 0 && f2 > last_f2_) count_ = 0;
-    last_f2_ = f2;
-    newest_ = (newest_ + 1) % (int64_t)slots;
-    count_ = std::min<int64_t>(count_ + 1, (int64_t)slots);
-    {
-        double *g = g_.data() + (size_t)newest_ * m, *f = f_.data() + (size_t)newest_ * m;
-        for (size_t i = 0; i < m; ++i) {
-            g[i] = r[i];
-            f[i] = r[i] - x_[i];
-        }
-        if (state.size) std::copy(state.values, state.values + state.size, k_.data() + (size_t)newest_ * state.size);
-    }
-    if (count_ < 2 || fit(count_ - 1) == 0) {
-        std::copy(r, r + m, x_.begin());
-        return;
-    }
-    // line = g_k - sum_j gamma_j (g_{j+1} - g_j); the affine state alike.
-    std::copy(r, r + m, line_.begin());
-    for (int64_t j = 0; j + 1 < count_; ++j) {
-        const double w = gamma_[(size_t)j];
-        if (w == 0.0) continue;
-        const double *a = g_.data() + slot(j + 1) * m, *b = g_.data() + slot(j) * m;
-        for (size_t i = 0; i < m; ++i) line_[i] -= w * (a[i] - b[i]);
-        const double *ka = k_.data() + slot(j + 1) * state.size, *kb = k_.data() + slot(j) * state.size;
-        for (size_t i = 0; i < state.size; ++i) state.values[i] -= w * (ka[i] - kb[i]);
-    }
-    std::copy(line_.begin(), line_.end(), r);
-    coulomb::project_on_cones(r, mu, (int64_t)(m / 3));
-    for (size_t a = 0; 3 * a < m; ++a) {
-        const double d[3] = {r[3 * a] - line_[3 * a], r[3 * a + 1] - line_[3 * a + 1], r[3 * a + 2] - line_[3 * a + 2]};
-        if (d[0] != 0.0 || d[1] != 0.0 || d[2] != 0.0) form.push_change(ws, (int64_t)a, d, u);
-    }
-    std::copy(r, r + m, x_.begin());
-}
 
 // Monitor::Agree for run_sweeps's limits: SweepForm::agree is one exchange among the processes
 // of a distributed form, so the callback's flag (asked first) travels with the clock's, which
@@ -318,6 +189,7 @@ class SweepRun {
 
    private:
     double exact_error();
+    Measures exact_following();
     void hand_over();
     double full_error(bool first_only);
     bool warm_start_solves();
@@ -346,6 +218,7 @@ class SweepRun {
     DriftExtrapolation drift_;
     AndersonMixing anderson_;
     Momentum momentum_;
+    std::vector<double> correction_;  // exact_following: exact()'s correction of the affine state
     // The best r of the full checks, returned when the run ends worse (ctx.return_best).
     std::vector<double> best_r_;
     double best_error_ = INFINITY;
@@ -382,9 +255,24 @@ SweepRun::SweepRun(SolveContext &ctx, Workspace &ws, SweepForm &form, const char
       tol_light_(tol_) {}
 
 double SweepRun::exact_error() {
-    last_ = anderson_.measure_following(form_, r_, u_);
+    last_ = exact_following();
     at_r_ = true;
     return selected_error(last_, measure_);
+}
+
+// form.exact(r, u) may recompute the form's affine state, clearing the drift of its updates:
+// the accelerations' copies of it move by the same correction, Anderson's always, momentum's
+// where the drift is more than rounding (SweepForm::state_drifts).
+Measures SweepRun::exact_following() {
+    const bool anderson = anderson_.holds_states(), momentum = momentum_.holds_state() && form_.state_drifts();
+    const SweepForm::AffineState state = anderson || momentum ? form_.affine_state(u_) : SweepForm::AffineState{};
+    if (state.size == 0) return form_.exact(r_, u_);
+    correction_.assign(state.values, state.values + state.size);
+    const Measures out = form_.exact(r_, u_);
+    for (size_t i = 0; i < state.size; ++i) correction_[i] = state.values[i] - correction_[i];
+    if (anderson) anderson_.shift_states(correction_);
+    if (momentum) momentum_.shift_state(correction_);
+    return out;
 }
 
 void SweepRun::hand_over() {

@@ -392,18 +392,11 @@ class SweepForm {
     // Whether run_sweeps may put an earlier r back (its best) and restart() from it; not
     // where r's ghosts are other processes' (a distributed solve).
     virtual bool restores() const { return true; }
-    // Momentum (run_sweeps, option acceleration): after each sweep, r moves from x, the
-    // sweep's result, to y = P_K(line), line = x + beta (x - x_prev), where x_prev is the r
-    // of the previous call; the kept state follows. A form that keeps something affine in r
-    // follows from its state at x and at x_prev (kept + beta (kept - kept at x_prev)) plus
-    // the projection's part y - line, without a product; this default recomputes it.
-    virtual void extrapolate(Workspace &ws, double beta, const double *line, const double *y, double *u) {
-        (void)ws, (void)line;
-        if (beta != 0.0) restart(y, u);
-    }
-    // What the form keeps affine in r (u of nsgs-v, v of gnsgs), for an acceleration that
-    // combines past iterates (Anderson): values and their count; `combines` false where the form
-    // cannot follow such a combination (then the acceleration is off).
+    // What the form keeps affine in r (u of nsgs-v, v of gnsgs), for the accelerations that
+    // combine iterates (run_sweeps's momentum and Anderson's mix): the same combination of its
+    // past values follows r, plus push_change() of what the projection on the cones moved,
+    // without a product. Values and their count; `combines` false where the form cannot follow
+    // such a combination (then momentum recomputes it by restart(), and Anderson's mix is off).
     struct AffineState {
         double *values = nullptr;
         size_t size = 0;
@@ -415,6 +408,9 @@ class SweepForm {
     }
     // Adds contact a's change d of r to the affine state.
     virtual void push_change(Workspace &ws, int64_t a, const double *d, double *u) { (void)ws, (void)a, (void)d, (void)u; }
+    // Whether exact() corrects the affine state by more than rounding (nsgs-v's
+    // single-precision pushes): momentum's copy of it then moves by the same correction.
+    virtual bool state_drifts() const { return false; }
     // A form whose contacts are shared among processes (a distributed solve): the bitwise or
     // of `flags` over them, so that each decision taken on one process's own data (a warm
     // start, the callback, the clock) is taken by all of them alike.
@@ -423,24 +419,9 @@ class SweepForm {
     virtual int64_t all_contacts(int64_t held) const { return held; }
 };
 
-// SweepForm::extrapolate for a kept state (n values) affine in r: kept <- kept + beta (kept -
-// last), last <- kept as it was; then push(a, y_a - line_a) for each contact a the projection
-// moved, which must add that change's part to kept.
-template <class Push>
-void extrapolate_affine(double beta, const double *line, const double *y, int64_t nc, double *kept, size_t n,
-                        std::vector<double> &last, Push &&push) {
-    if (last.empty()) last.resize(n);
-    for (size_t i = 0; i < n; ++i) {
-        const double now = kept[i];
-        kept[i] = now + beta * (now - last[i]);
-        last[i] = now;
-    }
-    if (beta == 0.0) return;
-    for (int64_t a = 0; a < nc; ++a) {
-        const double d[3] = {y[3 * a] - line[3 * a], y[3 * a + 1] - line[3 * a + 1], y[3 * a + 2] - line[3 * a + 2]};
-        if (d[0] != 0.0 || d[1] != 0.0 || d[2] != 0.0) push(a, d);
-    }
-}
+// After r moved from `line` to its projection y on the cones (m values): each contact's change
+// pushed into the form's affine state (SweepForm::push_change).
+void push_projection(SweepForm &form, Workspace &ws, const double *line, const double *y, size_t m, double *u);
 
 // The NSGS iteration on `form` (kit/sweeps.cpp): sweeps, the light error calibrated by
 // full checks, drift extrapolation, freezing, the monitor's limits and callback; ctx.info gets

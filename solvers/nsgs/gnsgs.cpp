@@ -116,11 +116,6 @@ class ProductForm : public SweepForm {
         }
     }
     bool measures_are_local() const override { return false; }
-    // v is affine in r: v(y) = v(x) + beta (v(x) - v(x_prev)) + M^-1 H (y - line).
-    void extrapolate(Workspace &, double beta, const double *line, const double *y, double *) override {
-        extrapolate_affine(beta, line, y, p_.nc, v_.data(), v_.size(), v_last_,
-                           [this](int64_t a, const double *d) { add_g(a, d, v_.data()); });
-    }
     AffineState affine_state(double *) override { return {v_.data(), v_.size(), true}; }
     void push_change(Workspace &, int64_t a, const double *d, double *) override { add_g(a, d, v_.data()); }
 
@@ -171,7 +166,6 @@ class ProductForm : public SweepForm {
 
     const frix_problem &p_;
     std::vector<double> v_;       // in the sweeps' numbering of the dofs
-    std::vector<double> v_last_;  // v at the previous extrapolation's r (momentum)
     std::vector<int64_t> slot_of_dof_;  // the sweeps' numbering of v (two threads seldom share a cache line)
     double norm_w_, free_;
     Csc M_;

@@ -180,16 +180,7 @@ class VelocityForm : public SweepForm {
    public:
     VelocityForm(const frix_problem &p, bool single) : p_(p), norm_q_(norm2(p.q, 3 * p.nc)), single_(single) {}
     SweepStats sweep(Workspace &ws, double *r, double *u) override { return ws.sweep_velocity(r, u); }
-    Measures exact(const double *r, double *u) override {
-        if (!single_ || u_last_.empty()) return local_measures(p_, r, u);
-        // Momentum's u at its last x moves with u, so that its extrapolation of the kept u
-        // carries no drift from before (extrapolate_affine).
-        const size_t m = 3 * (size_t)p_.nc;
-        u_before_.assign(u, u + m);
-        const Measures out = local_measures(p_, r, u);
-        for (size_t i = 0; i < m; ++i) u_last_[i] += u[i] - u_before_[i];
-        return out;
-    }
+    Measures exact(const double *r, double *u) override { return local_measures(p_, r, u); }
     bool kept(const double *r, double *u, Measures &m) override {
         if (single_) return false;
         return kept_drifting(r, u, m);
@@ -202,19 +193,14 @@ class VelocityForm : public SweepForm {
         matrix_gemv(*p_.W, 1.0, r, 0.0, u);
         for (int64_t i = 0; i < 3 * p_.nc; ++i) u[i] += p_.q[i];
     }
-    void extrapolate(Workspace &ws, double beta, const double *line, const double *y, double *u) override {
-        extrapolate_affine(beta, line, y, p_.nc, u, 3 * (size_t)p_.nc, u_last_,
-                           [&ws, u](int64_t a, const double *d) { ws.push_velocity(a, d, u); });
-    }
     AffineState affine_state(double *u) override { return {u, 3 * (size_t)p_.nc, true}; }
     void push_change(Workspace &ws, int64_t a, const double *d, double *u) override { ws.push_velocity(a, d, u); }
+    bool state_drifts() const override { return single_; }
 
    private:
     const frix_problem &p_;
     double norm_q_;
     const bool single_;
-    std::vector<double> u_last_;  // u at the previous extrapolation's x
-    std::vector<double> u_before_;  // exact(): the kept u it replaces
 };
 
 frix_error check_blocks(const frix_problem &p, const char *name) {
