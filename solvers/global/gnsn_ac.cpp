@@ -262,6 +262,17 @@ class VrSystem : public kit::SystemDefaults {
         contacts(rt_.data(), ut_.data(), phit_.data(), false);
         return 0.5 * (dot(rest_.data(), rest_.data(), n_) + dot(phit_.data(), phit_.data(), m_));
     }
+    static constexpr bool kWatchable = true;
+    // The error at (v, r) + (dv, dr) (the trial point's arrays hold it).
+    frix_error full_step_error(double &err) {
+        const double *dr = dx_.data() + n_;
+        vt_.resize(n_);
+        for (int64_t j = 0; j < n_; ++j) vt_[j] = ctx_.v[j] + dx_[j];
+        for (int64_t i = 0; i < m_; ++i) rt_[i] = ctx_.r[i] + dr[i];
+        double equilibrium = 0.0;
+        err = selected_error(global_measures(p_, rt_.data(), vt_.data(), ut_.data(), &equilibrium), measure_);
+        return FRIX_OK;
+    }
     void move(double t) {
         for (int64_t j = 0; j < n_; ++j) ctx_.v[j] += t * dx_[j];
         for (int64_t i = 0; i < m_; ++i) ctx_.r[i] += t * dx_[n_ + i];
@@ -313,7 +324,7 @@ class VrSystem : public kit::SystemDefaults {
     linalg::SparseLU lu_;
     RhoCuts cuts_;
     double equilibrium_ = 0.0;
-    std::vector<double> A_, B_, phi_, res_, dx_, rhs_, Mdv_, Hdr_, Htdv_, rt_, ut_, phit_, rest_;
+    std::vector<double> A_, B_, phi_, res_, dx_, rhs_, Mdv_, Hdr_, Htdv_, rt_, ut_, phit_, rest_, vt_;
 };
 
 frix_error solve(SolveContext &ctx) {
@@ -330,7 +341,7 @@ frix_error solve(SolveContext &ctx) {
     kit::Steps steps{Monitor(ctx)};
     kit::Counters counters;
     kit::RunResult res;
-    if (frix_error e = kit::newton(system, steps, rules_of(s.line_search, s.ls_max_iter), counters, res)) return e;
+    if (frix_error e = kit::newton(system, steps, rules_of(s.line_search, s.ls_max_iter, 3 * p.nc <= p.n), counters, res)) return e;
     kit::record(ctx.info, res, steps, counters);
     Monitor::record_factorizations(ctx.info, system.lu().stats());
     if (s.verbosity >= 1)
@@ -361,7 +372,8 @@ const SolverEntry kGnsnAcEntry = {
     "Global problems only (local solvers reach global problems through "
     "the reduction W = H^T M^-1 H). Options: rho_strategy, rho, line_search (by default "
     "non-monotone Armijo, against the largest of the last 8 merits; Goldstein-Price is taken as "
-    "Armijo with m1 = 0.01), line_search_max_iter.",
+    "Armijo with m1 = 0.01; where 3 nc <= n, a deformable body, the first step is taken full "
+    "where it lowers the error), line_search_max_iter.",
     gnsn_ac::solve, false, true, gnsn_ac::kExtraKeys, gnsn_ac::kDefaults};
 
 }  // namespace frix

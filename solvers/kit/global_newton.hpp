@@ -26,13 +26,17 @@ constexpr double kUnderrateToCorrect = 2.0;
 
 // gnsn-ac's Newton rules (kit/newton_engine.hpp) from its settings: delta from 0, the
 // factorisation tried kit::kMaxFactorAttempts times whatever delta, Goldstein-Price taken as
-// Armijo with m1, the callback's stop at once.
-inline kit::Rules rules_of(int line_search, int max_trials) {
+// Armijo with m1, the callback's stop at once. Where W = H^T M^-1 H may be regular (3 nc <= n:
+// a deformable body), the first step is full where it lowers the error; where it is singular
+// (a rigid pile, whose r is not unique) a full first step can lead Newton along W's null space
+// to a stall (spheres-in-a-box), and the merit's search decides.
+inline kit::Rules rules_of(int line_search, int max_trials, bool w_may_be_regular) {
     kit::Rules rules;
     rules.search = kit::armijo_search_of(line_search, max_trials);
     rules.delta_start = 0.0;
     rules.delta_cap = INFINITY;
     rules.stop_at_once = true;
+    rules.full_first_step_by_error = w_may_be_regular && rules.search.kind != kit::Search::kNone;
     return rules;
 }
 

@@ -21,7 +21,8 @@
 //   frix_error solve(bool &finite);                 the direction d; finite: all of it is (on every rank)
 //   frix_error directional(double &slope);          what the trials need along d, and the merit's slope
 //   double merit_at(double t);                      the merit at x + t d
-//   frix_error full_step_error(double &err);        the error at x + d (kWatchable: the watchdog's test)
+//   frix_error full_step_error(double &err);        the error at x + d (kWatchable: the watchdog's and
+//                                                   Rules::full_first_step_by_error's test)
 //   void move(double t);                            x += t d
 //   void save(Point &) const; void load(const Point &);
 //   frix_error rejected(int64_t taken, bool &changed, double &psi);  after a rejected step (optional;
@@ -136,6 +137,11 @@ struct Rules {
     double delta_start = kDeltaStart;  // 0: no delta until J fails to factorise (gnsn-ac, PROX)
     double delta_cap = kDeltaMax;      // INFINITY: kMaxFactorAttempts whatever delta (gnsn-ac)
     int watchdog = 0;                  // steps of an excursion (0: none)
+    // Take the first step full where it lowers the error, before the merit's search (a
+    // kWatchable System). Newton on (v, r) from v = 0: the merit is then mostly the equilibrium
+    // rows', which only the full step zeroes, and a step cut short at Phi's kinks leaves the
+    // rest for later steps (gnsn-ac on deformable bodies: notes/2026-11-28-gnsn-ac-first-step.md).
+    bool full_first_step_by_error = false;
     // Take the full step where the search finds no sufficient decrease (Siconos's rule): PROX's
     // regularised inner problems tolerate full steps, which short ones stall on.
     bool full_step_on_failure = false;
@@ -320,9 +326,19 @@ class NewtonLoop {
         return FRIX_OK;
     }
 
-    // The line search along d, then the watchdog, PROX's full step and the best trial step
-    // where it accepts nothing.
+    // The first step full where it lowers the error (Rules::full_first_step_by_error), else the
+    // line search along d, then the watchdog, PROX's full step and the best trial step where it accepts nothing.
     frix_error search(double &t, bool &accepted) {
+        if constexpr (System::kWatchable) {
+            if (rules_.full_first_step_by_error && taken_ == 0) {
+                double full = 0.0;
+                if (frix_error e = sys_.full_step_error(full)) return e;
+                if (full < err_) {
+                    t = 1.0, accepted = true;
+                    return FRIX_OK;
+                }
+            }
+        }
         double slope = 0.0;
         if (frix_error e = sys_.directional(slope)) return e;
         const SearchResult s =
