@@ -213,6 +213,7 @@ class VrSystem : public kit::SystemDefaults {
         // M's pattern is a mesh's for a deformable body, where nested dissection leaves far less
         // fill than AMD (notes/2026-11-28-newton-kit.md).
         lu_.set_ordering(linalg::SparseLU::Ordering::kNestedDissection);
+        lu_.set_strategy_by_pivoting(true);
         lu_.set_budget(Monitor(ctx).budget());
     }
     frix_error evaluate(double &psi, double &err) {
@@ -364,7 +365,8 @@ const SolverEntry kGnsnAcEntry = {
     "Semismooth Newton (Alart-Curnier) on the global problem itself: unknowns (v, r), "
     "equations M v - H r - f = 0 and Phi(r, H^T v + w) = 0, Jacobian [[M, -H], [B H^T, A]] "
     "factorised by UMFPACK with a nested-dissection (METIS) ordering (one symbolic analysis "
-    "per solve). W = H^T M^-1 H is never formed; rho comes from the lumped blocks H_a^T "
+    "per solve; a second, for UMFPACK's unsymmetric strategy, where sticking contacts make the "
+    "symmetric one pivot off the diagonal at 1.5 times its flops). W = H^T M^-1 H is never formed; rho comes from the lumped blocks H_a^T "
     "diag(M)^-1 H_a, scaled where they underrate W's "
     "blocks (estimated on 8 contacts with M's factorisation), and is cut tenfold, up to four "
     "times, while no step is accepted. "

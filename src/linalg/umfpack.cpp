@@ -136,13 +136,16 @@ frix_error SparseLU::analyze(const CscView &A) {
                     umfpack_message(st));
     }
     ++stats_.symbolic;
+    symmetric_strategy_ = info[UMFPACK_STRATEGY_USED] == UMFPACK_STRATEGY_SYMMETRIC;
     A_ = A;
     flops_ = info[UMFPACK_FLOPS_ESTIMATE];
     flops_counted_ = false;
     if (flops_ > kCountedAbove) {
         if (lock.owns_lock()) lock.unlock();  // cholesky_cost takes it
         const auto t1 = Clock::now();
-        const double counted = symmetric_lu_flops(A);
+        // The count depends on A's pattern alone: a second analysis of it takes the first's.
+        const double counted = std::isfinite(pattern_count_) ? pattern_count_ : symmetric_lu_flops(A);
+        pattern_count_ = NAN;
         if (counted > 0.0 && counted < flops_) flops_ = counted, flops_counted_ = true;
         stats_.seconds += since(t1);
     }
@@ -158,6 +161,12 @@ frix_error SparseLU::factor(const CscView &A) {
     if (!symbolic_) return fail(FRIX_ERR_NUMERICAL, "sparse LU: factor() before analyze()");
     if (A.rows != A_.rows || A.nnz() != A_.nnz())
         return fail(FRIX_ERR_INTERNAL, "sparse LU: the pattern changed since the analysis");
+    if (reanalyse_) {
+        reanalyse_ = false;
+        control_[UMFPACK_STRATEGY] = UMFPACK_STRATEGY_UNSYMMETRIC;
+        pattern_count_ = flops_;
+        if (frix_error e = analyze(A)) return e;
+    }
     refused_ = budget_ ? budget_(FactorPrice{flops_, last_seconds_, std::max(0.0, bytes_ - held), !flops_counted_})
                        : FRIX_STATUS_NOT_RUN;
     if (refused_)
@@ -175,7 +184,12 @@ frix_error SparseLU::factor(const CscView &A) {
     flops_done_ = info[UMFPACK_FLOPS];
     if (info[UMFPACK_PEAK_MEMORY] > 0.0) bytes_ = info[UMFPACK_PEAK_MEMORY] * info[UMFPACK_SIZE_OF_UNIT];
     numeric_bytes_ = info[UMFPACK_NUMERIC_SIZE] > 0.0 ? info[UMFPACK_NUMERIC_SIZE] * info[UMFPACK_SIZE_OF_UNIT] : 0.0;
-    if (st == UMFPACK_OK && rcond_ > 0.0) return FRIX_OK;
+    if (st == UMFPACK_OK && rcond_ > 0.0) {
+        reanalyse_ = strategy_by_pivoting_ && symmetric_strategy_ && flops_counted_ &&
+                     control_[UMFPACK_STRATEGY] != UMFPACK_STRATEGY_UNSYMMETRIC &&
+                     flops_done_ > excess_ * flops_;
+        return FRIX_OK;
+    }
     free_numeric();
     if (st == UMFPACK_ERROR_out_of_memory)
         return fail(FRIX_ERR_OUT_OF_MEMORY, "sparse LU: out of memory in the factorisation");

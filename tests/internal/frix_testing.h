@@ -93,6 +93,12 @@ void frix_testing_rolling_alart_curnier(int size, const double *r, const double 
 int frix_testing_sparse_lu(int64_t n, const int64_t *colptr, const int64_t *rowind,
                            const double *values, const double *b, double *x, int64_t *symbolic,
                            int64_t *numeric);
+/* SparseLU with set_strategy_by_pivoting(1, excess) (nested dissection): analysed and
+ * factorised with `first`, then factorised twice with `later` (same pattern), then
+ * x = A^-1 b. *symbolic: the analyses; flops[3]: each factorisation's flops. */
+int frix_testing_lu_strategy(int64_t n, const int64_t *colptr, const int64_t *rowind, const double *first,
+                             const double *later, double excess, const double *b, double *x, int64_t *symbolic,
+                             double *flops);
 /* Cholesky of A (upper triangle read): x = A^-1 b and, if k > 0, C = B^T A^-1 B (k x k dense,
  * column-major) for the n x k CSC matrix B. */
 int frix_testing_sparse_cholesky(int64_t n, const int64_t *colptr, const int64_t *rowind,

@@ -152,6 +152,25 @@ FRIX_TESTING_HOOK int frix_testing_sparse_lu(int64_t n, const int64_t *colptr,
     return e;
 }
 
+// SparseLU with set_strategy_by_pivoting(true, excess): analysed and factorised with `first`,
+// then factorised twice with `later` (the same pattern), then x = A^-1 b with the last
+// factorisation. *symbolic: the analyses done; flops[0..2]: each factorisation's flops.
+FRIX_TESTING_HOOK int frix_testing_lu_strategy(int64_t n, const int64_t *colptr, const int64_t *rowind,
+                                               const double *first, const double *later, double excess,
+                                               const double *b, double *x, int64_t *symbolic, double *flops) {
+    frix::linalg::SparseLU lu;
+    lu.set_ordering(frix::linalg::SparseLU::Ordering::kNestedDissection);
+    lu.set_strategy_by_pivoting(true, excess);
+    const frix::linalg::CscView A1{n, n, colptr, rowind, first}, A2{n, n, colptr, rowind, later};
+    int e = lu.analyze(A1);
+    if (e == FRIX_OK) e = lu.factor(A1);
+    if (e == FRIX_OK) flops[0] = lu.flops_done(), e = lu.factor(A2);
+    if (e == FRIX_OK) flops[1] = lu.flops_done(), e = lu.factor(A2);
+    if (e == FRIX_OK) flops[2] = lu.flops_done(), e = lu.solve(b, x);
+    *symbolic = lu.stats().symbolic;
+    return e;
+}
+
 namespace {
 // The k x k CSC matrix (cp, ci, cx) as a dense column-major C.
 void to_dense(int64_t k, const std::vector<int64_t> &cp, const std::vector<int64_t> &ci,
