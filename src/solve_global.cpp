@@ -372,6 +372,7 @@ frix_error solve_global(const frix_problem &p, const frix_options &opts, const S
         native.factorization_time = 0.0;
         SolveContext ctx = SolveContext::global(p, opts, r, u, v, native, clock, &ms).with_cache(cache);
         ctx.runaway_bound = runaway_bound(free_velocity(p));
+        ctx.mass_shifted = !regularise;  // (only solve_floating's passes do not regularise)
         if (frix_error e = entry.solve(ctx)) return e;
         native.setup_time += info.setup_time;
         Monitor::add_factorizations(native, info);

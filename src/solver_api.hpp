@@ -86,6 +86,10 @@ struct SolveContext {
     const Measures *measured_start = nullptr;
     // Set by the driver: the bound past which r runs away (runaway_bound); 0: no check.
     double runaway_bound = 0.0;
+    // Set by the driver in its passes on a singular M's shifted M + eps diag(M) (floating.hpp):
+    // there the velocity M^-1 (H r + f) of a warm r carries 1/eps times the load r leaves
+    // unbalanced along the free motion.
+    bool mass_shifted = false;
     // Set by frix_solve for the caller's own solve: a solver that did not converge returns
     // the best iterate it measured rather than its last. Not for the stages of a solver that
     // runs others (auto), which go on from where a stage ended.

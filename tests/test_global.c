@@ -602,6 +602,30 @@ START_TEST(newton_takes_a_full_first_step_on_a_soft_body) {
 }
 END_TEST
 
+/* From a warm r on a deformable body 607 keeps the velocity that r gives (from v = 0 it took 7
+ * steps from ADMM's answer at 1e-3 on this grid; 1 now). */
+START_TEST(newton_keeps_a_warm_starts_velocity_on_a_soft_body) {
+    grid_case c = grid_case_make(20, 20, 4, 0.2, 1e4);
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_GLOBAL_ADMM, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-3), FRIX_OK);
+    ck_assert_msg(frix_solve(c.p, o, c.r, c.u, c.v, NULL) == FRIX_OK, "%s", frix_last_error_message());
+    frix_options_free(o);
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_GLOBAL_NSN_AC, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_msg(frix_solve(c.p, o, c.r, c.u, c.v, info) == FRIX_OK, "%s", frix_last_error_message());
+    ck_assert_msg(frix_info_status(info) == FRIX_STATUS_CONVERGED && frix_info_error(info) <= 1e-8 &&
+                      frix_info_iterations(info) <= 2,
+                  "%s after %lld steps, error %g", frix_status_string(frix_info_status(info)),
+                  (long long)frix_info_iterations(info), frix_info_error(info));
+    frix_info_free(info);
+    frix_options_free(o);
+    grid_case_free(&c);
+}
+END_TEST
+
 /* Where Newton on (v, r) fails, auto's reduction does not: on a very stiff grid (k = 1e13)
  * 607 stagnates with an equilibrium residual of 5e-8; auto forms the dense W, its reduced
  * solve's stages come first, and it converges. */
@@ -851,6 +875,7 @@ int main(void) {
     tcase_add_test(tc, newton_corrects_the_lumped_rho);
     tcase_add_test(tc, newton_cuts_a_rho_too_large);
     tcase_add_test(tc, newton_takes_a_full_first_step_on_a_soft_body);
+    tcase_add_test(tc, newton_keeps_a_warm_starts_velocity_on_a_soft_body);
     tcase_add_test(tc, auto_reduces_where_newton_fails);
     tcase_add_test(tc, auto_mixes_sweeps_on_a_regular_w);
     tcase_add_test(tc, auto_stopped_while_forming_w_returns_the_start);

@@ -336,13 +336,19 @@ frix_error solve(SolveContext &ctx) {
     if (frix_error e = to_csc(*p.H, H)) return e;
     // v starts from 0, not from the v0 = M^-1 f the driver leaves in it: the first step's
     // linear block gets to M v = H r + f anyway, and from v0 a rigid problem can stall
-    // (notes/2026-11-28-newton-kit.md).
-    std::fill(ctx.v, ctx.v + p.n, 0.0);
+    // (notes/2026-11-28-newton-kit.md). From a warm r on a deformable body the driver's
+    // v = M^-1 (H r + f) is kept (one or two steps from a good start, where v = 0 took 5-23),
+    // not on a rigid pile (it stalls there too) nor on a shifted singular M (its free motion
+    // amplified: notes/2026-11-28-gnsn-ac-first-step.md).
+    const bool w_may_be_regular = 3 * p.nc <= p.n;
+    if (!w_may_be_regular || ctx.mass_shifted ||
+        std::all_of(ctx.r, ctx.r + 3 * p.nc, [](double x) { return x == 0.0; }))
+        std::fill(ctx.v, ctx.v + p.n, 0.0);
     VrSystem system(ctx, M, H, lumped_rho(ctx, M, H, s), s.measure);
     kit::Steps steps{Monitor(ctx)};
     kit::Counters counters;
     kit::RunResult res;
-    if (frix_error e = kit::newton(system, steps, rules_of(s.line_search, s.ls_max_iter, 3 * p.nc <= p.n), counters, res)) return e;
+    if (frix_error e = kit::newton(system, steps, rules_of(s.line_search, s.ls_max_iter, w_may_be_regular), counters, res)) return e;
     kit::record(ctx.info, res, steps, counters);
     Monitor::record_factorizations(ctx.info, system.lu().stats());
     if (s.verbosity >= 1)
@@ -375,7 +381,8 @@ const SolverEntry kGnsnAcEntry = {
     "the reduction W = H^T M^-1 H). Options: rho_strategy, rho, line_search (by default "
     "non-monotone Armijo, against the largest of the last 8 merits; Goldstein-Price is taken as "
     "Armijo with m1 = 0.01; where 3 nc <= n, a deformable body, the first step is taken full "
-    "where it lowers the error), line_search_max_iter.",
+    "where it lowers the error), line_search_max_iter. v starts from 0, or on a deformable body "
+    "warm-started with r from M^-1 (H r + f).",
     gnsn_ac::solve, false, true, gnsn_ac::kExtraKeys, gnsn_ac::kDefaults};
 
 }  // namespace frix
