@@ -314,7 +314,8 @@ frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, const s
     kit::Steps steps{Monitor(ctx)};
     kit::Counters counters;
     kit::RunResult res;
-    if (frix_error e = kit::newton(system, steps, rules_of(s.line_search, s.ls_max_iter, 3 * p.total <= p.global->dofs), counters, res)) return e;
+    const kit::Rules rules = rules_of(s.line_search, s.ls_max_iter, 3 * p.total <= p.global->dofs);
+    if (frix_error e = kit::newton(system, steps, rules, counters, res)) return e;
     Measures meas = system.hand_over(r_io, u_out);
     kit::record(info, res, steps, counters);
     const bool broken = !finite_measures(meas) || !vec::all_finite(r_io, 3 * p.owned) ||

@@ -208,7 +208,7 @@ class VrSystem : public kit::SystemDefaults {
     VrSystem(SolveContext &ctx, const Csc &M, const Csc &H, LumpedRho rho, int64_t measure)
         : ctx_(ctx), p_(ctx.problem), n_(p_.n), nc_(p_.nc), m_(3 * p_.nc), rho_(std::move(rho)), measure_(measure),
           A_(9 * nc_), B_(9 * nc_), phi_(m_), res_(n_), dx_(n_ + m_), rhs_(n_ + m_), Mdv_(n_), Hdr_(n_), Htdv_(m_),
-          rt_(m_), ut_(m_), phit_(m_), rest_(n_) {
+          rt_(m_), ut_(m_), phit_(m_), rest_(n_), vt_(n_) {
         jac_.build(M, H, nc_);
         // M's pattern is a mesh's for a deformable body, where nested dissection leaves far less
         // fill than AMD (notes/2026-11-28-newton-kit.md).
@@ -267,7 +267,6 @@ class VrSystem : public kit::SystemDefaults {
     // The error at (v, r) + (dv, dr) (the trial point's arrays hold it).
     frix_error full_step_error(double &err) {
         const double *dr = dx_.data() + n_;
-        vt_.resize(n_);
         for (int64_t j = 0; j < n_; ++j) vt_[j] = ctx_.v[j] + dx_[j];
         for (int64_t i = 0; i < m_; ++i) rt_[i] = ctx_.r[i] + dr[i];
         double equilibrium = 0.0;
@@ -348,7 +347,8 @@ frix_error solve(SolveContext &ctx) {
     kit::Steps steps{Monitor(ctx)};
     kit::Counters counters;
     kit::RunResult res;
-    if (frix_error e = kit::newton(system, steps, rules_of(s.line_search, s.ls_max_iter, w_may_be_regular), counters, res)) return e;
+    const kit::Rules rules = rules_of(s.line_search, s.ls_max_iter, w_may_be_regular);
+    if (frix_error e = kit::newton(system, steps, rules, counters, res)) return e;
     kit::record(ctx.info, res, steps, counters);
     Monitor::record_factorizations(ctx.info, system.lu().stats());
     if (s.verbosity >= 1)
@@ -372,8 +372,8 @@ const SolverEntry kGnsnAcEntry = {
     "equations M v - H r - f = 0 and Phi(r, H^T v + w) = 0, Jacobian [[M, -H], [B H^T, A]] "
     "factorised by UMFPACK with a nested-dissection (METIS) ordering (one symbolic analysis "
     "per solve; a second, for UMFPACK's unsymmetric strategy, where sticking contacts make the "
-    "symmetric one pivot off the diagonal at 1.5 times its flops). W = H^T M^-1 H is never formed; rho comes from the lumped blocks H_a^T "
-    "diag(M)^-1 H_a, scaled where they underrate W's "
+    "symmetric one pivot off the diagonal at 1.5 times its flops). W = H^T M^-1 H is never "
+    "formed; rho comes from the lumped blocks H_a^T diag(M)^-1 H_a, scaled where they underrate W's "
     "blocks (estimated on 8 contacts with M's factorisation), and is cut tenfold, up to four "
     "times, while no step is accepted. "
     "Converged means both the error and the equilibrium residual are below the tolerance. "

@@ -120,6 +120,9 @@ class SparseLU {
     frix_status refused() const { return refused_; }
 
    private:
+    // analyze(), taking known_count (where finite) for the symmetric count of A's pattern: it
+    // depends on the pattern alone, and the strategy's second analysis of it knows it already.
+    frix_error analyze_counted(const CscView &A, double known_count);
     void free_numeric();
     void free_symbolic();
     CscView A_;
@@ -140,7 +143,6 @@ class SparseLU {
     std::vector<double> control_;
     bool strategy_by_pivoting_ = false, symmetric_strategy_ = false, reanalyse_ = false;
     double excess_ = kOffDiagonalExcess;
-    double pattern_count_ = NAN;  // the symmetric count of the pattern analysed again (reanalyse_)
 };
 
 // Columns of B per block of the work that forming B^T A^-1 B by LU does between two

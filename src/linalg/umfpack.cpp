@@ -113,7 +113,9 @@ void SparseLU::free_symbolic() {
     symbolic_ = nullptr;
 }
 
-frix_error SparseLU::analyze(const CscView &A) {
+frix_error SparseLU::analyze(const CscView &A) { return analyze_counted(A, NAN); }
+
+frix_error SparseLU::analyze_counted(const CscView &A, double known_count) {
     free_numeric();
     free_symbolic();
     if (A.rows != A.cols || A.rows <= 0)
@@ -143,9 +145,7 @@ frix_error SparseLU::analyze(const CscView &A) {
     if (flops_ > kCountedAbove) {
         if (lock.owns_lock()) lock.unlock();  // cholesky_cost takes it
         const auto t1 = Clock::now();
-        // The count depends on A's pattern alone: a second analysis of it takes the first's.
-        const double counted = std::isfinite(pattern_count_) ? pattern_count_ : symmetric_lu_flops(A);
-        pattern_count_ = NAN;
+        const double counted = std::isfinite(known_count) ? known_count : symmetric_lu_flops(A);
         if (counted > 0.0 && counted < flops_) flops_ = counted, flops_counted_ = true;
         stats_.seconds += since(t1);
     }
@@ -164,8 +164,7 @@ frix_error SparseLU::factor(const CscView &A) {
     if (reanalyse_) {
         reanalyse_ = false;
         control_[UMFPACK_STRATEGY] = UMFPACK_STRATEGY_UNSYMMETRIC;
-        pattern_count_ = flops_;
-        if (frix_error e = analyze(A)) return e;
+        if (frix_error e = analyze_counted(A, flops_)) return e;
     }
     refused_ = budget_ ? budget_(FactorPrice{flops_, last_seconds_, std::max(0.0, bytes_ - held), !flops_counted_})
                        : FRIX_STATUS_NOT_RUN;
@@ -185,9 +184,7 @@ frix_error SparseLU::factor(const CscView &A) {
     if (info[UMFPACK_PEAK_MEMORY] > 0.0) bytes_ = info[UMFPACK_PEAK_MEMORY] * info[UMFPACK_SIZE_OF_UNIT];
     numeric_bytes_ = info[UMFPACK_NUMERIC_SIZE] > 0.0 ? info[UMFPACK_NUMERIC_SIZE] * info[UMFPACK_SIZE_OF_UNIT] : 0.0;
     if (st == UMFPACK_OK && rcond_ > 0.0) {
-        reanalyse_ = strategy_by_pivoting_ && symmetric_strategy_ && flops_counted_ &&
-                     control_[UMFPACK_STRATEGY] != UMFPACK_STRATEGY_UNSYMMETRIC &&
-                     flops_done_ > excess_ * flops_;
+        reanalyse_ = strategy_by_pivoting_ && symmetric_strategy_ && flops_counted_ && flops_done_ > excess_ * flops_;
         return FRIX_OK;
     }
     free_numeric();
