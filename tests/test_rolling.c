@@ -193,6 +193,48 @@ START_TEST(test_one_sphere_on_ground) {
 }
 END_TEST
 
+/* The same sphere with q (so r and u) scaled by 1e-150 and 1e150, where the squares of the
+ * one-contact solver's norms leave the range of doubles: the same r, scaled. */
+START_TEST(test_one_sphere_at_extreme_scales) {
+    rolling_pile pile;
+    ck_assert_int_eq(rolling_pile_make(1, 1, 0.3, 0.05, 3, &pile), 0);
+    double W[25], e[5];
+    for (int j = 0; j < 5; ++j) {
+        for (int i = 0; i < 5; ++i) e[i] = i == j ? 1.0 : 0.0;
+        ck_assert_int_eq(frix_matrix_gemv(pile.W, 1.0, e, 0.0, W + 5 * j), FRIX_OK);
+    }
+    frix_matrix *Wm = dense(5, 5, W);
+    const double scales[3] = {1.0, 1e-150, 1e150};
+    double reference[5] = {0};
+    for (int k = 0; k < 3; ++k) {
+        double q[5], r[5] = {0}, u[5];
+        for (int i = 0; i < 5; ++i) q[i] = scales[k] * pile.q[i];
+        frix_problem *p = NULL;
+        ck_assert_int_eq(frix_problem_rolling_local(Wm, q, pile.mu, pile.mu_r, 1, &p), FRIX_OK);
+        frix_options *o = NULL;
+        ck_assert_int_eq(frix_options_create(FRIX_SOLVER_ROLLING_NSGS, &o), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-12), FRIX_OK);
+        frix_info *info = NULL;
+        ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+        ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
+        ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+        double size = 0.0;
+        for (int i = 0; i < 5; ++i) {
+            if (k == 0) reference[i] = r[i];
+            size = fmax(size, fabs(reference[i]));
+        }
+        ck_assert_double_gt(reference[0], 0.0);
+        ck_assert_double_gt(fabs(reference[3]) + fabs(reference[4]), 0.0); /* a rolling moment */
+        for (int i = 0; i < 5; ++i) ck_assert_double_eq_tol(r[i] / scales[k], reference[i], 1e-9 * size);
+        frix_info_free(info);
+        frix_options_free(o);
+        frix_problem_free(p);
+    }
+    frix_matrix_free(Wm);
+    rolling_pile_free(&pile);
+}
+END_TEST
+
 /* Solves `p` with `solver` to 1e-8 and checks the status against frix_problem_measure. */
 static void solve_to(frix_problem *p, int solver, int64_t nc, int64_t n, int64_t *iterations) {
     const int64_t m = 5 * nc;
@@ -425,6 +467,7 @@ int main(void) {
     tcase_add_test(tc, test_refused);
     tcase_add_test(tc, test_measure_by_hand);
     tcase_add_test(tc, test_one_sphere_on_ground);
+    tcase_add_test(tc, test_one_sphere_at_extreme_scales);
     tcase_add_test(tc, test_nsgs_on_piles);
     tcase_add_test(tc, test_global_velocity);
     tcase_add_loop_test(tc, test_global_start_that_solves, 0, 4);

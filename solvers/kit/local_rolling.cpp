@@ -6,7 +6,6 @@
 #include "solvers/kit/local_rolling.hpp"
 
 #include <algorithm>
-#include <cfloat>
 #include <cmath>
 
 #include "src/linalg/linalg.hpp"
@@ -39,9 +38,16 @@ bool all_finite(const double *x) {
     return true;
 }
 
+// |(a, b)|: the plain square root where the squares stay in range (std::hypot, which guards
+// against their overflow and underflow, costs several times as much on this hot path).
+double pair_norm(double a, double b) {
+    const double s = a * a + b * b;
+    return s > 1e-290 && s < 1e290 ? std::sqrt(s) : std::hypot(a, b);
+}
+
 // The unit vector of (x[0], x[1]) into e, 0 where it vanishes.
 void unit2(const double *x, double *e) {
-    const double n = std::hypot(x[0], x[1]);
+    const double n = pair_norm(x[0], x[1]);
     e[0] = n > 0.0 ? x[0] / n : 0.0;
     e[1] = n > 0.0 ? x[1] / n : 0.0;
 }
@@ -61,7 +67,7 @@ void projection_jacobian_n(const double *x, int which, const rolling::Cones &k, 
     const double mu = k.mu, mu_r = k.mu_r;
     const int cut = which - 1;
     const bool on_t = (cut & 1) != 0, on_r = (cut & 2) != 0, on_s = N == 6 && (cut & 4) != 0;
-    const double nt = std::hypot(x[1], x[2]), nm = std::hypot(x[3], x[4]);
+    const double nt = pair_norm(x[1], x[2]), nm = pair_norm(x[3], x[4]);
     double et[2], em[2];
     unit2(x + 1, et);
     unit2(x + 3, em);
@@ -99,10 +105,11 @@ void projection_jacobian_n(const double *x, int which, const rolling::Cones &k, 
     }
 }
 
-// F = r - P_K(r - rho u^), its projection's argument x and case.
+// F = r - P_K(r - rho u^), its projection's argument x and case, and u = W r + q.
 template <int N>
-void natural_map(const Contact &c, const double *q, const double *r, double rho, double *F, double *x, int &which) {
-    double u[N], uh[N], p[N];
+void natural_map(const Contact &c, const double *q, const double *r, double rho, double *F, double *x, int &which,
+                 double *u) {
+    double uh[N], p[N];
     velocity<N>(c.W, q, r, u);
     rolling::shifted_velocity(u, c.cones(), uh);
     for (int i = 0; i < N; ++i) x[i] = p[i] = r[i] - rho * uh[i];
@@ -110,12 +117,10 @@ void natural_map(const Contact &c, const double *q, const double *r, double rho,
     for (int i = 0; i < N; ++i) F[i] = r[i] - p[i];
 }
 
-// J = I - D (I - rho A), A = du^/dr = W plus the shifts' gradients in the normal row.
+// J = I - D (I - rho A), A = du^/dr = W plus the shifts' gradients in the normal row; u = W r + q.
 template <int N>
-void newton_matrix(const Contact &c, const double *q, const double *r, double rho, const double *x, int which,
-                   double *J) {
-    double u[N], et[2], em[2], D[N * N], B[N * N];
-    velocity<N>(c.W, q, r, u);
+void newton_matrix(const Contact &c, const double *u, double rho, const double *x, int which, double *J) {
+    double et[2], em[2], D[N * N], B[N * N];
     unit2(u + 1, et);
     unit2(u + 3, em);
     const double es = N == 6 ? sign_of(u[N - 1]) : 0.0;
@@ -141,7 +146,7 @@ void disk_part(int n, int k, const double *r, const double *u, double c, double 
                double *B) {
     const double R = c * std::max(xn, 0.0);
     const double t1 = r[k] - rho * u[k], t2 = r[k + 1] - rho * u[k + 1];
-    const double nt = std::hypot(t1, t2);
+    const double nt = pair_norm(t1, t2);
     if (nt <= R) {  // sticking (or rolling without slip): x = P_D(x - rho y) means y = 0
         F[k] = rho * u[k], F[k + 1] = rho * u[k + 1];
         if (B) B[k + n * k] = B[k + 1 + n * (k + 1)] = rho;
@@ -204,13 +209,19 @@ void alart_curnier(const double *r, const double *u, const rolling::Cones &k, do
 
 namespace {
 
+// The relative residual at r, whose velocity W r + q is u.
+template <int N>
+double residual_at(const double *q, const double *r, const double *u, const rolling::Cones &k) {
+    const double res = rolling::residual(r, u, k);
+    const double scale = std::max({norm_of<N>(q), norm_of<N>(r), norm_of<N>(u)});
+    return scale > 0.0 ? res / scale : res;
+}
+
 template <int N>
 double residual_n(const Contact &c, const double *q, const double *r) {
     double u[N];
     velocity<N>(c.W, q, r, u);
-    const double res = rolling::residual(r, u, c.cones());
-    const double scale = std::max({norm_of<N>(q), norm_of<N>(r), norm_of<N>(u)});
-    return scale > DBL_EPSILON ? res / scale : res;
+    return residual_at<N>(q, r, u, c.cones());
 }
 
 // Keeps the best r seen (by the relative residual).
@@ -219,7 +230,13 @@ struct Best {
     double r[N] = {};
     double error = INFINITY;
     void offer(const Contact &c, const double *q, const double *x) {
-        const double e = residual_n<N>(c, q, x);
+        double u[N];
+        velocity<N>(c.W, q, x, u);
+        offer_at(q, x, u, c.cones());
+    }
+    // x, whose velocity W x + q is u.
+    void offer_at(const double *q, const double *x, const double *u, const rolling::Cones &k) {
+        const double e = residual_at<N>(q, x, u, k);
         if (e < error) {
             error = e;
             std::copy(x, x + N, r);
@@ -235,29 +252,23 @@ constexpr int kStepSearches = 100;
 
 template <int N>
 bool newton(Contact &c, const double *q, double *r, const Params &p, Best<N> &best) {
-    double F[N], x[N], J[N * N], inv[N * N], d[N], Ft[N], xt[N], rt[N];
+    double F[N], x[N], u[N], J[N * N], d[N], Ft[N], xt[N], rt[N], ut[N];
     int which = 0;
     const double rho = c.rho0;
-    natural_map<N>(c, q, r, rho, F, x, which);
+    natural_map<N>(c, q, r, rho, F, x, which, u);
     double norm_f = norm_of<N>(F);
     for (int it = 0; it < p.max_iter; ++it) {
         if (best.error <= p.tol) return true;
-        newton_matrix<N>(c, q, r, rho, x, which, J);
+        newton_matrix<N>(c, u, rho, x, which, J);
         double scale = 0.0;
         for (double v : J) scale = std::max(scale, std::fabs(v));
-        std::fill(inv, inv + N * N, 0.0);
-        for (int i = 0; i < N; ++i) inv[i + N * i] = 1.0;
-        if (!linalg::invert_small(N, J, inv, scale)) return false;
-        for (int i = 0; i < N; ++i) {
-            double s = 0.0;
-            for (int j = 0; j < N; ++j) s -= inv[i + N * j] * F[j];
-            d[i] = s;
-        }
+        for (int i = 0; i < N; ++i) d[i] = -F[i];
+        if (!linalg::solve_small<N>(J, d, scale)) return false;
         double t = 1.0, norm_t = INFINITY;
         int which_t = 0;
         for (; t >= kSmallestStep; t *= 0.5) {
             for (int i = 0; i < N; ++i) rt[i] = r[i] + t * d[i];
-            natural_map<N>(c, q, rt, rho, Ft, xt, which_t);
+            natural_map<N>(c, q, rt, rho, Ft, xt, which_t, ut);
             norm_t = norm_of<N>(Ft);
             if (norm_t <= (1.0 - 1e-4 * t) * norm_f) break;
         }
@@ -265,9 +276,10 @@ bool newton(Contact &c, const double *q, double *r, const Params &p, Best<N> &be
         std::copy(rt, rt + N, r);
         std::copy(Ft, Ft + N, F);
         std::copy(xt, xt + N, x);
+        std::copy(ut, ut + N, u);
         which = which_t;
         norm_f = norm_t;
-        best.offer(c, q, r);
+        best.offer_at(q, r, u, c.cones());
     }
     return best.error <= p.tol;
 }
@@ -306,7 +318,7 @@ bool projected(Contact &c, const double *q, double *r, const Params &p, Best<N> 
 // r = -W^-1 q inside K (the stick case)?
 template <int N>
 bool inside(const Contact &c, const double *s) {
-    if (!(s[0] >= 0.0 && std::hypot(s[1], s[2]) <= c.mu * s[0] && std::hypot(s[3], s[4]) <= c.mu_r * s[0]))
+    if (!(s[0] >= 0.0 && pair_norm(s[1], s[2]) <= c.mu * s[0] && pair_norm(s[3], s[4]) <= c.mu_r * s[0]))
         return false;
     return N == 5 || std::fabs(s[N - 1]) <= c.mu_s * s[0];
 }

@@ -63,8 +63,9 @@ struct Params {
 // start) and the new one on return (unchanged when the outcome is NoSolution).
 Outcome solve_contact(Contact &c, const double *q, double *r, const Params &p);
 
-// |r - P_K(r - u^)| / max(|q|, |r|, |u|) (the bare residual where that max is below DBL_EPSILON),
-// u = W r + q, with q and r in the contact's units: the local tolerance's measure.
+// |r - P_K(r - u^)| / max(|q|, |r|, |u|) (the bare residual where that max is 0), u = W r + q,
+// with q and r in the contact's units: the local tolerance's measure. Relative at every scale:
+// a problem in units where q is 1e-20 is solved as the same problem in units where it is 1.
 double relative_residual(const Contact &c, const double *q, const double *r);
 
 // D = dP_K(x) (k.size x k.size), a generalized Jacobian of the projection at x, for the case
