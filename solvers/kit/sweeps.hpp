@@ -445,7 +445,7 @@ constexpr int64_t kMomentumPatience = 2000;
 // displacement often alternates from one sweep to the next), and when asked (r jumped). It is
 // off for the rest of a run once the full checks' best error has not halved within
 // kMomentumPatience sweeps: where its extrapolation holds the error on a plateau, the plain
-// sweep goes on.
+// sweep (and its freezing) goes on. rolling-nsgs, which has no freezing, never judges it.
 class MomentumSchedule {
    public:
     explicit MomentumSchedule(bool on) : on_(on) {}
