@@ -532,6 +532,37 @@ START_TEST(auto_prices_the_reduction_of_a_deformable_body) {
 }
 END_TEST
 
+/* On a stiff thin body (30 x 30 x 2 nodes, springs of 1e8) auto takes the route without W, where
+ * ADMM's linear rate would take more than a thousand iterations to 1e-8: it stops ADMM at 200
+ * and gnsn-ac finishes from its answer (gnsn-al is not needed). */
+START_TEST(auto_finishes_a_stiff_body_with_newton_after_admm) {
+    grid_case c = grid_case_make(30, 30, 2, 0.5, 1e8);
+    frix_options *o = NULL;
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_msg(frix_solve(c.p, o, c.r, c.u, c.v, info) == FRIX_OK, "%s", frix_last_error_message());
+    const char *trace = frix_info_trace(info);
+    double equilibrium = NAN;
+    ck_assert_int_eq(frix_info_get_double(info, FRIX_INFO_EQUILIBRIUM, &equilibrium), FRIX_OK);
+    ck_assert_msg(frix_info_status(info) == FRIX_STATUS_CONVERGED && frix_info_error(info) <= 1e-8 &&
+                      equilibrium <= 1e-8,
+                  "auto: %s, error %g, equilibrium %g\n%s", frix_status_string(frix_info_status(info)),
+                  frix_info_error(info), equilibrium, trace);
+    const int64_t admm = find_stage(info, FRIX_SOLVER_GLOBAL_ADMM, 0);
+    ck_assert_msg(admm >= 0 && stage_int(info, admm, FRIX_STAGE_ITERATIONS) == 200, "trace:\n%s", trace);
+    const int64_t newton = find_other_run(info, FRIX_SOLVER_GLOBAL_ADMM, admm);
+    ck_assert_msg(newton >= 0 && stage_int(info, newton, FRIX_STAGE_SOLVER_ID) == FRIX_SOLVER_GLOBAL_NSN_AC &&
+                      stage_int(info, newton, FRIX_STAGE_ITERATIONS) <= 5,
+                  "trace:\n%s", trace);
+    ck_assert_msg(find_stage(info, FRIX_SOLVER_GLOBAL_AL_NEWTON, 0) < 0, "trace:\n%s", trace);
+    frix_info_free(info);
+    frix_options_free(o);
+    grid_case_free(&c);
+}
+END_TEST
+
 /* The grid generator refuses what it cannot build, and leaves nothing to leak. */
 START_TEST(elastic_grid_arguments) {
     frix_elastic_grid g;
@@ -858,6 +889,7 @@ int main(void) {
     tcase_add_test(tc, singular_mass_matrix_held_or_refused);
     tcase_add_test(tc, no_contacts);
     tcase_add_test(tc, auto_prices_the_reduction_of_a_deformable_body);
+    tcase_add_test(tc, auto_finishes_a_stiff_body_with_newton_after_admm);
     tcase_add_test(tc, solvers_without_w);
     tcase_add_test(tc, persistent_without_w_factorises_once);
     tcase_add_test(tc, elastic_grid_arguments);

@@ -264,13 +264,25 @@ frix_error GlobalRoutes::w_free_route(int64_t max_iter, std::unique_ptr<KeptMass
     SolveCache own;
     SolveCache *cache = reduction_ ? reduction_ : &own;
     if (system) offer_mass_plus_contacts(*cache, FRIX_SOLVER_GLOBAL_ADMM, std::move(system));
-    const int64_t admm_iter = std::clamp<int64_t>(max_iter / 2, 1, kWFreeAdmmIterations);
+    // Where W may be regular (3 nc <= n: a deformable body), gnsn-ac finishes from a short
+    // ADMM's answer in a few steps, where ADMM's linear rate on a stiff body takes thousands.
+    const bool newton_finishes = figures_.rank_ratio <= 1.0;
+    const int64_t admm_cap = newton_finishes ? kWFreeAdmmBeforeNewton : kWFreeAdmmIterations;
+    const int64_t admm_iter = std::clamp<int64_t>(max_iter / 2, 1, admm_cap);
     if (frix_error e = run(kGadmmEntry, admm_iter, nullptr, cache)) return e;
-    const int64_t left = max_iter - info_.iterations;
+    int64_t left = max_iter - info_.iterations;
     if (!may_go_on(info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK, left)) return FRIX_OK;
     const GlobalAnswer admm(ctx_, info_);
+    if (newton_finishes) {
+        if (frix_error e = run(kGnsnAcEntry, std::min(left, kWFreeNewtonSteps))) return e;
+        admm.restore_if_better(ctx_, info_);
+        info_.switches += 1;
+        left = max_iter - info_.iterations;
+        if (!may_go_on(info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK, left)) return FRIX_OK;
+    }
+    const GlobalAnswer before(ctx_, info_);
     if (frix_error e = run(kGnsnAlEntry, std::min(left, kWFreeNewtonSteps))) return e;
-    admm.restore_if_better(ctx_, info_);
+    before.restore_if_better(ctx_, info_);
     info_.switches += 1;
     return FRIX_OK;
 }

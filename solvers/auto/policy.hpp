@@ -164,6 +164,10 @@ constexpr double kWFreeIterations = 50.0;
 // Its stages stop at these counts (ADMM iterations, augmented Lagrangian Newton steps), far
 // past what they take where they work: where they do not, the reduction still gets its turn.
 constexpr int64_t kWFreeAdmmIterations = 1000, kWFreeNewtonSteps = 50;
+// Where gnsn-ac finishes (a deformable body), ADMM stops at this count: the grids ADMM solves
+// take 30-110 iterations; on stiff ones it is at 1e-4-1e-5 here, and gnsn-ac ends in 1-3 steps
+// (notes/2026-11-29-rolling-sweeps-and-w-free-finish.md).
+constexpr int64_t kWFreeAdmmBeforeNewton = 200;
 // Rigid bodies with a large W: gnsgs is judged by its rate only after this many sweeps, since
 // forming W costs as much as many sweeps (notes/2026-11-26-scale.md). With momentum (option
 // acceleration) its error rises and falls while it converges: then only after
