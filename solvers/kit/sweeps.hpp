@@ -442,7 +442,8 @@ constexpr int64_t kMomentumPatience = 2000;
 // after the k-th sweep since the last restart, r = x_k moves to P_K(x_k + beta_k (x_k -
 // x_{k-1})), beta_k = (k - 1) / (k + 2) (O'Donoghue and Candes's adaptive restart). It
 // restarts (beta = 0) whenever a sweep moved r more than each of the two before (a sweep's
-// displacement often alternates from one sweep to the next), and when asked (r jumped). It is
+// displacement often alternates from one sweep to the next), or, after set_growth(g), more than
+// sqrt(g) times them, and when asked (r jumped). It is
 // off for the rest of a run once the full checks' best error has not halved within
 // kMomentumPatience sweeps: where its extrapolation holds the error on a plateau, the plain
 // sweep (and its freezing) goes on. rolling-nsgs, which has no freezing, never judges it.
@@ -450,9 +451,11 @@ class MomentumSchedule {
    public:
     explicit MomentumSchedule(bool on) : on_(on) {}
     bool on() const { return on_; }
+    // From now on a sweep restarts momentum where |dr|^2 exceeds g times the last two sweeps'.
+    void set_growth(double g) { growth_ = g; }
     // beta for the sweep that moved r by |dr|^2 = dr2 (restart: r jumped ahead of the sweep).
     double next(double dr2, bool restart) {
-        if (restart || !(dr2 <= std::max(last_dr2_[0], last_dr2_[1]))) k_ = 0;
+        if (restart || !(dr2 <= growth_ * std::max(last_dr2_[0], last_dr2_[1]))) k_ = 0;
         last_dr2_[1] = last_dr2_[0];
         last_dr2_[0] = dr2;
         ++k_;
@@ -471,6 +474,7 @@ class MomentumSchedule {
 
    private:
     bool on_;
+    double growth_ = 1.0;
     double last_dr2_[2] = {INFINITY, INFINITY};  // the last two sweeps' |dr|^2
     int64_t k_ = 0;
     double best_ = INFINITY;  // the best full error at a halving, and its sweep

@@ -27,14 +27,33 @@ namespace {
 // error asks for: a sweep that converges while its light error stays large still stops.
 constexpr int64_t kFullEvery = 16;
 
+// The product form (global problems): once the best full error has not halved within
+// kStallSweeps sweeps, a sweep restarts momentum only where |dr|^2 grows beyond kStalledGrowth
+// times the last two sweeps'. While r drifts on a plateau its steps lengthen as momentum builds
+// up, and the plain rule restarted at most sweeps. On the local form's sweeps (one order on W's
+// rows) the same rule took up to 7 times more sweeps, and from the first sweep it slows small
+// piles (notes/2026-11-29-rolling-sweeps-and-w-free-finish.md).
+constexpr int64_t kStallSweeps = 200;
+constexpr double kStalledGrowth = 1.25;
+
 // Momentum on the sweeps (option acceleration; kit/sweeps.hpp's MomentumSchedule, nsgs's
 // weights): after a sweep, r = x moves to P_K(x + beta (x - x_prev)). It stays on for the whole
 // run (the schedule is never judged): these sweeps have no freezing to hand a plateau back to,
 // and on the sphere piles measured the plain sweeps held the same plateaus longer.
 class Momentum {
    public:
-    Momentum(bool on, int64_t m, const double *r) : schedule_(on) {
+    Momentum(bool on, bool loosens, int64_t m, const double *r) : schedule_(on), loosens_(on && loosens) {
         if (on) last_.assign(r, r + m);
+    }
+    // A full check's error e after `sweep` sweeps.
+    void watch(int64_t sweep, double e) {
+        if (!loosens_) return;
+        if (e < 0.5 * best_) {
+            best_ = e;
+            since_ = sweep;
+        } else if (sweep - since_ >= kStallSweeps) {
+            schedule_.set_growth(kStalledGrowth);
+        }
     }
     void after_sweep(double dr2, double *r, const frix_problem &p, rolling::SweepForm &form) {
         if (!schedule_.on()) return;
@@ -52,7 +71,10 @@ class Momentum {
 
    private:
     nsgs::MomentumSchedule schedule_;
+    const bool loosens_;        // the product form's looser restarts after a stall
     std::vector<double> last_;  // x_{k-1}
+    double best_ = INFINITY;    // the best full error at a halving, and its sweep
+    int64_t since_ = 0;
 };
 
 // *at_r_out: whether the last form.exact() was at the r returned, into ctx.u (rolling::solve_on_form).
@@ -81,7 +103,8 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, bool *at_r_out) {
     double light_tol = tol;  // tightened when a light convergence is not confirmed
     frix_status status = FRIX_STATUS_NOT_RUN;
     int64_t it = 0;
-    Momentum momentum(o.i(FRIX_OPT_ACCELERATION) != 0, contact_size(p) * p.nc, ctx.r);
+    Momentum momentum(o.i(FRIX_OPT_ACCELERATION) != 0, p.kind == FRIX_PROBLEM_ROLLING_GLOBAL, contact_size(p) * p.nc,
+                      ctx.r);
     Measures last;       // the last full check's measures,
     bool at_r = false;   // taken at the r returned
     // The product form measures a warm start by one pass over the contacts (a local problem's
@@ -103,6 +126,7 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, bool *at_r_out) {
             at_r = true;
             const double error = selected_error(last, measure);
             ctx.info.error = error;
+            momentum.watch(it, error);
             if (o.i(FRIX_OPT_VERBOSITY) >= 2) log_line(&o, "rolling-nsgs: sweep %lld, error %.3e", (long long)it, error);
             // Siconos's rule: the light tolerance scaled by how far the full error missed.
             if (light <= light_tol && error > tol && error > 0.0) light_tol = std::max(light * tol / error, 1e-300);
@@ -159,9 +183,10 @@ const SolverEntry kRollingNsgsEntry = {
     "(Siconos LIGHT_WITH_FULL_FINAL), with a full check every 16 sweeps. Options: threads, "
     "local_tolerance, local_max_iter (Newton steps; the projected iterations take ten times "
     "as many), acceleration (1, the default: after each sweep r moves on along its last step, "
-    "Nesterov's momentum restarted whenever a sweep moves r more than each of the two before, "
-    "as nsgs's option but on for the whole run; on sphere piles it takes several times fewer "
-    "sweeps; 0 = plain sweeps).",
+    "Nesterov's momentum restarted whenever a sweep moves r more than each of the two before "
+    "(in the product form more than 1.12 times them once the error has not halved in 200 "
+    "sweeps), on for the whole run; on sphere piles it takes several times fewer sweeps; 0 = "
+    "plain sweeps).",
     rolling_nsgs::solve,
     false,  // no three-component problem: rolling ones only, in both forms
     false,
