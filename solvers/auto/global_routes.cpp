@@ -114,7 +114,7 @@ AnalysisSummary global_figures(const frix_problem &p, const ReductionSize &size)
 // sweeps contract at a steady rate that momentum only overshoots.
 frix_options route_options(const frix_options &user, const AnalysisSummary &figures) {
     frix_options o = user;
-    if (figures.rank_ratio <= 1.0) {
+    if (figures.w_may_be_regular()) {
         o.ivalue[FRIX_OPT_ANDERSON] = user.i(FRIX_OPT_ACCELERATION) != 0 ? kRegularWAndersonDepth : 0;
         o.ivalue[FRIX_OPT_ACCELERATION] = 0;
     }
@@ -266,7 +266,7 @@ frix_error GlobalRoutes::w_free_route(int64_t max_iter, std::unique_ptr<KeptMass
     if (system) offer_mass_plus_contacts(*cache, FRIX_SOLVER_GLOBAL_ADMM, std::move(system));
     // Where W may be regular (3 nc <= n: a deformable body), gnsn-ac finishes from a short
     // ADMM's answer in a few steps, where ADMM's linear rate on a stiff body takes thousands.
-    const bool newton_finishes = figures_.rank_ratio <= 1.0;
+    const bool newton_finishes = figures_.w_may_be_regular();
     const int64_t admm_cap = newton_finishes ? kWFreeAdmmBeforeNewton : kWFreeAdmmIterations;
     const int64_t admm_iter = std::clamp<int64_t>(max_iter / 2, 1, admm_cap);
     if (frix_error e = run(kGadmmEntry, admm_iter, nullptr, cache)) return e;

@@ -80,7 +80,7 @@ void direct_line(std::string &out, const TraceEvent &e) {
                e.status == FRIX_STATUS_MEMORY_LIMIT ? "memory" : "time");
     else
         append(out, "and forming it is priced %.3g times the route without it", e.value);
-    if (e.solver_id == FRIX_SOLVER_GLOBAL_ADMM && a.rank_ratio <= 1.0)  // (global_routes.cpp's w_free_route)
+    if (e.solver_id == FRIX_SOLVER_GLOBAL_ADMM && a.w_may_be_regular())  // (global_routes.cpp's w_free_route)
         append(out, ": %s on (v, r) without it, then %s and %s if needed\n", name_of(e.solver_id),
                name_of(FRIX_SOLVER_GLOBAL_NSN_AC), name_of(FRIX_SOLVER_GLOBAL_AL_NEWTON));
     else if (e.solver_id == FRIX_SOLVER_GLOBAL_ADMM)

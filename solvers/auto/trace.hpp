@@ -22,6 +22,9 @@ struct AnalysisSummary : TraceDetail {
     double diag_min = 0.0, diag_max = 0.0, mu_min = 0.0, mu_max = 0.0, rank_ratio = 0.0;
     // Global problems: the bound on the entries of W = H^T M^-1 H, and those of M and H.
     double reduced_entries = 0.0, input_entries = 0.0;
+    // 3 nc <= n (rank_ratio <= 1): W may be regular, a deformable body with few contacts for
+    // its dofs; the routes' choices between sweeps' accelerations and Newton finishers.
+    bool w_may_be_regular() const { return rank_ratio <= 1.0; }
 };
 
 // A record of `kind` (a run for kStage) that reads as format_event says.

@@ -340,8 +340,7 @@ frix_error solve(SolveContext &ctx) {
     // not on a rigid pile (it stalls there too) nor on a shifted singular M (its free motion
     // amplified: notes/2026-11-28-gnsn-ac-first-step.md).
     const bool w_may_be_regular = 3 * p.nc <= p.n;
-    if (!w_may_be_regular || ctx.mass_shifted ||
-        std::all_of(ctx.r, ctx.r + 3 * p.nc, [](double x) { return x == 0.0; }))
+    if (!w_may_be_regular || ctx.mass_shifted || vec::all_zero(ctx.r, 3 * p.nc))
         std::fill(ctx.v, ctx.v + p.n, 0.0);
     VrSystem system(ctx, M, H, lumped_rho(ctx, M, H, s), s.measure);
     kit::Steps steps{Monitor(ctx)};

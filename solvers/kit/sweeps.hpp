@@ -442,17 +442,20 @@ constexpr int64_t kMomentumPatience = 2000;
 // after the k-th sweep since the last restart, r = x_k moves to P_K(x_k + beta_k (x_k -
 // x_{k-1})), beta_k = (k - 1) / (k + 2) (O'Donoghue and Candes's adaptive restart). It
 // restarts (beta = 0) whenever a sweep moved r more than each of the two before (a sweep's
-// displacement often alternates from one sweep to the next), or, after set_growth(g), more than
-// sqrt(g) times them, and when asked (r jumped). It is
-// off for the rest of a run once the full checks' best error has not halved within
-// kMomentumPatience sweeps: where its extrapolation holds the error on a plateau, the plain
-// sweep (and its freezing) goes on. rolling-nsgs, which has no freezing, never judges it.
+// displacement often alternates from one sweep to the next), and when asked (r jumped). Once
+// the full checks' best error has not halved within a stall's patience, it is off for the rest
+// of a run (nsgs: where its extrapolation holds the error on a plateau, the plain sweep and its
+// freezing go on), or (a stall's growth g > 0) it restarts only where a sweep moved r more than
+// sqrt(g) times each of the two before (rolling-nsgs's product form, which has no freezing).
+struct MomentumStall {
+    int64_t patience = kMomentumPatience;
+    double growth = 0.0;  // 0: off at a stall
+};
+
 class MomentumSchedule {
    public:
-    explicit MomentumSchedule(bool on) : on_(on) {}
+    explicit MomentumSchedule(bool on, MomentumStall stall = {}) : on_(on), stall_(stall) {}
     bool on() const { return on_; }
-    // From now on a sweep restarts momentum where |dr|^2 exceeds g times the last two sweeps'.
-    void set_growth(double g) { growth_ = g; }
     // beta for the sweep that moved r by |dr|^2 = dr2 (restart: r jumped ahead of the sweep).
     double next(double dr2, bool restart) {
         if (restart || !(dr2 <= growth_ * std::max(last_dr2_[0], last_dr2_[1]))) k_ = 0;
@@ -467,14 +470,18 @@ class MomentumSchedule {
         if (e < 0.5 * best_) {
             best_ = e;
             since_ = sweep;
-        } else if (sweep - since_ >= kMomentumPatience) {
-            on_ = false;
+        } else if (sweep - since_ >= stall_.patience) {
+            if (stall_.growth > 0.0)
+                growth_ = stall_.growth;
+            else
+                on_ = false;
         }
     }
 
    private:
     bool on_;
-    double growth_ = 1.0;
+    const MomentumStall stall_;
+    double growth_ = 1.0;  // a sweep restarts momentum where |dr|^2 exceeds this times the last two
     double last_dr2_[2] = {INFINITY, INFINITY};  // the last two sweeps' |dr|^2
     int64_t k_ = 0;
     double best_ = INFINITY;  // the best full error at a halving, and its sweep

@@ -7,6 +7,7 @@
 // measure (and a full check every kFullEvery sweeps).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "solvers/entries.hpp"
@@ -38,23 +39,17 @@ constexpr double kStalledGrowth = 1.25;
 
 // Momentum on the sweeps (option acceleration; kit/sweeps.hpp's MomentumSchedule, nsgs's
 // weights): after a sweep, r = x moves to P_K(x + beta (x - x_prev)). It stays on for the whole
-// run (the schedule is never judged): these sweeps have no freezing to hand a plateau back to,
-// and on the sphere piles measured the plain sweeps held the same plateaus longer.
+// run: these sweeps have no freezing to hand a plateau back to, and on the sphere piles
+// measured the plain sweeps held the same plateaus longer. A stall loosens its restarts in the
+// product form only (a patience no local run reaches).
 class Momentum {
    public:
-    Momentum(bool on, bool loosens, int64_t m, const double *r) : schedule_(on), loosens_(on && loosens) {
+    Momentum(bool on, bool product_form, int64_t m, const double *r)
+        : schedule_(on, {product_form ? kStallSweeps : std::numeric_limits<int64_t>::max(), kStalledGrowth}) {
         if (on) last_.assign(r, r + m);
     }
     // A full check's error e after `sweep` sweeps.
-    void watch(int64_t sweep, double e) {
-        if (!loosens_) return;
-        if (e < 0.5 * best_) {
-            best_ = e;
-            since_ = sweep;
-        } else if (sweep - since_ >= kStallSweeps) {
-            schedule_.set_growth(kStalledGrowth);
-        }
-    }
+    void judge(int64_t sweep, double e) { schedule_.judge(sweep, e); }
     void after_sweep(double dr2, double *r, const frix_problem &p, rolling::SweepForm &form) {
         if (!schedule_.on()) return;
         const double beta = schedule_.next(dr2, false);
@@ -71,10 +66,7 @@ class Momentum {
 
    private:
     nsgs::MomentumSchedule schedule_;
-    const bool loosens_;        // the product form's looser restarts after a stall
     std::vector<double> last_;  // x_{k-1}
-    double best_ = INFINITY;    // the best full error at a halving, and its sweep
-    int64_t since_ = 0;
 };
 
 // *at_r_out: whether the last form.exact() was at the r returned, into ctx.u (rolling::solve_on_form).
@@ -126,7 +118,7 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, bool *at_r_out) {
             at_r = true;
             const double error = selected_error(last, measure);
             ctx.info.error = error;
-            momentum.watch(it, error);
+            momentum.judge(it, error);
             if (o.i(FRIX_OPT_VERBOSITY) >= 2) log_line(&o, "rolling-nsgs: sweep %lld, error %.3e", (long long)it, error);
             // Siconos's rule: the light tolerance scaled by how far the full error missed.
             if (light <= light_tol && error > tol && error > 0.0) light_tol = std::max(light * tol / error, 1e-300);
