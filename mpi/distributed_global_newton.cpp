@@ -100,7 +100,7 @@ class RanksVrSystem : public kit::SystemDefaults {
           Hdr_((size_t)n_), Htdv_((size_t)m_), scaled_res_((size_t)n_), scaled_hr_((size_t)n_) {
         for (int64_t j = 0; j < n_; ++j) scaled_res_[(size_t)j] = weights_.dof[(size_t)j] * g_.f[(size_t)j];
         norm_df_ = norm2_all(comm_, scaled_res_.data(), n_);
-        x_.v.assign((size_t)n_, 0.0);  // v from 0, as the serial gnsn-ac
+        x_.v.assign((size_t)n_, 0.0);  // v from 0 (run_global_newton: or from a warm r)
         x_.r.assign(r, r + m_);
         x_.u.resize((size_t)m_);
         x_.res.resize((size_t)n_);
@@ -187,6 +187,17 @@ class RanksVrSystem : public kit::SystemDefaults {
     }
     // This rank's reactions of the iterate (3 a contact), where they stay during the run.
     double *reactions() { return x_.r.data(); }
+    // v = M^-1 (H r + f) at the start's r (collective), as the serial gnsn-ac keeps it from a
+    // warm r on a deformable body; v stays 0 where M does not factorise.
+    frix_error start_from_warm_velocity() {
+        std::vector<double> b((size_t)n_), v((size_t)n_);
+        if (frix_error e = mpi::agree(comm_, sys_.mult_H(x_.r.data(), b.data()), "frix_mpi_solve")) return e;
+        for (int64_t j = 0; j < n_; ++j) b[(size_t)j] += g_.f[(size_t)j];
+        bool solved = false;
+        if (frix_error e = mpi::agree(comm_, sys_.solve_mass(b.data(), v.data(), solved), "frix_mpi_solve")) return e;
+        if (solved && or_all(comm_, vec::all_finite(v.data(), n_) ? 0u : 1u) == 0) x_.v = std::move(v);
+        return FRIX_OK;
+    }
     // The best iterate's measures, for the driver.
     frix_error restored_best() {
         merit(x_, false);
@@ -306,6 +317,11 @@ frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, const s
     if (frix_error e = lumped_rho(p, s, sys, o, rho)) return e;
     const RanksWeights weights = ranks_weights(p);
     RanksVrSystem system(p, sys, std::move(rho), s, o, weights, r_io);
+    // v starts from 0 but from a warm r on a deformable body (the serial gnsn-ac's rule; a
+    // distributed M is not shifted).
+    const bool w_may_be_regular = 3 * p.total <= p.global->dof_total;
+    if (w_may_be_regular && or_all(comm, vec::all_zero(r_io, 3 * p.owned) ? 0u : 1u) != 0)
+        if (frix_error e = system.start_from_warm_velocity()) return e;
     // Watched for a runaway past the serial bound (of free_velocity) on this rank's contacts.
     const frix_problem watched = watched_contacts(p, weights);
     const double bound = runaway_bound(weights.free);
@@ -314,7 +330,7 @@ frix_error run_global_newton(frix_mpi_problem &p, const frix_options &o, const s
     kit::Steps steps{Monitor(ctx)};
     kit::Counters counters;
     kit::RunResult res;
-    const kit::Rules rules = rules_of(s.line_search, s.ls_max_iter, 3 * p.total <= p.global->dofs);
+    const kit::Rules rules = rules_of(s.line_search, s.ls_max_iter, w_may_be_regular);
     if (frix_error e = kit::newton(system, steps, rules, counters, res)) return e;
     Measures meas = system.hand_over(r_io, u_out);
     kit::record(info, res, steps, counters);
