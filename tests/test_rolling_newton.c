@@ -192,6 +192,31 @@ START_TEST(test_memory_limit) {
 }
 END_TEST
 
+/* Where the Newton polish may not factorise (a memory limit of 1 byte), auto goes on with the
+ * sweeps, which factorise nothing, and converges (it stopped with "memory limit reached"). */
+START_TEST(test_auto_sweeps_on_when_newton_is_refused) {
+    chain c;
+    chain_make(400, 1e-5, &c);
+    const int64_t m = 5 * c.nc;
+    double *r = calloc((size_t)m, sizeof(double)), *u = calloc((size_t)m, sizeof(double));
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_MEMORY_LIMIT, 1.0), FRIX_OK);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_solve(c.p, o, r, u, NULL, info), FRIX_OK);
+    const char *trace = frix_info_trace(info);
+    ck_assert_msg(strstr(trace, "rolling-nsn: memory limit reached"), "%s", trace);
+    ck_assert_msg(frix_info_status(info) == FRIX_STATUS_CONVERGED && frix_info_error(info) <= 1e-8, "%s, %g\n%s",
+                  frix_status_string(frix_info_status(info)), frix_info_error(info), trace);
+    frix_info_free(info);
+    frix_options_free(o);
+    free(r), free(u);
+    chain_free(&c);
+}
+END_TEST
+
 /* The existence check decides a rolling problem only where r = 0 solves it, and otherwise
  * says that it cannot decide (undetermined), in both forms. */
 START_TEST(test_existence_verdicts) {
@@ -244,6 +269,7 @@ int main(void) {
     tcase_add_test(tc, test_auto_polishes);
     tcase_add_test(tc, test_status_follows_the_measure);
     tcase_add_test(tc, test_memory_limit);
+    tcase_add_test(tc, test_auto_sweeps_on_when_newton_is_refused);
     tcase_add_test(tc, test_existence_verdicts);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);

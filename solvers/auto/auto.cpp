@@ -79,8 +79,9 @@ frix_error rolling_stage(SolveContext &ctx, int id, double tol, int64_t max_iter
 // A rolling-friction problem (docs/rolling.md): rolling-nsgs to kRollingLoose (or to the
 // tolerance, if looser) on at most half the iterations; where the tolerance is tighter and
 // not met, a rolling-nsn polish of at most kRollingNewtonSteps Newton steps from the sweeps'
-// answer (it returns an iterate no worse than its start); where that fails too, the sweeps
-// again with the iterations left. The driver measures the answer and checks the status.
+// answer (it returns an iterate no worse than its start); where that fails too, or its
+// factorisation was refused for memory, the sweeps again with the iterations left: they
+// factorise nothing. The driver measures the answer and checks the status.
 frix_error solve_rolling(SolveContext &ctx) {
     const Monitor monitor(ctx);
     const double tol = monitor.tolerance();
@@ -89,16 +90,17 @@ frix_error solve_rolling(SolveContext &ctx) {
     const double loose = std::max(tol, kRollingLoose);
     const int64_t first = loose > tol ? std::max<int64_t>(budget / 2, 1) : budget;
     if (frix_error e = rolling_stage(ctx, FRIX_SOLVER_ROLLING_NSGS, loose, first, done)) return e;
-    const auto finished = [&] {
+    const auto finished = [&](bool memory_ends) {
         const frix_status s = ctx.info.status;
         return (s == FRIX_STATUS_CONVERGED && ctx.info.error <= tol) || s == FRIX_STATUS_TIME_LIMIT ||
-               s == FRIX_STATUS_MEMORY_LIMIT || s == FRIX_STATUS_STOPPED_BY_CALLBACK || done >= budget;
+               (memory_ends && s == FRIX_STATUS_MEMORY_LIMIT) || s == FRIX_STATUS_STOPPED_BY_CALLBACK ||
+               done >= budget;
     };
-    if (!finished()) {
+    if (!finished(true)) {
         const int64_t steps = std::min(kRollingNewtonSteps, budget - done);
         if (frix_error e = rolling_stage(ctx, FRIX_SOLVER_ROLLING_NSN, tol, steps, done)) return e;
     }
-    if (!finished())
+    if (!finished(false))
         if (frix_error e = rolling_stage(ctx, FRIX_SOLVER_ROLLING_NSGS, tol, budget - done, done)) return e;
     ctx.info.iterations = done;
     if (ctx.info.status == FRIX_STATUS_CONVERGED && !(ctx.info.error <= tol)) ctx.info.status = FRIX_STATUS_MAX_ITER;
