@@ -5,8 +5,9 @@
 # tolerances (1e-4 and 1e-6) over fclib-large and generated pyramids of spheres (960, 3312
 # and 15600 contacts) with the solvers that can be the best there, fclib-large alone at 1e-6
 # with those solvers and a longer cap (large-1e-6-long), and one of global problems
-# (the shared FCLIB global ones and generated elastic grids of 1200 to 99825 dofs, frix's
-# solvers for them and Siconos 4.4's global ones) at 1e-8; their tables spliced
+# (the shared FCLIB global ones, generated elastic grids of 1200 to 99825 dofs and blocks
+# assembled by GetFEM of 1452 to 60516 dofs, frix's solvers for them and Siconos 4.4's global
+# ones) at 1e-8; their tables spliced
 # between the markers of docs/reports/benchmarks.md, their plots and runs.csv copied to
 # docs/reports/benchmarks/<campaign>/; then auto against the best solver of each library, problem by
 # problem, over the two 1e-8 campaigns (tools/bench/auto_summary.py), with the performance
@@ -84,6 +85,24 @@ grids() {
     done
 }
 
+# Blocks assembled by a FEM code (examples/getfem/block_on_plane.py: GetFEM's stiffness, a
+# block pressed onto a tilted rigid plane and pushed sideways, its last load step): 1,452 to
+# 60,516 dofs, 121 to 1,681 contacts, written once into the work directory where Debian's
+# python3-getfem is installed.
+getfem_blocks() {
+    mkdir -p "$work/getfem"
+    if ! /usr/bin/python3 -c 'import getfem' 2>/dev/null; then
+        echo "bench_docs.sh: warning: python3-getfem missing: the global campaign lacks the GetFEM blocks" >&2
+        return
+    fi
+    for size in "10 10 4" "20 20 6" "30 30 8" "40 40 12"; do
+        set -- $size
+        [ -f "$work/getfem/getfem-block-$1x$2x$3.hdf5" ] ||
+            PYTHONPATH="$build/python" /usr/bin/python3 examples/getfem/block_on_plane.py --mesh "$1" "$2" "$3" \
+                --fclib "$work/getfem/getfem-block-$1x$2x$3.hdf5" >/dev/null
+    done
+}
+
 # Every frix solver and every Siconos solver, but at simulation tolerances on fclib-large and
 # the pyramids: the ones that were the fastest on some problem of these families (Siconos's
 # NSN_AC reached neither 1e-4 nor 1e-6 on any of them in 20 s).
@@ -103,7 +122,8 @@ for campaign in $campaigns; do
             solvers=$simulation_solvers ;;
         global)
             grids
-            dirs=("$shared/fclib/global" "$work/grids"); tol=1e-8; tl=$global_limit
+            getfem_blocks
+            dirs=("$shared/fclib/global" "$work/grids" "$work/getfem"); tol=1e-8; tl=$global_limit
             solvers=auto,gnsn-ac,gadmm,gnsn-al,nsgs,nsgs-v,admm,ipm,siconos:GFC3D_NSN_AC,siconos:GFC3D_NSN_AC_WR,siconos:GFC3D_NSGS_WR,siconos:GFC3D_PROX_WR,siconos:GFC3D_ADMM,siconos:GFC3D_IPM ;;
         *) dirs=("$shared/fclib/local" "$shared/fclib/converted"); tol=$campaign; tl=$limit ;;
     esac
