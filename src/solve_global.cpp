@@ -383,9 +383,10 @@ frix_error solve_global(const frix_problem &p, const frix_options &opts, const S
         if (!memory.fits)
             return fail(FRIX_ERR_OUT_OF_MEMORY,
                         "frix_solve: %s reduces the global problem to W = H^T M^-1 H, which would have up to "
-                        "%.3g entries in %.3g blocks (at least %.3g GB, more than the %.3g GB of memory it may take): a "
-                        "deformable body couples all its contacts; gnsn-ac (607) or auto solve it without W",
-                        entry.name, size.w_entries, size.w_blocks, memory.needed / 1e9, memory.available / 1e9);
+                        "%.3g entries in %.3g blocks (at least %.3g GB, more than the %.3g GB of memory it may still "
+                        "take); gnsgs (rigid bodies), gnsn-ac (607) and auto solve it without W",
+                        entry.name, size.w_entries, size.w_blocks, memory.needed / 1e9,
+                        std::max(memory.available, 0.0) / 1e9);
         const frix_info before = info;
         info.factorizations = info.symbolic_analyses = 0;
         info.factorization_time = info.setup_time = info.reduction_time = 0.0;

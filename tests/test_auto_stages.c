@@ -422,6 +422,47 @@ START_TEST(test_easy_problems_before_the_parts) {
 }
 END_TEST
 
+/* A stack of 500 cubes (4,000 contacts) whose W would exceed a memory limit of 1 MB (the
+ * driver's bound on its blocks: 61 MB): auto stays on the sweeps without W (gnsgs) with all its iterations and
+ * returns their answer and status. It failed with FRIX_ERR_OUT_OF_MEMORY where the sweeps
+ * missed the tolerance and it turned to forming W. */
+START_TEST(test_memory_limit_keeps_auto_off_w) {
+    frix_scene_params sp;
+    frix_scene_defaults(FRIX_SCENE_STACK, &sp);
+    sp.count = 500;
+    sp.per_face = 8;
+    frix_scene scene;
+    ck_assert_int_eq(frix_scene_build(&sp, &scene, NULL), FRIX_OK);
+    frix_scene_problems pr;
+    ck_assert_int_eq(frix_scene_problems_make(&scene, &pr), FRIX_OK);
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-6), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 3000), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_MEMORY_LIMIT, 1e6), FRIX_OK);
+    double *r = calloc((size_t)(3 * scene.nc), sizeof *r), *u = calloc((size_t)(3 * scene.nc), sizeof *u);
+    double *v = calloc((size_t)scene.n, sizeof *v);
+    frix_info *info = NULL, *check = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_msg(frix_solve(pr.global, o, r, u, v, info) == FRIX_OK, "%s", frix_last_error_message());
+    const char *trace = frix_info_trace(info);
+    ck_assert_msg(find_stage(info, FRIX_SOLVER_GLOBAL_NSGS, 0) >= 0 && find_stage(info, FRIX_SOLVER_NSGS_VELOCITY, 0) < 0,
+                  "%s", trace);
+    ck_assert_int_eq(frix_info_iterations(info), 3000);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_MAX_ITER);
+    ck_assert_int_eq(frix_info_create(&check), FRIX_OK);
+    ck_assert_int_eq(frix_problem_measure(pr.global, r, v, NULL, check), FRIX_OK);
+    ck_assert_double_eq_tol(frix_info_error(check), frix_info_error(info), 1e-12);
+    ck_assert_double_gt(frix_info_error(info), 1e-6);
+    frix_info_free(check);
+    frix_info_free(info);
+    frix_options_free(o);
+    free(r), free(u), free(v);
+    frix_scene_problems_free(&pr);
+    frix_scene_free(&scene);
+}
+END_TEST
+
 int main(void) {
     Suite *s = suite_create("auto");
     TCase *tc = tcase_create("stages");
@@ -438,6 +479,7 @@ int main(void) {
     tcase_add_test(tc, test_newton_from_stalled_interior_point);
     tcase_add_test(tc, test_first_nsgs_judged_after_its_work);
     tcase_add_test(tc, test_loose_tolerance_pile_solved_by_admm_first);
+    tcase_add_test(tc, test_memory_limit_keeps_auto_off_w);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

@@ -868,7 +868,7 @@ START_TEST(reduction_refused_where_w_would_not_fit) {
     ck_assert_int_eq(frix_solve(c.p, o, c.r, c.u, c.v, NULL), FRIX_ERR_OUT_OF_MEMORY);
     const char *why = frix_last_error_message();
     ck_assert_msg(strstr(why, "nsgs reduces the global problem") && strstr(why, "7.68e+10 entries") &&
-                      strstr(why, "gnsn-ac (607) or auto"),
+                      strstr(why, "gnsn-ac (607) and auto"),
                   "%s", why);
     frix_options_free(o);
     grid_case_free(&c);

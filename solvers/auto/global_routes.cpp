@@ -76,8 +76,10 @@ void price_routes(const SolveContext &ctx, const ReductionSize &size, KeptAuto::
 
 RouteChoice choose_route(const SolveContext &ctx, const ReductionSize &size, KeptAuto::Prices &kept) {
     RouteChoice c;
+    bool priced = false;
     if (size.w_entries > kReductionMaxEntries && size.w_entries > kReductionMaxGrowth * size.input_entries) {
         price_routes(ctx, size, kept, c);
+        priced = kept.forming_w_priced;
         if (kept.forming_w_priced) {
             c.prices = kept.routes;
             c.refused = Monitor(ctx).affords(kept.forming_w);
@@ -86,10 +88,10 @@ RouteChoice choose_route(const SolveContext &ctx, const ReductionSize &size, Kep
             if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1)
                 log_line(&ctx.options, "auto: forming W priced %.3g flops, the route without W %.3g", c.prices.with_w,
                          c.prices.without_w);
-        } else if (!reduction_memory(size, Monitor(ctx)).fits) {
-            c.refused = FRIX_STATUS_MEMORY_LIMIT;  // not priced (M factorised by LU): W's blocks against the memory
         }
     }
+    // Not priced (W small beside M and H, or M factorised by LU): W's blocks against the memory.
+    if (!priced && !reduction_memory(size, Monitor(ctx)).fits) c.refused = FRIX_STATUS_MEMORY_LIMIT;
     // Rigid bodies with a large W: W's entries against M^-1 H's.
     c.product = !c.w_free && size.largest_component <= nsgs::kMaxRigidBodyDofs &&
                 size.w_entries > kReductionMaxEntries && size.w_entries > size.product_entries;
@@ -240,15 +242,17 @@ frix_error GlobalRoutes::reduce_after(int64_t left, const GlobalAnswer *from) {
 // Rigid bodies whose W would be large and hold more entries than M^-1 H: NSGS without W
 // (gnsgs, the caller's threads) with half the iterations, under the NSGS rate watch from
 // kProductPatience sweeps on; where it misses the tolerance, the reduction route from its
-// answer with what is left (where forming W fits the limits: `may_reduce`).
+// answer with what is left. Where forming W would overrun the limits (not `may_reduce`),
+// gnsgs alone with all the iterations: there is nothing to hand over to.
 frix_error GlobalRoutes::product_then_reduce(int64_t max_iter, bool may_reduce) {
+    if (!may_reduce) return run(kGnsgsEntry, max_iter, nullptr);
     Shared shared(ctx_.options, ctx_.clock);
     const bool momentum = options_.i(FRIX_OPT_ACCELERATION) != 0;
     Watchdog dog(shared, Watch::Rate, Monitor(ctx_).tolerance(), 0,
                  momentum ? nsgs::kMomentumPatience : kProductPatience);
     if (frix_error e = run(kGnsgsEntry, std::max<int64_t>(1, max_iter / 2), &dog)) return e;
     const int64_t left = max_iter - info_.iterations;
-    if (!may_reduce || !may_go_on(shared.stop_requested.load(), left)) {
+    if (!may_go_on(shared.stop_requested.load(), left)) {
         if (info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK && dog.stopped_by_watchdog)
             info_.status = FRIX_STATUS_STAGNATED;
         return FRIX_OK;
