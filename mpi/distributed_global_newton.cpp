@@ -191,10 +191,9 @@ class RanksVrSystem : public kit::SystemDefaults {
     // warm r on a deformable body; v stays 0 where M does not factorise.
     frix_error start_from_warm_velocity() {
         std::vector<double> b((size_t)n_), v((size_t)n_);
-        if (frix_error e = mpi::agree(comm_, sys_.mult_H(x_.r.data(), b.data()), "frix_mpi_solve")) return e;
-        for (int64_t j = 0; j < n_; ++j) b[(size_t)j] += g_.f[(size_t)j];
         bool solved = false;
-        if (frix_error e = mpi::agree(comm_, sys_.solve_mass(b.data(), v.data(), solved), "frix_mpi_solve")) return e;
+        if (frix_error e = mpi::agree(comm_, velocity_of(x_.r.data(), b.data(), v.data(), solved), "frix_mpi_solve"))
+            return e;
         if (solved && or_all(comm_, vec::all_finite(v.data(), n_) ? 0u : 1u) == 0) x_.v = std::move(v);
         return FRIX_OK;
     }
@@ -231,9 +230,7 @@ class RanksVrSystem : public kit::SystemDefaults {
         State st = x_;
         st.r.assign(r, r + m_);
         bool solved = false;
-        failed_ = sys_.mult_H(st.r.data(), st.hr.data());
-        for (int64_t j = 0; j < n_; ++j) st.hr[(size_t)j] += g_.f[(size_t)j];
-        if (!failed_) failed_ = sys_.solve_mass(st.hr.data(), st.v.data(), solved);
+        failed_ = velocity_of(st.r.data(), st.hr.data(), st.v.data(), solved);
         merit(st, false);  // (no product once one failed)
         if (frix_error e = stopped()) return e;
         error_of(st);
@@ -245,6 +242,13 @@ class RanksVrSystem : public kit::SystemDefaults {
     }
 
    private:
+    // v = M^-1 (H r + f) over this rank's dofs, hr receiving H r + f (collective); solved as
+    // GlobalSystem::solve_mass's.
+    frix_error velocity_of(const double *r, double *hr, double *v, bool &solved) {
+        if (frix_error e = sys_.mult_H(r, hr)) return e;
+        for (int64_t j = 0; j < n_; ++j) hr[j] += g_.f[(size_t)j];
+        return sys_.solve_mass(hr, v, solved);
+    }
     // res = M v - H r - f, u = H^T v + w, Phi (A and B when asked); the merit over the ranks.
     double merit(State &st, bool jacobian) {
         if (!failed_) failed_ = sys_.mult_M(st.v.data(), st.mv.data());

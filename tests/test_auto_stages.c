@@ -423,9 +423,9 @@ START_TEST(test_easy_problems_before_the_parts) {
 END_TEST
 
 /* A stack of 500 cubes (4,000 contacts) whose W would exceed a memory limit of 1 MB (the
- * driver's bound on its blocks: 61 MB): auto stays on the sweeps without W (gnsgs) with all its iterations and
- * returns their answer and status. It failed with FRIX_ERR_OUT_OF_MEMORY where the sweeps
- * missed the tolerance and it turned to forming W. */
+ * driver's bound on its blocks: 61 MB): auto stays on the sweeps without W (gnsgs) with all
+ * its iterations and returns their answer and status. It failed with FRIX_ERR_OUT_OF_MEMORY
+ * where the sweeps missed the tolerance and it turned to forming W. */
 START_TEST(test_memory_limit_keeps_auto_off_w) {
     frix_scene_params sp;
     frix_scene_defaults(FRIX_SCENE_STACK, &sp);
@@ -446,8 +446,9 @@ START_TEST(test_memory_limit_keeps_auto_off_w) {
     ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
     ck_assert_msg(frix_solve(pr.global, o, r, u, v, info) == FRIX_OK, "%s", frix_last_error_message());
     const char *trace = frix_info_trace(info);
-    ck_assert_msg(find_stage(info, FRIX_SOLVER_GLOBAL_NSGS, 0) >= 0 && find_stage(info, FRIX_SOLVER_NSGS_VELOCITY, 0) < 0,
-                  "%s", trace);
+    ck_assert_msg(
+        find_stage(info, FRIX_SOLVER_GLOBAL_NSGS, 0) >= 0 && find_stage(info, FRIX_SOLVER_NSGS_VELOCITY, 0) < 0, "%s",
+        trace);
     ck_assert_int_eq(frix_info_iterations(info), 3000);
     ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_MAX_ITER);
     ck_assert_int_eq(frix_info_create(&check), FRIX_OK);

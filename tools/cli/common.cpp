@@ -323,7 +323,8 @@ std::string memory_limit_note(const frix_options *options, int64_t iterations) {
                 " the machine lets the process use, less the " + bytes_text(resident) + " it holds)";
     text += ", so it was not started";
     if (iterations == 0)
-        text += "; the iterate reported is the start (r = 0, or the guess it was given), not an answer the solver found";
+        text += "; the iterate reported is the start (r = 0, or the guess it was given), not an answer the solver "
+                "found";
     return text + ". Give a larger --set memory_limit=BYTES (0: all the memory there is), a solver that "
                   "factorises nothing (nsgs), or a smaller problem";
 }
