@@ -65,13 +65,13 @@ START_TEST(sparse_cholesky_and_congruence) {
 END_TEST
 
 /* The layout for repeated solves: simplicial on a sparse factor (a chain: tridiag(-1, 4, -1),
- * a few flops per entry of L), supernodal on a dense one (120 x 120, n I + ones); the same
- * solutions as the supernodal layout either way. */
+ * a few flops per entry of L), supernodal on a dense one (300 x 300, n I + ones: about 2n/3
+ * flops per entry); the same solutions as the supernodal layout either way. */
 START_TEST(sparse_cholesky_layout_for_solves) {
-    enum { kLen = 200, kDenseN = 120 };
+    enum { kLen = 200, kDenseN = 300 };
     static int64_t cp[kDenseN * kDenseN + 1], ci[kDenseN * kDenseN];
     static double cx[kDenseN * kDenseN];
-    double b[kLen], x0[kLen], x1[kLen];
+    double b[kDenseN], x0[kDenseN], x1[kDenseN]; /* kDenseN >= kLen */
     for (int shape = 0; shape < 2; ++shape) {
         const int64_t n = shape == 0 ? kLen : kDenseN;
         int64_t e = 0;

@@ -29,7 +29,8 @@ bool price_w_free_route(const frix_problem &p, const linalg::FactorPrice &formin
                         RoutePrices *prices, MassPlusContacts &system) {
     Csc M, H;
     linalg::FactorCost cost;
-    if (to_csc(*p.M, M) || to_csc(*p.H, H) || system.build(M, H, p.nc, "auto") || system.analyse(&cost)) {
+    if (to_csc(*p.M, M) || to_csc(*p.H, H) ||
+        system.build(M, H, p.nc, "auto", ContactBlocks::kMultiplesOfIdentity) || system.analyse(&cost)) {
         clear_error();
         return false;
     }

@@ -251,7 +251,8 @@ void Solver::finish(frix_status status) {
 frix_error solve(SolveContext &ctx) {
     Kept<KeptMassPlusContacts> kept(ctx.cache, FRIX_SOLVER_GLOBAL_ADMM);
     linalg::FactorStats before;
-    if (frix_error e = prepare_mass_plus_contacts(ctx, *kept, "gadmm", kScaleSamples, &before)) return e;
+    const ContactBlocks blocks = ContactBlocks::kMultiplesOfIdentity;  // rho I
+    if (frix_error e = prepare_mass_plus_contacts(ctx, *kept, "gadmm", kScaleSamples, blocks, &before)) return e;
     kept.keep();
     return Solver(ctx, *kept, before).run();
 }

@@ -230,7 +230,8 @@ frix_error solve(SolveContext &ctx) {
     // analysis and rho's unit.
     Kept<KeptMassPlusContacts> kept(ctx.cache, FRIX_SOLVER_GLOBAL_AL_NEWTON);
     linalg::FactorStats before;
-    if (frix_error e = prepare_mass_plus_contacts(ctx, *kept, "gnsn-al", kScaleSamples, &before)) return e;
+    const ContactBlocks blocks = ContactBlocks::kAny;  // rho J, J the projection's Jacobian
+    if (frix_error e = prepare_mass_plus_contacts(ctx, *kept, "gnsn-al", kScaleSamples, blocks, &before)) return e;
     kept.keep();
     AlRun run(ctx, kept->system, kept->scale);
     if (frix_error e = run.run()) return e;

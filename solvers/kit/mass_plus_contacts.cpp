@@ -9,7 +9,7 @@
 
 namespace frix {
 
-frix_error MassPlusContacts::build(const Csc &M, const Csc &H, int64_t nc, const char *solver) {
+frix_error MassPlusContacts::build(const Csc &M, const Csc &H, int64_t nc, const char *solver, ContactBlocks blocks) {
     const double asymmetry = relative_asymmetry(M);
     if (asymmetry > kMassSkewMax)
         return fail(FRIX_ERR_UNSUPPORTED,
@@ -42,27 +42,47 @@ frix_error MassPlusContacts::build(const Csc &M, const Csc &H, int64_t nc, const
                 hrows_[3 * i + c] = H.val[e];
             }
     }
-    // The pattern: (column, row) with row <= column, from M and from every contact's pairs.
-    std::vector<std::pair<int64_t, int64_t>> entries;
-    for (int64_t j = 0; j < n; ++j)
-        for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e)
-            entries.emplace_back(std::max(j, M.rowind[e]), std::min(j, M.rowind[e]));
-    for (int64_t a = 0; a < nc; ++a)
-        for (int64_t j = row_start_[a]; j < row_start_[a + 1]; ++j)
-            for (int64_t i = row_start_[a]; i <= j; ++i) entries.emplace_back(rows_[j], rows_[i]);
-    // Every diagonal entry, so that the pattern holds one even where M's is missing.
-    for (int64_t j = 0; j < n; ++j) entries.emplace_back(j, j);
-    std::sort(entries.begin(), entries.end());
-    entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
+    // Every contact's pairs of rows (i <= j) that its blocks can couple.
+    const auto couples = [&](int64_t i, int64_t j) {
+        if (blocks == ContactBlocks::kAny || i == j) return true;
+        for (int c = 0; c < 3; ++c)
+            if (hrows_[3 * i + c] != 0.0 && hrows_[3 * j + c] != 0.0) return true;
+        return false;
+    };
+    pair_start_.assign(nc + 1, 0);
+    pairs_.clear();
+    for (int64_t a = 0; a < nc; ++a) {
+        for (int64_t i = row_start_[a]; i < row_start_[a + 1]; ++i)
+            for (int64_t j = i; j < row_start_[a + 1]; ++j)
+                if (couples(i, j)) pairs_.push_back({i, j, 0});
+        pair_start_[a + 1] = (int64_t)pairs_.size();
+    }
+    // The pattern, upper triangle: M's entries (row <= column after folding), every contact's
+    // pairs and every diagonal entry (so that the pattern holds one even where M's is missing),
+    // bucketed by column (counted, then placed: no sort of all entries), each column then
+    // sorted and its duplicates dropped.
+    const auto each_entry = [&](const auto &emit) {
+        for (int64_t j = 0; j < n; ++j)
+            for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e)
+                emit(std::min(j, M.rowind[e]), std::max(j, M.rowind[e]));
+        for (const Pair &pair : pairs_) emit(rows_[pair.i], rows_[pair.j]);  // rows_ ascends
+        for (int64_t j = 0; j < n; ++j) emit(j, j);
+    };
+    std::vector<int64_t> start(n + 1, 0);
+    each_entry([&](int64_t, int64_t col) { ++start[col + 1]; });
+    for (int64_t j = 0; j < n; ++j) start[j + 1] += start[j];
+    std::vector<int64_t> rows(start[n]), next(start.begin(), start.end() - 1);
+    each_entry([&](int64_t row, int64_t col) { rows[next[col]++] = row; });
     A_.rows = A_.cols = n;
     A_.colptr.assign(n + 1, 0);
-    A_.rowind.resize(entries.size());
-    A_.val.assign(entries.size(), 0.0);
-    for (size_t s = 0; s < entries.size(); ++s) {
-        ++A_.colptr[entries[s].first + 1];
-        A_.rowind[s] = entries[s].second;
+    A_.rowind.clear();
+    for (int64_t j = 0; j < n; ++j) {
+        const auto first = rows.begin() + start[j], last = rows.begin() + start[j + 1];
+        std::sort(first, last);
+        A_.rowind.insert(A_.rowind.end(), first, std::unique(first, last));
+        A_.colptr[j + 1] = (int64_t)A_.rowind.size();
     }
-    for (int64_t j = 0; j < n; ++j) A_.colptr[j + 1] += A_.colptr[j];
+    A_.val.assign(A_.rowind.size(), 0.0);
     auto slot = [&](int64_t row, int64_t col) {
         const int64_t *first = A_.rowind.data() + A_.colptr[col], *last = A_.rowind.data() + A_.colptr[col + 1];
         return std::lower_bound(first, last, row) - A_.rowind.data();
@@ -77,13 +97,7 @@ frix_error MassPlusContacts::build(const Csc &M, const Csc &H, int64_t nc, const
             m_slot_.push_back(slot(std::min(i, j), std::max(i, j)));
             m_val_.push_back(i == j ? M.val[e] : 0.5 * M.val[e]);
         }
-    pair_start_.assign(nc + 1, 0);
-    pair_slot_.clear();
-    for (int64_t a = 0; a < nc; ++a) {
-        for (int64_t i = row_start_[a]; i < row_start_[a + 1]; ++i)
-            for (int64_t j = i; j < row_start_[a + 1]; ++j) pair_slot_.push_back(slot(rows_[i], rows_[j]));
-        pair_start_[a + 1] = (int64_t)pair_slot_.size();
-    }
+    for (Pair &pair : pairs_) pair.slot = slot(rows_[pair.i], rows_[pair.j]);
     return FRIX_OK;
 }
 
@@ -99,11 +113,11 @@ frix_error MassPlusContacts::factor(const double *S, const linalg::FactorBudget 
         for (int64_t i = 0; i < k; ++i)
             for (int c = 0; c < 3; ++c)
                 G[3 * i + c] = h[3 * i] * Sa[3 * c] + h[3 * i + 1] * Sa[1 + 3 * c] + h[3 * i + 2] * Sa[2 + 3 * c];
-        int64_t s = pair_start_[a];
-        for (int64_t i = 0; i < k; ++i)
-            for (int64_t j = i; j < k; ++j, ++s)
-                A_.val[pair_slot_[s]] +=
-                    G[3 * i] * h[3 * j] + G[3 * i + 1] * h[3 * j + 1] + G[3 * i + 2] * h[3 * j + 2];
+        for (int64_t s = pair_start_[a]; s < pair_start_[a + 1]; ++s) {
+            const Pair &pair = pairs_[s];
+            const double *g = G.data() + 3 * (pair.i - first), *hj = h + 3 * (pair.j - first);
+            A_.val[pair.slot] += g[0] * hj[0] + g[1] * hj[1] + g[2] * hj[2];
+        }
     }
     chol_.set_budget(budget);
     const frix_error e = chol_.factor(A_.view());
@@ -112,7 +126,7 @@ frix_error MassPlusContacts::factor(const double *S, const linalg::FactorBudget 
 }
 
 frix_error prepare_mass_plus_contacts(const SolveContext &ctx, KeptMassPlusContacts &kept, const char *solver,
-                                      int samples, linalg::FactorStats *before) {
+                                      int samples, ContactBlocks blocks, linalg::FactorStats *before) {
     const frix_problem &p = ctx.problem;
     *before = kept.system.stats() - kept.handed;
     kept.handed = {};
@@ -127,7 +141,7 @@ frix_error prepare_mass_plus_contacts(const SolveContext &ctx, KeptMassPlusConta
     if (frix_error e = to_csc(*p.H, H)) return e;
     if (!built) {
         if (frix_error e = to_csc(*p.M, M)) return e;
-        if (frix_error e = kept.system.build(M, H, p.nc, solver)) return e;
+        if (frix_error e = kept.system.build(M, H, p.nc, solver, blocks)) return e;
     }
     kept.scale = sampled_delassus_scale(p, H, mass_solve(*ctx.mass), samples);
     if (!(kept.scale > 0.0) || !std::isfinite(kept.scale)) kept.scale = 1.0;

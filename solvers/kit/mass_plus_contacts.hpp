@@ -22,21 +22,31 @@ namespace frix {
 // previous iterate: exact at a fixed point): a matrix written with 7 significant digits.
 constexpr double kMassSkewMax = 1e-6;
 
+// The contacts' blocks S_a a solver factorises with: any symmetric 3x3 block, or only
+// multiples of the identity (an ADMM's rho I), whose H_a S_a H_a^T is zero wherever two rows of
+// H_a share no column.
+enum class ContactBlocks { kAny, kMultiplesOfIdentity };
+
 class MassPlusContacts {
    public:
     // The pattern: M's (both triangles, folded onto the upper one) and, for every contact a,
-    // the rows of H's columns 3a..3a+2 squared (H_a S_a H_a^T), with S_a's zeros kept, so that
-    // no S changes it. Fails with FRIX_ERR_UNSUPPORTED when M's asymmetry is above
-    // kMassSkewMax (there is no Cholesky of it).
-    frix_error build(const Csc &M, const Csc &H, int64_t nc, const char *solver);
+    // the pairs of rows of H's columns 3a..3a+2 that H_a S_a H_a^T can couple for the blocks
+    // given: every pair (kAny, S_a's zeros kept so that no S changes the pattern), or the pairs
+    // that share a nonzero column of H_a (kMultiplesOfIdentity: an entry no S_a = s I can fill
+    // would only add fill, tenfold on a body whose displacement components M leaves apart).
+    // Fails with FRIX_ERR_UNSUPPORTED when M's asymmetry is above kMassSkewMax (there is no
+    // Cholesky of it).
+    frix_error build(const Csc &M, const Csc &H, int64_t nc, const char *solver,
+                     ContactBlocks blocks = ContactBlocks::kAny);
     // Whether M is not exactly symmetric: the factorised matrix is then (M + M^T) / 2 + H S H^T,
     // and the solver must apply K = (M - M^T) / 2 itself (matrix_skew_gemv).
     bool skewed() const { return skewed_; }
     // What factorising M + H S H^T costs, from the symbolic analysis of its pattern, which the
     // system keeps for its first factorisation (linalg::SparseCholesky::analyze).
     frix_error analyse(linalg::FactorCost *cost) { return chol_.analyze(A_.view(), cost); }
-    // Factorises M + H S H^T, S = 9 nc values (column-major 3x3 blocks, symmetric), asking
-    // `budget` first (see linalg::FactorBudget); refused() then says which limit.
+    // Factorises M + H S H^T, S = 9 nc values (column-major 3x3 blocks, symmetric, each a
+    // multiple of the identity where the system was built for those), asking `budget` first
+    // (see linalg::FactorBudget); refused() then says which limit.
     frix_error factor(const double *S, const linalg::FactorBudget &budget);
     // x = (M + H S H^T)^-1 b with the last factorisation.
     frix_error solve(const double *b, double *x) const { return chol_.solve(b, x); }
@@ -49,8 +59,13 @@ class MassPlusContacts {
     std::vector<int64_t> m_slot_;          // M's upper entries: their slot in A_
     std::vector<double> m_val_;            // ... and their values
     // Contact a: its rows of H (rows_[row_start_[a] .. row_start_[a + 1])), H restricted to
-    // them (3 per row, hrows_), and the slots of their upper pairs (i <= j), row-major.
-    std::vector<int64_t> row_start_, rows_, pair_start_, pair_slot_;
+    // them (3 per row, hrows_), and its pairs of rows (i <= j, indices into rows_) in the
+    // pattern with their slots: pairs_[pair_start_[a] .. pair_start_[a + 1]).
+    struct Pair {
+        int64_t i, j, slot;
+    };
+    std::vector<int64_t> row_start_, rows_, pair_start_;
+    std::vector<Pair> pairs_;
     std::vector<double> hrows_;
     linalg::SparseCholesky chol_{linalg::SparseCholesky::Layout::kForSolves};
 };
@@ -72,7 +87,7 @@ struct KeptMassPlusContacts : CachedState {
 // rho's unit where it was not sampled). *before: the system's counters from which this solve's
 // work counts. Fails as MassPlusContacts::build does.
 frix_error prepare_mass_plus_contacts(const SolveContext &ctx, KeptMassPlusContacts &kept, const char *solver,
-                                      int samples, linalg::FactorStats *before);
+                                      int samples, ContactBlocks blocks, linalg::FactorStats *before);
 // Hands `offered` (its system built, and analysed, for the M and H of the cache's current
 // versions) to the solver that next runs on `cache` and keeps its state under `key`: that
 // solver's prepare_mass_plus_contacts then neither builds nor analyses it again. Where the

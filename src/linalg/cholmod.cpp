@@ -33,6 +33,17 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Flops per entry of L up to which a factor for solves is simplicial: below it the simplicial
+// solves are faster (no BLAS call per supernode) and so is the factorisation (no OpenMP region
+// per supernode and per update); on the 2D-like factors of thin elastic grids (100-120 flops
+// per entry) both by 1.2-2x, on 3D bodies (350+) the supernodal one by 3-20x.
+constexpr double kSimplicialFlopsPerEntry = 150.0;
+// CHOLMOD's relaxed amalgamation (nrelax: supernodes of up to 16, 64 and 128 columns merge
+// whatever zeros that adds, then up to zrelax's shares of zeros), four times its defaults:
+// its supernodal factorisation opens an OpenMP region per supernode and per update, whose cost
+// outweighs the flops of small supernodes.
+constexpr size_t kRelaxedColumns[3] = {16, 64, 128};
+
 // CHOLMOD's supernodal factorisation asks OpenMP for a fixed 4 threads, whatever
 // OMP_NUM_THREADS says, for loops that copy values into the supernodes; waking those threads
 // costs more than the copies (its arithmetic is BLAS, threaded by the BLAS library). While
@@ -132,9 +143,11 @@ struct SparseCholesky::Impl {
 };
 
 SparseCholesky::SparseCholesky(Layout layout) : impl_(std::make_unique<Impl>()) {
-    // CHOLMOD's own choice is simplicial where L has few flops per entry (the default
-    // supernodal_switch), supernodal elsewhere.
+    // kForSolves: simplicial where L has few flops per entry, supernodal elsewhere (CHOLMOD's
+    // own rule, at a switch of kSimplicialFlopsPerEntry rather than its 40).
     impl_->c.supernodal = layout == Layout::kSupernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_AUTO;
+    impl_->c.supernodal_switch = kSimplicialFlopsPerEntry;
+    for (int k = 0; k < 3; ++k) impl_->c.nrelax[k] = kRelaxedColumns[k];
 }
 SparseCholesky::~SparseCholesky() = default;
 

@@ -109,6 +109,11 @@ int frix_testing_sparse_cholesky(int64_t n, const int64_t *colptr, const int64_t
  * (0); *supernodal: whether the factor was supernodal. */
 int frix_testing_sparse_cholesky_layout(int for_solves, int64_t n, const int64_t *colptr, const int64_t *rowind,
                                         const double *values, const double *b, double *x, int *supernodal);
+/* M + rho H H^T as the solvers without W build it, for any contact blocks (identity_blocks =
+ * 0) or multiples of the identity (1): *flops of its factorisation and
+ * x = (M + rho H H^T)^-1 b. */
+int frix_testing_mass_plus_contacts(int identity_blocks, const frix_matrix *M, const frix_matrix *H, double rho,
+                                    const double *b, double *x, double *flops);
 /* The flops and entries of L of a Cholesky factorisation of A's pattern (upper triangle read,
  * values not needed), from the symbolic analysis alone. */
 int frix_testing_cholesky_cost(int64_t n, const int64_t *colptr, const int64_t *rowind, double *flops,

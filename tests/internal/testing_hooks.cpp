@@ -415,3 +415,28 @@ FRIX_TESTING_HOOK int frix_testing_single_push(const frix_matrix *W, int symmetr
     columns.push(a, dr, u);
     return FRIX_OK;
 }
+
+// M + rho H H^T as the solvers without W build it (MassPlusContacts), for any contact blocks
+// (identity_blocks = 0) or multiples of the identity (1): the flops of its factorisation and
+// x = (M + rho H H^T)^-1 b.
+#include "solvers/kit/mass_plus_contacts.hpp"
+FRIX_TESTING_HOOK int frix_testing_mass_plus_contacts(int identity_blocks, const frix_matrix *Mm,
+                                                      const frix_matrix *Hm, double rho, const double *b,
+                                                      double *x, double *flops) {
+    frix::Csc M, H;
+    int e = frix::to_csc(*Mm, M);
+    if (e == FRIX_OK) e = frix::to_csc(*Hm, H);
+    if (e) return e;
+    const int64_t nc = H.cols / 3;
+    using frix::ContactBlocks;
+    frix::MassPlusContacts system;
+    frix::linalg::FactorCost cost;
+    e = system.build(M, H, nc, "test", identity_blocks ? ContactBlocks::kMultiplesOfIdentity : ContactBlocks::kAny);
+    if (e == FRIX_OK) e = system.analyse(&cost);
+    std::vector<double> S(9 * nc, 0.0);
+    for (int64_t a = 0; a < nc; ++a) S[9 * a] = S[9 * a + 4] = S[9 * a + 8] = rho;
+    if (e == FRIX_OK) e = system.factor(S.data(), nullptr);
+    if (e == FRIX_OK) e = system.solve(b, x);
+    *flops = cost.flops;
+    return e;
+}
