@@ -43,6 +43,29 @@ double relative_asymmetry(const Csc &M) {
     return amax > 0.0 ? skew / amax : 0.0;
 }
 
+frix_error MassSolver::inverse_diagonal(const Csc &B, std::vector<double> &diag) {
+    const int64_t n = B.rows, k = B.cols;
+    diag.assign(k, 0.0);
+    if (empty_) return FRIX_OK;
+    if (use_chol_) {
+        std::vector<int64_t> colptr, rowind;
+        std::vector<double> values;
+        if (frix_error e = chol_.inverse_congruence(B.view(), colptr, rowind, values)) return e;
+        for (int64_t j = 0; j < k; ++j)
+            for (int64_t e = colptr[j]; e < colptr[j + 1]; ++e)
+                if (rowind[e] == j) diag[j] = values[e];
+        return FRIX_OK;
+    }
+    std::vector<double> b(n), x(n);
+    for (int64_t j = 0; j < k; ++j) {
+        std::fill(b.begin(), b.end(), 0.0);
+        for (int64_t e = B.colptr[j]; e < B.colptr[j + 1]; ++e) b[B.rowind[e]] = B.val[e];
+        if (frix_error e = solve(b.data(), x.data())) return e;
+        for (int64_t e = B.colptr[j]; e < B.colptr[j + 1]; ++e) diag[j] += B.val[e] * x[B.rowind[e]];
+    }
+    return FRIX_OK;
+}
+
 bool is_symmetric(const Csc &M) { return relative_asymmetry(M) <= 1e-12; }
 
 ReductionSize reduction_size(const frix_problem &p) {

@@ -164,6 +164,11 @@ class MassSolver {
                                      9.0 * blocks + cost.summed};
         return true;
     }
+    // diag[j] = b_j^T M^-1 b_j for the columns b_j of B (n x k): from CHOLMOD's factor only
+    // the forward solves along each column's path up L's tree (SparseCholesky's
+    // inverse_congruence on B alone: a few columns cost a small part of one solve), else one
+    // solve a column.
+    frix_error inverse_diagonal(const Csc &B, std::vector<double> &diag);
     const linalg::FactorStats &last_stats() const { return last_; }
     // Whether M was factorised by Cholesky (symmetric positive definite, with dofs).
     bool cholesky() const { return use_chol_ && !empty_; }

@@ -606,6 +606,29 @@ START_TEST(admm_system_keeps_only_the_couplings_rho_i_makes) {
 }
 END_TEST
 
+/* W's diagonal entries for a few columns of H (the sampling of rho's unit), from the forward
+ * solves up L's tree alone: the same as from a full solve per column. */
+START_TEST(inverse_diagonal_matches_full_solves) {
+    frix_elastic_grid g;
+    ck_assert_int_eq(frix_elastic_grid_make(12, 10, 3, 0.1, 1e4, &g), FRIX_OK);
+    const int64_t n = frix_problem_dofs(g.problem);
+    /* Columns: the normal of contacts 0, 37 and 119, and a column over several nodes. */
+    const int64_t rows[6] = {2, 3 * 37 + 2, 3 * 119 + 2, 5, 3 * 50 + 1, n - 1};
+    const int64_t cols[6] = {0, 1, 2, 3, 3, 3};
+    const double vals[6] = {1.0, 1.0, 1.0, 0.5, -2.0, 1.5};
+    frix_matrix *B = NULL;
+    ck_assert_int_eq(frix_matrix_from_triplets(n, 4, 6, rows, cols, vals, &B), FRIX_OK);
+    double diag[4], by_solves[4];
+    ck_assert_int_eq(frix_testing_inverse_diagonal(g.M, B, diag, by_solves), FRIX_OK);
+    for (int j = 0; j < 4; ++j) {
+        ck_assert_double_gt(diag[j], 0.0);
+        ck_assert_double_eq_tol(diag[j], by_solves[j], 1e-12 * by_solves[j]);
+    }
+    frix_matrix_free(B);
+    frix_elastic_grid_free(&g);
+}
+END_TEST
+
 /* The grid generator refuses what it cannot build, and leaves nothing to leak. */
 START_TEST(elastic_grid_arguments) {
     frix_elastic_grid g;
@@ -937,6 +960,7 @@ int main(void) {
     tcase_add_test(tc, persistent_without_w_factorises_once);
     tcase_add_test(tc, elastic_grid_arguments);
     tcase_add_test(tc, admm_system_keeps_only_the_couplings_rho_i_makes);
+    tcase_add_test(tc, inverse_diagonal_matches_full_solves);
     tcase_add_test(tc, newton_corrects_the_lumped_rho);
     tcase_add_test(tc, newton_cuts_a_rho_too_large);
     tcase_add_test(tc, newton_takes_a_full_first_step_on_a_soft_body);

@@ -123,14 +123,13 @@ using vec::dot;
 
 // How much the lumped blocks H_a^T diag(M)^-1 H_a underrate W's diagonal blocks: the median,
 // over up to kRhoSamples contacts spread over the problem, of trace(H_a^T M^-1 H_a) over
-// trace(H_a^T diag(M)^-1 H_a), with M^-1 from the driver's factorisation (3 solves a contact).
+// trace(H_a^T diag(M)^-1 H_a), from the driver's factorisation of M.
 // 1 for a diagonal M (rigid bodies with diagonal inertia); far above on a stiff deformable
 // body, where diag(M)^-1 ignores that the body moves as a whole.
-double lumped_underrate(const frix_problem &p, const Csc &H,
-                        const std::function<frix_error(const double *, double *)> &solve_mass,
+double lumped_underrate(const frix_problem &p, const Csc &H, MassSolver &mass,
                         const std::vector<double> &lumped_trace) {
     std::vector<double> ratios;
-    for (const auto &sample : sampled_delassus_diagonals(p, H, solve_mass, kRhoSamples, 3)) {
+    for (const auto &sample : sampled_delassus_diagonals(p, H, mass, kRhoSamples, 3)) {
         const double lumped = lumped_trace[sample.first], exact = sample.second;
         if (lumped > 0.0 && std::isfinite(exact)) ratios.push_back(exact / lumped);
     }
@@ -177,7 +176,7 @@ LumpedRho lumped_rho(const SolveContext &ctx, const Csc &M, const Csc &H, const 
     // the lumped blocks is as much too large (no step accepted, even with rho cut); a few exact
     // blocks give the factor.
     const double underrate =
-        ctx.mass && s.rho_strategy != FRIX_RHO_CONSTANT ? lumped_underrate(p, H, mass_solve(*ctx.mass), lumped_trace)
+        ctx.mass && s.rho_strategy != FRIX_RHO_CONSTANT ? lumped_underrate(p, H, *ctx.mass, lumped_trace)
                                                               : 1.0;
     const double correction = underrate > kUnderrateToCorrect ? underrate : 1.0;
     if (s.verbosity >= 1 && underrate != 1.0)

@@ -252,8 +252,8 @@ const SolverEntry kGnsnAlEntry = {
     "(J the Jacobian of the projection on the cones), symmetric positive definite, factorised "
     "by CHOLMOD in one fixed pattern (one symbolic analysis per solve). W = H^T M^-1 H is never "
     "formed: for deformable bodies whose W would be dense and too large. The De Saxce term is "
-    "updated after every outer step; rho, in units of the mean normal entry of W_aa over 8 sampled contacts (one solve with M "
-    "each), grows 5-fold while an outer step does not halve the "
+    "updated after every outer step; rho, in units of the mean normal entry of W_aa over 8 sampled contacts (from M's "
+    "factorisation), grows 5-fold while an outer step does not halve the "
     "error. Converged means both the error and the equilibrium residual are below the "
     "tolerance. Global problems with a symmetric positive definite M only. Options: rho "
     "(the initial penalty, in units of 1 / that mean; default 10); max_iter counts outer steps.",

@@ -143,7 +143,7 @@ frix_error prepare_mass_plus_contacts(const SolveContext &ctx, KeptMassPlusConta
         if (frix_error e = to_csc(*p.M, M)) return e;
         if (frix_error e = kept.system.build(M, H, p.nc, solver, blocks)) return e;
     }
-    kept.scale = sampled_delassus_scale(p, H, mass_solve(*ctx.mass), samples);
+    kept.scale = sampled_delassus_scale(p, H, *ctx.mass, samples);
     if (!(kept.scale > 0.0) || !std::isfinite(kept.scale)) kept.scale = 1.0;
     if (ctx.cache) kept.m_values = ctx.cache->m_values, kept.h_values = ctx.cache->h_values;
     return FRIX_OK;
@@ -200,37 +200,40 @@ double global_error_or_recovered(const frix_problem &p, const MassSolver *mass, 
     return best;
 }
 
-std::vector<std::pair<int64_t, double>> sampled_delassus_diagonals(
-    const frix_problem &p, const Csc &H, const std::function<frix_error(const double *, double *)> &solve_mass,
-    int samples, int components) {
+std::vector<std::pair<int64_t, double>> sampled_delassus_diagonals(const frix_problem &p, const Csc &H,
+                                                                   MassSolver &mass, int samples, int components) {
     std::vector<std::pair<int64_t, double>> out;
-    const int64_t nc = p.nc, n = p.n;
+    const int64_t nc = p.nc;
     const int count = (int)std::min<int64_t>(samples, nc);
-    std::vector<double> b(n), x(n);
-    for (int k = 0; k < count; ++k) {
-        const int64_t a = (int64_t)k * nc / count;
-        double trace = 0.0;
+    // B: the sampled contacts' first `components` columns of H.
+    Csc B;
+    B.rows = H.rows;
+    B.colptr.push_back(0);
+    for (int k = 0; k < count; ++k)
         for (int c = 0; c < components; ++c) {
-            const int64_t col = 3 * a + c;
-            std::fill(b.begin(), b.end(), 0.0);
-            for (int64_t e = H.colptr[col]; e < H.colptr[col + 1]; ++e) b[H.rowind[e]] = H.val[e];
-            if (solve_mass(b.data(), x.data()) != FRIX_OK) {
-                clear_error();
-                return out;
-            }
-            for (int64_t e = H.colptr[col]; e < H.colptr[col + 1]; ++e) trace += H.val[e] * x[H.rowind[e]];
+            const int64_t col = 3 * ((int64_t)k * nc / count) + c;
+            B.rowind.insert(B.rowind.end(), H.rowind.begin() + H.colptr[col], H.rowind.begin() + H.colptr[col + 1]);
+            B.val.insert(B.val.end(), H.val.begin() + H.colptr[col], H.val.begin() + H.colptr[col + 1]);
+            B.colptr.push_back((int64_t)B.rowind.size());
         }
-        out.emplace_back(a, trace);
+    B.cols = (int64_t)B.colptr.size() - 1;
+    std::vector<double> diag;
+    if (mass.inverse_diagonal(B, diag) != FRIX_OK) {
+        clear_error();
+        return out;
+    }
+    for (int k = 0; k < count; ++k) {
+        double trace = 0.0;
+        for (int c = 0; c < components; ++c) trace += diag[(size_t)(k * components + c)];
+        out.emplace_back((int64_t)k * nc / count, trace);
     }
     return out;
 }
 
-double sampled_delassus_scale(const frix_problem &p, const Csc &H,
-                              const std::function<frix_error(const double *, double *)> &solve_mass,
-                              int samples) {
+double sampled_delassus_scale(const frix_problem &p, const Csc &H, MassSolver &mass, int samples) {
     double sum = 0.0;
     int count = 0;
-    for (const auto &sample : sampled_delassus_diagonals(p, H, solve_mass, samples, 1))
+    for (const auto &sample : sampled_delassus_diagonals(p, H, mass, samples, 1))
         if (sample.second > 0.0 && std::isfinite(sample.second)) sum += sample.second, ++count;
     return count > 0 ? sum / count : NAN;
 }

@@ -115,23 +115,15 @@ double global_error_or_recovered(const frix_problem &p, const MassSolver *mass, 
                                  const double *r, double *v, double *u, double *equilibrium);
 
 // The normal entry of W_aa = H_a^T M^-1 H_a averaged over up to `samples` contacts spread over
-// the problem (one solve with M's factorisation each): the scale a penalty on the contacts is
-// measured in, with W never formed. NaN when it cannot be computed.
-// x = M^-1 b with a factorisation of M, as the sampling below takes it.
-inline std::function<frix_error(const double *, double *)> mass_solve(const MassSolver &mass) {
-    return [&mass](const double *b, double *x) { return mass.solve(b, x); };
-}
-
-double sampled_delassus_scale(const frix_problem &p, const Csc &H,
-                              const std::function<frix_error(const double *, double *)> &solve_mass,
-                              int samples);
+// the problem, from M's factorisation: the scale a penalty on the contacts is measured in, with
+// W never formed. NaN when it cannot be computed.
+double sampled_delassus_scale(const frix_problem &p, const Csc &H, MassSolver &mass, int samples);
 
 // Sampled diagonals of W_aa = H_a^T M^-1 H_a, of up to `samples` contacts a spread over the
 // problem, as (a, sum) pairs: the sum of W_aa's first `components` diagonal entries (3: its
-// trace; 1: its normal entry), one solve with M's factorisation per component. A failed solve
-// ends the list early.
-std::vector<std::pair<int64_t, double>> sampled_delassus_diagonals(
-    const frix_problem &p, const Csc &H, const std::function<frix_error(const double *, double *)> &solve_mass,
-    int samples, int components);
+// trace; 1: its normal entry), from M's factorisation (MassSolver::inverse_diagonal). Empty
+// where that fails.
+std::vector<std::pair<int64_t, double>> sampled_delassus_diagonals(const frix_problem &p, const Csc &H,
+                                                                   MassSolver &mass, int samples, int components);
 
 }  // namespace frix

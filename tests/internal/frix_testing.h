@@ -114,6 +114,9 @@ int frix_testing_sparse_cholesky_layout(int for_solves, int64_t n, const int64_t
  * x = (M + rho H H^T)^-1 b. */
 int frix_testing_mass_plus_contacts(int identity_blocks, const frix_matrix *M, const frix_matrix *H, double rho,
                                     const double *b, double *x, double *flops);
+/* diag[j] = b_j^T M^-1 b_j for the columns of B as the solvers without W sample W's diagonal
+ * (MassSolver::inverse_diagonal), and the same from one full solve a column (by_solves). */
+int frix_testing_inverse_diagonal(const frix_matrix *M, const frix_matrix *B, double *diag, double *by_solves);
 /* The flops and entries of L of a Cholesky factorisation of A's pattern (upper triangle read,
  * values not needed), from the symbolic analysis alone. */
 int frix_testing_cholesky_cost(int64_t n, const int64_t *colptr, const int64_t *rowind, double *flops,

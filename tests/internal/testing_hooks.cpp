@@ -440,3 +440,26 @@ FRIX_TESTING_HOOK int frix_testing_mass_plus_contacts(int identity_blocks, const
     *flops = cost.flops;
     return e;
 }
+
+// diag[j] = b_j^T M^-1 b_j for B's columns as MassSolver::inverse_diagonal gives them, and the
+// same from one full solve a column (by_solves).
+FRIX_TESTING_HOOK int frix_testing_inverse_diagonal(const frix_matrix *M, const frix_matrix *Bm, double *diag,
+                                                    double *by_solves) {
+    frix::Csc B;
+    frix::MassSolver ms;
+    int e = frix::to_csc(*Bm, B);
+    if (e == FRIX_OK) e = ms.factor(*M);
+    std::vector<double> d;
+    if (e == FRIX_OK) e = ms.inverse_diagonal(B, d);
+    if (e) return e;
+    std::vector<double> b(B.rows), x(B.rows);
+    for (int64_t j = 0; j < B.cols; ++j) {
+        diag[j] = d[j];
+        std::fill(b.begin(), b.end(), 0.0);
+        for (int64_t k = B.colptr[j]; k < B.colptr[j + 1]; ++k) b[B.rowind[k]] = B.val[k];
+        if ((e = ms.solve(b.data(), x.data()))) return e;
+        by_solves[j] = 0.0;
+        for (int64_t k = B.colptr[j]; k < B.colptr[j + 1]; ++k) by_solves[j] += B.val[k] * x[B.rowind[k]];
+    }
+    return FRIX_OK;
+}
