@@ -512,6 +512,22 @@ START_TEST(auto_prices_the_reduction_of_a_deformable_body) {
         for (int64_t i = 0; i < m; ++i) diff = fmax(diff, fabs(r[i] - r607[i]));
         ck_assert_msg(diff <= 1e-5 * scale, "auto and 607 differ by %g (max |r| %g)", diff, scale);
     }
+    /* A thicker grid whose W has 24 entries per entry of M and H (625 contacts on 4 layers):
+     * priced as well, and solved without W, the cheaper route. */
+    frix_elastic_grid thick;
+    ck_assert_int_eq(frix_elastic_grid_make(25, 25, 4, 0.5, 1e4, &thick), FRIX_OK);
+    double *rt = calloc((size_t)frix_problem_contact_dofs(thick.problem), sizeof *rt);
+    double *vt = calloc((size_t)frix_problem_dofs(thick.problem), sizeof *vt);
+    out = solve_global_into(thick.problem, FRIX_SOLVER_AUTO, rt, vt, info);
+    ck_assert_int_eq(out.status, FRIX_STATUS_CONVERGED);
+    const char *thick_note = frix_info_stage_note(info, 0);
+    ck_assert_msg(strstr(thick_note, "(23.7 per entry of M and H") != NULL && strstr(thick_note, "is priced") != NULL,
+                  "trace:\n%s", frix_info_trace(info));
+    ck_assert_msg(stage_int(info, find_other_run(info, 0, 0), FRIX_STAGE_SOLVER_ID) == FRIX_SOLVER_GLOBAL_ADMM,
+                  "trace:\n%s", frix_info_trace(info));
+    free(rt), free(vt);
+    frix_elastic_grid_free(&thick);
+
     const char *trace = NULL;
     int64_t first_run = 0;
     frix_options_free(o);

@@ -154,7 +154,7 @@ constexpr int kMaxTightenings = 4;
 // those of M and H (a deformable body makes W dense), forming it is priced first: when it
 // would overrun the time or memory limit, a route that never forms W goes first.
 constexpr double kReductionMaxEntries = 1e6;
-constexpr double kReductionMaxGrowth = 30.0;
+constexpr double kReductionMaxGrowth = 20.0;
 // The route without W is taken when priced below forming W: memory-bound flops count this many
 // times a factorisation's; this many sweeps over W, or ADMM iterations without it, are what
 // either takes to a tight tolerance on elastic bodies.
