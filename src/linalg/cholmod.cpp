@@ -38,10 +38,12 @@ using Clock = std::chrono::steady_clock;
 // per supernode and per update); on the 2D-like factors of thin elastic grids (100-120 flops
 // per entry) both by 1.2-2x, on 3D bodies (350+) the supernodal one by 3-20x.
 constexpr double kSimplicialFlopsPerEntry = 150.0;
-// CHOLMOD's relaxed amalgamation (nrelax: supernodes of up to 16, 64 and 128 columns merge
-// whatever zeros that adds, then up to zrelax's shares of zeros), four times its defaults:
-// its supernodal factorisation opens an OpenMP region per supernode and per update, whose cost
-// outweighs the flops of small supernodes.
+// CHOLMOD's relaxed amalgamation for a factor for solves, refactorised as its values change
+// (nrelax: supernodes of up to 16, 64 and 128 columns merge whatever zeros that adds, then up
+// to zrelax's shares of zeros), four times its defaults: its supernodal factorisation opens an
+// OpenMP region per supernode and per update, whose cost outweighs the flops of small
+// supernodes (a refactorisation 2.6x faster on a thin grid). A first factorisation is bound by
+// touching L's memory, which padding only adds to: the other layout keeps the defaults.
 constexpr size_t kRelaxedColumns[3] = {16, 64, 128};
 
 // CHOLMOD's supernodal factorisation asks OpenMP for a fixed 4 threads, whatever
@@ -147,7 +149,8 @@ SparseCholesky::SparseCholesky(Layout layout) : impl_(std::make_unique<Impl>()) 
     // own rule, at a switch of kSimplicialFlopsPerEntry rather than its 40).
     impl_->c.supernodal = layout == Layout::kSupernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_AUTO;
     impl_->c.supernodal_switch = kSimplicialFlopsPerEntry;
-    for (int k = 0; k < 3; ++k) impl_->c.nrelax[k] = kRelaxedColumns[k];
+    if (layout == Layout::kForSolves)
+        for (int k = 0; k < 3; ++k) impl_->c.nrelax[k] = kRelaxedColumns[k];
 }
 SparseCholesky::~SparseCholesky() = default;
 
