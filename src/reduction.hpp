@@ -170,6 +170,8 @@ class MassSolver {
     // solve a column.
     frix_error inverse_diagonal(const Csc &B, std::vector<double> &diag);
     const linalg::FactorStats &last_stats() const { return last_; }
+    // The fill-reducing ordering of M's Cholesky factorisation (empty: none, or by LU).
+    std::vector<int64_t> ordering() const { return use_chol_ && !empty_ ? chol_.ordering() : std::vector<int64_t>{}; }
     // Whether M was factorised by Cholesky (symmetric positive definite, with dofs).
     bool cholesky() const { return use_chol_ && !empty_; }
 

@@ -69,7 +69,7 @@ void price_routes(const SolveContext &ctx, const ReductionSize &size, KeptAuto::
     if (kept.forming_w_priced) {
         c.w_free_system = std::make_unique<KeptMassPlusContacts>();
         kept.w_free_priced =
-            price_w_free_route(p, kept.forming_w, size.w_blocks, &kept.routes, c.w_free_system->system);
+            price_w_free_route(p, *ctx.mass, kept.forming_w, size.w_blocks, &kept.routes, c.w_free_system->system);
     }
     if (ctx.cache) kept.m_values = ctx.cache->m_values, kept.h_values = ctx.cache->h_values;
 }

@@ -25,12 +25,16 @@ frix_error price_stages(const frix_problem &p, StageCosts *c) {
     return FRIX_OK;
 }
 
-bool price_w_free_route(const frix_problem &p, const linalg::FactorPrice &forming_w, double w_blocks,
-                        RoutePrices *prices, MassPlusContacts &system) {
+bool price_w_free_route(const frix_problem &p, const MassSolver &mass, const linalg::FactorPrice &forming_w,
+                        double w_blocks, RoutePrices *prices, MassPlusContacts &system) {
     Csc M, H;
     linalg::FactorCost cost;
-    if (to_csc(*p.M, M) || to_csc(*p.H, H) ||
-        system.build(M, H, p.nc, "auto", ContactBlocks::kMultiplesOfIdentity) || system.analyse(&cost)) {
+    if (to_csc(*p.M, M) || to_csc(*p.H, H) || system.build(M, H, p.nc, "auto", ContactBlocks::kMultiplesOfIdentity)) {
+        clear_error();
+        return false;
+    }
+    system.order_like_mass(mass.ordering());
+    if (system.analyse(&cost)) {
         clear_error();
         return false;
     }

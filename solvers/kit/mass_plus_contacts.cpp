@@ -98,6 +98,11 @@ frix_error MassPlusContacts::build(const Csc &M, const Csc &H, int64_t nc, const
             m_val_.push_back(i == j ? M.val[e] : 0.5 * M.val[e]);
         }
     for (Pair &pair : pairs_) pair.slot = slot(rows_[pair.i], rows_[pair.j]);
+    // Within M's pattern: every entry M's or diagonal (the last of its upper column).
+    std::vector<char> from_mass(A_.rowind.size(), 0);
+    for (int64_t s : m_slot_) from_mass[s] = 1;
+    for (int64_t j = 0; j < n; ++j) from_mass[A_.colptr[j + 1] - 1] = 1;
+    within_mass_ = std::all_of(from_mass.begin(), from_mass.end(), [](char c) { return c != 0; });
     return FRIX_OK;
 }
 
@@ -142,6 +147,7 @@ frix_error prepare_mass_plus_contacts(const SolveContext &ctx, KeptMassPlusConta
     if (!built) {
         if (frix_error e = to_csc(*p.M, M)) return e;
         if (frix_error e = kept.system.build(M, H, p.nc, solver, blocks)) return e;
+        kept.system.order_like_mass(ctx.mass->ordering());
     }
     kept.scale = sampled_delassus_scale(p, H, *ctx.mass, samples);
     if (!(kept.scale > 0.0) || !std::isfinite(kept.scale)) kept.scale = 1.0;

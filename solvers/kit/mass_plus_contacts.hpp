@@ -41,9 +41,17 @@ class MassPlusContacts {
     // Whether M is not exactly symmetric: the factorised matrix is then (M + M^T) / 2 + H S H^T,
     // and the solver must apply K = (M - M^T) / 2 itself (matrix_skew_gemv).
     bool skewed() const { return skewed_; }
+    // Where the pattern lies within M's (and the diagonal), the analysis takes M's fill-reducing
+    // ordering (MassSolver::ordering), which fills it no more than M's, instead of finding one
+    // again (METIS on a 3D body: as long as the numeric factorisation). Before analyse().
+    void order_like_mass(std::vector<int64_t> mass_ordering) {
+        if (within_mass_) chol_.set_ordering(std::move(mass_ordering));
+    }
     // What factorising M + H S H^T costs, from the symbolic analysis of its pattern, which the
     // system keeps for its first factorisation (linalg::SparseCholesky::analyze).
     frix_error analyse(linalg::FactorCost *cost) { return chol_.analyze(A_.view(), cost); }
+    // The ordering of the analysis held (empty: none yet).
+    std::vector<int64_t> ordering() const { return chol_.ordering(); }
     // Factorises M + H S H^T, S = 9 nc values (column-major 3x3 blocks, symmetric, each a
     // multiple of the identity where the system was built for those), asking `budget` first
     // (see linalg::FactorBudget); refused() then says which limit.
@@ -56,6 +64,7 @@ class MassPlusContacts {
    private:
     Csc A_;                                // M + H S H^T, upper triangle
     bool skewed_ = false;
+    bool within_mass_ = false;  // every entry of the pattern M's or diagonal
     std::vector<int64_t> m_slot_;          // M's upper entries: their slot in A_
     std::vector<double> m_val_;            // ... and their values
     // Contact a: its rows of H (rows_[row_start_[a] .. row_start_[a + 1])), H restricted to

@@ -122,6 +122,7 @@ struct SparseCholesky::Impl {
     double bytes = 0.0;  // of L's values and indices on that analysis
     bool numeric = false;  // L holds a numeric factorisation (not only the analysis)
     double last_seconds = NAN;  // of the last numeric factorisation on that analysis
+    std::vector<int64_t> given;  // set_ordering's, for the next analysis
     // cholmod_l_solve2's result and workspace, kept from one solve to the next: iterative
     // solvers solve once an iteration, and a fresh allocation each time costs page faults.
     cholmod_dense *X = nullptr, *Y = nullptr, *E = nullptr;
@@ -169,7 +170,14 @@ bool SparseCholesky::analyse_pattern(const CscView &A) {
     if (m.same_pattern(A)) return true;
     if (m.L) cholmod_l_free_factor(&m.L, &m.c);
     cholmod_sparse a = view_of(A, 1);
-    {
+    if ((int64_t)m.given.size() == A.rows) {
+        const int nmethods = m.c.nmethods, ordering = m.c.method[0].ordering;
+        m.c.nmethods = 1;
+        m.c.method[0].ordering = CHOLMOD_GIVEN;
+        m.L = cholmod_l_analyze_p(&a, m.given.data(), nullptr, 0, &m.c);
+        m.c.nmethods = nmethods;
+        m.c.method[0].ordering = ordering;
+    } else {
         const std::lock_guard<std::mutex> lock(metis_mutex());  // may try METIS on large M
         m.L = analyze_symmetric(a, m.c);
     }
@@ -278,6 +286,15 @@ frix_error cholesky_cost(const CscView &A, FactorCost *cost) {
 }
 
 bool SparseCholesky::supernodal() const { return impl_->L && impl_->L->is_super; }
+
+std::vector<int64_t> SparseCholesky::ordering() const {
+    const cholmod_factor *L = impl_->L;
+    if (!L || !L->Perm) return {};
+    const int64_t *perm = static_cast<const int64_t *>(L->Perm);
+    return std::vector<int64_t>(perm, perm + L->n);
+}
+
+void SparseCholesky::set_ordering(std::vector<int64_t> perm) { impl_->given = std::move(perm); }
 
 frix_error SparseCholesky::solve(const double *b, double *x) const {
     Impl &m = *impl_;

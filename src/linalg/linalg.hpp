@@ -198,6 +198,12 @@ class SparseCholesky {
     frix_error analyze(const CscView &A, FactorCost *cost);
     // x = A^-1 b for one dense right-hand side.
     frix_error solve(const double *b, double *x) const;
+    // The fill-reducing ordering of the analysis held (L's permutation; empty: none).
+    std::vector<int64_t> ordering() const;
+    // The ordering the next analysis takes instead of choosing one (empty: choose; it is
+    // kept until replaced): a matrix whose pattern lies within one analysed already gets no
+    // more fill from that one's ordering, without the cost of finding it again.
+    void set_ordering(std::vector<int64_t> perm);
     // Whether the factor held is supernodal (false: simplicial, or none).
     bool supernodal() const;
     // C = B^T A^-1 B for a sparse B (n x k), handed to sink. With L L^T = P A P^T (supernodal)

@@ -110,10 +110,10 @@ int frix_testing_sparse_cholesky(int64_t n, const int64_t *colptr, const int64_t
 int frix_testing_sparse_cholesky_layout(int for_solves, int64_t n, const int64_t *colptr, const int64_t *rowind,
                                         const double *values, const double *b, double *x, int *supernodal);
 /* M + rho H H^T as the solvers without W build it, for any contact blocks (identity_blocks =
- * 0) or multiples of the identity (1): *flops of its factorisation and
- * x = (M + rho H H^T)^-1 b. */
+ * 0) or multiples of the identity (1), offered M's ordering: *flops of its factorisation,
+ * x = (M + rho H H^T)^-1 b and *mass_ordering, whether it was analysed in M's ordering. */
 int frix_testing_mass_plus_contacts(int identity_blocks, const frix_matrix *M, const frix_matrix *H, double rho,
-                                    const double *b, double *x, double *flops);
+                                    const double *b, double *x, double *flops, int *mass_ordering);
 /* diag[j] = b_j^T M^-1 b_j for the columns of B as the solvers without W sample W's diagonal
  * (MassSolver::inverse_diagonal), and the same from one full solve a column (by_solves). */
 int frix_testing_inverse_diagonal(const frix_matrix *M, const frix_matrix *B, double *diag, double *by_solves);

@@ -417,12 +417,12 @@ FRIX_TESTING_HOOK int frix_testing_single_push(const frix_matrix *W, int symmetr
 }
 
 // M + rho H H^T as the solvers without W build it (MassPlusContacts), for any contact blocks
-// (identity_blocks = 0) or multiples of the identity (1): the flops of its factorisation and
-// x = (M + rho H H^T)^-1 b.
+// (identity_blocks = 0) or multiples of the identity (1), offered M's ordering: the flops of its
+// factorisation, x = (M + rho H H^T)^-1 b and whether it was analysed in M's ordering.
 #include "solvers/kit/mass_plus_contacts.hpp"
 FRIX_TESTING_HOOK int frix_testing_mass_plus_contacts(int identity_blocks, const frix_matrix *Mm,
                                                       const frix_matrix *Hm, double rho, const double *b,
-                                                      double *x, double *flops) {
+                                                      double *x, double *flops, int *mass_ordering) {
     frix::Csc M, H;
     int e = frix::to_csc(*Mm, M);
     if (e == FRIX_OK) e = frix::to_csc(*Hm, H);
@@ -432,7 +432,11 @@ FRIX_TESTING_HOOK int frix_testing_mass_plus_contacts(int identity_blocks, const
     frix::MassPlusContacts system;
     frix::linalg::FactorCost cost;
     e = system.build(M, H, nc, "test", identity_blocks ? ContactBlocks::kMultiplesOfIdentity : ContactBlocks::kAny);
+    frix::MassSolver mass;
+    if (e == FRIX_OK) e = mass.factor(*Mm);
+    if (e == FRIX_OK) system.order_like_mass(mass.ordering());
     if (e == FRIX_OK) e = system.analyse(&cost);
+    *mass_ordering = e == FRIX_OK && system.ordering() == mass.ordering();
     std::vector<double> S(9 * nc, 0.0);
     for (int64_t a = 0; a < nc; ++a) S[9 * a] = S[9 * a + 4] = S[9 * a + 8] = rho;
     if (e == FRIX_OK) e = system.factor(S.data(), nullptr);
