@@ -65,15 +65,16 @@ START_TEST(sparse_cholesky_and_congruence) {
 END_TEST
 
 /* The layout for repeated solves: simplicial on a sparse factor (a chain: tridiag(-1, 4, -1),
- * a few flops per entry of L), supernodal on a dense one (300 x 300, n I + ones: about 2n/3
- * flops per entry); the same solutions as the supernodal layout either way. */
+ * a few flops per entry of L) and on a dense 120 x 120 (n I + ones: about 2n/3 = 80 flops per
+ * entry, below the switch of 150), supernodal on a dense 300 x 300 (200 per entry); the same
+ * solutions as the supernodal layout either way. */
 START_TEST(sparse_cholesky_layout_for_solves) {
-    enum { kLen = 200, kDenseN = 300 };
+    enum { kLen = 200, kDenseN = 300, kSmallDenseN = 120 };
     static int64_t cp[kDenseN * kDenseN + 1], ci[kDenseN * kDenseN];
     static double cx[kDenseN * kDenseN];
     double b[kDenseN], x0[kDenseN], x1[kDenseN]; /* kDenseN >= kLen */
-    for (int shape = 0; shape < 2; ++shape) {
-        const int64_t n = shape == 0 ? kLen : kDenseN;
+    for (int shape = 0; shape < 3; ++shape) {
+        const int64_t n = shape == 0 ? kLen : shape == 1 ? kDenseN : kSmallDenseN;
         int64_t e = 0;
         for (int64_t j = 0; j < n; ++j) {
             cp[j] = e;
