@@ -17,6 +17,7 @@ frix_error MassPlusContacts::build(const Csc &M, const Csc &H, int64_t nc, const
                     "%.3g of max |M_ij|); gnsn-ac (607) solves a problem whose M is not",
                     solver, asymmetry);
     skewed_ = asymmetry > 0.0;
+    chol_.set_ordering({});  // an ordering given for the pattern before (order_like_mass)
     const int64_t n = M.rows;
     // Every contact's rows: the union over its 3 columns of H, sorted.
     row_start_.assign(nc + 1, 0);

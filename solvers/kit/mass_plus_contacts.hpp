@@ -45,7 +45,7 @@ class MassPlusContacts {
     // ordering (MassSolver::ordering), which fills it no more than M's, instead of finding one
     // again (METIS on a 3D body: as long as the numeric factorisation). Before analyse().
     void order_like_mass(std::vector<int64_t> mass_ordering) {
-        if (within_mass_) chol_.set_ordering(std::move(mass_ordering));
+        chol_.set_ordering(within_mass_ ? std::move(mass_ordering) : std::vector<int64_t>{});
     }
     // What factorising M + H S H^T costs, from the symbolic analysis of its pattern, which the
     // system keeps for its first factorisation (linalg::SparseCholesky::analyze).
