@@ -29,12 +29,9 @@ bool price_w_free_route(const frix_problem &p, const MassSolver &mass, const lin
                         double w_blocks, RoutePrices *prices, MassPlusContacts &system) {
     Csc M, H;
     linalg::FactorCost cost;
-    if (to_csc(*p.M, M) || to_csc(*p.H, H) || system.build(M, H, p.nc, "auto", ContactBlocks::kMultiplesOfIdentity)) {
-        clear_error();
-        return false;
-    }
-    system.order_like_mass(mass.ordering());
-    if (system.analyse(&cost)) {
+    if (to_csc(*p.M, M) || to_csc(*p.H, H) ||
+        system.build(M, H, p.nc, "auto", ContactBlocks::kMultiplesOfIdentity, mass.ordering()) ||
+        system.analyse(&cost)) {
         clear_error();
         return false;
     }

@@ -40,7 +40,7 @@ struct RoutePrices {
 // added a thick elastic grid near the boundary took the slower route
 // (notes/2026-11-28-w-price.md). `system`: M + H S H^T built and analysed for the route's
 // solver, which takes it (offer_mass_plus_contacts) rather than doing both again; analysed in
-// M's ordering where that fits it (MassPlusContacts::order_like_mass; `mass`: M factorised).
+// M's ordering where that fits it (MassPlusContacts::build; `mass`: M factorised).
 bool price_w_free_route(const frix_problem &p, const MassSolver &mass, const linalg::FactorPrice &forming_w,
                         double w_blocks, RoutePrices *prices, MassPlusContacts &system);
 

@@ -9,7 +9,8 @@
 
 namespace frix {
 
-frix_error MassPlusContacts::build(const Csc &M, const Csc &H, int64_t nc, const char *solver, ContactBlocks blocks) {
+frix_error MassPlusContacts::build(const Csc &M, const Csc &H, int64_t nc, const char *solver, ContactBlocks blocks,
+                                   std::vector<int64_t> mass_ordering) {
     const double asymmetry = relative_asymmetry(M);
     if (asymmetry > kMassSkewMax)
         return fail(FRIX_ERR_UNSUPPORTED,
@@ -17,7 +18,6 @@ frix_error MassPlusContacts::build(const Csc &M, const Csc &H, int64_t nc, const
                     "%.3g of max |M_ij|); gnsn-ac (607) solves a problem whose M is not",
                     solver, asymmetry);
     skewed_ = asymmetry > 0.0;
-    chol_.set_ordering({});  // an ordering given for the pattern before (order_like_mass)
     const int64_t n = M.rows;
     // Every contact's rows: the union over its 3 columns of H, sorted.
     row_start_.assign(nc + 1, 0);
@@ -103,7 +103,8 @@ frix_error MassPlusContacts::build(const Csc &M, const Csc &H, int64_t nc, const
     std::vector<char> from_mass(A_.rowind.size(), 0);
     for (int64_t s : m_slot_) from_mass[s] = 1;
     for (int64_t j = 0; j < n; ++j) from_mass[A_.colptr[j + 1] - 1] = 1;
-    within_mass_ = std::all_of(from_mass.begin(), from_mass.end(), [](char c) { return c != 0; });
+    const bool within_mass = std::all_of(from_mass.begin(), from_mass.end(), [](char c) { return c != 0; });
+    chol_.set_ordering(within_mass ? std::move(mass_ordering) : std::vector<int64_t>{});
     return FRIX_OK;
 }
 
@@ -147,8 +148,7 @@ frix_error prepare_mass_plus_contacts(const SolveContext &ctx, KeptMassPlusConta
     if (frix_error e = to_csc(*p.H, H)) return e;
     if (!built) {
         if (frix_error e = to_csc(*p.M, M)) return e;
-        if (frix_error e = kept.system.build(M, H, p.nc, solver, blocks)) return e;
-        kept.system.order_like_mass(ctx.mass->ordering());
+        if (frix_error e = kept.system.build(M, H, p.nc, solver, blocks, ctx.mass->ordering())) return e;
     }
     kept.scale = sampled_delassus_scale(p, H, *ctx.mass, samples);
     if (!(kept.scale > 0.0) || !std::isfinite(kept.scale)) kept.scale = 1.0;

@@ -6,7 +6,6 @@
 #pragma once
 
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <vector>
 
@@ -34,19 +33,16 @@ class MassPlusContacts {
     // given: every pair (kAny, S_a's zeros kept so that no S changes the pattern), or the pairs
     // that share a nonzero column of H_a (kMultiplesOfIdentity: an entry no S_a = s I can fill
     // would only add fill, tenfold on a body whose displacement components M leaves apart).
-    // Fails with FRIX_ERR_UNSUPPORTED when M's asymmetry is above kMassSkewMax (there is no
-    // Cholesky of it).
-    frix_error build(const Csc &M, const Csc &H, int64_t nc, const char *solver,
-                     ContactBlocks blocks = ContactBlocks::kAny);
+    // Where the pattern lies within M's (and the diagonal), its analysis takes M's fill-reducing
+    // ordering `mass_ordering` (MassSolver::ordering; empty: none), which fills it no more than
+    // M's, instead of finding one again (METIS on a 3D body: as long as the numeric
+    // factorisation). Fails with FRIX_ERR_UNSUPPORTED when M's asymmetry is above kMassSkewMax
+    // (there is no Cholesky of it).
+    frix_error build(const Csc &M, const Csc &H, int64_t nc, const char *solver, ContactBlocks blocks,
+                     std::vector<int64_t> mass_ordering);
     // Whether M is not exactly symmetric: the factorised matrix is then (M + M^T) / 2 + H S H^T,
     // and the solver must apply K = (M - M^T) / 2 itself (matrix_skew_gemv).
     bool skewed() const { return skewed_; }
-    // Where the pattern lies within M's (and the diagonal), the analysis takes M's fill-reducing
-    // ordering (MassSolver::ordering), which fills it no more than M's, instead of finding one
-    // again (METIS on a 3D body: as long as the numeric factorisation). Before analyse().
-    void order_like_mass(std::vector<int64_t> mass_ordering) {
-        chol_.set_ordering(within_mass_ ? std::move(mass_ordering) : std::vector<int64_t>{});
-    }
     // What factorising M + H S H^T costs, from the symbolic analysis of its pattern, which the
     // system keeps for its first factorisation (linalg::SparseCholesky::analyze).
     frix_error analyse(linalg::FactorCost *cost) { return chol_.analyze(A_.view(), cost); }
@@ -64,7 +60,6 @@ class MassPlusContacts {
    private:
     Csc A_;                                // M + H S H^T, upper triangle
     bool skewed_ = false;
-    bool within_mass_ = false;  // every entry of the pattern M's or diagonal
     std::vector<int64_t> m_slot_;          // M's upper entries: their slot in A_
     std::vector<double> m_val_;            // ... and their values
     // Contact a: its rows of H (rows_[row_start_[a] .. row_start_[a + 1])), H restricted to

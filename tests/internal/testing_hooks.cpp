@@ -431,10 +431,10 @@ FRIX_TESTING_HOOK int frix_testing_mass_plus_contacts(int identity_blocks, const
     using frix::ContactBlocks;
     frix::MassPlusContacts system;
     frix::linalg::FactorCost cost;
-    e = system.build(M, H, nc, "test", identity_blocks ? ContactBlocks::kMultiplesOfIdentity : ContactBlocks::kAny);
     frix::MassSolver mass;
-    if (e == FRIX_OK) e = mass.factor(*Mm);
-    if (e == FRIX_OK) system.order_like_mass(mass.ordering());
+    e = mass.factor(*Mm);
+    const ContactBlocks blocks = identity_blocks ? ContactBlocks::kMultiplesOfIdentity : ContactBlocks::kAny;
+    if (e == FRIX_OK) e = system.build(M, H, nc, "test", blocks, mass.ordering());
     if (e == FRIX_OK) e = system.analyse(&cost);
     *mass_ordering = e == FRIX_OK && system.ordering() == mass.ordering();
     std::vector<double> S(9 * nc, 0.0);
