@@ -626,6 +626,34 @@ START_TEST(admm_system_keeps_only_the_couplings_rho_i_makes) {
 }
 END_TEST
 
+/* gadmm changes rho only where the iterations left at its rate cost more than the
+ * factorisation the change takes. On this grid its first rho converges a few iterations after
+ * the residual balance would change it, and a change there only adds a factorisation; from a rho
+ * 10^4 times too small the change pays and is made. */
+START_TEST(admm_changes_rho_only_where_it_pays) {
+    grid_case c = grid_case_make(16, 16, 4, 0.0, 1e4);
+    const double rhos[2] = {1.0, 1e-4};
+    for (int k = 0; k < 2; ++k) {
+        frix_options *o = NULL;
+        ck_assert_int_eq(frix_options_create(FRIX_SOLVER_GLOBAL_ADMM, &o), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_RHO, rhos[k]), FRIX_OK);
+        frix_info *info = NULL;
+        ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+        memset(c.r, 0, sizeof *c.r * (size_t)c.m), memset(c.v, 0, sizeof *c.v * (size_t)c.n);
+        expect_converged_into(&c, o, info);
+        int64_t factorizations = -1;
+        ck_assert_int_eq(frix_info_get_int(info, FRIX_INFO_FACTORIZATIONS, &factorizations), FRIX_OK);
+        /* M's (the driver's), then M + rho H H^T's: once, or again after a change. */
+        if (k == 0) ck_assert_int_eq(factorizations, 2);
+        else ck_assert_int_ge(factorizations, 3);
+        frix_info_free(info);
+        frix_options_free(o);
+    }
+    grid_case_free(&c);
+}
+END_TEST
+
 /* W's diagonal entries for a few columns of H (the sampling of rho's unit), from the forward
  * solves up L's tree alone: the same as from a full solve per column. */
 START_TEST(inverse_diagonal_matches_full_solves) {
@@ -979,6 +1007,7 @@ int main(void) {
     tcase_add_test(tc, solvers_without_w);
     tcase_add_test(tc, persistent_without_w_factorises_once);
     tcase_add_test(tc, elastic_grid_arguments);
+    tcase_add_test(tc, admm_changes_rho_only_where_it_pays);
     tcase_add_test(tc, admm_system_keeps_only_the_couplings_rho_i_makes);
     tcase_add_test(tc, inverse_diagonal_matches_full_solves);
     tcase_add_test(tc, newton_corrects_the_lumped_rho);

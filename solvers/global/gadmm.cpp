@@ -9,7 +9,9 @@
 // M + rho H H^T is symmetric positive definite (M is): CHOLMOD factorises it once per value
 // of rho, one symbolic analysis for all. rho, in units of the mean normal entry of W_aa over a
 // few sampled contacts, follows the residual balance (the ratio of the relative primal and dual
-// residuals), checked every kBalancePeriod iterations and changed only by a factor >= 5.
+// residuals), checked every kBalancePeriod iterations and changed only by a factor >= 5, and
+// only where the iterations left at the rate since the last change cost more than the
+// factorisation the change takes.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -59,6 +61,7 @@ class Solver {
     Residuals update_r_and_xi();
     frix_status stop_test(double light, double prim, double dual);
     frix_status balance_rho(double prim, double dual);
+    bool change_pays(double light) const;
     void finish(frix_status status);
 
     SolveContext &ctx_;
@@ -79,6 +82,7 @@ class Solver {
     std::vector<double> shift_, xi_, rhs_, Hx_, dxi_, Hdxi_, Hr_, kv_, work_;
     first_order::RestartedNesterov momentum_;
     double equilibrium_ = 0.0, err_ = 0.0, norm_f_ = 0.0, tol_light_ = 0.0;
+    double light_after_change_ = NAN;  // the light error of the first iteration on the current rho
     int64_t it_ = 0, changes_ = 0, since_change_ = 0;
 };
 
@@ -156,6 +160,7 @@ frix_error Solver::run() {
         const double dual = std::sqrt(dot(Hdxi_.data(), Hdxi_.data(), n_)) /
                             std::max({norm_f_, std::sqrt(dot(Hr_.data(), Hr_.data(), n_)), 1e-300});
         momentum_.advance(res.comb, r_, xi_.data());
+        if (since_change_ == 1) light_after_change_ = std::max(prim, dual);
         status = stop_test(std::max(prim, dual), prim, dual);
         if (status == FRIX_STATUS_NOT_RUN) status = balance_rho(prim, dual);
     }
@@ -221,18 +226,34 @@ frix_status Solver::stop_test(double light, double prim, double dual) {
     return full ? monitor_.verdict(it_, err_) : monitor_.limits(it_, light);
 }
 
-// Residual balancing: rho <- rho sqrt(primal / dual) when that changes it 5-fold.
+// Residual balancing: rho <- rho sqrt(primal / dual) when that changes it 5-fold and the
+// change pays (change_pays).
 // FRIX_STATUS_NOT_RUN to go on.
 frix_status Solver::balance_rho(double prim, double dual) {
     if (!adaptive_ || since_change_ < kBalancePeriod || !(dual > 0.0) || !(prim > 0.0)) return FRIX_STATUS_NOT_RUN;
     const double target = std::clamp(rho_ * std::sqrt(prim / dual), kRhoMin / scale_, kRhoMax / scale_);
     if (!(target > kBalanceFactor * rho_ || target * kBalanceFactor < rho_)) return FRIX_STATUS_NOT_RUN;
+    if (!change_pays(std::max(prim, dual))) return FRIX_STATUS_NOT_RUN;
     rho_ = target;
     momentum_.reset(r_, xi_.data());
     since_change_ = 0;
     ++changes_;
     if (factor()) return FRIX_STATUS_NOT_RUN;
     return system_.refused() ? system_.refused() : FRIX_STATUS_NUMERICAL_FAILURE;
+}
+
+// Whether a change of rho may pay for its factorisation: it saves at most the iterations left,
+// predicted from the light error's rate since the last change, which must cost more (counted
+// in flops, so that the path does not depend on the machine). Near the tolerance a change
+// costs more than it can save.
+bool Solver::change_pays(double light) const {
+    if (!(light > tol_light_)) return false;
+    const double gained = std::log(light_after_change_ / light);  // over since_change_ - 1 iterations
+    if (!(gained > 0.0)) return true;  // not converging on this rho
+    const double left = std::log(light / tol_light_) / gained * (double)(since_change_ - 1);
+    const linalg::FactorCost cost = system_.cost();
+    const double iteration = 4.0 * cost.factor_entries + 8.0 * system_.contact_entries();
+    return left * iteration > cost.flops;
 }
 
 // The last (r, v): r is in K, and v the velocity of the last linear solve.
@@ -273,7 +294,8 @@ const SolverEntry kGadmmEntry = {
     "xi in the dual cones, r the multiplier; one solve with M + rho H H^T and one projection per "
     "iteration, the De Saxce term s = mu |u_T| e_N updated every iteration, Nesterov "
     "acceleration with restart, rho balanced between the relative primal and dual residuals "
-    "(checked every 25 iterations, changed only 5-fold or more: each change refactorises). "
+    "(checked every 25 iterations, changed only 5-fold or more, and only where the iterations left "
+    "at the rate so far cost more than the factorisation the change takes). "
     "M + rho H H^T is factorised by CHOLMOD (one symbolic analysis per solve; a persistent solver "
     "keeps the factorisation, and its rho, while M and H stay); W = H^T M^-1 H is "
     "never formed: for deformable bodies whose W would be dense and too large. Converged means "

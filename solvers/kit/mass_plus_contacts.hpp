@@ -46,6 +46,11 @@ class MassPlusContacts {
     // What factorising M + H S H^T costs, from the symbolic analysis of its pattern, which the
     // system keeps for its first factorisation (linalg::SparseCholesky::analyze).
     frix_error analyse(linalg::FactorCost *cost) { return chol_.analyze(A_.view(), cost); }
+    // What a factorisation on the analysis held costs (zero: none yet).
+    linalg::FactorCost cost() const { return chol_.cost(); }
+    // The entries of H it holds (three a row of each contact's columns): what a product
+    // with H or H^T costs, in multiply-adds.
+    double contact_entries() const { return (double)hrows_.size(); }
     // The ordering of the analysis held (empty: none yet).
     std::vector<int64_t> ordering() const { return chol_.ordering(); }
     // Factorises M + H S H^T, S = 9 nc values (column-major 3x3 blocks, symmetric, each a

@@ -208,6 +208,11 @@ frix_error SparseCholesky::analyze(const CscView &A, FactorCost *cost) {
     return FRIX_OK;
 }
 
+FactorCost SparseCholesky::cost() const {
+    const Impl &m = *impl_;
+    return m.L ? FactorCost{m.flops, m.entries, m.bytes} : FactorCost{};
+}
+
 frix_error SparseCholesky::factor(const CscView &A) {
     Impl &m = *impl_;
     if (frix_error e = refuse_unless_square(A)) return e;

@@ -196,6 +196,8 @@ class SparseCholesky {
     // the next factor() of a matrix with A's pattern starts from it. *cost: what that
     // factorisation will cost, counted as cholesky_cost counts it (bytes: of this layout).
     frix_error analyze(const CscView &A, FactorCost *cost);
+    // What a factorisation on the analysis held costs (zero: none held).
+    FactorCost cost() const;
     // x = A^-1 b for one dense right-hand side.
     frix_error solve(const double *b, double *x) const;
     // The fill-reducing ordering of the analysis held (L's permutation; empty: none).
