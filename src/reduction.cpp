@@ -43,10 +43,66 @@ double relative_asymmetry(const Csc &M) {
     return amax > 0.0 ? skew / amax : 0.0;
 }
 
+frix_error MassSolver::analyse_counted(const frix_matrix &M) {
+    load_.clear();
+    factored_ = false;
+    refused_ = FRIX_STATUS_NOT_RUN;
+    empty_ = M.rows == 0;  // no dofs: M^-1 is the empty map, W = 0 and q = w
+    if (empty_) {
+        factored_ = true;
+        return FRIX_OK;
+    }
+    if (frix_error e = to_csc(M, csc_)) return e;
+    symmetric_ = is_symmetric(csc_);
+    use_chol_ = false;
+    if (symmetric_) {
+        linalg::FactorCost cost;
+        if (chol_.analyze(csc_.view(), &cost) == FRIX_OK) {
+            use_chol_ = true;
+            return FRIX_OK;
+        }
+        clear_error();  // LU's analysis may still take it
+    }
+    return factor_lu();
+}
+
+frix_error MassSolver::numeric_counted() {
+    if (use_chol_) {
+        const frix_error e = chol_.factor(csc_.view());
+        refused_ = chol_.refused();
+        if (e == FRIX_OK || refused_) {
+            use_chol_ = e == FRIX_OK;
+            factored_ = e == FRIX_OK;
+            return e;
+        }
+    }
+    return factor_lu();
+}
+
+// UMFPACK's LU, where M is not symmetric or no Cholesky factorisation takes it.
+frix_error MassSolver::factor_lu() {
+    use_chol_ = false;
+    if (frix_error e = lu_.analyze(csc_.view())) return e;
+    if (frix_error e = lu_.factor(csc_.view())) {
+        refused_ = lu_.refused();
+        if (refused_) return e;
+        // A copy: fail() writes the buffer frix_last_error_message() points to.
+        const std::string why = frix_last_error_message();
+        return fail(e, "global problem: M cannot be factorised (%s)", why.c_str());
+    }
+    factored_ = true;
+    return FRIX_OK;
+}
+
+frix_error MassSolver::not_factored() {
+    return fail(FRIX_ERR_INTERNAL, "global problem: M was analysed, not factorised, before a solve with it");
+}
+
 frix_error MassSolver::inverse_diagonal(const Csc &B, std::vector<double> &diag) {
     const int64_t n = B.rows, k = B.cols;
     diag.assign(k, 0.0);
     if (empty_) return FRIX_OK;
+    if (!factored_) return not_factored();
     if (use_chol_) {
         std::vector<int64_t> colptr, rowind;
         std::vector<double> values;

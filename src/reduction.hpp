@@ -38,39 +38,25 @@ bool is_symmetric(const Csc &M);
 // A factorisation of M: CHOLMOD when M is symmetric positive definite, UMFPACK otherwise.
 class MassSolver {
    public:
-    // The work of each factor() is in last_stats().
+    // The work of each factor(), analyse() and factor_analysed() is in last_stats().
     frix_error factor(const frix_matrix &M) {
-        load_.clear();
-        const linalg::FactorStats chol0 = chol_.stats(), lu0 = lu_.stats();
-        const frix_error e = factor_counted(M);
-        last_ = (chol_.stats() - chol0) + (lu_.stats() - lu0);
-        return e;
+        return counted([&] {
+            if (frix_error e = analyse_counted(M)) return e;
+            return factored_ ? FRIX_OK : numeric_counted();
+        });
     }
-    frix_error factor_counted(const frix_matrix &M) {
-        empty_ = M.rows == 0;  // no dofs: M^-1 is the empty map, W = 0 and q = w
-        if (empty_) return FRIX_OK;
-        if (frix_error e = to_csc(M, csc_)) return e;
-        refused_ = FRIX_STATUS_NOT_RUN;
-        symmetric_ = is_symmetric(csc_);
-        if (symmetric_) {
-            const frix_error e = chol_.factor(csc_.view());
-            refused_ = chol_.refused();
-            if (e == FRIX_OK || refused_) {
-                use_chol_ = e == FRIX_OK;
-                return e;
-            }
-        }
-        use_chol_ = false;
-        if (frix_error e = lu_.analyze(csc_.view())) return e;
-        if (frix_error e = lu_.factor(csc_.view())) {
-            refused_ = lu_.refused();
-            if (refused_) return e;
-            // A copy: fail() writes the buffer frix_last_error_message() points to.
-            const std::string why = frix_last_error_message();
-            return fail(e, "global problem: M cannot be factorised (%s)", why.c_str());
-        }
-        return FRIX_OK;
+    // The analysis alone where M is symmetric (Cholesky's ordering and symbolic factor: what
+    // the price of W and the analysis of M + rho H H^T read), factor_analysed() to complete it:
+    // a route that never solves with M pays only for it. An M that is not symmetric is
+    // factorised at once (LU), as factor() does.
+    frix_error analyse(const frix_matrix &M) {
+        return counted([&] { return analyse_counted(M); });
     }
+    frix_error factor_analysed() {
+        return counted([&] { return factored_ ? FRIX_OK : numeric_counted(); });
+    }
+    // Whether M's factorisation is held (not after analyse() alone, nor after a failure).
+    bool factored() const { return factored_; }
     // Every factorisation first asks the budget (the solve's limits); refused(): the limit
     // the last factor() would have overrun (FRIX_STATUS_NOT_RUN: none).
     void set_budget(const linalg::FactorBudget &budget) {
@@ -82,6 +68,7 @@ class MassSolver {
     bool symmetric() const { return symmetric_; }
     frix_error solve(const double *b, double *x) const {
         if (empty_) return FRIX_OK;
+        if (!factored_) return not_factored();
         return use_chol_ ? chol_.solve(b, x) : lu_.solve(b, x);
     }
     // x = M^-1 f (n values) for a load f: the last load's answer is kept, and a load equal to
@@ -107,6 +94,7 @@ class MassSolver {
                           const std::function<bool()> &stop, bool &stopped) {
         stopped = false;
         W.reset();
+        if (!factored_) return not_factored();
         Csc h;
         if (frix_error e = to_csc(H, h)) return e;
         const int64_t n = H.rows, k = H.cols;
@@ -176,6 +164,18 @@ class MassSolver {
     bool cholesky() const { return use_chol_ && !empty_; }
 
    private:
+    template <class F>
+    frix_error counted(F &&work) {
+        const linalg::FactorStats chol0 = chol_.stats(), lu0 = lu_.stats();
+        const frix_error e = work();
+        last_ = (chol_.stats() - chol0) + (lu_.stats() - lu0);
+        return e;
+    }
+    frix_error analyse_counted(const frix_matrix &M);
+    frix_error numeric_counted();
+    frix_error factor_lu();
+    static frix_error not_factored();
+
     linalg::FactorStats last_;
     Csc csc_;
     linalg::SparseCholesky chol_;
@@ -184,6 +184,7 @@ class MassSolver {
     frix_status refused_ = FRIX_STATUS_NOT_RUN;  // why the last factor() was not started
     bool empty_ = false;
     bool symmetric_ = false;
+    bool factored_ = false;
     std::vector<double> load_, load_x_;  // solve_load: the last load and M^-1 of it
 };
 

@@ -240,7 +240,7 @@ frix_error settle_global(const frix_problem &p, const frix_options &opts, const 
     const bool broken = !finite_measures(meas) || !vec::all_finite(r, m) || !vec::all_finite(v, p.n);
     MassSolver own;
     const MeasureAnswer at = [&](const double *x, double *ux, double *vx, Measures &out) {
-        if (!ms) {
+        if (!ms || !ms->factored()) {
             if (frix_error e = own.factor(*p.M)) return e;
             ms = &own;
         }
@@ -283,15 +283,11 @@ frix_error solve_global_problem(const frix_problem &p, const frix_options &opts,
 
 namespace {
 
-// Factorises M into ms, priced against the memory limit only: every answer's velocity needs
-// M^-1, and the start returned at a time limit must come with its own (M v = H r + f). over:
-// the limit a factorisation not started would have overrun. regularise: whether M is singular
-// goes into state (a symmetric M that no factorisation takes may be).
-frix_error factor_mass(const frix_problem &p, const frix_options &opts, const Stopwatch &clock, MassSolver &ms,
-                       GlobalState &state, bool regularise, frix_status &over) {
-    ms.set_budget(Monitor(opts, clock).memory_budget());
-    const frix_error factored = ms.factor(*p.M);
-    ms.set_budget(nullptr);  // it refers to this solve's options and clock
+// The end of a factorisation of M into ms (`factored`: what it returned): over, the limit one not
+// started would have overrun; whether M is singular, into state (regularise: a symmetric M that
+// no factorisation takes may be). Fails where neither holds.
+frix_error judge_mass(const frix_problem &p, const MassSolver &ms, frix_error factored, GlobalState &state,
+                      bool regularise, frix_status &over) {
     state.singular = false;
     if (frix_error e = factored) {
         over = ms.refused();
@@ -299,10 +295,92 @@ frix_error factor_mass(const frix_problem &p, const frix_options &opts, const St
         clear_error();
         state.singular = !over;
         state.quotient = NAN;
-    } else if (regularise) {
+    } else if (regularise && ms.factored()) {
         state.quotient = free_motion_quotient(p, ms);
         state.singular = std::fabs(state.quotient) <= kSingularQuotient;
     }
+    return FRIX_OK;
+}
+
+// What became of M (verbosity 1): factorised, or analysed alone for a route that may never solve
+// with it.
+void log_mass(const frix_options &opts, const MassSolver &ms, frix_error factored) {
+    if (opts.i(FRIX_OPT_VERBOSITY) < 1 || factored) return;
+    log_line(&opts, ms.factored() ? "M factorised (%s), %.3g s" : "M analysed (%s), %.3g s: its factorisation left to "
+                                                                  "the routes that solve with it",
+             ms.cholesky() ? "Cholesky" : "LU", ms.last_stats().seconds);
+}
+
+// Factorises M into ms (numeric: false, its analysis alone where M is symmetric, which
+// complete_mass completes), priced against the memory limit only: every answer's velocity needs
+// M^-1, and the start returned at a time limit must come with its own (M v = H r + f).
+frix_error factor_mass(const frix_problem &p, const frix_options &opts, const Stopwatch &clock, MassSolver &ms,
+                       GlobalState &state, bool regularise, bool numeric, frix_status &over) {
+    ms.set_budget(Monitor(opts, clock).memory_budget());
+    const frix_error factored = numeric ? ms.factor(*p.M) : ms.analyse(*p.M);
+    ms.set_budget(nullptr);  // it refers to this solve's options and clock
+    log_mass(opts, ms, factored);
+    return judge_mass(p, ms, factored, state, regularise, over);
+}
+
+// factor_mass's numeric part, on the analysis ms holds.
+frix_error complete_mass(const frix_problem &p, const frix_options &opts, const Stopwatch &clock, MassSolver &ms,
+                         GlobalState &state, frix_status &over) {
+    ms.set_budget(Monitor(opts, clock).memory_budget());
+    const frix_error factored = ms.factor_analysed();
+    ms.set_budget(nullptr);
+    log_mass(opts, ms, factored);
+    return judge_mass(p, ms, factored, state, true, over);
+}
+
+// A solver of global problems run on (v, r) from the caller's r, its work added to info. M's
+// factorisation where it asks for it (on_demand: ms holds the analysis alone), its work into
+// `completed`: singular_later where that found M singular, info then left as it was (the
+// caller's passes take over).
+frix_error run_native(const frix_problem &p, const frix_options &opts, const SolverEntry &entry, double *r, double *u,
+                      double *v, frix_info &info, const Stopwatch &clock, SolveCache *cache, MassSolver &ms,
+                      GlobalState &state, bool regularise, bool on_demand, frix_info &completed,
+                      bool &singular_later) {
+    const int64_t m = 3 * p.nc;
+    // Newton on (v, r) from the caller's r, with the velocity that r gives (not M^-1 f:
+    // a warm-started (v, r) must satisfy the equilibrium M v = H r + f to start with);
+    // a solver that starts from r alone recovers it where it needs it.
+    if (!entry.starts_from_r && std::any_of(r, r + m, [](double x) { return x != 0.0; }))
+        if (frix_error e = recover_velocity(p, ms, r, v)) return e;
+    // The solver's own setup (auto's reduction route) adds to the driver's.
+    frix_info native = info;
+    native.setup_time = native.reduction_time = 0.0;
+    native.factorizations = native.symbolic_analyses = 0;  // the solver's own, M's added below
+    native.factorization_time = 0.0;
+    // M's factorisation where the solver asks for it, judged as the caller's own: a singular M
+    // ends the solver's run.
+    const std::function<frix_error(bool *)> complete = [&](bool *ready) -> frix_error {
+        *ready = true;
+        if (ms.factored()) return FRIX_OK;
+        frix_status over = FRIX_STATUS_NOT_RUN;
+        const frix_error e = complete_mass(p, opts, clock, ms, state, over);
+        Monitor::record_factorizations(completed, ms.last_stats());
+        singular_later = state.singular;
+        *ready = !e && ms.factored() && !singular_later;
+        return e;
+    };
+    SolveContext ctx = SolveContext::global(p, opts, r, u, v, native, clock, &ms).with_cache(cache);
+    ctx.runaway_bound = runaway_bound(free_velocity(p));
+    ctx.mass_shifted = !regularise;  // (only solve_floating's passes do not regularise)
+    if (on_demand) ctx.factor_mass = &complete;
+    if (frix_error e = entry.solve(ctx)) return e;
+    // A run that missed the tolerance without solving with M: whether M is singular (the
+    // passes then say whether the contacts hold it) is known only from its factorisation.
+    if (on_demand && !ms.factored() && !ms.refused() && native.status != FRIX_STATUS_CONVERGED &&
+        native.status != FRIX_STATUS_STOPPED_BY_CALLBACK && !Monitor(opts, clock).out_of_time()) {
+        bool ready = true;
+        if (frix_error e = complete(&ready)) return e;
+    }
+    if (singular_later) return FRIX_OK;
+    native.setup_time += info.setup_time;
+    Monitor::add_factorizations(native, info);
+    Monitor::add_factorizations(native, completed);
+    info = native;
     return FRIX_OK;
 }
 
@@ -321,10 +399,15 @@ frix_error solve_global(const frix_problem &p, const frix_options &opts, const S
     Kept<GlobalState> state(cache, kGlobalStateKey);
     MassSolver &ms = enclosing ? *enclosing : state->ms;
     const bool m_current = enclosing || (cache && state->m_values == cache->m_values);
+    // A one-shot solve from r = 0 by a solver that asks for M's factorisation where it needs it
+    // analyses M alone: auto's route without W never solves with M. (A persistent solver's next
+    // steps start from r, whose velocity needs M^-1: it factorises M at its first step.)
+    const bool on_demand = regularise && !enclosing && !cache && entry.solves_global &&
+                           entry.mass_factor_on_demand && vec::all_zero(r, m);
     if (!m_current) {
         state->m_values = 0;  // until factorised
         frix_status over = FRIX_STATUS_NOT_RUN;
-        if (frix_error e = factor_mass(p, opts, clock, ms, *state, regularise, over)) return e;
+        if (frix_error e = factor_mass(p, opts, clock, ms, *state, regularise, !on_demand, over)) return e;
         if (over) {
             // One that would exceed the memory limit is not started: nothing is solved, r
             // stays as given and v = 0.
@@ -337,46 +420,47 @@ frix_error solve_global(const frix_problem &p, const frix_options &opts, const S
         }
         state->m_values = cache ? cache->m_values : 0;
     }
-    if (regularise && state->singular) {
-        frix_info factorised;  // M's own factorisation, before the shifted one's
-        if (!m_current) Monitor::record_factorizations(factorised, ms.last_stats());
+    frix_info factorised;  // M's factorisation, this solve's part
+    if (!m_current) Monitor::record_factorizations(factorised, ms.last_stats());
+    // A singular M: the passes on M + eps diag(M) (`factorised` before theirs).
+    const auto floating = [&]() {
         const frix_error e = solve_floating(p, opts, entry, r, u, v, info, clock, cache, *state, !m_current);
         Monitor::add_factorizations(info, factorised);
         state.keep();
         return e;
-    }
+    };
+    if (regularise && state->singular) return floating();
     std::vector<double> q(m);
-    if (frix_error e = ms.solve_load(p.f, p.n, v)) return e;
-    if (m > 0) matrix_gemv_transposed(*p.H, 1.0, v, 0.0, q.data());
-    bool separating = true;
-    for (int64_t i = 0; i < m; ++i) {
-        q[i] += p.w[i];
-        if (i % 3 == 0 && q[i] < 0.0) separating = false;
+    bool separating = false;
+    if (ms.factored()) {
+        if (frix_error e = ms.solve_load(p.f, p.n, v)) return e;
+        if (m > 0) matrix_gemv_transposed(*p.H, 1.0, v, 0.0, q.data());
+        separating = true;
+        for (int64_t i = 0; i < m; ++i) {
+            q[i] += p.w[i];
+            if (i % 3 == 0 && q[i] < 0.0) separating = false;
+        }
+    } else {
+        std::fill(v, v + p.n, 0.0);  // the solver's own first solves give v (r = 0)
     }
     info.setup_time = setup.seconds();
-    if (!m_current) Monitor::record_factorizations(info, ms.last_stats());
+    Monitor::add_factorizations(info, factorised);
     if (separating) {
         for (int64_t i = 0; i < m; ++i) r[i] = 0.0;
         info.status = FRIX_STATUS_CONVERGED;
         info.iterations = 0;
     } else if (entry.solves_global) {
-        // Newton on (v, r) from the caller's r, with the velocity that r gives (not M^-1 f:
-        // a warm-started (v, r) must satisfy the equilibrium M v = H r + f to start with);
-        // a solver that starts from r alone recovers it where it needs it.
-        if (!entry.starts_from_r && std::any_of(r, r + m, [](double x) { return x != 0.0; }))
-            if (frix_error e = recover_velocity(p, ms, r, v)) return e;
-        // The solver's own setup (auto's reduction route) adds to the driver's.
-        frix_info native = info;
-        native.setup_time = native.reduction_time = 0.0;
-        native.factorizations = native.symbolic_analyses = 0;  // the solver's own, M's added below
-        native.factorization_time = 0.0;
-        SolveContext ctx = SolveContext::global(p, opts, r, u, v, native, clock, &ms).with_cache(cache);
-        ctx.runaway_bound = runaway_bound(free_velocity(p));
-        ctx.mass_shifted = !regularise;  // (only solve_floating's passes do not regularise)
-        if (frix_error e = entry.solve(ctx)) return e;
-        native.setup_time += info.setup_time;
-        Monitor::add_factorizations(native, info);
-        info = native;
+        frix_info completed;  // M's factorisation where the solver asked for it
+        bool singular_later = false;
+        if (frix_error e = run_native(p, opts, entry, r, u, v, info, clock, cache, ms, *state, regularise, on_demand,
+                                      completed, singular_later))
+            return e;
+        if (singular_later) {
+            info.factorizations = info.symbolic_analyses = 0;  // M's, counted in `factorised`
+            info.factorization_time = 0.0;
+            Monitor::add_factorizations(factorised, completed);
+            return floating();
+        }
     } else {
         const ReductionSize size = reduction_bound(p);
         const ReductionMemory memory = reduction_memory(size, Monitor(opts, clock));

@@ -84,6 +84,12 @@ struct SolveContext {
     // (u then holds W r + q on entry): a solver that would measure its start takes these instead
     // of paying for the same product with W again. Null: not known.
     const Measures *measured_start = nullptr;
+    // Set by the driver where it left M's numeric factorisation to the solver
+    // (SolverEntry::mass_factor_on_demand): mass then holds M's analysis alone, and this
+    // completes it as the driver would have (the limits asked, a singular M found). Where it
+    // answers *ready false the solver returns at once: M is singular (the driver takes over) or
+    // its factorisation would overrun the limit mass->refused() names (the solver's status).
+    const std::function<frix_error(bool *ready)> *factor_mass = nullptr;
     // Set by the driver: the bound past which r runs away (runaway_bound); 0: no check.
     double runaway_bound = 0.0;
     // Set by the driver in its passes on a singular M's shifted M + eps diag(M) (floating.hpp):
@@ -187,6 +193,10 @@ struct SolverEntry {
     // recover the velocity a warm r gives where they need it (auto's routes), so the driver
     // does not before it.
     bool starts_from_r = false;
+    // A solver of global problems that needs M's numeric factorisation on some of its paths
+    // only and asks for it there (SolveContext::factor_mass): the driver of a one-shot solve
+    // from r = 0 then analyses M alone (auto: its route without W never solves with M).
+    bool mass_factor_on_demand = false;
 };
 
 // nullptr if unknown.

@@ -461,6 +461,16 @@ END_TEST
  * with M + rho H H^T factorised, is priced below it: auto takes that route, to 607's answer, and
  * forms no W (no reduction time). Under a memory limit W would overrun it does the same, and
  * says so. On rigid bodies it reduces as before. */
+/* What the driver logged of M (verbosity 1): analysed alone, factorised. */
+typedef struct {
+    int analysed, factorised;
+} mass_log;
+static void note_mass(void *data, const char *line) {
+    mass_log *seen = data;
+    if (strncmp(line, "M analysed", 10) == 0) ++seen->analysed;
+    if (strncmp(line, "M factorised", 12) == 0) ++seen->factorised;
+}
+
 START_TEST(auto_prices_the_reduction_of_a_deformable_body) {
     /* 900 contacts, some sticking, some sliding, some off the plane. */
     frix_elastic_grid g;
@@ -483,6 +493,9 @@ START_TEST(auto_prices_the_reduction_of_a_deformable_body) {
      * factor a few MB, with room for a sanitizer's overhead on what the process holds). */
     for (int limited = 0; limited < 2; ++limited) {
         if (limited) ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_MEMORY_LIMIT, 40e6), FRIX_OK);
+        mass_log seen = {0, 0};
+        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_log(o, note_mass, &seen), FRIX_OK);
         memset(r, 0, sizeof *r * (size_t)m), memset(v, 0, sizeof *v * (size_t)n);
         ck_assert_msg(frix_solve(p, o, r, u, v, info) == FRIX_OK, "%s", frix_last_error_message());
         const char *trace = frix_info_trace(info);
@@ -508,6 +521,10 @@ START_TEST(auto_prices_the_reduction_of_a_deformable_body) {
         int64_t analyses = -1;
         ck_assert_int_eq(frix_info_get_int(info, FRIX_INFO_SYMBOLIC_ANALYSES, &analyses), FRIX_OK);
         ck_assert_msg(limited || analyses == 2, "%lld analyses\n%s", (long long)analyses, trace);
+        /* The route never solves with M: M is analysed (for the prices and the ordering), not
+         * factorised. */
+        ck_assert_msg(seen.analysed == 1 && seen.factorised == 0, "M analysed %d, factorised %d times\n%s",
+                      seen.analysed, seen.factorised, trace);
         double diff = 0.0;
         for (int64_t i = 0; i < m; ++i) diff = fmax(diff, fabs(r[i] - r607[i]));
         ck_assert_msg(diff <= 1e-5 * scale, "auto and 607 differ by %g (max |r| %g)", diff, scale);
@@ -651,6 +668,52 @@ START_TEST(admm_changes_rho_only_where_it_pays) {
         frix_options_free(o);
     }
     grid_case_free(&c);
+}
+END_TEST
+
+/* A grid without masses held by its contacts alone (M singular), whose route is the one without
+ * W: pressed down, auto solves it without ever factorising M (M + rho H H^T is regular where
+ * the contacts hold the free motions); pushed sideways beyond friction, the route's failure
+ * leads to M's factorisation, which finds M singular, and the solve is refused with the reason. */
+START_TEST(auto_without_w_on_a_floating_grid) {
+    const double side[2] = {0.0, 0.5};
+    for (int k = 0; k < 2; ++k) {
+        frix_elastic_grid g;
+        ck_assert_int_eq(frix_elastic_grid_make_floating(30, 30, 2, side[k], -1.0, &g), FRIX_OK);
+        const int64_t m = frix_problem_contact_dofs(g.problem), n = frix_problem_dofs(g.problem);
+        double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u), *v = calloc((size_t)n, sizeof *v);
+        frix_options *o = NULL;
+        frix_info *info = NULL;
+        ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &o), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
+        mass_log seen = {0, 0};
+        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_log(o, note_mass, &seen), FRIX_OK);
+        ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+        const frix_error e = frix_solve(g.problem, o, r, u, v, info);
+        ck_assert_int_eq(seen.analysed, 1);
+        if (k == 0) {
+            ck_assert_msg(e == FRIX_OK, "%s", frix_last_error_message());
+            double equilibrium = NAN, normal = 0.0;
+            ck_assert_int_eq(frix_info_get_double(info, FRIX_INFO_EQUILIBRIUM, &equilibrium), FRIX_OK);
+            ck_assert_msg(frix_info_status(info) == FRIX_STATUS_CONVERGED && frix_info_error(info) <= 1e-8 &&
+                              equilibrium <= 1e-8,
+                          "%s, error %g, equilibrium %g\n%s", frix_status_string(frix_info_status(info)),
+                          frix_info_error(info), equilibrium, frix_info_trace(info));
+            for (int64_t a = 0; a < m / 3; ++a) normal += r[3 * a];
+            ck_assert_double_eq_tol(normal, (double)n / 3.0, 1e-6 * (double)n); /* the contacts carry the load */
+            ck_assert_msg(seen.factorised == 0, "M factorised %d times\n%s", seen.factorised, frix_info_trace(info));
+        } else {
+            ck_assert_int_ge(seen.factorised, 1);
+            ck_assert_msg(e == FRIX_ERR_NUMERICAL && strstr(frix_last_error_message(), "M is singular") &&
+                              strstr(frix_last_error_message(), "do not hold"),
+                          "%d, %s", e, frix_last_error_message());
+        }
+        frix_info_free(info);
+        frix_options_free(o);
+        free(r), free(u), free(v);
+        frix_elastic_grid_free(&g);
+    }
 }
 END_TEST
 
@@ -1008,6 +1071,7 @@ int main(void) {
     tcase_add_test(tc, persistent_without_w_factorises_once);
     tcase_add_test(tc, elastic_grid_arguments);
     tcase_add_test(tc, admm_changes_rho_only_where_it_pays);
+    tcase_add_test(tc, auto_without_w_on_a_floating_grid);
     tcase_add_test(tc, admm_system_keeps_only_the_couplings_rho_i_makes);
     tcase_add_test(tc, inverse_diagonal_matches_full_solves);
     tcase_add_test(tc, newton_corrects_the_lumped_rho);

@@ -147,6 +147,7 @@ const SolverEntry kAutoReductionEntry = {FRIX_SOLVER_AUTO, "auto", nullptr, FRIX
 
 const SolverEntry kAutoEntry = {FRIX_SOLVER_AUTO,          "auto", nullptr, FRIX_AUTO_DESCRIPTION,
                                 autosolve::solve,          true,   true,    autosolve::kExtraKeys,
-                                autosolve::kDefaults,      true,   true};
+                                autosolve::kDefaults,      true,   true,
+                                true};
 
 }  // namespace frix

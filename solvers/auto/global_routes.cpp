@@ -132,6 +132,7 @@ class GlobalRoutes {
           figures_(figures),
           options_(route_options(ctx.options, figures)) {}
 
+    frix_error need_mass(bool *go_on);
     frix_error product_then_reduce(int64_t max_iter, bool may_reduce);
     frix_error reduce_then_newton(int64_t max_iter, int64_t reduction_iter);
     frix_error without_w(int64_t max_iter, RouteChoice &choice);
@@ -154,6 +155,22 @@ class GlobalRoutes {
     const AnalysisSummary figures_;
     const frix_options options_;  // route_options
 };
+
+// M's factorisation, before a route that solves with M, where the driver left it to the routes
+// (SolveContext::factor_mass: a one-shot solve from r = 0). *go_on false: the run ends here, M
+// singular (the driver's passes take over) or its factorisation refused by a limit (the
+// ledger's status).
+frix_error GlobalRoutes::need_mass(bool *go_on) {
+    *go_on = true;
+    if (!ctx_.mass || ctx_.mass->factored() || !ctx_.factor_mass) return FRIX_OK;
+    bool ready = true;
+    if (frix_error e = (*ctx_.factor_mass)(&ready)) return e;
+    if (!ready) {
+        info_.status = ctx_.mass->refused() ? ctx_.mass->refused() : FRIX_STATUS_NOT_RUN;
+        *go_on = false;
+    }
+    return FRIX_OK;
+}
 
 // A solver of global problems (`entry`: 607, 613, 901, gnsgs) from ctx's (r, v), for at most
 // max_iter iterations (and its own limit), on the caller's clock, tolerance, measure and
@@ -277,6 +294,9 @@ frix_error GlobalRoutes::w_free_route(int64_t max_iter, std::unique_ptr<KeptMass
     int64_t left = max_iter - info_.iterations;
     if (!may_go_on(info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK, left)) return FRIX_OK;
     const GlobalAnswer admm(ctx_, info_);
+    bool go_on = true;
+    if (frix_error e = need_mass(&go_on)) return e;
+    if (!go_on) return FRIX_OK;
     if (newton_finishes) {
         if (frix_error e = run(kGnsnAcEntry, std::min(left, kWFreeNewtonSteps))) return e;
         admm.restore_if_better(ctx_, info_);
@@ -308,6 +328,9 @@ frix_error GlobalRoutes::without_w(int64_t max_iter, RouteChoice &choice) {
     if (frix_error e = w_free_route(max_iter, std::move(choice.w_free_system))) return e;
     const int64_t left = max_iter - info_.iterations;
     if (choice.refused || !may_go_on(info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK, left)) return FRIX_OK;
+    bool go_on = true;
+    if (frix_error e = need_mass(&go_on)) return e;
+    if (!go_on) return FRIX_OK;
     TraceEvent after = trace_event(kGlobalReduceAfter);
     after.status = info_.status;
     after.error = info_.error;
@@ -341,6 +364,11 @@ frix_error solve_global(SolveContext &ctx) {
     const int64_t max_iter = Monitor(ctx).max_iterations();
     RouteChoice choice = choose_route(ctx, size, kept->prices);
     GlobalRoutes routes(ctx, reduction, global_figures(p, size));
+    if (!choice.w_free) {  // every route but the one without W solves with M from its start
+        bool go_on = true;
+        if (frix_error e = routes.need_mass(&go_on)) return e;
+        if (!go_on) return FRIX_OK;
+    }
     if (choice.product) return routes.product_then_reduce(max_iter, !choice.refused);
     if (!choice.refused && !choice.w_free) return routes.reduce_then_newton(max_iter, max_iter / 2);
     return routes.without_w(max_iter, choice);

@@ -150,7 +150,8 @@ frix_error prepare_mass_plus_contacts(const SolveContext &ctx, KeptMassPlusConta
         if (frix_error e = to_csc(*p.M, M)) return e;
         if (frix_error e = kept.system.build(M, H, p.nc, solver, blocks, ctx.mass->ordering())) return e;
     }
-    kept.scale = sampled_delassus_scale(p, H, *ctx.mass, samples);
+    kept.scale = ctx.mass->factored() ? sampled_delassus_scale(p, H, *ctx.mass, samples)
+                                      : sampled_jacobi_scale(p, samples);
     if (!(kept.scale > 0.0) || !std::isfinite(kept.scale)) kept.scale = 1.0;
     if (ctx.cache) kept.m_values = ctx.cache->m_values, kept.h_values = ctx.cache->h_values;
     return FRIX_OK;
@@ -182,7 +183,7 @@ double global_error(const frix_problem &p, int64_t measure, const double *r, con
 double global_error_or_recovered(const frix_problem &p, const MassSolver *mass, int64_t measure, double tol,
                                  const double *r, double *v, double *u, double *equilibrium) {
     double best = global_error(p, measure, r, v, u, equilibrium);
-    if (!(best > tol) || !mass) return best;
+    if (!(best > tol) || !mass || !mass->factored()) return best;
     const int64_t n = p.n, m = 3 * p.nc;
     std::vector<double> candidate(v, v + n), residual(n), delta(n), u_candidate(m);
     for (int step = 0; step < kVelocityRefinements; ++step) {
@@ -235,6 +236,14 @@ std::vector<std::pair<int64_t, double>> sampled_delassus_diagonals(const frix_pr
         out.emplace_back((int64_t)k * nc / count, trace);
     }
     return out;
+}
+
+double sampled_jacobi_scale(const frix_problem &p, int samples) {
+    const int count = (int)std::min<int64_t>(samples, p.nc);
+    if (count == 0 || (int64_t)p.weight.size() != p.nc) return NAN;
+    double sum = 0.0;
+    for (int k = 0; k < count; ++k) sum += p.weight[(size_t)((int64_t)k * p.nc / count)];
+    return sum / count;
 }
 
 double sampled_delassus_scale(const frix_problem &p, const Csc &H, MassSolver &mass, int samples) {

@@ -92,7 +92,8 @@ struct KeptMassPlusContacts : CachedState {
     linalg::FactorStats handed;
 };
 // Makes `kept` current for ctx's problem: built anew (pattern, rho's unit from `samples`
-// sampled contacts) unless ctx's cache shows it was built from the same M and H (then only
+// sampled contacts, by W's diagonal where ctx.mass is factorised, else by its Jacobi estimate)
+// unless ctx's cache shows it was built from the same M and H (then only
 // rho's unit where it was not sampled). *before: the system's counters from which this solve's
 // work counts. Fails as MassPlusContacts::build does.
 frix_error prepare_mass_plus_contacts(const SolveContext &ctx, KeptMassPlusContacts &kept, const char *solver,
@@ -115,8 +116,8 @@ double global_error(const frix_problem &p, int64_t measure, const double *r, con
                     double *equilibrium);
 // The same, and where it is above tol, also the errors of r with v corrected towards r's own
 // velocity M^-1 (H r + f) by up to kVelocityRefinements steps v += M^-1 (H r + f - M v) with the
-// driver's factorisation of M (`mass`, may be null), while they lower the error: v and u then
-// hold the best. Where rho H H^T dwarfs M (a stiff body) an iterate's equilibrium stalls at rho
+// driver's factorisation of M (`mass`; none where it is null or holds the analysis alone), while
+// they lower the error: v and u then hold the best. Where rho H H^T dwarfs M (a stiff body) an iterate's equilibrium stalls at rho
 // times rounding; one solve with M's factor alone stalls at its condition times rounding, which
 // the refinement removes.
 constexpr int kVelocityRefinements = 3;
@@ -127,6 +128,11 @@ double global_error_or_recovered(const frix_problem &p, const MassSolver *mass, 
 // the problem, from M's factorisation: the scale a penalty on the contacts is measured in, with
 // W never formed. NaN when it cannot be computed.
 double sampled_delassus_scale(const frix_problem &p, const Csc &H, MassSolver &mass, int samples);
+// The same scale where M is not factorised (a one-shot route that never solves with M): the
+// normal entry of H_a^T diag(M)^-1 H_a (the contacts' weights) over the same contacts, W_aa's
+// where M is diagonal and an estimate elsewhere, which the residual balance corrects. NaN where
+// there is none.
+double sampled_jacobi_scale(const frix_problem &p, int samples);
 
 // Sampled diagonals of W_aa = H_a^T M^-1 H_a, of up to `samples` contacts a spread over the
 // problem, as (a, sum) pairs: the sum of W_aa's first `components` diagonal entries (3: its

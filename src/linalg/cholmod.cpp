@@ -469,7 +469,8 @@ struct CongruencePlan {
 frix_error SparseCholesky::congruence_cost(const CscView &B, CongruenceCost *cost) const {
     Impl &m = *impl_;
     *cost = CongruenceCost{};
-    if (!m.L || !m.numeric) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: no factorisation");
+    // L's supernodal pattern alone: the analysis is enough.
+    if (!m.L) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: no analysis");
     if ((size_t)B.rows != m.L->n)
         return fail(FRIX_ERR_DIMENSION, "sparse Cholesky: B has %lld rows, the factor %lld", (long long)B.rows,
                     (long long)m.L->n);

@@ -16,8 +16,10 @@ void frix_elastic_grid_free(frix_elastic_grid *g) {
     memset(g, 0, sizeof *g);
 }
 
-frix_error frix_elastic_grid_make(int nx, int ny, int nz, double gap, double stiffness, frix_elastic_grid *out) {
-    const double mass = 1.0, h = 0.01, k = stiffness, gravity = 9.81, mu = 0.3;
+/* The grid with nodal masses `mass` and the load `load` at every node. */
+static frix_error make_grid(int nx, int ny, int nz, double gap, double stiffness, double mass, const double load[3],
+                            frix_elastic_grid *out) {
+    const double h = 0.01, k = stiffness, mu = 0.3;
     memset(out, 0, sizeof *out);
     if (nx < 1 || ny < 1 || nz < 1 || !(gap >= 0.0) || !isfinite(gap) || !(k > 0.0) || !isfinite(k) ||
         3.0 * nx * ny * (double)nz >= 2147483648.0)
@@ -47,9 +49,7 @@ frix_error frix_elastic_grid_make(int nx, int ny, int nz, double gap, double sti
                     for (int d = 0; d < 3; ++d) rows[e] = 3 * a + d, cols[e] = 3 * b + d, vals[e++] = -h * h * k;
                 }
                 for (int d = 0; d < 3; ++d) rows[e] = 3 * a + d, cols[e] = 3 * a + d, vals[e++] = mass + h * h * k * degree;
-                out->f[3 * a] = 0.5 * mass;
-                out->f[3 * a + 1] = 0.1 * mass;
-                out->f[3 * a + 2] = -1.0 * mass - h * gravity * mass;
+                for (int d = 0; d < 3; ++d) out->f[3 * a + d] = load[d];
             }
     if (!err) err = frix_matrix_from_triplets(n, n, e, rows, cols, vals, &out->M);
     e = 0;
@@ -74,4 +74,19 @@ frix_error frix_elastic_grid_make(int nx, int ny, int nz, double gap, double sti
     free(vals);
     if (err) frix_elastic_grid_free(out);
     return err;
+}
+
+frix_error frix_elastic_grid_make(int nx, int ny, int nz, double gap, double stiffness, frix_elastic_grid *out) {
+    const double mass = 1.0, h = 0.01, gravity = 9.81;
+    const double load[3] = {0.5 * mass, 0.1 * mass, -1.0 * mass - h * gravity * mass};
+    return make_grid(nx, ny, nz, gap, stiffness, mass, load, out);
+}
+
+frix_error frix_elastic_grid_make_floating(int nx, int ny, int nz, double fx, double fz, frix_elastic_grid *out) {
+    const double load[3] = {fx, 0.0, fz};
+    if (!isfinite(fx) || !isfinite(fz)) {
+        memset(out, 0, sizeof *out);
+        return FRIX_ERR_INVALID_ARGUMENT;
+    }
+    return make_grid(nx, ny, nz, 0.0, 1e4, 0.0, load, out);
 }

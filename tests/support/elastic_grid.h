@@ -35,6 +35,10 @@ typedef struct frix_elastic_grid {
  * FRIX_ERR_INVALID_ARGUMENT otherwise, FRIX_ERR_OUT_OF_MEMORY; *out is left empty (safe to
  * free) on failure. */
 frix_error frix_elastic_grid_make(int nx, int ny, int nz, double gap, double stiffness, frix_elastic_grid *out);
+/* The same grid without masses, a static problem held by its contacts alone: M = h^2 k L with
+ * k = 1e4 (singular: each direction's translation is free), gap 0, and the load (fx, 0, fz) at
+ * every node. Fails as frix_elastic_grid_make, and where fx or fz is not finite. */
+frix_error frix_elastic_grid_make_floating(int nx, int ny, int nz, double fx, double fz, frix_elastic_grid *out);
 void frix_elastic_grid_free(frix_elastic_grid *grid);
 
 #ifdef __cplusplus

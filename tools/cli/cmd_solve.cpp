@@ -362,10 +362,10 @@ void print_text(const Report &r) {
                     static_cast<long long>(r.factorizations),
                     static_cast<long long>(r.symbolic_analyses), r.factorization_time);
     if (r.reduction_time > 0.0)
-        std::printf("%-16s %.3g s: M factorised and q %.3g s, W = H^T M^-1 H %.3g s\n", "setup", r.setup_time,
-                    r.setup_time - r.reduction_time, r.reduction_time);
+        std::printf("%-16s %.3g s: M (factorised, or analysed only) and q %.3g s, W = H^T M^-1 H %.3g s\n",
+                    "setup", r.setup_time, r.setup_time - r.reduction_time, r.reduction_time);
     else if (r.setup_time > 0.0)
-        std::printf("%-16s %.3g s: M factorised and q\n", "setup", r.setup_time);
+        std::printf("%-16s %.3g s: M (factorised, or analysed only) and q\n", "setup", r.setup_time);
     for (std::size_t k = 0; k < r.trace.size(); ++k)
         std::printf("%-16s %s\n", k == 0 ? "trace" : "", r.trace[k].c_str());
     if (!r.output.empty()) std::printf("%-16s %s\n", "written to", r.output.c_str());
