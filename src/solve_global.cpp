@@ -1,6 +1,7 @@
-// The driver's global path: M factorised once; the all-separating case; a solver of global
-// problems run natively, any other through the reduction to W (route (a)); the final measures
-// of (r, v) and the status checked against them.
+// The driver's global path: M factorised once (or analysed, and factorised where the solver
+// asks for it); the all-separating case; a solver of global problems run natively, any other
+// through the reduction to W (route (a)); the final measures of (r, v) and the status checked
+// against them.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
