@@ -36,13 +36,14 @@ namespace autosolve {
 
 namespace {
 
-// When a solve failed (not stopped by the caller), whether a solution exists at all: within
+// When a solve failed (not stopped by the caller, and not ended before any run: M found
+// singular, whose passes the driver runs next), whether a solution exists at all: within
 // what is left of the caller's time limit, and not once it is spent (frix solve then checks
 // on its own, outside the solve).
 void check_existence_on_failure(SolveContext &ctx) {
     frix_info &info = ctx.info;
     if (info.status == FRIX_STATUS_CONVERGED || info.status == FRIX_STATUS_STOPPED_BY_CALLBACK ||
-        !ctx.options.i(FRIX_OPT_EXISTENCE_CHECK))
+        info.status == FRIX_STATUS_NOT_RUN || !ctx.options.i(FRIX_OPT_EXISTENCE_CHECK))
         return;
     const double tl = ctx.options.d(FRIX_OPT_TIME_LIMIT);
     const double left = tl > 0.0 ? tl - ctx.clock.seconds() : 0.0;

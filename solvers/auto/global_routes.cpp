@@ -132,7 +132,7 @@ class GlobalRoutes {
           figures_(figures),
           options_(route_options(ctx.options, figures)) {}
 
-    frix_error need_mass(bool *go_on);
+    frix_error ensure_mass_factorised(bool *go_on);
     frix_error product_then_reduce(int64_t max_iter, bool may_reduce);
     frix_error reduce_then_newton(int64_t max_iter, int64_t reduction_iter);
     frix_error without_w(int64_t max_iter, RouteChoice &choice);
@@ -160,7 +160,7 @@ class GlobalRoutes {
 // (SolveContext::factor_mass: a one-shot solve from r = 0). *go_on false: the run ends here, M
 // singular (the driver's passes take over) or its factorisation refused by a limit (the
 // ledger's status).
-frix_error GlobalRoutes::need_mass(bool *go_on) {
+frix_error GlobalRoutes::ensure_mass_factorised(bool *go_on) {
     *go_on = true;
     if (!ctx_.mass || ctx_.mass->factored() || !ctx_.factor_mass) return FRIX_OK;
     bool ready = true;
@@ -295,7 +295,7 @@ frix_error GlobalRoutes::w_free_route(int64_t max_iter, std::unique_ptr<KeptMass
     if (!may_go_on(info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK, left)) return FRIX_OK;
     const GlobalAnswer admm(ctx_, info_);
     bool go_on = true;
-    if (frix_error e = need_mass(&go_on)) return e;
+    if (frix_error e = ensure_mass_factorised(&go_on)) return e;
     if (!go_on) return FRIX_OK;
     if (newton_finishes) {
         if (frix_error e = run(kGnsnAcEntry, std::min(left, kWFreeNewtonSteps))) return e;
@@ -329,7 +329,7 @@ frix_error GlobalRoutes::without_w(int64_t max_iter, RouteChoice &choice) {
     const int64_t left = max_iter - info_.iterations;
     if (choice.refused || !may_go_on(info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK, left)) return FRIX_OK;
     bool go_on = true;
-    if (frix_error e = need_mass(&go_on)) return e;
+    if (frix_error e = ensure_mass_factorised(&go_on)) return e;
     if (!go_on) return FRIX_OK;
     TraceEvent after = trace_event(kGlobalReduceAfter);
     after.status = info_.status;
@@ -366,7 +366,7 @@ frix_error solve_global(SolveContext &ctx) {
     GlobalRoutes routes(ctx, reduction, global_figures(p, size));
     if (!choice.w_free) {  // every route but the one without W solves with M from its start
         bool go_on = true;
-        if (frix_error e = routes.need_mass(&go_on)) return e;
+        if (frix_error e = routes.ensure_mass_factorised(&go_on)) return e;
         if (!go_on) return FRIX_OK;
     }
     if (choice.product) return routes.product_then_reduce(max_iter, !choice.refused);
