@@ -192,6 +192,48 @@ START_TEST(test_memory_limit) {
 }
 END_TEST
 
+static void collect_line(void *data, const char *line) {
+    char *log = data;
+    strncat(log, line, 4095 - strlen(log));
+    strncat(log, "\n", 4095 - strlen(log));
+}
+
+/* Where the memory left cannot hold even the Newton system on W's pattern, rolling-nsn stops
+ * before it allocates W's values or the Jacobian (it said so, r untouched, no step), on the
+ * global form (W's pattern from the bodies) and on the local one (W given). */
+START_TEST(test_memory_limit_before_w) {
+    rolling_pile pile;
+    ck_assert_int_eq(rolling_pile_make(4, 3, 0.3, 0.02, 5, &pile), 0);
+    chain c;
+    chain_make(200, 1e-3, &c);
+    const frix_problem *problems[2] = {pile.global, c.p};
+    for (int k = 0; k < 2; ++k) {
+        const int64_t m = frix_problem_contact_dofs(problems[k]);
+        double *r = calloc((size_t)m, sizeof(double)), *u = calloc((size_t)m, sizeof(double));
+        double *v = calloc((size_t)(k == 0 ? frix_problem_dofs(problems[k]) : 1), sizeof(double));
+        char log[4096] = "";
+        frix_options *o = NULL;
+        ck_assert_int_eq(frix_options_create(FRIX_SOLVER_ROLLING_NSN, &o), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_MEMORY_LIMIT, 1.0), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_log(o, collect_line, log), FRIX_OK);
+        frix_info *info = NULL;
+        ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+        ck_assert_int_eq(frix_solve(problems[k], o, r, u, k == 0 ? v : NULL, info), FRIX_OK);
+        ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_MEMORY_LIMIT);
+        ck_assert_int_eq(frix_info_iterations(info), 0);
+        ck_assert_msg(strstr(log, "rolling-nsn: W and its Newton system need at least"), "%s", log);
+        for (int64_t i = 0; i < m; ++i) ck_assert(r[i] == 0.0);
+        ck_assert(isfinite(frix_info_error(info)));
+        frix_info_free(info);
+        frix_options_free(o);
+        free(r), free(u), free(v);
+    }
+    chain_free(&c);
+    rolling_pile_free(&pile);
+}
+END_TEST
+
 /* Where the Newton polish may not factorise (a memory limit of 1 byte), auto goes on with the
  * sweeps, which factorise nothing, and converges (it stopped with "memory limit reached"). */
 START_TEST(test_auto_sweeps_on_when_newton_is_refused) {
@@ -270,6 +312,7 @@ int main(void) {
     tcase_add_test(tc, test_status_follows_the_measure);
     tcase_add_test(tc, test_memory_limit);
     tcase_add_test(tc, test_auto_sweeps_on_when_newton_is_refused);
+    tcase_add_test(tc, test_memory_limit_before_w);
     tcase_add_test(tc, test_existence_verdicts);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);

@@ -139,7 +139,7 @@ void BodyForm::copy_v(double *v) const {
     for (int64_t d = 0; d < p_.n; ++d) v[d] = v_[slot_of_dof_.empty() ? (size_t)d : (size_t)slot_of_dof_[(size_t)d]];
 }
 
-void BodyForm::reduce(BlockRows &W, double *q) const {
+bool BodyForm::reduce(BlockRows &W, double *q, const std::function<bool(int64_t blocks)> &fits) const {
     const int64_t nc = p_.nc, nb = bodies_.count(), n = size();
     // The problem's dof of cp_'s t-th entry.
     const auto dof = [this](int64_t t) {
@@ -197,9 +197,15 @@ void BodyForm::reduce(BlockRows &W, double *q) const {
                 W.block_col.push_back(c);
             }
             W.row_ptr[(size_t)a + 1] = (int64_t)W.block_col.size();
-            if (a == nc - 1) W.val.assign((size_t)(n * n) * W.block_col.size(), 0.0);
+            if (a < nc - 1) continue;
+            if (!fits((int64_t)W.block_col.size())) {
+                W = BlockRows{};
+                return false;
+            }
+            W.val.assign((size_t)(n * n) * W.block_col.size(), 0.0);
         }
     for (int64_t a = 0; a < nc; ++a) contact_velocity(a, v0_.data(), q + n * a);
+    return true;
 }
 
 namespace {

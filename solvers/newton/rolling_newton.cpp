@@ -339,19 +339,46 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, const rolling::Block
     return FRIX_OK;
 }
 
+// The least memory a run takes for a W of `blocks` n x n blocks: the Jacobian (its values and
+// row indices on W's pattern, and a slot a block), and its LU, which holds at least as many
+// entries. W's own values come on top where the run forms W.
+double newton_bytes(int64_t blocks, int n) { return (double)blocks * (2.0 * 16.0 * n * n + 16.0); }
+
+// The run refused before it formed anything, for memory: r as it was, measured.
+frix_error refuse_for_memory(SolveContext &ctx, rolling::SweepForm &form, double bytes) {
+    const frix_problem &p = ctx.problem;
+    std::vector<double> u((size_t)(contact_size(p) * p.nc));
+    ctx.info.status = FRIX_STATUS_MEMORY_LIMIT;
+    ctx.info.error = selected_error(form.exact(ctx.r, u.data()), ctx.options.i(FRIX_OPT_ERROR_MEASURE));
+    ctx.info.iterations = 0;
+    if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1)
+        log_line(&ctx.options, "rolling-nsn: W and its Newton system need at least %.3g MB, more than the memory left",
+                 bytes / 1e6);
+    return FRIX_OK;
+}
+
 // run on either form: the local form's W and q as they are, the bodies' W = H^T M^-1 H and q
-// formed body by body.
+// formed body by body; neither where the memory left cannot hold the Newton system.
 struct RunOnForm {
     SolveContext &ctx;
     frix_error operator()(rolling::RowForm &rows) const {
         const frix_problem &p = ctx.problem;
+        const double bytes = newton_bytes(rows.rows().block_col.size(), rows.size());
+        if (!Monitor(ctx).fits_memory(bytes)) return refuse_for_memory(ctx, rows, bytes);
         const std::vector<double> q(p.q, p.q + contact_size(p) * p.nc);
         return run(ctx, rows, rows.rows(), q);
     }
     frix_error operator()(rolling::BodyForm &bodies) const {
         rolling::BlockRows W;
         std::vector<double> q((size_t)(contact_size(ctx.problem) * ctx.problem.nc));
-        bodies.reduce(W, q.data());
+        const Monitor monitor(ctx);
+        const int n = bodies.size();
+        double bytes = 0.0;
+        const auto fits = [&](int64_t blocks) {
+            bytes = newton_bytes(blocks, n) + 8.0 * n * n * (double)blocks;
+            return monitor.fits_memory(bytes);
+        };
+        if (!bodies.reduce(W, q.data(), fits)) return refuse_for_memory(ctx, bodies, bytes);
         return run(ctx, bodies, W, q);
     }
 };
