@@ -54,6 +54,7 @@ struct RouteChoice {
     frix_status refused = FRIX_STATUS_NOT_RUN;  // the limit forming W would overrun
     bool w_free = false;   // the route without W is priced below forming W, and fits
     bool product = false;  // rigid bodies with a large W: NSGS without W first
+    bool rigid = false;    // rigid bodies: NSGS without W (gnsgs) can solve the problem
     RoutePrices prices;
     // M + H S H^T as the pricing built and analysed it, for the route without W (null: not priced).
     std::unique_ptr<KeptMassPlusContacts> w_free_system;
@@ -93,8 +94,8 @@ RouteChoice choose_route(const SolveContext &ctx, const ReductionSize &size, Kep
     // Not priced (W small beside M and H, or M factorised by LU): W's blocks against the memory.
     if (!priced && !reduction_memory(size, Monitor(ctx)).fits) c.refused = FRIX_STATUS_MEMORY_LIMIT;
     // Rigid bodies with a large W: W's entries against M^-1 H's.
-    c.product = !c.w_free && size.largest_component <= nsgs::kMaxRigidBodyDofs &&
-                size.w_entries > kReductionMaxEntries && size.w_entries > size.product_entries;
+    c.rigid = size.largest_component <= nsgs::kMaxRigidBodyDofs;
+    c.product = !c.w_free && c.rigid && size.w_entries > kReductionMaxEntries && size.w_entries > size.product_entries;
     return c;
 }
 
@@ -327,6 +328,13 @@ frix_error GlobalRoutes::without_w(int64_t max_iter, RouteChoice &choice) {
     const GlobalAnswer start(ctx_, info_);
     if (frix_error e = w_free_route(max_iter, std::move(choice.w_free_system))) return e;
     const int64_t left = max_iter - info_.iterations;
+    // Its factorisations refused although the price fitted (the memory left shrank before
+    // their turn): on rigid bodies the sweeps without W, which factorise nothing, from the start.
+    if (info_.status == FRIX_STATUS_MEMORY_LIMIT && choice.rigid && left > 0) {
+        start.put_back(ctx_);
+        info_.switches += 1;
+        return product_then_reduce(left, false);
+    }
     if (choice.refused || !may_go_on(info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK, left)) return FRIX_OK;
     bool go_on = true;
     if (frix_error e = ensure_mass_factorised(&go_on)) return e;
