@@ -312,26 +312,22 @@ void log_mass(const frix_options &opts, const MassSolver &ms, frix_error factore
              ms.cholesky() ? "Cholesky" : "LU", ms.last_stats().seconds);
 }
 
-// Factorises M into ms (numeric: false, its analysis alone where M is symmetric, which
-// complete_mass completes), priced against the memory limit only: every answer's velocity needs
+// What factor_mass does with M: its whole factorisation, its analysis alone (where M is
+// symmetric; a route that never solves with M needs no more), or the numeric part on the
+// analysis ms holds.
+enum class MassStep { Factor, Analyse, CompleteAnalysis };
+
+// M into ms by `step`, priced against the memory limit only: every answer's velocity needs
 // M^-1, and the start returned at a time limit must come with its own (M v = H r + f).
 frix_error factor_mass(const frix_problem &p, const frix_options &opts, const Stopwatch &clock, MassSolver &ms,
-                       GlobalState &state, bool regularise, bool numeric, frix_status &over) {
+                       GlobalState &state, bool regularise, MassStep step, frix_status &over) {
     ms.set_budget(Monitor(opts, clock).memory_budget());
-    const frix_error factored = numeric ? ms.factor(*p.M) : ms.analyse(*p.M);
+    const frix_error factored = step == MassStep::Factor    ? ms.factor(*p.M)
+                                : step == MassStep::Analyse ? ms.analyse(*p.M)
+                                                            : ms.factor_analysed();
     ms.set_budget(nullptr);  // it refers to this solve's options and clock
     log_mass(opts, ms, factored);
     return judge_mass(p, ms, factored, state, regularise, over);
-}
-
-// factor_mass's numeric part, on the analysis ms holds.
-frix_error complete_mass(const frix_problem &p, const frix_options &opts, const Stopwatch &clock, MassSolver &ms,
-                         GlobalState &state, frix_status &over) {
-    ms.set_budget(Monitor(opts, clock).memory_budget());
-    const frix_error factored = ms.factor_analysed();
-    ms.set_budget(nullptr);
-    log_mass(opts, ms, factored);
-    return judge_mass(p, ms, factored, state, true, over);
 }
 
 // A solver of global problems run on (v, r) from the caller's r, its work added to info. M's
@@ -359,7 +355,7 @@ frix_error run_native(const frix_problem &p, const frix_options &opts, const Sol
         *ready = true;
         if (ms.factored()) return FRIX_OK;
         frix_status over = FRIX_STATUS_NOT_RUN;
-        const frix_error e = complete_mass(p, opts, clock, ms, state, over);
+        const frix_error e = factor_mass(p, opts, clock, ms, state, true, MassStep::CompleteAnalysis, over);
         Monitor::record_factorizations(completed, ms.last_stats());
         singular_later = state.singular;
         *ready = !e && ms.factored() && !singular_later;
@@ -408,7 +404,9 @@ frix_error solve_global(const frix_problem &p, const frix_options &opts, const S
     if (!m_current) {
         state->m_values = 0;  // until factorised
         frix_status over = FRIX_STATUS_NOT_RUN;
-        if (frix_error e = factor_mass(p, opts, clock, ms, *state, regularise, !on_demand, over)) return e;
+        if (frix_error e = factor_mass(p, opts, clock, ms, *state, regularise,
+                                       on_demand ? MassStep::Analyse : MassStep::Factor, over))
+            return e;
         if (over) {
             // One that would exceed the memory limit is not started: nothing is solved, r
             // stays as given and v = 0.

@@ -208,6 +208,14 @@ double global_error_or_recovered(const frix_problem &p, const MassSolver *mass, 
     return best;
 }
 
+namespace {
+
+// The k-th of `count` contacts sampled evenly from nc (count <= nc): the contacts
+// sampled_delassus_diagonals and sampled_jacobi_scale read alike.
+int64_t sampled_contact(int k, int count, int64_t nc) { return (int64_t)k * nc / count; }
+
+}  // namespace
+
 std::vector<std::pair<int64_t, double>> sampled_delassus_diagonals(const frix_problem &p, const Csc &H,
                                                                    MassSolver &mass, int samples, int components) {
     std::vector<std::pair<int64_t, double>> out;
@@ -219,7 +227,7 @@ std::vector<std::pair<int64_t, double>> sampled_delassus_diagonals(const frix_pr
     B.colptr.push_back(0);
     for (int k = 0; k < count; ++k)
         for (int c = 0; c < components; ++c) {
-            const int64_t col = 3 * ((int64_t)k * nc / count) + c;
+            const int64_t col = 3 * sampled_contact(k, count, nc) + c;
             B.rowind.insert(B.rowind.end(), H.rowind.begin() + H.colptr[col], H.rowind.begin() + H.colptr[col + 1]);
             B.val.insert(B.val.end(), H.val.begin() + H.colptr[col], H.val.begin() + H.colptr[col + 1]);
             B.colptr.push_back((int64_t)B.rowind.size());
@@ -233,7 +241,7 @@ std::vector<std::pair<int64_t, double>> sampled_delassus_diagonals(const frix_pr
     for (int k = 0; k < count; ++k) {
         double trace = 0.0;
         for (int c = 0; c < components; ++c) trace += diag[(size_t)(k * components + c)];
-        out.emplace_back((int64_t)k * nc / count, trace);
+        out.emplace_back(sampled_contact(k, count, nc), trace);
     }
     return out;
 }
@@ -242,7 +250,7 @@ double sampled_jacobi_scale(const frix_problem &p, int samples) {
     const int count = (int)std::min<int64_t>(samples, p.nc);
     if (count == 0 || (int64_t)p.weight.size() != p.nc) return NAN;
     double sum = 0.0;
-    for (int k = 0; k < count; ++k) sum += p.weight[(size_t)((int64_t)k * p.nc / count)];
+    for (int k = 0; k < count; ++k) sum += p.weight[(size_t)sampled_contact(k, count, p.nc)];
     return sum / count;
 }
 
