@@ -424,20 +424,25 @@ START_TEST(test_easy_problems_before_the_parts) {
 }
 END_TEST
 
+/* A stack of 500 cubes, 8 contacts a face (4,000 contacts), in both forms. */
+static void stack_of_500(frix_scene *scene, frix_scene_problems *pr) {
+    frix_scene_params sp;
+    frix_scene_defaults(FRIX_SCENE_STACK, &sp);
+    sp.count = 500;
+    sp.per_face = 8;
+    ck_assert_int_eq(frix_scene_build(&sp, scene, NULL), FRIX_OK);
+    ck_assert_int_eq(frix_scene_problems_make(scene, pr), FRIX_OK);
+}
+
 /* A stack of 500 cubes (4,000 contacts) whose W would exceed a memory limit of 500 kB (the
  * driver's bound on its blocks: 61 MB), as would M + rho H H^T's factor (the route without W),
  * though M's fits: auto stays on the sweeps without W (gnsgs) with all its iterations and
  * returns their answer and status. It failed with FRIX_ERR_OUT_OF_MEMORY where the sweeps
  * missed the tolerance and it turned to forming W. */
 START_TEST(test_memory_limit_keeps_auto_off_w) {
-    frix_scene_params sp;
-    frix_scene_defaults(FRIX_SCENE_STACK, &sp);
-    sp.count = 500;
-    sp.per_face = 8;
     frix_scene scene;
-    ck_assert_int_eq(frix_scene_build(&sp, &scene, NULL), FRIX_OK);
     frix_scene_problems pr;
-    ck_assert_int_eq(frix_scene_problems_make(&scene, &pr), FRIX_OK);
+    stack_of_500(&scene, &pr);
     frix_options *o = NULL;
     ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &o), FRIX_OK);
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-6), FRIX_OK);
@@ -490,14 +495,9 @@ static void grab_at_prices(void *data, const char *line) {
  * gadmm's and gnsn-al's factorisations are refused: auto ended with "memory limit reached" at the
  * start (error 0.98); now it turns to the sweeps without W, which factorise nothing. */
 START_TEST(test_memory_shrinking_after_the_price) {
-    frix_scene_params sp;
-    frix_scene_defaults(FRIX_SCENE_STACK, &sp);
-    sp.count = 500;
-    sp.per_face = 8;
     frix_scene scene;
-    ck_assert_int_eq(frix_scene_build(&sp, &scene, NULL), FRIX_OK);
     frix_scene_problems pr;
-    ck_assert_int_eq(frix_scene_problems_make(&scene, &pr), FRIX_OK);
+    stack_of_500(&scene, &pr);
     double *r = calloc((size_t)(3 * scene.nc), sizeof *r), *u = calloc((size_t)(3 * scene.nc), sizeof *u);
     double *v = calloc((size_t)scene.n, sizeof *v);
     frix_info *info = NULL;
