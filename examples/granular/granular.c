@@ -32,7 +32,8 @@
  * converge is reported on stderr, and their count at the end. --dump writes step K's problem,
  * its solution and, as guess 1, the warm start the step's solve began from, as an FCLIB file;
  * --dump-local writes the same in the local form (W = H^T M^-1 H formed: what solvers of local
- * problems, Siconos's rolling NSGS among them, take).
+ * problems, Siconos's rolling NSGS among them, take). --dump-step rest writes the first step
+ * after which the pile is at rest (exit 1 where it never is).
  * --check exits with 1 unless every step converged and the energy (kinetic + potential) never
  * grew by more than the tolerance of the step's solve allows. Exit status 2 for a usage or
  * library error; --help prints the options.
@@ -52,7 +53,7 @@
 
 typedef struct {
     scene_settings scene;
-    int64_t threads, dump_step;
+    int64_t threads, dump_step; /* DUMP_AT_REST for --dump-step rest */
     double time_limit, mu_r, mu_s; /* mu_r < 0: no rolling resistance (three rows a contact); mu_s < 0: no spin row */
     const char *solver, *dump, *dump_local;
     const char *set[16]; /* --set NAME=VALUE: any other solver option, by name */
@@ -81,7 +82,9 @@ static void help(void) {
           "  --threads T      threads of the solver (default 1)\n"
           "  --time-limit SEC time limit of every step's solve (default 0: none)\n"
           "  --set NAME=VALUE any other solver option, by name (frix solvers NAME lists them)\n"
-          "  --dump-step K    with --dump or --dump-local: write step K (0 to S-1) as an FCLIB problem\n"
+          "  --dump-step K    with --dump or --dump-local: write step K (0 to S-1) as an FCLIB problem;\n"
+          "                   K = rest: the first step after which every grain is slower than 0.1\n"
+          "                   radius/s (exit 1 where the pile does not come to rest)\n"
           "  --dump FILE.hdf5 the file --dump-step writes: the global problem with its solution (the\n"
           "                   step's warm start as guess 1)\n"
           "  --dump-local FILE.hdf5 the same step's problem in the local form (W = H^T M^-1 H formed)\n"
@@ -96,6 +99,9 @@ static void help(void) {
           "Exit status: 0 done (with --check: and the checks held), 1 a check failed, 2 usage or library error.\n",
           stdout);
 }
+
+/* --dump-step rest: the first step after which the pile is at rest. */
+#define DUMP_AT_REST (-2)
 
 /* The step's global problem of the law that dim entries a contact carry (3, 5 or 6). */
 static frix_error global_problem(const frix_matrix *M, const frix_matrix *H, const double *f, const double *wv,
@@ -122,7 +128,8 @@ static int parse(int argc, char **argv, settings *st) {
             /* a scene option; ok: whether its value is valid */
         }
         else if (!strcmp(o, "--threads")) ok = parse_int(a, &st->threads) && st->threads >= 1;
-        else if (!strcmp(o, "--dump-step")) ok = parse_int(a, &st->dump_step) && st->dump_step >= 0;
+        else if (!strcmp(o, "--dump-step"))
+            ok = !strcmp(a, "rest") ? (st->dump_step = DUMP_AT_REST, 1) : parse_int(a, &st->dump_step) && st->dump_step >= 0;
         else if (!strcmp(o, "--time-limit")) ok = parse_double(a, &st->time_limit) && st->time_limit >= 0.0;
         else if (!strcmp(o, "--rolling")) ok = parse_double(a, &st->mu_r) && st->mu_r >= 0.0;
         else if (!strcmp(o, "--spinning")) ok = parse_double(a, &st->mu_s) && st->mu_s >= 0.0;
@@ -138,7 +145,7 @@ static int parse(int argc, char **argv, settings *st) {
         i += takes;
     }
     if (st->mu_s >= 0.0 && st->mu_r < 0.0) return usage("--spinning goes with --rolling", NULL);
-    if ((st->dump || st->dump_local) != (st->dump_step >= 0))
+    if ((st->dump || st->dump_local) != (st->dump_step != -1))
         return usage("--dump-step goes with --dump or --dump-local, and they with it", NULL);
     /* A dump that would never happen is a mistake, not a no-op: the file would silently be missing. */
     if (st->dump_step >= st->scene.steps) {
@@ -260,6 +267,7 @@ int main(int argc, char **argv) {
     double e_before = e0;
     /* at_rest: the step from which every step so far left the pile at rest (-1: the last did not). */
     int64_t unconverged = 0, at_rest = -1, step = 0;
+    int dumped_at_rest = 0; /* --dump-step rest: written */
     pile_state pile = {0.0, 0.0, 0.0};
     for (; step < st.scene.steps && !(st.settle && at_rest >= 0); ++step) {
         step_reach(&w, st.scene.h, reach);
@@ -300,7 +308,9 @@ int main(int argc, char **argv) {
         for (int64_t i = 0; i < n; ++i)
             for (int q = 0; q < 6; ++q) f[6 * i + q] = mdiag[6 * i + q] * w.v[6 * i + q] - (q == 2 ? st.scene.h * w.mass[i] * GRAVITY : 0.0);
         warm_start(&now, &before, dim, r_before, r);
-        if (st.dump_step == step) memcpy(r_warm, r, sizeof *r * (size_t)(dim * nc));
+        /* The step's warm start, for the dump (at rest: every step's, until one is dumped). */
+        if (st.dump_step == step || (st.dump_step == DUMP_AT_REST && !dumped_at_rest))
+            memcpy(r_warm, r, sizeof *r * (size_t)(dim * nc));
         if (!ps) {
             if ((e = global_problem(M, H_next, f, wv, mu, mu_r, mu_s, nc, dim, &problem)) ||
                 (e = frix_persistent_create(problem, opts, &ps))) {
@@ -325,7 +335,13 @@ int main(int argc, char **argv) {
         }
         const frix_status s = frix_info_status(info);
         const double err = frix_info_error(info);
-        if (st.dump_step == step) {
+        memcpy(w.v, v_new, sizeof *v_new * (size_t)dofs);
+        /* The pile's state after the step (velocities and the step's overlaps), before the
+         * dump: --dump-step rest writes the step that left the pile at rest. */
+        pile = measure_pile(&w, &now);
+        at_rest = pile.max_rate < REST_RATE ? (at_rest < 0 ? step : at_rest) : -1;
+        if (st.dump_step == step || (st.dump_step == DUMP_AT_REST && !dumped_at_rest && at_rest == step)) {
+            dumped_at_rest = st.dump_step == DUMP_AT_REST;
             frix_problem *dumped = NULL;
             if ((e = global_problem(M, H, f, wv, mu, mu_r, mu_s, nc, dim, &dumped))) {
                 failed = "the dumped problem";
@@ -347,13 +363,10 @@ int main(int argc, char **argv) {
                 goto done;
             }
         }
-        memcpy(w.v, v_new, sizeof *v_new * (size_t)dofs);
         for (int64_t i = 0; i < n; ++i)
             for (int q = 0; q < 3; ++q) w.x[3 * i + q] += st.scene.h * w.v[6 * i + q];
         memcpy(r_before, r, sizeof *r * (size_t)(dim * nc));
         const double en = energy(&w);
-        pile = measure_pile(&w, &now);
-        at_rest = pile.max_rate < REST_RATE ? (at_rest < 0 ? step : at_rest) : -1;
         double err_siconos = NAN;
         frix_info_get_double(info, FRIX_INFO_ERROR_RELATIVE, &err_siconos);
         if (!st.quiet && (step % st.scene.every == 0 || step == st.scene.steps - 1 || (st.settle && at_rest == step)))
@@ -380,6 +393,11 @@ int main(int argc, char **argv) {
     }
     if (unconverged > 0)
         fprintf(stderr, "granular: %lld of %lld steps did not converge\n", (long long)unconverged, (long long)step);
+    if (st.dump_step == DUMP_AT_REST && !dumped_at_rest) {
+        fprintf(stderr, "granular: --dump-step rest: the pile did not come to rest in %lld steps, nothing was written\n",
+                (long long)step);
+        status = 1;
+    }
     if (!st.quiet) {
         if (at_rest >= 0) printf("# at rest after step %lld\n", (long long)at_rest);
         else printf("# not at rest after %lld steps: the fastest grain moves %.3g radius/s\n", (long long)step, pile.max_rate);
