@@ -72,7 +72,7 @@ void stage_line(std::string &out, const TraceEvent &e) {
 void direct_line(std::string &out, const TraceEvent &e) {
     const AnalysisSummary &a = figures_of(e);
     append(out, "analysis: global, %lld dofs, %lld contacts; W = H^T M^-1 H would have up to %.3g "
-                "entries (%.3g per entry of M and H: a deformable body couples all its contacts), ",
+                "entries (%.3g per entry of M and H: a body couples all the contacts it carries), ",
            (long long)a.dofs, (long long)a.contacts, a.reduced_entries,
            a.reduced_entries / std::max(1.0, a.input_entries));
     if (e.status)
