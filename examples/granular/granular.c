@@ -210,6 +210,7 @@ int main(int argc, char **argv) {
     if (parsed) return parsed == 3 ? 0 : 2; /* 3: --help */
     int solver_id = 0;
     if (frix_solver_by_name(st.solver, &solver_id) != FRIX_OK) return usage("unknown solver", st.solver);
+    keep_freed_memory();
 
     world w;
     memset(&w, 0, sizeof w);

@@ -3,6 +3,9 @@
 #include "pour.h"
 
 #include <errno.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -414,4 +417,11 @@ int parse_scene_option(const char *o, const char *a, scene_settings *s, int *ok)
     else if (!strcmp(o, "--tol")) *ok = parse_double(a, &s->tol) && s->tol > 0.0;
     else return 0;
     return 1;
+}
+
+void keep_freed_memory(void) {
+#ifdef __GLIBC__
+    mallopt(M_MMAP_MAX, 0);
+    mallopt(M_TRIM_THRESHOLD, -1);
+#endif
 }

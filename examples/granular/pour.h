@@ -37,6 +37,11 @@ typedef struct {
     double h, mu, radius, tol, aspect, floor;
 } scene_settings;
 void scene_defaults(scene_settings *s);
+/* The process keeps the memory it frees (glibc: no mmap for large blocks, no trimming), so that
+ * the next step's arrays, about as large as this step's, reuse pages already touched instead of
+ * faulting fresh ones in: a step of 10^5-10^6 contacts otherwise spends a large share of its
+ * time in page faults. A host's choice, made once at start; elsewhere than glibc it does nothing. */
+void keep_freed_memory(void);
 /* Option o with value a: 1 when it is one of these (*ok then says whether a is valid for it),
  * else 0. */
 int parse_scene_option(const char *o, const char *a, scene_settings *s, int *ok);
