@@ -402,7 +402,9 @@ int main(int argc, char **argv) {
     if (!st.quiet) {
         if (at_rest >= 0) printf("# at rest after step %lld\n", (long long)at_rest);
         else printf("# not at rest after %lld steps: the fastest grain moves %.3g radius/s\n", (long long)step, pile.max_rate);
-        printf("# angle of repose %.1f degrees\n", angle_of_repose(&w));
+        const double angle = angle_of_repose(&w);
+        if (isnan(angle)) printf("# angle of repose: none (no heap two diameters high to fit a slope to)\n");
+        else printf("# angle of repose %.1f degrees\n", angle);
     }
 done:
     if (failed) {
