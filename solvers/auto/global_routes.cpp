@@ -329,11 +329,14 @@ frix_error GlobalRoutes::without_w(int64_t max_iter, RouteChoice &choice) {
     if (frix_error e = w_free_route(max_iter, std::move(choice.w_free_system))) return e;
     const int64_t left = max_iter - info_.iterations;
     // Its factorisations refused although the price fitted (the memory left shrank before
-    // their turn): on rigid bodies the sweeps without W, which factorise nothing, from the start.
+    // their turn, at the start or at a change of rho): on rigid bodies the sweeps without W,
+    // which factorise nothing, from the route's answer, kept where they end worse.
     if (info_.status == FRIX_STATUS_MEMORY_LIMIT && choice.rigid && left > 0) {
-        start.put_back(ctx_);
+        const GlobalAnswer route(ctx_, info_);
         info_.switches += 1;
-        return product_then_reduce(left, false);
+        if (frix_error e = product_then_reduce(left, false)) return e;
+        route.restore_if_better(ctx_, info_);
+        return FRIX_OK;
     }
     if (choice.refused || !may_go_on(info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK, left)) return FRIX_OK;
     bool go_on = true;
