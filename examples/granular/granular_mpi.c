@@ -315,6 +315,7 @@ done:
 int main(int argc, char **argv) {
     int rank = 0, ranks = 1, status;
     settings st;
+    keep_freed_memory(); /* before MPI_Init: MPI's own buffers come from the same allocator */
     MPI_Init(&argc, &argv);
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);
