@@ -344,12 +344,12 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, const rolling::Block
 // entries. W's own values come on top where the run forms W.
 double newton_bytes(int64_t blocks, int n) { return (double)blocks * (2.0 * 16.0 * n * n + 16.0); }
 
-// The run refused before it formed anything, for memory: r as it was, measured.
-frix_error refuse_for_memory(SolveContext &ctx, rolling::SweepForm &form, double bytes) {
-    const frix_problem &p = ctx.problem;
-    std::vector<double> u((size_t)(contact_size(p) * p.nc));
+// The run refused before it formed anything, for memory: r as it was, measured into ctx.u
+// (rolling::solve_on_form's last exact() then has nothing to add).
+frix_error refuse_for_memory(SolveContext &ctx, rolling::SweepForm &form, double bytes, bool &measured_at_r) {
     ctx.info.status = FRIX_STATUS_MEMORY_LIMIT;
-    ctx.info.error = selected_error(form.exact(ctx.r, u.data()), ctx.options.i(FRIX_OPT_ERROR_MEASURE));
+    ctx.info.error = selected_error(form.exact(ctx.r, ctx.u), ctx.options.i(FRIX_OPT_ERROR_MEASURE));
+    measured_at_r = true;
     ctx.info.iterations = 0;
     if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1)
         log_line(&ctx.options, "rolling-nsn: W and its Newton system need at least %.3g MB, more than the memory left",
@@ -361,10 +361,11 @@ frix_error refuse_for_memory(SolveContext &ctx, rolling::SweepForm &form, double
 // formed body by body; neither where the memory left cannot hold the Newton system.
 struct RunOnForm {
     SolveContext &ctx;
+    bool &measured_at_r;
     frix_error operator()(rolling::RowForm &rows) const {
         const frix_problem &p = ctx.problem;
         const double bytes = newton_bytes(rows.rows().block_col.size(), rows.size());
-        if (!Monitor(ctx).fits_memory(bytes)) return refuse_for_memory(ctx, rows, bytes);
+        if (!Monitor(ctx).fits_memory(bytes)) return refuse_for_memory(ctx, rows, bytes, measured_at_r);
         const std::vector<double> q(p.q, p.q + contact_size(p) * p.nc);
         return run(ctx, rows, rows.rows(), q);
     }
@@ -378,12 +379,15 @@ struct RunOnForm {
             bytes = newton_bytes(blocks, n) + 8.0 * n * n * (double)blocks;
             return monitor.fits_memory(bytes);
         };
-        if (!bodies.reduce(W, q.data(), fits)) return refuse_for_memory(ctx, bodies, bytes);
+        if (!bodies.reduce(W, q.data(), fits)) return refuse_for_memory(ctx, bodies, bytes, measured_at_r);
         return run(ctx, bodies, W, q);
     }
 };
 
-frix_error solve(SolveContext &ctx) { return rolling::solve_on_form(ctx, "rolling-nsn", RunOnForm{ctx}); }
+frix_error solve(SolveContext &ctx) {
+    bool measured_at_r = false;
+    return rolling::solve_on_form(ctx, "rolling-nsn", RunOnForm{ctx, measured_at_r}, 0, &measured_at_r);
+}
 
 const frix_option_key kExtraKeys[] = {FRIX_OPT_PROX_SIGMA, FRIX_OPT_PROX_NU, FRIX_OPT_LINE_SEARCH,
                                       FRIX_OPT_LINE_SEARCH_MAX_ITER, (frix_option_key)0};
