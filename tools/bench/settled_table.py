@@ -1,0 +1,124 @@
+#!/usr/bin/python3
+"""The settled-steps benchmark's tables (tools/bench/settled_steps.sh).
+
+    settled_table.py BENCHMARKS_MD|- WORK_DIR FAMILY...
+
+WORK_DIR/FAMILY/runs.csv and traces.csv are one `frix bench` campaign each. For every step
+(problem) and solver: how the run ended, its iterations, and the time at which it first reached
+1e-2, 1e-4, 1e-6 and 1e-8, taken as the bench's work-precision curves take it (the first point
+of the run's trace at or below the accuracy, the run's final time for a run without a trace,
+and none where the final error is above the accuracy); then, per step, auto's time to 1e-4
+over the best Siconos solver's. Spliced between the settled markers of BENCHMARKS_MD after a line
+naming the tool and the day (UTC), or printed where BENCHMARKS_MD is '-'.
+"""
+import csv
+import datetime
+import math
+import os
+import sys
+
+BEGIN, END = "<!-- settled:begin -->", "<!-- settled:end -->"
+LEVELS = (1e-2, 1e-4, 1e-6, 1e-8)
+TITLES = {
+    "rolling-global": "Rolling resistance, global form (H and M: what the client holds)",
+    "rolling-local": "Rolling resistance, local form (W formed)",
+    "coulomb-global": "Coulomb friction alone, global form",
+    "coulomb-local": "Coulomb friction alone, local form",
+}
+
+
+def read(path):
+    if not os.path.exists(path):
+        return []
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def number(text):
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def reach_time(run, trace, accuracy):
+    """The bench's rule (bench_report.cpp, reach_time)."""
+    final_error, t = number(run["error"]), number(run["time"])
+    if math.isnan(final_error) and trace:
+        final_error = trace[-1][1]
+    if not final_error <= accuracy:
+        return math.nan
+    if math.isnan(t) and trace:
+        t = trace[-1][0]
+    for elapsed, error in trace:
+        if error <= accuracy:
+            t = min(t, elapsed)
+            break
+    limit = number(run.get("time_limit"))
+    if math.isfinite(limit) and t > limit:
+        return math.nan
+    return t
+
+
+def seconds(t):
+    return "-" if math.isnan(t) else f"{t:.3g}"
+
+
+def family_table(work, family):
+    runs = read(os.path.join(work, family, "runs.csv"))
+    if not runs:
+        return ""
+    traces = {}
+    for row in read(os.path.join(work, family, "traces.csv")):
+        traces.setdefault((row["problem"], row["solver"]), []).append((number(row["elapsed"]), number(row["error"])))
+    problems = list(dict.fromkeys(r["problem"] for r in runs))
+    md = f"\n**{TITLES.get(family, family)}**: tolerance {number(runs[0]['tolerance']):g}, " \
+         f"{number(runs[0]['time_limit']):g} s a run, from each step's warm start.\n\n"
+    md += "| step | contacts | solver | status | iterations | " + \
+          " | ".join(f"to 1e{round(math.log10(a))}" for a in LEVELS) + " |\n|---|---:|---|---|---:|" + "---:|" * len(LEVELS) + "\n"
+    ratios = []
+    for p in problems:
+        rows = [r for r in runs if r["problem"] == p]
+        at_1e4 = {}
+        for r in rows:
+            trace = traces.get((p, r["solver"]), [])
+            times = [reach_time(r, trace, a) for a in LEVELS]
+            at_1e4[r["solver"]] = times[1]
+            md += f"| {p.removesuffix('.hdf5')} | {r['contacts']} | {r['solver']} | {r['status'].replace('_', ' ')} | " \
+                  f"{r['iterations'] or '-'} | " + " | ".join(seconds(t) for t in times) + " |\n"
+        siconos = [t for s, t in at_1e4.items() if s.startswith("siconos:") and not math.isnan(t)]
+        auto = at_1e4.get("auto", math.nan)
+        if math.isnan(auto):
+            ratios.append(f"{p.removesuffix('.hdf5')}: auto did not reach 1e-4")
+        elif siconos:
+            ratios.append(f"{p.removesuffix('.hdf5')}: {auto / min(siconos):.3g}")
+        elif any(s.startswith("siconos:") for s in at_1e4):
+            ratios.append(f"{p.removesuffix('.hdf5')}: Siconos did not reach 1e-4")
+    if ratios:
+        md += "\nauto's time to 1e-4 over the best Siconos solver's: " + "; ".join(ratios) + ".\n"
+    return md
+
+
+def main():
+    if len(sys.argv) < 4:
+        sys.exit("usage: settled_table.py BENCHMARKS_MD|- WORK_DIR FAMILY...")
+    target, work, families = sys.argv[1], sys.argv[2], sys.argv[3:]
+    day = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d")
+    body = f"\nGenerated on {day} by `tools/bench/settled_steps.sh`.\n"
+    body += "".join(family_table(work, f) for f in families)
+    if target == "-":
+        print(body)
+        return
+    with open(target) as f:
+        text = f.read()
+    if BEGIN not in text or END not in text:
+        sys.exit(f"settled_table.py: {target} has no {BEGIN} ... {END}")
+    head, rest = text.split(BEGIN, 1)
+    _, tail = rest.split(END, 1)
+    with open(target, "w") as f:
+        f.write(head + BEGIN + "\n" + body + "\n" + END + tail)
+    print(f"settled_table.py: wrote the settled tables into {target}")
+
+
+if __name__ == "__main__":
+    main()
