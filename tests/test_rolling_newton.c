@@ -234,6 +234,46 @@ START_TEST(test_memory_limit_before_w) {
 }
 END_TEST
 
+/* On a pile of spheres the LU of the Newton system fills in far beyond W's pattern: its price
+ * counts that fill (a fill-reducing ordering of W's block pattern) before W is formed. The
+ * 704-contact pile's Jacobian and an LU of its size take about 5 MB, the counted fill about 11 MB:
+ * at a limit of 8 MB the run stops before W (it formed W and the Jacobian, and left the refusal
+ * to UMFPACK's analysis); at 512 MB it runs (UMFPACK's own price, a bound for any pivoting, is
+ * above 64 MB here). */
+START_TEST(test_memory_price_counts_the_fill) {
+    rolling_pile pile;
+    ck_assert_int_eq(rolling_pile_make(8, 4, 0.3, 0.02, 5, &pile), 0);
+    ck_assert_int_eq(pile.nc, 704);
+    const double limits[2] = {8e6, 512e6};
+    for (int k = 0; k < 2; ++k) {
+        double *r = calloc((size_t)(5 * pile.nc), sizeof(double)), *u = calloc((size_t)(5 * pile.nc), sizeof(double));
+        double *v = calloc((size_t)pile.n, sizeof(double));
+        char log[4096] = "";
+        frix_options *o = NULL;
+        ck_assert_int_eq(frix_options_create(FRIX_SOLVER_ROLLING_NSN, &o), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_MEMORY_LIMIT, limits[k]), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, 1), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_log(o, collect_line, log), FRIX_OK);
+        frix_info *info = NULL;
+        ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+        ck_assert_int_eq(frix_solve(pile.global, o, r, u, v, info), FRIX_OK);
+        const int refused_before_w = strstr(log, "rolling-nsn: W and its Newton system need at least") != NULL;
+        if (k == 0) {
+            ck_assert_msg(refused_before_w, "%s", log);
+            ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_MEMORY_LIMIT);
+            ck_assert_int_eq(frix_info_iterations(info), 0);
+        } else {
+            ck_assert_msg(!refused_before_w && frix_info_iterations(info) > 0, "%s", log);
+        }
+        frix_info_free(info);
+        frix_options_free(o);
+        free(r), free(u), free(v);
+    }
+    rolling_pile_free(&pile);
+}
+END_TEST
+
 /* Where the Newton polish may not factorise (a memory limit of 1 byte), auto goes on with the
  * sweeps, which factorise nothing, and converges (it stopped with "memory limit reached"). */
 START_TEST(test_auto_sweeps_on_when_newton_is_refused) {
@@ -313,6 +353,7 @@ int main(void) {
     tcase_add_test(tc, test_memory_limit);
     tcase_add_test(tc, test_auto_sweeps_on_when_newton_is_refused);
     tcase_add_test(tc, test_memory_limit_before_w);
+    tcase_add_test(tc, test_memory_price_counts_the_fill);
     tcase_add_test(tc, test_existence_verdicts);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);

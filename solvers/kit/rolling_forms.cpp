@@ -139,7 +139,7 @@ void BodyForm::copy_v(double *v) const {
     for (int64_t d = 0; d < p_.n; ++d) v[d] = v_[slot_of_dof_.empty() ? (size_t)d : (size_t)slot_of_dof_[(size_t)d]];
 }
 
-bool BodyForm::reduce(BlockRows &W, double *q, const std::function<bool(int64_t blocks)> &fits) const {
+bool BodyForm::reduce(BlockRows &W, double *q, const std::function<bool(const BlockRows &pattern)> &fits) const {
     const int64_t nc = p_.nc, nb = bodies_.count(), n = size();
     // The problem's dof of cp_'s t-th entry.
     const auto dof = [this](int64_t t) {
@@ -198,7 +198,7 @@ bool BodyForm::reduce(BlockRows &W, double *q, const std::function<bool(int64_t 
             }
             W.row_ptr[(size_t)a + 1] = (int64_t)W.block_col.size();
             if (a < nc - 1) continue;
-            if (!fits((int64_t)W.block_col.size())) {
+            if (!fits(W)) {
                 W = BlockRows{};
                 return false;
             }

@@ -97,9 +97,9 @@ class BodyForm : public SweepForm {
     void copy_v(double *v) const;
     // W = H^T M^-1 H by block rows (the blocks of contacts that share a body), and the free
     // velocity q = H^T M^-1 f + w: the local form, for solvers that need W (after setup).
-    // fits(blocks) is asked once W's pattern is known, before its values are allocated: where
-    // it says no, W is left empty and reduce returns false.
-    bool reduce(BlockRows &W, double *q, const std::function<bool(int64_t blocks)> &fits) const;
+    // fits(W) is asked once W's pattern is known (row_ptr, block_col, diag), before its values
+    // are allocated: where it says no, W is left empty and reduce returns false.
+    bool reduce(BlockRows &W, double *q, const std::function<bool(const BlockRows &pattern)> &fits) const;
     const nsgs::Domains *domains() const override { return team_ ? &domains_ : nullptr; }
     ThreadTeam *team() override { return team_.get(); }
 

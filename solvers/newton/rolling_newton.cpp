@@ -339,10 +339,23 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, const rolling::Block
     return FRIX_OK;
 }
 
-// The least memory a run takes for a W of `blocks` n x n blocks: the Jacobian (its values and
-// row indices on W's pattern, and a slot a block), and its LU, which holds at least as many
-// entries. W's own values come on top where the run forms W.
-double newton_bytes(int64_t blocks, int n) { return (double)blocks * (2.0 * 16.0 * n * n + 16.0); }
+// The least memory a run takes on W's pattern of n x n blocks: the Jacobian (its values and row
+// indices, and a slot a block), and its LU, which holds at least as many entries, and at least
+// the values of L and U counted under a fill-reducing ordering of the block pattern (on sphere
+// piles many times the Jacobian: UMFPACK's own analysis would say so only after W and the
+// Jacobian are formed). W's own values come on top where the run forms W.
+double newton_bytes(const rolling::BlockRows &pattern) {
+    const auto blocks = (double)pattern.block_col.size(), n2 = (double)(pattern.size * pattern.size);
+    const auto nc = (int64_t)pattern.row_ptr.size() - 1;
+    double lu_bytes = 16.0 * n2 * blocks;
+    linalg::FactorCost cost;
+    if (nc > 0 &&
+        linalg::cholesky_cost({nc, nc, pattern.row_ptr.data(), pattern.block_col.data(), nullptr}, &cost) == FRIX_OK)
+        lu_bytes = std::max(lu_bytes, 8.0 * n2 * (2.0 * cost.factor_entries - (double)nc));  // L and U share the diagonal
+    else
+        clear_error();  // the Jacobian's size alone
+    return blocks * (16.0 * n2 + 16.0) + lu_bytes;
+}
 
 // The run refused before it formed anything, for memory: r as it was, measured into ctx.u
 // (rolling::solve_on_form's last exact() then has nothing to add).
@@ -364,7 +377,7 @@ struct RunOnForm {
     bool &measured_at_r;
     frix_error operator()(rolling::RowForm &rows) const {
         const frix_problem &p = ctx.problem;
-        const double bytes = newton_bytes(rows.rows().block_col.size(), rows.size());
+        const double bytes = newton_bytes(rows.rows());
         if (!Monitor(ctx).fits_memory(bytes)) return refuse_for_memory(ctx, rows, bytes, measured_at_r);
         const std::vector<double> q(p.q, p.q + contact_size(p) * p.nc);
         return run(ctx, rows, rows.rows(), q);
@@ -375,8 +388,8 @@ struct RunOnForm {
         const Monitor monitor(ctx);
         const int n = bodies.size();
         double bytes = 0.0;
-        const auto fits = [&](int64_t blocks) {
-            bytes = newton_bytes(blocks, n) + 8.0 * n * n * (double)blocks;
+        const auto fits = [&](const rolling::BlockRows &pattern) {
+            bytes = newton_bytes(pattern) + 8.0 * n * n * (double)pattern.block_col.size();
             return monitor.fits_memory(bytes);
         };
         if (!bodies.reduce(W, q.data(), fits)) return refuse_for_memory(ctx, bodies, bytes, measured_at_r);
