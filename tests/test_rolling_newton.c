@@ -234,6 +234,41 @@ START_TEST(test_memory_limit_before_w) {
 }
 END_TEST
 
+/* Past the time limit (1 ns) rolling-nsn stops as under a memory limit: before W and the Jacobian,
+ * by the price of its first factorisation, on both forms (it formed them, and left the
+ * refusal to the factorisation's budget). */
+START_TEST(test_time_limit_before_w) {
+    rolling_pile pile;
+    ck_assert_int_eq(rolling_pile_make(4, 3, 0.3, 0.02, 5, &pile), 0);
+    chain c;
+    chain_make(200, 1e-3, &c);
+    const frix_problem *problems[2] = {pile.global, c.p};
+    for (int k = 0; k < 2; ++k) {
+        const int64_t m = frix_problem_contact_dofs(problems[k]);
+        double *r = calloc((size_t)m, sizeof(double)), *u = calloc((size_t)m, sizeof(double));
+        double *v = calloc((size_t)(k == 0 ? frix_problem_dofs(problems[k]) : 1), sizeof(double));
+        char log[4096] = "";
+        frix_options *o = NULL;
+        ck_assert_int_eq(frix_options_create(FRIX_SOLVER_ROLLING_NSN, &o), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TIME_LIMIT, 1e-9), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_log(o, collect_line, log), FRIX_OK);
+        frix_info *info = NULL;
+        ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+        ck_assert_int_eq(frix_solve(problems[k], o, r, u, k == 0 ? v : NULL, info), FRIX_OK);
+        ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_TIME_LIMIT);
+        ck_assert_int_eq(frix_info_iterations(info), 0);
+        ck_assert_msg(strstr(log, "more than the time left"), "%s", log);
+        for (int64_t i = 0; i < m; ++i) ck_assert(r[i] == 0.0);
+        frix_info_free(info);
+        frix_options_free(o);
+        free(r), free(u), free(v);
+    }
+    chain_free(&c);
+    rolling_pile_free(&pile);
+}
+END_TEST
+
 /* On a pile of spheres the LU of the Newton system fills in far beyond W's pattern: its price
  * counts that fill (a fill-reducing ordering of W's block pattern) before W is formed. The
  * 704-contact pile's Jacobian and an LU of its size take about 5 MB, the counted fill about 11 MB:
@@ -354,6 +389,7 @@ int main(void) {
     tcase_add_test(tc, test_auto_sweeps_on_when_newton_is_refused);
     tcase_add_test(tc, test_memory_limit_before_w);
     tcase_add_test(tc, test_memory_price_counts_the_fill);
+    tcase_add_test(tc, test_time_limit_before_w);
     tcase_add_test(tc, test_existence_verdicts);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);

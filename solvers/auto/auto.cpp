@@ -81,8 +81,9 @@ frix_error rolling_stage(SolveContext &ctx, int id, double tol, int64_t max_iter
 // tolerance, if looser) on at most half the iterations; where the tolerance is tighter and
 // not met, a rolling-nsn polish of at most kRollingNewtonSteps Newton steps from the sweeps'
 // answer (it returns an iterate no worse than its start); where that fails too, or its
-// factorisation was refused for memory, the sweeps again with the iterations left: they
-// factorise nothing. The driver measures the answer and checks the status.
+// factorisation was refused for memory or for the time left, the sweeps again with the
+// iterations and the time left: they factorise nothing. The driver measures the answer and
+// checks the status.
 frix_error solve_rolling(SolveContext &ctx) {
     const Monitor monitor(ctx);
     const double tol = monitor.tolerance();
@@ -93,7 +94,8 @@ frix_error solve_rolling(SolveContext &ctx) {
     if (frix_error e = rolling_stage(ctx, FRIX_SOLVER_ROLLING_NSGS, loose, first, done)) return e;
     const auto finished = [&](bool memory_ends) {
         const frix_status s = ctx.info.status;
-        return (s == FRIX_STATUS_CONVERGED && ctx.info.error <= tol) || s == FRIX_STATUS_TIME_LIMIT ||
+        return (s == FRIX_STATUS_CONVERGED && ctx.info.error <= tol) ||
+               (s == FRIX_STATUS_TIME_LIMIT && monitor.out_of_time()) ||
                (memory_ends && s == FRIX_STATUS_MEMORY_LIMIT) || s == FRIX_STATUS_STOPPED_BY_CALLBACK ||
                done >= budget;
     };

@@ -339,46 +339,55 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, const rolling::Block
     return FRIX_OK;
 }
 
-// The least memory a run takes on W's pattern of n x n blocks: the Jacobian (its values and row
-// indices, and a slot a block), and its LU, which holds at least as many entries, and at least
-// the values of L and U counted under a fill-reducing ordering of the block pattern (on sphere
-// piles many times the Jacobian: UMFPACK's own analysis would say so only after W and the
-// Jacobian are formed). W's own values come on top where the run forms W.
-double newton_bytes(const rolling::BlockRows &pattern) {
-    const auto blocks = (double)pattern.block_col.size(), n2 = (double)(pattern.size * pattern.size);
+// What a run takes at least on W's pattern of n x n blocks, known before W's values: its memory,
+// the Jacobian (its values and row indices, and a slot a block) and its LU, which holds at least
+// as many entries, and at least the values of L and U counted under a fill-reducing ordering of
+// the block pattern (on sphere piles many times the Jacobian: UMFPACK's own analysis would say
+// so only after W and the Jacobian are formed); and the flops of that LU's first factorisation.
+// W's own values come on top where the run forms W.
+linalg::FactorPrice newton_price(const rolling::BlockRows &pattern) {
+    const auto blocks = (double)pattern.block_col.size(), n = (double)pattern.size;
     const auto nc = (int64_t)pattern.row_ptr.size() - 1;
-    double lu_bytes = 16.0 * n2 * blocks;
+    linalg::FactorPrice price;
+    double lu_bytes = 16.0 * n * n * blocks;
     linalg::FactorCost cost;
     if (nc > 0 &&
-        linalg::cholesky_cost({nc, nc, pattern.row_ptr.data(), pattern.block_col.data(), nullptr}, &cost) == FRIX_OK)
-        lu_bytes = std::max(lu_bytes, 8.0 * n2 * (2.0 * cost.factor_entries - (double)nc));  // L and U share the diagonal
-    else
+        linalg::cholesky_cost({nc, nc, pattern.row_ptr.data(), pattern.block_col.data(), nullptr}, &cost) == FRIX_OK) {
+        // L and U share the diagonal; each block operation is n^3 flops.
+        lu_bytes = std::max(lu_bytes, 8.0 * n * n * (2.0 * cost.factor_entries - (double)nc));
+        price.flops = 2.0 * cost.flops * n * n * n;
+    } else {
         clear_error();  // the Jacobian's size alone
-    return blocks * (16.0 * n2 + 16.0) + lu_bytes;
+    }
+    price.bytes = blocks * (16.0 * n * n + 16.0) + lu_bytes;
+    return price;
 }
 
-// The run refused before it formed anything, for memory: r as it was, measured into ctx.u
-// (rolling::solve_on_form's last exact() then has nothing to add).
-frix_error refuse_for_memory(SolveContext &ctx, rolling::SweepForm &form, double bytes, bool &measured_at_r) {
-    ctx.info.status = FRIX_STATUS_MEMORY_LIMIT;
+// The run refused before it formed anything, for the limit `status` names: r as it was,
+// measured into ctx.u (rolling::solve_on_form's last exact() then has nothing to add).
+frix_error refuse_before_w(SolveContext &ctx, rolling::SweepForm &form, const linalg::FactorPrice &price,
+                           frix_status status, bool &measured_at_r) {
+    ctx.info.status = status;
     ctx.info.error = selected_error(form.exact(ctx.r, ctx.u), ctx.options.i(FRIX_OPT_ERROR_MEASURE));
     measured_at_r = true;
     ctx.info.iterations = 0;
     if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1)
-        log_line(&ctx.options, "rolling-nsn: W and its Newton system need at least %.3g MB, more than the memory left",
-                 bytes / 1e6);
+        log_line(&ctx.options,
+                 "rolling-nsn: W and its Newton system need at least %.3g MB and %.3g flops, more than the %s left",
+                 price.bytes / 1e6, price.flops, status == FRIX_STATUS_MEMORY_LIMIT ? "memory" : "time");
     return FRIX_OK;
 }
 
 // run on either form: the local form's W and q as they are, the bodies' W = H^T M^-1 H and q
-// formed body by body; neither where the memory left cannot hold the Newton system.
+// formed body by body; neither where the time or memory left cannot hold the Newton system.
 struct RunOnForm {
     SolveContext &ctx;
     bool &measured_at_r;
     frix_error operator()(rolling::RowForm &rows) const {
         const frix_problem &p = ctx.problem;
-        const double bytes = newton_bytes(rows.rows());
-        if (!Monitor(ctx).fits_memory(bytes)) return refuse_for_memory(ctx, rows, bytes, measured_at_r);
+        const linalg::FactorPrice price = newton_price(rows.rows());
+        if (const frix_status refused = Monitor(ctx).affords(price))
+            return refuse_before_w(ctx, rows, price, refused, measured_at_r);
         const std::vector<double> q(p.q, p.q + contact_size(p) * p.nc);
         return run(ctx, rows, rows.rows(), q);
     }
@@ -387,12 +396,15 @@ struct RunOnForm {
         std::vector<double> q((size_t)(contact_size(ctx.problem) * ctx.problem.nc));
         const Monitor monitor(ctx);
         const int n = bodies.size();
-        double bytes = 0.0;
+        linalg::FactorPrice price;
+        frix_status refused = FRIX_STATUS_NOT_RUN;
         const auto fits = [&](const rolling::BlockRows &pattern) {
-            bytes = newton_bytes(pattern) + 8.0 * n * n * (double)pattern.block_col.size();
-            return monitor.fits_memory(bytes);
+            price = newton_price(pattern);
+            price.bytes += 8.0 * n * n * (double)pattern.block_col.size();
+            refused = monitor.affords(price);
+            return refused == FRIX_STATUS_NOT_RUN;
         };
-        if (!bodies.reduce(W, q.data(), fits)) return refuse_for_memory(ctx, bodies, bytes, measured_at_r);
+        if (!bodies.reduce(W, q.data(), fits)) return refuse_before_w(ctx, bodies, price, refused, measured_at_r);
         return run(ctx, bodies, W, q);
     }
 };
