@@ -198,10 +198,11 @@ static void collect_line(void *data, const char *line) {
     strncat(log, "\n", 4095 - strlen(log));
 }
 
-/* Where the memory left cannot hold even the Newton system on W's pattern, rolling-nsn stops
- * before it allocates W's values or the Jacobian (it said so, r untouched, no step), on the
- * global form (W's pattern from the bodies) and on the local one (W given). */
-START_TEST(test_memory_limit_before_w) {
+/* rolling-nsn under the limit `key` = `limit` that its first factorisation would overrun, on the
+ * global form (W's pattern from the bodies) and on the local one (W given): it stops before it
+ * allocates W's values or the Jacobian (status `status`, no step, r untouched, its log line
+ * naming the limit in `says`). */
+static void check_refused_before_w(frix_option_key key, double limit, frix_status status, const char *says) {
     rolling_pile pile;
     ck_assert_int_eq(rolling_pile_make(4, 3, 0.3, 0.02, 5, &pile), 0);
     chain c;
@@ -214,15 +215,16 @@ START_TEST(test_memory_limit_before_w) {
         char log[4096] = "";
         frix_options *o = NULL;
         ck_assert_int_eq(frix_options_create(FRIX_SOLVER_ROLLING_NSN, &o), FRIX_OK);
-        ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_MEMORY_LIMIT, 1.0), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_double(o, key, limit), FRIX_OK);
         ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
         ck_assert_int_eq(frix_options_set_log(o, collect_line, log), FRIX_OK);
         frix_info *info = NULL;
         ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
         ck_assert_int_eq(frix_solve(problems[k], o, r, u, k == 0 ? v : NULL, info), FRIX_OK);
-        ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_MEMORY_LIMIT);
+        ck_assert_int_eq(frix_info_status(info), status);
         ck_assert_int_eq(frix_info_iterations(info), 0);
         ck_assert_msg(strstr(log, "rolling-nsn: W and its Newton system need at least"), "%s", log);
+        ck_assert_msg(strstr(log, says), "%s", log);
         for (int64_t i = 0; i < m; ++i) ck_assert(r[i] == 0.0);
         ck_assert(isfinite(frix_info_error(info)));
         frix_info_free(info);
@@ -232,40 +234,17 @@ START_TEST(test_memory_limit_before_w) {
     chain_free(&c);
     rolling_pile_free(&pile);
 }
+
+/* Where the memory left cannot hold even the Newton system on W's pattern (a limit of 1 byte). */
+START_TEST(test_memory_limit_before_w) {
+    check_refused_before_w(FRIX_OPT_MEMORY_LIMIT, 1.0, FRIX_STATUS_MEMORY_LIMIT, "more than the memory left");
+}
 END_TEST
 
-/* Past the time limit (1 ns) rolling-nsn stops as under a memory limit: before W and the Jacobian,
- * by the price of its first factorisation, on both forms (it formed them, and left the
- * refusal to the factorisation's budget). */
+/* Past the time limit (1 ns), by the price of the first factorisation: as under a memory limit
+ * (it formed W and the Jacobian, and left the refusal to the factorisation's budget). */
 START_TEST(test_time_limit_before_w) {
-    rolling_pile pile;
-    ck_assert_int_eq(rolling_pile_make(4, 3, 0.3, 0.02, 5, &pile), 0);
-    chain c;
-    chain_make(200, 1e-3, &c);
-    const frix_problem *problems[2] = {pile.global, c.p};
-    for (int k = 0; k < 2; ++k) {
-        const int64_t m = frix_problem_contact_dofs(problems[k]);
-        double *r = calloc((size_t)m, sizeof(double)), *u = calloc((size_t)m, sizeof(double));
-        double *v = calloc((size_t)(k == 0 ? frix_problem_dofs(problems[k]) : 1), sizeof(double));
-        char log[4096] = "";
-        frix_options *o = NULL;
-        ck_assert_int_eq(frix_options_create(FRIX_SOLVER_ROLLING_NSN, &o), FRIX_OK);
-        ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TIME_LIMIT, 1e-9), FRIX_OK);
-        ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
-        ck_assert_int_eq(frix_options_set_log(o, collect_line, log), FRIX_OK);
-        frix_info *info = NULL;
-        ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
-        ck_assert_int_eq(frix_solve(problems[k], o, r, u, k == 0 ? v : NULL, info), FRIX_OK);
-        ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_TIME_LIMIT);
-        ck_assert_int_eq(frix_info_iterations(info), 0);
-        ck_assert_msg(strstr(log, "more than the time left"), "%s", log);
-        for (int64_t i = 0; i < m; ++i) ck_assert(r[i] == 0.0);
-        frix_info_free(info);
-        frix_options_free(o);
-        free(r), free(u), free(v);
-    }
-    chain_free(&c);
-    rolling_pile_free(&pile);
+    check_refused_before_w(FRIX_OPT_TIME_LIMIT, 1e-9, FRIX_STATUS_TIME_LIMIT, "more than the time left");
 }
 END_TEST
 
