@@ -171,24 +171,29 @@ frix_error check_csc_arrays(int64_t nnz, const int64_t *colptr, const int64_t *r
 
 namespace frix {
 
-void block_graph(const frix_matrix &W, std::vector<int64_t> &colptr, std::vector<int64_t> &rowind) {
+void block_graph(int64_t block_rows, const int64_t *row_ptr, const int64_t *block_col, std::vector<int64_t> &colptr,
+                 std::vector<int64_t> &rowind) {
     std::vector<std::pair<int64_t, int64_t>> e;  // (column, row), row <= column
-    e.reserve(W.block_col.size() + (size_t)W.block_rows);
-    for (int64_t br = 0; br < W.block_rows; ++br) {
+    e.reserve((size_t)(row_ptr[block_rows] + block_rows));
+    for (int64_t br = 0; br < block_rows; ++br) {
         e.emplace_back(br, br);
-        for (int64_t b = W.row_ptr[br]; b < W.row_ptr[br + 1]; ++b)
-            e.emplace_back(std::max(br, W.block_col[b]), std::min(br, W.block_col[b]));
+        for (int64_t b = row_ptr[br]; b < row_ptr[br + 1]; ++b)
+            e.emplace_back(std::max(br, block_col[b]), std::min(br, block_col[b]));
     }
     std::sort(e.begin(), e.end());
     e.erase(std::unique(e.begin(), e.end()), e.end());
-    colptr.assign((size_t)W.block_rows + 1, 0);
+    colptr.assign((size_t)block_rows + 1, 0);
     rowind.clear();
     rowind.reserve(e.size());
     for (const auto &x : e) {
         ++colptr[(size_t)x.first + 1];
         rowind.push_back(x.second);
     }
-    for (int64_t j = 0; j < W.block_rows; ++j) colptr[(size_t)j + 1] += colptr[(size_t)j];
+    for (int64_t j = 0; j < block_rows; ++j) colptr[(size_t)j + 1] += colptr[(size_t)j];
+}
+
+void block_graph(const frix_matrix &W, std::vector<int64_t> &colptr, std::vector<int64_t> &rowind) {
+    block_graph(W.block_rows, W.row_ptr.data(), W.block_col.data(), colptr, rowind);
 }
 
 frix_error block_cholesky_cost(const frix_matrix &W, linalg::FactorCost *cost) {

@@ -147,6 +147,10 @@ frix_matrix pattern_of(const frix_matrix &A);
 // the symmetrised block pattern with every diagonal entry; what a Cholesky of a matrix with
 // W's pattern fills in is priced on it (linalg::cholesky_cost).
 void block_graph(const frix_matrix &W, std::vector<int64_t> &colptr, std::vector<int64_t> &rowind);
+// The same from block rows of any block size: row a's block columns row_ptr[a] .. row_ptr[a + 1]
+// of block_col.
+void block_graph(int64_t block_rows, const int64_t *row_ptr, const int64_t *block_col, std::vector<int64_t> &colptr,
+                 std::vector<int64_t> &rowind);
 // The price of a scalar Cholesky of a matrix with W's block pattern (W + rho I, say), from the
 // symbolic analysis of its block graph (in closed form where W stores every block): 27 flops
 // per block flop, 9 entries per block entry.

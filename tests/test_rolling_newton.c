@@ -241,19 +241,16 @@ START_TEST(test_memory_limit_before_w) {
 }
 END_TEST
 
-/* Past the time limit (1 ns), by the price of the first factorisation: as under a memory limit
- * (it formed W and the Jacobian, and left the refusal to the factorisation's budget). */
+/* Past the time limit (1 ns), by the price of the first factorisation: as under a memory limit. */
 START_TEST(test_time_limit_before_w) {
     check_refused_before_w(FRIX_OPT_TIME_LIMIT, 1e-9, FRIX_STATUS_TIME_LIMIT, "more than the time left");
 }
 END_TEST
 
-/* On a pile of spheres the LU of the Newton system fills in far beyond W's pattern: its price
- * counts that fill (a fill-reducing ordering of W's block pattern) before W is formed. The
- * 704-contact pile's Jacobian and an LU of its size take about 5 MB, the counted fill about 11 MB:
- * at a limit of 8 MB the run stops before W (it formed W and the Jacobian, and left the refusal
- * to UMFPACK's analysis); at 512 MB it runs (UMFPACK's own price, a bound for any pivoting, is
- * above 64 MB here). */
+/* On a pile of spheres the LU of the Newton system fills in far beyond W's pattern, and the
+ * price counts that fill: a limit above the Jacobian's size but below the counted fill (8 MB on
+ * the 704-contact pile) stops the run before W and the Jacobian are formed; a limit that holds
+ * the LU (512 MB) lets it run. */
 START_TEST(test_memory_price_counts_the_fill) {
     rolling_pile pile;
     ck_assert_int_eq(rolling_pile_make(8, 4, 0.3, 0.02, 5, &pile), 0);

@@ -18,6 +18,7 @@
 #include "src/error_state.hpp"
 #include "src/linalg/linalg.hpp"
 #include "src/log.hpp"
+#include "src/matrix.hpp"
 #include "src/monitor.hpp"
 #include "src/vec.hpp"
 
@@ -342,8 +343,9 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, const rolling::Block
 // What a run takes at least on W's pattern of n x n blocks, known before W's values: its memory,
 // the Jacobian (its values and row indices, and a slot a block) and its LU, which holds at least
 // as many entries, and at least the values of L and U counted under a fill-reducing ordering of
-// the block pattern (on sphere piles many times the Jacobian: UMFPACK's own analysis would say
-// so only after W and the Jacobian are formed); and the flops of that LU's first factorisation.
+// the symmetrised block pattern (on sphere piles many times the Jacobian: UMFPACK's own
+// analysis would say so only after W and the Jacobian are formed); and the flops of that LU's
+// first factorisation (none counted where the analysis fails: the time left then decides alone).
 // W's own values come on top where the run forms W.
 linalg::FactorPrice newton_price(const rolling::BlockRows &pattern) {
     const auto blocks = (double)pattern.block_col.size(), n = (double)pattern.size;
@@ -351,8 +353,9 @@ linalg::FactorPrice newton_price(const rolling::BlockRows &pattern) {
     linalg::FactorPrice price;
     double lu_bytes = 16.0 * n * n * blocks;
     linalg::FactorCost cost;
-    if (nc > 0 &&
-        linalg::cholesky_cost({nc, nc, pattern.row_ptr.data(), pattern.block_col.data(), nullptr}, &cost) == FRIX_OK) {
+    std::vector<int64_t> colptr, rowind;
+    if (nc > 0) block_graph(nc, pattern.row_ptr.data(), pattern.block_col.data(), colptr, rowind);
+    if (nc > 0 && linalg::cholesky_cost({nc, nc, colptr.data(), rowind.data(), nullptr}, &cost) == FRIX_OK) {
         // L and U share the diagonal; each block operation is n^3 flops.
         lu_bytes = std::max(lu_bytes, 8.0 * n * n * (2.0 * cost.factor_entries - (double)nc));
         price.flops = 2.0 * cost.flops * n * n * n;
@@ -364,11 +367,14 @@ linalg::FactorPrice newton_price(const rolling::BlockRows &pattern) {
 }
 
 // The run refused before it formed anything, for the limit `status` names: r as it was,
-// measured into ctx.u (rolling::solve_on_form's last exact() then has nothing to add).
+// measured once, into ctx.u (neither solve_on_form's last exact() nor, on the local form, the
+// driver measure it again).
 frix_error refuse_before_w(SolveContext &ctx, rolling::SweepForm &form, const linalg::FactorPrice &price,
                            frix_status status, bool &measured_at_r) {
     ctx.info.status = status;
-    ctx.info.error = selected_error(form.exact(ctx.r, ctx.u), ctx.options.i(FRIX_OPT_ERROR_MEASURE));
+    ctx.measured = form.exact(ctx.r, ctx.u);
+    ctx.has_measured = ctx.problem.kind == FRIX_PROBLEM_ROLLING_LOCAL;  // the driver's own measure
+    ctx.info.error = selected_error(ctx.measured, ctx.options.i(FRIX_OPT_ERROR_MEASURE));
     measured_at_r = true;
     ctx.info.iterations = 0;
     if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The settled-steps benchmark of docs/reports/benchmarks.md (issue 51): time steps of piles
+# The settled-steps benchmark (issue 51; its section in docs/reports/benchmarks.md): time steps of piles
 # at or near rest, dumped by the granular client, each solved from the client's previous answer
 # (the file's guess 1, as a time-stepping host starts) by frix and by Siconos 4.4 in the same
 # campaign, to 1e-8 with every run's error-against-time trace: work-precision from 1e-2 to 1e-8.
@@ -82,8 +82,12 @@ run coulomb-local "auto,nsgs-v,siconos:NSGS,siconos:PROX,siconos:ADMM,siconos:NS
 
 families=()
 for f in rolling-global rolling-local coulomb-global coulomb-local; do
-    [ -f "$work/$f/runs.csv" ] && families+=("$f")
+    if [ -f "$work/$f/runs.csv" ]; then families+=("$f"); fi
 done
+if [ ${#families[@]} -eq 0 ]; then
+    echo "settled_steps.sh: no campaign ran (no steps in $problems)" >&2
+    exit 1
+fi
 if [ -z "$report" ]; then
     /usr/bin/python3 "$here/settled_table.py" - "$work" "${families[@]}"
     exit 0

@@ -9,7 +9,8 @@ WORK_DIR/FAMILY/runs.csv and traces.csv are one `frix bench` campaign each. For 
 of the run's trace at or below the accuracy, the run's final time for a run without a trace,
 and none where the final error is above the accuracy); then, per step, auto's time to 1e-4
 over the best Siconos solver's. Spliced between the settled markers of BENCHMARKS_MD after a line
-naming the tool and the day (UTC), or printed where BENCHMARKS_MD is '-'.
+naming the tool and the day (UTC), the section and its markers added at the end where they are
+not there yet; or printed where BENCHMARKS_MD is '-'.
 """
 import csv
 import datetime
@@ -19,6 +20,16 @@ import sys
 
 BEGIN, END = "<!-- settled:begin -->", "<!-- settled:end -->"
 LEVELS = (1e-2, 1e-4, 1e-6, 1e-8)
+TIME_FLOOR = 1e-6  # the bench's kTimeFloor: no time is taken as shorter
+SECTION = """## Settled steps: piles at or near rest, from the previous step's answer
+
+Time steps of the granular client's pours dumped at rest (with rolling resistance) or late in
+the pour (Coulomb friction alone: such piles never rest), each solved from the client's previous
+answer (the file's guess 1) by frix and Siconos 4.4 in the same campaign, to 1e-8 with every
+run's error-against-time trace. Regenerate with `tools/bench/settled_steps.sh build`; the runs
+and the work-precision plots are in [benchmarks/settled/](benchmarks/settled/).
+
+"""
 TITLES = {
     "rolling-global": "Rolling resistance, global form (H and M: what the client holds)",
     "rolling-local": "Rolling resistance, local form (W formed)",
@@ -57,7 +68,7 @@ def reach_time(run, trace, accuracy):
     limit = number(run.get("time_limit"))
     if math.isfinite(limit) and t > limit:
         return math.nan
-    return t
+    return max(t, TIME_FLOOR)
 
 
 def seconds(t):
@@ -112,7 +123,7 @@ def main():
     with open(target) as f:
         text = f.read()
     if BEGIN not in text or END not in text:
-        sys.exit(f"settled_table.py: {target} has no {BEGIN} ... {END}")
+        text = text.rstrip("\n") + "\n\n" + SECTION + BEGIN + "\n" + END + "\n"
     head, rest = text.split(BEGIN, 1)
     _, tail = rest.split(END, 1)
     with open(target, "w") as f:
