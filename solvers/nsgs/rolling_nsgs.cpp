@@ -4,7 +4,7 @@
 // W's block rows, the global form of rigid bodies keeps v = M^-1 (H r + f) and never forms W,
 // its domains of contacts of one colour swept at once on the threads (kit/rolling_forms.hpp).
 // Stops as Siconos's LIGHT_WITH_FULL_FINAL: on the light error |dr| / |r| confirmed by the full
-// measure (and a full check every kFullEvery sweeps).
+// measure (and full checks on a schedule, full_check_due).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -24,9 +24,14 @@ namespace frix {
 namespace rolling_nsgs {
 namespace {
 
-// A full check (the measures at r, a product) every this many sweeps besides those the light
-// error asks for: a sweep that converges while its light error stays large still stops.
+// A full check (the measures at r, a product) after sweeps 1, 2, 4 and 8, then every kFullEvery
+// sweeps, besides those the light error asks for: on piles r drifts (a large light error) while
+// the error has converged, and a step of a simulation at a loose tolerance often ends in a few
+// sweeps. The early checks cost a few products on a long run.
 constexpr int64_t kFullEvery = 16;
+bool full_check_due(int64_t sweep) {
+    return sweep % kFullEvery == 0 || (sweep < kFullEvery && (sweep & (sweep - 1)) == 0);
+}
 
 // The product form (global problems): once the best full error has not halved within
 // kStallSweeps sweeps, a sweep restarts momentum only where |dr|^2 grows beyond kStalledGrowth
@@ -113,7 +118,7 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, bool *at_r_out) {
         momentum.after_sweep(st.dr2, ctx.r, p, form);
         at_r = false;
         const double light = std::sqrt(st.dr2) / (st.r2 > 0.0 ? std::sqrt(st.r2) : 1.0);
-        if (light <= light_tol || it % kFullEvery == 0 || monitor.out_of_iterations(it)) {
+        if (light <= light_tol || full_check_due(it) || monitor.out_of_iterations(it)) {
             last = form.exact(ctx.r, ctx.u);
             at_r = true;
             const double error = selected_error(last, measure);
