@@ -28,7 +28,7 @@ namespace {
 // error asks for: a sweep that converges while its light error stays large still stops.
 constexpr int64_t kFullEvery = 16;
 // Also after sweeps 1, 2, 4 and 8 where the light error is within kEarlyLight times its
-// tolerance: on piles r drifts, and |dr| / |r| stays 10 to 100 times above an error that already
+// tolerance: on piles r drifts, and |dr| / |r| stays up to about 100 times above an error that already
 // meets a loose tolerance; where it is further off, a check (about two sweeps' work) would fail.
 constexpr double kEarlyLight = 100.0;
 bool early_check_due(int64_t sweep, double light, double light_tol) {
@@ -120,13 +120,15 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, bool *at_r_out) {
         momentum.after_sweep(st.dr2, ctx.r, p, form);
         at_r = false;
         const double light = std::sqrt(st.dr2) / (st.r2 > 0.0 ? std::sqrt(st.r2) : 1.0);
-        const bool periodic = light <= light_tol || it % kFullEvery == 0;
-        if (periodic || early_check_due(it, light, light_tol) || monitor.out_of_iterations(it)) {
+        const bool regular = light <= light_tol || it % kFullEvery == 0;  // the checks before the early ones
+        if (regular || early_check_due(it, light, light_tol) || monitor.out_of_iterations(it)) {
             last = form.exact(ctx.r, ctx.u);
             at_r = true;
             const double error = selected_error(last, measure);
             ctx.info.error = error;
-            if (periodic) momentum.judge(it, error);  // its stall's patience counts from these checks
+            // The stall's patience counts from the regular checks: the early ones, taken or not by the
+            // light error, would move where it starts.
+            if (regular) momentum.judge(it, error);
             if (o.i(FRIX_OPT_VERBOSITY) >= 2) log_line(&o, "rolling-nsgs: sweep %lld, light %.3e, error %.3e", (long long)it, light, error);
             // Siconos's rule: the light tolerance scaled by how far the full error missed.
             if (light <= light_tol && error > tol && error > 0.0) light_tol = std::max(light * tol / error, 1e-300);
