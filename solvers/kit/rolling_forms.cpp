@@ -131,6 +131,8 @@ frix_error BodyForm::setup(const double *r, const char *who, int threads) {
         const std::vector<double> v0 = v0_;
         for (int64_t d = 0; d < p_.n; ++d) v0_[(size_t)slot_of_dof_[(size_t)d]] = v0[(size_t)d];
     }
+    norm_w_ = norm2(p_.w, n * nc);
+    free_ = free_velocity(p_);
     restart(r);
     return FRIX_OK;
 }
@@ -311,7 +313,7 @@ Measures BodyForm::exact(const double *r, double *u) {
     restart(r);
     const int64_t n = size();
     for_positions([&](int64_t k) { contact_velocity(contact_at(k), v_.data(), u + n * contact_at(k)); });
-    return rolling_measures_from_ru(p_, r, u, norm2(p_.w, n * p_.nc), free_velocity(p_));
+    return rolling_measures_from_ru(p_, r, u, norm_w_, free_);
 }
 
 std::vector<local_rolling::Contact> contacts_of(const SweepForm &form, const frix_problem &p) {

@@ -119,6 +119,7 @@ class BodyForm : public SweepForm {
     ContactProducts cp_;                   // by position: the contact's dofs, H_a and M^-1 H_a on them
     std::vector<double> blocks_, w_;       // by position: W_aa (n^2 a contact), w_a
     std::vector<double> v0_, v_;           // M^-1 f, v (in the sweeps' numbering of the dofs)
+    double norm_w_ = 0.0, free_ = 0.0;     // |w| and free_velocity(p_): the measures' scales, set once
     std::vector<int64_t> position_;        // with domains: contact a's position (else a)
     // With domains, v's dofs renumbered in the order the sweep first reaches them (cp_'s dofs
     // too): a domain reads and writes a compact part of v. Empty: the problem's numbering.
