@@ -28,8 +28,9 @@ namespace {
 // error asks for: a sweep that converges while its light error stays large still stops.
 constexpr int64_t kFullEvery = 16;
 // Also after sweeps 1, 2, 4 and 8 where the light error is within kEarlyLight times its
-// tolerance: on piles r drifts, and |dr| / |r| stays up to about 100 times above an error that already
-// meets a loose tolerance; where it is further off, a check (about two sweeps' work) would fail.
+// tolerance: on piles r drifts, and |dr| / |r| stays up to about 100 times above an error that
+// already meets a loose tolerance; where it is further off, a check (about two sweeps' work)
+// would fail.
 constexpr double kEarlyLight = 100.0;
 bool early_check_due(int64_t sweep, double light, double light_tol) {
     return sweep < kFullEvery && (sweep & (sweep - 1)) == 0 && light <= kEarlyLight * light_tol;
@@ -126,10 +127,11 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, bool *at_r_out) {
             at_r = true;
             const double error = selected_error(last, measure);
             ctx.info.error = error;
-            // The stall's patience counts from the regular checks: the early ones, taken or not by the
-            // light error, would move where it starts.
+            // The stall's patience counts from the regular checks: the early ones, taken or not by
+            // the light error, would move where it starts.
             if (regular) momentum.judge(it, error);
-            if (o.i(FRIX_OPT_VERBOSITY) >= 2) log_line(&o, "rolling-nsgs: sweep %lld, light %.3e, error %.3e", (long long)it, light, error);
+            if (o.i(FRIX_OPT_VERBOSITY) >= 2)
+                log_line(&o, "rolling-nsgs: sweep %lld, light %.3e, error %.3e", (long long)it, light, error);
             // Siconos's rule: the light tolerance scaled by how far the full error missed.
             if (light <= light_tol && error > tol && error > 0.0) light_tol = std::max(light * tol / error, 1e-300);
             status = monitor.verdict(it, error);
