@@ -28,18 +28,27 @@ frix_error to_csc(const frix_matrix &A, Csc &out) {
     return frix_matrix_to_csc(&A, &nnz, out.colptr.data(), out.rowind.data(), out.val.data());
 }
 
-double relative_asymmetry(const Csc &M) {
+double relative_asymmetry(const linalg::CscView &M) {
     double amax = 0.0, skew = 0.0;
-    for (double x : M.val) amax = std::max(amax, std::fabs(x));
+    const int64_t nnz = M.nnz();
+    for (int64_t e = 0; e < nnz; ++e) amax = std::max(amax, std::fabs(M.values[e]));
+    // One pass: column j's entries (i, j) meet their mirrors (j, i) in increasing j, so each
+    // column i is read once, from next[i] on; an entry passed over has no mirror.
+    std::vector<int64_t> next(M.colptr, M.colptr + M.cols);
     for (int64_t j = 0; j < M.cols; ++j)
         for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e) {
             const int64_t i = M.rowind[e];
-            // M(j, i) by binary search in column i.
-            auto first = M.rowind.begin() + M.colptr[i], last = M.rowind.begin() + M.colptr[i + 1];
-            auto it = std::lower_bound(first, last, j);
-            const double mji = (it != last && *it == j) ? M.val[it - M.rowind.begin()] : 0.0;
-            skew = std::max(skew, std::fabs(mji - M.val[e]));
+            if (i >= M.cols) {  // below a square part: no mirror
+                skew = std::max(skew, std::fabs(M.values[e]));
+                continue;
+            }
+            int64_t &k = next[i];
+            for (; k < M.colptr[i + 1] && M.rowind[k] < j; ++k) skew = std::max(skew, std::fabs(M.values[k]));
+            const bool mirrored = k < M.colptr[i + 1] && M.rowind[k] == j;
+            skew = std::max(skew, std::fabs(M.values[e] - (mirrored ? M.values[k++] : 0.0)));
         }
+    for (int64_t i = 0; i < M.cols; ++i)
+        for (int64_t k = next[i]; k < M.colptr[i + 1]; ++k) skew = std::max(skew, std::fabs(M.values[k]));
     return amax > 0.0 ? skew / amax : 0.0;
 }
 
@@ -122,7 +131,7 @@ frix_error MassSolver::inverse_diagonal(const Csc &B, std::vector<double> &diag)
     return FRIX_OK;
 }
 
-bool is_symmetric(const Csc &M) { return relative_asymmetry(M) <= 1e-12; }
+bool is_symmetric(const linalg::CscView &M) { return relative_asymmetry(M) <= 1e-12; }
 
 ReductionSize reduction_size(const frix_problem &p) {
     ReductionSize size;

@@ -30,10 +30,12 @@ struct Csc {
 
 frix_error to_csc(const frix_matrix &A, Csc &out);
 
-// max |M_ij - M_ji| / max |M_ij| (0 for M = 0).
-double relative_asymmetry(const Csc &M);
+// max |M_ij - M_ji| / max |M_ij| (0 for M = 0), an entry without its mirror against 0.
+double relative_asymmetry(const linalg::CscView &M);
+inline double relative_asymmetry(const Csc &M) { return relative_asymmetry(M.view()); }
 // Whether M equals its transpose to round-off (CHOLMOD reads only the upper triangle).
-bool is_symmetric(const Csc &M);
+bool is_symmetric(const linalg::CscView &M);
+inline bool is_symmetric(const Csc &M) { return is_symmetric(M.view()); }
 
 // A factorisation of M: CHOLMOD when M is symmetric positive definite, UMFPACK otherwise.
 class MassSolver {

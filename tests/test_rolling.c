@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "check_main.h"
+#include "frix_testing.h"
 #include "support/rolling_pile.h"
 
 static frix_matrix *dense(int64_t m, int64_t n, const double *a) {
@@ -287,6 +288,90 @@ START_TEST(test_nsgs_on_piles) {
 }
 END_TEST
 
+/* The local form a sweep reads, from rolling-nsgs's log ("local form, W's ..."). */
+static void read_form(void *data, const char *line) {
+    const char *at = strstr(line, "local form, ");
+    if (strncmp(line, "rolling-nsgs: ", 14) == 0 && at)
+        snprintf((char *)data, 64, "%.*s", (int)strcspn(at + 12, ","), at + 12);
+}
+
+/* The pile's W stored by columns, entry k (an off-diagonal one) multiplied by 1 + eps: the
+ * local problem on it, or NULL. */
+static frix_problem *with_entry_scaled(const rolling_pile *pile, double eps, frix_matrix **W) {
+    int64_t nnz = 0, m = 5 * pile->nc;
+    ck_assert_int_eq(frix_matrix_to_csc(pile->W, &nnz, NULL, NULL, NULL), FRIX_OK);
+    int64_t *colptr = malloc((size_t)(m + 1) * sizeof(int64_t)), *rowind = malloc((size_t)nnz * sizeof(int64_t));
+    double *val = malloc((size_t)nnz * sizeof(double));
+    ck_assert_int_eq(frix_matrix_to_csc(pile->W, &nnz, colptr, rowind, val), FRIX_OK);
+    int64_t k = 0;
+    while (k < nnz && (rowind[k] / 5 == 0 || val[k] == 0.0)) ++k;  /* column 0, a row of another contact */
+    ck_assert_int_lt(k, colptr[1]);
+    val[k] *= 1.0 + eps;
+    ck_assert_int_eq(frix_matrix_from_csc(m, m, colptr, rowind, val, W), FRIX_OK);
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_problem_rolling_local(*W, pile->q, pile->mu, pile->mu_r, pile->nc, &p), FRIX_OK);
+    free(colptr), free(rowind), free(val);
+    return p;
+}
+
+/* The local form's sweeps read W where it lies, with no copy: by its 3x3 block rows where W is
+ * stored so (5 nc a multiple of 3), else by its columns read as its rows where W is symmetric:
+ * the same iterates as on a copy of its block rows, to round-off (40 sweeps on two piles, one
+ * of each storage). A W symmetric to round-off (an entry off by 1e-15 of itself) is read so; one
+ * stored by columns and off by 1e-6 is not (its transpose is another problem), and
+ * rolling-nsgs solves it on a copy of W's block rows, as the log says. */
+START_TEST(test_local_forms) {
+    int storages = 0; /* bit 0: by blocks, bit 1: by columns */
+    const int sides[2][2] = {{3, 2}, {4, 2}};
+    for (int t = 0; t < 2; ++t) {
+        rolling_pile pile;
+        ck_assert_int_eq(rolling_pile_make(sides[t][0], sides[t][1], 0.3, 0.02, 7, &pile), 0);
+        const int64_t m = 5 * pile.nc;
+        const int by_blocks = m % 3 == 0;
+        storages |= by_blocks ? 1 : 2;
+        double *stored = calloc((size_t)m, sizeof(double)), *copied = calloc((size_t)m, sizeof(double));
+        ck_assert_int_eq(frix_testing_rolling_local_sweeps(pile.local, 1, 40, stored), FRIX_OK);
+        ck_assert_int_eq(frix_testing_rolling_local_sweeps(pile.local, 0, 40, copied), FRIX_OK);
+        double diff = 0.0, size = 0.0;
+        for (int64_t i = 0; i < m; ++i)
+            diff = fmax(diff, fabs(stored[i] - copied[i])), size = fmax(size, fabs(copied[i]));
+        ck_assert_double_gt(size, 0.0);
+        ck_assert_double_le(diff, 1e-10 * size);
+
+        const double eps[2] = {1e-15, 1e-6};
+        for (int c = 0; c < 2; ++c) {
+            frix_matrix *W = NULL;
+            frix_problem *p = with_entry_scaled(&pile, eps[c], &W);
+            double *r = calloc((size_t)m, sizeof(double)), *u = calloc((size_t)m, sizeof(double));
+            const int served = by_blocks || c == 0;
+            ck_assert_int_eq(frix_testing_rolling_local_sweeps(p, 1, 1, r), served ? FRIX_OK : FRIX_ERR_UNSUPPORTED);
+            char form[64] = "";
+            frix_options *o = NULL;
+            frix_info *info = NULL;
+            ck_assert_int_eq(frix_options_create(FRIX_SOLVER_ROLLING_NSGS, &o), FRIX_OK);
+            ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
+            ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
+            ck_assert_int_eq(frix_options_set_log(o, read_form, form), FRIX_OK);
+            ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+            memset(r, 0, (size_t)m * sizeof(double));
+            ck_assert_int_eq(frix_solve(p, o, r, u, NULL, info), FRIX_OK);
+            ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+            ck_assert_str_eq(form, by_blocks ? "W's stored rows"
+                                   : c == 0  ? "W's columns as its rows"
+                                             : "W's block rows copied");
+            frix_info_free(info);
+            frix_options_free(o);
+            frix_problem_free(p);
+            frix_matrix_free(W);
+            free(r), free(u);
+        }
+        free(stored), free(copied);
+        rolling_pile_free(&pile);
+    }
+    ck_assert_int_eq(storages, 3);
+}
+END_TEST
+
 /* A pile of 8 x 8 spheres in 6 layers (1,056 contacts) at 1e-8 in the product form: its error
  * stalls for hundreds of sweeps, after which momentum restarts only where a sweep's step grows
  * by more than a quarter of its square: 5,776 sweeps (20,704 with the restart rule of the local
@@ -496,6 +581,7 @@ int main(void) {
     tcase_add_test(tc, test_one_sphere_at_extreme_scales);
     tcase_add_test(tc, test_product_form_loosens_momentum_after_a_stall);
     tcase_add_test(tc, test_nsgs_on_piles);
+    tcase_add_test(tc, test_local_forms);
     tcase_add_test(tc, test_global_velocity);
     tcase_add_loop_test(tc, test_global_start_that_solves, 0, 4);
     tcase_add_loop_test(tc, test_threads_bit_identical, 0, 4);

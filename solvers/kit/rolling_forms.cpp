@@ -82,6 +82,95 @@ void RowForm::local_q(int64_t a, const double *r, double *ql) const {
     with_size(size(), [&](auto n) { local_q_rows<decltype(n)::value>(w_, p_.q, a, r, ql); });
 }
 
+namespace {
+
+// ql = q_a + sum_{b != a} W_ab r_b (N entries), row a + i of W read as column a + i.
+template <int N>
+void local_q_columns(const frix_matrix &W, const int64_t *diag_first, const int64_t *diag_end, const double *q,
+                     int64_t a, const double *r, double *ql) {
+    for (int i = 0; i < N; ++i) {
+        const int64_t c = N * a + i;
+        double s = q[c];
+        // The diagonal block's entries are stepped over, not subtracted: no cancellation.
+        const auto add = [&](int64_t from, int64_t to) {
+            for (int64_t e = from; e < to; ++e) s += W.val[(size_t)e] * r[W.row_ind[(size_t)e]];
+        };
+        add(W.col_ptr[(size_t)c], diag_first[c]);
+        add(diag_end[c], W.col_ptr[(size_t)c + 1]);
+        ql[i] = s;
+    }
+}
+
+// The same from W's 3x3 block rows: a block may straddle two contacts (N is not a multiple of
+// 3), so the diagonal block's columns are stepped over entry by entry in the blocks it touches.
+template <int N>
+void local_q_blocks(const frix_matrix &W, const double *q, int64_t a, const double *r, double *ql) {
+    const int64_t first = N * a, end = first + N;
+    for (int i = 0; i < N; ++i) {
+        const int64_t c = first + i, k = c / 3, ri = c % 3;
+        double s = q[c];
+        for (int64_t b = W.row_ptr[(size_t)k]; b < W.row_ptr[(size_t)k + 1]; ++b) {
+            const double *B = &W.block_val[9 * (size_t)b];
+            const int64_t col = 3 * W.block_col[(size_t)b];
+            if (col + 3 <= first || col >= end) {
+                s += B[ri] * r[col] + B[ri + 3] * r[col + 1] + B[ri + 6] * r[col + 2];
+                continue;
+            }
+            for (int j = 0; j < 3; ++j)
+                if (col + j < first || col + j >= end) s += B[ri + 3 * j] * r[col + j];
+        }
+        ql[i] = s;
+    }
+}
+
+}  // namespace
+
+bool StoredForm::serves(const frix_problem &p) {
+    const frix_matrix &W = *p.W;
+    return W.block ||
+           is_symmetric(linalg::CscView{W.rows, W.cols, W.col_ptr.data(), W.row_ind.data(), W.val.data()});
+}
+
+StoredForm::StoredForm(const frix_problem &p) : SweepForm(contact_size(p)), p_(p) {
+    const frix_matrix &W = *p.W;
+    const int64_t n = size(), m = n * p.nc;
+    diag_.assign((size_t)(n * m), 0.0);
+    if (W.block) {
+        for (int64_t c = 0; c < m; ++c) {
+            const int64_t a = c / n, first = n * a, k = c / 3, ri = c % 3;
+            for (int64_t b = W.row_ptr[(size_t)k]; b < W.row_ptr[(size_t)k + 1]; ++b)
+                for (int j = 0; j < 3; ++j) {
+                    const int64_t col = 3 * W.block_col[(size_t)b] + j;
+                    if (col < first || col >= first + n) continue;
+                    diag_[(size_t)(n * n * a + (c - first) + n * (col - first))] =
+                        W.block_val[9 * (size_t)b + ri + 3 * j];
+                }
+        }
+        return;
+    }
+    diag_first_.resize((size_t)m);
+    diag_end_.resize((size_t)m);
+    for (int64_t c = 0; c < m; ++c) {
+        const int64_t a = c / n, first = n * a;
+        const auto begin = W.row_ind.begin() + W.col_ptr[(size_t)c], end = W.row_ind.begin() + W.col_ptr[(size_t)c + 1];
+        const auto lo = std::lower_bound(begin, end, first);
+        auto hi = lo;
+        for (; hi != end && *hi < first + n; ++hi)
+            diag_[(size_t)(n * n * a + (*hi - first) + n * (c - first))] = W.val[(size_t)(hi - W.row_ind.begin())];
+        diag_first_[(size_t)c] = lo - W.row_ind.begin();
+        diag_end_[(size_t)c] = hi - W.row_ind.begin();
+    }
+}
+
+void StoredForm::local_q(int64_t a, const double *r, double *ql) const {
+    with_size(size(), [&](auto n) {
+        if (p_.W->block)
+            local_q_blocks<decltype(n)::value>(*p_.W, p_.q, a, r, ql);
+        else
+            local_q_columns<decltype(n)::value>(*p_.W, diag_first_.data(), diag_end_.data(), p_.q, a, r, ql);
+    });
+}
+
 // Domains of the threaded sweeps: about kDomains of them, enough for the threads to share each
 // colour's evenly, and none under kMinDomain contacts (a domain's sweep must outweigh handing
 // it to a thread; a rolling contact's solve costs several times a three-entry one's). A problem

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <type_traits>
 #include <vector>
 
 #include "solvers/kit/contact_products.hpp"
@@ -40,6 +41,8 @@ class SweepForm {
     virtual ~SweepForm() = default;
     // Entries a contact, n: 5, or 6 with spinning friction.
     int size() const { return size_; }
+    // What the sweeps read, for the log.
+    virtual const char *name() const = 0;
     // Contact a's diagonal block W_aa (n^2 values, column-major).
     virtual const double *diagonal_block(int64_t a) const = 0;
     // Contact a's local q: q_a + sum_{b != a} W_ab r_b (n values).
@@ -65,6 +68,7 @@ class SweepForm {
 class RowForm : public SweepForm {
    public:
     explicit RowForm(const frix_problem &p);
+    const char *name() const override { return "local form, W's block rows copied"; }
     const double *diagonal_block(int64_t a) const override;
     void local_q(int64_t a, const double *r, double *ql) const override;
     Measures exact(const double *r, double *u) override { return local_measures(p_, r, u); }
@@ -76,11 +80,38 @@ class RowForm : public SweepForm {
     double zero_[local_rolling::kMaxSize * local_rolling::kMaxSize] = {};
 };
 
+// W read where it lies, with no copy: its rows as its 3x3 block rows store them, or, where W
+// is stored by columns and equals its transpose to round-off (is_symmetric; W = H^T M^-1 H is
+// symmetric), its columns read as its rows. Near rest a step takes a few sweeps, and a copy of
+// W's blocks (RowForm) costs more than they do. Memory: the diagonal blocks.
+class StoredForm : public SweepForm {
+   public:
+    // Whether p's W can be read so (by columns: one pass over W).
+    static bool serves(const frix_problem &p);
+    explicit StoredForm(const frix_problem &p);
+    const char *name() const override {
+        return p_.W->block ? "local form, W's stored rows" : "local form, W's columns as its rows";
+    }
+    const double *diagonal_block(int64_t a) const override {
+        return &diag_[(size_t)(size() * size()) * (size_t)a];
+    }
+    void local_q(int64_t a, const double *r, double *ql) const override;
+    Measures exact(const double *r, double *u) override { return local_measures(p_, r, u); }
+
+   private:
+    const frix_problem &p_;
+    std::vector<double> diag_;  // W_aa, n^2 a contact (column-major)
+    // By columns: per column of W, where its entries in the diagonal block start and end (the
+    // rows of its contact: one run, rows sorted).
+    std::vector<int64_t> diag_first_, diag_end_;
+};
+
 // The product form: per contact, the dofs of the bodies it touches, H_a and M^-1 H_a on them
 // (n values a dof); v = M^-1 (H r + f) updated by each change of r.
 class BodyForm : public SweepForm {
    public:
     explicit BodyForm(const frix_problem &p) : SweepForm(contact_size(p)), p_(p) {}
+    const char *name() const override { return "product (global) form"; }
     // The bodies, their inverses and the per-contact data; FRIX_ERR_UNSUPPORTED for a
     // deformable M (rigid_bodies.hpp), the message naming `who`, the solver. threads > 0:
     // the contacts are also cut into domains coloured by body, swept on that many threads
@@ -157,6 +188,14 @@ frix_error solve_on_form(SolveContext &ctx, const char *name, Run &&run, int thr
     const frix_problem &p = ctx.problem;
     if (!is_rolling(p)) return fail(FRIX_ERR_UNSUPPORTED, "%s: solves rolling-friction problems only", name);
     if (p.kind == FRIX_PROBLEM_ROLLING_LOCAL) {
+        // A run on any sweep form reads W where it lies; one that needs W's block rows (the
+        // Newton solver's system) is handed a copy.
+        if constexpr (std::is_invocable_v<Run &, StoredForm &>) {
+            if (StoredForm::serves(p)) {
+                StoredForm stored(p);
+                return run(stored);
+            }
+        }
         RowForm rows(p);
         return run(rows);
     }

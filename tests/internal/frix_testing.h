@@ -88,6 +88,13 @@ int frix_testing_rolling_projection(int size, double *x, double mu, double mu_r,
 void frix_testing_rolling_alart_curnier(int size, const double *r, const double *u, double mu, double mu_r,
                                         double mu_s, double rho, double *F, double *A, double *B);
 
+/* ---- The local forms of rolling-nsgs's sweeps (solvers/kit/rolling_forms.hpp). `sweeps` plain
+ * sweeps (no momentum) on the local rolling problem p from r (the result out): on W where it lies
+ * (stored = 1: its 3x3 block rows, or its columns read as its rows), or on a copy of its block
+ * rows (stored = 0). A frix_error value: FRIX_ERR_UNSUPPORTED where stored = 1 and W cannot be
+ * read so (stored by columns, not symmetric to round-off). */
+int frix_testing_rolling_local_sweeps(const frix_problem *p, int stored, int sweeps, double *r);
+
 /* ---- Linear algebra back-end (src/linalg). Return a frix_error value. */
 /* Analyses once, factorises A then 2A, solves (2A) x = b; counters out. */
 int frix_testing_sparse_lu(int64_t n, const int64_t *colptr, const int64_t *rowind,

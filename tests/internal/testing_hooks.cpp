@@ -7,6 +7,7 @@
 
 #include "solvers/kit/local3x3.hpp"
 #include "solvers/kit/local_rolling.hpp"
+#include "solvers/kit/rolling_forms.hpp"
 #include "src/coulomb.hpp"
 #include "src/rolling.hpp"
 
@@ -41,6 +42,22 @@ FRIX_TESTING_HOOK int frix_testing_rolling_solve_contact(int size, const double 
     p.tol = tol;
     p.max_iter = max_iter;
     return (int)frix::local_rolling::solve_contact(c, q, r, p);
+}
+
+FRIX_TESTING_HOOK int frix_testing_rolling_local_sweeps(const frix_problem *p, int stored, int sweeps, double *r) {
+    if (!p || !r || p->kind != FRIX_PROBLEM_ROLLING_LOCAL) return FRIX_ERR_INVALID_ARGUMENT;
+    const auto run = [&](frix::rolling::SweepForm &form) {
+        std::vector<frix::local_rolling::Contact> contacts = frix::rolling::contacts_of(form, *p);
+        for (int k = 0; k < sweeps; ++k) frix::rolling::sweep(form, contacts, frix::local_rolling::Params{}, r);
+        return FRIX_OK;
+    };
+    if (!stored) {
+        frix::rolling::RowForm rows(*p);
+        return run(rows);
+    }
+    if (!frix::rolling::StoredForm::serves(*p)) return FRIX_ERR_UNSUPPORTED;
+    frix::rolling::StoredForm form(*p);
+    return run(form);
 }
 
 FRIX_TESTING_HOOK int frix_testing_rolling_projection(int size, double *x, double mu, double mu_r, double mu_s,
