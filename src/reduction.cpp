@@ -30,25 +30,28 @@ frix_error to_csc(const frix_matrix &A, Csc &out) {
 
 double relative_asymmetry(const linalg::CscView &M) {
     double amax = 0.0, skew = 0.0;
-    const int64_t nnz = M.nnz();
-    for (int64_t e = 0; e < nnz; ++e) amax = std::max(amax, std::fabs(M.values[e]));
-    // One pass: column j's entries (i, j) meet their mirrors (j, i) in increasing j, so each
-    // column i is read once, from next[i] on; an entry passed over has no mirror.
-    std::vector<int64_t> next(M.colptr, M.colptr + M.cols);
+    // Each entry above the diagonal, (i, j) with i < j, meets its mirror (j, i) below the
+    // diagonal of column i; in increasing j those are read in order, from next[i] on (column
+    // i's first row past i). A mirror passed over, or left at the end, has no entry above.
+    std::vector<int64_t> next((size_t)M.cols);
+    for (int64_t i = 0; i < M.cols; ++i)
+        next[(size_t)i] = std::upper_bound(M.rowind + M.colptr[i], M.rowind + M.colptr[i + 1], i) - M.rowind;
     for (int64_t j = 0; j < M.cols; ++j)
         for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e) {
             const int64_t i = M.rowind[e];
-            if (i >= M.cols) {  // below a square part: no mirror
-                skew = std::max(skew, std::fabs(M.values[e]));
+            amax = std::max(amax, std::fabs(M.values[e]));
+            if (i >= j) {
+                if (i >= M.cols) skew = std::max(skew, std::fabs(M.values[e]));  // below a square part
                 continue;
             }
-            int64_t &k = next[i];
+            int64_t &k = next[(size_t)i];
             for (; k < M.colptr[i + 1] && M.rowind[k] < j; ++k) skew = std::max(skew, std::fabs(M.values[k]));
             const bool mirrored = k < M.colptr[i + 1] && M.rowind[k] == j;
             skew = std::max(skew, std::fabs(M.values[e] - (mirrored ? M.values[k++] : 0.0)));
         }
     for (int64_t i = 0; i < M.cols; ++i)
-        for (int64_t k = next[i]; k < M.colptr[i + 1]; ++k) skew = std::max(skew, std::fabs(M.values[k]));
+        for (int64_t k = next[(size_t)i]; k < M.colptr[i + 1] && M.rowind[k] < M.cols; ++k)
+            skew = std::max(skew, std::fabs(M.values[k]));
     return amax > 0.0 ? skew / amax : 0.0;
 }
 
