@@ -74,8 +74,12 @@ RowForm::RowForm(const frix_problem &p) : SweepForm(contact_size(p)), p_(p) {
             if (w_.block_col[(size_t)kk] == a) w_.diag[(size_t)a] = kk;
 }
 
-const double *RowForm::diagonal_block(int64_t a) const {
-    return w_.diag[(size_t)a] >= 0 ? &w_.val[(size_t)(size() * size()) * (size_t)w_.diag[(size_t)a]] : zero_;
+void RowForm::diagonal_block(int64_t a, double *out) const {
+    const size_t nn = (size_t)(size() * size());
+    if (w_.diag[(size_t)a] >= 0)
+        std::copy_n(&w_.val[nn * (size_t)w_.diag[(size_t)a]], nn, out);
+    else
+        std::fill_n(out, nn, 0.0);
 }
 
 void RowForm::local_q(int64_t a, const double *r, double *ql) const {
@@ -133,32 +137,39 @@ bool StoredForm::serves(const frix_problem &p) {
 
 StoredForm::StoredForm(const frix_problem &p) : SweepForm(contact_size(p)), p_(p) {
     const frix_matrix &W = *p.W;
+    if (W.block) return;
     const int64_t n = size(), m = n * p.nc;
-    diag_.assign((size_t)(n * m), 0.0);
-    if (W.block) {
-        for (int64_t c = 0; c < m; ++c) {
-            const int64_t a = c / n, first = n * a, k = c / 3, ri = c % 3;
-            for (int64_t b = W.row_ptr[(size_t)k]; b < W.row_ptr[(size_t)k + 1]; ++b)
-                for (int j = 0; j < 3; ++j) {
-                    const int64_t col = 3 * W.block_col[(size_t)b] + j;
-                    if (col < first || col >= first + n) continue;
-                    diag_[(size_t)(n * n * a + (c - first) + n * (col - first))] =
-                        W.block_val[9 * (size_t)b + ri + 3 * j];
-                }
-        }
-        return;
-    }
     diag_first_.resize((size_t)m);
     diag_end_.resize((size_t)m);
     for (int64_t c = 0; c < m; ++c) {
-        const int64_t a = c / n, first = n * a;
+        const int64_t first = n * (c / n);
         const auto begin = W.row_ind.begin() + W.col_ptr[(size_t)c], end = W.row_ind.begin() + W.col_ptr[(size_t)c + 1];
         const auto lo = std::lower_bound(begin, end, first);
-        auto hi = lo;
-        for (; hi != end && *hi < first + n; ++hi)
-            diag_[(size_t)(n * n * a + (*hi - first) + n * (c - first))] = W.val[(size_t)(hi - W.row_ind.begin())];
+        const auto hi = std::lower_bound(lo, end, first + n);
         diag_first_[(size_t)c] = lo - W.row_ind.begin();
         diag_end_[(size_t)c] = hi - W.row_ind.begin();
+    }
+}
+
+void StoredForm::diagonal_block(int64_t a, double *out) const {
+    const frix_matrix &W = *p_.W;
+    const int64_t n = size(), first = n * a;
+    std::fill_n(out, n * n, 0.0);
+    for (int64_t j = 0; j < n; ++j) {
+        const int64_t c = first + j;
+        if (!W.block) {
+            for (int64_t e = diag_first_[(size_t)c]; e < diag_end_[(size_t)c]; ++e)
+                out[(W.row_ind[(size_t)e] - first) + n * j] = W.val[(size_t)e];
+            continue;
+        }
+        // By block rows: row c of W holds row j of W_aa.
+        const int64_t k = c / 3, ri = c % 3;
+        for (int64_t b = W.row_ptr[(size_t)k]; b < W.row_ptr[(size_t)k + 1]; ++b)
+            for (int i = 0; i < 3; ++i) {
+                const int64_t col = 3 * W.block_col[(size_t)b] + i;
+                if (col >= first && col < first + n)
+                    out[j + n * (col - first)] = W.block_val[9 * (size_t)b + ri + 3 * i];
+            }
     }
 }
 
@@ -410,7 +421,9 @@ std::vector<local_rolling::Contact> contacts_of(const SweepForm &form, const fri
     const nsgs::Domains *dom = form.domains();
     for (int64_t k = 0; k < p.nc; ++k) {
         const int64_t a = dom ? dom->contacts[(size_t)k] : k;
-        local_rolling::contact_setup(form.diagonal_block(a), cones_of(p, a), contacts[(size_t)k]);
+        double Waa[local_rolling::kMaxSize * local_rolling::kMaxSize];
+        form.diagonal_block(a, Waa);
+        local_rolling::contact_setup(Waa, cones_of(p, a), contacts[(size_t)k]);
     }
     return contacts;
 }

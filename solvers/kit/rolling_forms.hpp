@@ -43,8 +43,8 @@ class SweepForm {
     int size() const { return size_; }
     // What the sweeps read, for the log.
     virtual const char *name() const = 0;
-    // Contact a's diagonal block W_aa (n^2 values, column-major).
-    virtual const double *diagonal_block(int64_t a) const = 0;
+    // out = contact a's diagonal block W_aa (n^2 values, column-major).
+    virtual void diagonal_block(int64_t a, double *out) const = 0;
     // Contact a's local q: q_a + sum_{b != a} W_ab r_b (n values).
     virtual void local_q(int64_t a, const double *r, double *ql) const = 0;
     // r_a changed by dr (n values).
@@ -69,7 +69,7 @@ class RowForm : public SweepForm {
    public:
     explicit RowForm(const frix_problem &p);
     const char *name() const override { return "local form, W's block rows copied"; }
-    const double *diagonal_block(int64_t a) const override;
+    void diagonal_block(int64_t a, double *out) const override;
     void local_q(int64_t a, const double *r, double *ql) const override;
     Measures exact(const double *r, double *u) override { return local_measures(p_, r, u); }
     const BlockRows &rows() const { return w_; }
@@ -77,13 +77,12 @@ class RowForm : public SweepForm {
    private:
     const frix_problem &p_;
     BlockRows w_;
-    double zero_[local_rolling::kMaxSize * local_rolling::kMaxSize] = {};
 };
 
 // W read where it lies, with no copy: its rows as its 3x3 block rows store them, or, where W
 // is stored by columns and equals its transpose to round-off (is_symmetric; W = H^T M^-1 H is
 // symmetric), its columns read as its rows. Near rest a step takes a few sweeps, and a copy of
-// W's blocks (RowForm) costs more than they do. Memory: the diagonal blocks.
+// W's blocks (RowForm) costs more than they do. Memory: two indices a column of W.
 class StoredForm : public SweepForm {
    public:
     // Whether p's W can be read so (by columns: one pass over W).
@@ -92,15 +91,12 @@ class StoredForm : public SweepForm {
     const char *name() const override {
         return p_.W->block ? "local form, W's stored rows" : "local form, W's columns as its rows";
     }
-    const double *diagonal_block(int64_t a) const override {
-        return &diag_[(size_t)(size() * size()) * (size_t)a];
-    }
+    void diagonal_block(int64_t a, double *out) const override;
     void local_q(int64_t a, const double *r, double *ql) const override;
     Measures exact(const double *r, double *u) override { return local_measures(p_, r, u); }
 
    private:
     const frix_problem &p_;
-    std::vector<double> diag_;  // W_aa, n^2 a contact (column-major)
     // By columns: per column of W, where its entries in the diagonal block start and end (the
     // rows of its contact: one run, rows sorted).
     std::vector<int64_t> diag_first_, diag_end_;
@@ -117,8 +113,9 @@ class BodyForm : public SweepForm {
     // the contacts are also cut into domains coloured by body, swept on that many threads
     // (0: no sweeps on this form; a problem of one domain: swept in order on one thread).
     frix_error setup(const double *r, const char *who, int threads = 0);
-    const double *diagonal_block(int64_t a) const override {
-        return &blocks_[(size_t)(size() * size()) * (size_t)at(a)];
+    void diagonal_block(int64_t a, double *out) const override {
+        const size_t nn = (size_t)(size() * size());
+        std::copy_n(&blocks_[nn * (size_t)at(a)], nn, out);
     }
     void local_q(int64_t a, const double *r, double *ql) const override;
     void moved(int64_t a, const double *dr) override { add_g(a, dr, v_.data()); }
