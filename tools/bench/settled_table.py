@@ -4,10 +4,11 @@
     settled_table.py BENCHMARKS_MD|- WORK_DIR FAMILY...
 
 WORK_DIR/FAMILY/runs.csv and traces.csv are one `frix bench` campaign each. For every step
-(problem) and solver: how the run ended, its iterations, and the time at which it first reached
-1e-2, 1e-4, 1e-6 and 1e-8, taken as the bench's work-precision curves take it (the first point
-of the run's trace at or below the accuracy, the run's final time for a run without a trace,
-and none where the final error is above the accuracy); then, per step, auto's time to 1e-4
+(problem) and solver: how the run ended, its iterations, and the time from which it stayed within
+1e-2, 1e-4, 1e-6 and 1e-8, taken as the bench's work-precision curves take it (the trace point
+after the last one above the accuracy, the run's final time for a run without a trace or whose
+last point is above it, and none where the final error is above the accuracy: a trace mixes
+measures with estimates such as NSGS's light error); then, per step, auto's time to 1e-4
 over the best Siconos solver's. Spliced between the settled markers of BENCHMARKS_MD after a line
 naming the tool and the day (UTC), the section and its markers added at the end where they are
 not there yet; or printed where BENCHMARKS_MD is '-'.
@@ -61,10 +62,11 @@ def reach_time(run, trace, accuracy):
         return math.nan
     if math.isnan(t) and trace:
         t = trace[-1][0]
-    for elapsed, error in trace:
-        if error <= accuracy:
-            t = min(t, elapsed)
-            break
+    k = len(trace)
+    while k > 0 and trace[k - 1][1] <= accuracy:
+        k -= 1
+    if k < len(trace):
+        t = min(t, trace[k][0])
     limit = number(run.get("time_limit"))
     if math.isfinite(limit) and t > limit:
         return math.nan

@@ -32,22 +32,27 @@ namespace frix_bench {
 
 // Keeps a bounded, plot-worthy subset of the per-iteration points: the first point, every
 // point that reaches a new tenth of a decade below the best error so far (so the time to
-// reach any 10^-k is exact), and points spaced geometrically in time (so stalls and
-// rises still show). NSGS can do 10^5 sweeps in a run; this keeps a few hundred points.
+// reach any 10^-k is exact), every point a tenth of a decade or more above the last one kept
+// (a full check that belies an estimate below it, such as NSGS's light error: the report
+// counts a level reached only once no later point is above it, and with these no point left
+// out is), and points spaced geometrically in time (so stalls still show). NSGS can do 10^5
+// sweeps in a run; this keeps a few hundred points: a rise is kept once, until a new best.
 class TraceThinner {
 public:
     bool keep(double elapsed, double error) {
+        const bool finite = std::isfinite(error);
         bool take = false;
         if (count_ == 0) {
             take = true;
-        } else if (std::isfinite(error) && bin(error) < best_bin_) {
+        } else if (finite && (bin(error) < best_bin_ || bin(error) > last_bin_)) {
             take = true;
         } else if (elapsed >= 1.5 * last_time_ && elapsed - last_time_ >= 1e-4) {
             take = true;
         }
         ++count_;
         if (!take) return false;
-        if (std::isfinite(error) && bin(error) < best_bin_) best_bin_ = bin(error);
+        if (finite && bin(error) < best_bin_) best_bin_ = bin(error);
+        if (finite) last_bin_ = bin(error);
         last_time_ = elapsed;
         return true;
     }
@@ -58,6 +63,7 @@ private:
         return static_cast<long>(std::floor(10.0 * std::log10(error)));
     }
     long best_bin_ = 100000;
+    long last_bin_ = 100000;  // the last point kept
     double last_time_ = 0;
     std::int64_t count_ = 0;
 };
