@@ -164,9 +164,9 @@ frix_error expand_pointers(const char *where, int64_t nouter, const int64_t *ptr
 
 // A CSC matrix stored by columns (its dimensions not both multiples of 3) whose rows strictly
 // increase in every column, as FCLIB's and CHOLMOD's do: its arrays taken as they are, with
-// build()'s checks, and no expansion, sort or merge (on a W of 23.6 million entries those cost
-// most of reading the file, and three more copies of it). false: not such a matrix (nothing
-// built, no error set), for build() to take.
+// build()'s checks, and no expansion, sort or merge (those cost more than the copy, and three
+// more copies of the entries). false: not such a matrix (nothing built, no error set), for
+// build() to take; true: *out built, or err set.
 bool build_sorted_csc(const char *where, int64_t nrows, int64_t ncols, const int64_t *colptr, const int64_t *rowind,
                       const double *values, frix_matrix **out, frix_error &err) {
     if (nrows % 3 == 0 && ncols % 3 == 0) return false;

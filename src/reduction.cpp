@@ -28,31 +28,57 @@ frix_error to_csc(const frix_matrix &A, Csc &out) {
     return frix_matrix_to_csc(&A, &nnz, out.colptr.data(), out.rowind.data(), out.val.data());
 }
 
-double relative_asymmetry(const linalg::CscView &M) {
-    double amax = 0.0, skew = 0.0;
-    // Each entry above the diagonal, (i, j) with i < j, meets its mirror (j, i) below the
-    // diagonal of column i; in increasing j those are read in order, from next[i] on (column
-    // i's first row past i). A mirror passed over, or left at the end, has no entry above.
+namespace {
+
+// f(i, j, m_ij, m_ji) once for every pair of mirrored places off the diagonal where M stores
+// an entry (a mirror not stored is 0; an entry below a square part has none), in one pass:
+// each entry above the diagonal, (i, j) with i < j, meets its mirror (j, i) below the diagonal
+// of column i, and in increasing j those are read in order, from next[i] on (column i's first
+// row past i); one passed over, or left at the end, has no entry above.
+template <class F>
+void for_each_mirrored_pair(const linalg::CscView &M, F &&f) {
     std::vector<int64_t> next((size_t)M.cols);
     for (int64_t i = 0; i < M.cols; ++i)
         next[(size_t)i] = std::upper_bound(M.rowind + M.colptr[i], M.rowind + M.colptr[i + 1], i) - M.rowind;
     for (int64_t j = 0; j < M.cols; ++j)
         for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e) {
             const int64_t i = M.rowind[e];
-            amax = std::max(amax, std::fabs(M.values[e]));
             if (i >= j) {
-                if (i >= M.cols) skew = std::max(skew, std::fabs(M.values[e]));  // below a square part
+                if (i >= M.cols) f(i, j, M.values[e], 0.0);  // below a square part
                 continue;
             }
             int64_t &k = next[(size_t)i];
-            for (; k < M.colptr[i + 1] && M.rowind[k] < j; ++k) skew = std::max(skew, std::fabs(M.values[k]));
+            for (; k < M.colptr[i + 1] && M.rowind[k] < j; ++k) f(i, M.rowind[k], 0.0, M.values[k]);
             const bool mirrored = k < M.colptr[i + 1] && M.rowind[k] == j;
-            skew = std::max(skew, std::fabs(M.values[e] - (mirrored ? M.values[k++] : 0.0)));
+            f(i, j, M.values[e], mirrored ? M.values[k++] : 0.0);
         }
     for (int64_t i = 0; i < M.cols; ++i)
         for (int64_t k = next[(size_t)i]; k < M.colptr[i + 1] && M.rowind[k] < M.cols; ++k)
-            skew = std::max(skew, std::fabs(M.values[k]));
+            f(i, M.rowind[k], 0.0, M.values[k]);
+}
+
+}  // namespace
+
+double relative_asymmetry(const linalg::CscView &M) {
+    double amax = 0.0, skew = 0.0;
+    for (int64_t e = 0; e < M.nnz(); ++e) amax = std::max(amax, std::fabs(M.values[e]));
+    for_each_mirrored_pair(M, [&](int64_t, int64_t, double a, double b) { skew = std::max(skew, std::fabs(a - b)); });
     return amax > 0.0 ? skew / amax : 0.0;
+}
+
+bool symmetric_at_every_scale(const linalg::CscView &W) {
+    if (W.rows != W.cols) return false;
+    std::vector<double> diag((size_t)W.cols, 0.0);
+    for (int64_t j = 0; j < W.cols; ++j) {
+        const int64_t *first = W.rowind + W.colptr[j], *last = W.rowind + W.colptr[j + 1];
+        const int64_t *at = std::lower_bound(first, last, j);
+        if (at != last && *at == j) diag[(size_t)j] = std::fabs(W.values[at - W.rowind]);
+    }
+    bool symmetric = true;
+    for_each_mirrored_pair(W, [&](int64_t i, int64_t j, double a, double b) {
+        symmetric = symmetric && std::fabs(a - b) <= kRoundOff * std::sqrt(diag[(size_t)i] * diag[(size_t)j]);
+    });
+    return symmetric;
 }
 
 frix_error MassSolver::analyse_counted(const frix_matrix &M) {
@@ -134,7 +160,7 @@ frix_error MassSolver::inverse_diagonal(const Csc &B, std::vector<double> &diag)
     return FRIX_OK;
 }
 
-bool is_symmetric(const linalg::CscView &M) { return relative_asymmetry(M) <= 1e-12; }
+bool is_symmetric(const linalg::CscView &M) { return relative_asymmetry(M) <= kRoundOff; }
 
 ReductionSize reduction_size(const frix_problem &p) {
     ReductionSize size;

@@ -33,9 +33,18 @@ frix_error to_csc(const frix_matrix &A, Csc &out);
 // max |M_ij - M_ji| / max |M_ij| (0 for M = 0), an entry without its mirror against 0.
 double relative_asymmetry(const linalg::CscView &M);
 inline double relative_asymmetry(const Csc &M) { return relative_asymmetry(M.view()); }
-// Whether M equals its transpose to round-off (CHOLMOD reads only the upper triangle).
+// The round-off a computed symmetric matrix's mirrored entries may differ by, relative to
+// their scale (about 4,500 units of round-off: sums of many products).
+constexpr double kRoundOff = 1e-12;
+// Whether M equals its transpose to round-off (relative_asymmetry <= kRoundOff; CHOLMOD reads
+// only the upper triangle).
 bool is_symmetric(const linalg::CscView &M);
 inline bool is_symmetric(const Csc &M) { return is_symmetric(M.view()); }
+// Whether every pair of mirrored entries of a square W agrees to round-off at its own scale:
+// |W_ij - W_ji| <= kRoundOff sqrt(|W_ii W_jj|) (which bounds |W_ij| where W is positive
+// semidefinite, as a Delassus W is). A relative_asymmetry against max |W| would let through a
+// real asymmetry among entries many orders below the largest (a rolling row's, a light body's).
+bool symmetric_at_every_scale(const linalg::CscView &W);
 
 // A factorisation of M: CHOLMOD when M is symmetric positive definite, UMFPACK otherwise.
 class MassSolver {

@@ -172,6 +172,44 @@ START_TEST(test_general_sparse) {
 }
 END_TEST
 
+/* A matrix stored by columns (5 columns: not 3x3 blocks) is taken as given where every column's
+ * rows strictly increase, and sorted and merged where they do not: the same matrix either way,
+ * and the same refusals (a row out of range, a value not finite) with the same messages. */
+START_TEST(test_columns_as_given) {
+    int64_t cp[6] = {0, 2, 2, 5, 6, 7}, ri[7] = {0, 3, 0, 1, 3, 2, 1};
+    double v[7] = {1, 2, 3, 4, 5, 6, 7}, D[20];
+    frix_matrix *M = NULL;
+    ck_assert_int_eq(frix_matrix_from_csc(4, 5, cp, ri, v, &M), FRIX_OK);
+    int64_t nnz = 0, cp_out[6], ri_out[7];
+    double v_out[7];
+    ck_assert_int_eq(frix_matrix_to_csc(M, &nnz, cp_out, ri_out, v_out), FRIX_OK);
+    ck_assert_int_eq(nnz, 7);
+    ck_assert_mem_eq(cp_out, cp, sizeof cp);
+    ck_assert_mem_eq(ri_out, ri, sizeof ri);
+    ck_assert_mem_eq(v_out, v, sizeof v);
+    frix_matrix_free(M);
+    /* Column 2 unsorted with a duplicate: rows 3, 1, 3 (5 and 7 summed to 12 at row 3). */
+    int64_t cp2[6] = {0, 2, 2, 5, 6, 6}, ri2[6] = {0, 3, 3, 1, 3, 2};
+    double v2[6] = {1, 2, 5, 4, 7, 6}, ref2[20] = {0};
+    for (int j = 0; j < 5; ++j)
+        for (int64_t e = cp2[j]; e < cp2[j + 1]; ++e) ref2[ri2[e] + 4 * j] += v2[e];
+    ck_assert_int_eq(frix_matrix_from_csc(4, 5, cp2, ri2, v2, &M), FRIX_OK);
+    to_dense(M, D);
+    for (int i = 0; i < 20; ++i) ck_assert_double_eq(D[i], ref2[i]);
+    ck_assert_double_eq(D[3 + 4 * 2], 12.0);
+    frix_matrix_free(M);
+    /* Refusals on columns that are sorted. */
+    int64_t far[7] = {0, 3, 0, 1, 4, 2, 1}; /* row 4 of a 4-row matrix */
+    M = (frix_matrix *)0x1;
+    ck_assert_int_eq(frix_matrix_from_csc(4, 5, cp, far, v, &M), FRIX_ERR_DIMENSION);
+    ck_assert_ptr_null(M);
+    ck_assert(strstr(frix_last_error_message(), "entry 4 at (4, 2) is outside the 4 x 5 matrix") != NULL);
+    double inf[7] = {1, 2, 3, 4, 5, INFINITY, 7};
+    ck_assert_int_eq(frix_matrix_from_csc(4, 5, cp, ri, inf, &M), FRIX_ERR_NOT_FINITE);
+    ck_assert(strstr(frix_last_error_message(), "entry (2, 3) is not finite") != NULL);
+}
+END_TEST
+
 START_TEST(test_bad_input) {
     frix_matrix *M = (frix_matrix *)0x1;
     int64_t cp[4] = {0, 1, 1, 2}, ri[2] = {0, 5};
@@ -300,6 +338,7 @@ int main(void) {
     tcase_add_test(tc, test_products_and_diagonal);
     tcase_add_test(tc, test_general_sparse);
     tcase_add_test(tc, test_bad_input);
+    tcase_add_test(tc, test_columns_as_given);
     tcase_add_test(tc, test_empty_matrix);
     tcase_add_test(tc, test_matrix_from_columns);
     tcase_add_test(tc, test_duplicates_summing_past_the_doubles);

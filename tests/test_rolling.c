@@ -295,17 +295,20 @@ static void read_form(void *data, const char *line) {
         snprintf((char *)data, 64, "%.*s", (int)strcspn(at + 12, ","), at + 12);
 }
 
-/* The pile's W stored by columns, an entry of column 0 in another contact's rows multiplied by
- * 1 + eps (eps = -1: left out): the local problem on it. */
-static frix_problem *with_entry_scaled(const rolling_pile *pile, double eps, frix_matrix **W) {
+/* The pile's W as frix_matrix_from_csc stores it, an entry of contact 0's columns multiplied by
+ * 1 + eps (eps = -1: left out), off the diagonal, in the rows of contact 0 (own = 1: W_00) or
+ * of another: the local problem on it. */
+static frix_problem *with_entry_scaled(const rolling_pile *pile, double eps, int own, frix_matrix **W) {
     int64_t nnz = 0, m = 5 * pile->nc;
     ck_assert_int_eq(frix_matrix_to_csc(pile->W, &nnz, NULL, NULL, NULL), FRIX_OK);
     int64_t *colptr = malloc((size_t)(m + 1) * sizeof(int64_t)), *rowind = malloc((size_t)nnz * sizeof(int64_t));
     double *val = malloc((size_t)nnz * sizeof(double));
     ck_assert_int_eq(frix_matrix_to_csc(pile->W, &nnz, colptr, rowind, val), FRIX_OK);
-    int64_t k = 0;
-    while (k < nnz && (rowind[k] / 5 == 0 || val[k] == 0.0)) ++k;  /* column 0, a row of another contact */
-    ck_assert_int_lt(k, colptr[1]);
+    int64_t k = -1;
+    for (int64_t j = 0; j < 5 && k < 0; ++j)
+        for (int64_t e = colptr[j]; e < colptr[j + 1] && k < 0; ++e)
+            if ((rowind[e] / 5 == 0) == own && rowind[e] != j && val[e] != 0.0) k = e;
+    ck_assert_int_ge(k, 0);
     val[k] *= 1.0 + eps;
     if (eps == -1.0) { /* its mirror stays: the pattern is not symmetric */
         memmove(rowind + k, rowind + k + 1, (size_t)(nnz - k - 1) * sizeof(int64_t));
@@ -325,7 +328,22 @@ static frix_problem *with_entry_scaled(const rolling_pile *pile, double eps, fri
  * of each storage). A W symmetric to round-off (an entry off by 1e-15 of itself) is read so; one
  * stored by columns with an entry off by 1e-6, or left out while its mirror stays, is not (its
  * transpose is another problem), and rolling-nsgs solves it on a copy of W's block rows, as the
- * log says. */
+ * log says. Stored by blocks, W's rows are read as they are, symmetric or not (an entry of W_00,
+ * then one off it, off by 1e-3); and with six entries a contact. */
+/* 40 sweeps from r = 0 on W where it lies and on a copy of its block rows: the same iterates to
+ * round-off. */
+static void check_forms_agree(const frix_problem *p, int64_t m) {
+    double *stored = calloc((size_t)m, sizeof(double)), *copied = calloc((size_t)m, sizeof(double));
+    ck_assert_int_eq(frix_testing_rolling_local_sweeps(p, 1, 40, stored), FRIX_OK);
+    ck_assert_int_eq(frix_testing_rolling_local_sweeps(p, 0, 40, copied), FRIX_OK);
+    double diff = 0.0, size = 0.0;
+    for (int64_t i = 0; i < m; ++i)
+        diff = fmax(diff, fabs(stored[i] - copied[i])), size = fmax(size, fabs(copied[i]));
+    ck_assert_double_gt(size, 0.0);
+    ck_assert_double_le(diff, 1e-10 * size);
+    free(stored), free(copied);
+}
+
 START_TEST(test_local_forms) {
     int storages = 0; /* bit 0: by blocks, bit 1: by columns */
     const int sides[2][2] = {{3, 2}, {4, 2}};
@@ -335,19 +353,20 @@ START_TEST(test_local_forms) {
         const int64_t m = 5 * pile.nc;
         const int by_blocks = m % 3 == 0;
         storages |= by_blocks ? 1 : 2;
-        double *stored = calloc((size_t)m, sizeof(double)), *copied = calloc((size_t)m, sizeof(double));
-        ck_assert_int_eq(frix_testing_rolling_local_sweeps(pile.local, 1, 40, stored), FRIX_OK);
-        ck_assert_int_eq(frix_testing_rolling_local_sweeps(pile.local, 0, 40, copied), FRIX_OK);
-        double diff = 0.0, size = 0.0;
-        for (int64_t i = 0; i < m; ++i)
-            diff = fmax(diff, fabs(stored[i] - copied[i])), size = fmax(size, fabs(copied[i]));
-        ck_assert_double_gt(size, 0.0);
-        ck_assert_double_le(diff, 1e-10 * size);
+        check_forms_agree(pile.local, m);
+        if (by_blocks) /* rows read as stored, symmetric or not: W_00 and an entry off it made uneven */
+            for (int own = 0; own < 2; ++own) {
+                frix_matrix *W = NULL;
+                frix_problem *p = with_entry_scaled(&pile, 1e-3, own, &W);
+                check_forms_agree(p, m);
+                frix_problem_free(p);
+                frix_matrix_free(W);
+            }
 
         const double eps[3] = {1e-15, 1e-6, -1.0};
         for (int c = 0; c < 3; ++c) {
             frix_matrix *W = NULL;
-            frix_problem *p = with_entry_scaled(&pile, eps[c], &W);
+            frix_problem *p = with_entry_scaled(&pile, eps[c], 0, &W);
             double *r = calloc((size_t)m, sizeof(double)), *u = calloc((size_t)m, sizeof(double));
             const int served = by_blocks || c == 0;
             ck_assert_int_eq(frix_testing_rolling_local_sweeps(p, 1, 1, r), served ? FRIX_OK : FRIX_ERR_UNSUPPORTED);
@@ -371,10 +390,14 @@ START_TEST(test_local_forms) {
             frix_matrix_free(W);
             free(r), free(u);
         }
-        free(stored), free(copied);
         rolling_pile_free(&pile);
     }
     ck_assert_int_eq(storages, 3);
+    /* Six entries a contact (spinning friction): W by 3x3 blocks, two to a contact's row. */
+    rolling_pile spin;
+    ck_assert_int_eq(rolling_pile_make_spinning(3, 2, 0.3, 0.02, 0.01, 7, &spin), 0);
+    check_forms_agree(spin.local, 6 * spin.nc);
+    rolling_pile_free(&spin);
 }
 END_TEST
 

@@ -88,7 +88,7 @@ void RowForm::local_q(int64_t a, const double *r, double *ql) const {
 
 namespace {
 
-// ql = q_a + sum_{b != a} W_ab r_b (N entries), row a + i of W read as column a + i.
+// ql = q_a + sum_{b != a} W_ab r_b (N entries), row N a + i of W read as column N a + i.
 template <int N>
 void local_q_columns(const frix_matrix &W, const int64_t *diag_first, const int64_t *diag_end, const double *q,
                      int64_t a, const double *r, double *ql) {
@@ -105,8 +105,9 @@ void local_q_columns(const frix_matrix &W, const int64_t *diag_first, const int6
     }
 }
 
-// The same from W's 3x3 block rows: a block may straddle two contacts (N is not a multiple of
-// 3), so the diagonal block's columns are stepped over entry by entry in the blocks it touches.
+// The same from W's 3x3 block rows: where N is not a multiple of 3 a block may straddle two
+// contacts, so the diagonal block's columns are stepped over entry by entry in the blocks it
+// touches.
 template <int N>
 void local_q_blocks(const frix_matrix &W, const double *q, int64_t a, const double *r, double *ql) {
     const int64_t first = N * a, end = first + N;
@@ -131,8 +132,8 @@ void local_q_blocks(const frix_matrix &W, const double *q, int64_t a, const doub
 
 bool StoredForm::serves(const frix_problem &p) {
     const frix_matrix &W = *p.W;
-    return W.block ||
-           is_symmetric(linalg::CscView{W.rows, W.cols, W.col_ptr.data(), W.row_ind.data(), W.val.data()});
+    return W.block || symmetric_at_every_scale(
+                          linalg::CscView{W.rows, W.cols, W.col_ptr.data(), W.row_ind.data(), W.val.data()});
 }
 
 StoredForm::StoredForm(const frix_problem &p) : SweepForm(contact_size(p)), p_(p) {

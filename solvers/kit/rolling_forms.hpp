@@ -1,5 +1,6 @@
-// What the rolling NSGS sweeps run on (n = 5 entries a contact, 6 with spinning friction): W's
-// n x n block rows (the local form), or H and M^-1 H with v = M^-1 (H r + f) kept up to date (the
+// What the rolling NSGS sweeps run on (n = 5 entries a contact, 6 with spinning friction): W
+// where it lies or a copy of its n x n block rows (the local form), or H and M^-1 H with
+// v = M^-1 (H r + f) kept up to date (the
 // global form of rigid bodies: W is never formed; its contacts cut into domains, those of a
 // colour swept at once on threads). Each gives a contact's diagonal block and local q, is told
 // of each change of a reaction, and measures r exactly.
@@ -80,8 +81,8 @@ class RowForm : public SweepForm {
 };
 
 // W read where it lies, with no copy: its rows as its 3x3 block rows store them, or, where W
-// is stored by columns and equals its transpose to round-off (is_symmetric; W = H^T M^-1 H is
-// symmetric), its columns read as its rows. Near rest a step takes a few sweeps, and a copy of
+// is stored by columns and equals its transpose to round-off at every scale
+// (symmetric_at_every_scale; W = H^T M^-1 H is symmetric), its columns read as its rows. Near rest a step takes a few sweeps, and a copy of
 // W's blocks (RowForm) costs more than they do. Memory: two indices a column of W.
 class StoredForm : public SweepForm {
    public:
@@ -173,7 +174,8 @@ SweepStats sweep(SweepForm &form, std::vector<local_rolling::Contact> &contacts,
                  double *r);
 
 // A rolling solver's entry (`name` in its messages): refuses other problems; runs run(form) on
-// the local form's rows (a RowForm) or on the rigid bodies' product form (a BodyForm set up
+// the local form (a StoredForm where it serves and run takes one, else a RowForm: a run names
+// the form types it takes) or on the rigid bodies' product form (a BodyForm set up
 // from ctx.r, with domains swept on `threads` threads if threads > 0), and then writes v of the
 // final r, free of the iterations' rounding drift, by a last exact(); none where the run sets
 // *measured_at_r: its last exact() was at the r it returned, into ctx.u, nothing moved since

@@ -1,7 +1,8 @@
 // rolling-nsgs (3000, Siconos 4.4's ROLLING_FRICTION_3D_NSGS): nonsmooth Gauss-Seidel on
 // rolling-friction problems (five entries a contact, six with spinning friction). Each sweep
 // solves every contact with the others held fixed (kit/local_rolling.hpp); the local form reads
-// W's columns as its rows where W is symmetric (else its block rows), the global form of rigid
+// W's stored 3x3 block rows, or its columns where W is symmetric (else a copy of its block
+// rows), the global form of rigid
 // bodies keeps v = M^-1 (H r + f) and never forms W, its domains of contacts of one colour swept
 // at once on the threads (kit/rolling_forms.hpp).
 // Stops as Siconos's LIGHT_WITH_FULL_FINAL: on the light error |dr| / |r| confirmed by the full
@@ -178,8 +179,9 @@ const SolverEntry kRollingNsgsEntry = {
     "rolling cone), and otherwise runs a semismooth Newton on the natural map (the projection "
     "on the rolling cone, every De Saxce shift) from the better of the warm start and the "
     "projected stick reaction, finished where it stalls by Siconos's projected iterations with "
-    "a self-adaptive step. Local problems: W as it is stored, its columns read as its rows "
-    "where W is symmetric (else a copy of its 5x5 or 6x6 block rows). Global problems whose M "
+    "a self-adaptive step. Local problems: W as it is stored, its 3x3 block rows, or its "
+    "columns read as its rows where W is symmetric (else a copy of its 5x5 or 6x6 block rows). "
+    "Global problems whose M "
     "is block-diagonal with small blocks (rigid bodies, at most 64 dofs a block): the product "
     "form, v = M^-1 (H r + f) kept up to date, W never formed, the contacts cut into domains "
     "coloured by body as gnsgs's, the domains of a colour swept at once on `threads` threads (r "

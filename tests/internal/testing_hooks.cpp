@@ -45,7 +45,7 @@ FRIX_TESTING_HOOK int frix_testing_rolling_solve_contact(int size, const double 
 }
 
 FRIX_TESTING_HOOK int frix_testing_rolling_local_sweeps(const frix_problem *p, int stored, int sweeps, double *r) {
-    if (!p || !r || p->kind != FRIX_PROBLEM_ROLLING_LOCAL) return FRIX_ERR_INVALID_ARGUMENT;
+    if (!p || !r || p->kind != FRIX_PROBLEM_ROLLING_LOCAL || !p->W) return FRIX_ERR_INVALID_ARGUMENT;
     const auto run = [&](frix::rolling::SweepForm &form) {
         std::vector<frix::local_rolling::Contact> contacts = frix::rolling::contacts_of(form, *p);
         for (int k = 0; k < sweeps; ++k) frix::rolling::sweep(form, contacts, frix::local_rolling::Params{}, r);

@@ -32,11 +32,11 @@ namespace frix_bench {
 
 // Keeps a bounded, plot-worthy subset of the per-iteration points: the first point, every
 // point that reaches a new tenth of a decade below the best error so far (so the time to
-// reach any 10^-k is exact), every point a tenth of a decade or more above the last one kept
-// (a full check that belies an estimate below it, such as NSGS's light error: the report
-// counts a level reached only once no later point is above it, and with these no point left
-// out is), and points spaced geometrically in time (so stalls still show). NSGS can do 10^5
-// sweeps in a run; this keeps a few hundred points: a rise is kept once, until a new best.
+// reach any 10^-k is exact), every point in a higher tenth of a decade than the last one kept
+// (a full check that belies an estimate below it, such as NSGS's light error: a report can
+// then tell a time that a later point belies, as settled_table.py marks), and points spaced
+// geometrically in time (so stalls still show). NSGS can do 10^5 sweeps in a run; this keeps
+// a few hundred points: a rise is kept once, until a new best.
 class TraceThinner {
 public:
     bool keep(double elapsed, double error) {
