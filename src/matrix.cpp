@@ -104,18 +104,23 @@ void build_csc(frix_matrix &A, int64_t nentries, const int64_t *rows, const int6
     }
 }
 
+// Entry e, at (row, col) with value v, of an nrows x ncols matrix: inside it and finite.
+frix_error check_entry(const char *where, int64_t nrows, int64_t ncols, int64_t e, int64_t row, int64_t col,
+                       double v) {
+    if (row < 0 || row >= nrows || col < 0 || col >= ncols)
+        return fail(FRIX_ERR_DIMENSION, "%s: entry %lld at (%lld, %lld) is outside the %lld x %lld matrix", where,
+                    (long long)e, (long long)row, (long long)col, (long long)nrows, (long long)ncols);
+    if (!std::isfinite(v))
+        return fail(FRIX_ERR_NOT_FINITE, "%s: entry (%lld, %lld) is not finite", where, (long long)row,
+                    (long long)col);
+    return FRIX_OK;
+}
+
 // Checks entries and builds the storage the dimensions call for.
 frix_error build(const char *where, int64_t nrows, int64_t ncols, int64_t n, const int64_t *rows,
                  const int64_t *cols, const double *vals, frix_matrix **out) {
-    for (int64_t e = 0; e < n; ++e) {
-        if (rows[e] < 0 || rows[e] >= nrows || cols[e] < 0 || cols[e] >= ncols)
-            return fail(FRIX_ERR_DIMENSION, "%s: entry %lld at (%lld, %lld) is outside the %lld x %lld matrix",
-                        where, (long long)e, (long long)rows[e], (long long)cols[e],
-                        (long long)nrows, (long long)ncols);
-        if (!std::isfinite(vals[e]))
-            return fail(FRIX_ERR_NOT_FINITE, "%s: entry (%lld, %lld) is not finite", where,
-                        (long long)rows[e], (long long)cols[e]);
-    }
+    for (int64_t e = 0; e < n; ++e)
+        if (frix_error err = check_entry(where, nrows, ncols, e, rows[e], cols[e], vals[e])) return err;
     auto A = std::make_unique<frix_matrix>();
     A->rows = nrows;
     A->cols = ncols;
@@ -136,7 +141,8 @@ frix_error build(const char *where, int64_t nrows, int64_t ncols, int64_t n, con
     return FRIX_OK;
 }
 
-// Expands compressed pointers into explicit indices (CSC columns or CSR rows).
+// Compressed pointers (CSC columns or CSR rows): from 0, never decreasing, and the index and
+// value arrays given where there are entries.
 frix_error check_pointers(const char *where, int64_t nouter, const int64_t *ptr, const int64_t *inner,
                           const double *values, const char *outer_name) {
     if (!ptr) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: the %s pointer array is NULL", where, outer_name);
@@ -152,14 +158,12 @@ frix_error check_pointers(const char *where, int64_t nouter, const int64_t *ptr,
     return FRIX_OK;
 }
 
-frix_error expand_pointers(const char *where, int64_t nouter, const int64_t *ptr,
-                           const int64_t *inner, const double *values, const char *outer_name,
-                           std::vector<int64_t> &outer_of) {
-    if (frix_error e = check_pointers(where, nouter, ptr, inner, values, outer_name)) return e;
-    outer_of.resize(ptr[nouter]);
+// Expands pointers that check_pointers passed into explicit indices.
+std::vector<int64_t> expand_pointers(int64_t nouter, const int64_t *ptr) {
+    std::vector<int64_t> outer_of((size_t)ptr[nouter]);
     for (int64_t k = 0; k < nouter; ++k)
-        for (int64_t e = ptr[k]; e < ptr[k + 1]; ++e) outer_of[e] = k;
-    return FRIX_OK;
+        for (int64_t e = ptr[k]; e < ptr[k + 1]; ++e) outer_of[(size_t)e] = k;
+    return outer_of;
 }
 
 // A CSC matrix stored by columns (its dimensions not both multiples of 3) whose rows strictly
@@ -170,25 +174,12 @@ frix_error expand_pointers(const char *where, int64_t nouter, const int64_t *ptr
 bool build_sorted_csc(const char *where, int64_t nrows, int64_t ncols, const int64_t *colptr, const int64_t *rowind,
                       const double *values, frix_matrix **out, frix_error &err) {
     if (nrows % 3 == 0 && ncols % 3 == 0) return false;
+    // In input order, as build() checks: the first bad entry is the same either way.
     for (int64_t c = 0; c < ncols; ++c)
-        for (int64_t e = colptr[c] + 1; e < colptr[c + 1]; ++e)
-            if (rowind[e] <= rowind[e - 1]) return false;
-    err = FRIX_OK;
-    for (int64_t c = 0; c < ncols && !err; ++c)
         for (int64_t e = colptr[c]; e < colptr[c + 1]; ++e) {
-            if (rowind[e] < 0 || rowind[e] >= nrows) {
-                err = fail(FRIX_ERR_DIMENSION, "%s: entry %lld at (%lld, %lld) is outside the %lld x %lld matrix",
-                           where, (long long)e, (long long)rowind[e], (long long)c, (long long)nrows,
-                           (long long)ncols);
-                break;
-            }
-            if (!std::isfinite(values[e])) {
-                err = fail(FRIX_ERR_NOT_FINITE, "%s: entry (%lld, %lld) is not finite", where, (long long)rowind[e],
-                           (long long)c);
-                break;
-            }
+            if (e > colptr[c] && rowind[e] <= rowind[e - 1]) return false;
+            if ((err = check_entry(where, nrows, ncols, e, rowind[e], c, values[e]))) return true;
         }
-    if (err) return true;
     auto A = std::make_unique<frix_matrix>();
     A->rows = nrows;
     A->cols = ncols;
@@ -363,9 +354,7 @@ FRIX_API frix_error frix_matrix_from_csc(int64_t nrows, int64_t ncols, const int
         if (frix_error e = check_pointers(where, ncols, colptr, rowind, values, "column")) return e;
         frix_error err = FRIX_OK;
         if (build_sorted_csc(where, nrows, ncols, colptr, rowind, values, out, err)) return err;
-        std::vector<int64_t> col_of;
-        if (frix_error e = expand_pointers(where, ncols, colptr, rowind, values, "column", col_of))
-            return e;
+        const std::vector<int64_t> col_of = expand_pointers(ncols, colptr);
         return build(where, nrows, ncols, (int64_t)col_of.size(), rowind, col_of.data(), values, out);
     });
 }
@@ -378,9 +367,8 @@ FRIX_API frix_error frix_matrix_from_csr(int64_t nrows, int64_t ncols, const int
         if (!out) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: out is NULL", where);
         *out = nullptr;
         if (frix_error e = check_dimensions(where, nrows, ncols)) return e;
-        std::vector<int64_t> row_of;
-        if (frix_error e = expand_pointers(where, nrows, rowptr, colind, values, "row", row_of))
-            return e;
+        if (frix_error e = check_pointers(where, nrows, rowptr, colind, values, "row")) return e;
+        const std::vector<int64_t> row_of = expand_pointers(nrows, rowptr);
         return build(where, nrows, ncols, (int64_t)row_of.size(), row_of.data(), colind, values, out);
     });
 }

@@ -1,9 +1,9 @@
 // What the rolling NSGS sweeps run on (n = 5 entries a contact, 6 with spinning friction): W
 // where it lies or a copy of its n x n block rows (the local form), or H and M^-1 H with
-// v = M^-1 (H r + f) kept up to date (the
-// global form of rigid bodies: W is never formed; its contacts cut into domains, those of a
-// colour swept at once on threads). Each gives a contact's diagonal block and local q, is told
-// of each change of a reaction, and measures r exactly.
+// v = M^-1 (H r + f) kept up to date (the global form of rigid bodies: W is never formed; its
+// contacts cut into domains, those of a colour swept at once on threads). Each gives a
+// contact's diagonal block and local q, is told of each change of a reaction, and measures r
+// exactly.
 #pragma once
 
 #include <algorithm>
@@ -82,8 +82,9 @@ class RowForm : public SweepForm {
 
 // W read where it lies, with no copy: its rows as its 3x3 block rows store them, or, where W
 // is stored by columns and equals its transpose to round-off at every scale
-// (symmetric_at_every_scale; W = H^T M^-1 H is symmetric), its columns read as its rows. Near rest a step takes a few sweeps, and a copy of
-// W's blocks (RowForm) costs more than they do. Memory: two indices a column of W.
+// (symmetric_at_every_scale; W = H^T M^-1 H is symmetric), its columns read as its rows. Near
+// rest a step takes a few sweeps, and a copy of W's blocks (RowForm) costs more than they do.
+// Memory: two indices a column of W.
 class StoredForm : public SweepForm {
    public:
     // Whether p's W can be read so (by columns: one pass over W).
