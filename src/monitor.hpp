@@ -79,14 +79,18 @@ class Monitor {
         return !(bytes > 0.0) || !(memory_limited() || bytes >= kMemoryAskedAbove) || bytes <= memory_left();
     }
 
-    // The user's callback after iteration `iteration` with the current error estimate: true
-    // if it asks to stop. Without a callback, false.
+    // The user's callback after iteration `iteration`, whose error `error` was measured on the
+    // iterate by the solve's measure: true if it asks to stop. Without a callback, false.
     // With a context, every kRunawayEvery iterations it also checks whether the iterate has
     // run away (r, for a solver that iterates on its own copy; else ctx.r): then it asks to
     // stop and marks the run (frix_info::ran_away), which the driver reports as diverged.
     bool report(int64_t iteration, double error, const double *r = nullptr) const {
-        if (iteration % kRunawayEvery == 0 && ran_away(r)) return true;
-        return o_.callback && o_.callback(o_.callback_data, iteration, error, clock_.seconds()) != 0;
+        return call(iteration, error, r, true);
+    }
+    // The same for an error that is only an estimate (a light error, an inner solve's): the
+    // callback sees it unless the option callback_estimates is 0.
+    bool report_estimate(int64_t iteration, double estimate, const double *r = nullptr) const {
+        return call(iteration, estimate, r, false);
     }
     // Whether the iterate (r, or ctx.r) has run away (runs_away past ctx.runaway_bound; never
     // without a context): then it marks the run as report() does. For a solver whose steps are
@@ -104,16 +108,17 @@ class Monitor {
     // The one place a run's status is decided (the convergence test of PETSc's SNES). After
     // iteration `it` (the caller's count, against max_iterations()) whose error is `error` (on
     // the measure the tolerance is on): CONVERGED (error <= tolerance()), DIVERGED (error not
-    // finite), then limits(); FRIX_STATUS_NOT_RUN to go on. r: as for report().
+    // finite), then report() and the limits as limits() has them; FRIX_STATUS_NOT_RUN to go on.
+    // r: as for report().
     frix_status verdict(int64_t it, double error, const double *r = nullptr, const Agree &agree = nullptr) const {
         const frix_status settled = settles(error);
-        return settled != FRIX_STATUS_NOT_RUN ? settled : limits(it, error, r, agree);
+        return settled != FRIX_STATUS_NOT_RUN ? settled : limits_after_report(it, report(it, error, r), agree);
     }
     // The same without the error test, for an iteration whose error is only an estimate the
-    // solver confirms apart: STOPPED_BY_CALLBACK (report() with `estimate`: the callback, or a
+    // solver confirms apart: STOPPED_BY_CALLBACK (report_estimate(): the callback, or a
     // runaway), TIME_LIMIT, MAX_ITER, in that order; FRIX_STATUS_NOT_RUN to go on.
     frix_status limits(int64_t it, double estimate, const double *r = nullptr, const Agree &agree = nullptr) const {
-        return limits_after_report(it, report(it, estimate, r), agree);
+        return limits_after_report(it, report_estimate(it, estimate, r), agree);
     }
     // verdict() for a solver that calls report() itself after every iteration (the one that
     // converges too: Newton's callback sees each step) and decides before the next one: `asked`
@@ -158,6 +163,12 @@ class Monitor {
     }
 
    private:
+    bool call(int64_t iteration, double error, const double *r, bool measured) const {
+        if (iteration % kRunawayEvery == 0 && ran_away(r)) return true;
+        if (o_.callback_with_kind) return o_.callback_with_kind(o_.callback_data, iteration, error, measured) != 0;
+        if (!o_.callback || !(measured || o_.i(FRIX_OPT_CALLBACK_ESTIMATES))) return false;
+        return o_.callback(o_.callback_data, iteration, error, clock_.seconds()) != 0;
+    }
     static bool agreed(bool flag, const Agree &agree) { return agree ? agree(flag) : flag; }
     // CONVERGED (error <= tolerance()), DIVERGED (error not finite), else FRIX_STATUS_NOT_RUN.
     frix_status settles(double error) const {

@@ -8,7 +8,7 @@
 #include "handle_header.hpp"
 
 namespace frix {
-constexpr int kMaxOptionKey = 33;  // highest frix_option_key value
+constexpr int kMaxOptionKey = 34;  // highest frix_option_key value
 struct SolverEntry;
 }
 
@@ -23,8 +23,14 @@ struct frix_options {
     double dvalue[frix::kMaxOptionKey + 1] = {};
     frix_progress_fn callback = nullptr;
     void *callback_data = nullptr;
+    // Internal (auto's watchdog, which judges estimates too): called in place of callback, on
+    // callback_data, after every iteration with whether `error` was measured on the iterate.
+    int (*callback_with_kind)(void *data, int64_t iteration, double error, bool measured) = nullptr;
     frix_log_fn log = nullptr;  // null: stderr
     void *log_data = nullptr;
+
+    // Whether a callback of either kind is set.
+    bool has_callback() const { return callback || callback_with_kind; }
 
     // Typed reads for solvers (the key must be one the solver declared; no checks here).
     int64_t i(frix_option_key k) const { return ivalue[k]; }

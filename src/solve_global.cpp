@@ -89,7 +89,7 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
     // an iteration, with the caller's start returned. A W kept from the last solve is not
     // formed: the callback hears from the solver's first iteration on.
     double start_error = NAN;
-    if (opts.callback && !w_current) {
+    if (opts.has_callback() && !w_current) {
         if (frix_error e = recover_velocity(p, ms, r, v)) return e;
         start_error = selected_error(global_measures(p, r, v, u, nullptr), opts.i(FRIX_OPT_ERROR_MEASURE));
     }

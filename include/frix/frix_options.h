@@ -93,7 +93,15 @@ typedef enum frix_option_key FRIX_ENUM_BASE {
                                      last k of them, 0 = off (default); in place of
                                      acceleration, freezing then off. auto takes it (depth 10)
                                      on global problems whose W may be regular (3 nc <= n) when
-                                     its acceleration is on */
+                                     its acceleration is on */,
+    FRIX_OPT_CALLBACK_ESTIMATES = 34 /* int 0/1, every solver: 1 (default): the callback is
+                                     called after every iteration, with the solver's current
+                                     estimate; 0: only after iterations whose error was
+                                     measured on the iterate by the option error_measure (the
+                                     full checks of NSGS, not its light error; the outer steps
+                                     of PROX, not its inner solves), so that every error it
+                                     sees is the error of an iterate; a stop it asks for then
+                                     waits for such an iteration */
 } frix_option_key;
 
 typedef enum frix_rho_strategy FRIX_ENUM_BASE {
@@ -162,7 +170,8 @@ typedef enum frix_local_solver FRIX_ENUM_BASE {
 
 /* Called after each iteration; a non-zero return stops the solve with
  * FRIX_STATUS_STOPPED_BY_CALLBACK. `error` is the solver's current estimate (the light
- * error for NSGS between full checks). A global problem solved through W = H^T M^-1 H
+ * error for NSGS between full checks; with FRIX_OPT_CALLBACK_ESTIMATES 0, only measured
+ * errors). A global problem solved through W = H^T M^-1 H
  * also calls it while W is formed (after each block of 128 contacts), with iteration 0 and
  * the error of the start, which a stop then returns. */
 typedef int (*frix_progress_fn)(void *user_data, int64_t iteration, double error,

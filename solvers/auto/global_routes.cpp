@@ -182,10 +182,7 @@ frix_error GlobalRoutes::ensure_mass_factorised(bool *go_on) {
 frix_error GlobalRoutes::run(const SolverEntry &entry, int64_t max_iter, Watchdog *dog, SolveCache *cache) {
     const double tol = Monitor(ctx_).tolerance();
     frix_options o = stage_options(entry, options_, tol, max_iter, nullptr);
-    if (dog) {
-        o.callback = &Watchdog::callback;
-        o.callback_data = dog;
-    }
+    if (dog) dog->install(o);
     frix_info run;
     run.solver_id = info_.solver_id;
     run.contacts = info_.contacts;

@@ -79,8 +79,7 @@ frix_error direct_nsgs(SolveContext &ctx, Shared &shared, double tol, int64_t sw
     bool cut_short = false;
     frix_options o = stage_options(nsgs, ctx.options, tol, stage_iterations(shared, req.budget, &cut_short), &shared);
     Watchdog dog(shared, req.watch, tol, req.patience, nsgs_min_sweeps(p.W->nblocks()));
-    o.callback = Watchdog::callback;
-    o.callback_data = &dog;
+    dog.install(o);
 
     frix_info &info = ctx.info;
     info.status = FRIX_STATUS_NOT_RUN;
@@ -277,6 +276,7 @@ frix_error solve_local(SolveContext &ctx) {
     const frix_problem &p = ctx.problem;
     const double tol = Monitor(ctx).tolerance();
     Shared shared(ctx.options, ctx.clock);
+    shared.contacts = p.nc;
 
     const Analysis a = analyse_local(p);
     ctx.info.islands = a.islands;

@@ -59,8 +59,8 @@ frix_error run_stage(const StageGround &ground, const StageRequest &req, double 
     frix_options o = stage_options(entry, shared.user, req.tolerance, max_iter, &shared);
     Watchdog dog(shared, req.watch, req.tolerance, req.patience, nsgs_min_sweeps(ground.p.W->nblocks()));
     if (req.watch == Watch::Rate) watch_rate(dog, req, ground.prices);
-    o.callback = Watchdog::callback;
-    o.callback_data = &dog;
+    dog.whole_problem = shared.contacts < 0 || ground.p.nc == shared.contacts;
+    dog.install(o);
 
     out.info.solver_id = req.solver;
     out.info.contacts = ground.p.nc;
@@ -107,7 +107,9 @@ frix_options stage_options(const SolverEntry &entry, const frix_options &user, d
     o.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, std::min(o.ivalue[FRIX_OPT_MAX_ITER], max_iter));
     o.ivalue[FRIX_OPT_THREADS] = user.i(FRIX_OPT_THREADS);
     o.callback = user.callback;
+    o.callback_with_kind = user.callback_with_kind;
     o.callback_data = user.callback_data;
+    o.ivalue[FRIX_OPT_CALLBACK_ESTIMATES] = user.i(FRIX_OPT_CALLBACK_ESTIMATES);
     o.log = user.log;
     o.log_data = user.log_data;
     return o;

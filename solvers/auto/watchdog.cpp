@@ -15,6 +15,7 @@ frix_status Shared::ending(bool converged, bool stopped) const {
     // it is not called once more.
     frix_options asked = user;
     asked.callback = nullptr;
+    asked.callback_with_kind = nullptr;
     return Monitor(asked, clock).limits(iterations.load(), NAN);
 }
 
@@ -24,13 +25,15 @@ void Shared::log(void *data, const char *line) {
     log_line(&shared->user, "%s", line);
 }
 
-int Watchdog::on_progress(int64_t iteration, double error) {
+int Watchdog::on_progress(int64_t iteration, double error, bool measured) {
     shared->iterations += iteration - last_iteration;
     last_iteration = iteration;
     if (shared->stop_requested) return 1;  // asked by the caller, seen in another part
-    if (shared->user.callback) {
+    if (shared->user.has_callback()) {
         std::lock_guard<std::mutex> guard(shared->lock);
-        if (Monitor(shared->user, shared->clock).report(shared->iterations.load(), error))
+        const Monitor caller(shared->user, shared->clock);
+        const int64_t done = shared->iterations.load();
+        if (measured && whole_problem ? caller.report(done, error) : caller.report_estimate(done, error))
             shared->stop_requested = true;
     }
     if (shared->stop_requested) return 1;

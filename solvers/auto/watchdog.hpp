@@ -30,6 +30,9 @@ struct Shared {
     // one; stop_requested is raised with it, and the solve is reported as diverged.
     std::atomic<bool> ran_away{false};
     bool scaled_penalty = false;  // ADMM with per-contact penalties (kScaledPenaltySpread)
+    // The contacts of the whole problem (-1: every stage runs on all of them): a stage on
+    // fewer measures its part only, so the caller's callback takes its errors as estimates.
+    int64_t contacts = -1;
     Shared(const frix_options &u, const Stopwatch &c) : user(u), clock(c) {}
 
     double deadline() const {
@@ -81,11 +84,18 @@ struct Watchdog {
     int64_t next_sample = 1;
     bool stopped_by_watchdog = false;
     const char *why = nullptr;
+    bool whole_problem = true;  // the stage runs on every contact (Shared::contacts)
 
-    static int callback(void *data, int64_t iteration, double error, double /*elapsed*/) {
-        return static_cast<Watchdog *>(data)->on_progress(iteration, error);
+    // Installed as the stage's options' callback_with_kind, on the watchdog as its data.
+    static int callback(void *data, int64_t iteration, double error, bool measured) {
+        return static_cast<Watchdog *>(data)->on_progress(iteration, error, measured);
     }
-    int on_progress(int64_t iteration, double error);
+    void install(frix_options &o) {
+        o.callback = nullptr;
+        o.callback_with_kind = &Watchdog::callback;
+        o.callback_data = this;
+    }
+    int on_progress(int64_t iteration, double error, bool measured);
     // Whether the stage ended for its rate (not its stall, a limit or the caller).
     bool stopped_slow() const { return stopped_by_watchdog && why == slow; }
 

@@ -314,7 +314,7 @@ frix_status Solver::stop_test(double light) {
         log_line(&L_.o, "%s: iteration %lld rho %.3e light %.3e%s%.3e", name_, (long long)it_, rk_ * wmax_, light,
                  full ? " full " : " tol_light ", full ? estimate : tol_light_);
     // The callback sees every iteration, the last one too.
-    const frix_status stop = L_.limits(it_, estimate, r);
+    const frix_status stop = full ? L_.limits_measured(it_, estimate, r) : L_.limits(it_, estimate, r);
     return status == FRIX_STATUS_NOT_RUN ? stop : status;
 }
 

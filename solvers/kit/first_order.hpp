@@ -69,6 +69,11 @@ class Loop {
     frix_status limits(int64_t it, double estimate, const double *r = nullptr) const {
         return monitor().limits(it, estimate, r);
     }
+    // The same after an iteration whose full error `error` was measured, without the error test.
+    frix_status limits_measured(int64_t it, double error, const double *r = nullptr) const {
+        const Monitor run = monitor();
+        return run.limits_after_report(it, run.report(it, error, r));
+    }
     // Whether r is not all zeros (a warm start).
     bool warm(const double *r) const {
         for (int64_t i = 0; i < m; ++i)

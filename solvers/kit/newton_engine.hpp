@@ -85,14 +85,18 @@ class Regularisation {
 // to stop it is not asked again, though an outer solver may still report before it stops.
 class Steps {
    public:
-    explicit Steps(const Monitor &run) : monitor(run) {}
+    // Whose errors report() hands to the callback: the solve's iterates' (measured on its
+    // measure), or an inner problem's (a proximal step's), which only estimate the solve's.
+    enum class Errors { kOfTheSolve, kOfAnInnerProblem };
+    explicit Steps(const Monitor &run, Errors errors = Errors::kOfTheSolve) : monitor(run), errors_(errors) {}
     Monitor monitor;
     int64_t done = 0;
     // r: as for Monitor::report (a solver that iterates on its own copy; null: ctx.r).
     bool report(double error, const double *r = nullptr) {
-        if (!asked_ && monitor.report(done, error, r)) asked_ = true;
-        return asked_;
+        return hand_on(error, r, errors_ == Errors::kOfTheSolve);
     }
+    // report() of an error measured on the solve's iterate (a proximal method's own step).
+    bool report_measured(double error, const double *r = nullptr) { return hand_on(error, r, true); }
     // Whether the callback asked to stop (with agree: on any rank).
     bool stop_asked(const Monitor::Agree &agree = nullptr) const { return agree ? agree(asked_) : asked_; }
     frix_status verdict(double error, const Monitor::Agree &agree = nullptr) const {
@@ -103,6 +107,12 @@ class Steps {
     }
 
    private:
+    bool hand_on(double error, const double *r, bool measured) {
+        if (!asked_ && (measured ? monitor.report(done, error, r) : monitor.report_estimate(done, error, r)))
+            asked_ = true;
+        return asked_;
+    }
+    Errors errors_;
     bool asked_ = false;
 };
 

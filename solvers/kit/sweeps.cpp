@@ -227,6 +227,7 @@ class SweepRun {
     int64_t it_ = 0, evaluations_ = 0;
     bool checked_last_ = false;  // whether the last sweep ended with a full check
     double last_full_ = NAN, estimate_ = NAN, last_r2_ = 0.0;
+    bool estimate_measured_ = false;  // estimate_ is the full error of the iterate
 };
 
 SweepRun::SweepRun(SolveContext &ctx, Workspace &ws, SweepForm &form, const char *name)
@@ -378,6 +379,7 @@ double SweepRun::evaluate(const SweepStats &st) {
     ++evaluations_;
     const double light = st.r2 > 0.0 ? std::sqrt(st.dr2 / st.r2) : std::sqrt(st.dr2);
     estimate_ = light;
+    estimate_measured_ = false;
     const bool first_only = evaluations_ == 1 && light > tol_light_;
     if (light <= tol_light_ || first_only || evaluations_ % kFullCheckPeriod == 0) full_check(st, light, first_only);
     return light;
@@ -392,10 +394,11 @@ void SweepRun::full_check(const SweepStats &st, double light, bool first_only) {
         best_error_ = e;
         best_r_.assign(r_, r_ + m_);
     }
-    if (!first_only) estimate_ = e;
+    if (!first_only) estimate_ = e, estimate_measured_ = true;
     if (e <= tol_) {
         info_.status = FRIX_STATUS_CONVERGED;
         estimate_ = e;
+        estimate_measured_ = true;
     } else if (!std::isfinite(e)) {
         info_.status = FRIX_STATUS_DIVERGED;
     } else if (st.dr2 == 0.0 && st.frozen == 0) {
@@ -412,12 +415,10 @@ void SweepRun::full_check(const SweepStats &st, double light, bool first_only) {
 // agreed over the processes of a distributed form). The callback sees every sweep, the last
 // one too; it can only stop a running solve.
 bool SweepRun::stops() {
-    if (info_.status != FRIX_STATUS_MAX_ITER) {
-        monitor_.report(it_, estimate_);
-        return true;
-    }
+    const bool asked = estimate_measured_ ? monitor_.report(it_, estimate_) : monitor_.report_estimate(it_, estimate_);
+    if (info_.status != FRIX_STATUS_MAX_ITER) return true;
     SweepAgreement agreement(form_, monitor_);
-    const frix_status stop = monitor_.limits(it_, estimate_, nullptr, std::ref(agreement));
+    const frix_status stop = monitor_.limits_after_report(it_, asked, std::ref(agreement));
     if (stop == FRIX_STATUS_NOT_RUN) return false;
     info_.status = stop;
     return true;

@@ -75,7 +75,8 @@ frix_error solve(SolveContext &ctx) {
     std::vector<double> tried;  // alphas tried from the current accepted iterate rk
     int64_t outer = 0;
     info.status = FRIX_STATUS_MAX_ITER;
-    kit::Steps inner{Monitor(ctx)};  // the Newton steps, on each proximal step's limits
+    // The Newton steps, on each proximal step's limits; their errors are the inner problems'.
+    kit::Steps inner{Monitor(ctx), kit::Steps::Errors::kOfAnInnerProblem};
     while (true) {
         frix_status stop = kit::status_before_step(monitor, err, outer, inner);
         // Each step starts from rk (a rejected step restores it): the same alpha from the same
@@ -120,7 +121,7 @@ frix_error solve(SolveContext &ctx) {
             alpha = inner_ok ? std::max(std::min(adapted(err), 0.1 * alpha), kAlphaMin * scale)
                              : std::min(alpha * 10.0, kAlphaMax * scale);
         }
-        inner.report(err);
+        inner.report_measured(err);
     }
     std::copy(rk.begin(), rk.end(), r);  // the last accepted proximal iterate
     record(ctx, outer, engine, s.verbosity);

@@ -279,7 +279,8 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, const rolling::Block
     const frix_options &o = ctx.options;
     const Monitor monitor(ctx);
     const double tol = monitor.tolerance(), sigma = o.d(FRIX_OPT_PROX_SIGMA), nu = o.d(FRIX_OPT_PROX_NU);
-    kit::Steps inner{Monitor(ctx)};  // the Newton steps, on each proximal step's limits
+    // The Newton steps, on each proximal step's limits; their errors are the inner problems'.
+    kit::Steps inner{Monitor(ctx), kit::Steps::Errors::kOfAnInnerProblem};
     const std::vector<local_rolling::Contact> contacts = rolling::contacts_of(form, ctx.problem);
     double *r = ctx.r;
     System sys(ctx.problem, form, W, q, contacts, r, o, inner.monitor);
@@ -324,7 +325,7 @@ frix_error run(SolveContext &ctx, rolling::SweepForm &form, const rolling::Block
         }
         const bool inner_ok = res.status == FRIX_STATUS_CONVERGED;
         alpha = inner_ok ? std::max(std::min(adapted(err), 0.1 * alpha), kAlphaMin) : std::min(alpha * 10.0, kAlphaMax);
-        inner.report(err);
+        inner.report_measured(err);
     }
     std::copy(rk.begin(), rk.end(), r);  // the last accepted proximal iterate
     frix_info &info = ctx.info;

@@ -122,6 +122,9 @@ int cmd_bench_run(int argc, char **argv) {
     set_option(opts.get(), FRIX_OPT_TOLERANCE, tol, "--tol");
     if (max_iter > 0) set_option(opts.get(), FRIX_OPT_MAX_ITER, static_cast<double>(max_iter), "--max-iter");
     set_option(opts.get(), FRIX_OPT_TIME_LIMIT, time_limit, "--time-limit");
+    // The trace holds errors of iterates only (not NSGS's light error between its full checks):
+    // the times to an accuracy are read from it.
+    set_option(opts.get(), FRIX_OPT_CALLBACK_ESTIMATES, 0.0, "callback_estimates");
     for (const auto &kv : settings) set_option(opts.get(), kv.first, kv.second, frix_option_name(kv.first));
     Stream stream{{}, fd};
     frix_options_set_callback(opts.get(), on_progress, &stream);

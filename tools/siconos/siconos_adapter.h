@@ -46,7 +46,9 @@ int frix_siconos_solver_by_name(const char *name);
 
 /* Called by the solvers that support Siconos's iteration callback (collectStatsIteration),
  * after each of their iterations: the iteration count so far, seconds since the driver was
- * entered, and the solver's own error estimate. */
+ * entered, and the error: for a local problem frix's default measure (FRIX_MEASURE_SCALED) of
+ * the iterate, whose seconds are left out of elapsed and of the result's time; for a global
+ * one (whose callback does not carry v) the solver's own error estimate. */
 typedef void (*frix_siconos_trace_fn)(void *user_data, int64_t iteration, double elapsed,
                                       double error);
 
