@@ -107,12 +107,14 @@ class Monitor {
 
     // The one place a run's status is decided (the convergence test of PETSc's SNES). After
     // iteration `it` (the caller's count, against max_iterations()) whose error is `error` (on
-    // the measure the tolerance is on): CONVERGED (error <= tolerance()), DIVERGED (error not
-    // finite), then report() and the limits as limits() has them; FRIX_STATUS_NOT_RUN to go on.
+    // the measure the tolerance is on), reported (report(): the callback sees the last
+    // iteration too, a converged one included): CONVERGED (error <= tolerance()), DIVERGED
+    // (error not finite), then the limits as limits() has them; FRIX_STATUS_NOT_RUN to go on.
     // r: as for report().
     frix_status verdict(int64_t it, double error, const double *r = nullptr, const Agree &agree = nullptr) const {
+        const bool asked = report(it, error, r);
         const frix_status settled = settles(error);
-        return settled != FRIX_STATUS_NOT_RUN ? settled : limits_after_report(it, report(it, error, r), agree);
+        return settled != FRIX_STATUS_NOT_RUN ? settled : limits_after_report(it, asked, agree);
     }
     // The same without the error test, for an iteration whose error is only an estimate the
     // solver confirms apart: STOPPED_BY_CALLBACK (report_estimate(): the callback, or a

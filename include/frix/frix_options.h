@@ -99,7 +99,8 @@ typedef enum frix_option_key FRIX_ENUM_BASE {
                                      estimate; 0: only after iterations whose error was
                                      measured on the iterate by the option error_measure (the
                                      full checks of NSGS, not its light error; the outer steps
-                                     of PROX, not its inner solves), so that every error it
+                                     of PROX, not its inner solves; for a global problem solved
+                                     through W, none but the start's), so that every error it
                                      sees is the error of an iterate; a stop it asks for then
                                      waits for such an iteration */
 } frix_option_key;

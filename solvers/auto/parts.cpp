@@ -229,6 +229,14 @@ bool tighten(Parts &parts, double tol, double error, double *island_tol, int *ti
     return true;
 }
 
+// The whole problem's error, measured on the parts' answers put together, to the caller's
+// callback (the parts' own errors reach it as estimates); a stop it asks for stops the parts.
+void report_whole(Shared &shared, double error) {
+    if (!shared.user.has_callback() || shared.stop_requested.load()) return;
+    std::lock_guard<std::mutex> guard(shared.lock);
+    if (Monitor(shared.user, shared.clock).report(shared.iterations.load(), error)) shared.stop_requested = true;
+}
+
 // The parts, solved and combined until the whole problem's error (*error) meets `tol`: each
 // part's r goes back into ctx.r and the whole problem is measured; the parts go on from where
 // they stopped, tightened, at most kMaxTightenings times.
@@ -246,6 +254,7 @@ frix_error solve_combined(SolveContext &ctx, Shared &shared, Parts &parts, doubl
             for (size_t c = 0; c < is.contacts.size(); ++c)
                 for (int d = 0; d < 3; ++d) ctx.r[3 * is.contacts[c] + d] = is.r[3 * c + (size_t)d];
         *error = selected_error(local_measures(p, ctx.r, ctx.u), ctx.options.i(FRIX_OPT_ERROR_MEASURE));
+        report_whole(shared, *error);
         if (*error <= tol || tightenings >= kMaxTightenings || shared.out_of_time() || shared.stop_requested.load() ||
             !tighten(parts, tol, *error, &island_tol, &tightenings))
             return FRIX_OK;

@@ -97,6 +97,8 @@ class Steps {
     }
     // report() of an error measured on the solve's iterate (a proximal method's own step).
     bool report_measured(double error, const double *r = nullptr) { return hand_on(error, r, true); }
+    // report() of an estimate, whatever the kind.
+    bool report_estimate(double error, const double *r = nullptr) { return hand_on(error, r, false); }
     // Whether the callback asked to stop (with agree: on any rank).
     bool stop_asked(const Monitor::Agree &agree = nullptr) const { return agree ? agree(asked_) : asked_; }
     frix_status verdict(double error, const Monitor::Agree &agree = nullptr) const {
@@ -302,8 +304,12 @@ class NewtonLoop {
         }
         if (frix_error e = judge_excursion()) return e;
         sys_.log_step(counters_.newton, t, err_, psi_, reg_.delta());
-        // During an excursion the callback sees the error of the point it may return to.
-        steps_.report(excursion_.active ? excursion_.err : err_);
+        // During an excursion the callback sees the error of the point it may return to: not
+        // the iterate's, an estimate.
+        if (excursion_.active)
+            steps_.report_estimate(excursion_.err);
+        else
+            steps_.report(err_);
         if (rules_.stop_at_once && steps_.stop_asked(sys_.agree())) {
             status = FRIX_STATUS_STOPPED_BY_CALLBACK;
             return FRIX_OK;
@@ -451,7 +457,8 @@ frix_error newton_with_sweeps(Rounds &rounds, Steps &steps, bool hybrid, int64_t
         }
         const double after = rounds.error();
         rounds.log_sweeps(before, after);
-        steps.report(after);
+        // The callback hears the error of the iterate kept; the runaway watch, the sweeps' r.
+        steps.report(after <= before ? after : before);
         if (!(after <= before)) rounds.restore();
         if (after <= steps.monitor.tolerance()) {
             res.status = FRIX_STATUS_CONVERGED;

@@ -348,6 +348,7 @@ SweepStats SweepRun::sweep() {
                                      : -1.0);
     const SweepStats st = form_.sweep(ws_, r_, u_);
     at_r_ = false;
+    estimate_measured_ = false;  // until this iterate is measured
     ++it_;
     last_r2_ = st.r2;
     return st;

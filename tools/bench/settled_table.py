@@ -8,8 +8,8 @@ WORK_DIR/FAMILY/runs.csv and traces.csv are one `frix bench` campaign each. For 
 1e-2, 1e-4, 1e-6 and 1e-8, taken as the bench's work-precision curves take it (the first point
 of the run's trace at or below the accuracy, the run's final time for a run without a trace,
 and none where the final error is above the accuracy), marked * where a later point of the
-trace is above the accuracy (the time may be an estimate's: NSGS's light error between full
-checks, or a stage that auto then left); then, per step, auto's time to 1e-4
+trace is above the accuracy (an iterate the solver then moved away from, a stage auto left,
+or for Siconos's global solvers their own error); then, per step, auto's time to 1e-4
 over the best Siconos solver's. Spliced between the settled markers of BENCHMARKS_MD after a line
 naming the tool and the day (UTC), the section and its markers added at the end where they are
 not there yet; or printed where BENCHMARKS_MD is '-'.
@@ -119,8 +119,8 @@ def family_table(work, family):
         elif any(s.startswith("siconos:") for s in at_1e4):
             ratios.append(f"{p.removesuffix('.hdf5')}: Siconos did not reach 1e-4")
     if marked:
-        md += "\n\\* a later point of the run's trace is above that accuracy: the time may be an estimate's " \
-              "(NSGS's light error |dr| / |r| between full checks, Siconos's own error) or a stage's that auto then left.\n"
+        md += "\n\\* a later point of the run's trace is above that accuracy: the solver moved away from that " \
+              "iterate (auto keeps its best), or for Siconos's global solvers the point is their own error.\n"
     if ratios:
         md += "\nauto's time to 1e-4 over the best Siconos solver's: " + "; ".join(ratios) + ".\n"
     return md

@@ -95,10 +95,11 @@ std::string fmt(const char *format, double v) {
 
 // The time at which a run first reached `accuracy`, or NaN. A run counts only if its final
 // error (frix's measure; for a killed run the last estimate) is within the accuracy; the
-// time is then the first trace point at that accuracy. A trace carries what the solver
-// reported: between its full checks NSGS reports the light error |dr| / |r|, which can stand
-// far below the error a later check finds, and counts here as reported (a later point above
-// the accuracy shows it: settled_table.py marks such times).
+// time is then the first trace point at that accuracy. A trace carries errors of iterates
+// (bench-run sets callback_estimates 0; the Siconos adapter measures a local solver's
+// iterates, a global solver's trace is its own error); a later point above the accuracy is
+// an iterate that auto, or a solver that does not keep its best, moved away from
+// (settled_table.py marks such times).
 double reach_time(const RunRecord &r, const std::vector<TracePoint> *trace, double accuracy) {
     double final_error = r.error, t = r.time;
     if (std::isnan(final_error) && trace && !trace->empty()) final_error = trace->back().error;
