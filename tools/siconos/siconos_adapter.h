@@ -45,11 +45,10 @@ int frix_siconos_solver_is_rolling(int id);
 int frix_siconos_solver_by_name(const char *name);
 
 /* Called by the solvers that support Siconos's iteration callback (collectStatsIteration),
- * after their iterations: the iteration count so far, seconds since the driver was entered,
- * and the error. For a local problem, frix's default measure (FRIX_MEASURE_SCALED) of the
- * iterate, measured as often as keeps that within 5% of the solver's time (the first
- * iterate always), those seconds left out of elapsed and of the result's time; for a global
- * one (whose callback does not carry v), after every iteration, the solver's own error. */
+ * after each of their iterations: the iteration count so far, seconds since the driver was
+ * entered, and the error: for a local problem frix's default measure (FRIX_MEASURE_SCALED) of
+ * the iterate, whose seconds are left out of elapsed and of the result's time; for a global
+ * one (whose callback does not carry v) the solver's own error estimate. */
 typedef void (*frix_siconos_trace_fn)(void *user_data, int64_t iteration, double elapsed,
                                       double error);
 
