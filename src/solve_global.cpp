@@ -85,12 +85,12 @@ struct ReducedCallback {
         return Monitor(*c->outer, *c->clock).report_estimate(iteration, error) ? 1 : 0;
     }
 };
-frix_options reduced_options(const frix_options &opts, const ReducedCallback &forward) {
+frix_options reduced_options(const frix_options &opts, ReducedCallback &forward) {
     frix_options o = opts;
     if (!opts.has_callback()) return o;
     o.callback = nullptr;
     o.callback_with_kind = &ReducedCallback::forward;
-    o.callback_data = const_cast<ReducedCallback *>(&forward);
+    o.callback_data = &forward;
     return o;
 }
 
@@ -153,7 +153,7 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
         local_cache = &kept->local;
     }
     Measures measures;
-    const ReducedCallback forward{&opts, &clock};
+    ReducedCallback forward{&opts, &clock};
     const frix_options local_opts = reduced_options(opts, forward);
     frix_error err = solve_local_problem(*local, local_opts, entry, r, u, info, clock, local_cache, &measures);
     if (!err) err = tighten_to_global_measure(p, *local, local_opts, entry, r, u, info, clock, local_cache, measures);

@@ -380,7 +380,6 @@ double SweepRun::evaluate(const SweepStats &st) {
     ++evaluations_;
     const double light = st.r2 > 0.0 ? std::sqrt(st.dr2 / st.r2) : std::sqrt(st.dr2);
     estimate_ = light;
-    estimate_measured_ = false;
     const bool first_only = evaluations_ == 1 && light > tol_light_;
     if (light <= tol_light_ || first_only || evaluations_ % kFullCheckPeriod == 0) full_check(st, light, first_only);
     return light;
