@@ -63,6 +63,35 @@ class ThreadTeam {
         body_ = nullptr;
     }
 
+    // body(t) once on each thread t of the team (the caller is t = 0), all at once: a body may
+    // wait for another's progress (a pipeline). Returns when every body has returned.
+    void for_each_thread(const std::function<void(int64_t)> &body) {
+        if (workers_.empty()) {
+            body(0);
+            return;
+        }
+        const std::function<void(int64_t, int64_t)> chunks = [&body](int64_t begin, int64_t) { body(begin); };
+        {
+            const std::lock_guard<std::mutex> lock(mutex_);
+            body_ = &chunks;
+            n_ = size();
+            chunk_ = 1;
+            // The caller runs body(0) itself and takes no other: a worker takes one index, and
+            // another only once that body returned, so no body waits on one queued behind it.
+            next_.store(1, std::memory_order_relaxed);
+            busy_.store((int)workers_.size(), std::memory_order_relaxed);
+            generation_.fetch_add(1, std::memory_order_release);
+        }
+        wake_.notify_all();
+        body(0);
+        const auto finished = [this] { return busy_.load(std::memory_order_acquire) == 0; };
+        if (!spin_until(finished)) {
+            std::unique_lock<std::mutex> lock(mutex_);
+            done_.wait(lock, finished);
+        }
+        body_ = nullptr;
+    }
+
    private:
     // How long a waiting thread spins before it sleeps: about one chunk of a sweep's work,
     // so that a thread that ends its share a little early is not put to sleep and woken (tens

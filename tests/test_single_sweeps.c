@@ -28,31 +28,41 @@ typedef struct {
     double *r, *u, *v;
 } run;
 
-/* nsgs-v at `tol` from r = 0 by frix_solve (PUBLIC) or with the pushes forced into single
- * (SINGLE) or double (DOUBLE) precision where W suits them, under the option memory_limit
- * (0: none). */
-static run solve_limited(const frix_problem *p, enum route route, double tol, double memory_limit) {
+/* A run's arrays for p, zero. */
+static run run_make(const frix_problem *p) {
     const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
     run out = {0, 0, NAN, 0, calloc((size_t)m, sizeof(double)), calloc((size_t)m, sizeof(double)),
                calloc((size_t)(n > 0 ? n : 1), sizeof(double))};
     ck_assert(out.r && out.u && out.v);
+    return out;
+}
+
+/* nsgs-v with options o from r = 0 into out, by frix_solve (PUBLIC) or with the pushes forced
+ * into single (SINGLE) or double (DOUBLE) precision where W suits them; o is freed. */
+static void run_solve(const frix_problem *p, enum route route, frix_options *o, run *out) {
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    double *v = frix_problem_dofs(p) > 0 ? out->v : NULL;
+    const int e = route == PUBLIC ? frix_solve(p, o, out->r, out->u, v, info)
+                                  : frix_testing_nsgs_velocity(route == SINGLE, p, o, out->r, out->u, v, info);
+    ck_assert_msg(e == FRIX_OK, "%s", frix_last_error_message());
+    out->status = frix_info_status(info);
+    out->iterations = frix_info_iterations(info);
+    ck_assert_int_eq(frix_problem_error(p, out->r, v, &out->error), FRIX_OK);
+    frix_info_free(info);
+    frix_options_free(o);
+}
+
+/* nsgs-v at `tol` by `route` under the option memory_limit (0: none). */
+static run solve_limited(const frix_problem *p, enum route route, double tol, double memory_limit) {
+    run out = run_make(p);
     frix_options *o = NULL;
     ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS_VELOCITY, &o), FRIX_OK);
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, tol), FRIX_OK);
     ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
     ck_assert_int_eq(frix_options_set_log(o, note_single, &out.logged_single), FRIX_OK);
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_MEMORY_LIMIT, memory_limit), FRIX_OK);
-    frix_info *info = NULL;
-    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
-    double *v = n > 0 ? out.v : NULL;
-    const int e = route == PUBLIC ? frix_solve(p, o, out.r, out.u, v, info)
-                                  : frix_testing_nsgs_velocity(route == SINGLE, p, o, out.r, out.u, v, info);
-    ck_assert_msg(e == FRIX_OK, "%s", frix_last_error_message());
-    out.status = frix_info_status(info);
-    out.iterations = frix_info_iterations(info);
-    ck_assert_int_eq(frix_problem_error(p, out.r, v, &out.error), FRIX_OK);
-    frix_info_free(info);
-    frix_options_free(o);
+    run_solve(p, route, o, &out);
     return out;
 }
 
@@ -233,6 +243,70 @@ START_TEST(single_push_is_the_column_times_dr) {
 }
 END_TEST
 
+/* The log sink: the thread count the single-precision pushes ran on (0: not told). */
+static void note_threads(void *data, const char *line) {
+    const char *on = strstr(line, "single precision");
+    if (on && (on = strstr(on, " on "))) *(int *)data = atoi(on + 4);
+}
+
+/* nsgs-v with single pushes forced, on `threads` threads, each sweep in a new order (shuffle)
+ * or in order, a fixed number of sweeps where `sweeps` > 0 (else to 1e-10). */
+static run solve_threads(const frix_problem *p, int64_t threads, int shuffle, int64_t sweeps, int *told) {
+    run out = run_make(p);
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS_VELOCITY, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, sweeps > 0 ? 1e-300 : 1e-10), FRIX_OK);
+    if (sweeps > 0) ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, sweeps), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_THREADS, threads), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_SHUFFLE, shuffle ? FRIX_SHUFFLE_EACH_SWEEP : FRIX_SHUFFLE_NONE),
+                     FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_EXISTENCE_CHECK, 0), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_log(o, note_threads, told), FRIX_OK);
+    run_solve(p, SINGLE, o, &out);
+    return out;
+}
+
+/* Threads split u's rows among them and the pushes keep the sweep's order: the iterates are
+ * those of one thread to the bit, in order or shuffled, with frozen contacts (nsgs-v's
+ * default) and with every contact in play (a fixed number of sweeps from r = 0). */
+static void same_on_any_threads(const frix_problem *p, int64_t sweeps) {
+    const int64_t m = frix_problem_contact_dofs(p), nc = m / 3;
+    for (int shuffle = 0; shuffle < 2; ++shuffle) {
+        int told = 0;
+        run one = solve_threads(p, 1, shuffle, sweeps, &told);
+        ck_assert_int_eq(told, 1);
+        if (sweeps == 0) ck_assert_msg(one.status == FRIX_STATUS_CONVERGED, "%s", frix_status_string(one.status));
+        const int64_t threads[] = {2, 3, 64};
+        for (int k = 0; k < 3; ++k) {
+            told = 0;
+            run many = solve_threads(p, threads[k], shuffle, sweeps, &told);
+            /* One thread a run of at least 4 contacts. */
+            ck_assert_int_eq(told, threads[k] <= nc / 4 ? threads[k] : nc / 4);
+            ck_assert_int_eq(many.status, one.status);
+            ck_assert_int_eq(many.iterations, one.iterations);
+            ck_assert_msg(memcmp(many.r, one.r, (size_t)m * sizeof(double)) == 0,
+                          "threads %lld shuffle %d: r differs by %g", (long long)threads[k], shuffle,
+                          distance(many.r, one.r, m));
+            ck_assert(memcmp(many.u, one.u, (size_t)m * sizeof(double)) == 0);
+            run_free(&many);
+        }
+        run_free(&one);
+    }
+}
+
+START_TEST(single_pushes_on_threads_are_one_threads_to_the_bit) {
+    dense_local d = dense_local_make(62); /* 62 contacts: the last run's last chunk is partial */
+    same_on_any_threads(d.p, 0);
+    same_on_any_threads(d.p, 7);
+    dense_local_free(&d);
+    frix_elastic_grid g;
+    ck_assert_int_eq(frix_elastic_grid_make(10, 10, 2, 0.5, 1e4, &g), FRIX_OK);
+    same_on_any_threads(g.problem, 0);
+    frix_elastic_grid_free(&g);
+}
+END_TEST
+
 static Suite *single_suite(void) {
     Suite *s = suite_create("single_sweeps");
     TCase *t = tcase_create("single");
@@ -241,6 +315,7 @@ static Suite *single_suite(void) {
     tcase_add_test(t, below_the_size_frix_solve_pushes_in_double);
     tcase_add_test(t, single_pushes_need_room_in_the_memory_limit);
     tcase_add_test(t, single_push_is_the_column_times_dr);
+    tcase_add_test(t, single_pushes_on_threads_are_one_threads_to_the_bit);
     suite_add_tcase(s, t);
     return s;
 }

@@ -306,6 +306,7 @@ frix_error solve_local(SolveContext &ctx) {
     Kept<KeptAuto> kept(ctx.cache, FRIX_SOLVER_AUTO);
     Parts parts;
     if (frix_error e = set_up_parts(ctx, shared, a, ctx.cache ? &*kept : nullptr, direct, measured, parts)) return e;
+    if (parts.islands.size() == 1) shared.part_threads = ctx.options.i(FRIX_OPT_THREADS);
     double error = INFINITY;
     if (frix_error e = solve_combined(ctx, shared, parts, tol, &error)) return e;
     close_parts(ctx, shared, parts, tol, error);

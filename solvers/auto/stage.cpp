@@ -98,6 +98,7 @@ frix_options stage_options(const SolverEntry &entry, const frix_options &user, d
     if (part) {
         o.ivalue[FRIX_OPT_MAX_ITER] = max_iter;
         o.ivalue[FRIX_OPT_VERBOSITY] = std::max<int64_t>(0, user.i(FRIX_OPT_VERBOSITY) - 1);
+        o.ivalue[FRIX_OPT_THREADS] = part->part_threads;
         o.log = &Shared::log;
         o.log_data = part;
         if (entry.id == FRIX_SOLVER_ADMM && part->scaled_penalty) o.ivalue[FRIX_OPT_RHO_STRATEGY] = FRIX_RHO_SPECTRAL;

@@ -33,6 +33,9 @@ struct Shared {
     // The contacts of the whole problem (-1: every stage runs on all of them): a stage on
     // fewer measures its part only, so the caller's callback takes its errors as estimates.
     int64_t contacts = -1;
+    // The threads a part's stage may use for its own loops: the caller's where it is the only
+    // part, else one (the parts share the threads).
+    int64_t part_threads = 1;
     Shared(const frix_options &u, const Stopwatch &c) : user(u), clock(c) {}
 
     double deadline() const {

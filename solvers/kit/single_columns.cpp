@@ -1,7 +1,17 @@
 #include "solvers/kit/single_columns.hpp"
 
+#include <algorithm>
+
 namespace frix {
 namespace nsgs {
+
+namespace {
+
+// The panels build() cuts nc contacts into when asked for `wanted`: each starts at a multiple
+// of 4 contacts (12 rows, whole chunks), so only the last panel has a partial chunk.
+int64_t panel_count(int64_t nc, int64_t wanted) { return std::max<int64_t>(1, std::min(wanted, nc / 4)); }
+
+}  // namespace
 
 bool SingleColumns::suits(const frix_matrix &W, double min_bytes) {
     if (!W.block || W.block_rows != W.block_cols || W.block_rows == 0) return false;
@@ -14,38 +24,58 @@ double SingleColumns::bytes_for(const frix_matrix &W) {
     return (double)W.block_cols * chunks * 3.0 * (double)kChunk * sizeof(float);
 }
 
-bool SingleColumns::holds(const frix_matrix &W, uint64_t w_values, uint64_t w_pattern) const {
+bool SingleColumns::holds(const frix_matrix &W, uint64_t w_values, uint64_t w_pattern, int64_t panels) const {
     return w_values != 0 && w_values_ == w_values && w_pattern_ == w_pattern && rows_ == W.rows &&
-           !values_.empty();
+           !values_.empty() && this->panels() == panel_count(W.block_rows, panels);
 }
 
-void SingleColumns::build(const frix_matrix &W, uint64_t w_values, uint64_t w_pattern) {
+void SingleColumns::build(const frix_matrix &W, uint64_t w_values, uint64_t w_pattern, int64_t panels) {
     const int64_t nc = W.block_rows;
     rows_ = 3 * nc;
-    stride_ = (rows_ + kChunk - 1) / kChunk * 3 * kChunk;
-    values_.assign((size_t)(stride_ * nc), 0.0f);
+    const int64_t count = panel_count(nc, panels);
+    panel_.assign((size_t)count + 1, Panel());
+    size_t floats = 0;
+    for (int64_t p = 0; p <= count; ++p) {
+        Panel &panel = panel_[(size_t)p];
+        panel.contact = p == count ? nc : nc * p / count / 4 * 4;
+        panel.offset = floats;
+        if (p == count) break;
+        const int64_t contacts = (p + 1 == count ? nc : nc * (p + 1) / count / 4 * 4) - panel.contact;
+        panel.stride = (3 * contacts + kChunk - 1) / kChunk * 3 * kChunk;
+        floats += (size_t)(panel.stride * nc);
+    }
+    values_.assign(floats, 0.0f);
     const double *val = W.block_val.data();
-    for (int64_t a = 0; a < nc; ++a) {
-        float *column = values_.data() + stride_ * a;
-        for (int64_t b = 0; b < nc; ++b)
-            for (int64_t t = 0; t < 3; ++t) {
-                const int64_t i = 3 * b + t;
-                float *chunk = column + (i / kChunk) * 3 * kChunk + i % kChunk;
-                // W(3b+t, 3a+j): every block is stored, so W_ba is block b*nc + a; a
-                // symmetric W's column a is read from its row a instead (W_ab(j, t)), in order.
-                for (int64_t j = 0; j < 3; ++j)
-                    chunk[j * kChunk] = (float)(W.symmetric ? val[9 * (a * nc + b) + j + 3 * t]
-                                                            : val[9 * (b * nc + a) + t + 3 * j]);
-            }
+    for (int64_t p = 0; p < count; ++p) {
+        const Panel &panel = panel_[(size_t)p];
+        for (int64_t a = 0; a < nc; ++a) {
+            float *column = values_.data() + panel.offset + (size_t)(panel.stride * a);
+            for (int64_t b = panel.contact; b < panel_[(size_t)p + 1].contact; ++b)
+                for (int64_t t = 0; t < 3; ++t) {
+                    const int64_t i = 3 * (b - panel.contact) + t;
+                    float *chunk = column + (i / kChunk) * 3 * kChunk + i % kChunk;
+                    // W(3b+t, 3a+j): every block is stored, so W_ba is block b*nc + a; a
+                    // symmetric W's column a is read from its row a instead (W_ab(j, t)), in order.
+                    for (int64_t j = 0; j < 3; ++j)
+                        chunk[j * kChunk] = (float)(W.symmetric ? val[9 * (a * nc + b) + j + 3 * t]
+                                                                : val[9 * (b * nc + a) + t + 3 * j]);
+                }
+        }
     }
     w_values_ = w_values;
     w_pattern_ = w_pattern;
 }
 
 void SingleColumns::push(int64_t a, const double *dr, double *u) const {
+    for (int64_t p = 0; p < panels(); ++p) push_panel(p, a, dr, u);
+}
+
+void SingleColumns::push_panel(int64_t p, int64_t a, const double *dr, double *u) const {
     const float d0 = (float)dr[0], d1 = (float)dr[1], d2 = (float)dr[2];
-    const float *c = values_.data() + stride_ * a;
-    const int64_t whole = rows_ / kChunk * kChunk;
+    const Panel &panel = panel_[(size_t)p];
+    const float *c = values_.data() + panel.offset + (size_t)(panel.stride * a);
+    const int64_t rows = 3 * (panel_[(size_t)p + 1].contact - panel.contact), whole = rows / kChunk * kChunk;
+    u += 3 * panel.contact;
     int64_t i = 0;
     // Four rows a chunk, written out so that the compiler's vectoriser at -O2 takes it.
     for (; i < whole; i += kChunk, c += 3 * kChunk) {
@@ -53,7 +83,7 @@ void SingleColumns::push(int64_t a, const double *dr, double *u) const {
         for (int64_t t = 0; t < kChunk; ++t) s[t] = c[t] * d0 + c[kChunk + t] * d1 + c[2 * kChunk + t] * d2;
         for (int64_t t = 0; t < kChunk; ++t) u[i + t] += (double)s[t];
     }
-    for (int64_t t = 0; i + t < rows_; ++t)
+    for (int64_t t = 0; i + t < rows; ++t)
         u[i + t] += (double)(c[t] * d0 + c[kChunk + t] * d1 + c[2 * kChunk + t] * d2);
 }
 

@@ -29,21 +29,36 @@ class SingleColumns : public CachedState {
     // The bytes the copy of such a W takes.
     static double bytes_for(const frix_matrix &W);
     // Whether the copy is of W's values at these versions (SolveCache::w_values and
-    // w_pattern; 0 and 0 without a cache: never kept).
-    bool holds(const frix_matrix &W, uint64_t w_values, uint64_t w_pattern) const;
-    // The copy of W (one that suits()), at these versions.
-    void build(const frix_matrix &W, uint64_t w_values, uint64_t w_pattern);
+    // w_pattern; 0 and 0 without a cache: never kept), cut into as many panels as build()
+    // would cut for `panels`.
+    bool holds(const frix_matrix &W, uint64_t w_values, uint64_t w_pattern, int64_t panels = 1) const;
+    // The copy of W (one that suits()), at these versions, its rows cut into `panels` runs of
+    // contacts (at most one per 4 contacts), each stored apart (panel_begin).
+    void build(const frix_matrix &W, uint64_t w_values, uint64_t w_pattern, int64_t panels = 1);
+    int64_t panels() const { return (int64_t)panel_.size() - 1; }
+    // Panel p holds the rows of contacts panel_begin(p) .. panel_begin(p + 1).
+    int64_t panel_begin(int64_t p) const { return panel_[(size_t)p].contact; }
     // u += W's block column a times dr, each product and the sum of a row's three in single
     // precision, added to u in double.
     void push(int64_t a, const double *dr, double *u) const;
+    // push() on panel p's rows only (u is the whole u): the same values on them, so that
+    // threads pushing into their own panels agree with one thread pushing into all of them.
+    void push_panel(int64_t p, int64_t a, const double *dr, double *u) const;
 
    private:
-    // Column a's scalar rows in chunks of kChunk: its three scalar columns' values on the
-    // chunk's rows, one after another (rows past the last are zero), so that a column is one
-    // contiguous stream and a chunk a few vector operations.
+    // Column a's scalar rows of a panel in chunks of kChunk: its three scalar columns' values
+    // on the chunk's rows, one after another (rows past the panel's last are zero), so that a
+    // column is one contiguous stream and a chunk a few vector operations. A panel's columns
+    // lie together: a thread that pushes into one panel streams memory of its own (two
+    // threads each reading half of every column read no faster than one).
     static constexpr int64_t kChunk = 4;
-    int64_t rows_ = 0;    // 3 nc
-    int64_t stride_ = 0;  // floats per block column
+    struct Panel {
+        int64_t contact = 0;  // its first contact (the last entry: nc)
+        int64_t stride = 0;   // floats per block column
+        size_t offset = 0;    // where its columns start in values_
+    };
+    int64_t rows_ = 0;  // 3 nc
+    std::vector<Panel> panel_;
     std::vector<float> values_;
     uint64_t w_values_ = 0, w_pattern_ = 0;
 };

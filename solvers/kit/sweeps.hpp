@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "solvers/kit/local3x3.hpp"
@@ -200,8 +201,10 @@ class Workspace {
     // u += W's block column a times dr: what sweep_velocity does after each change of r_a.
     void push_velocity(int64_t a, const double *dr, double *u);
     // The pushes go through `columns` (a single-precision copy of W's columns; null: W's
-    // own), which must outlive the sweeps.
-    void push_through(const SingleColumns *columns) { single_ = columns; }
+    // own), which must outlive the sweeps. With a team of as many threads as the columns have
+    // panels (more than one), sweep_velocity runs on them as a pipeline (below); the team
+    // must outlive the sweeps too.
+    void push_through(const SingleColumns *columns, ThreadTeam *team = nullptr);
 
     // Freezing: a contact whose |r_a,new - r_a,old|^2 is <= dr2 is then skipped for
     // settings.freezing sweeps. thaw() releases every frozen contact.
@@ -244,6 +247,13 @@ class Workspace {
     template <class LocalQ, class Step, class Moved>
     void sweep_contact(int64_t a, double *r, int64_t *frozen, LocalQ &local_q, Step &step, Moved &moved,
                        SweepStats &st);
+    // sweep_velocity on the team: thread t owns the contacts of panel t (their local solves,
+    // their r, u and freezing) and pushes every change into panel t's rows of u, in the
+    // sweep's order; each owner publishes a contact's change before it pushes it, and the
+    // other threads wait for it. Every row of u receives the same pushes in the same order as
+    // on one thread, and the statistics are summed in the sweep's order: the same iterates
+    // whatever the number of threads.
+    SweepStats sweep_velocity_pipelined(double *r, double *u);
     void order_and_freezing(int64_t nc);
     void reshuffle();
     void build_columns();
@@ -277,6 +287,17 @@ class Workspace {
     // block_val) at col_ptr_[a] .. col_ptr_[a+1].
     std::vector<int64_t> col_ptr_, col_row_, col_block_;
     const SingleColumns *single_ = nullptr;  // the pushes' columns in single precision, if any
+    // The pipelined velocity sweeps: the team, each contact's published change (its sweep
+    // number, whether it moved and by how much) and its statistics.
+    struct alignas(64) PublishedChange {
+        std::atomic<int64_t> sweep{-1};
+        bool moved = false;
+        double dr[3] = {0.0, 0.0, 0.0};
+    };
+    ThreadTeam *team_ = nullptr;
+    std::unique_ptr<PublishedChange[]> published_;
+    std::vector<SweepStats> contact_stats_;
+    int64_t pipelined_sweeps_ = 0;
     std::vector<double> domain_dr2_, domain_r2_;  // domain sweeps: per domain, summed after
 };
 

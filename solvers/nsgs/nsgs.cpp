@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <thread>
 #include <utility>
 
 #include "src/coulomb.hpp"
@@ -25,6 +26,14 @@ void shuffle(std::vector<int64_t> &order, uint64_t &state) {
         const size_t j = (size_t)(next_random(state) % i);
         std::swap(order[i - 1], order[j]);
     }
+}
+
+// Contact a's local q in the velocity sweeps: q_a + sum_{b != a} W_ab r_b = u_a - W_aa r_a.
+inline void velocity_local_q(int64_t a, const local::Contact &c, const double *r, const double *u, double *ql) {
+    const double *Wd = c.W, *ra = r + 3 * a;
+    ql[0] = u[3 * a] - (Wd[0] * ra[0] + Wd[3] * ra[1] + Wd[6] * ra[2]);
+    ql[1] = u[3 * a + 1] - (Wd[1] * ra[0] + Wd[4] * ra[1] + Wd[7] * ra[2]);
+    ql[2] = u[3 * a + 2] - (Wd[2] * ra[0] + Wd[5] * ra[1] + Wd[8] * ra[2]);
 }
 
 inline bool finite3(const double *x) {
@@ -121,19 +130,66 @@ void Workspace::build_columns() {
         }
 }
 
+void Workspace::push_through(const SingleColumns *columns, ThreadTeam *team) {
+    single_ = columns;
+    team_ = columns && team && team->size() > 1 && team->size() == columns->panels() ? team : nullptr;
+    if (!team_) return;
+    published_.reset(new PublishedChange[contacts_.size()]);
+    contact_stats_.assign(contacts_.size(), SweepStats());
+}
+
 SweepStats Workspace::sweep_velocity(double *r, double *u) {
+    if (team_) return sweep_velocity_pipelined(r, u);
     const local::Params lp = s_.local;
-    const auto local_q = [r, u](int64_t a, const local::Contact &c, double *ql) {
-        // q_a + sum_{b != a} W_ab r_b = u_a - W_aa r_a.
-        const double *Wd = c.W, *ra = r + 3 * a;
-        ql[0] = u[3 * a] - (Wd[0] * ra[0] + Wd[3] * ra[1] + Wd[6] * ra[2]);
-        ql[1] = u[3 * a + 1] - (Wd[1] * ra[0] + Wd[4] * ra[1] + Wd[7] * ra[2]);
-        ql[2] = u[3 * a + 2] - (Wd[2] * ra[0] + Wd[5] * ra[1] + Wd[8] * ra[2]);
-    };
+    const auto local_q = [r, u](int64_t a, const local::Contact &c, double *ql) { velocity_local_q(a, c, r, u, ql); };
     const auto step = [&lp](int64_t, local::Contact &c, const double *ql, double *rn) {
         return local::solve_contact(c, ql, rn, lp);
     };
     return sweep_loop(r, local_q, step, [this, u](int64_t a, const double *dr) { push_velocity(a, dr, u); });
+}
+
+SweepStats Workspace::sweep_velocity_pipelined(double *r, double *u) {
+    if (s_.shuffle == FRIX_SHUFFLE_EACH_SWEEP) reshuffle();
+    const int64_t nc = (int64_t)contacts_.size(), sweep = pipelined_sweeps_++;
+    const int64_t *order = order_.empty() ? nullptr : order_.data();
+    int64_t *frozen = frozen_.empty() ? nullptr : frozen_.data();
+    const local::Params lp = s_.local;
+    const auto step = [&lp](int64_t, local::Contact &c, const double *ql, double *rn) {
+        return local::solve_contact(c, ql, rn, lp);
+    };
+    const auto local_q = [r, u](int64_t a, const local::Contact &c, double *ql) { velocity_local_q(a, c, r, u, ql); };
+    team_->for_each_thread([&](int64_t t) {
+        const int64_t first = single_->panel_begin(t), end = single_->panel_begin(t + 1);
+        for (int64_t k = 0; k < nc; ++k) {
+            const int64_t a = order ? order[k] : k;
+            PublishedChange &change = published_[a];
+            if (a >= first && a < end) {
+                SweepStats st;
+                change.moved = false;
+                auto publish = [&change](int64_t, const double *dr) {
+                    change.moved = true;
+                    change.dr[0] = dr[0], change.dr[1] = dr[1], change.dr[2] = dr[2];
+                };
+                sweep_contact(a, r, frozen, local_q, step, publish, st);
+                contact_stats_[(size_t)a] = st;
+                change.sweep.store(sweep, std::memory_order_release);
+            } else {
+                // A short spin, then the core is offered to others: with more threads than
+                // free cores the owner may be waiting for this one's core.
+                for (int spins = 0; change.sweep.load(std::memory_order_acquire) != sweep; ++spins)
+                    if (spins >= 256) std::this_thread::yield();
+            }
+            if (change.moved) single_->push_panel(t, a, change.dr, u);
+        }
+    });
+    SweepStats st;
+    for (int64_t k = 0; k < nc; ++k) {
+        const SweepStats &c = contact_stats_[(size_t)(order ? order[k] : k)];
+        st.dr2 += c.dr2;
+        st.r2 += c.r2;
+        st.rejected += c.rejected, st.unsolved += c.unsolved, st.frozen += c.frozen;
+    }
+    return st;
 }
 
 void Workspace::push_velocity(int64_t a, const double *dr, double *u) {
@@ -178,9 +234,16 @@ class RowForm : public SweepForm {
 // a tight tolerance.
 class VelocityForm : public SweepForm {
    public:
-    VelocityForm(const frix_problem &p, bool single) : p_(p), norm_q_(norm2(p.q, 3 * p.nc)), single_(single) {}
+    // team: the threads of the pipelined sweeps (null: one), which also share u's afresh
+    // computation by block rows.
+    VelocityForm(const frix_problem &p, bool single, ThreadTeam *team)
+        : p_(p), norm_q_(norm2(p.q, 3 * p.nc)), single_(single), team_(team) {}
     SweepStats sweep(Workspace &ws, double *r, double *u) override { return ws.sweep_velocity(r, u); }
-    Measures exact(const double *r, double *u) override { return local_measures(p_, r, u); }
+    Measures exact(const double *r, double *u) override {
+        if (!team_) return local_measures(p_, r, u);
+        restart(r, u);
+        return measures_from_ru(r, u, p_.mu, p_.weight.data(), p_.nc, norm_q_);
+    }
     bool kept(const double *r, double *u, Measures &m) override {
         if (single_) return false;
         return kept_drifting(r, u, m);
@@ -190,17 +253,32 @@ class VelocityForm : public SweepForm {
         return true;
     }
     void restart(const double *r, double *u) override {
-        matrix_gemv(*p_.W, 1.0, r, 0.0, u);
-        for (int64_t i = 0; i < 3 * p_.nc; ++i) u[i] += p_.q[i];
+        if (!team_) {
+            matrix_gemv(*p_.W, 1.0, r, 0.0, u);
+            for (int64_t i = 0; i < 3 * p_.nc; ++i) u[i] += p_.q[i];
+            return;
+        }
+        // matrix_gemv's arithmetic, block row by block row, the rows shared among the threads.
+        const frix_matrix &W = *p_.W;
+        team_->for_chunks(W.block_rows, kProductRows, [&](int64_t begin, int64_t end) {
+            for (int64_t k = begin; k < end; ++k) {
+                double t[3];
+                block_row_product(W, k, r, t);
+                for (int i = 0; i < 3; ++i) u[3 * k + i] = (1.0 * t[i] + 0.0) + p_.q[3 * k + i];
+            }
+        });
     }
     AffineState affine_state(double *u) override { return {u, 3 * (size_t)p_.nc, true}; }
     void push_change(Workspace &ws, int64_t a, const double *d, double *u) override { ws.push_velocity(a, d, u); }
     bool state_drifts() const override { return single_; }
 
    private:
+    // Block rows a chunk of the threaded product: a dense W's 64 rows are megabytes.
+    static constexpr int64_t kProductRows = 64;
     const frix_problem &p_;
     double norm_q_;
     const bool single_;
+    ThreadTeam *team_;
 };
 
 frix_error check_blocks(const frix_problem &p, const char *name) {
@@ -217,19 +295,20 @@ frix_error solve(SolveContext &ctx) {
 
 // The single-precision columns of a large dense W (where the memory limit leaves room for
 // them), kept by a persistent solver while W's values stay; null where W does not suit.
-std::unique_ptr<Kept<SingleColumns>> single_columns(SolveContext &ctx, double min_bytes) {
+std::unique_ptr<Kept<SingleColumns>> single_columns(SolveContext &ctx, double min_bytes, int64_t panels) {
     const frix_matrix &W = *ctx.problem.W;
     if (!SingleColumns::suits(W, min_bytes) || !Monitor(ctx).fits_memory(SingleColumns::bytes_for(W))) return nullptr;
     auto columns = std::make_unique<Kept<SingleColumns>>(ctx.cache, FRIX_SOLVER_NSGS_VELOCITY);
     const uint64_t values = ctx.cache ? ctx.cache->w_values : 0, pattern = ctx.cache ? ctx.cache->w_pattern : 0;
-    const bool reused = (**columns).holds(W, values, pattern);
+    const bool reused = (**columns).holds(W, values, pattern, panels);
     const Stopwatch build;
-    if (!reused) (**columns).build(W, values, pattern);
+    if (!reused) (**columns).build(W, values, pattern, panels);
     if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1) {
         char how[64];
         snprintf(how, sizeof how, reused ? "kept" : "built in %.3g s", build.seconds());
-        log_line(&ctx.options, "nsgs-v: pushes through W's columns in single precision (%.0f MB, %s)",
-                 SingleColumns::bytes_for(W) / 1e6, how);
+        log_line(&ctx.options, "nsgs-v: pushes through W's columns in single precision (%.0f MB, %s), on %lld thread%s",
+                 SingleColumns::bytes_for(W) / 1e6, how, (long long)(**columns).panels(),
+                 (**columns).panels() > 1 ? "s" : "");
     }
     return columns;
 }
@@ -241,9 +320,13 @@ frix_error solve_velocity(SolveContext &ctx) { return solve_velocity_at(ctx, kSi
 frix_error solve_velocity_at(SolveContext &ctx, double single_min_bytes) {
     if (frix_error e = check_blocks(ctx.problem, "nsgs-v")) return e;
     Workspace ws(ctx.problem, settings_from(ctx.options));
-    const std::unique_ptr<Kept<SingleColumns>> single = single_columns(ctx, single_min_bytes);
-    if (single) ws.push_through(&**single);
-    VelocityForm columns(ctx.problem, single != nullptr);
+    const std::unique_ptr<Kept<SingleColumns>> single =
+        single_columns(ctx, single_min_bytes, ctx.options.i(FRIX_OPT_THREADS));
+    // The pipelined sweeps' threads: one a panel of the single-precision columns.
+    std::unique_ptr<ThreadTeam> team;
+    if (single && (**single).panels() > 1) team = std::make_unique<ThreadTeam>((int)(**single).panels());
+    if (single) ws.push_through(&**single, team.get());
+    VelocityForm columns(ctx.problem, single != nullptr, team.get());
     const frix_error e = run_sweeps(ctx, ws, columns, "nsgs-v");
     if (single && !e) single->keep();
     return e;
@@ -267,6 +350,13 @@ const frix_option_key kExtraKeys[] = {FRIX_OPT_LOCAL_SOLVER,   FRIX_OPT_LOCAL_TO
                                       FRIX_OPT_RELAXATION,     FRIX_OPT_SHUFFLE,         FRIX_OPT_SEED,
                                       FRIX_OPT_FREEZING,       FRIX_OPT_ERROR_FREQUENCY, FRIX_OPT_DRIFT_WINDOW,
                                       FRIX_OPT_ACCELERATION,   FRIX_OPT_ANDERSON,        (frix_option_key)0};
+
+// nsgs-v: those of nsgs, and threads for its pipelined sweeps on a dense W.
+const frix_option_key kVelocityKeys[] = {FRIX_OPT_LOCAL_SOLVER,   FRIX_OPT_LOCAL_TOLERANCE, FRIX_OPT_LOCAL_MAX_ITER,
+                                         FRIX_OPT_RELAXATION,     FRIX_OPT_SHUFFLE,         FRIX_OPT_SEED,
+                                         FRIX_OPT_FREEZING,       FRIX_OPT_ERROR_FREQUENCY, FRIX_OPT_DRIFT_WINDOW,
+                                         FRIX_OPT_ACCELERATION,   FRIX_OPT_ANDERSON,        FRIX_OPT_THREADS,
+                                         (frix_option_key)0};
 
 // nsgs-v: freezing on by default; skipped contacts cost it nothing at all.
 const OptionDefault kVelocityDefaults[] = {
@@ -329,10 +419,13 @@ const SolverEntry kNsgsVelocityEntry = {
     "On a dense W of at least 32 MiB the pushes go through a single-precision copy of W's "
     "columns (half W's memory more, where the memory limit leaves room): half the bytes a "
     "sweep reads; the full checks recompute u from the double W, so the verdict stays in "
-    "double precision. "
+    "double precision. On such a W, threads (k > 1) cut u's rows into k runs of contacts: "
+    "each thread solves its own contacts and pushes every change into its own rows, in the "
+    "sweep's order, so the iterates are the same for any number of threads. "
     "Freezing is on by default (10 sweeps). Options: those of nsgs (local_solver, "
     "local_tolerance, local_max_iter, "
-    "relaxation, shuffle, seed, freezing, error_frequency, drift_window, acceleration, anderson). "
+    "relaxation, shuffle, seed, freezing, error_frequency, drift_window, acceleration, anderson) "
+    "and threads. "
     "Unlike "
     "Siconos 4.4's "
     "NSGSV "
@@ -340,7 +433,7 @@ const SolverEntry kNsgsVelocityEntry = {
     nsgs::solve_velocity,
     true,
     false,
-    nsgs::kExtraKeys,
+    nsgs::kVelocityKeys,
     nsgs::kVelocityDefaults,
 };
 

@@ -37,14 +37,15 @@ def main():
     ap.add_argument("--tol", type=float, default=1e-8)
     ap.add_argument("--steps", type=int, default=5)
     ap.add_argument("--save-r", default=None)
+    ap.add_argument("--threads", type=int, default=1)
     a = ap.parse_args()
     p = frix.load(a.file)
     t, c = time.perf_counter(), time.process_time()
-    res = frix.solve(p, solver=a.solver, tol=a.tol)
+    res = frix.solve(p, solver=a.solver, tol=a.tol, threads=a.threads)
     line("oneshot", res, time.perf_counter() - t, time.process_time() - c)
     if a.save_r:
         np.save(f"{a.save_r}-oneshot.npy", np.array(res.r))
-    solver = frix.Solver(p, solver=a.solver, tol=a.tol)
+    solver = frix.Solver(p, solver=a.solver, tol=a.tol, threads=a.threads)
     f0 = np.array(p.f, copy=True)
     for k in range(a.steps):
         if k:
