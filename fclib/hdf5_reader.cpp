@@ -10,6 +10,7 @@
 
 #include "fclib_error.hpp"
 #include "input_file.hpp"
+#include "memory.hpp"
 
 namespace frix::fclib {
 
@@ -383,7 +384,8 @@ std::vector<T> FileReader::read_numeric(const std::string &name, hid_t memtype, 
     if (count == 0) return {};
     check_written(d, name, unwritten);
     charge(name, static_cast<double>(count) * sizeof(T));
-    std::vector<T> values(static_cast<size_t>(count));
+    std::vector<T> values;
+    frix::assign_advised(values, static_cast<size_t>(count));
 
     auto read_failed = [&]() {
         const std::string detail = hdf5_error_detail();

@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "error_state.hpp"
+#include "memory.hpp"
 
 namespace {
 
@@ -34,7 +35,8 @@ void build_blocks(frix_matrix &A, int64_t nentries, const int64_t *rows, const i
     std::vector<int64_t> start(A.block_rows + 1, 0);
     for (int64_t e = 0; e < nentries; ++e) ++start[rows[e] / 3 + 1];
     std::partial_sum(start.begin(), start.end(), start.begin());
-    std::vector<int64_t> order(nentries);
+    std::vector<int64_t> order;
+    frix::assign_advised(order, (size_t)nentries);
     {
         std::vector<int64_t> next(start.begin(), start.end() - 1);
         for (int64_t e = 0; e < nentries; ++e) order[next[rows[e] / 3]++] = e;
@@ -56,7 +58,7 @@ void build_blocks(frix_matrix &A, int64_t nentries, const int64_t *rows, const i
         A.block_col.insert(A.block_col.end(), row_cols.begin(), row_cols.end());
         A.row_ptr[br + 1] = (int64_t)A.block_col.size();
     }
-    A.block_val.assign(9 * A.block_col.size(), 0.0);
+    frix::assign_advised(A.block_val, 9 * A.block_col.size(), 0.0);
     // Second pass: slot[bc] is the index of block (br, bc) while row br is being filled.
     std::vector<int64_t> slot(A.block_cols, 0);
     for (int64_t br = 0; br < A.block_rows; ++br) {
@@ -77,7 +79,8 @@ void build_csc(frix_matrix &A, int64_t nentries, const int64_t *rows, const int6
     std::vector<int64_t> start(A.cols + 1, 0);
     for (int64_t e = 0; e < nentries; ++e) ++start[cols[e] + 1];
     std::partial_sum(start.begin(), start.end(), start.begin());
-    std::vector<int64_t> order(nentries);
+    std::vector<int64_t> order;
+    frix::assign_advised(order, (size_t)nentries);
     {
         std::vector<int64_t> next(start.begin(), start.end() - 1);
         for (int64_t e = 0; e < nentries; ++e) order[next[cols[e]]++] = e;
@@ -160,7 +163,8 @@ frix_error check_pointers(const char *where, int64_t nouter, const int64_t *ptr,
 
 // Expands pointers that check_pointers passed into explicit indices.
 std::vector<int64_t> expand_pointers(int64_t nouter, const int64_t *ptr) {
-    std::vector<int64_t> outer_of((size_t)ptr[nouter]);
+    std::vector<int64_t> outer_of;
+    frix::assign_advised(outer_of, (size_t)ptr[nouter]);
     for (int64_t k = 0; k < nouter; ++k)
         for (int64_t e = ptr[k]; e < ptr[k + 1]; ++e) outer_of[(size_t)e] = k;
     return outer_of;
@@ -186,8 +190,8 @@ bool build_sorted_csc(const char *where, int64_t nrows, int64_t ncols, const int
     A->block = false;
     const int64_t nnz = colptr[ncols];
     A->col_ptr.assign(colptr, colptr + ncols + 1);
-    A->row_ind.assign(rowind, rowind + nnz);
-    A->val.assign(values, values + nnz);
+    frix::copy_advised(A->row_ind, rowind, (size_t)nnz);
+    frix::copy_advised(A->val, values, (size_t)nnz);
     *out = A.release();
     return true;
 }

@@ -4,6 +4,7 @@
 
 #include "error_state.hpp"
 #include "matrix.hpp"
+#include "memory.hpp"
 
 namespace frix {
 
@@ -40,7 +41,7 @@ frix_error BlockMatrixFromTerms::pattern(const std::vector<std::vector<int64_t>>
             ++groups_of[(size_t)b];
         }
     for (int64_t b = 0; b < nb; ++b) A.row_ptr[(size_t)b + 1] += A.row_ptr[(size_t)b];
-    A.block_col.resize((size_t)A.row_ptr[(size_t)nb]);
+    assign_advised(A.block_col, (size_t)A.row_ptr[(size_t)nb]);
     std::vector<int64_t> next(A.row_ptr.begin(), A.row_ptr.end() - 1);
     for (const auto &c : contacts)
         for (int64_t b : c) next[(size_t)b] = std::copy(c.begin(), c.end(), A.block_col.begin() + next[(size_t)b]) - A.block_col.begin();
@@ -57,7 +58,7 @@ frix_error BlockMatrixFromTerms::pattern(const std::vector<std::vector<int64_t>>
     A.row_ptr[(size_t)nb] = kept;
     A.block_col.resize((size_t)kept);
     A.block_col.shrink_to_fit();
-    A.block_val.assign(9 * (size_t)kept, 0.0);
+    assign_advised(A.block_val, 9 * (size_t)kept, 0.0);
     return FRIX_OK;
 }
 

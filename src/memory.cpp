@@ -1,7 +1,11 @@
 #include "memory.hpp"
 
 #include <unistd.h>
+#ifdef __linux__
+#include <sys/mman.h>
+#endif
 
+#include <cstdint>
 #include <cstdio>
 #include <initializer_list>
 
@@ -30,6 +34,18 @@ double resident_memory() {
         std::fclose(f);
     }
     return bytes;
+}
+
+void advise_huge_pages(void *p, size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    if (!p || bytes < kHugeArrayBytes) return;
+    constexpr uintptr_t kHuge = 2u << 20;
+    const uintptr_t begin = ((uintptr_t)p + kHuge - 1) / kHuge * kHuge, end = ((uintptr_t)p + bytes) / kHuge * kHuge;
+    // Advice only: where the kernel declines (THP off), the pages stay small.
+    if (end > begin) (void)madvise((void *)begin, end - begin, MADV_HUGEPAGE);
+#else
+    (void)p, (void)bytes;
+#endif
 }
 
 }  // namespace frix

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "disjoint_sets.hpp"
+#include "memory.hpp"
 #include "monitor.hpp"
 
 namespace frix {
@@ -23,8 +24,8 @@ frix_error to_csc(const frix_matrix &A, Csc &out) {
     int64_t nnz = 0;
     if (frix_error e = frix_matrix_to_csc(&A, &nnz, nullptr, nullptr, nullptr)) return e;
     out.colptr.resize(A.cols + 1);
-    out.rowind.resize(std::max<int64_t>(nnz, 1));
-    out.val.resize(std::max<int64_t>(nnz, 1));
+    assign_advised(out.rowind, (size_t)std::max<int64_t>(nnz, 1));
+    assign_advised(out.val, (size_t)std::max<int64_t>(nnz, 1));
     return frix_matrix_to_csc(&A, &nnz, out.colptr.data(), out.rowind.data(), out.val.data());
 }
 

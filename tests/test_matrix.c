@@ -57,6 +57,15 @@ static void dense_to_csc(const double *A, int m, int n, int64_t *cp, int64_t *ri
 }
 
 /* Duplicates are summed; a sum that overflows is refused, in both storages. */
+/* The large arrays' helpers: any size, growing (new storage, advised) and shrinking (the same
+ * storage), keep the values asked for. */
+START_TEST(test_advised_arrays) {
+    const int64_t sizes[] = {0, 1, 1000, 3 << 20, 1 << 20, 5 << 20, 0, 7};
+    const double values[8] = {1.5, -2.0, 0.0, 3.25, 4.0, 5.0, 6.0, 7.0};
+    ck_assert_int_eq(frix_testing_advised_arrays(sizes, 8, values), 0);
+}
+END_TEST
+
 START_TEST(test_duplicates_summing_past_the_doubles) {
     const int64_t rows[2] = {0, 0}, cols[2] = {0, 0};
     const double big[2] = {1.7e308, 1.7e308}, fine[2] = {1.0, 2.0};
@@ -342,6 +351,7 @@ int main(void) {
     tcase_add_test(tc, test_empty_matrix);
     tcase_add_test(tc, test_matrix_from_columns);
     tcase_add_test(tc, test_duplicates_summing_past_the_doubles);
+    tcase_add_test(tc, test_advised_arrays);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

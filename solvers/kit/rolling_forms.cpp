@@ -6,6 +6,7 @@
 #include "solvers/kit/pairs_by_key.hpp"
 #include "src/error_state.hpp"
 #include "src/matrix.hpp"
+#include "src/memory.hpp"
 #include "src/reduction.hpp"
 
 namespace frix::rolling {
@@ -418,7 +419,8 @@ Measures BodyForm::exact(const double *r, double *u) {
 }
 
 std::vector<local_rolling::Contact> contacts_of(const SweepForm &form, const frix_problem &p) {
-    std::vector<local_rolling::Contact> contacts((size_t)p.nc);
+    std::vector<local_rolling::Contact> contacts;
+    assign_advised(contacts, (size_t)p.nc);
     const nsgs::Domains *dom = form.domains();
     for (int64_t k = 0; k < p.nc; ++k) {
         const int64_t a = dom ? dom->contacts[(size_t)k] : k;

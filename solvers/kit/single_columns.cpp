@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "src/memory.hpp"
+
 namespace frix {
 namespace nsgs {
 
@@ -44,7 +46,7 @@ void SingleColumns::build(const frix_matrix &W, uint64_t w_values, uint64_t w_pa
         panel.stride = (3 * contacts + kChunk - 1) / kChunk * 3 * kChunk;
         floats += (size_t)(panel.stride * nc);
     }
-    values_.assign(floats, 0.0f);
+    assign_advised(values_, floats, 0.0f);
     const double *val = W.block_val.data();
     for (int64_t p = 0; p < count; ++p) {
         const Panel &panel = panel_[(size_t)p];

@@ -9,6 +9,7 @@
 
 #include "error_state.hpp"
 #include "linalg.hpp"
+#include "memory.hpp"
 #include "ordering.hpp"
 
 extern "C" {
@@ -233,6 +234,11 @@ frix_error SparseCholesky::factor(const CscView &A) {
     bool ok = false;
     if (m.L) {
         const OpenMPRegionsOnThisThread serial;
+        // L's values taken here rather than by the factorisation, so that they are advised
+        // before their first touch (the same call CHOLMOD makes for a symbolic L).
+        if (m.L->is_super && m.L->xtype == CHOLMOD_PATTERN &&
+            cholmod_l_change_factor(CHOLMOD_REAL, true, true, true, true, m.L, &m.c))
+            advise_huge_pages(m.L->x, m.L->xsize * sizeof(double));
         ok = cholmod_l_factorize(&a, m.L, &m.c);
     }
     m.numeric = ok && m.c.status == CHOLMOD_OK;
@@ -529,7 +535,7 @@ frix_error SparseCholesky::inverse_congruence(const CscView &B, CongruenceSink &
         const int64_t nk = (int64_t)K.size(), ncol = plan.nscol(s), nrow = plan.nsrow(s), nbelow = nrow - ncol;
         for (int64_t a = 0; a < nk; ++a) position[(size_t)K[(size_t)a]] = a;
         for (int64_t r = 0; r < nrow; ++r) local_row[(size_t)Ls[pi[s] + r]] = r;
-        F.assign((size_t)(nrow * nk), 0.0);
+        assign_advised(F, (size_t)(nrow * nk), 0.0);
         for (int64_t e = own_ptr[(size_t)s]; e < own_ptr[(size_t)s + 1]; ++e) {
             const Entry &x = plan.own[(size_t)e];
             F[(size_t)((x.row - super[s]) + nrow * position[(size_t)x.col])] += x.value;
@@ -561,7 +567,7 @@ frix_error SparseCholesky::inverse_congruence(const CscView &B, CongruenceSink &
             const double minus = -1.0, one = 1.0;
             dgemm_("N", "N", &m_, &n_, &kk, &minus, Ld + ncol, &ld, F.data(), &ld, &one, F.data() + ncol, &ld, 1, 1);
             std::vector<double> &U = below[(size_t)s];
-            U.resize((size_t)(nbelow * nk));
+            assign_advised(U, (size_t)(nbelow * nk));
             for (int64_t j = 0; j < nk; ++j)
                 std::copy(&F[(size_t)(ncol + nrow * j)], &F[(size_t)(nrow + nrow * j)], &U[(size_t)(nbelow * j)]);
         }

@@ -184,6 +184,11 @@ int frix_testing_nsgs_velocity(int single, const frix_problem *p, const frix_opt
  * single_columns.hpp) of W, which must store every block; read from W's rows where symmetric
  * = 1 (W then symmetric to the bit). FRIX_ERR_INVALID_ARGUMENT where W does not suit. */
 int frix_testing_single_push(const frix_matrix *W, int symmetric, int64_t a, const double dr[3], double *u);
+/* The large arrays' helpers (src/memory.hpp) on a vector of doubles: assign_advised to each of
+ * the `count` sizes in turn, each filled with its index in `sizes` plus 1, then copy_advised
+ * of `count` values; returns 0 where every content was right and a shrinking assign kept the
+ * storage, else the 1-based step that failed. */
+int frix_testing_advised_arrays(const int64_t *sizes, int count, const double *values);
 
 #ifdef __cplusplus
 }

@@ -484,3 +484,26 @@ FRIX_TESTING_HOOK int frix_testing_inverse_diagonal(const frix_matrix *M, const 
     }
     return FRIX_OK;
 }
+
+#include "src/memory.hpp"
+
+FRIX_TESTING_HOOK int frix_testing_advised_arrays(const int64_t *sizes, int count, const double *values) {
+    std::vector<double> v;
+    for (int k = 0; k < count; ++k) {
+        const size_t n = (size_t)sizes[k];
+        const size_t capacity = v.capacity();
+        const double *storage = v.data();
+        frix::assign_advised(v, n, (double)(k + 1));
+        if (v.size() != n || std::any_of(v.begin(), v.end(), [k](double x) { return x != (double)(k + 1); }))
+            return k + 1;
+        if (n <= capacity && v.data() != storage) return k + 1;
+    }
+    frix::copy_advised(v, values, (size_t)count);
+    if (v.size() != (size_t)count || !std::equal(v.begin(), v.end(), values)) return count + 1;
+    // Advice on nothing, on a small array and on an unaligned span is no error.
+    frix::advise_huge_pages(nullptr, frix::kHugeArrayBytes);
+    frix::advise_huge_pages(v.data(), v.size() * sizeof(double));
+    std::vector<char> odd((size_t)frix::kHugeArrayBytes + 4096 + 3);
+    frix::advise_huge_pages(odd.data() + 3, odd.size() - 3);
+    return 0;
+}
