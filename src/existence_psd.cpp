@@ -21,11 +21,28 @@ namespace {
 // bytes; larger ones keep the search's own tests.
 constexpr double kPsdCheckMaxFlops = 1e9, kPsdCheckMaxBytes = 256e6;
 
+// Whether the factorisation of W's symmetric part would surely cost more than the limits
+// above, told from W's pattern alone before anything is built: column k of L holds at least
+// the rows below k of the symmetric part's column k, and those count at least half the
+// stored nonzero entries (i, j) of W with min(i, j) = k < max(i, j) (an entry and its mirror
+// may both be stored); a factorisation takes at least the squares of its columns' counts.
+// (A dense W of thousands of contacts: the terms and the analysis alone took tens of seconds.)
+bool surely_too_costly(const frix_matrix &W, int64_t m) {
+    std::vector<double> below((size_t)m, 1.0);  // the diagonal, at least
+    for_each_entry(W, [&](int64_t i, int64_t j, double v) {
+        if (i != j && v != 0.0) below[(size_t)std::min(i, j)] += 0.5;
+    });
+    double flops = 0.0, entries = 0.0;
+    for (const double c : below) flops += c * c, entries += c;
+    return flops > kPsdCheckMaxFlops || 8.0 * entries > kPsdCheckMaxBytes;
+}
+
 }  // namespace
 
 Psd symmetric_part_psd(const frix_problem &p, double tolerance) {
     const frix_matrix &W = *p.W;
     const int64_t m = 3 * p.nc;
+    if (surely_too_costly(W, m)) return Psd::Unknown;
     const std::vector<double> diag = matrix_diagonal(W);
     std::vector<double> d((size_t)m);
     for (int64_t i = 0; i < m; ++i) d[(size_t)i] = diag[(size_t)i] > 0.0 ? 1.0 / std::sqrt(diag[(size_t)i]) : 1.0;

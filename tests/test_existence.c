@@ -15,6 +15,7 @@
 
 #include "check_main.h"
 #include "cli_runner.h"
+#include "frix_testing.h"
 #include "shared_data.h"
 
 typedef struct {
@@ -330,6 +331,41 @@ static verdict chain_check(const chain *c, int global) {
     return v;
 }
 
+/* A dense W = I + G, |G_ij| <= 0.5 / (3 nc), with its first diagonal entry set to d: the test of
+ * its symmetric part decides where the factorisation is cheap (d = -1: not positive
+ * semidefinite; d = 1: it is), and declines without building it where W is dense and large
+ * enough that the factorisation would cost more than its limit (500 contacts, n^3 / 3 = 1.1e9). */
+static int dense_psd(int64_t nc, double d) {
+    const int64_t k = 3 * nc;
+    double *D = malloc((size_t)(k * k) * sizeof(double)), *q = malloc((size_t)k * sizeof(double)),
+           *mu = malloc((size_t)nc * sizeof(double));
+    ck_assert(D && q && mu);
+    for (int64_t i = 0; i < k; ++i)
+        for (int64_t j = 0; j <= i; ++j) {
+            const double g = 0.5 / (double)k * sin(0.37 * (double)(i + 1) * (double)(j + 2));
+            D[i + k * j] = D[j + k * i] = (i == j ? 1.0 : 0.0) + g;
+        }
+    D[0] = d;
+    for (int64_t i = 0; i < k; ++i) q[i] = -1.0;
+    for (int64_t a = 0; a < nc; ++a) mu[a] = 0.3;
+    frix_matrix *W = NULL;
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_matrix_from_dense(k, k, D, k, &W), FRIX_OK);
+    ck_assert_int_eq(frix_problem_local(W, q, mu, nc, &p), FRIX_OK);
+    const int psd = frix_testing_symmetric_part_psd(p, 1e-10);
+    frix_problem_free(p);
+    frix_matrix_free(W);
+    free(D), free(q), free(mu);
+    return psd;
+}
+
+START_TEST(test_psd_check_declines_dense_large_w) {
+    ck_assert_int_eq(dense_psd(40, -1.0), 1);
+    ck_assert_int_eq(dense_psd(40, 1.0), 0);
+    ck_assert_int_eq(dense_psd(500, -1.0), 2);
+}
+END_TEST
+
 START_TEST(test_chain) {
     const int global = _i;
     chain *shut = make_chain(-0.05);
@@ -616,6 +652,7 @@ static Suite *existence_suite(void) {
     tcase_add_test(tc, test_q_strictly_feasible);
     tcase_add_test(tc, test_bad_input);
     tcase_add_test(tc, test_failed_runs_report_existence);
+    tcase_add_test(tc, test_psd_check_declines_dense_large_w);
     suite_add_tcase(s, tc);
     TCase *real = tcase_create("real");
     tcase_add_test(real, test_real_problems);

@@ -189,6 +189,9 @@ int frix_testing_single_push(const frix_matrix *W, int symmetric, int64_t a, con
  * of `count` values; returns 0 where every content was right and a shrinking assign kept the
  * storage, else the 1-based step that failed. */
 int frix_testing_advised_arrays(const int64_t *sizes, int count, const double *values);
+/* The existence check's test of W's symmetric part (src/existence.hpp) on a local problem:
+ * 0 positive semidefinite within `tolerance`, 1 not, 2 undecided (too costly to factorise). */
+int frix_testing_symmetric_part_psd(const frix_problem *p, double tolerance);
 
 #ifdef __cplusplus
 }

@@ -507,3 +507,13 @@ FRIX_TESTING_HOOK int frix_testing_advised_arrays(const int64_t *sizes, int coun
     frix::advise_huge_pages(odd.data() + 3, odd.size() - 3);
     return 0;
 }
+
+#include "src/existence.hpp"
+
+FRIX_TESTING_HOOK int frix_testing_symmetric_part_psd(const frix_problem *p, double tolerance) {
+    switch (frix::symmetric_part_psd(*p, tolerance)) {
+        case frix::Psd::Yes: return 0;
+        case frix::Psd::No: return 1;
+        default: return 2;
+    }
+}
