@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "fclib_error.hpp"
+#include "matrix.hpp"
 
 namespace frix::fclib {
 
@@ -104,7 +105,7 @@ std::unique_ptr<frix_matrix> read_matrix(const FileReader &file, const MatrixHea
             raise(FRIX_ERR_FORMAT, "'%s': dataset %s has %lld entries, expected %lld (%s + 1)",
                   file.path(), p_name.c_str(), static_cast<long long>(p_length),
                   static_cast<long long>(outer + 1), csc ? "columns" : "rows");
-        const Index p = file.read_ints(p_name);
+        Index p = file.read_ints(p_name);
         check_pointers(file, p_name, p, outer, csc ? "columns" : "rows");
         const int64_t nnz = p[static_cast<size_t>(outer)];
         if (nnz > h.nzmax)
@@ -113,11 +114,12 @@ std::unique_ptr<frix_matrix> read_matrix(const FileReader &file, const MatrixHea
                   static_cast<long long>(h.nzmax));
         check_length(file, h, i_name, nnz, "last entry of p");
         check_length(file, h, x_name, nnz, "last entry of p");
-        const Index idx = file.read_first_ints(i_name, nnz);
-        const std::vector<double> x = file.read_first_doubles(x_name, nnz);
+        Index idx = file.read_first_ints(i_name, nnz);
+        std::vector<double> x = file.read_first_doubles(x_name, nnz);
         check_indices(file, i_name, idx, nnz, inner, csc ? "rows" : "columns");
         check_values(file, x_name, x, nnz);
-        err = csc ? frix_matrix_from_csc(h.m, h.n, p.data(), idx.data(), x.data(), &raw)
+        // By columns, the arrays just read become the matrix's where it keeps them as stored.
+        err = csc ? frix::matrix_from_csc_taking(h.m, h.n, p, idx, x, &raw)
                   : frix_matrix_from_csr(h.m, h.n, p.data(), idx.data(), x.data(), &raw);
     } else {
         const int64_t nnz = h.nz;

@@ -174,9 +174,14 @@ std::vector<int64_t> expand_pointers(int64_t nouter, const int64_t *ptr) {
 // increase in every column, as FCLIB's and CHOLMOD's do: its arrays taken as they are, with
 // build()'s checks, and no expansion, sort or merge (those cost more than the copy, and three
 // more copies of the entries). false: not such a matrix (nothing built, no error set), for
-// build() to take; true: *out built, or err set.
+// build() to take; true: *out built, or err set. Where `taken` holds the caller's vectors of
+// colptr, rowind and values, the matrix takes them (left empty) instead of copying them.
+struct TakenCsc {
+    std::vector<int64_t> *colptr, *rowind;
+    std::vector<double> *values;
+};
 bool build_sorted_csc(const char *where, int64_t nrows, int64_t ncols, const int64_t *colptr, const int64_t *rowind,
-                      const double *values, frix_matrix **out, frix_error &err) {
+                      const double *values, frix_matrix **out, frix_error &err, const TakenCsc *taken = nullptr) {
     if (nrows % 3 == 0 && ncols % 3 == 0) return false;
     // In input order, as build() checks: the first bad entry is the same either way.
     for (int64_t c = 0; c < ncols; ++c)
@@ -189,9 +194,17 @@ bool build_sorted_csc(const char *where, int64_t nrows, int64_t ncols, const int
     A->cols = ncols;
     A->block = false;
     const int64_t nnz = colptr[ncols];
-    A->col_ptr.assign(colptr, colptr + ncols + 1);
-    frix::copy_advised(A->row_ind, rowind, (size_t)nnz);
-    frix::copy_advised(A->val, values, (size_t)nnz);
+    if (taken) {
+        taken->rowind->resize((size_t)nnz);
+        taken->values->resize((size_t)nnz);
+        A->col_ptr = std::move(*taken->colptr);
+        A->row_ind = std::move(*taken->rowind);
+        A->val = std::move(*taken->values);
+    } else {
+        A->col_ptr.assign(colptr, colptr + ncols + 1);
+        frix::copy_advised(A->row_ind, rowind, (size_t)nnz);
+        frix::copy_advised(A->val, values, (size_t)nnz);
+    }
     *out = A.release();
     return true;
 }
@@ -362,6 +375,37 @@ FRIX_API frix_error frix_matrix_from_csc(int64_t nrows, int64_t ncols, const int
         return build(where, nrows, ncols, (int64_t)col_of.size(), rowind, col_of.data(), values, out);
     });
 }
+
+}  // extern "C"
+
+namespace frix {
+
+frix_error matrix_from_csc_taking(int64_t nrows, int64_t ncols, std::vector<int64_t> &colptr,
+                                  std::vector<int64_t> &rowind, std::vector<double> &values, frix_matrix **out) {
+    return guard("frix_matrix_from_csc", [&]() -> frix_error {
+        const char *where = "frix_matrix_from_csc";
+        *out = nullptr;
+        if (frix_error e = check_dimensions(where, nrows, ncols)) return e;
+        if ((int64_t)colptr.size() != ncols + 1)
+            return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: %lld column pointers for %lld columns", where,
+                        (long long)colptr.size(), (long long)ncols);
+        if (frix_error e = check_pointers(where, ncols, colptr.data(), rowind.data(), values.data(), "column")) return e;
+        const int64_t nnz = colptr[(size_t)ncols];
+        if ((int64_t)rowind.size() < nnz || (int64_t)values.size() < nnz)
+            return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: fewer entries than the column pointers' %lld", where,
+                        (long long)nnz);
+        frix_error err = FRIX_OK;
+        const TakenCsc taken{&colptr, &rowind, &values};
+        if (build_sorted_csc(where, nrows, ncols, colptr.data(), rowind.data(), values.data(), out, err, &taken))
+            return err;
+        const std::vector<int64_t> col_of = expand_pointers(ncols, colptr.data());
+        return build(where, nrows, ncols, (int64_t)col_of.size(), rowind.data(), col_of.data(), values.data(), out);
+    });
+}
+
+}  // namespace frix
+
+extern "C" {
 
 FRIX_API frix_error frix_matrix_from_csr(int64_t nrows, int64_t ncols, const int64_t *rowptr,
                                          const int64_t *colind, const double *values,

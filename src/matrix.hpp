@@ -162,6 +162,13 @@ void index_diagonal_blocks(frix_matrix &A);
 // A's diagonal (min(rows, cols) values; an entry stored twice counts twice), either storage.
 std::vector<double> matrix_diagonal(const frix_matrix &A);
 
+// frix_matrix_from_csc on the caller's vectors (colptr of ncols + 1, rowind and values of at
+// least colptr[ncols]): where the matrix keeps them as they are (stored by columns, rows
+// strictly increasing) it takes them, leaving them empty, instead of copying them; otherwise
+// they are read as frix_matrix_from_csc reads its arrays. The same checks and messages.
+frix_error matrix_from_csc_taking(int64_t nrows, int64_t ncols, std::vector<int64_t> &colptr,
+                                  std::vector<int64_t> &rowind, std::vector<double> &values, frix_matrix **out);
+
 // y = alpha*A*x + beta*y for either storage; no argument checks (internal callers).
 void matrix_gemv(const frix_matrix &A, double alpha, const double *x, double beta, double *y);
 // y = (A - A^T) x / 2 (A square), the skew part of A times x; work holds n values.

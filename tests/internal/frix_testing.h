@@ -192,6 +192,11 @@ int frix_testing_advised_arrays(const int64_t *sizes, int count, const double *v
 /* The existence check's test of W's symmetric part (src/existence.hpp) on a local problem:
  * 0 positive semidefinite within `tolerance`, 1 not, 2 undecided (too costly to factorise). */
 int frix_testing_symmetric_part_psd(const frix_problem *p, double tolerance);
+/* frix::matrix_from_csc_taking on vectors holding copies of the arrays (nnz entries); *taken
+ * is set to 1 where the matrix took the vectors (left empty), 0 where they were left as given,
+ * -1 otherwise. */
+int frix_testing_matrix_from_csc_taking(int64_t nrows, int64_t ncols, const int64_t *colptr, const int64_t *rowind,
+                                        const double *values, int64_t nnz, frix_matrix **out, int *taken);
 
 #ifdef __cplusplus
 }

@@ -517,3 +517,16 @@ FRIX_TESTING_HOOK int frix_testing_symmetric_part_psd(const frix_problem *p, dou
         default: return 2;
     }
 }
+
+FRIX_TESTING_HOOK int frix_testing_matrix_from_csc_taking(int64_t nrows, int64_t ncols, const int64_t *colptr,
+                                                          const int64_t *rowind, const double *values, int64_t nnz,
+                                                          frix_matrix **out, int *taken) {
+    std::vector<int64_t> p(colptr, colptr + ncols + 1), i(rowind, rowind + nnz);
+    std::vector<double> x(values, values + nnz);
+    const int e = frix::matrix_from_csc_taking(nrows, ncols, p, i, x, out);
+    const bool intact = std::equal(p.begin(), p.end(), colptr) && i.size() == (size_t)nnz &&
+                        std::equal(i.begin(), i.end(), rowind) && x.size() == (size_t)nnz &&
+                        std::equal(x.begin(), x.end(), values);
+    *taken = p.empty() && i.empty() && x.empty() ? 1 : intact ? 0 : -1;
+    return e;
+}
