@@ -219,31 +219,34 @@ START_TEST(test_columns_as_given) {
 }
 END_TEST
 
-/* The reader's path: sorted columns are taken into the matrix (the caller's vectors left
- * empty) with the same matrix as frix_matrix_from_csc's; unsorted ones are read and left as
- * given; a bad entry is refused with frix_matrix_from_csc's message, nothing taken. */
-START_TEST(test_columns_taken) {
-    int64_t cp[6] = {0, 2, 2, 5, 6, 7}, ri[7] = {0, 3, 0, 1, 3, 2, 1};
-    double v[7] = {1, 2, 3, 4, 5, 6, 7}, D[20], E[20];
+/* The 4 x 5 matrix of (cp, ri, v) (nnz entries) by the reader's path is frix_matrix_from_csc's,
+ * the vectors taken (1) or left as given (0) as `want_taken` says. */
+static void taken_as_given(int64_t *cp, int64_t *ri, double *v, int64_t nnz, int want_taken) {
+    double D[20], E[20];
     frix_matrix *M = NULL, *R = NULL;
     int taken = -2;
-    ck_assert_int_eq(frix_testing_matrix_from_csc_taking(4, 5, cp, ri, v, 7, &M, &taken), FRIX_OK);
-    ck_assert_int_eq(taken, 1);
+    ck_assert_int_eq(frix_testing_matrix_from_csc_taking(4, 5, cp, ri, v, nnz, &M, &taken), FRIX_OK);
+    ck_assert_int_eq(taken, want_taken);
     ck_assert_int_eq(frix_matrix_from_csc(4, 5, cp, ri, v, &R), FRIX_OK);
     to_dense(M, D);
     to_dense(R, E);
     ck_assert_mem_eq(D, E, sizeof D);
     frix_matrix_free(M), frix_matrix_free(R);
+}
+
+/* The reader's path: sorted columns are taken into the matrix (the caller's vectors left
+ * empty); unsorted ones are read and left as given; a bad entry is refused with
+ * frix_matrix_from_csc's message, nothing taken. */
+START_TEST(test_columns_taken) {
+    int64_t cp[6] = {0, 2, 2, 5, 6, 7}, ri[7] = {0, 3, 0, 1, 3, 2, 1};
+    double v[7] = {1, 2, 3, 4, 5, 6, 7};
+    taken_as_given(cp, ri, v, 7, 1);
     int64_t cp2[6] = {0, 2, 2, 5, 6, 6}, ri2[6] = {0, 3, 3, 1, 3, 2};
     double v2[6] = {1, 2, 5, 4, 7, 6};
-    ck_assert_int_eq(frix_testing_matrix_from_csc_taking(4, 5, cp2, ri2, v2, 6, &M, &taken), FRIX_OK);
-    ck_assert_int_eq(taken, 0);
-    ck_assert_int_eq(frix_matrix_from_csc(4, 5, cp2, ri2, v2, &R), FRIX_OK);
-    to_dense(M, D);
-    to_dense(R, E);
-    ck_assert_mem_eq(D, E, sizeof D);
-    frix_matrix_free(M), frix_matrix_free(R);
+    taken_as_given(cp2, ri2, v2, 6, 0);
     int64_t far[7] = {0, 3, 0, 1, 4, 2, 1};
+    frix_matrix *M = NULL;
+    int taken = -2;
     ck_assert_int_eq(frix_testing_matrix_from_csc_taking(4, 5, cp, far, v, 7, &M, &taken), FRIX_ERR_DIMENSION);
     ck_assert_ptr_null(M);
     ck_assert_int_eq(taken, 0);
