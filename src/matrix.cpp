@@ -209,6 +209,22 @@ bool build_sorted_csc(const char *where, int64_t nrows, int64_t ncols, const int
     return true;
 }
 
+// frix_matrix_from_csc past its checks of out and the dimensions: the pointers checked, then
+// the sorted columns taken as they are (taken: the caller's vectors, which must hold every
+// entry the pointers count), else the general build.
+frix_error from_csc(const char *where, int64_t nrows, int64_t ncols, const int64_t *colptr, const int64_t *rowind,
+                    const double *values, frix_matrix **out, const TakenCsc *taken = nullptr) {
+    if (frix_error e = check_pointers(where, ncols, colptr, rowind, values, "column")) return e;
+    const int64_t nnz = colptr[ncols];
+    if (taken && ((int64_t)taken->rowind->size() < nnz || (int64_t)taken->values->size() < nnz))
+        return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: fewer entries than the column pointers' %lld", where,
+                    (long long)nnz);
+    frix_error err = FRIX_OK;
+    if (build_sorted_csc(where, nrows, ncols, colptr, rowind, values, out, err, taken)) return err;
+    const std::vector<int64_t> col_of = expand_pointers(ncols, colptr);
+    return build(where, nrows, ncols, (int64_t)col_of.size(), rowind, col_of.data(), values, out);
+}
+
 // The export's arrays: colptr always (it has cols + 1 >= 1 entries); rowind and values may be
 // NULL when there are no entries, as a caller's empty std::vector hands out NULL.
 frix_error check_csc_arrays(int64_t nnz, const int64_t *colptr, const int64_t *rowind,
@@ -311,14 +327,18 @@ std::vector<double> matrix_diagonal(const frix_matrix &A) {
     return diag;
 }
 
+void matrix_gemv_block_rows(const frix_matrix &A, double alpha, const double *x, double beta, double *y,
+                            int64_t first, int64_t end) {
+    for (int64_t k = first; k < end; ++k) {
+        double t[3];
+        block_row_product(A, k, x, t);
+        for (int i = 0; i < 3; ++i) y[3 * k + i] = alpha * t[i] + (beta == 0.0 ? 0.0 : beta * y[3 * k + i]);
+    }
+}
+
 void matrix_gemv(const frix_matrix &A, double alpha, const double *x, double beta, double *y) {
     if (A.block) {
-        for (int64_t k = 0; k < A.block_rows; ++k) {
-            double t[3];
-            block_row_product(A, k, x, t);
-            for (int i = 0; i < 3; ++i)
-                y[3 * k + i] = alpha * t[i] + (beta == 0.0 ? 0.0 : beta * y[3 * k + i]);
-        }
+        matrix_gemv_block_rows(A, alpha, x, beta, y, 0, A.block_rows);
         return;
     }
     for (int64_t i = 0; i < A.rows; ++i) y[i] = beta == 0.0 ? 0.0 : beta * y[i];
@@ -368,11 +388,7 @@ FRIX_API frix_error frix_matrix_from_csc(int64_t nrows, int64_t ncols, const int
         if (!out) return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: out is NULL", where);
         *out = nullptr;
         if (frix_error e = check_dimensions(where, nrows, ncols)) return e;
-        if (frix_error e = check_pointers(where, ncols, colptr, rowind, values, "column")) return e;
-        frix_error err = FRIX_OK;
-        if (build_sorted_csc(where, nrows, ncols, colptr, rowind, values, out, err)) return err;
-        const std::vector<int64_t> col_of = expand_pointers(ncols, colptr);
-        return build(where, nrows, ncols, (int64_t)col_of.size(), rowind, col_of.data(), values, out);
+        return from_csc(where, nrows, ncols, colptr, rowind, values, out);
     });
 }
 
@@ -389,17 +405,8 @@ frix_error matrix_from_csc_taking(int64_t nrows, int64_t ncols, std::vector<int6
         if ((int64_t)colptr.size() != ncols + 1)
             return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: %lld column pointers for %lld columns", where,
                         (long long)colptr.size(), (long long)ncols);
-        if (frix_error e = check_pointers(where, ncols, colptr.data(), rowind.data(), values.data(), "column")) return e;
-        const int64_t nnz = colptr[(size_t)ncols];
-        if ((int64_t)rowind.size() < nnz || (int64_t)values.size() < nnz)
-            return fail(FRIX_ERR_INVALID_ARGUMENT, "%s: fewer entries than the column pointers' %lld", where,
-                        (long long)nnz);
-        frix_error err = FRIX_OK;
         const TakenCsc taken{&colptr, &rowind, &values};
-        if (build_sorted_csc(where, nrows, ncols, colptr.data(), rowind.data(), values.data(), out, err, &taken))
-            return err;
-        const std::vector<int64_t> col_of = expand_pointers(ncols, colptr.data());
-        return build(where, nrows, ncols, (int64_t)col_of.size(), rowind.data(), col_of.data(), values.data(), out);
+        return from_csc(where, nrows, ncols, colptr.data(), rowind.data(), values.data(), out, &taken);
     });
 }
 

@@ -171,6 +171,10 @@ frix_error matrix_from_csc_taking(int64_t nrows, int64_t ncols, std::vector<int6
 
 // y = alpha*A*x + beta*y for either storage; no argument checks (internal callers).
 void matrix_gemv(const frix_matrix &A, double alpha, const double *x, double beta, double *y);
+// matrix_gemv on block rows first .. end of a block matrix only (y's rows 3 first .. 3 end),
+// with the same arithmetic: ranges of rows may be shared among threads.
+void matrix_gemv_block_rows(const frix_matrix &A, double alpha, const double *x, double beta, double *y,
+                            int64_t first, int64_t end);
 // y = (A - A^T) x / 2 (A square), the skew part of A times x; work holds n values.
 void matrix_skew_gemv(const frix_matrix &A, const double *x, double *y, double *work);
 void matrix_gemv_transposed(const frix_matrix &A, double alpha, const double *x, double beta,

@@ -36,13 +36,13 @@ void SingleColumns::build(const frix_matrix &W, uint64_t w_values, uint64_t w_pa
     rows_ = 3 * nc;
     const int64_t count = panel_count(nc, panels);
     panel_.assign((size_t)count + 1, Panel());
+    for (int64_t p = 0; p <= count; ++p) panel_[(size_t)p].contact = p == count ? nc : nc * p / count / 4 * 4;
     size_t floats = 0;
     for (int64_t p = 0; p <= count; ++p) {
         Panel &panel = panel_[(size_t)p];
-        panel.contact = p == count ? nc : nc * p / count / 4 * 4;
         panel.offset = floats;
         if (p == count) break;
-        const int64_t contacts = (p + 1 == count ? nc : nc * (p + 1) / count / 4 * 4) - panel.contact;
+        const int64_t contacts = panel_[(size_t)p + 1].contact - panel.contact;
         panel.stride = (3 * contacts + kChunk - 1) / kChunk * 3 * kChunk;
         floats += (size_t)(panel.stride * nc);
     }

@@ -258,14 +258,10 @@ class VelocityForm : public SweepForm {
             for (int64_t i = 0; i < 3 * p_.nc; ++i) u[i] += p_.q[i];
             return;
         }
-        // matrix_gemv's arithmetic, block row by block row, the rows shared among the threads.
-        const frix_matrix &W = *p_.W;
-        team_->for_chunks(W.block_rows, kProductRows, [&](int64_t begin, int64_t end) {
-            for (int64_t k = begin; k < end; ++k) {
-                double t[3];
-                block_row_product(W, k, r, t);
-                for (int i = 0; i < 3; ++i) u[3 * k + i] = (1.0 * t[i] + 0.0) + p_.q[3 * k + i];
-            }
+        // matrix_gemv's block rows shared among the threads, then q: the same arithmetic.
+        team_->for_chunks(p_.W->block_rows, kProductRows, [&](int64_t begin, int64_t end) {
+            matrix_gemv_block_rows(*p_.W, 1.0, r, 0.0, u, begin, end);
+            for (int64_t i = 3 * begin; i < 3 * end; ++i) u[i] += p_.q[i];
         });
     }
     AffineState affine_state(double *u) override { return {u, 3 * (size_t)p_.nc, true}; }
