@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "solvers/kit/pairs_by_key.hpp"
+#include "src/memory.hpp"
 
 namespace frix {
 
@@ -41,8 +42,8 @@ void ContactProducts::build(const frix_matrix &H, const RigidBodies &rigid, cons
         dof_ptr[k + 1] = dof_ptr[k] + count;
     }
     const size_t total = (size_t)dof_ptr[nc];
-    dofs.resize(total);
-    hd.assign((size_t)width * total, 0.0);
+    assign_advised(dofs, total);
+    assign_advised(hd, (size_t)width * total, 0.0);
     g_ptr.assign((size_t)nc, -1);
     int64_t stored = 0;
     for (int64_t k = 0; k < nc; ++k) {
@@ -55,8 +56,8 @@ void ContactProducts::build(const frix_matrix &H, const RigidBodies &rigid, cons
             stored += dof_count(k);
         }
     }
-    gd.assign((size_t)width * stored, 0.0);
-    minv.assign(one_dof_minv ? total : 0, 0.0);
+    assign_advised(gd, (size_t)width * stored, 0.0);
+    assign_advised(minv, one_dof_minv ? total : 0, 0.0);
     for (int64_t k = 0; k < nc; ++k) {
         const int64_t a = contact(k);
         int64_t at = dof_ptr[k];

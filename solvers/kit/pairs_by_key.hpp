@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "src/memory.hpp"
+
 namespace frix {
 
 // each(emit) calls emit(key, value) for every pair (keys in [0, nkeys)), the same pairs each
@@ -23,7 +25,7 @@ void unique_pairs_by_key(int64_t nkeys, Each &&each, std::vector<int64_t> &ptr, 
         ++ptr[(size_t)key + 1];
     });
     for (int64_t k = 0; k < nkeys; ++k) ptr[(size_t)k + 1] += ptr[(size_t)k];
-    values.resize((size_t)ptr[(size_t)nkeys]);
+    assign_advised(values, (size_t)ptr[(size_t)nkeys]);
     std::vector<int64_t> fill(ptr.begin(), ptr.end() - 1);
     last_key = last_value = -1;
     each([&](int64_t key, int64_t value) {
@@ -40,8 +42,12 @@ void unique_pairs_by_key(int64_t nkeys, Each &&each, std::vector<int64_t> &ptr, 
         ptr[(size_t)k + 1] = kept;
         begin = end;
     }
-    values.resize((size_t)kept);
-    values.shrink_to_fit();
+    // Only what is kept, in storage advised as the first (shrink_to_fit's would not be).
+    if ((size_t)kept < values.size()) {
+        std::vector<int64_t> tight;
+        copy_advised(tight, values.data(), (size_t)kept);
+        values.swap(tight);
+    }
 }
 
 }  // namespace frix

@@ -5,6 +5,7 @@
 
 #include "src/disjoint_sets.hpp"
 #include "src/error_state.hpp"
+#include "src/memory.hpp"
 
 namespace frix {
 
@@ -45,7 +46,7 @@ frix_error RigidBodies::setup(const Csc &M, const char *who) {
     // symmetric).
     inverse_ptr.assign((size_t)bodies + 1, 0);
     for (int64_t b = 0; b < bodies; ++b) inverse_ptr[b + 1] = inverse_ptr[b] + size(b) * size(b);
-    inverse.assign((size_t)inverse_ptr[bodies], 0.0);
+    assign_advised(inverse, (size_t)inverse_ptr[bodies], 0.0);
     std::vector<double> a;
     for (int64_t b = 0; b < bodies; ++b) {
         const int64_t k = size(b);

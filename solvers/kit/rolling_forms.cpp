@@ -56,7 +56,7 @@ RowForm::RowForm(const frix_problem &p) : SweepForm(contact_size(p)), p_(p) {
     unique_pairs_by_key(
         nc, [&](auto &&emit) { for_each_entry(*p.W, [&](int64_t i, int64_t j, double) { emit(i / n, j / n); }); },
         w_.row_ptr, w_.block_col);
-    w_.val.assign((size_t)(n * n) * w_.block_col.size(), 0.0);
+    assign_advised(w_.val, (size_t)(n * n) * w_.block_col.size(), 0.0);
     // Each entry into its block; consecutive entries mostly share one, found once.
     int64_t last_a = -1, last_b = -1, k = 0;
     for_each_entry(*p.W, [&](int64_t i, int64_t j, double v) {
@@ -141,8 +141,8 @@ StoredForm::StoredForm(const frix_problem &p) : SweepForm(contact_size(p)), p_(p
     const frix_matrix &W = *p.W;
     if (W.block) return;
     const int64_t n = size(), m = n * p.nc;
-    diag_first_.resize((size_t)m);
-    diag_end_.resize((size_t)m);
+    assign_advised(diag_first_, (size_t)m);
+    assign_advised(diag_end_, (size_t)m);
     for (int64_t c = 0; c < m; ++c) {
         const int64_t first = n * (c / n);
         const auto begin = W.row_ind.begin() + W.col_ptr[(size_t)c], end = W.row_ind.begin() + W.col_ptr[(size_t)c + 1];
@@ -221,8 +221,8 @@ frix_error BodyForm::setup(const double *r, const char *who, int threads) {
             for (int64_t d = 0; d < p_.n; ++d) dof_of_slot_[(size_t)slot_of_dof_[(size_t)d]] = d;
         }
     }
-    blocks_.assign((size_t)(n * n * nc), 0.0);
-    w_.resize((size_t)(n * nc));
+    assign_advised(blocks_, (size_t)(n * n * nc), 0.0);
+    assign_advised(w_, (size_t)(n * nc));
     for (int64_t a = 0; a < nc; ++a) {
         cp_.add_diagonal_block(at(a), &blocks_[(size_t)(n * n * at(a))]);
         std::copy(p_.w + n * a, p_.w + n * (a + 1), &w_[(size_t)(n * at(a))]);
@@ -306,7 +306,7 @@ bool BodyForm::reduce(BlockRows &W, double *q, const std::function<bool(const Bl
                 W = BlockRows{};
                 return false;
             }
-            W.val.assign((size_t)(n * n) * W.block_col.size(), 0.0);
+            assign_advised(W.val, (size_t)(n * n) * W.block_col.size(), 0.0);
         }
     for (int64_t a = 0; a < nc; ++a) contact_velocity(a, v0_.data(), q + n * a);
     return true;

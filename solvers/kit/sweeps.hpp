@@ -16,6 +16,7 @@
 #include "solvers/kit/rigid_bodies.hpp"
 #include "solvers/kit/single_columns.hpp"
 #include "src/matrix.hpp"
+#include "src/memory.hpp"
 #include "src/problem.hpp"
 #include "src/solver_api.hpp"
 #include "src/thread_team.hpp"
@@ -93,8 +94,12 @@ struct Domains {
 
 template <class GroupsOf>
 Domains make_domains(int64_t nc, int64_t groups, int64_t domain_size, GroupsOf &&groups_of) {
-    // Each contact's groups, and each group's contacts.
-    std::vector<int64_t> group_ptr{0}, group_list;
+    // Each contact's groups, and each group's contacts. Reserved for two groups a contact (two
+    // bodies): grown by doubling, each copy would touch fresh pages.
+    std::vector<int64_t> group_ptr, group_list;
+    group_ptr.reserve((size_t)nc + 1);
+    group_ptr.push_back(0);
+    reserve_advised(group_list, 2 * (size_t)nc);
     for (int64_t a = 0; a < nc; ++a) {
         groups_of(a, group_list);
         group_ptr.push_back((int64_t)group_list.size());
