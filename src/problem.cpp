@@ -9,6 +9,7 @@
 #include "disjoint_sets.hpp"
 #include "error_state.hpp"
 #include "measures.hpp"
+#include "memory.hpp"
 
 namespace frix {
 
@@ -437,7 +438,8 @@ double free_velocity(const frix_problem &p) {
     const int64_t m = contact_size(p) * p.nc;
     if (is_local_form(p) || !p.M) return is_local_form(p) ? norm2(p.q, m) : 0.0;
     const std::vector<double> mass = matrix_diagonal(*p.M);
-    std::vector<double> free(p.w, p.w + m);
+    std::vector<double> free;
+    copy_advised(free, p.w, (size_t)m);
     if (p.H)
         for_each_entry(*p.H, [&](int64_t row, int64_t col, double value) {
             const double d = mass[(size_t)row];

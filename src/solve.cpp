@@ -10,6 +10,7 @@
 #include "error_state.hpp"
 #include "existence.hpp"
 #include "measures.hpp"
+#include "memory.hpp"
 #include "solver_api.hpp"
 #include "vec.hpp"
 
@@ -64,7 +65,9 @@ std::vector<double> finite_warm_start(double *r, int64_t m) {
     for (int64_t i = 0; i < m; ++i)
         if (!std::isfinite(r[i])) r[i] = 0.0;
     if (vec::all_zero(r, m)) return {};
-    return std::vector<double>(r, r + m);
+    std::vector<double> copy;
+    copy_advised(copy, r, (size_t)m);
+    return copy;
 }
 
 bool finite_measures(const Measures &x) {

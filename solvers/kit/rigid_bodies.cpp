@@ -15,8 +15,9 @@ frix_error RigidBodies::setup(const Csc &M, const char *who) {
     for (int64_t c = 0; c < n; ++c)
         for (int64_t k = M.colptr[c]; k < M.colptr[c + 1]; ++k)
             if (M.val[k] != 0.0) sets.unite(M.rowind[k], c);  // a stored zero couples nothing
-    body_of.assign((size_t)n, -1);
-    std::vector<int64_t> body_of_root((size_t)n, -1);
+    assign_advised(body_of, (size_t)n, (int64_t)-1);
+    std::vector<int64_t> body_of_root;
+    assign_advised(body_of_root, (size_t)n, (int64_t)-1);
     int64_t bodies = 0;
     for (int64_t i = 0; i < n; ++i) {
         const int64_t root = sets.find(i);
@@ -34,8 +35,8 @@ frix_error RigidBodies::setup(const Csc &M, const char *who) {
     body_ptr.assign((size_t)bodies + 1, 0);
     for (int64_t i = 0; i < n; ++i) ++body_ptr[body_of[i] + 1];
     for (int64_t b = 0; b < bodies; ++b) body_ptr[b + 1] += body_ptr[b];
-    body_dofs.resize((size_t)n);
-    place.resize((size_t)n);
+    assign_advised(body_dofs, (size_t)n);
+    assign_advised(place, (size_t)n);
     std::vector<int64_t> next(body_ptr.begin(), body_ptr.end() - 1);
     for (int64_t i = 0; i < n; ++i) {
         const int64_t k = next[body_of[i]]++;

@@ -97,14 +97,15 @@ Domains make_domains(int64_t nc, int64_t groups, int64_t domain_size, GroupsOf &
     // Each contact's groups, and each group's contacts. Reserved for two groups a contact (two
     // bodies): grown by doubling, each copy would touch fresh pages.
     std::vector<int64_t> group_ptr, group_list;
-    group_ptr.reserve((size_t)nc + 1);
+    reserve_advised(group_ptr, (size_t)nc + 1);
     group_ptr.push_back(0);
     reserve_advised(group_list, 2 * (size_t)nc);
     for (int64_t a = 0; a < nc; ++a) {
         groups_of(a, group_list);
         group_ptr.push_back((int64_t)group_list.size());
     }
-    std::vector<int64_t> contact_ptr((size_t)groups + 1, 0), contact_list(group_list.size());
+    std::vector<int64_t> contact_ptr((size_t)groups + 1, 0), contact_list;
+    assign_advised(contact_list, group_list.size());
     for (const int64_t g : group_list) ++contact_ptr[(size_t)g + 1];
     for (int64_t g = 0; g < groups; ++g) contact_ptr[(size_t)g + 1] += contact_ptr[(size_t)g];
     {
@@ -115,7 +116,7 @@ Domains make_domains(int64_t nc, int64_t groups, int64_t domain_size, GroupsOf &
     }
     // Breadth first, each component from its first contact; a group is expanded once.
     std::vector<int64_t> order;
-    order.reserve((size_t)nc);
+    reserve_advised(order, (size_t)nc);
     std::vector<char> seen((size_t)nc, 0), expanded((size_t)groups, 0);
     for (int64_t start = 0; start < nc; ++start) {
         if (seen[(size_t)start]) continue;
@@ -146,7 +147,7 @@ Domains make_domains(int64_t nc, int64_t groups, int64_t domain_size, GroupsOf &
         out.erase(std::unique(out.begin() + (std::ptrdiff_t)from, out.end()), out.end());
     });
     Domains out;
-    out.contacts.reserve((size_t)nc);
+    reserve_advised(out.contacts, (size_t)nc);
     out.domain_ptr.assign(1, 0);
     out.colour_ptr.assign(1, 0);
     for (int64_t k = 0; k < colouring.colours(); ++k) {

@@ -18,6 +18,7 @@
 #include "solvers/kit/sweeps.hpp"
 #include "src/error_state.hpp"
 #include "src/log.hpp"
+#include "src/memory.hpp"
 #include "src/monitor.hpp"
 #include "src/rolling.hpp"
 #include "src/vec.hpp"
@@ -56,7 +57,7 @@ class Momentum {
    public:
     Momentum(bool on, bool product_form, int64_t m, const double *r)
         : schedule_(on, {product_form ? kStallSweeps : std::numeric_limits<int64_t>::max(), kStalledGrowth}) {
-        if (on) last_.assign(r, r + m);
+        if (on) copy_advised(last_, r, (size_t)m);
     }
     // A full check's error e after `sweep` sweeps.
     void judge(int64_t sweep, double e) { schedule_.judge(sweep, e); }
