@@ -328,6 +328,42 @@ START_TEST(factor_prices_match_the_work) {
 }
 END_TEST
 
+/* The ordering of a Cholesky: METIS's nested dissection only where it pays for its own time.
+ * On the trilinear mesh AMD's factor does more flops per vertex and edge of the nodes' graph
+ * than METIS takes, and the analysis keeps METIS's fewer flops; on a 7-point grid of one dof a
+ * node AMD's factor is cheap beside that graph (though CHOLMOD's own test would try METIS) and
+ * AMD's analysis is kept. */
+START_TEST(nested_dissection_only_where_it_pays) {
+    static int64_t colptr[kMeshDofs + 1], rowind[kMeshDofs * 81];
+    static double values[kMeshDofs * 81];
+    mesh_matrix(colptr, rowind, values);
+    double flops = 0.0, entries = 0.0, amd_flops = 0.0, amd_entries = 0.0;
+    ck_assert_int_eq(frix_testing_cholesky_cost(kMeshDofs, colptr, rowind, &flops, &entries), FRIX_OK);
+    ck_assert_int_eq(frix_testing_amd_cholesky_cost(kMeshDofs, colptr, rowind, &amd_flops, &amd_entries), FRIX_OK);
+    ck_assert_double_lt(flops, 0.75 * amd_flops);
+    /* 25^3 nodes, upper triangle of the 7-point stencil */
+    enum { kS = 25, kGridDofs = kS * kS * kS };
+    static int64_t gp[kGridDofs + 1], gi[4 * kGridDofs];
+    int64_t e = 0;
+    for (int64_t j = 0; j < kGridDofs; ++j) {
+        gp[j] = e;
+        const int64_t x = j % kS, y = j / kS % kS, z = j / (kS * kS);
+        if (z > 0) gi[e++] = j - kS * kS;
+        if (y > 0) gi[e++] = j - kS;
+        if (x > 0) gi[e++] = j - 1;
+        gi[e++] = j;
+    }
+    gp[kGridDofs] = e;
+    ck_assert_int_eq(frix_testing_cholesky_cost(kGridDofs, gp, gi, &flops, &entries), FRIX_OK);
+    ck_assert_int_eq(frix_testing_amd_cholesky_cost(kGridDofs, gp, gi, &amd_flops, &amd_entries), FRIX_OK);
+    /* CHOLMOD's test for trying METIS holds (flops per entry of L, entries of L per entry of A) */
+    ck_assert_double_ge(amd_flops, 500.0 * amd_entries);
+    ck_assert_double_ge(amd_entries, 5.0 * (double)e);
+    ck_assert_double_eq(flops, amd_flops);
+    ck_assert_double_eq(entries, amd_entries);
+}
+END_TEST
+
 /* The price of forming W = H^T M^-1 H counts, besides its flops, the entries it writes outside
  * the BLAS: W's 9 per block (first touched) and those of the terms summed into them (the lower
  * part of X^T X per supernode of M's factor, X the rows of L^-1 P H there). Fixed inputs, no
@@ -499,6 +535,7 @@ int main(void) {
     tcase_add_test(tc, dense_lu_and_cholesky);
     tcase_add_test(tc, cholesky_cost_from_the_pattern);
     tcase_add_test(tc, factor_prices_match_the_work);
+    tcase_add_test(tc, nested_dissection_only_where_it_pays);
     tcase_add_test(tc, w_price_counts_its_writes);
     tcase_add_test(tc, lu_leaves_the_symmetric_strategy_where_it_pivots_off_the_diagonal);
     suite_add_tcase(s, tc);

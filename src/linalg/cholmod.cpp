@@ -80,26 +80,6 @@ double supernode_flops(double nk, double ncol, double nbelow) {
     return nk * (ncol * ncol + 2.0 * nbelow * ncol) + nk * nk * ncol;
 }
 
-// A non-owning cholmod_sparse header over a CscView (CHOLMOD only reads it).
-cholmod_sparse view_of(const CscView &A, int stype) {
-    cholmod_sparse s{};
-    s.nrow = (size_t)A.rows;
-    s.ncol = (size_t)A.cols;
-    s.nzmax = (size_t)A.nnz();
-    s.p = const_cast<int64_t *>(A.colptr);
-    s.i = const_cast<int64_t *>(A.rowind);
-    s.nz = nullptr;
-    s.x = const_cast<double *>(A.values);
-    s.z = nullptr;
-    s.stype = stype;
-    s.itype = CHOLMOD_LONG;
-    s.xtype = CHOLMOD_REAL;
-    s.dtype = CHOLMOD_DOUBLE;
-    s.sorted = 1;
-    s.packed = 1;
-    return s;
-}
-
 // The memory a numeric factorisation on analysis L will hold: its values (supernodal: the
 // dense supernodes, padding included) and indices, and CHOLMOD's workspace of a few vectors.
 double factor_bytes(const cholmod_factor &L, const cholmod_common &c) {

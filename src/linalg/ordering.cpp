@@ -15,6 +15,12 @@ namespace {
 // triangle.
 constexpr double kNestedFlopsPerEntry = 500.0, kNestedFill = 5.0;
 
+// METIS costs about a microsecond per vertex and entry of the graph it orders, on the CPU the
+// factorisation then runs on; where AMD's factorisation does fewer flops than this many per
+// vertex and entry of the groups' graph, METIS costs more than its shorter factorisation saves
+// (notes/2026-11-30-amd-where-metis-costs-more.md): AMD's ordering is kept.
+constexpr double kNestedFlopsPerGraphEntry = 3e4;
+
 // Two consecutive columns join one group when they share at least this part of the union of
 // their patterns: the dofs of one mesh node share most of their neighbourhood (exact zeros of
 // the element matrices aside), neighbouring nodes less (notes/2026-11-28-fem-setup.md). A
@@ -52,46 +58,49 @@ void column_groups(const cholmod_sparse &A, std::vector<int64_t> &group, std::ve
     first.push_back(n);
 }
 
-// A METIS ordering of A's columns: METIS on the graph of the groups (an edge where A couples
-// two of their columns, from A's upper triangle), each group's columns then in their order.
-// False where METIS fails (c.status says why).
-bool group_nested_dissection(const cholmod_sparse &A, cholmod_common &c, std::vector<int64_t> &perm) {
+// The graph of A's column groups (an edge where A couples two of their columns, from A's upper
+// triangle), in CSC: upper triangle, rows sorted.
+struct GroupGraph {
+    std::vector<int64_t> group, first;  // column_groups
+    std::vector<int64_t> p, i;
+    int64_t groups() const { return (int64_t)first.size() - 1; }
+    double size() const { return (double)groups() + (double)i.size(); }
+};
+
+void group_graph(const cholmod_sparse &A, GroupGraph &g) {
     const int64_t *p = static_cast<const int64_t *>(A.p), *i = static_cast<const int64_t *>(A.i);
-    std::vector<int64_t> group, first;
-    column_groups(A, group, first);
-    const int64_t ng = (int64_t)first.size() - 1;
-    // The groups' graph, upper triangle: group g's column holds the earlier groups its columns
-    // meet in A's upper triangle (groups are consecutive, so an entry i <= j lands at or above
-    // the diagonal).
-    std::vector<int64_t> gp((size_t)ng + 1, 0), gi, mark((size_t)ng, -1);
-    for (int64_t g = 0; g < ng; ++g) {
-        const size_t start = gi.size();
-        for (int64_t j = first[(size_t)g]; j < first[(size_t)g + 1]; ++j)
+    column_groups(A, g.group, g.first);
+    const int64_t ng = g.groups();
+    // Group k's column holds the earlier groups its columns meet in A's upper triangle (groups
+    // are consecutive, so an entry i <= j lands at or above the diagonal).
+    std::vector<int64_t> mark((size_t)ng, -1);
+    g.p.assign((size_t)ng + 1, 0);
+    g.i.clear();
+    for (int64_t k = 0; k < ng; ++k) {
+        const size_t start = g.i.size();
+        for (int64_t j = g.first[(size_t)k]; j < g.first[(size_t)k + 1]; ++j)
             for (int64_t e = p[j]; e < p[j + 1] && i[e] <= j; ++e) {
-                const int64_t h = group[(size_t)i[e]];
-                if (mark[(size_t)h] != g) mark[(size_t)h] = g, gi.push_back(h);
+                const int64_t h = g.group[(size_t)i[e]];
+                if (mark[(size_t)h] != k) mark[(size_t)h] = k, g.i.push_back(h);
             }
-        std::sort(gi.begin() + (std::ptrdiff_t)start, gi.end());
-        gp[(size_t)g + 1] = (int64_t)gi.size();
+        std::sort(g.i.begin() + (std::ptrdiff_t)start, g.i.end());
+        g.p[(size_t)k + 1] = (int64_t)g.i.size();
     }
-    cholmod_sparse G{};
-    G.nrow = G.ncol = (size_t)ng;
-    G.nzmax = std::max<size_t>(gi.size(), 1);
-    if (gi.empty()) gi.push_back(0);
-    G.p = gp.data();
-    G.i = gi.data();
-    G.stype = 1;
-    G.itype = CHOLMOD_LONG;
-    G.xtype = CHOLMOD_PATTERN;
-    G.dtype = CHOLMOD_DOUBLE;
-    G.sorted = 1;
-    G.packed = 1;
+}
+
+// A METIS ordering of A's columns: METIS on the groups' graph, each group's columns then in
+// their order. False where METIS fails (c.status says why).
+bool group_nested_dissection(const cholmod_sparse &A, GroupGraph &g, cholmod_common &c, std::vector<int64_t> &perm) {
+    const int64_t ng = g.groups();
+    if (g.i.empty()) g.i.push_back(0);  // CHOLMOD wants storage for one entry at least
+    cholmod_sparse G = view_of({ng, ng, g.p.data(), g.i.data(), nullptr}, 1);
+    G.nzmax = std::max<size_t>(G.nzmax, 1);
     std::vector<int64_t> order((size_t)ng);
     if (!cholmod_l_metis(&G, nullptr, 0, 0, order.data(), &c) || c.status != CHOLMOD_OK) return false;
     perm.clear();
     perm.reserve(A.ncol);
-    for (int64_t g : order)
-        for (int64_t j = first[(size_t)g]; j < first[(size_t)g + 1]; ++j) perm.push_back(j);
+    for (int64_t k : order)
+        for (int64_t j = g.first[(size_t)k]; j < g.first[(size_t)k + 1]; ++j) perm.push_back(j);
     return true;
 }
 
@@ -106,15 +115,40 @@ double upper_entries(const cholmod_sparse &A) {
 
 }  // namespace
 
+cholmod_sparse view_of(const CscView &A, int stype) {
+    cholmod_sparse s{};
+    s.nrow = (size_t)A.rows;
+    s.ncol = (size_t)A.cols;
+    s.nzmax = (size_t)A.nnz();
+    s.p = const_cast<int64_t *>(A.colptr);
+    s.i = const_cast<int64_t *>(A.rowind);
+    s.nz = nullptr;
+    s.x = const_cast<double *>(A.values);
+    s.z = nullptr;
+    s.stype = stype;
+    s.itype = CHOLMOD_LONG;
+    s.xtype = A.values ? CHOLMOD_REAL : CHOLMOD_PATTERN;
+    s.dtype = CHOLMOD_DOUBLE;
+    s.sorted = 1;
+    s.packed = 1;
+    return s;
+}
+
 cholmod_factor *analyze_symmetric(cholmod_sparse &a, cholmod_common &c) {
     const int nmethods = c.nmethods, ordering = c.method[0].ordering;
     c.nmethods = 1;
     c.method[0].ordering = CHOLMOD_AMD;
     cholmod_factor *L = cholmod_l_analyze(&a, &c);
     const double fl = c.fl, lnz = c.lnz;
-    if (L && fl >= kNestedFlopsPerEntry * lnz && lnz >= kNestedFill * upper_entries(a)) {
+    bool nested = L && fl >= kNestedFlopsPerEntry * lnz && lnz >= kNestedFill * upper_entries(a);
+    GroupGraph g;
+    if (nested) {
+        group_graph(a, g);
+        nested = fl >= kNestedFlopsPerGraphEntry * g.size();
+    }
+    if (nested) {
         std::vector<int64_t> perm;
-        if (group_nested_dissection(a, c, perm)) {
+        if (group_nested_dissection(a, g, c, perm)) {
             c.method[0].ordering = CHOLMOD_GIVEN;
             cholmod_factor *nd = cholmod_l_analyze_p(&a, perm.data(), nullptr, 0, &c);
             // CHOLMOD's rule between orderings: the fewer entries of L.

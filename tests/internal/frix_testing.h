@@ -128,6 +128,9 @@ int frix_testing_inverse_diagonal(const frix_matrix *M, const frix_matrix *B, do
  * values not needed), from the symbolic analysis alone. */
 int frix_testing_cholesky_cost(int64_t n, const int64_t *colptr, const int64_t *rowind, double *flops,
                                double *entries);
+/* The same count under CHOLMOD's AMD ordering alone (no nested dissection tried). */
+int frix_testing_amd_cholesky_cost(int64_t n, const int64_t *colptr, const int64_t *rowind, double *flops,
+                                   double *entries);
 /* The prices of factorisations of A (n x n CSC, both triangles, SPD), in flops, against what
  * they do: *cholesky_price the price a SparseCholesky asks its budget with before factorising,
  * *cholesky_cost cholesky_cost's count of A's pattern; *lu_price the price of a SparseLU with

@@ -140,6 +140,7 @@ FRIX_TESTING_HOOK int frix_testing_stage_from_measured_start(const frix_problem 
 #include "solvers/kit/local_newton.hpp"
 #include "solvers/kit/nsn_functions.hpp"
 #include "src/linalg/linalg.hpp"
+#include "src/linalg/ordering.hpp"
 
 FRIX_TESTING_HOOK void frix_testing_contact_function(int formulation, const double r[3],
                                                      const double u[3], double mu, double rho_n,
@@ -237,6 +238,27 @@ FRIX_TESTING_HOOK int frix_testing_cholesky_cost(int64_t n, const int64_t *colpt
     const int e = frix::linalg::cholesky_cost({n, n, colptr, rowind, nullptr}, &c);
     *flops = c.flops;
     *entries = c.factor_entries;
+    return e;
+}
+
+// The flops and entries of L of a Cholesky of A's pattern (upper triangle) under CHOLMOD's AMD
+// ordering alone, what analyze_symmetric starts from.
+FRIX_TESTING_HOOK int frix_testing_amd_cholesky_cost(int64_t n, const int64_t *colptr, const int64_t *rowind,
+                                                     double *flops, double *entries) {
+    cholmod_common c;
+    cholmod_l_start(&c);
+    c.print = 0;
+    c.supernodal = CHOLMOD_SIMPLICIAL;
+    c.postorder = 0;
+    c.nmethods = 1;
+    c.method[0].ordering = CHOLMOD_AMD;
+    cholmod_sparse a = frix::linalg::view_of({n, n, colptr, rowind, nullptr}, 1);
+    cholmod_factor *L = cholmod_l_analyze(&a, &c);
+    *flops = c.fl;
+    *entries = c.lnz;
+    const int e = L && c.status == CHOLMOD_OK ? FRIX_OK : FRIX_ERR_NUMERICAL;
+    if (L) cholmod_l_free_factor(&L, &c);
+    cholmod_l_finish(&c);
     return e;
 }
 
