@@ -7,7 +7,8 @@
 # with those solvers and a longer cap (large-1e-6-long), and one of global problems
 # (the shared FCLIB global ones, generated elastic grids of 1200 to 99825 dofs and blocks
 # assembled by GetFEM of 1452 to 60516 dofs, frix's solvers for them and Siconos 4.4's global
-# ones) at 1e-8; their tables spliced
+# ones) at 1e-8, and the same problems at 1e-4 with auto, frix's solvers without W, nsgs-v and
+# Siconos's global solvers (global-1e-4); their tables spliced
 # between the markers of docs/reports/benchmarks.md, their plots and runs.csv copied to
 # docs/reports/benchmarks/<campaign>/; then auto against the best solver of each library, problem by
 # problem, over the two 1e-8 campaigns (tools/bench/auto_summary.py), with the performance
@@ -23,7 +24,7 @@
 # BENCH_GLOBAL_TIME_LIMIT (default 60 s per run on the global ones), BENCH_MAX_ITER (iterations per run, default 1000000000: the time limit is what
 # ends a run, so that a solver that needs millions of fast sweeps, NSGS on RockPile_tob1,
 # is judged by the clock), BENCH_JOBS (default 1), BENCH_CAMPAIGNS (default "1e-4 1e-6 1e-8
-# large large-1e-4 large-1e-6 large-1e-6-long global"),
+# large large-1e-4 large-1e-6 large-1e-6-long global global-1e-4"),
 # BENCH_REUSE=1 (redo the report of a campaign whose BENCH_WORK/<campaign>/runs.csv exists,
 # e.g. after rows were added to it by hand, instead of running it again).
 set -euo pipefail
@@ -36,7 +37,7 @@ long_limit=${BENCH_LONG_TIME_LIMIT:-150}
 global_limit=${BENCH_GLOBAL_TIME_LIMIT:-60}
 max_iter=${BENCH_MAX_ITER:-1000000000}
 jobs=${BENCH_JOBS:-1}
-campaigns=${BENCH_CAMPAIGNS:-1e-4 1e-6 1e-8 large large-1e-4 large-1e-6 large-1e-6-long global}
+campaigns=${BENCH_CAMPAIGNS:-1e-4 1e-6 1e-8 large large-1e-4 large-1e-6 large-1e-6-long global global-1e-4}
 frix="$build/tools/frix"
 doc=docs/reports/benchmarks.md
 figures=docs/reports/benchmarks
@@ -125,6 +126,13 @@ for campaign in $campaigns; do
             getfem_blocks
             dirs=("$shared/fclib/global" "$work/grids" "$work/getfem"); tol=1e-8; tl=$global_limit
             solvers=auto,gnsn-ac,gadmm,gnsn-al,nsgs,nsgs-v,admm,ipm,siconos:GFC3D_NSN_AC,siconos:GFC3D_NSN_AC_WR,siconos:GFC3D_NSGS_WR,siconos:GFC3D_PROX_WR,siconos:GFC3D_ADMM,siconos:GFC3D_IPM ;;
+        global-1e-4)
+            # The same problems at a simulation tolerance: auto, frix's solvers without W and
+            # nsgs-v, against every Siconos global solver.
+            grids
+            getfem_blocks
+            dirs=("$shared/fclib/global" "$work/grids" "$work/getfem"); tol=1e-4; tl=$global_limit
+            solvers=auto,gadmm,gnsn-al,nsgs-v,siconos:GFC3D_NSN_AC,siconos:GFC3D_NSN_AC_WR,siconos:GFC3D_NSGS_WR,siconos:GFC3D_PROX_WR,siconos:GFC3D_ADMM,siconos:GFC3D_IPM ;;
         *) dirs=("$shared/fclib/local" "$shared/fclib/converted"); tol=$campaign; tl=$limit ;;
     esac
     out="$work/$campaign"
