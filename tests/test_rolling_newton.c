@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "check_main.h"
+#include "frix_testing.h"
 #include "support/lcg.h"
 #include "support/rolling_pile.h"
 
@@ -144,6 +145,28 @@ START_TEST(test_auto_polishes) {
     frix_info_free(info);
     free(r);
     chain_free(&c);
+}
+END_TEST
+
+/* auto's watch over the rolling polish (Watch::Newton): steps that creep (each lowering the best
+ * error by less than a tenth: damped steps on a settled pile, about 1 % each) end it after the
+ * patience; steps that gain do not, nor do a stage's estimates (an inner problem's errors)
+ * once it reports measured ones. */
+START_TEST(test_newton_watch_stops_a_creeping_polish) {
+    const double creep[6] = {6.24e-5, 6.23e-5, 6.16e-5, 6.10e-5, 5.98e-5, 5.92e-5};
+    const int estimates[6] = {0, 0, 0, 0, 0, 0};
+    ck_assert_int_eq(frix_testing_newton_watch(creep, estimates, 6, 3), 3);
+    ck_assert_int_eq(frix_testing_newton_watch(creep, estimates, 6, 6), -1);
+    const double gains[6] = {3.4e-1, 8.8e-2, 4.0e-3, 1.9e-5, 9.0e-9, 1.0e-12};
+    ck_assert_int_eq(frix_testing_newton_watch(gains, estimates, 6, 1), -1);
+    /* measured errors that gain, tiny estimates between them */
+    const double mixed[8] = {2.6e-12, 3.4e-1, 1.8e-12, 1.5e-1, 1.7e-12, 6.0e-2, 1.6e-12, 1.0e-2};
+    const int kinds[8] = {0, 1, 0, 1, 0, 1, 0, 1};
+    ck_assert_int_eq(frix_testing_newton_watch(mixed, kinds, 8, 2), -1);
+    /* a restart that undoes the progress counts as slow */
+    const double undone[5] = {1e-4, 4e-5, 4.1e-5, 4.05e-5, 3.99e-5};
+    const int measured[5] = {1, 1, 1, 1, 1};
+    ck_assert_int_eq(frix_testing_newton_watch(undone, measured, 5, 3), 4);
 }
 END_TEST
 
@@ -360,6 +383,7 @@ int main(void) {
     tcase_add_test(tc, test_newton_agrees_with_nsgs);
     tcase_add_test(tc, test_newton_on_a_stack);
     tcase_add_test(tc, test_auto_polishes);
+    tcase_add_test(tc, test_newton_watch_stops_a_creeping_polish);
     tcase_add_test(tc, test_status_follows_the_measure);
     tcase_add_test(tc, test_memory_limit);
     tcase_add_test(tc, test_auto_sweeps_on_when_newton_is_refused);

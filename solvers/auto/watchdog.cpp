@@ -40,6 +40,7 @@ int Watchdog::on_progress(int64_t iteration, double error, bool measured) {
     // The caller's max_iter bounds the sum of the stages' own units, PROX's inner Newton
     // steps among them, which PROX's own limit (on its outer steps) does not bound.
     if (shared->out_of_iterations()) return stop("iteration limit");
+    if (kind == Watch::Newton) return judge_newton(error, measured);
     if (std::isfinite(error) && error < best) best = error;
     if (best <= 0.1 * ref || (!std::isfinite(ref) && std::isfinite(best))) {
         ref = best;
@@ -49,6 +50,18 @@ int Watchdog::on_progress(int64_t iteration, double error, bool measured) {
     const int64_t idle = iteration - ref_iteration;
     if (idle >= patience && 2 * idle >= iteration) return stop("no tenfold progress");
     return 0;
+}
+
+// A Newton step is slow where it lowers the best error by less than kNewtonStepGain; the
+// errors compared are the measured ones once the stage reports any (its estimates may be those
+// of an inner problem), else its estimates.
+int Watchdog::judge_newton(double error, bool measured) {
+    if (measured && !measured_seen) measured_seen = true, best = INFINITY;
+    if (measured_seen && !measured) return 0;
+    const double before = best;
+    if (std::isfinite(error) && error < best) best = error;
+    slow_reports = best <= kNewtonStepGain * before ? 0 : slow_reports + 1;
+    return slow_reports >= patience ? stop("Newton steps too slow") : 0;
 }
 
 // The iterations the rate may predict to the tolerance before the stage is stopped.

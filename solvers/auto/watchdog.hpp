@@ -16,7 +16,11 @@
 
 namespace frix::autosolve {
 
-enum class Watch { Rate, Stall };
+// Rate: does the stage's rate promise the tolerance soon enough; Stall: tenfold progress within
+// its patience; Newton: a polish of Newton steps, stopped after `patience` steps in a row that
+// do not lower its best error by kNewtonStepGain (steps cut short by the line search, or a
+// restart that undid the progress).
+enum class Watch { Rate, Stall, Newton };
 
 // Shared by the parts of one solve: the caller's callback (called under a lock, with the
 // iterations of all parts summed) and the stop it may request.
@@ -75,6 +79,8 @@ struct Watchdog {
     const char *slow = "NSGS rate too slow";
     int64_t last_iteration = 0;  // the stage's iteration count at the previous call
     double best = INFINITY;      // best error of the stage
+    int64_t slow_reports = 0;    // Watch::Newton: steps in a row that did not lower best enough
+    bool measured_seen = false;  // Watch::Newton: the stage has reported a measured error
     double ref = INFINITY;       // the error that tenfold progress is measured from
     int64_t ref_iteration = 0;   // when the best error last fell tenfold
     // Watch::Rate on an unpriced part: the error near half the sweeps so far.
@@ -114,6 +120,7 @@ struct Watchdog {
     double judged_error(double error) const { return iteration_work > 0.0 ? best : error; }
     double limit(int64_t sweeps, double allowed) const;
     int judge_rate(double error, int64_t sweeps);
+    int judge_newton(double error, bool measured);
     // The gain of log(error) over the sweeps from *from on, for the rate; false: not judged yet.
     bool rate_gain(double error, int64_t sweeps, double *gained, int64_t *from);
     void log_rate(int64_t sweeps, double error, double allowed) const;

@@ -136,6 +136,22 @@ FRIX_TESTING_HOOK int frix_testing_stage_from_measured_start(const frix_problem 
     return e;
 }
 
+// Watch::Newton fed count progress reports (errors, measured flags), one per iteration: the
+// index of the report it stopped at, or -1.
+FRIX_TESTING_HOOK int frix_testing_newton_watch(const double *errors, const int *measured, int count,
+                                                int64_t patience) {
+    frix_options *o = nullptr;
+    if (frix_options_create(FRIX_SOLVER_AUTO, &o) != FRIX_OK) return -2;
+    const frix::Stopwatch clock;
+    frix::autosolve::Shared shared(*o, clock);
+    frix::autosolve::Watchdog dog(shared, frix::autosolve::Watch::Newton, 1e-12, patience, 0);
+    int stopped = -1;
+    for (int k = 0; k < count && stopped < 0; ++k)
+        if (dog.on_progress(k + 1, errors[k], measured[k] != 0)) stopped = k;
+    frix_options_free(o);
+    return stopped;
+}
+
 // ---- Semismooth functions (solvers/kit/nsn_functions.hpp) and the linear algebra back-end.
 #include "solvers/kit/local_newton.hpp"
 #include "solvers/kit/nsn_functions.hpp"
