@@ -150,8 +150,8 @@ END_TEST
 
 /* auto's watch over the rolling polish (Watch::Newton): steps that creep (each lowering the best
  * error by less than a tenth: damped steps on a settled pile, about 1 % each) end it after the
- * patience; steps that gain do not, nor do a stage's estimates (an inner problem's errors)
- * once it reports measured ones. */
+ * patience, and so do errors that are not finite; steps that gain do not, nor do a stage's
+ * estimates (an inner problem's errors) once it reports measured ones. */
 START_TEST(test_newton_watch_stops_a_creeping_polish) {
     const double creep[6] = {6.24e-5, 6.23e-5, 6.16e-5, 6.10e-5, 5.98e-5, 5.92e-5};
     const int estimates[6] = {0, 0, 0, 0, 0, 0};
@@ -167,6 +167,9 @@ START_TEST(test_newton_watch_stops_a_creeping_polish) {
     const double undone[5] = {1e-4, 4e-5, 4.1e-5, 4.05e-5, 3.99e-5};
     const int measured[5] = {1, 1, 1, 1, 1};
     ck_assert_int_eq(frix_testing_newton_watch(undone, measured, 5, 3), 4);
+    /* errors that are not finite are slow steps too */
+    const double nans[3] = {NAN, NAN, NAN};
+    ck_assert_int_eq(frix_testing_newton_watch(nans, measured, 3, 2), 1);
 }
 END_TEST
 

@@ -56,8 +56,8 @@ void check_existence_on_failure(SolveContext &ctx) {
 
 // One stage of a rolling-friction solve: `id` from r to `tol` within `max_iter` iterations on
 // the caller's limits (and under `dog`, where given, which passes the caller's callback on),
-// recorded in the trace; the iterations add up in info. A stage the watchdog stopped ends
-// stagnated.
+// recorded in the trace; the iterations add up in info. A stage the Newton watch stopped for
+// its creeping steps ends stagnated.
 frix_error rolling_stage(SolveContext &ctx, int id, double tol, int64_t max_iter, int64_t &done,
                          Watchdog *dog = nullptr) {
     const SolverEntry *entry = find_solver(id);
@@ -75,11 +75,12 @@ frix_error rolling_stage(SolveContext &ctx, int id, double tol, int64_t max_iter
     ctx.has_measured = inner.has_measured;  // the stage's measures of the r it returned, if it took them
     ctx.measured = inner.measured;
     const double error = ctx.info.error;
-    const bool stalled = dog && dog->stopped_by_watchdog && !dog->shared->stop_requested.load();
-    if (stalled && ctx.info.status == FRIX_STATUS_STOPPED_BY_CALLBACK) ctx.info.status = FRIX_STATUS_STAGNATED;
+    const bool creeping = dog && dog->stopped_creeping() && ctx.info.status == FRIX_STATUS_STOPPED_BY_CALLBACK &&
+                          !ctx.info.ran_away;
+    if (creeping) ctx.info.status = FRIX_STATUS_STAGNATED;
     TraceEvent stage =
         stage_event(entry->id, ctx.info, ctx.clock.seconds() - t0, std::isfinite(error) ? error : INFINITY);
-    stage.why = stalled ? dog->why : nullptr;
+    stage.why = creeping ? dog->why : nullptr;
     ctx.info.trace.push_back(stage);
     done += ctx.info.iterations;
     return FRIX_OK;
@@ -88,8 +89,8 @@ frix_error rolling_stage(SolveContext &ctx, int id, double tol, int64_t max_iter
 // A rolling-friction problem (docs/rolling.md): rolling-nsgs to kRollingLoose (or to the
 // tolerance, if looser) on at most half the iterations; where the tolerance is tighter and
 // not met, a rolling-nsn polish of at most kRollingNewtonSteps Newton steps from the sweeps'
-// answer, ended early where the sweeps got there and its steps stop gaining (Watch::Newton;
-// it returns an iterate no worse than its start); where that fails too, or its factorisation
+// answer, ended early where the sweeps got there and its steps creep (Watch::Newton; it
+// returns an iterate no worse than its start); where that fails too, or its factorisation
 // was refused for memory or for the time left, the sweeps again with the iterations and the
 // time left: they factorise nothing. The driver measures the answer and checks the status.
 frix_error solve_rolling(SolveContext &ctx) {
@@ -109,10 +110,13 @@ frix_error solve_rolling(SolveContext &ctx) {
     };
     if (!finished(true)) {
         const int64_t steps = std::min(kRollingNewtonSteps, budget - done);
-        const bool sweeps_work = ctx.info.status == FRIX_STATUS_CONVERGED;  // at `loose`
+        const bool sweeps_reached_loose = ctx.info.status == FRIX_STATUS_CONVERGED;
         Shared shared(ctx.options, ctx.clock);
-        Watchdog dog(shared, Watch::Newton, tol, sweeps_work ? kRollingNewtonSlowSteps : steps + 1, 0);
-        if (frix_error e = rolling_stage(ctx, FRIX_SOLVER_ROLLING_NSN, tol, steps, done, &dog)) return e;
+        shared.iterations = done;  // the watch's iteration limit is the caller's, over all stages
+        Watchdog dog(shared, Watch::Newton, tol, kRollingNewtonSlowSteps, 0);
+        dog.newton_start = ctx.info.error;
+        Watchdog *probe = sweeps_reached_loose ? &dog : nullptr;
+        if (frix_error e = rolling_stage(ctx, FRIX_SOLVER_ROLLING_NSN, tol, steps, done, probe)) return e;
     }
     if (!finished(false))
         if (frix_error e = rolling_stage(ctx, FRIX_SOLVER_ROLLING_NSGS, tol, budget - done, done)) return e;

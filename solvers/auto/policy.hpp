@@ -21,13 +21,15 @@ constexpr double kRollingLoose = 1e-4;
 // The rolling-nsn polish's Newton steps at most (one factorisation each): where W has full
 // rank it converges in about ten; on rigid piles it stalls, and the sweeps take over again.
 constexpr int64_t kRollingNewtonSteps = 20;
-// Where the sweeps reached kRollingLoose, the polish is a probe: it ends after this many Newton
-// steps in a row that each lower its best error by less than a tenth (Watch::Newton), where the
-// sweeps would go on at their own rate; damped steps that creep cost a factorisation each, as
-// much as hundreds of sweeps on a pile. Where the sweeps did not get there, it keeps its steps:
-// a Newton from far creeps for a few steps before it converges.
+// Where the sweeps reached kRollingLoose they go on at their own rate, and the polish is a
+// probe: it ends after this many steps in a row that creep (Watch::Newton; its steps are
+// Newton steps, or proximal steps once rolling-nsn reports measured errors). Damped steps that
+// creep cost a factorisation each, as much as hundreds of sweeps on a pile. Where the sweeps
+// did not get there, the polish keeps its steps: a Newton from far creeps for a few steps
+// before it converges.
 constexpr int64_t kRollingNewtonSlowSteps = 2;
-constexpr double kNewtonStepGain = 0.9;
+// A Newton step creeps where it leaves the best error above this many times the best before.
+constexpr double kNewtonSlowStepRatio = 0.9;
 
 // ---- NSGS's first stage (notes/2026-11-25-auto-constants.md)
 

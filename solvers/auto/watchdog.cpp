@@ -52,16 +52,16 @@ int Watchdog::on_progress(int64_t iteration, double error, bool measured) {
     return 0;
 }
 
-// A Newton step is slow where it lowers the best error by less than kNewtonStepGain; the
-// errors compared are the measured ones once the stage reports any (its estimates may be those
-// of an inner problem), else its estimates.
+// A step is slow where its error (not finite: slow) does not bring the best below
+// kNewtonSlowStepRatio times the best before; the errors judged are the measured ones, from
+// newton_start on, once the stage reports any, else its estimates.
 int Watchdog::judge_newton(double error, bool measured) {
-    if (measured && !measured_seen) measured_seen = true, best = INFINITY;
+    if (measured && !measured_seen) measured_seen = true, best = newton_start;
     if (measured_seen && !measured) return 0;
-    const double before = best;
+    const bool gained = std::isfinite(error) && error <= kNewtonSlowStepRatio * best;
     if (std::isfinite(error) && error < best) best = error;
-    slow_reports = best <= kNewtonStepGain * before ? 0 : slow_reports + 1;
-    return slow_reports >= patience ? stop("Newton steps too slow") : 0;
+    slow_steps = gained ? 0 : slow_steps + 1;
+    return slow_steps >= patience ? stop(creeping) : 0;
 }
 
 // The iterations the rate may predict to the tolerance before the stage is stopped.

@@ -1,7 +1,7 @@
 // What auto's stages share (the caller's options, clock, callback and log, the iterations of
 // all parts) and the watchdog every stage runs under: the rate watch (does the stage's rate
-// promise the tolerance soon enough?) and the stall watch (tenfold progress within its
-// patience).
+// promise the tolerance soon enough?), the stall watch (tenfold progress within its patience)
+// and the Newton watch (steps that creep).
 #pragma once
 
 #include <atomic>
@@ -17,9 +17,10 @@
 namespace frix::autosolve {
 
 // Rate: does the stage's rate promise the tolerance soon enough; Stall: tenfold progress within
-// its patience; Newton: a polish of Newton steps, stopped after `patience` steps in a row that
-// do not lower its best error by kNewtonStepGain (steps cut short by the line search, or a
-// restart that undid the progress).
+// its patience; Newton: a Newton polish, stopped after `patience` steps in a row that do not
+// bring its best error below kNewtonSlowStepRatio times the best before (steps cut short by
+// the line search, or a proximal restart that undid the progress). Its steps are the stage's
+// reports: Newton steps, or proximal steps once it reports measured errors.
 enum class Watch { Rate, Stall, Newton };
 
 // Shared by the parts of one solve: the caller's callback (called under a lock, with the
@@ -79,8 +80,13 @@ struct Watchdog {
     const char *slow = "NSGS rate too slow";
     int64_t last_iteration = 0;  // the stage's iteration count at the previous call
     double best = INFINITY;      // best error of the stage
-    int64_t slow_reports = 0;    // Watch::Newton: steps in a row that did not lower best enough
-    bool measured_seen = false;  // Watch::Newton: the stage has reported a measured error
+    // Watch::Newton: the measured error the stage starts from (INFINITY: not known), the slow
+    // steps in a row, and whether the stage has reported a measured error (its estimates are
+    // then ignored: they may be those of an inner problem).
+    double newton_start = INFINITY;
+    int64_t slow_steps = 0;
+    bool measured_seen = false;
+    const char *creeping = "Newton steps too slow";
     double ref = INFINITY;       // the error that tenfold progress is measured from
     int64_t ref_iteration = 0;   // when the best error last fell tenfold
     // Watch::Rate on an unpriced part: the error near half the sweeps so far.
@@ -107,6 +113,8 @@ struct Watchdog {
     int on_progress(int64_t iteration, double error, bool measured);
     // Whether the stage ended for its rate (not its stall, a limit or the caller).
     bool stopped_slow() const { return stopped_by_watchdog && why == slow; }
+    // Whether the Newton watch ended the stage for its creeping steps.
+    bool stopped_creeping() const { return stopped_by_watchdog && why == creeping; }
 
    private:
     int stop(const char *reason) {

@@ -15,11 +15,12 @@ namespace {
 // triangle.
 constexpr double kNestedFlopsPerEntry = 500.0, kNestedFill = 5.0;
 
-// METIS costs about a microsecond per vertex and entry of the graph it orders, on the CPU the
-// factorisation then runs on; where AMD's factorisation does fewer flops than this many per
-// vertex and entry of the groups' graph, METIS costs more than its shorter factorisation saves
-// (notes/2026-11-30-amd-where-metis-costs-more.md): AMD's ordering is kept.
-constexpr double kNestedFlopsPerGraphEntry = 3e4;
+// METIS costs 0.3-1.1 us per vertex and entry (item) of the graph it orders. Where AMD's
+// factorisation does fewer flops than this many per item of the groups' graph, METIS cost
+// more than it saved in a factorisation and the solves of a one-shot ADMM, and AMD's ordering
+// is kept; a little above, it pays over repeated factorisations or many solves
+// (notes/2026-11-30-amd-where-metis-costs-more.md).
+constexpr double kNestedFlopsPerGraphItem = 3e4;
 
 // Two consecutive columns join one group when they share at least this part of the union of
 // their patterns: the dofs of one mesh node share most of their neighbourhood (exact zeros of
@@ -64,7 +65,7 @@ struct GroupGraph {
     std::vector<int64_t> group, first;  // column_groups
     std::vector<int64_t> p, i;
     int64_t groups() const { return (int64_t)first.size() - 1; }
-    double size() const { return (double)groups() + (double)i.size(); }
+    double items() const { return (double)groups() + (double)i.size(); }  // vertices and entries
 };
 
 void group_graph(const cholmod_sparse &A, GroupGraph &g) {
@@ -90,11 +91,11 @@ void group_graph(const cholmod_sparse &A, GroupGraph &g) {
 
 // A METIS ordering of A's columns: METIS on the groups' graph, each group's columns then in
 // their order. False where METIS fails (c.status says why).
-bool group_nested_dissection(const cholmod_sparse &A, GroupGraph &g, cholmod_common &c, std::vector<int64_t> &perm) {
-    const int64_t ng = g.groups();
-    if (g.i.empty()) g.i.push_back(0);  // CHOLMOD wants storage for one entry at least
-    cholmod_sparse G = view_of({ng, ng, g.p.data(), g.i.data(), nullptr}, 1);
-    G.nzmax = std::max<size_t>(G.nzmax, 1);
+bool group_nested_dissection(const cholmod_sparse &A, const GroupGraph &g, cholmod_common &c,
+                             std::vector<int64_t> &perm) {
+    const int64_t ng = g.groups(), none = 0;
+    cholmod_sparse G = view_of({ng, ng, g.p.data(), g.i.empty() ? &none : g.i.data(), nullptr}, 1);
+    G.nzmax = std::max<size_t>(G.nzmax, 1);  // CHOLMOD wants storage for one entry at least
     std::vector<int64_t> order((size_t)ng);
     if (!cholmod_l_metis(&G, nullptr, 0, 0, order.data(), &c) || c.status != CHOLMOD_OK) return false;
     perm.clear();
@@ -144,7 +145,7 @@ cholmod_factor *analyze_symmetric(cholmod_sparse &a, cholmod_common &c) {
     GroupGraph g;
     if (nested) {
         group_graph(a, g);
-        nested = fl >= kNestedFlopsPerGraphEntry * g.size();
+        nested = fl >= kNestedFlopsPerGraphItem * g.items();
     }
     if (nested) {
         std::vector<int64_t> perm;

@@ -48,16 +48,16 @@ double frix_testing_contact_residual(const double W[9], const double q[3], doubl
                                      const double r[3], double *relative);
 
 /* ---- A stage of auto (solvers/auto/stage.hpp) from a warm start whose measures its part holds. */
-/* auto's watch over a Newton polish (Watch::Newton, `patience` slow steps) fed `count` reports
- * (errors[k], measured[k] != 0) at iterations 1, 2, ...: the index of the report it stopped
- * the stage at, or -1 where it let it run. */
-int frix_testing_newton_watch(const double *errors, const int *measured, int count, int64_t patience);
 /* nsgs or nsgs-v (solver_id) on the local problem p from the warm start r (result out), as auto
  * runs a part's stage to tolerance 1e-8 where the part's u holds W r + q: handed the start's
  * measures (SolveContext::measured_start), their errors multiplied by `claim` (1: as they are),
  * instead of measuring the start itself. *sweeps and *error: the stage's. A frix_error value. */
 int frix_testing_stage_from_measured_start(const frix_problem *p, int solver_id, double claim, double *r,
                                            int64_t *sweeps, double *error);
+/* auto's watch over a Newton polish (Watch::Newton, `patience` slow steps) fed `count` reports
+ * (errors[k], measured[k] != 0) at iterations 1, 2, ...: the index of the report it stopped
+ * the stage at, -1 where it let it run, -2 where its options could not be made. */
+int frix_testing_newton_watch(const double *errors, const int *measured, int count, int64_t patience);
 
 /* ---- Semismooth reformulations of one contact (solvers/kit/nsn_functions.hpp): Phi(r, u) and
  * the blocks A = dPhi/dr, B = dPhi/du (column-major; may be NULL). formulation: 0

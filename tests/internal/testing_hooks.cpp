@@ -137,7 +137,8 @@ FRIX_TESTING_HOOK int frix_testing_stage_from_measured_start(const frix_problem 
 }
 
 // Watch::Newton fed count progress reports (errors, measured flags), one per iteration: the
-// index of the report it stopped at, or -1.
+// index of the report it stopped at, -1 where it let the stage run, -2 where its options could
+// not be made.
 FRIX_TESTING_HOOK int frix_testing_newton_watch(const double *errors, const int *measured, int count,
                                                 int64_t patience) {
     frix_options *o = nullptr;
@@ -264,6 +265,7 @@ FRIX_TESTING_HOOK int frix_testing_amd_cholesky_cost(int64_t n, const int64_t *c
     cholmod_common c;
     cholmod_l_start(&c);
     c.print = 0;
+    c.error_handler = nullptr;
     c.supernodal = CHOLMOD_SIMPLICIAL;
     c.postorder = 0;
     c.nmethods = 1;
