@@ -244,7 +244,7 @@ FactorCost dense_cholesky_cost(int64_t n) {
     return FactorCost{N * (N + 1.0) * (2.0 * N + 1.0) / 6.0, entries, 8.0 * 2.0 * entries + 8.0 * 8.0 * N};
 }
 
-frix_error cholesky_cost(const CscView &A, FactorCost *cost) {
+frix_error cholesky_cost(const CscView &A, FactorCost *cost, Orderings orderings) {
     *cost = FactorCost{};
     if (A.rows != A.cols)
         return fail(FRIX_ERR_DIMENSION, "Cholesky cost: the matrix is %lld x %lld, not square", (long long)A.rows,
@@ -264,7 +264,7 @@ frix_error cholesky_cost(const CscView &A, FactorCost *cost) {
     cholmod_factor *L = nullptr;
     {
         const std::lock_guard<std::mutex> lock(metis_mutex());
-        L = analyze_symmetric(a, c);
+        L = analyze_symmetric(a, c, orderings);
     }
     const bool ok = L != nullptr && c.status == CHOLMOD_OK;
     if (ok) *cost = FactorCost{c.fl, c.lnz, factor_bytes(*L, c)};

@@ -254,11 +254,14 @@ class SparseCholesky {
     frix_status refused_ = FRIX_STATUS_NOT_RUN;
 };
 
+// The orderings an analysis may choose from: analyze_symmetric's rule (AMD, or METIS where it
+// pays), or AMD alone.
+enum class Orderings { kAmdOrNested, kAmdOnly };
 // What a Cholesky factorisation of a symmetric matrix with A's pattern would cost, from
-// the symbolic analysis alone (the ordering a SparseCholesky of it picks; no numeric work): a stage
-// can be priced before it is paid. Only A's pattern is read (values may be null), and of it
-// the upper triangle.
-frix_error cholesky_cost(const CscView &A, FactorCost *cost);
+// the symbolic analysis alone (by default the ordering a SparseCholesky of it picks; no numeric
+// work): a stage can be priced before it is paid. Only A's pattern is read (values may be
+// null), and of it the upper triangle.
+frix_error cholesky_cost(const CscView &A, FactorCost *cost, Orderings orderings = Orderings::kAmdOrNested);
 // inv = A^-1 for a small dense k x k matrix A (column-major, overwritten; inv must hold the
 // identity on entry), by Gauss-Jordan elimination with partial pivoting: a rigid body's mass
 // block. False when a pivot is not above 1e-14 scale (A singular at that scale).

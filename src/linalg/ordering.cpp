@@ -135,13 +135,14 @@ cholmod_sparse view_of(const CscView &A, int stype) {
     return s;
 }
 
-cholmod_factor *analyze_symmetric(cholmod_sparse &a, cholmod_common &c) {
+cholmod_factor *analyze_symmetric(cholmod_sparse &a, cholmod_common &c, Orderings orderings) {
     const int nmethods = c.nmethods, ordering = c.method[0].ordering;
     c.nmethods = 1;
     c.method[0].ordering = CHOLMOD_AMD;
     cholmod_factor *L = cholmod_l_analyze(&a, &c);
     const double fl = c.fl, lnz = c.lnz;
-    bool nested = L && fl >= kNestedFlopsPerEntry * lnz && lnz >= kNestedFill * upper_entries(a);
+    bool nested = L && orderings == Orderings::kAmdOrNested && fl >= kNestedFlopsPerEntry * lnz &&
+                  lnz >= kNestedFill * upper_entries(a);
     GroupGraph g;
     if (nested) {
         group_graph(a, g);

@@ -20,7 +20,8 @@ cholmod_sparse view_of(const CscView &A, int stype);
 // times faster, each group's columns then numbered together, as an ordering of a mesh numbers
 // them anyway. c's ordering settings are used and restored; c.fl and c.lnz are those of the
 // ordering returned. The caller holds metis_mutex(). Null where CHOLMOD fails (c.status says
-// why).
-cholmod_factor *analyze_symmetric(cholmod_sparse &a, cholmod_common &c);
+// why). Orderings::kAmdOnly: AMD's analysis alone.
+cholmod_factor *analyze_symmetric(cholmod_sparse &a, cholmod_common &c,
+                                  Orderings orderings = Orderings::kAmdOrNested);
 
 }  // namespace frix::linalg

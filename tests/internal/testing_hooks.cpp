@@ -157,7 +157,6 @@ FRIX_TESTING_HOOK int frix_testing_newton_watch(const double *errors, const int 
 #include "solvers/kit/local_newton.hpp"
 #include "solvers/kit/nsn_functions.hpp"
 #include "src/linalg/linalg.hpp"
-#include "src/linalg/ordering.hpp"
 
 FRIX_TESTING_HOOK void frix_testing_contact_function(int formulation, const double r[3],
                                                      const double u[3], double mu, double rho_n,
@@ -247,37 +246,29 @@ FRIX_TESTING_HOOK int frix_testing_sparse_cholesky_layout(int for_solves, int64_
     return e;
 }
 
-// The price of a Cholesky factorisation of A's pattern (upper triangle), from the symbolic
-// analysis alone.
-FRIX_TESTING_HOOK int frix_testing_cholesky_cost(int64_t n, const int64_t *colptr, const int64_t *rowind,
-                                                 double *flops, double *entries) {
+namespace {
+// cholesky_cost of A's pattern (upper triangle) with the orderings given.
+int pattern_cholesky_cost(int64_t n, const int64_t *colptr, const int64_t *rowind, frix::linalg::Orderings orderings,
+                          double *flops, double *entries) {
     frix::linalg::FactorCost c;
-    const int e = frix::linalg::cholesky_cost({n, n, colptr, rowind, nullptr}, &c);
+    const int e = frix::linalg::cholesky_cost({n, n, colptr, rowind, nullptr}, &c, orderings);
     *flops = c.flops;
     *entries = c.factor_entries;
     return e;
 }
+}  // namespace
 
-// The flops and entries of L of a Cholesky of A's pattern (upper triangle) under CHOLMOD's AMD
-// ordering alone, what analyze_symmetric starts from.
+// The price of a Cholesky factorisation of A's pattern (upper triangle), from the symbolic
+// analysis alone.
+FRIX_TESTING_HOOK int frix_testing_cholesky_cost(int64_t n, const int64_t *colptr, const int64_t *rowind,
+                                                 double *flops, double *entries) {
+    return pattern_cholesky_cost(n, colptr, rowind, frix::linalg::Orderings::kAmdOrNested, flops, entries);
+}
+
+// The same under CHOLMOD's AMD ordering alone, what analyze_symmetric starts from.
 FRIX_TESTING_HOOK int frix_testing_amd_cholesky_cost(int64_t n, const int64_t *colptr, const int64_t *rowind,
                                                      double *flops, double *entries) {
-    cholmod_common c;
-    cholmod_l_start(&c);
-    c.print = 0;
-    c.error_handler = nullptr;
-    c.supernodal = CHOLMOD_SIMPLICIAL;
-    c.postorder = 0;
-    c.nmethods = 1;
-    c.method[0].ordering = CHOLMOD_AMD;
-    cholmod_sparse a = frix::linalg::view_of({n, n, colptr, rowind, nullptr}, 1);
-    cholmod_factor *L = cholmod_l_analyze(&a, &c);
-    *flops = c.fl;
-    *entries = c.lnz;
-    const int e = L && c.status == CHOLMOD_OK ? FRIX_OK : FRIX_ERR_NUMERICAL;
-    if (L) cholmod_l_free_factor(&L, &c);
-    cholmod_l_finish(&c);
-    return e;
+    return pattern_cholesky_cost(n, colptr, rowind, frix::linalg::Orderings::kAmdOnly, flops, entries);
 }
 
 FRIX_TESTING_HOOK int frix_testing_factor_prices(int64_t n, const int64_t *colptr, const int64_t *rowind,
