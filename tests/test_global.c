@@ -601,6 +601,57 @@ END_TEST
  * the three directions apart: a tenth of the flops of the pattern any block could fill, the
  * same solution, analysed in M's ordering (its pattern is M's). Under contact frames turned
  * off the axes every pair is coupled and both patterns are the same. */
+/* gadmm's solves through a single-precision copy of M + rho H H^T's factor (solve_near), on a
+ * thick grid (a supernodal factor): on a well-conditioned M (k = 1e4) one solve from 0 lands
+ * within single precision of the double answer, solves again from there refine it to double
+ * precision, and gadmm reaches 1e-8 through them; on an ill-conditioned one (k = 1e10:
+ * condition about 1e7, past single precision) the step misses the contraction asked and a
+ * double solve finishes it. */
+START_TEST(single_precision_solves_refined_in_double) {
+    const double stiffness[2] = {1e4, 1e10};
+    for (int k = 0; k < 2; ++k) {
+        frix_elastic_grid g;
+        ck_assert_int_eq(frix_elastic_grid_make(20, 20, 10, 0.1, stiffness[k], &g), FRIX_OK);
+        const int64_t n = frix_problem_dofs(g.problem);
+        double *b = malloc(sizeof *b * (size_t)n), *exact = malloc(sizeof *exact * (size_t)n),
+               *x = calloc((size_t)n, sizeof *x);
+        for (int64_t j = 0; j < n; ++j) b[j] = 1.0 + (double)(j % 5) - 0.7 * (double)(j % 3);
+        double flops = 0.0;
+        int ordered = -1, single = -1, misses = -1;
+        ck_assert_int_eq(frix_testing_mass_plus_contacts(1, g.M, g.H, 3.0, b, exact, &flops, &ordered), FRIX_OK);
+        ck_assert_int_eq(frix_testing_solve_near(g.M, g.H, 3.0, b, x, 1, &single, &misses), FRIX_OK);
+        ck_assert_int_eq(single, 1);
+        double diff = 0.0, norm = 0.0;
+        for (int64_t j = 0; j < n; ++j) diff += (x[j] - exact[j]) * (x[j] - exact[j]), norm += exact[j] * exact[j];
+        if (k == 0) {
+            ck_assert_int_eq(misses, 0);
+            ck_assert_double_lt(sqrt(diff / norm), 1e-5);
+            ck_assert_double_gt(sqrt(diff / norm), 1e-13);
+            ck_assert_int_eq(frix_testing_solve_near(g.M, g.H, 3.0, b, x, 3, &single, &misses), FRIX_OK);
+            ck_assert_int_eq(misses, 0);
+            diff = 0.0;
+            for (int64_t j = 0; j < n; ++j) diff += (x[j] - exact[j]) * (x[j] - exact[j]);
+            ck_assert_double_lt(sqrt(diff / norm), 1e-12);
+        } else {
+            ck_assert_int_eq(misses, 1);
+            ck_assert_double_lt(sqrt(diff / norm), 1e-7);
+        }
+        if (k == 0) { /* gadmm through such solves reaches 1e-8, equilibrium included */
+            double *r = calloc((size_t)frix_problem_contact_dofs(g.problem), sizeof *r),
+                   *v = calloc((size_t)n, sizeof *v);
+            const outcome out = solve_global(g.problem, FRIX_SOLVER_GLOBAL_ADMM, r, v);
+            ck_assert_msg(out.status == FRIX_STATUS_CONVERGED && out.error <= 1e-8 && out.equilibrium <= 1e-8,
+                          "%s, error %g, equilibrium %g", frix_status_string(out.status), out.error, out.equilibrium);
+            free(r), free(v);
+        }
+        free(b);
+        free(exact);
+        free(x);
+        frix_elastic_grid_free(&g);
+    }
+}
+END_TEST
+
 START_TEST(admm_system_keeps_only_the_couplings_rho_i_makes) {
     frix_elastic_grid g;
     ck_assert_int_eq(frix_elastic_grid_make(16, 16, 2, 0.1, 1e4, &g), FRIX_OK);
@@ -1073,6 +1124,7 @@ int main(void) {
     tcase_add_test(tc, admm_changes_rho_only_where_it_pays);
     tcase_add_test(tc, auto_without_w_on_a_floating_grid);
     tcase_add_test(tc, admm_system_keeps_only_the_couplings_rho_i_makes);
+    tcase_add_test(tc, single_precision_solves_refined_in_double);
     tcase_add_test(tc, inverse_diagonal_matches_full_solves);
     tcase_add_test(tc, newton_corrects_the_lumped_rho);
     tcase_add_test(tc, newton_cuts_a_rho_too_large);

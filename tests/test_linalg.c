@@ -364,6 +364,40 @@ START_TEST(nested_dissection_only_where_it_pays) {
 }
 END_TEST
 
+/* A single-precision copy of a supernodal factor: on a 3D 7-point grid (18^3, diagonal 6.5:
+ * condition about 20; supernodes both below and above the size solved without the BLAS) its
+ * solve agrees with the double one to single precision, and is not the double one; a budget
+ * that refuses the copy's bytes leaves none (and its solve fails); a new factorisation drops it. */
+START_TEST(single_precision_copy_of_a_factor) {
+    enum { kS = 18, kDofs = kS * kS * kS };
+    static int64_t gp[kDofs + 1], gi[4 * kDofs];
+    static double gx[4 * kDofs], b[kDofs], xs[kDofs], xd[kDofs];
+    int64_t e = 0;
+    for (int64_t j = 0; j < kDofs; ++j) {
+        gp[j] = e;
+        const int64_t x = j % kS, y = j / kS % kS, z = j / (kS * kS);
+        if (z > 0) gi[e] = j - kS * kS, gx[e++] = -1.0;
+        if (y > 0) gi[e] = j - kS, gx[e++] = -1.0;
+        if (x > 0) gi[e] = j - 1, gx[e++] = -1.0;
+        gi[e] = j, gx[e++] = 6.5;
+        b[j] = 1.0 + (double)(j % 11) - 0.3 * (double)(j % 5);
+    }
+    gp[kDofs] = e;
+    for (int refuse = 0; refuse < 2; ++refuse) {
+        int kept = -1, dropped = -1;
+        ck_assert_int_eq(frix_testing_single_cholesky(kDofs, gp, gi, gx, b, refuse, xs, xd, &kept, &dropped),
+                         FRIX_OK);
+        ck_assert_int_eq(kept, !refuse);
+        ck_assert_int_eq(dropped, 1);
+        if (refuse) continue;
+        double diff = 0.0, norm = 0.0;
+        for (int64_t i = 0; i < kDofs; ++i) diff += (xs[i] - xd[i]) * (xs[i] - xd[i]), norm += xd[i] * xd[i];
+        ck_assert_double_lt(sqrt(diff / norm), 1e-5);
+        ck_assert_double_gt(sqrt(diff / norm), 1e-12);
+    }
+}
+END_TEST
+
 /* The price of forming W = H^T M^-1 H counts, besides its flops, the entries it writes outside
  * the BLAS: W's 9 per block (first touched) and those of the terms summed into them (the lower
  * part of X^T X per supernode of M's factor, X the rows of L^-1 P H there). Fixed inputs, no
@@ -536,6 +570,7 @@ int main(void) {
     tcase_add_test(tc, cholesky_cost_from_the_pattern);
     tcase_add_test(tc, factor_prices_match_the_work);
     tcase_add_test(tc, nested_dissection_only_where_it_pays);
+    tcase_add_test(tc, single_precision_copy_of_a_factor);
     tcase_add_test(tc, w_price_counts_its_writes);
     tcase_add_test(tc, lu_leaves_the_symmetric_strategy_where_it_pivots_off_the_diagonal);
     suite_add_tcase(s, tc);

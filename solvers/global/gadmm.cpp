@@ -7,11 +7,13 @@
 //   g = H^T v + w + s,  r = P_K(r^ - rho g),  xi = g - (r^ - r) / rho  (= P_K*(g - r^ / rho))
 // so that M v = f + H r + rho H (xi - xi^): the equilibrium residual is the dual residual.
 // M + rho H H^T is symmetric positive definite (M is): CHOLMOD factorises it once per value
-// of rho, one symbolic analysis for all. rho, in units of the mean normal entry of W_aa over a
-// few sampled contacts, follows the residual balance (the ratio of the relative primal and dual
-// residuals), checked every kBalancePeriod iterations and changed only by a factor >= 5, and
-// only where the iterations left at the rate since the last change cost more than the
-// factorisation the change takes.
+// of rho, one symbolic analysis for all; each iteration solves from the last v, through a
+// single-precision copy of a supernodal factor (MassPlusContacts::solve_near: half the bytes
+// read, and the error it leaves a share of the step, not of v). rho, in units of the mean
+// normal entry of W_aa over a few sampled contacts, follows the residual balance (the ratio of
+// the relative primal and dual residuals), checked every kBalancePeriod iterations and changed
+// only by a factor >= 5, and only where the iterations left at the rate since the last change
+// cost more than the factorisation the change takes.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -84,6 +86,7 @@ class Solver {
     double equilibrium_ = 0.0, err_ = 0.0, norm_f_ = 0.0, tol_light_ = 0.0;
     double light_after_change_ = NAN;  // the light error of the first iteration on the current rho
     int64_t it_ = 0, changes_ = 0, since_change_ = 0;
+    int64_t singles_ = 0, misses_ = 0;  // solves through the single-precision copy; those finished in double
 };
 
 Solver::Solver(SolveContext &ctx, KeptMassPlusContacts &kept, const linalg::FactorStats &before)
@@ -118,6 +121,7 @@ bool Solver::factor() {
     const frix_error e = system_.factor(S_.data(), monitor_.budget());
     if (e) clear_error();
     else kept_.factored_rho = rho_;
+    if (!e) system_.keep_single(monitor_.memory_budget());
     return e == FRIX_OK;
 }
 
@@ -179,7 +183,10 @@ frix_error Solver::update_v() {
         matrix_skew_gemv(*p_.M, v_, kv_.data(), work_.data());
         for (int64_t j = 0; j < n_; ++j) rhs_[j] -= kv_[j];
     }
-    if (frix_error e = system_.solve(rhs_.data(), v_)) return e;
+    const int misses = system_.single_misses();
+    singles_ += system_.single();
+    if (frix_error e = system_.solve_near(rhs_.data(), v_)) return e;
+    misses_ += std::max(system_.single_misses() - misses, 0);
     if (m_ > 0) matrix_gemv_transposed(*p_.H, 1.0, v_, 0.0, u_);
     return FRIX_OK;
 }
@@ -263,8 +270,9 @@ void Solver::finish(frix_status status) {
     info.iterations = it_;
     Monitor::record_factorizations(info, system_.stats() - before_);
     if (verbosity_ >= 1)
-        log_line(&o_, "gadmm: %s after %lld iterations (%lld rho changes, %lld restarts)", frix_status_string(status),
-                 (long long)it_, (long long)changes_, (long long)momentum_.restarts());
+        log_line(&o_, "gadmm: %s after %lld iterations (%lld rho changes, %lld restarts; %lld solves in single "
+                 "precision, %lld of them finished in double)", frix_status_string(status), (long long)it_,
+                 (long long)changes_, (long long)momentum_.restarts(), (long long)singles_, (long long)misses_);
 }
 
 // A persistent solver's next step with the same M and H starts from the last step's
@@ -297,7 +305,9 @@ const SolverEntry kGadmmEntry = {
     "(checked every 25 iterations, changed only 5-fold or more, and only where the iterations left "
     "at the rate so far cost more than the factorisation the change takes). "
     "M + rho H H^T is factorised by CHOLMOD (one symbolic analysis per solve; a persistent solver "
-    "keeps the factorisation, and its rho, while M and H stay); W = H^T M^-1 H is "
+    "keeps the factorisation, and its rho, while M and H stay); where its factor is supernodal, "
+    "each iteration solves from the last v through a single-precision copy of it, the step checked "
+    "and finished in double where it falls short; W = H^T M^-1 H is "
     "never formed: for deformable bodies whose W would be dense and too large. Converged means "
     "both the error and the equilibrium residual are below the tolerance. Global problems with "
     "a symmetric positive definite M only. Options: rho (initial penalty, in units of the mean "

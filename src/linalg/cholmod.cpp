@@ -89,6 +89,13 @@ double factor_bytes(const cholmod_factor &L, const cholmod_common &c) {
     return 8.0 * (values + indices) + 8.0 * 8.0 * n;
 }
 
+// The arrays of a supernodal L as CHOLMOD's "l" interface holds them.
+SupernodalLayout layout_of(const cholmod_factor &L) {
+    const auto ints = [](const void *p) { return static_cast<const int64_t *>(p); };
+    return {(int64_t)L.n, (int64_t)L.nsuper, ints(L.super), ints(L.pi), ints(L.px), ints(L.s), ints(L.Perm),
+            static_cast<const double *>(L.x), (int64_t)L.xsize};
+}
+
 }  // namespace
 
 struct SparseCholesky::Impl {
@@ -107,6 +114,7 @@ struct SparseCholesky::Impl {
     // cholmod_l_solve2's result and workspace, kept from one solve to the next: iterative
     // solvers solve once an iteration, and a fresh allocation each time costs page faults.
     cholmod_dense *X = nullptr, *Y = nullptr, *E = nullptr;
+    SingleSupernodalFactor single;  // keep_single's copy (empty: none)
     bool same_pattern(const CscView &A) const {
         return L && A.rows == rows && std::equal(colptr.begin(), colptr.end(), A.colptr) &&
                (int64_t)rowind.size() == A.nnz() && std::equal(rowind.begin(), rowind.end(), A.rowind);
@@ -204,6 +212,7 @@ frix_error SparseCholesky::factor(const CscView &A) {
     // takes no memory the process does not hold already.
     const double bytes = m.L && m.L->xtype != CHOLMOD_PATTERN ? 0.0 : m.bytes;
     m.numeric = false;
+    m.single.clear();
     refused_ = m.L && budget_ ? budget_(FactorPrice{m.flops, m.last_seconds, bytes}) : FRIX_STATUS_NOT_RUN;
     if (refused_) {
         stats_.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
@@ -305,6 +314,21 @@ frix_error SparseCholesky::solve(const double *b, double *x) const {
     }
     const double *xv = static_cast<const double *>(m.X->x);
     std::copy(xv, xv + n, x);
+    return FRIX_OK;
+}
+
+bool SparseCholesky::keep_single(const FactorBudget &budget) {
+    Impl &m = *impl_;
+    if (!m.L || !m.numeric || !m.L->is_super) return false;
+    return m.single.holds() || m.single.copy(layout_of(*m.L), budget);
+}
+
+bool SparseCholesky::has_single() const { return impl_->single.holds(); }
+
+frix_error SparseCholesky::solve_single(const double *b, double *x) const {
+    const Impl &m = *impl_;
+    if (!m.single.holds()) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: solve_single() without a copy");
+    m.single.solve(layout_of(*m.L), b, x);
     return FRIX_OK;
 }
 

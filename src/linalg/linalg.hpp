@@ -178,6 +178,34 @@ struct FactorCost {
     double bytes = 0.0;           // L's values and indices, and the workspace
 };
 
+// The arrays of a supernodal Cholesky factor L L^T = P A P^T as CHOLMOD holds it: supernode
+// s has columns super[s] .. super[s + 1] - 1 and the rows rows[pi[s] .. pi[s + 1]) (its own
+// columns first), its values column-major at values + px[s]; row k of L is row perm[k] of A.
+struct SupernodalLayout {
+    int64_t n = 0, nsuper = 0;
+    const int64_t *super = nullptr, *pi = nullptr, *px = nullptr, *rows = nullptr, *perm = nullptr;
+    const double *values = nullptr;
+    int64_t value_count = 0;
+};
+
+// A single-precision copy of a supernodal factor's values, and solves with it: they read half
+// the bytes of solves in double, which reading L bounds.
+class SingleSupernodalFactor {
+   public:
+    // Copies L's values, asking `budget` (when given) for the copy's bytes first; false where
+    // it refuses.
+    bool copy(const SupernodalLayout &L, const FactorBudget &budget);
+    bool holds() const { return !values_.empty(); }
+    void clear();
+    // x = A^-1 b with the copy of L's values (L: the layout it was copied from): b rounded to
+    // single precision, the solves in it, x widened back.
+    void solve(const SupernodalLayout &L, const double *b, double *x) const;
+
+   private:
+    std::vector<float> values_;
+    mutable std::vector<float> work_;  // the permuted vector and a supernode's rows below
+};
+
 class SparseCholesky {
    public:
     // kSupernodal: L is always supernodal (inverse_congruence needs it). kForSolves: simplicial
@@ -200,6 +228,15 @@ class SparseCholesky {
     FactorCost cost() const;
     // x = A^-1 b for one dense right-hand side.
     frix_error solve(const double *b, double *x) const;
+    // Keeps a single-precision copy of the supernodal factor held, for solves whose answers the
+    // caller refines in double: such a solve reads half the bytes of solve(), which reading L
+    // bounds. Asks `budget` for the copy's bytes first; false (no copy) where it refuses, or
+    // where no supernodal factor is held. The next factor() drops it.
+    bool keep_single(const FactorBudget &budget);
+    bool has_single() const;
+    // x = A^-1 b through the single-precision copy: its accuracy is single precision's times
+    // A's condition (the caller checks the residual); fails without a copy.
+    frix_error solve_single(const double *b, double *x) const;
     // The fill-reducing ordering of the analysis held (L's permutation; empty: none).
     std::vector<int64_t> ordering() const;
     // The ordering the next analysis takes instead of choosing one (empty: choose; it is

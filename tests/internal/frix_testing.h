@@ -120,6 +120,17 @@ int frix_testing_sparse_cholesky(int64_t n, const int64_t *colptr, const int64_t
  * (0); *supernodal: whether the factor was supernodal. */
 int frix_testing_sparse_cholesky_layout(int for_solves, int64_t n, const int64_t *colptr, const int64_t *rowind,
                                         const double *values, const double *b, double *x, int *supernodal);
+/* A supernodal Cholesky of A (upper triangle read) and its single-precision copy: x_single
+ * through the copy and x_double = A^-1 b; refuse: the copy's budget refuses it. *kept: whether
+ * the copy was kept; *dropped: whether a second factorisation of A dropped it. */
+int frix_testing_single_cholesky(int64_t n, const int64_t *colptr, const int64_t *rowind, const double *values,
+                                 const double *b, int refuse, double *x_single, double *x_double, int *kept,
+                                 int *dropped);
+/* x = (M + rho H H^T)^-1 b by solve_near from x's value on entry, the single-precision copy kept
+ * where it can be (*single: whether it was), applied `solves` times with the same b; *misses:
+ * the solves that needed one in double (counted while the copy was kept). */
+int frix_testing_solve_near(const frix_matrix *M, const frix_matrix *H, double rho, const double *b, double *x,
+                            int solves, int *single, int *misses);
 /* M + rho H H^T as the solvers without W build it, for any contact blocks (identity_blocks =
  * 0) or multiples of the identity (1), offered M's ordering: *flops of its factorisation,
  * x = (M + rho H H^T)^-1 b and *mass_ordering, whether it was analysed in M's ordering. */

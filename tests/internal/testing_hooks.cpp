@@ -246,6 +246,49 @@ FRIX_TESTING_HOOK int frix_testing_sparse_cholesky_layout(int for_solves, int64_
     return e;
 }
 
+FRIX_TESTING_HOOK int frix_testing_single_cholesky(int64_t n, const int64_t *colptr, const int64_t *rowind,
+                                                   const double *values, const double *b, int refuse,
+                                                   double *x_single, double *x_double, int *kept, int *dropped) {
+    frix::linalg::SparseCholesky ch(frix::linalg::SparseCholesky::Layout::kSupernodal);
+    int e = ch.factor({n, n, colptr, rowind, values});
+    if (e) return e;
+    const auto budget = [refuse](const frix::linalg::FactorPrice &price) {
+        return refuse && price.bytes > 0.0 ? FRIX_STATUS_MEMORY_LIMIT : FRIX_STATUS_NOT_RUN;
+    };
+    *kept = ch.keep_single(budget) && ch.has_single();
+    e = ch.solve(b, x_double);
+    if (e == FRIX_OK && *kept) e = ch.solve_single(b, x_single);
+    if (e == FRIX_OK && !*kept) {
+        e = ch.solve_single(b, x_single) == FRIX_OK ? FRIX_ERR_INTERNAL : FRIX_OK;  // must fail without a copy
+        frix::clear_error();
+    }
+    if (e == FRIX_OK) e = ch.factor({n, n, colptr, rowind, values});
+    *dropped = !ch.has_single();
+    return e;
+}
+
+FRIX_TESTING_HOOK int frix_testing_solve_near(const frix_matrix *Mm, const frix_matrix *Hm, double rho,
+                                              const double *b, double *x, int solves, int *single, int *misses) {
+    frix::Csc M, H;
+    int e = frix::to_csc(*Mm, M);
+    if (e == FRIX_OK) e = frix::to_csc(*Hm, H);
+    if (e) return e;
+    const int64_t nc = H.cols / 3;
+    frix::MassPlusContacts system;
+    e = system.build(M, H, nc, "test", frix::ContactBlocks::kMultiplesOfIdentity, {});
+    std::vector<double> S(9 * nc, 0.0);
+    for (int64_t a = 0; a < nc; ++a) S[9 * a] = S[9 * a + 4] = S[9 * a + 8] = rho;
+    if (e == FRIX_OK) e = system.factor(S.data(), nullptr);
+    *single = e == FRIX_OK && system.keep_single(nullptr);
+    *misses = 0;
+    for (int k = 0; k < solves && e == FRIX_OK; ++k) {
+        const int before = system.single_misses();
+        e = system.solve_near(b, x);
+        *misses += system.single_misses() - before;
+    }
+    return e;
+}
+
 namespace {
 // cholesky_cost of A's pattern (upper triangle) with the orderings given.
 int pattern_cholesky_cost(int64_t n, const int64_t *colptr, const int64_t *rowind, frix::linalg::Orderings orderings,

@@ -1,0 +1,93 @@
+// SingleSupernodalFactor: solves with a single-precision copy of a supernodal Cholesky factor.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "linalg.hpp"
+
+extern "C" {
+void strsv_(const char *uplo, const char *trans, const char *diag, const int *n, const float *a, const int *lda,
+            float *x, const int *incx, size_t, size_t, size_t);
+void sgemv_(const char *trans, const int *m, const int *n, const float *alpha, const float *a, const int *lda,
+            const float *x, const int *incx, const float *beta, float *y, const int *incy, size_t);
+}
+
+namespace frix::linalg {
+
+namespace {
+
+// Supernodes of up to this many entries are solved by plain loops: below it a BLAS call costs
+// more than the supernode's work (most supernodes of a 3D body's factor hold a few columns).
+constexpr int64_t kLoopEntries = 256;
+
+}  // namespace
+
+bool SingleSupernodalFactor::copy(const SupernodalLayout &L, const FactorBudget &budget) {
+    clear();
+    int64_t below = 0;  // of the tallest supernode: the workspace of its rows
+    for (int64_t s = 0; s < L.nsuper; ++s) below = std::max(below, L.pi[s + 1] - L.pi[s]);
+    const double bytes = 4.0 * ((double)L.value_count + (double)L.n + (double)below);
+    if (budget && budget(FactorPrice{0.0, NAN, bytes}) != FRIX_STATUS_NOT_RUN) return false;
+    values_.assign(L.values, L.values + L.value_count);
+    work_.assign(L.n + below, 0.0f);
+    return true;
+}
+
+void SingleSupernodalFactor::clear() {
+    std::vector<float>().swap(values_);
+    std::vector<float>().swap(work_);
+}
+
+// L y = P b, then L^T z = y, x = P^T z, supernode by supernode: the diagonal block's triangular
+// solve, and the rows below it updated (forward) or read (backward) through a gathered vector.
+void SingleSupernodalFactor::solve(const SupernodalLayout &L, const double *b, double *x) const {
+    const int64_t n = L.n;
+    float *y = work_.data(), *t = y + n;
+    for (int64_t i = 0; i < n; ++i) y[i] = (float)b[L.perm[i]];
+    const int one = 1;
+    const float plus = 1.0f, minus = -1.0f, zero = 0.0f;
+    for (int64_t s = 0; s < L.nsuper; ++s) {
+        const int64_t k = L.super[s], nc = L.super[s + 1] - k, nr = L.pi[s + 1] - L.pi[s], nb = nr - nc;
+        const float *a = values_.data() + L.px[s];  // nr x nc, column-major
+        const int64_t *below = L.rows + L.pi[s] + nc;
+        float *ys = y + k;
+        if (nc * nr <= kLoopEntries) {
+            for (int64_t j = 0; j < nc; ++j) {
+                const float yj = ys[j] / a[j + j * nr];
+                ys[j] = yj;
+                for (int64_t i = j + 1; i < nc; ++i) ys[i] -= a[i + j * nr] * yj;
+                for (int64_t i = 0; i < nb; ++i) y[below[i]] -= a[nc + i + j * nr] * yj;
+            }
+            continue;
+        }
+        const int cols = (int)nc, ld = (int)nr, rows = (int)nb;
+        strsv_("L", "N", "N", &cols, a, &ld, ys, &one, 1, 1, 1);
+        if (nb == 0) continue;
+        sgemv_("N", &rows, &cols, &plus, a + nc, &ld, ys, &one, &zero, t, &one, 1);
+        for (int64_t i = 0; i < nb; ++i) y[below[i]] -= t[i];
+    }
+    for (int64_t s = L.nsuper - 1; s >= 0; --s) {
+        const int64_t k = L.super[s], nc = L.super[s + 1] - k, nr = L.pi[s + 1] - L.pi[s], nb = nr - nc;
+        const float *a = values_.data() + L.px[s];
+        const int64_t *below = L.rows + L.pi[s] + nc;
+        float *ys = y + k;
+        if (nc * nr <= kLoopEntries) {
+            for (int64_t j = nc - 1; j >= 0; --j) {
+                float acc = ys[j];
+                for (int64_t i = 0; i < nb; ++i) acc -= a[nc + i + j * nr] * y[below[i]];
+                for (int64_t i = j + 1; i < nc; ++i) acc -= a[i + j * nr] * ys[i];
+                ys[j] = acc / a[j + j * nr];
+            }
+            continue;
+        }
+        const int cols = (int)nc, ld = (int)nr, rows = (int)nb;
+        if (nb > 0) {
+            for (int64_t i = 0; i < nb; ++i) t[i] = y[below[i]];
+            sgemv_("T", &rows, &cols, &minus, a + nc, &ld, t, &one, &plus, ys, &one, 1);
+        }
+        strsv_("L", "T", "N", &cols, a, &ld, ys, &one, 1, 1, 1);
+    }
+    for (int64_t i = 0; i < n; ++i) x[L.perm[i]] = (double)y[i];
+}
+
+}  // namespace frix::linalg
