@@ -596,53 +596,97 @@ START_TEST(auto_finishes_a_stiff_body_with_newton_after_admm) {
 }
 END_TEST
 
-/* An ADMM's M + rho H H^T (contact blocks rho I) holds H_a H_a^T's entries only where two
- * rows of H_a share a column. On the grid (M apart per direction, H_a a permutation) that keeps
- * the three directions apart: a tenth of the flops of the pattern any block could fill, the
- * same solution, analysed in M's ordering (its pattern is M's). Under contact frames turned
- * off the axes every pair is coupled and both patterns are the same. */
+/* The solvers' log lines that start with `prefix`, the last one kept. */
+typedef struct {
+    const char *prefix;
+    char last[512];
+} log_grab;
+static void grab_line(void *data, const char *line) {
+    log_grab *g = data;
+    if (strncmp(line, g->prefix, strlen(g->prefix)) == 0) snprintf(g->last, sizeof g->last, "%s", line);
+}
+
 /* gadmm's solves through a single-precision copy of M + rho H H^T's factor (solve_near), on a
- * thick grid (a supernodal factor): on a well-conditioned M (k = 1e4) one solve from 0 lands
- * within single precision of the double answer, solves again from there refine it to double
- * precision, and gadmm reaches 1e-8 through them; on an ill-conditioned one (k = 1e10:
- * condition about 1e7, past single precision) the step misses the contraction asked and a
- * double solve finishes it. */
+ * thick grid (a supernodal factor). On a well-conditioned M (k = 1e4), in units scaled by 1,
+ * 1e150 and 1e-150 (past single precision's range): one solve from 0 lands within single
+ * precision of the double answer and solves again from there refine it to double precision;
+ * gadmm reaches 1e-8 with every solve through the copy. On an ill-conditioned M (k = 1e10,
+ * condition about 1e7) solves from 0 and from its answer miss the contraction asked, a double
+ * solve finishes each, and two misses in a row drop the copy. */
 START_TEST(single_precision_solves_refined_in_double) {
-    const double stiffness[2] = {1e4, 1e10};
+    const double stiffness[2] = {1e4, 1e10}, scales[3] = {1.0, 1e150, 1e-150};
     for (int k = 0; k < 2; ++k) {
         frix_elastic_grid g;
         ck_assert_int_eq(frix_elastic_grid_make(20, 20, 10, 0.1, stiffness[k], &g), FRIX_OK);
         const int64_t n = frix_problem_dofs(g.problem);
         double *b = malloc(sizeof *b * (size_t)n), *exact = malloc(sizeof *exact * (size_t)n),
-               *x = calloc((size_t)n, sizeof *x);
+               *x = malloc(sizeof *x * (size_t)n);
         for (int64_t j = 0; j < n; ++j) b[j] = 1.0 + (double)(j % 5) - 0.7 * (double)(j % 3);
         double flops = 0.0;
-        int ordered = -1, single = -1, misses = -1;
+        int ordered = -1;
         ck_assert_int_eq(frix_testing_mass_plus_contacts(1, g.M, g.H, 3.0, b, exact, &flops, &ordered), FRIX_OK);
-        ck_assert_int_eq(frix_testing_solve_near(g.M, g.H, 3.0, b, x, 1, &single, &misses), FRIX_OK);
-        ck_assert_int_eq(single, 1);
-        double diff = 0.0, norm = 0.0;
-        for (int64_t j = 0; j < n; ++j) diff += (x[j] - exact[j]) * (x[j] - exact[j]), norm += exact[j] * exact[j];
-        if (k == 0) {
-            ck_assert_int_eq(misses, 0);
+        for (int s = 0; s < (k == 0 ? 3 : 1); ++s) {
+            const int solves = k == 0 ? 1 : 3;
+            int kept = -1, in_use = -1;
+            int64_t through = -1, in_double = -1;
+            memset(x, 0, sizeof *x * (size_t)n);
+            ck_assert_int_eq(frix_testing_solve_near(g.M, g.H, 3.0, scales[s], b, x, solves, &kept, &through,
+                                                     &in_double, &in_use),
+                             FRIX_OK);
+            ck_assert_int_eq(kept, 1);
+            double diff = 0.0, norm = 0.0;
+            for (int64_t j = 0; j < n; ++j)
+                diff += (x[j] - exact[j]) * (x[j] - exact[j]), norm += exact[j] * exact[j];
+            if (k == 1) {
+                ck_assert_int_eq(through, 2);
+                ck_assert_int_eq(in_double, 2);
+                ck_assert_int_eq(in_use, 0);
+                ck_assert_double_lt(sqrt(diff / norm), 1e-7);
+                continue;
+            }
+            ck_assert_int_eq(through, 1);
+            ck_assert_int_eq(in_double, 0);
+            ck_assert_int_eq(in_use, 1);
             ck_assert_double_lt(sqrt(diff / norm), 1e-5);
             ck_assert_double_gt(sqrt(diff / norm), 1e-13);
-            ck_assert_int_eq(frix_testing_solve_near(g.M, g.H, 3.0, b, x, 3, &single, &misses), FRIX_OK);
-            ck_assert_int_eq(misses, 0);
+            ck_assert_int_eq(frix_testing_solve_near(g.M, g.H, 3.0, scales[s], b, x, 3, &kept, &through,
+                                                     &in_double, &in_use),
+                             FRIX_OK);
+            ck_assert(through >= 1 && in_double == 0);
             diff = 0.0;
             for (int64_t j = 0; j < n; ++j) diff += (x[j] - exact[j]) * (x[j] - exact[j]);
             ck_assert_double_lt(sqrt(diff / norm), 1e-12);
-        } else {
-            ck_assert_int_eq(misses, 1);
-            ck_assert_double_lt(sqrt(diff / norm), 1e-7);
         }
-        if (k == 0) { /* gadmm through such solves reaches 1e-8, equilibrium included */
+        if (k == 0) { /* gadmm, every solve through the copy, reaches 1e-8, equilibrium included */
             double *r = calloc((size_t)frix_problem_contact_dofs(g.problem), sizeof *r),
+                   *u = calloc((size_t)frix_problem_contact_dofs(g.problem), sizeof *u),
                    *v = calloc((size_t)n, sizeof *v);
-            const outcome out = solve_global(g.problem, FRIX_SOLVER_GLOBAL_ADMM, r, v);
-            ck_assert_msg(out.status == FRIX_STATUS_CONVERGED && out.error <= 1e-8 && out.equilibrium <= 1e-8,
-                          "%s, error %g, equilibrium %g", frix_status_string(out.status), out.error, out.equilibrium);
-            free(r), free(v);
+            frix_options *o = NULL;
+            frix_info *info = NULL;
+            log_grab grab = {"gadmm: converged", ""};
+            ck_assert_int_eq(frix_options_create(FRIX_SOLVER_GLOBAL_ADMM, &o), FRIX_OK);
+            ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+            ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
+            ck_assert_int_eq(frix_options_set_log(o, grab_line, &grab), FRIX_OK);
+            ck_assert_int_eq(frix_solve(g.problem, o, r, u, v, info), FRIX_OK);
+            double equilibrium = NAN;
+            ck_assert_int_eq(frix_info_get_double(info, FRIX_INFO_EQUILIBRIUM, &equilibrium), FRIX_OK);
+            ck_assert_msg(frix_info_status(info) == FRIX_STATUS_CONVERGED && frix_info_error(info) <= 1e-8 &&
+                              equilibrium <= 1e-8,
+                          "%s, error %g, equilibrium %g", frix_status_string(frix_info_status(info)),
+                          frix_info_error(info), equilibrium);
+            long long iterations = -1, restarts = -1, changes = -1, singles = -1, doubles = -1;
+            const char *counts = strstr(grab.last, "iterations (");
+            ck_assert_msg(counts != NULL, "log: %s", grab.last);
+            ck_assert_int_eq(sscanf(grab.last, "gadmm: converged after %lld", &iterations), 1);
+            ck_assert_int_eq(sscanf(counts, "iterations (%lld rho changes, %lld restarts; %lld solves in single "
+                                            "precision, %lld",
+                                    &changes, &restarts, &singles, &doubles),
+                             4);
+            ck_assert_msg(iterations > 0 && singles == iterations && doubles == 0, "log: %s", grab.last);
+            frix_info_free(info);
+            frix_options_free(o);
+            free(r), free(u), free(v);
         }
         free(b);
         free(exact);
@@ -652,6 +696,12 @@ START_TEST(single_precision_solves_refined_in_double) {
 }
 END_TEST
 
+
+/* An ADMM's M + rho H H^T (contact blocks rho I) holds H_a H_a^T's entries only where two
+ * rows of H_a share a column. On the grid (M apart per direction, H_a a permutation) that keeps
+ * the three directions apart: a tenth of the flops of the pattern any block could fill, the
+ * same solution, analysed in M's ordering (its pattern is M's). Under contact frames turned
+ * off the axes every pair is coupled and both patterns are the same. */
 START_TEST(admm_system_keeps_only_the_couplings_rho_i_makes) {
     frix_elastic_grid g;
     ck_assert_int_eq(frix_elastic_grid_make(16, 16, 2, 0.1, 1e4, &g), FRIX_OK);

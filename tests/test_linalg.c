@@ -366,8 +366,9 @@ END_TEST
 
 /* A single-precision copy of a supernodal factor: on a 3D 7-point grid (18^3, diagonal 6.5:
  * condition about 20; supernodes both below and above the size solved without the BLAS) its
- * solve agrees with the double one to single precision, and is not the double one; a budget
- * that refuses the copy's bytes leaves none (and its solve fails); a new factorisation drops it. */
+ * solve agrees with the double one to single precision, and is not the double one, in units
+ * scaled past single precision's range too; a budget that refuses the copy's bytes leaves none
+ * (and its solve fails); a new factorisation drops it. */
 START_TEST(single_precision_copy_of_a_factor) {
     enum { kS = 18, kDofs = kS * kS * kS };
     static int64_t gp[kDofs + 1], gi[4 * kDofs];
@@ -383,13 +384,19 @@ START_TEST(single_precision_copy_of_a_factor) {
         b[j] = 1.0 + (double)(j % 11) - 0.3 * (double)(j % 5);
     }
     gp[kDofs] = e;
-    for (int refuse = 0; refuse < 2; ++refuse) {
+    /* refused; then A and b in units scaled by 1, 1e150 and 1e-150 (past single precision's range) */
+    const double scales[4] = {1.0, 1.0, 1e150, 1e-150};
+    for (int k = 0; k < 4; ++k) {
+        const int refuse = k == 0;
+        static double sx[4 * kDofs], sb[kDofs];
+        for (int64_t e2 = 0; e2 < e; ++e2) sx[e2] = gx[e2] * scales[k];
+        for (int64_t i = 0; i < kDofs; ++i) sb[i] = b[i] * scales[k];
         int kept = -1, dropped = -1;
-        ck_assert_int_eq(frix_testing_single_cholesky(kDofs, gp, gi, gx, b, refuse, xs, xd, &kept, &dropped),
+        ck_assert_int_eq(frix_testing_single_cholesky(kDofs, gp, gi, sx, sb, refuse, xs, xd, &kept, &dropped),
                          FRIX_OK);
         ck_assert_int_eq(kept, !refuse);
-        ck_assert_int_eq(dropped, 1);
         if (refuse) continue;
+        ck_assert_int_eq(dropped, 1);
         double diff = 0.0, norm = 0.0;
         for (int64_t i = 0; i < kDofs; ++i) diff += (xs[i] - xd[i]) * (xs[i] - xd[i]), norm += xd[i] * xd[i];
         ck_assert_double_lt(sqrt(diff / norm), 1e-5);

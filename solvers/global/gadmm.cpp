@@ -5,7 +5,8 @@
 // extrapolations of (r, xi), restarted whenever the combined residual does not decrease:
 //   (M + rho H H^T) v = f + H (r^ + rho (xi^ - w - s))
 //   g = H^T v + w + s,  r = P_K(r^ - rho g),  xi = g - (r^ - r) / rho  (= P_K*(g - r^ / rho))
-// so that M v = f + H r + rho H (xi - xi^): the equilibrium residual is the dual residual.
+// so that M v = f + H r + rho H (xi - xi^): the equilibrium residual is the dual residual (to
+// the residual the linear solve leaves; the stopping test measures equilibrium itself).
 // M + rho H H^T is symmetric positive definite (M is): CHOLMOD factorises it once per value
 // of rho, one symbolic analysis for all; each iteration solves from the last v, through a
 // single-precision copy of a supernodal factor (MassPlusContacts::solve_near: half the bytes
@@ -86,7 +87,9 @@ class Solver {
     double equilibrium_ = 0.0, err_ = 0.0, norm_f_ = 0.0, tol_light_ = 0.0;
     double light_after_change_ = NAN;  // the light error of the first iteration on the current rho
     int64_t it_ = 0, changes_ = 0, since_change_ = 0;
-    int64_t singles_ = 0, misses_ = 0;  // solves through the single-precision copy; those finished in double
+    // The system's counts of solves through the single-precision copy, and of those finished in
+    // double, when the solve started.
+    const int64_t single_solves_before_, finished_in_double_before_;
 };
 
 Solver::Solver(SolveContext &ctx, KeptMassPlusContacts &kept, const linalg::FactorStats &before)
@@ -111,18 +114,24 @@ Solver::Solver(SolveContext &ctx, KeptMassPlusContacts &kept, const linalg::Fact
       rho_(std::isfinite(kept.factored_rho) ? kept.factored_rho : o_.d(FRIX_OPT_RHO) / kept.scale),
       S_(9 * nc_, 0.0),
       shift_(m_, 0.0), xi_(m_), rhs_(n_), Hx_(m_), dxi_(m_), Hdxi_(n_), Hr_(n_), kv_(n_), work_(n_),
-      momentum_(o_.i(FRIX_OPT_ACCELERATION) != 0, m_) {}
+      momentum_(o_.i(FRIX_OPT_ACCELERATION) != 0, m_),
+      single_solves_before_(system_.single_solves()),
+      finished_in_double_before_(system_.solves_finished_in_double()) {}
 
 // Factorises M + rho H H^T unless the system holds that rho already; false if that failed.
+// Then keeps the factor's single-precision copy for the iterations' solves, where it can.
 bool Solver::factor() {
-    if (rho_ == kept_.factored_rho) return true;
-    kept_.factored_rho = NAN;
-    for (int64_t a = 0; a < nc_; ++a) S_[9 * a] = S_[9 * a + 4] = S_[9 * a + 8] = rho_;
-    const frix_error e = system_.factor(S_.data(), monitor_.budget());
-    if (e) clear_error();
-    else kept_.factored_rho = rho_;
-    if (!e) system_.keep_single(monitor_.memory_budget());
-    return e == FRIX_OK;
+    if (rho_ != kept_.factored_rho) {
+        kept_.factored_rho = NAN;
+        for (int64_t a = 0; a < nc_; ++a) S_[9 * a] = S_[9 * a + 4] = S_[9 * a + 8] = rho_;
+        if (system_.factor(S_.data(), monitor_.budget()) != FRIX_OK) {
+            clear_error();
+            return false;
+        }
+        kept_.factored_rho = rho_;
+    }
+    system_.keep_single_copy(monitor_.memory_budget());
+    return true;
 }
 
 // The start: u from the driver's v (M v = H r + f), xi = P_K*(u + s) = x + P_K(-x).
@@ -183,10 +192,7 @@ frix_error Solver::update_v() {
         matrix_skew_gemv(*p_.M, v_, kv_.data(), work_.data());
         for (int64_t j = 0; j < n_; ++j) rhs_[j] -= kv_[j];
     }
-    const int misses = system_.single_misses();
-    singles_ += system_.single();
     if (frix_error e = system_.solve_near(rhs_.data(), v_)) return e;
-    misses_ += std::max(system_.single_misses() - misses, 0);
     if (m_ > 0) matrix_gemv_transposed(*p_.H, 1.0, v_, 0.0, u_);
     return FRIX_OK;
 }
@@ -272,7 +278,9 @@ void Solver::finish(frix_status status) {
     if (verbosity_ >= 1)
         log_line(&o_, "gadmm: %s after %lld iterations (%lld rho changes, %lld restarts; %lld solves in single "
                  "precision, %lld of them finished in double)", frix_status_string(status), (long long)it_,
-                 (long long)changes_, (long long)momentum_.restarts(), (long long)singles_, (long long)misses_);
+                 (long long)changes_, (long long)momentum_.restarts(),
+                 (long long)(system_.single_solves() - single_solves_before_),
+                 (long long)(system_.solves_finished_in_double() - finished_in_double_before_));
 }
 
 // A persistent solver's next step with the same M and H starts from the last step's

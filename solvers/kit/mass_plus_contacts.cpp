@@ -19,6 +19,8 @@ frix_error MassPlusContacts::build(const Csc &M, const Csc &H, int64_t nc, const
                     "%.3g of max |M_ij|); gnsn-ac (607) solves a problem whose M is not",
                     solver, asymmetry);
     skewed_ = asymmetry > 0.0;
+    use_single_ = single_dropped_ = false;
+    misses_in_a_row_ = 0;
     const int64_t n = M.rows;
     // Every contact's rows: the union over its 3 columns of H, sorted.
     row_start_.assign(nc + 1, 0);
@@ -110,6 +112,8 @@ frix_error MassPlusContacts::build(const Csc &M, const Csc &H, int64_t nc, const
 }
 
 frix_error MassPlusContacts::factor(const double *S, const linalg::FactorBudget &budget) {
+    use_single_ = single_dropped_ = false;  // the copy, if any, was of the last factorisation
+    misses_in_a_row_ = 0;
     std::fill(A_.val.begin(), A_.val.end(), 0.0);
     for (size_t e = 0; e < m_slot_.size(); ++e) A_.val[m_slot_[e]] += m_val_[e];
     const int64_t nc = (int64_t)row_start_.size() - 1;
@@ -135,9 +139,9 @@ frix_error MassPlusContacts::factor(const double *S, const linalg::FactorBudget 
 
 namespace {
 
-// solve_near's test of a single-precision step: the residual it leaves, against the one it
-// solved, below this (single precision's 6e-8 times the system's condition; the grids and FEM
-// blocks measured 1e-7 to 5e-7); and the misses after which the copy is dropped.
+// solve_near's test of a single-precision step: the residual it leaves below this share of the
+// one it solved (single precision's 6e-8 times the system's condition: a contraction that keeps
+// the iterates' error a small share of each step); and the misses in a row that drop the copy.
 constexpr double kSingleContraction = 1e-2;
 constexpr int kSingleMisses = 2;
 
@@ -157,31 +161,37 @@ void symmetric_upper_product(const Csc &A, const double *x, double *y) {
 
 }  // namespace
 
-bool MassPlusContacts::keep_single(const linalg::FactorBudget &budget) {
-    single_ = chol_.keep_single(budget);
-    single_misses_ = 0;
-    return single_;
+bool MassPlusContacts::keep_single_copy(const linalg::FactorBudget &budget) {
+    use_single_ = !single_dropped_ && chol_.keep_single_copy(budget);
+    return use_single_;
 }
 
 frix_error MassPlusContacts::solve_near(const double *b, double *x) {
-    if (!single_ || !chol_.has_single()) return chol_.solve(b, x);
+    if (!uses_single_copy()) return chol_.solve(b, x);
     const int64_t n = A_.rows;
     residual_.resize(n);
     step_.resize(n);
-    product_.resize(n);
-    symmetric_upper_product(A_, x, product_.data());
-    for (int64_t i = 0; i < n; ++i) residual_[i] = b[i] - product_[i];
-    const double before = vec::norm(residual_.data(), n);
-    if (!std::isfinite(before)) return chol_.solve(b, x);
-    if (before == 0.0) return FRIX_OK;
-    if (frix_error e = chol_.solve_single(residual_.data(), step_.data())) return e;
-    symmetric_upper_product(A_, step_.data(), product_.data());
-    for (int64_t i = 0; i < n; ++i) {
-        x[i] += step_[i];
-        residual_[i] -= product_[i];
+    left_.resize(n);
+    symmetric_upper_product(A_, x, left_.data());
+    for (int64_t i = 0; i < n; ++i) residual_[i] = b[i] - left_[i];
+    if (!vec::all_finite(residual_.data(), n)) return chol_.solve(b, x);
+    if (vec::all_zero(residual_.data(), n)) return FRIX_OK;
+    ++single_solves_;
+    if (frix_error e = chol_.solve_with_single_copy(residual_.data(), step_.data())) return e;
+    symmetric_upper_product(A_, step_.data(), left_.data());
+    for (int64_t i = 0; i < n; ++i) left_[i] = residual_[i] - left_[i];
+    // norm2 scales against overflow and underflow: a problem may come in any units.
+    if (vec::all_finite(step_.data(), n) && norm2(left_.data(), n) <= kSingleContraction * norm2(residual_.data(), n)) {
+        misses_in_a_row_ = 0;
+        for (int64_t i = 0; i < n; ++i) x[i] += step_[i];
+        return FRIX_OK;
     }
-    if (vec::norm(residual_.data(), n) <= kSingleContraction * before) return FRIX_OK;
-    if (++single_misses_ >= kSingleMisses) single_ = false;
+    ++finished_in_double_;
+    if (++misses_in_a_row_ >= kSingleMisses) {
+        chol_.drop_single_copy();
+        use_single_ = false;
+        single_dropped_ = true;
+    }
     if (frix_error e = chol_.solve(residual_.data(), step_.data())) return e;
     for (int64_t i = 0; i < n; ++i) x[i] += step_[i];
     return FRIX_OK;

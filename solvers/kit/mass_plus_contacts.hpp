@@ -59,20 +59,22 @@ class MassPlusContacts {
     frix_error factor(const double *S, const linalg::FactorBudget &budget);
     // x = (M + H S H^T)^-1 b with the last factorisation.
     frix_error solve(const double *b, double *x) const { return chol_.solve(b, x); }
-    // Keeps a single-precision copy of the last factorisation for solve_near (where it is
-    // supernodal and `budget` affords the copy's bytes); false where it does not.
-    bool keep_single(const linalg::FactorBudget &budget);
-    // x = (M + H S H^T)^-1 b from x's value on entry, an iterate near the answer: x plus the
-    // residual b - A x solved through the single-precision copy, where one is kept, whose
-    // new residual, computed in double, must be below kSingleContraction times the old one;
-    // where it is not, a solve in double finishes x (and after kSingleMisses such solves the
-    // copy is dropped). Without a copy, solve(). An iterative solver's next solve lies near its
-    // last: the error the copy leaves is a share of the step, not of x.
+    // Keeps a single-precision copy of the last factorisation for solve_near, where it is
+    // supernodal and `budget` affords the copy's bytes, and unless solve_near dropped a copy of
+    // this factorisation already; false where it keeps none.
+    bool keep_single_copy(const linalg::FactorBudget &budget);
+    // x = (M + H S H^T)^-1 b from x's value on entry, an iterate near the answer: the residual
+    // b - A x solved through the single-precision copy, where one is kept, and the step taken
+    // where the residual it leaves, computed in double, is below kSingleContraction of the one
+    // solved; otherwise a solve in double finishes x (and after kSingleMisses such solves in a
+    // row the copy is dropped). Without a copy, solve(). An iterative solver's next solve lies
+    // near its last: the error a step leaves is a share of the step, not of x.
     frix_error solve_near(const double *b, double *x);
-    // Whether solve_near solves through the copy, and its solves that needed one in double
-    // since the copy was kept.
-    bool single() const { return single_; }
-    int single_misses() const { return single_misses_; }
+    bool uses_single_copy() const { return use_single_ && chol_.has_single_copy(); }
+    // solve_near's solves through the copy, and those of them finished in double, since the
+    // system was built.
+    int64_t single_solves() const { return single_solves_; }
+    int64_t solves_finished_in_double() const { return finished_in_double_; }
     frix_status refused() const { return chol_.refused(); }
     const linalg::FactorStats &stats() const { return chol_.stats(); }
 
@@ -91,9 +93,11 @@ class MassPlusContacts {
     std::vector<Pair> pairs_;
     std::vector<double> hrows_;
     linalg::SparseCholesky chol_{linalg::SparseCholesky::Layout::kForSolves};
-    bool single_ = false;   // solve_near solves through chol_'s single-precision copy
-    int single_misses_ = 0;  // its solves that needed one in double since the copy was made
-    std::vector<double> residual_, step_, product_;  // solve_near's workspace
+    bool use_single_ = false;     // solve_near solves through chol_'s single-precision copy
+    bool single_dropped_ = false;  // solve_near dropped the copy of this factorisation
+    int misses_in_a_row_ = 0;
+    int64_t single_solves_ = 0, finished_in_double_ = 0;
+    std::vector<double> residual_, step_, left_;  // solve_near's workspace
 };
 
 // What these solvers keep between the solves of a persistent solver: M + H S H^T's pattern and

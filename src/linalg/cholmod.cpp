@@ -114,7 +114,12 @@ struct SparseCholesky::Impl {
     // cholmod_l_solve2's result and workspace, kept from one solve to the next: iterative
     // solvers solve once an iteration, and a fresh allocation each time costs page faults.
     cholmod_dense *X = nullptr, *Y = nullptr, *E = nullptr;
-    SingleSupernodalFactor single;  // keep_single's copy (empty: none)
+    SingleSupernodalFactor single;  // keep_single_copy's copy of L (empty: none)
+    void drop_factor() {  // frees L and what was made from it
+        if (L) cholmod_l_free_factor(&L, &c);
+        numeric = false;
+        single.clear();
+    }
     bool same_pattern(const CscView &A) const {
         return L && A.rows == rows && std::equal(colptr.begin(), colptr.end(), A.colptr) &&
                (int64_t)rowind.size() == A.nnz() && std::equal(rowind.begin(), rowind.end(), A.rowind);
@@ -148,7 +153,7 @@ SparseCholesky::~SparseCholesky() = default;
 frix_error SparseCholesky::refuse_unless_square(const CscView &A) {
     Impl &m = *impl_;
     if (A.rows == A.cols && A.rows > 0) return FRIX_OK;
-    if (m.L) cholmod_l_free_factor(&m.L, &m.c);
+    m.drop_factor();
     return fail(FRIX_ERR_DIMENSION, "sparse Cholesky: the matrix is %lld x %lld, not square", (long long)A.rows,
                 (long long)A.cols);
 }
@@ -157,7 +162,7 @@ frix_error SparseCholesky::refuse_unless_square(const CscView &A) {
 bool SparseCholesky::analyse_pattern(const CscView &A) {
     Impl &m = *impl_;
     if (m.same_pattern(A)) return true;
-    if (m.L) cholmod_l_free_factor(&m.L, &m.c);
+    m.drop_factor();
     cholmod_sparse a = view_of(A, 1);
     if ((int64_t)m.given.size() == A.rows) {
         const int nmethods = m.c.nmethods, ordering = m.c.method[0].ordering;
@@ -236,7 +241,7 @@ frix_error SparseCholesky::factor(const CscView &A) {
     if (m.L) ++stats_.numeric;
     if (!ok || m.c.status != CHOLMOD_OK) {
         const int status = m.c.status;
-        if (m.L) cholmod_l_free_factor(&m.L, &m.c);
+        m.drop_factor();
         if (status == CHOLMOD_OUT_OF_MEMORY)
             return fail(FRIX_ERR_OUT_OF_MEMORY, "sparse Cholesky: out of memory");
         if (status == CHOLMOD_NOT_POSDEF)
@@ -245,12 +250,6 @@ frix_error SparseCholesky::factor(const CscView &A) {
                     status);
     }
     return FRIX_OK;
-}
-
-FactorCost dense_cholesky_cost(int64_t n) {
-    // Column j of L (from 0) holds n - j entries; CHOLMOD counts the sum of their squares.
-    const double N = (double)n, entries = N * (N + 1.0) / 2.0;
-    return FactorCost{N * (N + 1.0) * (2.0 * N + 1.0) / 6.0, entries, 8.0 * 2.0 * entries + 8.0 * 8.0 * N};
 }
 
 frix_error cholesky_cost(const CscView &A, FactorCost *cost, Orderings orderings) {
@@ -317,17 +316,18 @@ frix_error SparseCholesky::solve(const double *b, double *x) const {
     return FRIX_OK;
 }
 
-bool SparseCholesky::keep_single(const FactorBudget &budget) {
+bool SparseCholesky::keep_single_copy(const FactorBudget &budget) {
     Impl &m = *impl_;
-    if (!m.L || !m.numeric || !m.L->is_super) return false;
+    if (!m.L || !m.numeric || !m.L->is_super || m.L->xtype == CHOLMOD_PATTERN) return false;
     return m.single.holds() || m.single.copy(layout_of(*m.L), budget);
 }
 
-bool SparseCholesky::has_single() const { return impl_->single.holds(); }
+bool SparseCholesky::has_single_copy() const { return impl_->single.holds(); }
+void SparseCholesky::drop_single_copy() { impl_->single.clear(); }
 
-frix_error SparseCholesky::solve_single(const double *b, double *x) const {
+frix_error SparseCholesky::solve_with_single_copy(const double *b, double *x) const {
     const Impl &m = *impl_;
-    if (!m.single.holds()) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: solve_single() without a copy");
+    if (!m.L || !m.numeric || !m.single.holds()) return fail(FRIX_ERR_NUMERICAL, "sparse Cholesky: no single copy");
     m.single.solve(layout_of(*m.L), b, x);
     return FRIX_OK;
 }

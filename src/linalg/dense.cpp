@@ -19,6 +19,12 @@ void dpotrs_(const char *uplo, const int *n, const int *nrhs, const double *a, c
 
 namespace frix::linalg {
 
+FactorCost dense_cholesky_cost(int64_t n) {
+    // Column j of L (from 0) holds n - j entries; CHOLMOD counts the sum of their squares.
+    const double N = (double)n, entries = N * (N + 1.0) / 2.0;
+    return FactorCost{N * (N + 1.0) * (2.0 * N + 1.0) / 6.0, entries, 8.0 * 2.0 * entries + 8.0 * 8.0 * N};
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;

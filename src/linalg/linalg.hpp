@@ -189,20 +189,24 @@ struct SupernodalLayout {
 };
 
 // A single-precision copy of a supernodal factor's values, and solves with it: they read half
-// the bytes of solves in double, which reading L bounds.
+// the bytes of solves in double, which reading L bounds. The copy holds L times a power of two
+// and each solve scales its right-hand side by another, so that neither leaves float's range.
+// Not reentrant: a solve writes the copy's workspace.
 class SingleSupernodalFactor {
    public:
-    // Copies L's values, asking `budget` (when given) for the copy's bytes first; false where
-    // it refuses.
+    // Copies L's values, asking `budget` (when given) for the copy's bytes first; false (no
+    // copy) where it refuses, or where L's values do not fit single precision at one scale
+    // (a value not finite, a diagonal entry that rounds below float's normal range).
     bool copy(const SupernodalLayout &L, const FactorBudget &budget);
     bool holds() const { return !values_.empty(); }
     void clear();
-    // x = A^-1 b with the copy of L's values (L: the layout it was copied from): b rounded to
-    // single precision, the solves in it, x widened back.
+    // x = A^-1 b for a finite b with the copy (L: the layout it was copied from); x may come
+    // back not finite where the solve overflows single precision: the caller checks it.
     void solve(const SupernodalLayout &L, const double *b, double *x) const;
 
    private:
-    std::vector<float> values_;
+    std::vector<float> values_;        // L's values times 2^exponent_
+    int exponent_ = 0;
     mutable std::vector<float> work_;  // the permuted vector and a supernode's rows below
 };
 
@@ -228,15 +232,17 @@ class SparseCholesky {
     FactorCost cost() const;
     // x = A^-1 b for one dense right-hand side.
     frix_error solve(const double *b, double *x) const;
-    // Keeps a single-precision copy of the supernodal factor held, for solves whose answers the
-    // caller refines in double: such a solve reads half the bytes of solve(), which reading L
-    // bounds. Asks `budget` for the copy's bytes first; false (no copy) where it refuses, or
-    // where no supernodal factor is held. The next factor() drops it.
-    bool keep_single(const FactorBudget &budget);
-    bool has_single() const;
-    // x = A^-1 b through the single-precision copy: its accuracy is single precision's times
-    // A's condition (the caller checks the residual); fails without a copy.
-    frix_error solve_single(const double *b, double *x) const;
+    // Keeps a single-precision copy of the supernodal factor held (SingleSupernodalFactor), for
+    // solves whose answers the caller refines in double: such a solve reads half the bytes of
+    // solve(), which reading L bounds. Asks `budget` for the copy's bytes first; false (no
+    // copy) where it refuses, where no numeric supernodal factor is held, or where L does not
+    // fit single precision. Dropped with the factor (a new factor(), a new pattern, a failure).
+    bool keep_single_copy(const FactorBudget &budget);
+    bool has_single_copy() const;
+    void drop_single_copy();
+    // x = A^-1 b for a finite b through the copy: its accuracy is single precision's times A's
+    // condition, and x may come back not finite (the caller checks both); fails without a copy.
+    frix_error solve_with_single_copy(const double *b, double *x) const;
     // The fill-reducing ordering of the analysis held (L's permutation; empty: none).
     std::vector<int64_t> ordering() const;
     // The ordering the next analysis takes instead of choosing one (empty: choose; it is

@@ -1,6 +1,7 @@
 // SingleSupernodalFactor: solves with a single-precision copy of a supernodal Cholesky factor.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "linalg.hpp"
@@ -19,23 +20,42 @@ namespace {
 // Supernodes of up to this many entries are solved by plain loops: below it a BLAS call costs
 // more than the supernode's work (most supernodes of a 3D body's factor hold a few columns).
 constexpr int64_t kLoopEntries = 256;
+// Powers of two up to which a scaling multiplies by 2^k (a normal double, exact) rather than
+// calling ldexp on every entry.
+constexpr int kPlainPowers = 1000;
 
 }  // namespace
 
 bool SingleSupernodalFactor::copy(const SupernodalLayout &L, const FactorBudget &budget) {
     clear();
-    int64_t below = 0;  // of the tallest supernode: the workspace of its rows
-    for (int64_t s = 0; s < L.nsuper; ++s) below = std::max(below, L.pi[s + 1] - L.pi[s]);
-    const double bytes = 4.0 * ((double)L.value_count + (double)L.n + (double)below);
+    int64_t tallest = 0;  // rows of the tallest supernode: the workspace of its rows below
+    for (int64_t s = 0; s < L.nsuper; ++s) tallest = std::max(tallest, L.pi[s + 1] - L.pi[s]);
+    const double bytes = 4.0 * ((double)L.value_count + (double)L.n + (double)tallest);
     if (budget && budget(FactorPrice{0.0, NAN, bytes}) != FRIX_STATUS_NOT_RUN) return false;
-    values_.assign(L.values, L.values + L.value_count);
-    work_.assign(L.n + below, 0.0f);
+    double largest = 0.0;
+    for (int64_t e = 0; e < L.value_count; ++e) largest = std::max(largest, std::fabs(L.values[e]));
+    if (!(largest > 0.0) || !std::isfinite(largest)) return false;
+    const int exponent = -std::ilogb(largest);  // the largest value scaled into [1, 2)
+    values_.resize(L.value_count);
+    for (int64_t e = 0; e < L.value_count; ++e) values_[e] = (float)std::ldexp(L.values[e], exponent);
+    // The diagonal divides every solve: each entry must stay a normal float.
+    for (int64_t s = 0; s < L.nsuper; ++s) {
+        const int64_t nc = L.super[s + 1] - L.super[s], nr = L.pi[s + 1] - L.pi[s];
+        for (int64_t j = 0; j < nc; ++j)
+            if (!(std::fabs(values_[L.px[s] + j + j * nr]) >= std::numeric_limits<float>::min())) {
+                clear();
+                return false;
+            }
+    }
+    exponent_ = exponent;
+    work_.assign(L.n + tallest, 0.0f);
     return true;
 }
 
 void SingleSupernodalFactor::clear() {
     std::vector<float>().swap(values_);
     std::vector<float>().swap(work_);
+    exponent_ = 0;
 }
 
 // L y = P b, then L^T z = y, x = P^T z, supernode by supernode: the diagonal block's triangular
@@ -43,7 +63,20 @@ void SingleSupernodalFactor::clear() {
 void SingleSupernodalFactor::solve(const SupernodalLayout &L, const double *b, double *x) const {
     const int64_t n = L.n;
     float *y = work_.data(), *t = y + n;
-    for (int64_t i = 0; i < n; ++i) y[i] = (float)b[L.perm[i]];
+    double largest = 0.0;
+    for (int64_t i = 0; i < n; ++i) largest = std::max(largest, std::fabs(b[i]));
+    if (!(largest > 0.0)) {
+        std::fill(x, x + n, 0.0);
+        return;
+    }
+    // b scaled into [1, 2) at its largest; A = 2^(-2 e) (L~ L~^T) for the copy L~ = 2^e L.
+    const int scale = -std::ilogb(largest);
+    if (std::abs(scale) <= kPlainPowers) {
+        const double by = std::ldexp(1.0, scale);
+        for (int64_t i = 0; i < n; ++i) y[i] = (float)(b[L.perm[i]] * by);
+    } else {
+        for (int64_t i = 0; i < n; ++i) y[i] = (float)std::ldexp(b[L.perm[i]], scale);
+    }
     const int one = 1;
     const float plus = 1.0f, minus = -1.0f, zero = 0.0f;
     for (int64_t s = 0; s < L.nsuper; ++s) {
@@ -87,7 +120,13 @@ void SingleSupernodalFactor::solve(const SupernodalLayout &L, const double *b, d
         }
         strsv_("L", "T", "N", &cols, a, &ld, ys, &one, 1, 1, 1);
     }
-    for (int64_t i = 0; i < n; ++i) x[L.perm[i]] = (double)y[i];
+    const int back = 2 * exponent_ - scale;
+    if (std::abs(back) <= kPlainPowers) {
+        const double by = std::ldexp(1.0, back);
+        for (int64_t i = 0; i < n; ++i) x[L.perm[i]] = (double)y[i] * by;
+    } else {
+        for (int64_t i = 0; i < n; ++i) x[L.perm[i]] = std::ldexp((double)y[i], back);
+    }
 }
 
 }  // namespace frix::linalg

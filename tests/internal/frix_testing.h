@@ -126,11 +126,13 @@ int frix_testing_sparse_cholesky_layout(int for_solves, int64_t n, const int64_t
 int frix_testing_single_cholesky(int64_t n, const int64_t *colptr, const int64_t *rowind, const double *values,
                                  const double *b, int refuse, double *x_single, double *x_double, int *kept,
                                  int *dropped);
-/* x = (M + rho H H^T)^-1 b by solve_near from x's value on entry, the single-precision copy kept
- * where it can be (*single: whether it was), applied `solves` times with the same b; *misses:
- * the solves that needed one in double (counted while the copy was kept). */
-int frix_testing_solve_near(const frix_matrix *M, const frix_matrix *H, double rho, const double *b, double *x,
-                            int solves, int *single, int *misses);
+/* x = (s M + s rho H H^T)^-1 (s b) (s = scale) by solve_near from x's value on entry, `solves`
+ * times, the single-precision copy kept where it can be (*kept: whether it was); *through_copy
+ * and *finished_in_double: the solves through the copy and those finished in double; *in_use:
+ * whether the copy is still used after them. */
+int frix_testing_solve_near(const frix_matrix *M, const frix_matrix *H, double rho, double scale, const double *b,
+                            double *x, int solves, int *kept, int64_t *through_copy, int64_t *finished_in_double,
+                            int *in_use);
 /* M + rho H H^T as the solvers without W build it, for any contact blocks (identity_blocks =
  * 0) or multiples of the identity (1), offered M's ordering: *flops of its factorisation,
  * x = (M + rho H H^T)^-1 b and *mass_ordering, whether it was analysed in M's ordering. */

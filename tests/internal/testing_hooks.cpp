@@ -255,37 +255,39 @@ FRIX_TESTING_HOOK int frix_testing_single_cholesky(int64_t n, const int64_t *col
     const auto budget = [refuse](const frix::linalg::FactorPrice &price) {
         return refuse && price.bytes > 0.0 ? FRIX_STATUS_MEMORY_LIMIT : FRIX_STATUS_NOT_RUN;
     };
-    *kept = ch.keep_single(budget) && ch.has_single();
+    *kept = ch.keep_single_copy(budget) && ch.has_single_copy();
     e = ch.solve(b, x_double);
-    if (e == FRIX_OK && *kept) e = ch.solve_single(b, x_single);
+    if (e == FRIX_OK && *kept) e = ch.solve_with_single_copy(b, x_single);
     if (e == FRIX_OK && !*kept) {
-        e = ch.solve_single(b, x_single) == FRIX_OK ? FRIX_ERR_INTERNAL : FRIX_OK;  // must fail without a copy
+        // without a copy such a solve must fail
+        e = ch.solve_with_single_copy(b, x_single) == FRIX_OK ? FRIX_ERR_INTERNAL : FRIX_OK;
         frix::clear_error();
     }
     if (e == FRIX_OK) e = ch.factor({n, n, colptr, rowind, values});
-    *dropped = !ch.has_single();
+    *dropped = !ch.has_single_copy();
     return e;
 }
 
-FRIX_TESTING_HOOK int frix_testing_solve_near(const frix_matrix *Mm, const frix_matrix *Hm, double rho,
-                                              const double *b, double *x, int solves, int *single, int *misses) {
+FRIX_TESTING_HOOK int frix_testing_solve_near(const frix_matrix *Mm, const frix_matrix *Hm, double rho, double scale,
+                                              const double *b, double *x, int solves, int *kept,
+                                              int64_t *through_copy, int64_t *finished_in_double, int *in_use) {
     frix::Csc M, H;
     int e = frix::to_csc(*Mm, M);
     if (e == FRIX_OK) e = frix::to_csc(*Hm, H);
     if (e) return e;
-    const int64_t nc = H.cols / 3;
+    for (double &m : M.val) m *= scale;
+    const int64_t nc = H.cols / 3, n = M.rows;
     frix::MassPlusContacts system;
     e = system.build(M, H, nc, "test", frix::ContactBlocks::kMultiplesOfIdentity, {});
-    std::vector<double> S(9 * nc, 0.0);
-    for (int64_t a = 0; a < nc; ++a) S[9 * a] = S[9 * a + 4] = S[9 * a + 8] = rho;
+    std::vector<double> S(9 * nc, 0.0), sb(b, b + n);
+    for (int64_t a = 0; a < nc; ++a) S[9 * a] = S[9 * a + 4] = S[9 * a + 8] = scale * rho;
+    for (double &v : sb) v *= scale;
     if (e == FRIX_OK) e = system.factor(S.data(), nullptr);
-    *single = e == FRIX_OK && system.keep_single(nullptr);
-    *misses = 0;
-    for (int k = 0; k < solves && e == FRIX_OK; ++k) {
-        const int before = system.single_misses();
-        e = system.solve_near(b, x);
-        *misses += system.single_misses() - before;
-    }
+    *kept = e == FRIX_OK && system.keep_single_copy(nullptr);
+    for (int k = 0; k < solves && e == FRIX_OK; ++k) e = system.solve_near(sb.data(), x);
+    *through_copy = system.single_solves();
+    *finished_in_double = system.solves_finished_in_double();
+    *in_use = system.uses_single_copy();
     return e;
 }
 
