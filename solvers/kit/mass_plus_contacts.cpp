@@ -19,7 +19,8 @@ frix_error MassPlusContacts::build(const Csc &M, const Csc &H, int64_t nc, const
                     "%.3g of max |M_ij|); gnsn-ac (607) solves a problem whose M is not",
                     solver, asymmetry);
     skewed_ = asymmetry > 0.0;
-    use_single_ = single_dropped_ = false;
+    chol_.drop_single_copy();  // of a factorisation of the matrix built before
+    single_dropped_ = false;
     misses_in_a_row_ = 0;
     const int64_t n = M.rows;
     // Every contact's rows: the union over its 3 columns of H, sorted.
@@ -112,7 +113,7 @@ frix_error MassPlusContacts::build(const Csc &M, const Csc &H, int64_t nc, const
 }
 
 frix_error MassPlusContacts::factor(const double *S, const linalg::FactorBudget &budget) {
-    use_single_ = single_dropped_ = false;  // the copy, if any, was of the last factorisation
+    single_dropped_ = false;  // chol_ drops the last factorisation's copy with it
     misses_in_a_row_ = 0;
     std::fill(A_.val.begin(), A_.val.end(), 0.0);
     for (size_t e = 0; e < m_slot_.size(); ++e) A_.val[m_slot_[e]] += m_val_[e];
@@ -162,8 +163,7 @@ void symmetric_upper_product(const Csc &A, const double *x, double *y) {
 }  // namespace
 
 bool MassPlusContacts::keep_single_copy(const linalg::FactorBudget &budget) {
-    use_single_ = !single_dropped_ && chol_.keep_single_copy(budget);
-    return use_single_;
+    return !single_dropped_ && chol_.keep_single_copy(budget);
 }
 
 frix_error MassPlusContacts::solve_near(const double *b, double *x) {
@@ -189,7 +189,6 @@ frix_error MassPlusContacts::solve_near(const double *b, double *x) {
     ++finished_in_double_;
     if (++misses_in_a_row_ >= kSingleMisses) {
         chol_.drop_single_copy();
-        use_single_ = false;
         single_dropped_ = true;
     }
     if (frix_error e = chol_.solve(residual_.data(), step_.data())) return e;

@@ -70,7 +70,7 @@ class MassPlusContacts {
     // row the copy is dropped). Without a copy, solve(). An iterative solver's next solve lies
     // near its last: the error a step leaves is a share of the step, not of x.
     frix_error solve_near(const double *b, double *x);
-    bool uses_single_copy() const { return use_single_ && chol_.has_single_copy(); }
+    bool uses_single_copy() const { return chol_.has_single_copy(); }
     // solve_near's solves through the copy, and those of them finished in double, since the
     // system was built.
     int64_t single_solves() const { return single_solves_; }
@@ -93,7 +93,6 @@ class MassPlusContacts {
     std::vector<Pair> pairs_;
     std::vector<double> hrows_;
     linalg::SparseCholesky chol_{linalg::SparseCholesky::Layout::kForSolves};
-    bool use_single_ = false;     // solve_near solves through chol_'s single-precision copy
     bool single_dropped_ = false;  // solve_near dropped the copy of this factorisation
     int misses_in_a_row_ = 0;
     int64_t single_solves_ = 0, finished_in_double_ = 0;

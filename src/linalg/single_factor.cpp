@@ -24,6 +24,17 @@ constexpr int64_t kLoopEntries = 256;
 // calling ldexp on every entry.
 constexpr int kPlainPowers = 1000;
 
+// v -> v 2^k, exact where v 2^k is a normal double.
+class PowerOfTwo {
+   public:
+    explicit PowerOfTwo(int k) : k_(k), by_(std::abs(k) <= kPlainPowers ? std::ldexp(1.0, k) : 0.0) {}
+    double operator()(double v) const { return by_ != 0.0 ? v * by_ : std::ldexp(v, k_); }
+
+   private:
+    int k_;
+    double by_;  // 2^k, or 0 where it is not a normal double
+};
+
 }  // namespace
 
 bool SingleSupernodalFactor::copy(const SupernodalLayout &L, const FactorBudget &budget) {
@@ -37,7 +48,8 @@ bool SingleSupernodalFactor::copy(const SupernodalLayout &L, const FactorBudget 
     if (!(largest > 0.0) || !std::isfinite(largest)) return false;
     const int exponent = -std::ilogb(largest);  // the largest value scaled into [1, 2)
     values_.resize(L.value_count);
-    for (int64_t e = 0; e < L.value_count; ++e) values_[e] = (float)std::ldexp(L.values[e], exponent);
+    const PowerOfTwo scaled(exponent);
+    for (int64_t e = 0; e < L.value_count; ++e) values_[e] = (float)scaled(L.values[e]);
     // The diagonal divides every solve: each entry must stay a normal float.
     for (int64_t s = 0; s < L.nsuper; ++s) {
         const int64_t nc = L.super[s + 1] - L.super[s], nr = L.pi[s + 1] - L.pi[s];
@@ -71,12 +83,8 @@ void SingleSupernodalFactor::solve(const SupernodalLayout &L, const double *b, d
     }
     // b scaled into [1, 2) at its largest; A = 2^(-2 e) (L~ L~^T) for the copy L~ = 2^e L.
     const int scale = -std::ilogb(largest);
-    if (std::abs(scale) <= kPlainPowers) {
-        const double by = std::ldexp(1.0, scale);
-        for (int64_t i = 0; i < n; ++i) y[i] = (float)(b[L.perm[i]] * by);
-    } else {
-        for (int64_t i = 0; i < n; ++i) y[i] = (float)std::ldexp(b[L.perm[i]], scale);
-    }
+    const PowerOfTwo in(scale), out(2 * exponent_ - scale);
+    for (int64_t i = 0; i < n; ++i) y[i] = (float)in(b[L.perm[i]]);
     const int one = 1;
     const float plus = 1.0f, minus = -1.0f, zero = 0.0f;
     for (int64_t s = 0; s < L.nsuper; ++s) {
@@ -120,13 +128,7 @@ void SingleSupernodalFactor::solve(const SupernodalLayout &L, const double *b, d
         }
         strsv_("L", "T", "N", &cols, a, &ld, ys, &one, 1, 1, 1);
     }
-    const int back = 2 * exponent_ - scale;
-    if (std::abs(back) <= kPlainPowers) {
-        const double by = std::ldexp(1.0, back);
-        for (int64_t i = 0; i < n; ++i) x[L.perm[i]] = (double)y[i] * by;
-    } else {
-        for (int64_t i = 0; i < n; ++i) x[L.perm[i]] = std::ldexp((double)y[i], back);
-    }
+    for (int64_t i = 0; i < n; ++i) x[L.perm[i]] = out((double)y[i]);
 }
 
 }  // namespace frix::linalg
