@@ -113,11 +113,12 @@ const KeySpec kKeys[] = {
     {FRIX_OPT_MEMORY_LIMIT, "memory_limit", false, 0.0, 1e18, 0.0},
     {FRIX_OPT_ANDERSON, "anderson", true, 0.0, 50.0, 0.0},
     {FRIX_OPT_CALLBACK_ESTIMATES, "callback_estimates", true, 0.0, 1.0, 1.0},
+    {FRIX_OPT_SECANT_START, "secant_start", true, 0.0, 1.0, 1.0},
 };
 
 const frix_option_key kCommonKeys[] = {FRIX_OPT_TOLERANCE,     FRIX_OPT_MAX_ITER,     FRIX_OPT_TIME_LIMIT,
                                        FRIX_OPT_VERBOSITY,     FRIX_OPT_ERROR_MEASURE, FRIX_OPT_MEMORY_LIMIT,
-                                       FRIX_OPT_EXISTENCE_CHECK, FRIX_OPT_CALLBACK_ESTIMATES};
+                                       FRIX_OPT_EXISTENCE_CHECK, FRIX_OPT_CALLBACK_ESTIMATES, FRIX_OPT_SECANT_START};
 
 const KeySpec *spec_of(int key) {
     for (const KeySpec &s : kKeys)

@@ -8,7 +8,7 @@
 #include "handle_header.hpp"
 
 namespace frix {
-constexpr int kMaxOptionKey = 34;  // highest frix_option_key value
+constexpr int kMaxOptionKey = 35;  // highest frix_option_key value
 struct SolverEntry;
 }
 

@@ -11,6 +11,7 @@
 #include "matrix.hpp"
 #include "options.hpp"
 #include "problem.hpp"
+#include "secant_start.hpp"
 #include "solver_api.hpp"
 
 struct frix_persistent {
@@ -18,6 +19,7 @@ struct frix_persistent {
     frix_problem problem;    // views of the borrowed data, as last updated
     frix_matrix W_pattern;   // local problems: W's pattern, to tell a new one from new values
     frix::SolveCache cache;
+    frix::SecantStart secant;  // option secant_start: the last two solves' data and answers
 };
 
 namespace {
@@ -77,8 +79,13 @@ FRIX_API void frix_persistent_free(frix_persistent *ps) { delete ps; }
 FRIX_API frix_error frix_persistent_solve(frix_persistent *ps, double *r, double *u, double *v, frix_info *info) {
     return frix::guard("frix_persistent_solve", [&]() -> frix_error {
         if (!ps) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_persistent_solve: the persistent solver is NULL");
-        return frix::solve_problem("frix_persistent_solve", &ps->problem, ps->options.get(), r, u, v, info,
-                                   &ps->cache);
+        const bool secant = ps->options->i(FRIX_OPT_SECANT_START) != 0;
+        if (secant && r) ps->secant.predict(ps->problem, ps->cache, r);
+        const frix_error e = frix::solve_problem("frix_persistent_solve", &ps->problem, ps->options.get(), r, u, v,
+                                                 info, &ps->cache);
+        if (secant && r && info)
+            ps->secant.record(ps->problem, ps->cache, r, e == FRIX_OK && info->status == FRIX_STATUS_CONVERGED);
+        return e;
     });
 }
 

@@ -53,7 +53,8 @@ module frix
        FRIX_OPT_INNER_TOLERANCE_RATIO = 26, FRIX_OPT_ACCELERATION = 27, &
        FRIX_OPT_THREADS = 28, FRIX_OPT_EXISTENCE_CHECK = 29, FRIX_OPT_DRIFT_WINDOW = 30, &
        FRIX_OPT_WATCHDOG = 31, FRIX_OPT_MEMORY_LIMIT = 32, &
-       FRIX_OPT_ANDERSON = 33, FRIX_OPT_CALLBACK_ESTIMATES = 34
+       FRIX_OPT_ANDERSON = 33, FRIX_OPT_CALLBACK_ESTIMATES = 34, &
+       FRIX_OPT_SECANT_START = 35
   ! ---- option values: frix_rho_strategy, frix_line_search, frix_hybrid,
   !      frix_error_measure, frix_shuffle, frix_local_solver
   integer(c_int), parameter :: FRIX_RHO_CONSTANT = 0, FRIX_RHO_SPECTRAL = 1, &

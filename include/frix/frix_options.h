@@ -102,7 +102,13 @@ typedef enum frix_option_key FRIX_ENUM_BASE {
                                      of PROX, not its inner solves; for a global problem solved
                                      through W, none but the start's), so that every error it
                                      sees is the error of an iterate; a stop it asks for then
-                                     waits for such an iteration */
+                                     waits for such an iteration */,
+    FRIX_OPT_SECANT_START = 35    /* int 0/1, every solver, persistent solvers: 1 (default):
+                                     a solve that continues from the last answer (r passed
+                                     back unchanged), with the matrices and mu of the last two
+                                     solves and data (q, or f and w) that moved along a line
+                                     over them, starts from the secant prediction of the last
+                                     two answers (frix_persistent.h); 0: from r as given */
 } frix_option_key;
 
 typedef enum frix_rho_strategy FRIX_ENUM_BASE {

@@ -11,6 +11,12 @@
  *   - the Newton solvers' workspaces; for auto, all of the above for each of its parts.
  * Each solve gives the answer frix_solve would give from the same warm start, up to the
  * rounding of a reused analysis (its pivot order was chosen on earlier values).
+ * Secant start (option FRIX_OPT_SECANT_START, on by default): where r is the last solve's
+ * answer, passed back unchanged, M and H (or W) and mu are those of the last two solves (both
+ * converged, three entries a contact), and the data (f and w, or q) moved along a line over
+ * them, the solve starts from P_K(r_k + alpha (r_k - r_(k-1))), alpha the data's step along
+ * that line: a load path's next answer while the contacts keep their states. Any other r is
+ * the start as given.
  *
  *   frix_persistent *ps;
  *   frix_persistent_create(problem, options, &ps);
