@@ -6,12 +6,13 @@ last answer. One line a solve: status, iterations, error, wall and CPU seconds, 
 (solver, iterations, seconds) and the persistent solve's setup time.
 
     PYTHONPATH=build/python /usr/bin/python3 tools/bench/fem_file_steps.py FILE.hdf5
-        [--solver NAME] [--tol T] [--steps S] [--save-r PREFIX]
+        [--solver NAME] [--tol T] [--steps S] [--save-r PREFIX] [--set KEY=VALUE ...]
 
 To compare two builds, alternate runs of each (one at a time) and take medians:
     for i in 1 2 3; do for b in build-base build; do
         PYTHONPATH=$b/python /usr/bin/python3 tools/bench/fem_file_steps.py FILE.hdf5; done; done
---save-r writes each answer's r to PREFIX-oneshot.npy and PREFIX-stepK.npy.
+--save-r writes each answer's r to PREFIX-oneshot.npy and PREFIX-stepK.npy; --set passes an
+option to both (integers and floats by their text, e.g. --set secant_start=0).
 """
 import argparse
 import time
@@ -38,14 +39,19 @@ def main():
     ap.add_argument("--steps", type=int, default=5)
     ap.add_argument("--save-r", default=None)
     ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     a = ap.parse_args()
+    extra = {}
+    for kv in a.set:
+        key, value = kv.split("=", 1)
+        extra[key] = float(value) if any(c in value for c in ".eE") else int(value)
     p = frix.load(a.file)
     t, c = time.perf_counter(), time.process_time()
-    res = frix.solve(p, solver=a.solver, tol=a.tol, threads=a.threads)
+    res = frix.solve(p, solver=a.solver, tol=a.tol, threads=a.threads, **extra)
     line("oneshot", res, time.perf_counter() - t, time.process_time() - c)
     if a.save_r:
         np.save(f"{a.save_r}-oneshot.npy", np.array(res.r))
-    solver = frix.Solver(p, solver=a.solver, tol=a.tol, threads=a.threads)
+    solver = frix.Solver(p, solver=a.solver, tol=a.tol, threads=a.threads, **extra)
     f0 = np.array(p.f, copy=True)
     for k in range(a.steps):
         if k:
