@@ -6,8 +6,11 @@
 #include <frix/frix_solve.h>
 
 #include <memory>
+#include <new>
 
 #include "error_state.hpp"
+#include "info.hpp"
+#include "log.hpp"
 #include "matrix.hpp"
 #include "options.hpp"
 #include "problem.hpp"
@@ -79,12 +82,29 @@ FRIX_API void frix_persistent_free(frix_persistent *ps) { delete ps; }
 FRIX_API frix_error frix_persistent_solve(frix_persistent *ps, double *r, double *u, double *v, frix_info *info) {
     return frix::guard("frix_persistent_solve", [&]() -> frix_error {
         if (!ps) return fail(FRIX_ERR_INVALID_ARGUMENT, "frix_persistent_solve: the persistent solver is NULL");
-        const bool secant = ps->options->i(FRIX_OPT_SECANT_START) != 0;
-        if (secant && r) ps->secant.predict(ps->problem, ps->cache, r);
-        const frix_error e = frix::solve_problem("frix_persistent_solve", &ps->problem, ps->options.get(), r, u, v,
-                                                 info, &ps->cache);
-        if (secant && r && info)
-            ps->secant.record(ps->problem, ps->cache, r, e == FRIX_OK && info->status == FRIX_STATUS_CONVERGED);
+        const bool secant = ps->options->i(FRIX_OPT_SECANT_START) != 0 && r;
+        frix_info local_info;
+        frix_info &out = info ? *info : local_info;
+        bool predicted = false;
+        if (secant) {
+            try {
+                predicted = ps->secant.predict(ps->problem, ps->cache, r);
+            } catch (const std::bad_alloc &) {  // no room for the prediction: r as given
+            }
+        }
+        if (predicted && ps->options->i(FRIX_OPT_VERBOSITY) >= 1)
+            frix::log_line(ps->options.get(), "persistent solve: from the secant of the last two answers");
+        const frix_error e =
+            frix::solve_problem("frix_persistent_solve", &ps->problem, ps->options.get(), r, u, v, &out, &ps->cache);
+        // A refused call hands the caller's r back (the last answer, which the prediction
+        // replaced) and leaves the history as it was.
+        if (e != FRIX_OK && predicted) ps->secant.restore_last_answer(r);
+        if (secant && e == FRIX_OK) {
+            try {
+                ps->secant.record(ps->problem, ps->cache, r, out.status == FRIX_STATUS_CONVERGED);
+            } catch (const std::bad_alloc &) {  // the history is forgotten; the solve stands
+            }
+        }
         return e;
     });
 }

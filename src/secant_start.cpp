@@ -1,5 +1,6 @@
 #include "secant_start.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -11,11 +12,11 @@ namespace frix {
 
 namespace {
 
-// The data's step off the line through the last two solves' data, against the step itself,
-// below which it moved along that line (a load path's proportional steps leave rounding).
+// The largest |step - alpha last step| / |step| of a block still on the line: rounding passes,
+// a new direction of the load does not.
 constexpr double kOffLine = 0.1;
-// The farthest the secant is carried, in steps of the last one: past it the line's
-// extrapolation of the answers is a guess.
+// The farthest the secant is carried, in last steps: past it the line's extrapolation of the
+// answers is a guess.
 constexpr double kMaxSteps = 2.0;
 
 // The problem's data as blocks: q, or f and w; each block is tested against the line on its
@@ -48,50 +49,53 @@ bool SecantStart::same_setting(const frix_problem &p, const SolveCache &versions
 bool SecantStart::predict(const frix_problem &p, const SolveCache &versions, double *r) const {
     if (count_ < 2 || contact_size(p) != 3 || p.nc == 0 || !same_setting(p, versions)) return false;
     const size_t m = 3 * (size_t)p.nc;
-    const std::vector<double> &last_r = r_[last_], &older_r = r_[1 - last_];
-    const std::vector<double> &last = data_[last_], &older = data_[1 - last_];
     // The caller continues from the last answer, or chose its own start.
-    if (std::memcmp(r, last_r.data(), sizeof(double) * m) != 0) return false;
+    if (std::memcmp(r, r_.data(), sizeof(double) * m) != 0) return false;
     Block blocks[2];
-    const int count = blocks_of(p, blocks);
-    // alpha from the first block that moved at the last step: the least-squares multiple of
-    // that step nearest to this one.
-    double alpha = NAN;
-    for (int b = 0; b < count && std::isnan(alpha); ++b) {
+    const int block_count = blocks_of(p, blocks);
+    // Per block: this step (the data now less the last solve's), and its products with itself
+    // and with the last step.
+    double step_step[2], step_last[2], last_last[2];
+    std::vector<double> step(data_.size());
+    for (int b = 0; b < block_count; ++b) {
         const Block &k = blocks[b];
-        double d0d1 = 0.0, d1d1 = 0.0;
-        for (size_t i = 0; i < k.size; ++i) {
-            const double d1 = last[k.offset + i] - older[k.offset + i], d0 = k.now[i] - last[k.offset + i];
-            d0d1 += d0 * d1;
-            d1d1 += d1 * d1;
-        }
-        if (d1d1 > 0.0) alpha = d0d1 / d1d1;
+        for (size_t i = 0; i < k.size; ++i) step[k.offset + i] = k.now[i] - data_[k.offset + i];
+        const double *s = step.data() + k.offset, *l = last_step_.data() + k.offset;
+        step_step[b] = vec::dot(s, s, (int64_t)k.size);
+        step_last[b] = vec::dot(s, l, (int64_t)k.size);
+        last_last[b] = vec::dot(l, l, (int64_t)k.size);
     }
+    // alpha: the least-squares multiple of the last step nearest to this one, on the block
+    // whose last step was the largest for its size (a block that only kept still, or moved by
+    // rounding, says nothing of the line).
+    int widest = -1;
+    double widest_share = 0.0;
+    for (int b = 0; b < block_count; ++b) {
+        const Block &k = blocks[b];
+        const double size2 = vec::dot(data_.data() + k.offset, data_.data() + k.offset, (int64_t)k.size);
+        const double share = last_last[b] > 0.0 ? last_last[b] / std::max(size2, last_last[b]) : 0.0;
+        if (share > widest_share) widest = b, widest_share = share;
+    }
+    if (widest < 0) return false;
+    const double alpha = step_last[widest] / last_last[widest];
     if (!(std::fabs(alpha) > 0.0 && std::fabs(alpha) <= kMaxSteps)) return false;
-    // Every block's step alpha times its last one, to kOffLine of it.
-    for (int b = 0; b < count; ++b) {
-        const Block &k = blocks[b];
-        double off = 0.0, step = 0.0;
-        for (size_t i = 0; i < k.size; ++i) {
-            const double d1 = last[k.offset + i] - older[k.offset + i], d0 = k.now[i] - last[k.offset + i];
-            off += (d0 - alpha * d1) * (d0 - alpha * d1);
-            step += d0 * d0;
-        }
-        if (!(off <= kOffLine * kOffLine * step)) return false;
+    // Every block's step alpha times its last one, to kOffLine of the step:
+    // |s - alpha l|^2 = s.s - 2 alpha s.l + alpha^2 l.l.
+    for (int b = 0; b < block_count; ++b) {
+        const double off = step_step[b] - 2.0 * alpha * step_last[b] + alpha * alpha * last_last[b];
+        if (!(off <= kOffLine * kOffLine * step_step[b])) return false;
     }
-    for (size_t i = 0; i < m; ++i) r[i] = last_r[i] + alpha * (last_r[i] - older_r[i]);
+    for (size_t i = 0; i < m; ++i) r[i] = r_[i] + alpha * last_r_step_[i];
     coulomb::project_on_cones(r, p.mu, p.nc);
     return true;
 }
 
 void SecantStart::record(const frix_problem &p, const SolveCache &versions, const double *r, bool converged) {
     const size_t m = 3 * (size_t)p.nc;
-    if (!converged || contact_size(p) != 3 || !vec::all_finite(r, (int64_t)m)) {
-        count_ = 0;
-        return;
-    }
-    if (count_ > 0 && !same_setting(p, versions)) count_ = 0;
-    if (count_ == 0) {
+    const int held = count_ > 0 && same_setting(p, versions) ? count_ : 0;
+    count_ = 0;  // until the history is whole again (an allocation below may fail)
+    if (!converged || contact_size(p) != 3 || !vec::all_finite(r, (int64_t)m)) return;
+    if (held == 0) {
         setting_.kind = (int)p.kind;
         setting_.nc = p.nc;
         setting_.n = p.n;
@@ -101,14 +105,25 @@ void SecantStart::record(const frix_problem &p, const SolveCache &versions, cons
         setting_.h_values = versions.h_values;
         setting_.mu.assign(p.mu, p.mu + p.nc);
     }
-    last_ = 1 - last_;
+    // (With no solve held, the steps below are of no use: the next record makes them.)
     Block blocks[2];
-    const int count = blocks_of(p, blocks);
-    std::vector<double> &data = data_[last_];
-    data.resize(blocks[count - 1].offset + blocks[count - 1].size);
-    for (int b = 0; b < count; ++b) std::copy(blocks[b].now, blocks[b].now + blocks[b].size, data.begin() + blocks[b].offset);
-    r_[last_].assign(r, r + m);
-    count_ = count_ < 2 ? count_ + 1 : 2;
+    const int block_count = blocks_of(p, blocks);
+    const size_t size = blocks[block_count - 1].offset + blocks[block_count - 1].size;
+    data_.resize(size);
+    last_step_.resize(size);
+    r_.resize(m);
+    last_r_step_.resize(m);
+    for (int b = 0; b < block_count; ++b)
+        for (size_t i = 0; i < blocks[b].size; ++i) {
+            const size_t at = blocks[b].offset + i;
+            last_step_[at] = blocks[b].now[i] - data_[at];
+            data_[at] = blocks[b].now[i];
+        }
+    for (size_t i = 0; i < m; ++i) {
+        last_r_step_[i] = r[i] - r_[i];
+        r_[i] = r[i];
+    }
+    count_ = std::min(held + 1, 2);
 }
 
 }  // namespace frix

@@ -8,6 +8,7 @@
 // The start is only a start: the solve measures and iterates from it as from any other.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -22,8 +23,10 @@ class SecantStart {
     // Before a solve from r (the caller's warm start): r replaced by the secant prediction
     // where it applies; whether it was.
     bool predict(const frix_problem &p, const SolveCache &versions, double *r) const;
+    // r back to the last answer, which predict() found there and replaced.
+    void restore_last_answer(double *r) const { std::copy(r_.begin(), r_.end(), r); }
     // After a solve: its data and answer r kept where it converged (a contact law of three
-    // entries), the history forgotten otherwise.
+    // entries), the history forgotten otherwise (also where an allocation fails: it throws).
     void record(const frix_problem &p, const SolveCache &versions, const double *r, bool converged);
 
    private:
@@ -36,9 +39,9 @@ class SecantStart {
     };
     bool same_setting(const frix_problem &p, const SolveCache &versions) const;
     Setting setting_;
-    // The last solve's data (q; or f then w) and answer, and the one's before.
-    std::vector<double> data_[2], r_[2];
-    int last_ = 0;   // data_[last_] is the last solve's
+    // The last solve's data (q; or f then w) and answer, and their steps from the solve's
+    // before.
+    std::vector<double> data_, last_step_, r_, last_r_step_;
     int count_ = 0;  // solves held (0 to 2)
 };
 

@@ -10,13 +10,16 @@
  *     last one rho adapted to) while W's values stay, their analyses while its pattern does;
  *   - the Newton solvers' workspaces; for auto, all of the above for each of its parts.
  * Each solve gives the answer frix_solve would give from the same warm start, up to the
- * rounding of a reused analysis (its pivot order was chosen on earlier values).
- * Secant start (option FRIX_OPT_SECANT_START, on by default): where r is the last solve's
- * answer, passed back unchanged, M and H (or W) and mu are those of the last two solves (both
- * converged, three entries a contact), and the data (f and w, or q) moved along a line over
- * them, the solve starts from P_K(r_k + alpha (r_k - r_(k-1))), alpha the data's step along
- * that line: a load path's next answer while the contacts keep their states. Any other r is
- * the start as given.
+ * rounding of a reused analysis (its pivot order was chosen on earlier values), except where
+ * the secant start below replaces that start.
+ * Secant start (option FRIX_OPT_SECANT_START, on by default; not for rolling problems): where
+ * r is the last solve's answer, passed back unchanged, M and H (or W) and mu are those of the
+ * last two solves (both converged), and the data (f and w, or q) moved along a line over them
+ * (each one's step within 10 % of alpha times its last step, 0 < |alpha| <= 2), the solve
+ * starts from P_K(r_k + alpha (r_k - r_(k-1))), P_K the projection on the cones: a load path's
+ * next answer while the contacts stick or stay open, and often a closer start than r_k
+ * otherwise. It is measured and iterated as any start (one that meets the tolerance is the
+ * answer). Any other r is the start as given; a refused call hands r back as given.
  *
  *   frix_persistent *ps;
  *   frix_persistent_create(problem, options, &ps);
@@ -76,8 +79,8 @@ FRIX_API frix_error frix_persistent_create(const frix_problem *problem, const fr
 /* Frees it (NULL is accepted); never frees the borrowed data. */
 FRIX_API void frix_persistent_free(frix_persistent *ps);
 
-/* Solves the current problem: r, u, v and info exactly as for frix_solve (r is the warm
- * start; v only for a global problem). */
+/* Solves the current problem: r, u, v and info as for frix_solve (r is the warm start, or the
+ * secant start's above; v only for a global problem; info may be NULL). */
 FRIX_API frix_error frix_persistent_solve(frix_persistent *ps, double *r, double *u, double *v,
                                           frix_info *info);
 

@@ -68,6 +68,8 @@ class Solver(_Closing):
         for step in range(steps):
             s.update(q=q_step)
             res = s.solve()          # warm: from the last r
+    Along a line of data (a load path) a solve from the last r starts from the secant of the
+    last two answers; secant_start=0 keeps the last r (docs/time-stepping.md).
     """
 
     def __init__(self, problem, solver="auto", tol=None, max_iter=None, time_limit=None,
@@ -109,7 +111,8 @@ class Solver(_Closing):
         self._lock.release()
 
     def solve(self, r0=None):
-        """Solves the current problem from r0, or from the last solve's r (0 at first)."""
+        """Solves the current problem from r0, or from the last solve's r (0 at first; or the
+        secant start's, see Solver)."""
         self._enter()
         try:
             if r0 is not None:

@@ -12,7 +12,7 @@ To compare two builds, alternate runs of each (one at a time) and take medians:
     for i in 1 2 3; do for b in build-base build; do
         PYTHONPATH=$b/python /usr/bin/python3 tools/bench/fem_file_steps.py FILE.hdf5; done; done
 --save-r writes each answer's r to PREFIX-oneshot.npy and PREFIX-stepK.npy; --set passes an
-option to both (integers and floats by their text, e.g. --set secant_start=0).
+option to both (a number by its text, else a name: --set secant_start=0, --set shuffle=once).
 """
 import argparse
 import time
@@ -44,7 +44,12 @@ def main():
     extra = {}
     for kv in a.set:
         key, value = kv.split("=", 1)
-        extra[key] = float(value) if any(c in value for c in ".eE") else int(value)
+        for kind in (int, float, str):  # a number by its text, else a choice's name
+            try:
+                extra[key] = kind(value)
+                break
+            except ValueError:
+                pass
     p = frix.load(a.file)
     t, c = time.perf_counter(), time.process_time()
     res = frix.solve(p, solver=a.solver, tol=a.tol, threads=a.threads, **extra)
