@@ -3,10 +3,14 @@
  * under a load that swings from step to step, f_k = f (1 + A sin(2 pi k / 8)); M and H do
  * not change, as in a host whose contact nodes stay put. Every step is solved from the
  * previous step's answer by frix_solve and by a frix_persistent updated with f_k alone, which
- * keeps M's factorisation and W = H^T M^-1 H from its first solve.
+ * keeps M's factorisation and W = H^T M^-1 H from its first solve. Both start from the
+ * one-shot's answer of the step before; f swings along one direction, so the persistent way
+ * takes its secant start (frix_persistent.h; --set secant_start=0 turns it off) at the steps
+ * where that answer is its own last one to the bit and the swing's step is at most twice the
+ * last one.
  *
  *   fem_steps [--grid NX NY NZ] [--steps S] [--runs R] [--tol T] [--gap G] [--stiffness K]
- *             [--swing A] [--solvers auto,...]
+ *             [--swing A] [--solvers auto,...] [--set KEY=VALUE ...]
  *
  * Prints per solver and step the median time of R runs of each way, with the persistent
  * way's setup and reduction times (FRIX_INFO_SETUP_TIME, FRIX_INFO_REDUCTION_TIME),
@@ -38,6 +42,8 @@ int main(int argc, char **argv) {
     int nx = 40, ny = 40, nz = 10, steps = 8, runs = 3;
     double tol = 1e-8, gap = 0.0, stiffness = 1e4, swing = 0.25;
     char solvers_arg[256] = "auto";
+    const char *sets[16];  /* --set: options given to every solver, by name */
+    int nsets = 0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         const int left = argc - 1 - i;
@@ -52,9 +58,10 @@ int main(int argc, char **argv) {
         else if (!strcmp(a, "--stiffness") && left >= 1) stiffness = atof(argv[++i]);
         else if (!strcmp(a, "--swing") && left >= 1) swing = atof(argv[++i]);
         else if (!strcmp(a, "--solvers") && left >= 1) snprintf(solvers_arg, sizeof solvers_arg, "%s", argv[++i]);
+        else if (!strcmp(a, "--set") && left >= 1 && nsets < 16 && strchr(argv[i + 1], '=')) sets[nsets++] = argv[++i];
         else {
             fprintf(stderr, "usage: fem_steps [--grid NX NY NZ] [--steps S] [--runs R] [--tol T] [--gap G] "
-                            "[--stiffness K] [--swing A] [--solvers a,b,...]\n");
+                            "[--stiffness K] [--swing A] [--solvers a,b,...] [--set KEY=VALUE ...]\n");
             return 2;
         }
     }
@@ -98,6 +105,12 @@ int main(int argc, char **argv) {
         frix_options *o = NULL;
         if (frix_options_create(id, &o)) die("options");
         frix_options_set_double(o, FRIX_OPT_TOLERANCE, tol);
+        for (int k = 0; k < nsets; ++k) {
+            char key[64];
+            const size_t len = (size_t)(strchr(sets[k], '=') - sets[k]);
+            snprintf(key, sizeof key, "%.*s", (int)len, sets[k]);
+            if (frix_options_set_by_name(o, key, sets[k] + len + 1)) die(sets[k]);
+        }
         /* Warm starts: step k from the answer of step k - 1 (step 0 from r = 0), solved once. */
         memset(r, 0, sizeof *r * (size_t)m);
         for (int k = 0; k < steps; ++k) {
