@@ -15,7 +15,7 @@
  * Secant start (option FRIX_OPT_SECANT_START, on by default; not for rolling problems): where
  * r is the last solve's answer, passed back unchanged, M and H (or W) and mu are those of the
  * last two solves (both converged), and the data (f and w, or q) moved along a line over them
- * (each one's step within 10 % of alpha times its last step, 0 < |alpha| <= 2), the solve
+ * (for each of them |step - alpha last step| <= 0.1 |step|, 0 < |alpha| <= 2), the solve
  * starts from P_K(r_k + alpha (r_k - r_(k-1))), P_K the projection on the cones: a load path's
  * next answer while the contacts stick or stay open, and often a closer start than r_k
  * otherwise. It is measured and iterated as any start (one that meets the tolerance is the
