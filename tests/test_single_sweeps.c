@@ -307,6 +307,102 @@ START_TEST(single_pushes_on_threads_are_one_threads_to_the_bit) {
 }
 END_TEST
 
+/* ---- The active part (a persistent nsgs-v on a large dense W): from step 1 on, the sweeps
+ * run on the contacts closed at the warm start and those nearest to closing, built once and
+ * kept; the whole problem's run then measures that answer and sweeps on only where an open
+ * contact closed. */
+
+typedef struct {
+    int built, kept, whole_runs, whole_sweeps;
+} part_lines;
+
+static void note_part(void *data, const char *line) {
+    part_lines *c = data;
+    if (strstr(line, "nsgs-v: active part")) {
+        if (strstr(line, "(built)")) ++c->built;
+        if (strstr(line, "(kept)")) ++c->kept;
+    }
+    const char *after = strstr(line, "nsgs-v: converged after ");
+    if (after) {
+        ++c->whole_runs;
+        c->whole_sweeps += atoi(after + strlen("nsgs-v: converged after "));
+    }
+}
+
+/* The callback stops a solve at iteration *stop_at (0: never). */
+static int stop_at_iteration(void *stop_at, int64_t iteration, double error, double elapsed) {
+    (void)error, (void)elapsed;
+    const int at = *(const int *)stop_at;
+    return at > 0 && iteration >= at;
+}
+
+/* A 27x27x2 grid (729 contacts: W dense, 38 MB, past the single-precision size) whose gaps
+ * leave a share of its contacts open, its load raised by 2 % a step and by half at step 4:
+ * every persistent step converges, meets the tolerance by the double measure and agrees with
+ * frix_solve's nsgs-v from the same start; step 2 once more, stopped by the callback within
+ * the part, ends stopped after that many sweeps, and the next steps go on. */
+START_TEST(persistent_steps_sweep_the_active_part) {
+    frix_elastic_grid g;
+    ck_assert_int_eq(frix_elastic_grid_make(27, 27, 2, 2.0, 1e4, &g), FRIX_OK);
+    const frix_problem *p = g.problem;
+    const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
+    double *f0 = malloc(sizeof *f0 * (size_t)n), *start = malloc(sizeof *start * (size_t)m);
+    memcpy(f0, g.f, sizeof *f0 * (size_t)n);
+    run pers = run_make(p), one = run_make(p);
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS_VELOCITY, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
+    part_lines lines = {0, 0, 0, 0};
+    ck_assert_int_eq(frix_options_set_log(o, note_part, &lines), FRIX_OK);
+    int stop_at = 0;
+    ck_assert_int_eq(frix_options_set_callback(o, stop_at_iteration, &stop_at), FRIX_OK);
+    frix_persistent *ps = NULL;
+    ck_assert_int_eq(frix_persistent_create(p, o, &ps), FRIX_OK);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    int kept_steps_whole_sweeps = 0;
+    for (int k = 0; k < 6; ++k) {
+        const double scale = k == 4 ? 1.5 : 1.0 + 0.02 * k;
+        for (int64_t i = 0; i < n; ++i) g.f[i] = scale * f0[i];
+        memcpy(start, pers.r, sizeof *start * (size_t)m);
+        if (k == 2) {
+            stop_at = 3;
+            const part_lines stopped = lines;
+            ck_assert_int_eq(frix_persistent_solve(ps, pers.r, pers.u, pers.v, info), FRIX_OK);
+            ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_STOPPED_BY_CALLBACK);
+            ck_assert_int_eq(frix_info_iterations(info), 3);
+            ck_assert_int_eq(lines.kept, stopped.kept + 1);
+            stop_at = 0;
+            memcpy(pers.r, start, sizeof *start * (size_t)m);
+        }
+        const part_lines before = lines;
+        ck_assert_int_eq(frix_persistent_solve(ps, pers.r, pers.u, pers.v, info), FRIX_OK);
+        ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+        ck_assert_int_eq(frix_problem_error(p, pers.r, pers.v, &pers.error), FRIX_OK);
+        ck_assert_double_le(pers.error, 1e-8);
+        if (lines.kept > before.kept && k != 4) kept_steps_whole_sweeps += lines.whole_sweeps - before.whole_sweeps;
+        memcpy(one.r, start, sizeof *start * (size_t)m);
+        frix_options *o1 = NULL;
+        ck_assert_int_eq(frix_options_copy(o, &o1), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_int(o1, FRIX_OPT_VERBOSITY, 0), FRIX_OK);
+        run_solve(p, PUBLIC, o1, &one);
+        ck_assert_int_eq(one.status, FRIX_STATUS_CONVERGED);
+        ck_assert_double_le(distance(pers.r, one.r, m), 1e-6);
+    }
+    ck_assert_int_ge(lines.built, 1);
+    ck_assert_int_ge(lines.kept, 2);
+    /* Where the part was kept along the path, its answer solved the whole problem. */
+    ck_assert_int_eq(kept_steps_whole_sweeps, 0);
+    frix_info_free(info);
+    frix_persistent_free(ps);
+    frix_options_free(o);
+    run_free(&pers), run_free(&one);
+    free(f0), free(start);
+    frix_elastic_grid_free(&g);
+}
+END_TEST
+
 static Suite *single_suite(void) {
     Suite *s = suite_create("single_sweeps");
     TCase *t = tcase_create("single");
@@ -316,6 +412,7 @@ static Suite *single_suite(void) {
     tcase_add_test(t, single_pushes_need_room_in_the_memory_limit);
     tcase_add_test(t, single_push_is_the_column_times_dr);
     tcase_add_test(t, single_pushes_on_threads_are_one_threads_to_the_bit);
+    tcase_add_test(t, persistent_steps_sweep_the_active_part);
     suite_add_tcase(s, t);
     return s;
 }

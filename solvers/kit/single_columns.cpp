@@ -68,6 +68,31 @@ void SingleColumns::build(const frix_matrix &W, uint64_t w_values, uint64_t w_pa
     w_pattern_ = w_pattern;
 }
 
+void dense_restriction(const frix_matrix &W, const std::vector<int64_t> &S, frix_matrix &out) {
+    const int64_t nc = W.block_rows, ns = (int64_t)S.size();
+    out.rows = out.cols = 3 * ns;
+    out.block = true;
+    out.block_rows = out.block_cols = ns;
+    out.symmetric = W.symmetric;
+    out.row_ptr.resize((size_t)ns + 1);
+    out.diag_index.resize((size_t)ns);
+    reserve_advised(out.block_col, (size_t)(ns * ns));
+    out.block_col.resize((size_t)(ns * ns));
+    reserve_advised(out.block_val, (size_t)(9 * ns * ns));
+    out.block_val.resize((size_t)(9 * ns * ns));
+    for (int64_t i = 0; i < ns; ++i) {
+        out.row_ptr[(size_t)i] = i * ns;
+        out.diag_index[(size_t)i] = i * ns + i;
+        const double *row = &W.block_val[(size_t)(9 * S[(size_t)i] * nc)];
+        double *to = &out.block_val[(size_t)(9 * i * ns)];
+        for (int64_t j = 0; j < ns; ++j) {
+            out.block_col[(size_t)(i * ns + j)] = j;
+            std::copy_n(row + 9 * S[(size_t)j], 9, to + 9 * j);
+        }
+    }
+    out.row_ptr[(size_t)ns] = ns * ns;
+}
+
 void SingleColumns::push(int64_t a, const double *dr, double *u) const {
     for (int64_t p = 0; p < panels(); ++p) push_panel(p, a, dr, u);
 }

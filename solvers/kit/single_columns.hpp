@@ -21,6 +21,10 @@ namespace nsgs {
 // (notes/2026-11-28-single-precision-sweeps.md).
 constexpr double kSingleColumnsMinBytes = 32.0 * 1024.0 * 1024.0;
 
+// W_SS of a W that stores every block (SingleColumns::suits), S increasing, into out (its
+// storage kept where it suffices): the part of a dense W the sweeps of some contacts read.
+void dense_restriction(const frix_matrix &W, const std::vector<int64_t> &S, frix_matrix &out);
+
 class SingleColumns : public CachedState {
    public:
     // Whether the pushes on W go through single-precision columns: W stores every block (a
