@@ -202,4 +202,28 @@ class Monitor {
     int64_t max_iter_ = -1;
 };
 
+// The progress reports of an inner solve, forwarded to the caller's options: numbered on by
+// `offset` (the iterations done before it), and told as estimates where `as_estimates` (the
+// inner problem's errors are not the caller's measure).
+struct ForwardedReports {
+    const frix_options *outer;
+    const Stopwatch *clock;
+    int64_t offset = 0;
+    bool as_estimates = false;
+    static int forward(void *data, int64_t iteration, double error, bool measured) {
+        const ForwardedReports *c = static_cast<const ForwardedReports *>(data);
+        const Monitor monitor(*c->outer, *c->clock);
+        const int64_t it = c->offset + iteration;
+        return (measured && !c->as_estimates ? monitor.report(it, error) : monitor.report_estimate(it, error)) ? 1 : 0;
+    }
+    // o with its callback replaced by this forwarder, where the caller's options have one.
+    frix_options applied_to(frix_options o) {
+        if (!outer->has_callback()) return o;
+        o.callback = nullptr;
+        o.callback_with_kind = &forward;
+        o.callback_data = this;
+        return o;
+    }
+};
+
 }  // namespace frix

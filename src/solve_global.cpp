@@ -74,26 +74,6 @@ frix_error tighten_to_global_measure(const frix_problem &p, const frix_problem &
     return FRIX_OK;
 }
 
-// The options of a local solve on W for a global problem: its errors are on the reduced
-// problem's scale (max(|q|, |u|), not the global measure's), so the caller's callback takes
-// them as estimates.
-struct ReducedCallback {
-    const frix_options *outer;
-    const Stopwatch *clock;
-    static int forward(void *data, int64_t iteration, double error, bool /*measured*/) {
-        const ReducedCallback *c = static_cast<const ReducedCallback *>(data);
-        return Monitor(*c->outer, *c->clock).report_estimate(iteration, error) ? 1 : 0;
-    }
-};
-frix_options reduced_options(const frix_options &opts, ReducedCallback &forward) {
-    frix_options o = opts;
-    if (!opts.has_callback()) return o;
-    o.callback = nullptr;
-    o.callback_with_kind = &ReducedCallback::forward;
-    o.callback_data = &forward;
-    return o;
-}
-
 // Route (a): reduce with the factorised M, solve the local problem with any local solver,
 // recover v. W has at most w_blocks blocks (room is reserved for them: memory only counts once
 // written).
@@ -153,8 +133,10 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
         local_cache = &kept->local;
     }
     Measures measures;
-    ReducedCallback forward{&opts, &clock};
-    const frix_options local_opts = reduced_options(opts, forward);
+    // The local solve's errors are on the reduced problem's scale (max(|q|, |u|), not the
+    // global measure's): the caller's callback takes them as estimates.
+    ForwardedReports forward{&opts, &clock, 0, true};
+    const frix_options local_opts = forward.applied_to(opts);
     frix_error err = solve_local_problem(*local, local_opts, entry, r, u, info, clock, local_cache, &measures);
     if (!err) err = tighten_to_global_measure(p, *local, local_opts, entry, r, u, info, clock, local_cache, measures);
     if (kept) {

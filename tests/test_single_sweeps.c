@@ -1,8 +1,8 @@
 /* nsgs-v's pushes through a single-precision copy of a large dense W (solvers/kit/
  * single_columns.hpp): forced on problems small enough for the suite (frix_testing.h), the run
  * still meets tight tolerances by the double measure and agrees with the double pushes'
- * answer; below the size that takes them (every problem here), frix_solve's nsgs-v is the
- * double path to the bit. */
+ * answer; below the size that takes them, frix_solve's nsgs-v is the double path to the bit.
+ * On a grid past that size, a persistent nsgs-v sweeps its active part. */
 #include <frix/frix.h>
 #include <math.h>
 #include <stdlib.h>
@@ -313,7 +313,7 @@ END_TEST
  * contact closed. */
 
 typedef struct {
-    int built, kept, whole_runs, whole_sweeps;
+    int built, kept, stopped_at_3, whole_runs, whole_sweeps;
 } part_lines;
 
 static void note_part(void *data, const char *line) {
@@ -321,6 +321,7 @@ static void note_part(void *data, const char *line) {
     if (strstr(line, "nsgs-v: active part")) {
         if (strstr(line, "(built)")) ++c->built;
         if (strstr(line, "(kept)")) ++c->kept;
+        if (strstr(line, "stopped by callback after 3 sweeps")) ++c->stopped_at_3;
     }
     const char *after = strstr(line, "nsgs-v: converged after ");
     if (after) {
@@ -353,7 +354,7 @@ START_TEST(persistent_steps_sweep_the_active_part) {
     ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS_VELOCITY, &o), FRIX_OK);
     ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
     ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
-    part_lines lines = {0, 0, 0, 0};
+    part_lines lines = {0, 0, 0, 0, 0};
     ck_assert_int_eq(frix_options_set_log(o, note_part, &lines), FRIX_OK);
     int stop_at = 0;
     ck_assert_int_eq(frix_options_set_callback(o, stop_at_iteration, &stop_at), FRIX_OK);
@@ -373,6 +374,7 @@ START_TEST(persistent_steps_sweep_the_active_part) {
             ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_STOPPED_BY_CALLBACK);
             ck_assert_int_eq(frix_info_iterations(info), 3);
             ck_assert_int_eq(lines.kept, stopped.kept + 1);
+            ck_assert_int_eq(lines.stopped_at_3, stopped.stopped_at_3 + 1);
             stop_at = 0;
             memcpy(pers.r, start, sizeof *start * (size_t)m);
         }

@@ -459,6 +459,16 @@ frix_error run_sweeps(SolveContext &ctx, Workspace &ws, SweepForm &form, const c
 // them at single_min_bytes (SingleColumns::suits): its entry passes kSingleColumnsMinBytes,
 // a test may pass less.
 frix_error solve_velocity_at(SolveContext &ctx, double single_min_bytes);
+// nsgs-v's sweeps on ctx (nsgs.cpp), pushing through `columns` where given (a single-precision
+// copy of ctx's W, on as many threads as it has panels; null: W's own columns in double).
+frix_error run_velocity_sweeps(SolveContext &ctx, const SingleColumns *columns, const char *name);
+// nsgs-v's active part (active_part.cpp): in a persistent solve (ctx.cache) on a W that suits
+// single-precision columns, from a warm start that misses the tolerance (measured into `start`
+// where ctx has no measured start) with a quarter or more of its contacts open, the sweeps on
+// the contacts in touch, their answer then in ctx.r (ctx.measured_start cleared): their
+// sweeps and status. False where it does not apply (ctx.r unchanged).
+bool sweep_active_part(SolveContext &ctx, double single_min_bytes, Measures &start, int64_t *sweeps,
+                       frix_status *status);
 
 // The sweeps momentum (option acceleration) is given to halve its best error before it is off
 // for the rest of a run; its error rises and falls meanwhile, so a watch on its rate waits as

@@ -12,11 +12,8 @@
 #include "src/log.hpp"
 #include "src/matrix.hpp"
 #include "src/measures.hpp"
-#include "src/info.hpp"
 #include "src/monitor.hpp"
-#include "src/problem.hpp"
 #include "src/random.hpp"
-#include "src/vec.hpp"
 #include "solvers/entries.hpp"
 
 namespace frix {
@@ -316,128 +313,15 @@ frix_error solve_velocity(SolveContext &ctx) { return solve_velocity_at(ctx, kSi
 
 }  // namespace
 
-namespace {
-
-// The active part of a persistent nsgs-v on a large dense W: the contacts closed at the warm
-// start (r_a != 0, or u_aN <= 0) and the tenth of the open ones nearest to closing, with
-// their own W_SS (and its single-precision columns) kept between solves. While the open ones
-// keep r = 0, u_S = W_SS r_S + q_S exactly: sweeping the part pushes through S's rows alone.
-struct ActivePart : CachedState {
-    std::vector<int64_t> contacts;  // S, increasing
-    frix_matrix W;                  // W_SS, every block stored
-    uint64_t w_values = 0, w_pattern = 0;
-    int64_t threads = 0;            // the panels its columns were cut for
-    SingleColumns columns;
-    std::vector<double> q, mu, r, u;
-};
-constexpr int kActivePartKey = -FRIX_SOLVER_NSGS_VELOCITY;
-// The part is taken where at least this share of the contacts is open: fewer leave too
-// little of each push out to pay for the part's checks.
-constexpr double kMinOpenShare = 0.25;
-// The open contacts nearest to closing taken into a new part (a share of the open ones), and
-// how much larger than the closed ones a kept part may be: a load path's next steps close
-// some of them, and the part is then kept rather than built again.
-constexpr double kMarginShare = 0.1, kMaxKeptExcess = 0.25;
-
-// Sweeps the active part (a persistent solve from a warm start short of the tolerance, a
-// quarter or more of the contacts open), its answer then in ctx.r; its sweeps and status, or
-// false where it does not apply. The whole problem's run that follows starts from that r and
-// measures it.
-bool sweep_active_part(SolveContext &ctx, double single_min_bytes, Measures &start, int64_t *sweeps,
-                       frix_status *status) {
-    const frix_problem &p = ctx.problem;
-    const frix_matrix &W = *p.W;
-    const int64_t nc = p.nc;
-    if (!ctx.cache || !SingleColumns::suits(W, single_min_bytes) || vec::all_zero(ctx.r, 3 * nc)) return false;
-    // The warm start's u = W r + q (and its measures, which the whole run then takes): a start
-    // that already meets the tolerance is left to it.
-    if (!ctx.measured_start) {
-        start = local_measures(p, ctx.r, ctx.u);
-        ctx.measured_start = &start;
-    }
-    const Monitor monitor(ctx);
-    if (selected_error(*ctx.measured_start, ctx.options.i(FRIX_OPT_ERROR_MEASURE)) <= monitor.tolerance()) return false;
-    std::vector<uint8_t> in((size_t)nc, 0);
-    std::vector<std::pair<double, int64_t>> open;
-    int64_t closed = 0;
-    for (int64_t a = 0; a < nc; ++a) {
-        const double *ra = ctx.r + 3 * a;
-        if (ra[0] != 0.0 || ra[1] != 0.0 || ra[2] != 0.0 || !(ctx.u[3 * a] > 0.0)) in[(size_t)a] = 1, ++closed;
-        else open.emplace_back(ctx.u[3 * a], a);
-    }
-    if (closed == 0 || (double)(nc - closed) < kMinOpenShare * (double)nc) return false;
-    Kept<ActivePart> part(ctx.cache, kActivePartKey);
-    std::vector<int64_t> &S = part->contacts;
-    const int64_t threads = std::max<int64_t>(1, ctx.options.i(FRIX_OPT_THREADS));
-    bool keep = part.reused() && part->w_values == ctx.cache->w_values && part->w_pattern == ctx.cache->w_pattern &&
-                part->threads == threads && (double)S.size() <= (1.0 + kMaxKeptExcess) * (double)closed;
-    if (keep) {
-        std::vector<uint8_t> held((size_t)nc, 0);
-        for (int64_t a : S) held[(size_t)a] = 1;
-        for (int64_t a = 0; a < nc && keep; ++a) keep = !in[(size_t)a] || held[(size_t)a];
-    }
-    if (!keep) {
-        std::sort(open.begin(), open.end());
-        for (size_t k = 0; k < (size_t)(kMarginShare * (double)open.size()); ++k) in[(size_t)open[k].second] = 1;
-        S.clear();
-        for (int64_t a = 0; a < nc; ++a)
-            if (in[(size_t)a]) S.push_back(a);
-        const double ns = (double)S.size();
-        if (!Monitor(ctx).fits_memory(72.0 * ns * ns + 36.0 * ns * ns + 8.0 * ns * ns)) return false;
-        dense_restriction(W, S, part->W);
-        part->columns.build(part->W, 0, 0, threads);
-        part->w_values = ctx.cache->w_values;
-        part->w_pattern = ctx.cache->w_pattern;
-        part->threads = threads;
-    }
-    const int64_t ns = (int64_t)S.size();
-    part->q.resize((size_t)(3 * ns));
-    part->mu.resize((size_t)ns);
-    part->r.resize((size_t)(3 * ns));
-    part->u.resize((size_t)(3 * ns));
-    for (int64_t i = 0; i < ns; ++i) {
-        const int64_t a = S[(size_t)i];
-        part->mu[(size_t)i] = p.mu[a];
-        std::copy_n(p.q + 3 * a, 3, &part->q[(size_t)(3 * i)]);
-        std::copy_n(ctx.r + 3 * a, 3, &part->r[(size_t)(3 * i)]);
-    }
-    frix_problem *sub = nullptr;
-    if (make_local_problem(&part->W, part->q.data(), part->mu.data(), ns, &sub)) return false;
-    const std::unique_ptr<frix_problem> sub_owner(sub);
-    frix_info info;
-    SolveContext sub_ctx = SolveContext::local(*sub, ctx.options, part->r.data(), part->u.data(), info, ctx.clock);
-    sub_ctx.runaway_bound = ctx.runaway_bound;
-    Workspace ws(*sub, settings_from(ctx.options));
+frix_error run_velocity_sweeps(SolveContext &ctx, const SingleColumns *columns, const char *name) {
+    Workspace ws(ctx.problem, settings_from(ctx.options));
+    // The pipelined sweeps' threads: one a panel of the single-precision columns.
     std::unique_ptr<ThreadTeam> team;
-    if (part->columns.panels() > 1) team = std::make_unique<ThreadTeam>((int)part->columns.panels());
-    ws.push_through(&part->columns, team.get());
-    VelocityForm form(*sub, true, team.get());
-    if (run_sweeps(sub_ctx, ws, form, "nsgs-v (active part)") != FRIX_OK) return false;
-    for (int64_t i = 0; i < ns; ++i) std::copy_n(&part->r[(size_t)(3 * i)], 3, ctx.r + 3 * S[(size_t)i]);
-    ctx.measured_start = nullptr;  // r moved
-    part.keep();
-    *sweeps = info.iterations;
-    *status = info.status;
-    if (ctx.options.i(FRIX_OPT_VERBOSITY) >= 1)
-        log_line(&ctx.options, "nsgs-v: active part, %lld of %lld contacts (%s): %s after %lld sweeps", (long long)ns,
-                 (long long)nc, keep ? "kept" : "built", frix_status_string(info.status), (long long)info.iterations);
-    return true;
+    if (columns && columns->panels() > 1) team = std::make_unique<ThreadTeam>((int)columns->panels());
+    if (columns) ws.push_through(columns, team.get());
+    VelocityForm form(ctx.problem, columns != nullptr, team.get());
+    return run_sweeps(ctx, ws, form, name);
 }
-
-// The progress reports of a run that follows `sweeps` others, numbered on from them.
-struct ReportsAfter {
-    const frix_options *outer;
-    const Stopwatch *clock;
-    int64_t sweeps;
-    static int forward(void *data, int64_t iteration, double error, bool measured) {
-        const ReportsAfter *c = static_cast<const ReportsAfter *>(data);
-        const Monitor monitor(*c->outer, *c->clock);
-        return (measured ? monitor.report(c->sweeps + iteration, error)
-                         : monitor.report_estimate(c->sweeps + iteration, error)) ? 1 : 0;
-    }
-};
-
-}  // namespace
 
 frix_error solve_velocity_at(SolveContext &ctx, double single_min_bytes) {
     if (frix_error e = check_blocks(ctx.problem, "nsgs-v")) return e;
@@ -455,31 +339,22 @@ frix_error solve_velocity_at(SolveContext &ctx, double single_min_bytes) {
         return FRIX_OK;
     }
     // The whole problem's run goes on with the sweeps the part left, its reports numbered on.
-    frix_options rest = ctx.options;
+    ForwardedReports after{&ctx.options, &ctx.clock, part_sweeps, false};
+    frix_options rest = part_sweeps > 0 ? after.applied_to(ctx.options) : ctx.options;
     rest.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, ctx.options.i(FRIX_OPT_MAX_ITER) - part_sweeps);
-    ReportsAfter after{&ctx.options, &ctx.clock, part_sweeps};
-    if (part_sweeps > 0 && ctx.options.has_callback()) {
-        rest.callback = nullptr;
-        rest.callback_with_kind = &ReportsAfter::forward;
-        rest.callback_data = &after;
-    }
-    SolveContext run_ctx{ctx.problem, rest, ctx.r, ctx.u, ctx.v, ctx.info, ctx.clock, ctx.mass, ctx.cache};
-    run_ctx.measured_start = ctx.measured_start;
-    run_ctx.runaway_bound = ctx.runaway_bound;
-    run_ctx.mass_shifted = ctx.mass_shifted;
-    run_ctx.return_best = ctx.return_best;
-    run_ctx.factor_mass = ctx.factor_mass;
-    Workspace ws(ctx.problem, settings_from(ctx.options));
+    // (global(): the named constructor that carries v and M's factorisation over.)
+    SolveContext run = SolveContext::global(ctx.problem, rest, ctx.r, ctx.u, ctx.v, ctx.info, ctx.clock, ctx.mass)
+                           .with_cache(ctx.cache);
+    run.measured_start = ctx.measured_start;
+    run.runaway_bound = ctx.runaway_bound;
+    run.mass_shifted = ctx.mass_shifted;
+    run.return_best = ctx.return_best;
+    run.factor_mass = ctx.factor_mass;
     const std::unique_ptr<Kept<SingleColumns>> single =
-        single_columns(run_ctx, single_min_bytes, ctx.options.i(FRIX_OPT_THREADS));
-    // The pipelined sweeps' threads: one a panel of the single-precision columns.
-    std::unique_ptr<ThreadTeam> team;
-    if (single && (**single).panels() > 1) team = std::make_unique<ThreadTeam>((int)(**single).panels());
-    if (single) ws.push_through(&**single, team.get());
-    VelocityForm columns(ctx.problem, single != nullptr, team.get());
-    const frix_error e = run_sweeps(run_ctx, ws, columns, "nsgs-v");
-    ctx.has_measured = run_ctx.has_measured;
-    ctx.measured = run_ctx.measured;
+        single_columns(run, single_min_bytes, ctx.options.i(FRIX_OPT_THREADS));
+    const frix_error e = run_velocity_sweeps(run, single ? &**single : nullptr, "nsgs-v");
+    ctx.has_measured = run.has_measured;
+    ctx.measured = run.measured;
     ctx.measured_start = part_ran ? nullptr : given;  // never `start`, which ends here
     ctx.info.iterations += part_sweeps;
     if (single && !e) single->keep();
