@@ -405,6 +405,78 @@ START_TEST(persistent_steps_sweep_the_active_part) {
 }
 END_TEST
 
+/* The callback's iterations, which must rise through a solve. */
+typedef struct {
+    int64_t last, reports, out_of_order;
+} numbering;
+
+static int note_numbering(void *data, int64_t iteration, double error, double elapsed) {
+    numbering *c = data;
+    (void)error, (void)elapsed;
+    if (iteration <= c->last) ++c->out_of_order;
+    c->last = iteration, ++c->reports;
+    return 0;
+}
+
+/* A local dense W = 2 I - c e e^T on the normal rows (e: ones on them; 700 contacts, 35 MB,
+ * past the single-precision size): a contact's normal velocity falls as the others press
+ * harder. Half the contacts press; of the others, those with a small gap close only once the
+ * pressing ones' reactions have grown, so they lie outside the part and the whole problem's
+ * run sweeps on after it: the step converges within the tolerance, and the callback's
+ * iterations rise across the part and the whole run. */
+START_TEST(persistent_step_sweeps_on_after_the_active_part) {
+    enum { nc = 700, rows = 3 * nc };
+    const double c = 5.7e-4;
+    double *W = calloc((size_t)rows * rows, sizeof *W), q[rows], mu[nc], r[rows] = {0}, u[rows];
+    for (int64_t i = 0; i < rows; ++i) W[i + rows * i] = 2.0;
+    for (int64_t a = 0; a < nc; ++a)
+        for (int64_t b = 0; b < nc; ++b) W[3 * a + rows * 3 * b] -= c;
+    frix_matrix *Wm = NULL;
+    ck_assert_int_eq(frix_matrix_from_dense(rows, rows, W, rows, &Wm), FRIX_OK);
+    free(W);
+    for (int64_t a = 0; a < nc; ++a) {
+        mu[a] = 0.5;
+        q[3 * a] = a % 2 ? -1.0 : 0.2 + 1.0 * (double)a / nc;  /* pressing, or open by a gap */
+        q[3 * a + 1] = q[3 * a + 2] = 0.0;
+    }
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_problem_local(Wm, q, mu, nc, &p), FRIX_OK);
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS_VELOCITY, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
+    part_lines lines = {0, 0, 0, 0, 0};
+    ck_assert_int_eq(frix_options_set_log(o, note_part, &lines), FRIX_OK);
+    numbering calls = {0, 0, 0};
+    ck_assert_int_eq(frix_options_set_callback(o, note_numbering, &calls), FRIX_OK);
+    frix_persistent *ps = NULL;
+    ck_assert_int_eq(frix_persistent_create(p, o, &ps), FRIX_OK);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_persistent_solve(ps, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    /* The pressing contacts press six times as hard: those open by less than about 0.6 close. */
+    for (int64_t a = 1; a < nc; a += 2) q[3 * a] = -6.0;
+    const part_lines before = lines;
+    calls.last = 0, calls.reports = 0;
+    ck_assert_int_eq(frix_persistent_solve(ps, r, u, NULL, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    double e = 0.0;
+    ck_assert_int_eq(frix_problem_error(p, r, NULL, &e), FRIX_OK);
+    ck_assert_double_le(e, 1e-8);
+    ck_assert_int_eq(lines.built, before.built + 1);
+    ck_assert_int_gt(lines.whole_sweeps, before.whole_sweeps);
+    ck_assert_int_gt(calls.reports, 0);
+    ck_assert_int_eq(calls.out_of_order, 0);
+    ck_assert_int_eq(calls.last, frix_info_iterations(info));
+    frix_info_free(info);
+    frix_persistent_free(ps);
+    frix_options_free(o);
+    frix_problem_free(p);
+    frix_matrix_free(Wm);
+}
+END_TEST
+
 static Suite *single_suite(void) {
     Suite *s = suite_create("single_sweeps");
     TCase *t = tcase_create("single");
@@ -415,6 +487,7 @@ static Suite *single_suite(void) {
     tcase_add_test(t, single_push_is_the_column_times_dr);
     tcase_add_test(t, single_pushes_on_threads_are_one_threads_to_the_bit);
     tcase_add_test(t, persistent_steps_sweep_the_active_part);
+    tcase_add_test(t, persistent_step_sweeps_on_after_the_active_part);
     suite_add_tcase(s, t);
     return s;
 }
