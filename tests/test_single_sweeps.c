@@ -330,6 +330,16 @@ static void note_part(void *data, const char *line) {
     }
 }
 
+/* nsgs-v at 1e-8, its progress lines (verbosity 1) counted into *lines. */
+static frix_options *logged_nsgs_v(part_lines *lines) {
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS_VELOCITY, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_log(o, note_part, lines), FRIX_OK);
+    return o;
+}
+
 /* The callback stops a solve at iteration *stop_at (0: never). */
 static int stop_at_iteration(void *stop_at, int64_t iteration, double error, double elapsed) {
     (void)error, (void)elapsed;
@@ -350,12 +360,8 @@ START_TEST(persistent_steps_sweep_the_active_part) {
     double *f0 = malloc(sizeof *f0 * (size_t)n), *start = malloc(sizeof *start * (size_t)m);
     memcpy(f0, g.f, sizeof *f0 * (size_t)n);
     run pers = run_make(p), one = run_make(p);
-    frix_options *o = NULL;
-    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS_VELOCITY, &o), FRIX_OK);
-    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
-    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
     part_lines lines = {0, 0, 0, 0, 0};
-    ck_assert_int_eq(frix_options_set_log(o, note_part, &lines), FRIX_OK);
+    frix_options *o = logged_nsgs_v(&lines);
     int stop_at = 0;
     ck_assert_int_eq(frix_options_set_callback(o, stop_at_iteration, &stop_at), FRIX_OK);
     frix_persistent *ps = NULL;
@@ -441,12 +447,8 @@ START_TEST(persistent_step_sweeps_on_after_the_active_part) {
     }
     frix_problem *p = NULL;
     ck_assert_int_eq(frix_problem_local(Wm, q, mu, nc, &p), FRIX_OK);
-    frix_options *o = NULL;
-    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_NSGS_VELOCITY, &o), FRIX_OK);
-    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
-    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_VERBOSITY, 1), FRIX_OK);
     part_lines lines = {0, 0, 0, 0, 0};
-    ck_assert_int_eq(frix_options_set_log(o, note_part, &lines), FRIX_OK);
+    frix_options *o = logged_nsgs_v(&lines);
     numbering calls = {0, 0, 0};
     ck_assert_int_eq(frix_options_set_callback(o, note_numbering, &calls), FRIX_OK);
     frix_persistent *ps = NULL;

@@ -66,8 +66,7 @@ bool sweep_active_part(SolveContext &ctx, double single_min_bytes, Measures &sta
     std::vector<std::pair<double, int64_t>> open;
     int64_t closed = 0;
     for (int64_t a = 0; a < nc; ++a) {
-        const double *ra = ctx.r + 3 * a;
-        if (ra[0] != 0.0 || ra[1] != 0.0 || ra[2] != 0.0 || !(ctx.u[3 * a] > 0.0)) in_part[(size_t)a] = 1, ++closed;
+        if (!vec::all_zero(ctx.r + 3 * a, 3) || !(ctx.u[3 * a] > 0.0)) in_part[(size_t)a] = 1, ++closed;
         else open.emplace_back(ctx.u[3 * a], a);
     }
     if (closed == 0 || (double)open.size() < kMinOpenShare * (double)nc) return false;
