@@ -41,6 +41,11 @@ constexpr int64_t kBalancePeriod = 25;
 constexpr double kBalanceFactor = 5.0;    // rho changes only by this factor or more
 constexpr double kRhoMin = 1e-6, kRhoMax = 1e6;  // in units of 1 / scale
 constexpr int64_t kFullCheckPeriod = 32;
+// While the light error is within the tolerance, a full check at least every kCheckGap
+// iterations, whatever the recalibrated light tolerance says: ADMM's light error oscillates,
+// so waiting for it to pass a tolerance lowered by a failed check runs past iterates that meet
+// the tolerance, where a check costs less than an iteration's solve.
+constexpr int64_t kCheckGap = 2;
 
 using vec::dot;
 
@@ -86,7 +91,7 @@ class Solver {
     first_order::RestartedNesterov momentum_;
     double equilibrium_ = 0.0, err_ = 0.0, norm_f_ = 0.0, tol_light_ = 0.0;
     double light_after_change_ = NAN;  // the light error of the first iteration on the current rho
-    int64_t it_ = 0, changes_ = 0, since_change_ = 0;
+    int64_t it_ = 0, changes_ = 0, since_change_ = 0, last_full_ = 0;
     // The system's counts of solves through the single-precision copy, and of those finished in
     // double, when the solve started.
     const int64_t single_solves_before_, finished_in_double_before_;
@@ -226,10 +231,13 @@ Residuals Solver::update_r_and_xi() {
 }
 
 // Stopping: the full error (with v recovered where that helps), when the light error passes
-// its tolerance, recalibrated on each full check, or every kFullCheckPeriod iterations.
+// its tolerance, recalibrated on each full check, every kCheckGap iterations while it is within
+// the tolerance itself, or every kFullCheckPeriod iterations.
 frix_status Solver::stop_test(double light, double prim, double dual) {
-    const bool full = light <= tol_light_ || it_ % kFullCheckPeriod == 0;
+    const bool full = light <= tol_light_ || (light <= tol_ && it_ - last_full_ >= kCheckGap) ||
+                      it_ % kFullCheckPeriod == 0;
     if (full) {
+        last_full_ = it_;
         err_ = global_error_or_recovered(p_, ctx_.mass, measure_, tol_, r_, v_, u_, &equilibrium_);
         if (!(err_ <= tol_) && std::isfinite(err_) && light > 0.0) tol_light_ = std::min(tol_, light / err_ * tol_);
     }
