@@ -14,6 +14,7 @@
 #include "log.hpp"
 #include "measures.hpp"
 #include "monitor.hpp"
+#include "pressed_reduction.hpp"
 #include "reduction.hpp"
 #include "vec.hpp"
 #include "solver_api.hpp"
@@ -153,6 +154,37 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
 frix_error solve_global(const frix_problem &p, const frix_options &opts, const SolverEntry &entry, double *r,
                         double *u, double *v, frix_info &info, const Stopwatch &clock, SolveCache *cache,
                         MassSolver *enclosing, bool regularise);
+
+// solve_reduced, where a one-shot solve's W would be large on the contacts pressed at the start
+// first (pressed_reduction.hpp), then on all of them where those grew past their share; a
+// persistent solver keeps the whole W for its next steps.
+frix_error solve_reduced_pressed_first(const frix_problem &p, const frix_options &opts, const SolverEntry &entry,
+                                       MassSolver &ms, double w_blocks, const double *q, double *r, double *u,
+                                       double *v, frix_info &info, const Stopwatch &clock, const SolveCache *cache,
+                                       GlobalState *kept) {
+    const ReducedRoute part = [&](const frix_problem &sub, const frix_options &o, double blocks, const double *sq,
+                                  double *sr, double *su, double *sv, frix_info &run) {
+        return solve_reduced(sub, o, entry, ms, blocks, sq, sr, su, sv, run, clock, nullptr, nullptr);
+    };
+    frix_info pressed = info;
+    PressedFirst outcome = PressedFirst::kNotApplied;
+    if (!cache)
+        if (frix_error e = solve_pressed_first(p, opts, q, w_blocks, r, u, v, pressed, clock, part, &outcome)) return e;
+    if (outcome == PressedFirst::kAnswered) {
+        pressed.absorb(info);  // the record so far
+        info = std::move(pressed);
+        return FRIX_OK;
+    }
+    frix_options whole = opts;
+    ForwardedReports forward{&opts, &clock, pressed.iterations, false};
+    if (outcome == PressedFirst::kWholeNext) {
+        whole.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, opts.i(FRIX_OPT_MAX_ITER) - pressed.iterations);
+        whole = forward.applied_to(whole);
+    }
+    if (frix_error e = solve_reduced(p, whole, entry, ms, w_blocks, q, r, u, v, info, clock, cache, kept)) return e;
+    if (outcome == PressedFirst::kWholeNext) info.absorb(pressed);
+    return FRIX_OK;
+}
 
 // Proximal passes on a singular M: (M + eps D) v_k = H r_k + f + eps D v_(k-1), each pass a
 // solve of that problem from the last (r, v). Their fixed point is M v = H r + f; where the
@@ -477,8 +509,8 @@ frix_error solve_global(const frix_problem &p, const frix_options &opts, const S
         const frix_info before = info;
         info.factorizations = info.symbolic_analyses = 0;
         info.factorization_time = info.setup_time = info.reduction_time = 0.0;
-        if (frix_error e = solve_reduced(p, opts, entry, ms, size.w_blocks, q.data(), r, u, v, info, clock, cache,
-                                         cache ? &*state : nullptr))
+        if (frix_error e = solve_reduced_pressed_first(p, opts, entry, ms, size.w_blocks, q.data(), r, u, v, info,
+                                                       clock, cache, cache ? &*state : nullptr))
             return e;
         // The local solver reported its own work: add the factorisation of M.
         Monitor::add_factorizations(info, before);

@@ -1,0 +1,127 @@
+// Route (a) on the contacts the free motion presses (pressed_reduction.hpp). On a deformable
+// body W = H^T M^-1 H is dense, and forming it costs more than anything else of a one-shot
+// solve; the contacts the free motion leaves open mostly stay open. Their rows of W are only
+// needed to prove that: u = H^T v + w from the answer's v does it for all of them at once.
+#include "pressed_reduction.hpp"
+
+#include <algorithm>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "log.hpp"
+#include "monitor.hpp"
+#include "reduction.hpp"
+#include "vec.hpp"
+
+namespace frix {
+
+namespace {
+
+// W's bytes from which its contacts are pressed first: below, forming all of
+// W costs too little to be worth a second round.
+constexpr double kMinWBytes = 32.0 * 1024.0 * 1024.0;
+// The share of the contacts up to which the route applies: W's part costs the square of it.
+constexpr double kMaxShare = 0.8;
+// Rounds at most: each forms the part's W again.
+constexpr int kMaxRounds = 3;
+
+// The columns of H (a CSC copy) of the contacts `in`, three each, as a general CSC matrix.
+frix_matrix columns_of(const Csc &h, const std::vector<int64_t> &in) {
+    frix_matrix out;
+    out.rows = h.rows;
+    out.cols = 3 * (int64_t)in.size();
+    out.col_ptr.assign(1, 0);
+    for (int64_t a : in)
+        for (int64_t j = 3 * a; j < 3 * a + 3; ++j) {
+            out.row_ind.insert(out.row_ind.end(), h.rowind.begin() + h.colptr[j], h.rowind.begin() + h.colptr[j + 1]);
+            out.val.insert(out.val.end(), h.val.begin() + h.colptr[j], h.val.begin() + h.colptr[j + 1]);
+            out.col_ptr.push_back((int64_t)out.row_ind.size());
+        }
+    return out;
+}
+
+// x's entries of the contacts `in`, three each.
+std::vector<double> entries_of(const double *x, const std::vector<int64_t> &in) {
+    std::vector<double> out;
+    out.reserve(3 * in.size());
+    for (int64_t a : in) out.insert(out.end(), x + 3 * a, x + 3 * a + 3);
+    return out;
+}
+
+}  // namespace
+
+frix_error solve_pressed_first(const frix_problem &p, const frix_options &opts, const double *q, double w_blocks,
+                               double *r, double *u, double *v, frix_info &info, const Stopwatch &clock,
+                               const ReducedRoute &reduce, PressedFirst *outcome) {
+    *outcome = PressedFirst::kNotApplied;
+    const int64_t nc = p.nc;
+    if (p.kind != FRIX_PROBLEM_GLOBAL || nc == 0 || kBytesPerReducedBlock * w_blocks < kMinWBytes) return FRIX_OK;
+    std::vector<char> pressed((size_t)nc, 0);
+    int64_t count = 0;
+    for (int64_t a = 0; a < nc; ++a)
+        if (q[3 * a] < 0.0 || !vec::all_zero(r + 3 * a, 3)) pressed[(size_t)a] = 1, ++count;
+    if (count == 0 || (double)count > kMaxShare * (double)nc) return FRIX_OK;
+    Csc h;
+    if (frix_error e = to_csc(*p.H, h)) return e;
+    const int64_t max_iter = opts.i(FRIX_OPT_MAX_ITER);
+    frix_info done;  // the rounds so far
+    for (int round = 0; round < kMaxRounds; ++round) {
+        std::vector<int64_t> in;
+        for (int64_t a = 0; a < nc; ++a)
+            if (pressed[(size_t)a]) in.push_back(a);
+        if (opts.i(FRIX_OPT_VERBOSITY) >= 1)
+            log_line(&opts, "reduction: W formed for the %lld of %lld contacts pressed at the start%s",
+                     (long long)in.size(), (long long)nc, round > 0 ? " or penetrating at the last answer" : "");
+        // The part: p's M and f, its contacts' H, w and mu, measured with p's weights.
+        const frix_matrix H = columns_of(h, in);
+        std::vector<double> w = entries_of(p.w, in), part_q = entries_of(q, in), part_r = entries_of(r, in);
+        std::vector<double> mu, part_u(3 * in.size(), 0.0);
+        frix_problem part;
+        part.kind = p.kind;
+        part.nc = (int64_t)in.size();
+        part.n = p.n;
+        part.M = p.M;
+        part.H = &H;
+        part.f = p.f;
+        part.w = w.data();
+        for (int64_t a : in) mu.push_back(p.mu[a]), part.weight.push_back(p.weight[(size_t)a]);
+        part.mu = mu.data();
+        part.dof_weight = p.dof_weight;
+        part.load_weight = p.load_weight;
+        // The part's iterations and callback reports follow on from the rounds before it.
+        frix_options o = opts;
+        o.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, max_iter - done.iterations);
+        ForwardedReports forward{&opts, &clock, done.iterations, false};
+        o = forward.applied_to(o);
+        frix_info run;
+        run.solver_id = info.solver_id;
+        run.contacts = info.contacts;
+        run.tolerance = info.tolerance;
+        const double part_blocks = (double)in.size() * (double)in.size();
+        if (frix_error e = reduce(part, o, part_blocks, part_q.data(), part_r.data(), part_u.data(), v, run)) return e;
+        // r stays 0 on the others: a contact with r != 0 is in the part from the start.
+        for (size_t k = 0; k < in.size(); ++k) std::copy(&part_r[3 * k], &part_r[3 * k] + 3, r + 3 * in[k]);
+        if (round > 0) run.absorb(done);
+        done = std::move(run);
+        // Its u for every contact: the others' from v.
+        matrix_gemv_transposed(*p.H, 1.0, v, 0.0, u);
+        for (int64_t i = 0; i < 3 * nc; ++i) u[i] += p.w[i];
+        if (done.status != FRIX_STATUS_CONVERGED) break;  // stopped, or short: the driver measures
+        int64_t penetrating = 0;
+        for (int64_t a = 0; a < nc; ++a)
+            if (!pressed[(size_t)a] && u[3 * a] < 0.0) pressed[(size_t)a] = 1, ++penetrating;
+        if (penetrating == 0) break;
+        count += penetrating;
+        if ((double)count > kMaxShare * (double)nc || round + 1 == kMaxRounds) {
+            info = std::move(done);
+            *outcome = PressedFirst::kWholeNext;
+            return FRIX_OK;
+        }
+    }
+    info = std::move(done);
+    *outcome = PressedFirst::kAnswered;
+    return FRIX_OK;
+}
+
+}  // namespace frix
