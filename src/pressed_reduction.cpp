@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "log.hpp"
+#include "measures.hpp"
 #include "monitor.hpp"
 #include "reduction.hpp"
 #include "vec.hpp"
@@ -57,60 +58,76 @@ frix_error solve_pressed_first(const frix_problem &p, const frix_options &opts, 
     *outcome = PressedFirst::kNotApplied;
     const int64_t nc = p.nc;
     if (p.kind != FRIX_PROBLEM_GLOBAL || nc == 0 || kBytesPerReducedBlock * w_blocks < kMinWBytes) return FRIX_OK;
-    std::vector<char> pressed((size_t)nc, 0);
+    std::vector<char> in_part((size_t)nc, 0);
     int64_t count = 0;
     for (int64_t a = 0; a < nc; ++a)
-        if (q[3 * a] < 0.0 || !vec::all_zero(r + 3 * a, 3)) pressed[(size_t)a] = 1, ++count;
+        if (q[3 * a] < 0.0 || !vec::all_zero(r + 3 * a, 3)) in_part[(size_t)a] = 1, ++count;
     if (count == 0 || (double)count > kMaxShare * (double)nc) return FRIX_OK;
+    // The bound on W may be nc^2 blocks unexamined: its structure decides (rigid bodies' W is
+    // sparse, and cheap to form whole).
+    if (kBytesPerReducedBlock * reduction_size(p).w_blocks < kMinWBytes) return FRIX_OK;
     Csc h;
     if (frix_error e = to_csc(*p.H, h)) return e;
-    const int64_t max_iter = opts.i(FRIX_OPT_MAX_ITER);
+    const Monitor monitor(opts, clock);
+    const double tol = monitor.tolerance();
+    const int64_t max_iter = opts.i(FRIX_OPT_MAX_ITER), measure = opts.i(FRIX_OPT_ERROR_MEASURE);
     frix_info done;  // the rounds so far
     for (int round = 0; round < kMaxRounds; ++round) {
-        std::vector<int64_t> in;
+        std::vector<int64_t> part_contacts;
         for (int64_t a = 0; a < nc; ++a)
-            if (pressed[(size_t)a]) in.push_back(a);
+            if (in_part[(size_t)a]) part_contacts.push_back(a);
         if (opts.i(FRIX_OPT_VERBOSITY) >= 1)
-            log_line(&opts, "reduction: W formed for the %lld of %lld contacts pressed at the start%s",
-                     (long long)in.size(), (long long)nc, round > 0 ? " or penetrating at the last answer" : "");
+            log_line(&opts, "reduction: forming W for the %lld of %lld contacts pressed at the start%s",
+                     (long long)part_contacts.size(), (long long)nc,
+                     round > 0 ? " or penetrating at the last answer" : "");
         // The part: p's M and f, its contacts' H, w and mu, measured with p's weights.
-        const frix_matrix H = columns_of(h, in);
-        std::vector<double> w = entries_of(p.w, in), part_q = entries_of(q, in), part_r = entries_of(r, in);
-        std::vector<double> mu, part_u(3 * in.size(), 0.0);
+        const frix_matrix H = columns_of(h, part_contacts);
+        std::vector<double> w = entries_of(p.w, part_contacts), part_q = entries_of(q, part_contacts);
+        std::vector<double> part_r = entries_of(r, part_contacts), mu, part_u(3 * part_contacts.size(), 0.0);
         frix_problem part;
         part.kind = p.kind;
-        part.nc = (int64_t)in.size();
+        part.nc = (int64_t)part_contacts.size();
         part.n = p.n;
         part.M = p.M;
         part.H = &H;
         part.f = p.f;
         part.w = w.data();
-        for (int64_t a : in) mu.push_back(p.mu[a]), part.weight.push_back(p.weight[(size_t)a]);
+        for (int64_t a : part_contacts)
+            mu.push_back(p.mu[a]), part.weight.push_back(p.weight.empty() ? 1.0 : p.weight[(size_t)a]);
         part.mu = mu.data();
         part.dof_weight = p.dof_weight;
         part.load_weight = p.load_weight;
-        // The part's iterations and callback reports follow on from the rounds before it.
+        // The part's iterations and callback reports follow on from the rounds before it; its
+        // errors are the part's, estimates of the whole problem's.
         frix_options o = opts;
-        o.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, max_iter - done.iterations);
-        ForwardedReports forward{&opts, &clock, done.iterations, false};
+        o.ivalue[FRIX_OPT_MAX_ITER] = max_iter - done.iterations;
+        ForwardedReports forward{&opts, &clock, done.iterations, true};
         o = forward.applied_to(o);
         frix_info run;
         run.solver_id = info.solver_id;
         run.contacts = info.contacts;
         run.tolerance = info.tolerance;
-        const double part_blocks = (double)in.size() * (double)in.size();
+        // W's blocks: the part's square, within the bound on the whole W.
+        const double part_blocks = std::min(w_blocks, (double)part.nc * (double)part.nc);
         if (frix_error e = reduce(part, o, part_blocks, part_q.data(), part_r.data(), part_u.data(), v, run)) return e;
         // r stays 0 on the others: a contact with r != 0 is in the part from the start.
-        for (size_t k = 0; k < in.size(); ++k) std::copy(&part_r[3 * k], &part_r[3 * k] + 3, r + 3 * in[k]);
+        for (size_t k = 0; k < part_contacts.size(); ++k)
+            std::copy(&part_r[3 * k], &part_r[3 * k] + 3, r + 3 * part_contacts[k]);
         if (round > 0) run.absorb(done);
         done = std::move(run);
-        // Its u for every contact: the others' from v.
-        matrix_gemv_transposed(*p.H, 1.0, v, 0.0, u);
-        for (int64_t i = 0; i < 3 * nc; ++i) u[i] += p.w[i];
-        if (done.status != FRIX_STATUS_CONVERGED) break;  // stopped, or short: the driver measures
+        // The whole problem's measure of the answer (u for every contact, the others' from v)
+        // decides: contacts outside the part with r = 0 and u_N >= 0 add nothing to it.
+        double equilibrium = 0.0;
+        const double error = selected_error(global_measures(p, r, v, u, &equilibrium), measure);
+        if (done.status != FRIX_STATUS_CONVERGED || error <= tol) break;  // stopped or short: the driver measures
+        if (done.iterations >= max_iter) break;
+        if (monitor.out_of_time()) {
+            done.status = FRIX_STATUS_TIME_LIMIT;
+            break;
+        }
         int64_t penetrating = 0;
         for (int64_t a = 0; a < nc; ++a)
-            if (!pressed[(size_t)a] && u[3 * a] < 0.0) pressed[(size_t)a] = 1, ++penetrating;
+            if (!in_part[(size_t)a] && u[3 * a] < 0.0) in_part[(size_t)a] = 1, ++penetrating;
         if (penetrating == 0) break;
         count += penetrating;
         if ((double)count > kMaxShare * (double)nc || round + 1 == kMaxRounds) {

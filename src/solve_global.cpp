@@ -48,10 +48,12 @@ constexpr int kGlobalStateKey = 0;  // no solver has id 0
 constexpr int kTightenedPasses = 2;
 
 // `measures`: the local solve's final measures, which go on with it.
-frix_error tighten_to_global_measure(const frix_problem &p, const frix_problem &local, const frix_options &opts,
+// `scale`: the problem whose global measure's scale (|w|, the free velocity) applies.
+frix_error tighten_to_global_measure(const frix_problem &scale, const frix_problem &local, const frix_options &opts,
                                      const SolverEntry &entry, double *r, double *u, frix_info &info,
                                      const Stopwatch &clock, SolveCache *local_cache, Measures &measures) {
-    const double tol = opts.d(FRIX_OPT_TOLERANCE), norm_w = norm2(p.w, 3 * p.nc), free = free_velocity(p);
+    const double tol = opts.d(FRIX_OPT_TOLERANCE), norm_w = norm2(scale.w, 3 * scale.nc);
+    const double free = free_velocity(scale);
     const int64_t measure = opts.i(FRIX_OPT_ERROR_MEASURE), max_iter = opts.i(FRIX_OPT_MAX_ITER);
     for (int pass = 0; pass < kTightenedPasses && info.status == FRIX_STATUS_CONVERGED; ++pass) {
         // The global measure of (r, M^-1 (H r + f)) up to rounding: u = W r + q = H^T v + w.
@@ -77,10 +79,12 @@ frix_error tighten_to_global_measure(const frix_problem &p, const frix_problem &
 
 // Route (a): reduce with the factorised M, solve the local problem with any local solver,
 // recover v. W has at most w_blocks blocks (room is reserved for them: memory only counts once
-// written).
+// written). scale: the problem whose global measure's scale the answer is held to (p, or the
+// whole problem p is a part of; null: p).
 frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const SolverEntry &entry,
                          MassSolver &ms, double w_blocks, const double *q0, double *r, double *u, double *v,
-                         frix_info &info, const Stopwatch &clock, const SolveCache *cache, GlobalState *kept) {
+                         frix_info &info, const Stopwatch &clock, const SolveCache *cache, GlobalState *kept,
+                         const frix_problem *scale = nullptr) {
     const Stopwatch setup;
     std::unique_ptr<frix_matrix> W;
     const bool w_current = kept && kept->W && kept->w_from_m == cache->m_values && kept->w_from_h == cache->h_values;
@@ -139,7 +143,9 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
     ForwardedReports forward{&opts, &clock, 0, true};
     const frix_options local_opts = forward.applied_to(opts);
     frix_error err = solve_local_problem(*local, local_opts, entry, r, u, info, clock, local_cache, &measures);
-    if (!err) err = tighten_to_global_measure(p, *local, local_opts, entry, r, u, info, clock, local_cache, measures);
+    if (!err)
+        err = tighten_to_global_measure(scale ? *scale : p, *local, local_opts, entry, r, u, info, clock, local_cache,
+                                        measures);
     if (kept) {
         kept->W = std::move(W);
         kept->w_from_m = cache->m_values;
@@ -162,27 +168,30 @@ frix_error solve_reduced_pressed_first(const frix_problem &p, const frix_options
                                        MassSolver &ms, double w_blocks, const double *q, double *r, double *u,
                                        double *v, frix_info &info, const Stopwatch &clock, const SolveCache *cache,
                                        GlobalState *kept) {
-    const ReducedRoute part = [&](const frix_problem &sub, const frix_options &o, double blocks, const double *sq,
-                                  double *sr, double *su, double *sv, frix_info &run) {
-        return solve_reduced(sub, o, entry, ms, blocks, sq, sr, su, sv, run, clock, nullptr, nullptr);
+    const ReducedRoute reduce_part = [&](const frix_problem &part, const frix_options &o, double blocks,
+                                         const double *part_q, double *part_r, double *part_u, double *whole_v,
+                                         frix_info &run) {
+        return solve_reduced(part, o, entry, ms, blocks, part_q, part_r, part_u, whole_v, run, clock, nullptr, nullptr,
+                             &p);
     };
-    frix_info pressed = info;
+    frix_info rounds = info;
     PressedFirst outcome = PressedFirst::kNotApplied;
     if (!cache)
-        if (frix_error e = solve_pressed_first(p, opts, q, w_blocks, r, u, v, pressed, clock, part, &outcome)) return e;
+        if (frix_error e = solve_pressed_first(p, opts, q, w_blocks, r, u, v, rounds, clock, reduce_part, &outcome))
+            return e;
     if (outcome == PressedFirst::kAnswered) {
-        pressed.absorb(info);  // the record so far
-        info = std::move(pressed);
+        rounds.absorb(info);  // the record so far
+        info = std::move(rounds);
         return FRIX_OK;
     }
     frix_options whole = opts;
-    ForwardedReports forward{&opts, &clock, pressed.iterations, false};
+    ForwardedReports forward{&opts, &clock, rounds.iterations, false};
     if (outcome == PressedFirst::kWholeNext) {
-        whole.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, opts.i(FRIX_OPT_MAX_ITER) - pressed.iterations);
+        whole.ivalue[FRIX_OPT_MAX_ITER] = opts.i(FRIX_OPT_MAX_ITER) - rounds.iterations;  // > 0: the rounds checked
         whole = forward.applied_to(whole);
     }
     if (frix_error e = solve_reduced(p, whole, entry, ms, w_blocks, q, r, u, v, info, clock, cache, kept)) return e;
-    if (outcome == PressedFirst::kWholeNext) info.absorb(pressed);
+    if (outcome == PressedFirst::kWholeNext) info.absorb(rounds);
     return FRIX_OK;
 }
 

@@ -10,16 +10,16 @@
 #include "elastic_grid.h"
 
 typedef struct {
-    int lines;             /* "reduction: W formed for the N of NC contacts ..." */
+    int lines;             /* "reduction: forming W for the N of NC contacts ..." */
     int64_t formed[4];     /* N of each */
     int penetrating_lines; /* of those, the ones after a round found contacts penetrating */
 } part_log;
 
 static void note_part(void *data, const char *line) {
     part_log *c = data;
-    const char *at = strstr(line, "reduction: W formed for the ");
+    const char *at = strstr(line, "reduction: forming W for the ");
     if (!at) return;
-    if (c->lines < 4) c->formed[c->lines] = atoll(at + strlen("reduction: W formed for the "));
+    if (c->lines < 4) c->formed[c->lines] = atoll(at + strlen("reduction: forming W for the "));
     ++c->lines;
     if (strstr(line, "penetrating")) ++c->penetrating_lines;
 }
@@ -56,16 +56,19 @@ static frix_options *nsgs_v_options(part_log *log, progress *seen) {
     return o;
 }
 
-/* nsgs-v from r = 0, by frix_solve or (persistent) by a persistent solver's first step. */
-static outcome solve(const frix_problem *p, int persistent) {
+/* nsgs-v from r0 (null: 0) with at most max_iter iterations (0: the default), by frix_solve or
+ * (persistent) by a persistent solver's first step. */
+static outcome solve_from(const frix_problem *p, int persistent, const double *r0, int64_t max_iter) {
     outcome out;
     memset(&out, 0, sizeof out);
     const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
     out.r = calloc((size_t)m, sizeof *out.r);
+    if (r0) memcpy(out.r, r0, sizeof *out.r * (size_t)m);
     out.v = calloc((size_t)n, sizeof *out.v);
     double *u = calloc((size_t)m, sizeof *u);
     ck_assert(out.r && out.v && u);
     frix_options *o = nsgs_v_options(&out.log, &out.seen);
+    if (max_iter > 0) ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_MAX_ITER, max_iter), FRIX_OK);
     frix_info *info = NULL;
     ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
     if (persistent) {
@@ -84,6 +87,8 @@ static outcome solve(const frix_problem *p, int persistent) {
     free(u);
     return out;
 }
+
+static outcome solve(const frix_problem *p, int persistent) { return solve_from(p, persistent, NULL, 0); }
 
 static void outcome_free(outcome *x) { free(x->r), free(x->v); }
 
@@ -120,16 +125,17 @@ END_TEST
  * the tangential ones), H = I (a contact a dof triple, normal first), so that W's normal part
  * (I - c J / nc, c = beta / (1 + beta)) is dense with negative couplings: the contacts pressed
  * (q_N = -1) pull the others down. `pressed` of the nc contacts are pressed, `near` have
- * q_N = 0.1 (pulled into touch) and the rest q_N = 10 (stay open). */
+ * q_N = 0.1 (pulled into touch) and the rest q_N = 10 (stay open). skew != 0: M's tangential
+ * 2 x 2 blocks [1 skew; -skew 1], not symmetric (M factorised by LU). */
 typedef struct {
     frix_matrix *M, *H;
     double *f, *w, *mu;
     frix_problem *p;
 } pulling_body;
 
-static pulling_body pulling_body_make(int64_t nc, int64_t pressed, int64_t near, double beta) {
+static pulling_body pulling_body_make(int64_t nc, int64_t pressed, int64_t near, double beta, double skew) {
     pulling_body b;
-    const int64_t n = 3 * nc, nnz = nc * nc + 2 * nc;
+    const int64_t n = 3 * nc, nnz = nc * nc + 4 * nc;
     int64_t *colptr = malloc(sizeof *colptr * (size_t)(n + 1)), *rowind = malloc(sizeof *rowind * (size_t)nnz);
     int64_t *ident_ptr = malloc(sizeof *ident_ptr * (size_t)(n + 1));
     int64_t *ident_row = malloc(sizeof *ident_row * (size_t)n);
@@ -142,7 +148,10 @@ static pulling_body pulling_body_make(int64_t nc, int64_t pressed, int64_t near,
             for (int64_t a = 0; a < nc; ++a)
                 rowind[e] = 3 * a, values[e++] = (3 * a == j ? 1.0 : 0.0) + beta / (double)nc;
         } else {
+            const int64_t other = j % 3 == 1 ? j + 1 : j - 1; /* the contact's other tangential dof */
+            if (skew != 0.0 && other < j) rowind[e] = other, values[e++] = skew;
             rowind[e] = j, values[e++] = 1.0;
+            if (skew != 0.0 && other > j) rowind[e] = other, values[e++] = -skew;
         }
         ident_ptr[j] = j, ident_row[j] = j, ones[j] = 1.0;
     }
@@ -172,7 +181,7 @@ static void pulling_body_free(pulling_body *b) {
  * and the 288 others stay open at r = 0. The callback's iterations rise across the rounds. */
 START_TEST(penetrating_contacts_join_the_part) {
     const int64_t nc = 720, pressed = 360, near = 72;
-    pulling_body b = pulling_body_make(nc, pressed, near, 1.0);
+    pulling_body b = pulling_body_make(nc, pressed, near, 1.0, 0.0);
     outcome out = solve(b.p, 0);
     ck_assert_int_eq(out.status, FRIX_STATUS_CONVERGED);
     ck_assert_double_le(out.error, 1e-8);
@@ -196,13 +205,61 @@ END_TEST
  * whole W is formed after the first round, from its answer. */
 START_TEST(a_part_grown_past_its_share_goes_to_the_whole_w) {
     const int64_t nc = 720, pressed = 360;
-    pulling_body b = pulling_body_make(nc, pressed, nc - pressed, 1.0);
+    pulling_body b = pulling_body_make(nc, pressed, nc - pressed, 1.0, 0.0);
     outcome out = solve(b.p, 0);
     ck_assert_int_eq(out.status, FRIX_STATUS_CONVERGED);
     ck_assert_double_le(out.error, 1e-8);
     ck_assert_int_eq(out.log.lines, 1);
     for (int64_t a = 0; a < nc; ++a) ck_assert_double_gt(out.r[3 * a], 0.0);
     ck_assert_int_eq(out.seen.decreasing, 0);
+    outcome_free(&out);
+    pulling_body_free(&b);
+}
+END_TEST
+
+/* From the answer (the 72 contacts pulled into touch hold r != 0): W for the 432 at once, and
+ * the answer comes back within the tolerance. */
+START_TEST(a_warm_starts_contacts_join_the_first_part) {
+    const int64_t nc = 720, pressed = 360, near = 72;
+    pulling_body b = pulling_body_make(nc, pressed, near, 1.0, 0.0);
+    outcome cold = solve(b.p, 0), warm = solve_from(b.p, 0, cold.r, 0);
+    ck_assert_int_eq(warm.status, FRIX_STATUS_CONVERGED);
+    ck_assert_double_le(warm.error, 1e-8);
+    ck_assert_int_eq(warm.log.lines, 1);
+    ck_assert_int_eq(warm.log.formed[0], pressed + near);
+    ck_assert_int_lt(warm.iterations, cold.iterations);
+    outcome_free(&cold), outcome_free(&warm);
+    pulling_body_free(&b);
+}
+END_TEST
+
+/* max_iter holds across the rounds: every cap k below the run's own count ends at k or
+ * before (converged or not: the part's own scale is stricter than the whole problem's). */
+START_TEST(the_rounds_share_max_iter) {
+    const int64_t nc = 720, pressed = 360, near = 72;
+    pulling_body b = pulling_body_make(nc, pressed, near, 1.0, 0.0);
+    outcome all = solve(b.p, 0);
+    ck_assert_int_gt(all.iterations, 2);
+    for (int64_t k = 1; k < all.iterations; ++k) {
+        outcome capped = solve_from(b.p, 0, NULL, k);
+        ck_assert_msg(capped.iterations <= k, "max_iter %lld: %lld iterations", (long long)k,
+                      (long long)capped.iterations);
+        outcome_free(&capped);
+    }
+    outcome_free(&all);
+    pulling_body_free(&b);
+}
+END_TEST
+
+/* M not symmetric (its LU forms W column by column): the same rounds and a converged answer. */
+START_TEST(rounds_on_an_lu_factorised_m) {
+    const int64_t nc = 720, pressed = 360, near = 72;
+    pulling_body b = pulling_body_make(nc, pressed, near, 1.0, 0.2);
+    outcome out = solve(b.p, 0);
+    ck_assert_int_eq(out.status, FRIX_STATUS_CONVERGED);
+    ck_assert_double_le(out.error, 1e-8);
+    ck_assert_int_eq(out.log.lines, 2);
+    ck_assert_int_eq(out.log.formed[1], pressed + near);
     outcome_free(&out);
     pulling_body_free(&b);
 }
@@ -215,6 +272,9 @@ int main(void) {
     tcase_add_test(tc, pressed_contacts_first_on_a_grid);
     tcase_add_test(tc, penetrating_contacts_join_the_part);
     tcase_add_test(tc, a_part_grown_past_its_share_goes_to_the_whole_w);
+    tcase_add_test(tc, a_warm_starts_contacts_join_the_first_part);
+    tcase_add_test(tc, the_rounds_share_max_iter);
+    tcase_add_test(tc, rounds_on_an_lu_factorised_m);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }
