@@ -44,7 +44,7 @@ constexpr int64_t kFullCheckPeriod = 32;
 // While the light error is within the tolerance, a full check at least every kCheckGap
 // iterations, whatever the recalibrated light tolerance says: ADMM's light error oscillates,
 // so waiting for it to pass a tolerance lowered by a failed check runs past iterates that meet
-// the tolerance, where a check costs less than an iteration's solve.
+// the tolerance (a check is two products, and M's solves only where M is factorised).
 constexpr int64_t kCheckGap = 2;
 
 using vec::dot;
