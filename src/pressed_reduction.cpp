@@ -54,26 +54,18 @@ std::vector<double> entries_of(const double *x, const std::vector<int64_t> &in) 
 
 frix_error solve_pressed_first(const frix_problem &p, const frix_options &opts, const double *q, double w_blocks,
                                double *r, double *u, double *v, frix_info &info, const Stopwatch &clock,
-                               const ReducedRoute &reduce, PressedPart &kept, PressedFirst *outcome) {
+                               const ReducedRoute &reduce, PressedFirst *outcome) {
     *outcome = PressedFirst::kNotApplied;
     const int64_t nc = p.nc;
     if (p.kind != FRIX_PROBLEM_GLOBAL || nc == 0 || kBytesPerReducedBlock * w_blocks < kMinWBytes) return FRIX_OK;
     std::vector<char> in_part((size_t)nc, 0);
     int64_t count = 0;
-    // A kept part stands for the contacts pressed at the start: those its answer finds
-    // penetrating join it, as in any round (a load that moves q_N of a contact across 0 need
-    // not close it).
-    if (kept.kept)
-        for (int64_t a : *kept.kept) in_part[(size_t)a] = 1;
-    for (int64_t a = 0; a < nc; ++a) {
-        if ((!kept.kept && q[3 * a] < 0.0) || !vec::all_zero(r + 3 * a, 3)) in_part[(size_t)a] = 1;
-        count += in_part[(size_t)a];
-    }
+    for (int64_t a = 0; a < nc; ++a)
+        if (q[3 * a] < 0.0 || !vec::all_zero(r + 3 * a, 3)) in_part[(size_t)a] = 1, ++count;
     if (count == 0 || (double)count > kMaxShare * (double)nc) return FRIX_OK;
     // The bound on W may be nc^2 blocks unexamined: its structure decides (rigid bodies' W is
     // sparse, and cheap to form whole).
-    if (std::isnan(kept.structural_blocks)) kept.structural_blocks = reduction_size(p).w_blocks;
-    if (kBytesPerReducedBlock * kept.structural_blocks < kMinWBytes) return FRIX_OK;
+    if (kBytesPerReducedBlock * reduction_size(p).w_blocks < kMinWBytes) return FRIX_OK;
     Csc h;
     if (frix_error e = to_csc(*p.H, h)) return e;
     const Monitor monitor(opts, clock);
@@ -85,7 +77,7 @@ frix_error solve_pressed_first(const frix_problem &p, const frix_options &opts, 
         for (int64_t a = 0; a < nc; ++a)
             if (in_part[(size_t)a]) part_contacts.push_back(a);
         if (opts.i(FRIX_OPT_VERBOSITY) >= 1)
-            log_line(&opts, "reduction: W for the %lld of %lld contacts pressed at the start%s",
+            log_line(&opts, "reduction: forming W for the %lld of %lld contacts pressed at the start%s",
                      (long long)part_contacts.size(), (long long)nc,
                      round > 0 ? " or penetrating at the last answer" : "");
         // The part: p's M and f, its contacts' H, w and mu, measured with p's weights.
@@ -117,9 +109,7 @@ frix_error solve_pressed_first(const frix_problem &p, const frix_options &opts, 
         run.tolerance = info.tolerance;
         // W's blocks: the part's square, within the bound on the whole W.
         const double part_blocks = std::min(w_blocks, (double)part.nc * (double)part.nc);
-        if (frix_error e = reduce(part, part_contacts, o, part_blocks, part_q.data(), part_r.data(), part_u.data(), v,
-                                  run))
-            return e;
+        if (frix_error e = reduce(part, o, part_blocks, part_q.data(), part_r.data(), part_u.data(), v, run)) return e;
         // r stays 0 on the others: a contact with r != 0 is in the part from the start.
         for (size_t k = 0; k < part_contacts.size(); ++k)
             std::copy(&part_r[3 * k], &part_r[3 * k] + 3, r + 3 * part_contacts[k]);

@@ -31,10 +31,6 @@ struct GlobalState : CachedState {
     MassSolver ms;
     uint64_t w_from_m = 0, w_from_h = 0;  // the M and H that W was formed from (0: none)
     std::unique_ptr<frix_matrix> W;
-    std::vector<int64_t> w_contacts;  // the contacts W was formed for (pressed_reduction.hpp; empty: all)
-    // W's structural bound in blocks for the M and H of structure_from (0: none yet).
-    double structural_blocks = NAN;
-    uint64_t structure_from_m = 0, structure_from_h = 0;
     SolveCache local;
     // A singular M (floating.hpp): its free_motion_quotient, and the solves on M + eps diag(M)
     // with their own states (its factorisation, W).
@@ -83,19 +79,15 @@ frix_error tighten_to_global_measure(const frix_problem &scale, const frix_probl
 
 // Route (a): reduce with the factorised M, solve the local problem with any local solver,
 // recover v. W has at most w_blocks blocks (room is reserved for them: memory only counts once
-// written). For a part of a problem (pressed_reduction.hpp): scale, the whole problem, whose
-// global measure's scale the answer is held to, and contacts, the whole's contacts p holds
-// (null: p is whole).
+// written). scale: the problem whose global measure's scale the answer is held to (p, or the
+// whole problem p is a part of; null: p).
 frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const SolverEntry &entry,
                          MassSolver &ms, double w_blocks, const double *q0, double *r, double *u, double *v,
                          frix_info &info, const Stopwatch &clock, const SolveCache *cache, GlobalState *kept,
-                         const frix_problem *scale = nullptr, const std::vector<int64_t> *contacts = nullptr) {
+                         const frix_problem *scale = nullptr) {
     const Stopwatch setup;
     std::unique_ptr<frix_matrix> W;
-    const std::vector<int64_t> all;
-    const std::vector<int64_t> &formed_for = contacts ? *contacts : all;
-    const bool w_current = kept && kept->W && kept->w_from_m == cache->m_values &&
-                           kept->w_from_h == cache->h_values && kept->w_contacts == formed_for;
+    const bool w_current = kept && kept->W && kept->w_from_m == cache->m_values && kept->w_from_h == cache->h_values;
     if (w_current) W = std::move(kept->W);
     // Where W is dense (a deformable body) forming it can take minutes: the time limit and
     // the caller's callback (told iteration 0 and the start's error) can end it as they end
@@ -158,7 +150,6 @@ frix_error solve_reduced(const frix_problem &p, const frix_options &opts, const 
         kept->W = std::move(W);
         kept->w_from_m = cache->m_values;
         kept->w_from_h = cache->h_values;
-        kept->w_contacts = formed_for;
     }
     if (err) return err;
     info.setup_time += setup_time;
@@ -170,36 +161,24 @@ frix_error solve_global(const frix_problem &p, const frix_options &opts, const S
                         double *u, double *v, frix_info &info, const Stopwatch &clock, SolveCache *cache,
                         MassSolver *enclosing, bool regularise);
 
-// solve_reduced on the contacts pressed at the start first, where W would be dense and large
-// (pressed_reduction.hpp), then on all of them where those grew past their share. A persistent
-// solver keeps the part's W for its next steps while their pressed contacts stay within it, and
-// the whole W once it formed that.
+// solve_reduced, where a one-shot solve's W would be large on the contacts pressed at the start
+// first (pressed_reduction.hpp), then on all of them where those grew past their share; a
+// persistent solver keeps the whole W for its next steps.
 frix_error solve_reduced_pressed_first(const frix_problem &p, const frix_options &opts, const SolverEntry &entry,
                                        MassSolver &ms, double w_blocks, const double *q, double *r, double *u,
                                        double *v, frix_info &info, const Stopwatch &clock, const SolveCache *cache,
                                        GlobalState *kept) {
-    const ReducedRoute reduce_part = [&](const frix_problem &part, const std::vector<int64_t> &contacts,
-                                         const frix_options &o, double blocks, const double *part_q, double *part_r,
-                                         double *part_u, double *whole_v, frix_info &run) {
-        return solve_reduced(part, o, entry, ms, blocks, part_q, part_r, part_u, whole_v, run, clock, cache, kept, &p,
-                             &contacts);
+    const ReducedRoute reduce_part = [&](const frix_problem &part, const frix_options &o, double blocks,
+                                         const double *part_q, double *part_r, double *part_u, double *whole_v,
+                                         frix_info &run) {
+        return solve_reduced(part, o, entry, ms, blocks, part_q, part_r, part_u, whole_v, run, clock, nullptr, nullptr,
+                             &p);
     };
-    const bool kept_current =
-        kept && kept->W && kept->w_from_m == cache->m_values && kept->w_from_h == cache->h_values;
-    PressedPart part;
-    part.kept = kept_current ? &kept->w_contacts : nullptr;
-    if (kept && kept->structure_from_m == cache->m_values && kept->structure_from_h == cache->h_values)
-        part.structural_blocks = kept->structural_blocks;
     frix_info rounds = info;
     PressedFirst outcome = PressedFirst::kNotApplied;
-    if (!(kept_current && kept->w_contacts.empty()))  // the whole W, once formed, stays
-        if (frix_error e = solve_pressed_first(p, opts, q, w_blocks, r, u, v, rounds, clock, reduce_part, part,
-                                               &outcome))
+    if (!cache)
+        if (frix_error e = solve_pressed_first(p, opts, q, w_blocks, r, u, v, rounds, clock, reduce_part, &outcome))
             return e;
-    if (kept && !std::isnan(part.structural_blocks)) {
-        kept->structural_blocks = part.structural_blocks;
-        kept->structure_from_m = cache->m_values, kept->structure_from_h = cache->h_values;
-    }
     if (outcome == PressedFirst::kAnswered) {
         rounds.absorb(info);  // the record so far
         info = std::move(rounds);
