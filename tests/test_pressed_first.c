@@ -26,6 +26,7 @@ static void note_part(void *data, const char *line) {
 
 typedef struct {
     int64_t calls, last, decreasing;
+    int64_t stop_from; /* > 0: the callback stops the solve at this iteration or later */
 } progress;
 
 static int watch(void *data, int64_t iteration, double error, double elapsed) {
@@ -34,7 +35,7 @@ static int watch(void *data, int64_t iteration, double error, double elapsed) {
     if (w->calls > 0 && iteration < w->last) ++w->decreasing;
     w->last = iteration;
     ++w->calls;
-    return 0;
+    return w->stop_from > 0 && iteration >= w->stop_from;
 }
 
 typedef struct {
@@ -57,10 +58,13 @@ static frix_options *nsgs_v_options(part_log *log, progress *seen) {
 }
 
 /* nsgs-v from r0 (null: 0) with at most max_iter iterations (0: the default), by frix_solve or
- * (persistent) by a persistent solver's first step. */
-static outcome solve_from(const frix_problem *p, int persistent, const double *r0, int64_t max_iter) {
+ * (persistent) by a persistent solver's first step; the callback stops it from iteration
+ * stop_from on (0: never). */
+static outcome solve_stopped(const frix_problem *p, int persistent, const double *r0, int64_t max_iter,
+                             int64_t stop_from) {
     outcome out;
     memset(&out, 0, sizeof out);
+    out.seen.stop_from = stop_from;
     const int64_t m = frix_problem_contact_dofs(p), n = frix_problem_dofs(p);
     out.r = calloc((size_t)m, sizeof *out.r);
     if (r0) memcpy(out.r, r0, sizeof *out.r * (size_t)m);
@@ -86,6 +90,10 @@ static outcome solve_from(const frix_problem *p, int persistent, const double *r
     frix_options_free(o);
     free(u);
     return out;
+}
+
+static outcome solve_from(const frix_problem *p, int persistent, const double *r0, int64_t max_iter) {
+    return solve_stopped(p, persistent, r0, max_iter, 0);
 }
 
 static outcome solve(const frix_problem *p, int persistent) { return solve_from(p, persistent, NULL, 0); }
@@ -251,6 +259,24 @@ START_TEST(the_rounds_share_max_iter) {
 }
 END_TEST
 
+/* The callback's stop in the second round ends the solve there, stopped, the answer measured on
+ * the whole problem as any stopped solve's is. */
+START_TEST(a_stop_in_the_second_round_ends_the_solve) {
+    const int64_t nc = 720, pressed = 360, near = 72;
+    pulling_body b = pulling_body_make(nc, pressed, near, 1.0, 0.0);
+    outcome all = solve(b.p, 0);
+    const int64_t stop_from = all.iterations - 2;
+    outcome out = solve_stopped(b.p, 0, NULL, 0, stop_from);
+    ck_assert_int_eq(out.log.lines, 2); /* the stop came in the second round */
+    ck_assert_int_eq(out.status, FRIX_STATUS_STOPPED_BY_CALLBACK);
+    ck_assert_int_ge(out.iterations, stop_from);
+    ck_assert_int_lt(out.iterations, all.iterations);
+    ck_assert_int_eq(out.seen.decreasing, 0);
+    outcome_free(&all), outcome_free(&out);
+    pulling_body_free(&b);
+}
+END_TEST
+
 /* M not symmetric (its LU forms W column by column): the same rounds and a converged answer. */
 START_TEST(rounds_on_an_lu_factorised_m) {
     const int64_t nc = 720, pressed = 360, near = 72;
@@ -275,6 +301,7 @@ int main(void) {
     tcase_add_test(tc, a_warm_starts_contacts_join_the_first_part);
     tcase_add_test(tc, the_rounds_share_max_iter);
     tcase_add_test(tc, rounds_on_an_lu_factorised_m);
+    tcase_add_test(tc, a_stop_in_the_second_round_ends_the_solve);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }
