@@ -5,7 +5,7 @@
 #include "pressed_reduction.hpp"
 
 #include <algorithm>
-#include <memory>
+#include <cmath>
 #include <utility>
 #include <vector>
 
@@ -19,8 +19,8 @@ namespace frix {
 
 namespace {
 
-// W's bytes from which its contacts are pressed first: below, forming all of
-// W costs too little to be worth a second round.
+// W's bytes from which its contacts are pressed first: below, forming all of W costs too little
+// to be worth a second round (figures: notes/2026-11-30-pressed-contacts-first.md).
 constexpr double kMinWBytes = 32.0 * 1024.0 * 1024.0;
 // The share of the contacts up to which the route applies: W's part costs the square of it.
 constexpr double kMaxShare = 0.8;
@@ -64,65 +64,83 @@ frix_error solve_pressed_first(const frix_problem &p, const frix_options &opts, 
         if (q[3 * a] < 0.0 || !vec::all_zero(r + 3 * a, 3)) in_part[(size_t)a] = 1, ++count;
     if (count == 0 || (double)count > kMaxShare * (double)nc) return FRIX_OK;
     // The bound on W may be nc^2 blocks unexamined: its structure decides (rigid bodies' W is
-    // sparse, and cheap to form whole).
-    if (kBytesPerReducedBlock * reduction_size(p).w_blocks < kMinWBytes) return FRIX_OK;
+    // sparse, and cheap to form whole), and bounds each part's W.
+    const double structural_blocks = std::min(w_blocks, reduction_size(p).w_blocks);
+    if (kBytesPerReducedBlock * structural_blocks < kMinWBytes) return FRIX_OK;
     Csc h;
     if (frix_error e = to_csc(*p.H, h)) return e;
     const Monitor monitor(opts, clock);
     const double tol = monitor.tolerance();
     const int64_t max_iter = opts.i(FRIX_OPT_MAX_ITER), measure = opts.i(FRIX_OPT_ERROR_MEASURE);
-    frix_info done;  // the rounds so far
+    // The whole problem's error at the start of a round, for the callback's report before its W
+    // is formed (NaN: not known; a warm r's velocity is not v = M^-1 f, the driver's).
+    double start_error = NAN;
+    if (opts.has_callback() && vec::all_zero(r, 3 * nc))
+        start_error = selected_error(global_measures(p, r, v, u, nullptr), measure);
+    frix_info so_far;  // the rounds so far
     for (int round = 0; round < kMaxRounds; ++round) {
+        if (!std::isnan(start_error) && monitor.report(so_far.iterations, start_error)) {
+            so_far.status = FRIX_STATUS_STOPPED_BY_CALLBACK;
+            break;
+        }
         std::vector<int64_t> part_contacts;
         for (int64_t a = 0; a < nc; ++a)
             if (in_part[(size_t)a]) part_contacts.push_back(a);
         if (opts.i(FRIX_OPT_VERBOSITY) >= 1)
-            log_line(&opts, "reduction: forming W for the %lld of %lld contacts pressed at the start%s",
+            log_line(&opts, "reduction: W for the %lld of %lld contacts pressed at the start%s",
                      (long long)part_contacts.size(), (long long)nc,
                      round > 0 ? " or penetrating at the last answer" : "");
         // The part: p's M and f, its contacts' H, w and mu, measured with p's weights.
-        const frix_matrix H = columns_of(h, part_contacts);
-        std::vector<double> w = entries_of(p.w, part_contacts), part_q = entries_of(q, part_contacts);
-        std::vector<double> part_r = entries_of(r, part_contacts), mu, part_u(3 * part_contacts.size(), 0.0);
+        const frix_matrix part_h = columns_of(h, part_contacts);
+        std::vector<double> part_w = entries_of(p.w, part_contacts), part_q = entries_of(q, part_contacts);
+        std::vector<double> part_r = entries_of(r, part_contacts), part_mu, part_u(3 * part_contacts.size(), 0.0);
         frix_problem part;
         part.kind = p.kind;
         part.nc = (int64_t)part_contacts.size();
         part.n = p.n;
         part.M = p.M;
-        part.H = &H;
+        part.H = &part_h;
         part.f = p.f;
-        part.w = w.data();
+        part.w = part_w.data();
         for (int64_t a : part_contacts)
-            mu.push_back(p.mu[a]), part.weight.push_back(p.weight.empty() ? 1.0 : p.weight[(size_t)a]);
-        part.mu = mu.data();
+            part_mu.push_back(p.mu[a]), part.weight.push_back(p.weight.empty() ? 1.0 : p.weight[(size_t)a]);
+        part.mu = part_mu.data();
         part.dof_weight = p.dof_weight;
         part.load_weight = p.load_weight;
         // The part's iterations and callback reports follow on from the rounds before it; its
         // errors are the part's, estimates of the whole problem's.
-        frix_options o = opts;
-        o.ivalue[FRIX_OPT_MAX_ITER] = max_iter - done.iterations;
-        ForwardedReports forward{&opts, &clock, done.iterations, true};
-        o = forward.applied_to(o);
-        frix_info run;
-        run.solver_id = info.solver_id;
-        run.contacts = info.contacts;
-        run.tolerance = info.tolerance;
+        frix_options part_options = opts;
+        part_options.ivalue[FRIX_OPT_MAX_ITER] = max_iter - so_far.iterations;
+        ForwardedReports forward{&opts, &clock, so_far.iterations, true};
+        part_options = forward.applied_to(part_options);
+        frix_info round_run;
+        round_run.solver_id = info.solver_id;
+        round_run.contacts = info.contacts;
+        round_run.tolerance = info.tolerance;
         // W's blocks: the part's square, within the bound on the whole W.
-        const double part_blocks = std::min(w_blocks, (double)part.nc * (double)part.nc);
-        if (frix_error e = reduce(part, o, part_blocks, part_q.data(), part_r.data(), part_u.data(), v, run)) return e;
+        const double part_blocks = std::min(structural_blocks, (double)part.nc * (double)part.nc);
+        if (frix_error e = reduce(part, part_options, part_blocks, part_q.data(), part_r.data(), part_u.data(), v,
+                                  round_run))
+            return e;
         // r stays 0 on the others: a contact with r != 0 is in the part from the start.
         for (size_t k = 0; k < part_contacts.size(); ++k)
             std::copy(&part_r[3 * k], &part_r[3 * k] + 3, r + 3 * part_contacts[k]);
-        if (round > 0) run.absorb(done);
-        done = std::move(run);
+        if (round > 0) round_run.absorb(so_far);
+        so_far = std::move(round_run);
         // The whole problem's measure of the answer (u for every contact, the others' from v)
-        // decides: contacts outside the part with r = 0 and u_N >= 0 add nothing to it.
-        double equilibrium = 0.0;
-        const double error = selected_error(global_measures(p, r, v, u, &equilibrium), measure);
-        if (done.status != FRIX_STATUS_CONVERGED || error <= tol) break;  // stopped or short: the driver measures
-        if (done.iterations >= max_iter) break;
+        // decides: contacts outside the part with r = 0 and u_N >= 0 add nothing to it. An
+        // answer within it converged, whatever the part's stricter scale said.
+        const double error = selected_error(global_measures(p, r, v, u, nullptr), measure);
+        const frix_status status = so_far.status;
+        if (error <= tol && (status == FRIX_STATUS_MAX_ITER || status == FRIX_STATUS_STAGNATED))
+            so_far.status = FRIX_STATUS_CONVERGED;
+        if (so_far.status != FRIX_STATUS_CONVERGED || error <= tol) break;  // stopped or short: the driver measures
+        if (so_far.iterations >= max_iter) {
+            so_far.status = FRIX_STATUS_MAX_ITER;
+            break;
+        }
         if (monitor.out_of_time()) {
-            done.status = FRIX_STATUS_TIME_LIMIT;
+            so_far.status = FRIX_STATUS_TIME_LIMIT;
             break;
         }
         int64_t penetrating = 0;
@@ -131,12 +149,13 @@ frix_error solve_pressed_first(const frix_problem &p, const frix_options &opts, 
         if (penetrating == 0) break;
         count += penetrating;
         if ((double)count > kMaxShare * (double)nc || round + 1 == kMaxRounds) {
-            info = std::move(done);
+            info = std::move(so_far);
             *outcome = PressedFirst::kWholeNext;
             return FRIX_OK;
         }
+        start_error = error;
     }
-    info = std::move(done);
+    info = std::move(so_far);
     *outcome = PressedFirst::kAnswered;
     return FRIX_OK;
 }

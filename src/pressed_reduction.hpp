@@ -20,14 +20,15 @@ using ReducedRoute = std::function<frix_error(const frix_problem &sub, const fri
 enum class PressedFirst {
     kNotApplied,  // r and info as they were
     kAnswered,    // (r, u, v) and info are the route's answer
-    kWholeNext,   // the contacts grew past the route's share: info holds the rounds' work, and
-                  // the whole reduction goes on from r
+    kWholeNext,   // the contacts grew past the route's share, or a third round missed the
+                  // tolerance: info holds the rounds' work, and the whole reduction goes on from r
 };
 
 // A one-shot reduction whose W would be large (w_blocks blocks) and whose contacts pressed at
 // the start (q_N < 0, q = H^T M^-1 f + w, or r != 0 there) are few enough: `reduce` on those
-// contacts alone, r = 0 on the others; where some of the others end up penetrating (u_N < 0),
-// again with them added, from the last r.
+// contacts alone, r = 0 on the others; where the whole problem's measure of that answer misses
+// the tolerance and some of the others penetrate (u_N < 0), again with them added, from the last
+// r. The rounds share max_iter and the callback's numbering.
 frix_error solve_pressed_first(const frix_problem &p, const frix_options &opts, const double *q, double w_blocks,
                                double *r, double *u, double *v, frix_info &info, const Stopwatch &clock,
                                const ReducedRoute &reduce, PressedFirst *outcome);

@@ -10,16 +10,16 @@
 #include "elastic_grid.h"
 
 typedef struct {
-    int lines;             /* "reduction: forming W for the N of NC contacts ..." */
+    int lines;             /* "reduction: W for the N of NC contacts ..." */
     int64_t formed[4];     /* N of each */
     int penetrating_lines; /* of those, the ones after a round found contacts penetrating */
 } part_log;
 
 static void note_part(void *data, const char *line) {
     part_log *c = data;
-    const char *at = strstr(line, "reduction: forming W for the ");
+    const char *at = strstr(line, "reduction: W for the ");
     if (!at) return;
-    if (c->lines < 4) c->formed[c->lines] = atoll(at + strlen("reduction: forming W for the "));
+    if (c->lines < 4) c->formed[c->lines] = atoll(at + strlen("reduction: W for the "));
     ++c->lines;
     if (strstr(line, "penetrating")) ++c->penetrating_lines;
 }
@@ -28,6 +28,13 @@ typedef struct {
     int64_t calls, last, decreasing;
     int64_t stop_from; /* > 0: the callback stops the solve at this iteration or later */
 } progress;
+
+/* Counts its calls and stops at the first. */
+static int stop_at_once(void *data, int64_t iteration, double error, double elapsed) {
+    (void)iteration, (void)error, (void)elapsed;
+    ++((progress *)data)->calls;
+    return 1;
+}
 
 static int watch(void *data, int64_t iteration, double error, double elapsed) {
     (void)error, (void)elapsed;
@@ -220,6 +227,8 @@ START_TEST(a_part_grown_past_its_share_goes_to_the_whole_w) {
     ck_assert_int_eq(out.log.lines, 1);
     for (int64_t a = 0; a < nc; ++a) ck_assert_double_gt(out.r[3 * a], 0.0);
     ck_assert_int_eq(out.seen.decreasing, 0);
+    ck_assert_int_le(out.seen.last, out.iterations); /* the round's iterations count too */
+    ck_assert_int_gt(out.seen.last, 0);
     outcome_free(&out);
     pulling_body_free(&b);
 }
@@ -252,6 +261,7 @@ START_TEST(the_rounds_share_max_iter) {
         outcome capped = solve_from(b.p, 0, NULL, k);
         ck_assert_msg(capped.iterations <= k, "max_iter %lld: %lld iterations", (long long)k,
                       (long long)capped.iterations);
+        ck_assert(capped.status == FRIX_STATUS_CONVERGED || capped.status == FRIX_STATUS_MAX_ITER);
         outcome_free(&capped);
     }
     outcome_free(&all);
@@ -273,6 +283,34 @@ START_TEST(a_stop_in_the_second_round_ends_the_solve) {
     ck_assert_int_lt(out.iterations, all.iterations);
     ck_assert_int_eq(out.seen.decreasing, 0);
     outcome_free(&all), outcome_free(&out);
+    pulling_body_free(&b);
+}
+END_TEST
+
+/* With callback_estimates = 0 the callback hears the whole problem's measured error before the
+ * part's W is formed, and may stop the solve there: no W formed, r = 0. */
+START_TEST(the_callback_may_stop_before_the_parts_w) {
+    const int64_t nc = 720, pressed = 360, near = 72;
+    pulling_body b = pulling_body_make(nc, pressed, near, 1.0, 0.0);
+    const int64_t m = 3 * nc, n = 3 * nc;
+    double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u), *v = calloc((size_t)n, sizeof *v);
+    part_log log;
+    memset(&log, 0, sizeof log);
+    progress seen;
+    memset(&seen, 0, sizeof seen);
+    frix_options *o = nsgs_v_options(&log, NULL);
+    ck_assert_int_eq(frix_options_set_int(o, FRIX_OPT_CALLBACK_ESTIMATES, 0), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_callback(o, stop_at_once, &seen), FRIX_OK);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_solve(b.p, o, r, u, v, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_STOPPED_BY_CALLBACK);
+    ck_assert_int_eq(frix_info_iterations(info), 0);
+    ck_assert_int_eq(seen.calls, 1);
+    ck_assert_int_eq(log.lines, 0);
+    for (int64_t i = 0; i < m; ++i) ck_assert(r[i] == 0.0);
+    frix_info_free(info), frix_options_free(o);
+    free(r), free(u), free(v);
     pulling_body_free(&b);
 }
 END_TEST
@@ -302,6 +340,7 @@ int main(void) {
     tcase_add_test(tc, the_rounds_share_max_iter);
     tcase_add_test(tc, rounds_on_an_lu_factorised_m);
     tcase_add_test(tc, a_stop_in_the_second_round_ends_the_solve);
+    tcase_add_test(tc, the_callback_may_stop_before_the_parts_w);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }
