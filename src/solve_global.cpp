@@ -62,6 +62,9 @@ frix_error tighten_to_global_measure(const frix_problem &scale, const frix_probl
         frix_options tighter = opts;
         tighter.dvalue[FRIX_OPT_TOLERANCE] = 0.5 * tol * info.error / global;
         tighter.ivalue[FRIX_OPT_MAX_ITER] = max_iter - info.iterations;
+        // The pass's callback reports are numbered on from the iterations before it.
+        ForwardedReports forward{&opts, &clock, info.iterations, false};
+        tighter = forward.applied_to(tighter);
         frix_info more;
         more.solver_id = info.solver_id;
         more.contacts = info.contacts;

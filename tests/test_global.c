@@ -772,6 +772,45 @@ START_TEST(admm_changes_rho_only_where_it_pays) {
 }
 END_TEST
 
+/* The callback's iterations, which must rise through a solve. */
+typedef struct {
+    int64_t last, reports, backwards;
+} rising;
+
+static int note_rising(void *data, int64_t iteration, double error, double elapsed) {
+    (void)error, (void)elapsed;
+    rising *c = data;
+    if (c->reports > 0 && iteration < c->last) ++c->backwards;
+    c->last = iteration, ++c->reports;
+    return 0;
+}
+
+/* A local solver through the reduction on a body falling onto its contacts (q outweighs w):
+ * its answer at the tolerance misses the global measure, and a tightened pass goes on from it.
+ * The callback's iterations rise through both, up to the solve's count. */
+START_TEST(tightened_passes_number_on) {
+    grid_case c = grid_case_make(10, 10, 4, 0.0, 1e4);
+    const int solvers[2] = {FRIX_SOLVER_NSGS_VELOCITY, FRIX_SOLVER_ADMM};
+    for (int k = 0; k < 2; ++k) {
+        frix_options *o = NULL;
+        ck_assert_int_eq(frix_options_create(solvers[k], &o), FRIX_OK);
+        ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TOLERANCE, 1e-8), FRIX_OK);
+        rising seen = {0, 0, 0};
+        ck_assert_int_eq(frix_options_set_callback(o, note_rising, &seen), FRIX_OK);
+        frix_info *info = NULL;
+        ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+        memset(c.r, 0, sizeof *c.r * (size_t)c.m), memset(c.v, 0, sizeof *c.v * (size_t)c.n);
+        expect_converged_into(&c, o, info);
+        ck_assert_int_gt(seen.reports, 1);
+        ck_assert_int_eq(seen.backwards, 0);
+        ck_assert_int_eq(seen.last, frix_info_iterations(info));
+        frix_info_free(info);
+        frix_options_free(o);
+    }
+    grid_case_free(&c);
+}
+END_TEST
+
 /* gadmm ends within two iterations of its first iterate that meets the tolerance (the runs are
  * deterministic: the run stopped after k iterations returns iterate k, which the driver
  * measures). Waiting for its oscillating light error to pass a tolerance lowered by a failed
@@ -1208,6 +1247,7 @@ int main(void) {
     tcase_add_test(tc, elastic_grid_arguments);
     tcase_add_test(tc, admm_changes_rho_only_where_it_pays);
     tcase_add_test(tc, admm_stops_near_the_first_iterate_within_the_tolerance);
+    tcase_add_test(tc, tightened_passes_number_on);
     tcase_add_test(tc, auto_without_w_on_a_floating_grid);
     tcase_add_test(tc, admm_system_keeps_only_the_couplings_rho_i_makes);
     tcase_add_test(tc, single_precision_solves_refined_in_double);
