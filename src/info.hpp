@@ -93,4 +93,12 @@ struct frix_info {
     // iterations, switches) add up, the trace reads earlier's records first, and the islands
     // are earlier's where this run found none. The status and measures stay this run's.
     void absorb(const frix_info &earlier);
+    // The empty record of a further run of the same solve: its solver, contacts and tolerance.
+    frix_info next_run() const {
+        frix_info run;
+        run.solver_id = solver_id;
+        run.contacts = contacts;
+        run.tolerance = tolerance;
+        return run;
+    }
 };

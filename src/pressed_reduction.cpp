@@ -113,10 +113,7 @@ frix_error solve_pressed_first(const frix_problem &p, const frix_options &opts, 
         part_options.ivalue[FRIX_OPT_MAX_ITER] = max_iter - so_far.iterations;
         ForwardedReports forward{&opts, &clock, so_far.iterations, true};
         part_options = forward.applied_to(part_options);
-        frix_info round_run;
-        round_run.solver_id = info.solver_id;
-        round_run.contacts = info.contacts;
-        round_run.tolerance = info.tolerance;
+        frix_info round_run = info.next_run();
         // W's blocks: the part's square, within the bound on the whole W.
         const double part_blocks = std::min(structural_blocks, (double)part.nc * (double)part.nc);
         if (frix_error e = reduce(part, part_options, part_blocks, part_q.data(), part_r.data(), part_u.data(), v,

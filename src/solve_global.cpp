@@ -65,9 +65,7 @@ frix_error tighten_to_global_measure(const frix_problem &scale, const frix_probl
         // The pass's callback reports are numbered on from the iterations before it.
         ForwardedReports forward{&opts, &clock, info.iterations, false};
         tighter = forward.applied_to(tighter);
-        frix_info more;
-        more.solver_id = info.solver_id;
-        more.contacts = info.contacts;
+        frix_info more = info.next_run();
         more.tolerance = tighter.dvalue[FRIX_OPT_TOLERANCE];
         const Measures start = measures;  // of the r the pass starts from, u holding W r + q
         if (frix_error e = solve_local_problem(local, tighter, entry, r, u, more, clock, local_cache, &measures, false,
@@ -237,10 +235,7 @@ frix_error solve_floating(const frix_problem &p, const frix_options &opts, const
     for (;;) {
         frix_options o = opts;
         o.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, max_iter - done.iterations);
-        frix_info pass;
-        pass.solver_id = info.solver_id;
-        pass.contacts = info.contacts;
-        pass.tolerance = info.tolerance;
+        frix_info pass = info.next_run();
         if (frix_error e = solve_global(view, o, entry, r, u, v, pass, clock, &state.shifted_cache, nullptr, false))
             return e;
         pass.absorb(done);

@@ -183,10 +183,7 @@ frix_error GlobalRoutes::run(const SolverEntry &entry, int64_t max_iter, Watchdo
     const double tol = Monitor(ctx_).tolerance();
     frix_options o = stage_options(entry, options_, tol, max_iter, nullptr);
     if (dog) dog->install(o);
-    frix_info run;
-    run.solver_id = info_.solver_id;
-    run.contacts = info_.contacts;
-    run.tolerance = info_.tolerance;
+    frix_info run = info_.next_run();
     const double t0 = ctx_.clock.seconds();
     if (frix_error e = solve_global_problem(ctx_.problem, o, entry, ctx_.r, ctx_.u, ctx_.v, run, ctx_.clock,
                                             cache ? cache : reduction_, ctx_.mass))
@@ -207,10 +204,7 @@ frix_error GlobalRoutes::run(const SolverEntry &entry, int64_t max_iter, Watchdo
 frix_error GlobalRoutes::reduced_solve(const frix_info &like, int64_t max_iter) {
     frix_options reduction = options_;
     reduction.ivalue[FRIX_OPT_MAX_ITER] = std::max<int64_t>(1, max_iter);
-    frix_info reduced;
-    reduced.solver_id = like.solver_id;
-    reduced.contacts = like.contacts;
-    reduced.tolerance = like.tolerance;
+    frix_info reduced = like.next_run();
     if (frix_error e = solve_global_problem(ctx_.problem, reduction, kAutoReductionEntry, ctx_.r, ctx_.u, ctx_.v,
                                             reduced, ctx_.clock, reduction_, ctx_.mass))
         return e;
