@@ -571,6 +571,35 @@ START_TEST(auto_prices_the_reduction_of_a_deformable_body) {
 }
 END_TEST
 
+/* Under a time limit far below any price of forming W, the grid of the test above still reads
+ * "is priced": where the route without W is the cheaper one, whether W fits the time limit is
+ * asked only before W would be formed after that route (asking may time the machine; before,
+ * it was asked up front and this note said "would overrun the time limit"). */
+START_TEST(auto_asks_whether_forming_w_fits_the_time_only_where_it_would_form_it) {
+    frix_elastic_grid g;
+    ck_assert_int_eq(frix_elastic_grid_make(30, 30, 2, 0.5, 1e4, &g), FRIX_OK);
+    double *r = calloc((size_t)frix_problem_contact_dofs(g.problem), sizeof *r);
+    double *u = calloc((size_t)frix_problem_contact_dofs(g.problem), sizeof *u);
+    double *v = calloc((size_t)frix_problem_dofs(g.problem), sizeof *v);
+    frix_info *info = NULL;
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &o), FRIX_OK);
+    ck_assert_int_eq(frix_options_set_double(o, FRIX_OPT_TIME_LIMIT, 1e-6), FRIX_OK);
+    ck_assert_msg(frix_solve(g.problem, o, r, u, v, info) == FRIX_OK, "%s", frix_last_error_message());
+    const char *trace = frix_info_trace(info);
+    const char *note = frix_info_stage_note(info, 0);
+    ck_assert_msg(note && strstr(note, "is priced") != NULL && strstr(note, "overrun") == NULL, "trace:\n%s", trace);
+    ck_assert_msg(stage_int(info, find_other_run(info, 0, 0), FRIX_STAGE_SOLVER_ID) == FRIX_SOLVER_GLOBAL_ADMM,
+                  "trace:\n%s", trace);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_TIME_LIMIT);
+    frix_options_free(o);
+    frix_info_free(info);
+    free(r), free(u), free(v);
+    frix_elastic_grid_free(&g);
+}
+END_TEST
+
 /* On a stiff thin body (30 x 30 x 2 nodes, springs of 1e8) auto takes the route without W, where
  * ADMM's linear rate would take more than a thousand iterations to 1e-8: it stops ADMM at 200
  * and gnsn-ac finishes from its answer (gnsn-al is not needed). */
@@ -1241,6 +1270,7 @@ int main(void) {
     tcase_add_test(tc, singular_mass_matrix_held_or_refused);
     tcase_add_test(tc, no_contacts);
     tcase_add_test(tc, auto_prices_the_reduction_of_a_deformable_body);
+    tcase_add_test(tc, auto_asks_whether_forming_w_fits_the_time_only_where_it_would_form_it);
     tcase_add_test(tc, auto_finishes_a_stiff_body_with_newton_after_admm);
     tcase_add_test(tc, solvers_without_w);
     tcase_add_test(tc, persistent_without_w_factorises_once);

@@ -51,9 +51,9 @@ struct GlobalAnswer {
 
 // The route a global problem takes, from its sizes and (where W would be large) its prices.
 struct RouteChoice {
-    frix_status refused = FRIX_STATUS_NOT_RUN;  // the limit forming W would overrun
-    // Forming W's price, where the route without W goes first for being cheaper: whether W fits
-    // the time limit is asked only before it is formed after that route (see choose_route).
+    frix_status refused = FRIX_STATUS_NOT_RUN;  // the limit forming W would overrun, as asked up front
+    // Forming W's price, where the route without W goes first for being cheaper: the time limit
+    // is asked only before W would be formed after that route (see choose_route).
     const linalg::FactorPrice *forming_w_later = nullptr;
     bool w_free = false;   // the route without W is priced below forming W, and fits
     bool product = false;  // rigid bodies with a large W: NSGS without W first
@@ -89,8 +89,7 @@ RouteChoice choose_route(const SolveContext &ctx, const ReductionSize &size, Kep
             const bool w_free_fits = kept.w_free_priced && Monitor(ctx).fits_memory(c.prices.without_w_bytes);
             const bool cheaper = w_free_fits && c.prices.without_w < c.prices.with_w;
             // Where the route without W is cheaper, the time limit is asked only before W would
-            // be formed: a first question times the machine, tens of milliseconds on a solve of
-            // a few tenths.
+            // be formed after it: a question may time the machine, tens of milliseconds.
             if (!cheaper)
                 c.refused = Monitor(ctx).affords(kept.forming_w);
             else if (!Monitor(ctx).fits_memory(kept.forming_w.bytes))
@@ -342,7 +341,16 @@ frix_error GlobalRoutes::without_w(int64_t max_iter, RouteChoice &choice) {
         return FRIX_OK;
     }
     if (choice.refused || !may_go_on(info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK, left)) return FRIX_OK;
-    if (choice.forming_w_later && Monitor(ctx_).affords(*choice.forming_w_later)) return FRIX_OK;
+    if (choice.forming_w_later) {
+        if (const frix_status refused = Monitor(ctx_).affords(*choice.forming_w_later)) {
+            TraceEvent not_formed = trace_event(kGlobalReduceRefused);
+            not_formed.status = refused;
+            not_formed.error = info_.error;
+            not_formed.value = info_.equilibrium;
+            info_.trace.push_back(not_formed);
+            return FRIX_OK;
+        }
+    }
     bool go_on = true;
     if (frix_error e = ensure_mass_factorised(&go_on)) return e;
     if (!go_on) return FRIX_OK;

@@ -67,7 +67,8 @@ void stage_line(std::string &out, const TraceEvent &e) {
     out += "\n";
 }
 
-// status: the limit forming W would overrun (FRIX_STATUS_NOT_RUN: none); value: forming W's
+// status: the limit forming W would overrun, as asked up front (FRIX_STATUS_NOT_RUN: none, or
+// the time left to ask before W is formed after the route); value: forming W's
 // price over the route without it; solver_id: the route's first solver.
 void direct_line(std::string &out, const TraceEvent &e) {
     const AnalysisSummary &a = figures_of(e);
@@ -112,6 +113,11 @@ std::string format_event(const frix_info &info, const TraceEvent &e) {
             append(out, "without W: %s (error %.3e, equilibrium %.3e): W = H^T M^-1 H formed after all, the "
                         "reduced solve from the start\n",
                    frix_status_string(e.status), e.error, e.value);
+            break;
+        case kGlobalReduceRefused:
+            append(out, "without W: error %.3e, equilibrium %.3e; forming W = H^T M^-1 H would overrun the %s "
+                        "limit: not formed\n",
+                   e.error, e.value, e.status == FRIX_STATUS_MEMORY_LIMIT ? "memory" : "time");
             break;
         case kExistence: append(out, "existence check: %s\n", frix_existence_describe(info.existence)); break;
     }

@@ -12,7 +12,8 @@
 namespace frix::autosolve {
 
 enum TraceKind {
-    kAnalysis, kStage, kGiveUp, kTighten, kGlobalFallback, kGlobalDirect, kGlobalReduceAfter, kExistence
+    kAnalysis, kStage, kGiveUp, kTighten, kGlobalFallback, kGlobalDirect, kGlobalReduceAfter,
+    kGlobalReduceRefused, kExistence
 };
 
 // What auto's analysis found (sizes, ranges, islands; for a global problem its own sizes and
