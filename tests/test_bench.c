@@ -430,6 +430,70 @@ START_TEST(test_profile_known_values) {
 }
 END_TEST
 
+/* ---- Rounds: rivals' runs interleave, the time is the median of a pair's rounds ------------ */
+
+/* The times the progress lines ("[n/N] PROBLEM SOLVER: STATUS, T s (...)") give the runs of
+ * PROBLEM by SOLVER, in order; their count. */
+static int progress_times(const char *err, const char *problem, const char *solver, double *times, int cap) {
+    char key[256];
+    snprintf(key, sizeof key, "] %s %s: ", problem, solver);
+    int n = 0;
+    for (const char *at = strstr(err, key); at; at = strstr(at + 1, key)) {
+        const char *comma = strchr(at + strlen(key), ',');
+        if (comma && n < cap) times[n] = atof(comma + 1);
+        ++n;
+    }
+    return n;
+}
+
+/* --rounds 3 on two problems: a problem's solvers run round by round, nsgs three times and
+ * CAPPED (two under-relaxed sweeps: max_iter, it needs 33) once; runs.csv keeps one row per
+ * pair, nsgs's time the median of its three runs' (as the progress lines print them). */
+#define CAPPED "nsgs@relaxation=0.5@max_iter=2"
+START_TEST(test_rounds) {
+    fresh_dir(TMP "/rounds/problems");
+    make_problem(TMP "/rounds/problems/a.hdf5");
+    make_problem(TMP "/rounds/problems/b.hdf5");
+    const char *args[] = {"bench", TMP "/rounds/problems", "--solvers", "nsgs," CAPPED, "--tol", "1e-10",
+                          "--time-limit", "5", "--rounds", "3", "--out", TMP "/rounds/out", "--no-plots", NULL};
+    cli_run r = run_cli(args);
+    ck_assert_msg(r.code == 0, "exit %d: %s", r.code, r.err);
+    /* The order of the runs: a's four (nsgs, CAPPED, nsgs twice), then b's. */
+    const char *order[] = {"] a.hdf5 nsgs: ", "] a.hdf5 " CAPPED ": ", "] a.hdf5 nsgs: ", "] a.hdf5 nsgs: ",
+                           "] b.hdf5 nsgs: "};
+    const char *at = r.err;
+    for (int k = 0; k < 5; ++k) {
+        at = strstr(at, order[k]);
+        ck_assert_msg(at != NULL, "run %d (%s) not in order:\n%s", k, order[k], r.err);
+        ++at;
+    }
+    csv *runs = csv_read(TMP "/rounds/out/runs.csv");
+    ck_assert_int_eq(runs->rows, 5);
+    const char *problems[] = {"a.hdf5", "b.hdf5"};
+    for (int k = 0; k < 2; ++k) {
+        double t[4], capped[4];
+        ck_assert_int_eq(progress_times(r.err, problems[k], CAPPED, capped, 4), 1);
+        ck_assert_int_eq(progress_times(r.err, problems[k], "nsgs", t, 4), 3);
+        const double lo = fmin(t[0], fmin(t[1], t[2])), hi = fmax(t[0], fmax(t[1], t[2]));
+        const double median = t[0] + t[1] + t[2] - lo - hi;
+        const int row = csv_find(runs, "problem", problems[k], "solver", "nsgs");
+        ck_assert_int_gt(row, 0);
+        ck_assert_str_eq(csv_get(runs, row, "status"), "converged");
+        char shown[32], expected[32];
+        snprintf(shown, sizeof shown, "%.3g", atof(csv_get(runs, row, "time")));
+        snprintf(expected, sizeof expected, "%.3g", median);
+        ck_assert_msg(strcmp(shown, expected) == 0, "%s: time %s, the runs' %g %g %g", problems[k], shown, t[0], t[1],
+                      t[2]);
+        const int capped_row = csv_find(runs, "problem", problems[k], "solver", CAPPED);
+        ck_assert_str_eq(csv_get(runs, capped_row, "status"), "max_iter");
+    }
+    csv_free(runs);
+    run_free(&r);
+    const char *bad[] = {"bench", TMP "/rounds/problems", "--rounds", "0", "--out", TMP "/never", NULL};
+    ck_assert_int_eq(cli_exit_code(bad), 2);
+}
+END_TEST
+
 /* ---- Isolation: a hanging run is killed at its limit, a crash is recorded, the rest runs -- */
 
 START_TEST(test_isolation) {
@@ -716,6 +780,7 @@ int main(void) {
     tcase_add_test(tc, test_solver_options);
     tcase_add_test(tc, test_profile_known_values);
     tcase_add_test(tc, test_best_per_problem);
+    tcase_add_test(tc, test_rounds);
     tcase_add_test(tc, test_isolation);
     tcase_add_test(tc, test_siconos_comparator);
     tcase_add_test(tc, test_bad_file_costs_its_row);

@@ -23,7 +23,8 @@
 # fclib-large at 1e-8), BENCH_LONG_TIME_LIMIT (default 150 s per run in large-1e-6-long),
 # BENCH_GLOBAL_TIME_LIMIT (default 60 s per run on the global ones), BENCH_MAX_ITER (iterations per run, default 1000000000: the time limit is what
 # ends a run, so that a solver that needs millions of fast sweeps, NSGS on RockPile_tob1,
-# is judged by the clock), BENCH_JOBS (default 1), BENCH_CAMPAIGNS (default "1e-4 1e-6 1e-8
+# is judged by the clock), BENCH_JOBS (default 1), BENCH_ROUNDS (`frix bench --rounds`: default 3
+# in the global campaigns, whose ratios to Siconos are targets, 1 elsewhere), BENCH_CAMPAIGNS (default "1e-4 1e-6 1e-8
 # large large-1e-4 large-1e-6 large-1e-6-long global global-1e-4"),
 # BENCH_REUSE=1 (redo the report of a campaign whose BENCH_WORK/<campaign>/runs.csv exists,
 # e.g. after rows were added to it by hand, instead of running it again).
@@ -110,6 +111,7 @@ getfem_blocks() {
 simulation_solvers=auto,nsgs,nsgs-v,admm,ipm,prox,siconos:NSGS,siconos:ADMM,siconos:PROX
 for campaign in $campaigns; do
     solvers=all,siconos:all
+    rounds=${BENCH_ROUNDS:-1}
     case $campaign in
         large) dirs=("$shared/fclib-large"); tol=1e-8; tl=$large_limit ;;
         large-1e-4 | large-1e-6)
@@ -125,6 +127,7 @@ for campaign in $campaigns; do
             grids
             getfem_blocks
             dirs=("$shared/fclib/global" "$work/grids" "$work/getfem"); tol=1e-8; tl=$global_limit
+            rounds=${BENCH_ROUNDS:-3}
             solvers=auto,gnsn-ac,gadmm,gnsn-al,nsgs,nsgs-v,admm,ipm,siconos:GFC3D_NSN_AC,siconos:GFC3D_NSN_AC_WR,siconos:GFC3D_NSGS_WR,siconos:GFC3D_PROX_WR,siconos:GFC3D_ADMM,siconos:GFC3D_IPM ;;
         global-1e-4)
             # The same problems at a simulation tolerance: auto, frix's solvers without W and
@@ -132,6 +135,7 @@ for campaign in $campaigns; do
             grids
             getfem_blocks
             dirs=("$shared/fclib/global" "$work/grids" "$work/getfem"); tol=1e-4; tl=$global_limit
+            rounds=${BENCH_ROUNDS:-3}
             solvers=auto,gadmm,gnsn-al,nsgs-v,siconos:GFC3D_NSN_AC,siconos:GFC3D_NSN_AC_WR,siconos:GFC3D_NSGS_WR,siconos:GFC3D_PROX_WR,siconos:GFC3D_ADMM,siconos:GFC3D_IPM ;;
         *) dirs=("$shared/fclib/local" "$shared/fclib/converted"); tol=$campaign; tl=$limit ;;
     esac
@@ -142,9 +146,9 @@ for campaign in $campaigns; do
         how="report redone from the campaign's runs.csv"
     else
         "$frix" bench "${dirs[@]}" --solvers "$solvers" --tol "$tol" --time-limit "$tl" \
-            --max-iter "$max_iter" --jobs "$jobs" --out "$out"
+            --max-iter "$max_iter" --jobs "$jobs" --rounds "$rounds" --out "$out"
         wall=$((SECONDS - start))
-        how=$(printf 'campaign wall time %dm%02ds' $((wall / 60)) $((wall % 60)))
+        how=$(printf 'campaign wall time %dm%02ds, times the median of %s round(s)' $((wall / 60)) $((wall % 60)) "$rounds")
     fi
     [ -f "$out/plots/profile.png" ] ||
         { echo "bench_docs.sh: no plots (python3-matplotlib missing?)" >&2; exit 1; }

@@ -35,6 +35,7 @@ struct BenchArgs {
     std::string solvers = "all", out, report_dir;
     double tol = 1e-8, time_limit = 10, grace = -1;
     std::int64_t max_iter = 100000, jobs = 1;
+    std::int64_t rounds = 1;  // --rounds K: each pair run K times, the time their median
     std::int64_t guess = 0;  // --guess K: every run starts from each file's guess K; 0: from r = 0
     bool plots = true, quiet = false, help = false;
 };
@@ -77,6 +78,8 @@ BenchArgs parse(int argc, char **argv) {
             a.max_iter = parse_int("bench", "--max-iter", v);
         } else if (args.option("--guess", v)) {
             a.guess = parse_guess_number("bench", v);
+        } else if (args.option("--rounds", v)) {
+            a.rounds = parse_int("bench", "--rounds", v);
         } else if (args.option("--jobs", v) || args.option("-j", v)) {
             a.jobs = parse_int("bench", "--jobs", v);
         } else if (args.option("--out", v) || args.option("-o", v)) {
@@ -104,6 +107,7 @@ BenchArgs parse(int argc, char **argv) {
     if (!(a.time_limit > 0)) usage_error("bench", "--time-limit must be > 0 seconds");
     if (a.max_iter < 1) usage_error("bench", "--max-iter must be >= 1");
     if (a.jobs < 1 || a.jobs > 64) usage_error("bench", "--jobs must be in [1, 64]");
+    if (a.rounds < 1 || a.rounds > 99) usage_error("bench", "--rounds must be in [1, 99]");
     if (a.grace < 0) a.grace = 1.0 + 0.2 * a.time_limit;
     return a;
 }
@@ -317,6 +321,24 @@ void write_file(const std::string &path, const std::string &text) {
     if (!out) fail("bench: cannot write " + path);
 }
 
+// Rescales a run's trace to end at `time` (its points in time order, the last at the run's
+// end): the time reported is a median of solves, and the trace stays on that one clock.
+void end_trace_at(std::vector<TracePoint> &trace, double time) {
+    if (trace.empty() || !(trace.back().elapsed > time) || !(trace.back().elapsed > 0.0)) return;
+    // Clamped: x * (time / x) may exceed time by an ulp, and the rows that follow must not go
+    // back in time.
+    const double scale = time / trace.back().elapsed;
+    for (TracePoint &t : trace) t.elapsed = std::min(t.elapsed * scale, time);
+}
+
+// The time of a pair run in rounds: the median of its rounds' times, a round that did not
+// converge within the time limit counted at the limit.
+double median_of_rounds(std::vector<double> times) {
+    std::sort(times.begin(), times.end());
+    const std::size_t k = times.size() / 2;
+    return times.size() % 2 ? times[k] : 0.5 * (times[k - 1] + times[k]);
+}
+
 int run_campaign(const BenchArgs &a) {
     const std::string self = self_directory();
     const std::string adapter = self + "/frix-siconos";
@@ -330,9 +352,19 @@ int run_campaign(const BenchArgs &a) {
     ::mkdir(logs.c_str(), 0755);
     if (!is_directory(logs)) fail("bench: cannot create " + logs);
 
-    const std::size_t total = problems.size() * solvers.size();
+    // A pair is (problem, solver); a run is a pair's round. A problem's runs go round by round
+    // (every solver once, then again), so that a pair's rounds and its rivals' interleave in
+    // time; a pair whose first round did not converge is not run again.
+    const std::size_t total = problems.size() * solvers.size(), rounds = static_cast<std::size_t>(a.rounds);
+    const std::size_t slots = total * rounds;
+    auto pair_of = [&](std::size_t run) {
+        return run / (rounds * solvers.size()) * solvers.size() + run % solvers.size();
+    };
+    auto round_of = [&](std::size_t run) { return run / solvers.size() % rounds; };
     std::vector<RunRecord> records(total);
     std::vector<std::vector<TracePoint>> traces(total);
+    std::vector<std::vector<double>> round_times(total);
+    std::vector<char> first_done(total, 0);
     // Written as the runs end, so that an interrupted campaign keeps what it did; rewritten
     // in (problem, solver) order at the end.
     std::ofstream runs_csv(a.out + "/runs.csv", std::ios::trunc);
@@ -341,27 +373,36 @@ int run_campaign(const BenchArgs &a) {
     runs_csv << csv_row(runs_header()) << std::flush;
     traces_csv << csv_row(traces_header()) << std::flush;
 
-    std::fprintf(stderr, "frix bench: %zu problems x %zu solvers = %zu runs, tolerance %g, "
+    std::fprintf(stderr, "frix bench: %zu problems x %zu solvers = %zu runs (at most %zu in %zu rounds), tolerance %g, "
                          "time limit %g s (+%g s grace), %lld job(s)\n",
-                 problems.size(), solvers.size(), total, a.tol, a.time_limit, a.grace,
+                 problems.size(), solvers.size(), total, slots, rounds, a.tol, a.time_limit, a.grace,
                  static_cast<long long>(a.jobs));
     auto old_int = std::signal(SIGINT, on_interrupt);
     auto old_term = std::signal(SIGTERM, on_interrupt);
 
     // "problem 3/28 Capsules-i125-1213.hdf5  siconos:NSN_AC"
     auto running_text = [&](std::size_t run) {
-        const std::size_t k = run / solvers.size();
+        const std::size_t k = pair_of(run) / solvers.size();
         return "problem " + std::to_string(k + 1) + "/" + std::to_string(problems.size()) + " " +
-               problems[k].name + "  " + solvers[run % solvers.size()].name;
+               problems[k].name + "  " + solvers[run % solvers.size()].name +
+               (rounds > 1 ? " (round " + std::to_string(round_of(run) + 1) + ")" : std::string());
     };
     Runner runner(static_cast<std::size_t>(a.jobs));
-    Progress progress(total, a.quiet);
+    Progress progress(slots, a.quiet);
     std::size_t next = 0, done = 0;
     char num[64];
-    while ((next < total || runner.running() > 0) && !g_interrupted) {
-        while (runner.can_start() && next < total) {
-            const Problem &p = problems[next / solvers.size()];
-            const Solver &s = solvers[next % solvers.size()];
+    while ((next < slots || runner.running() > 0) && !g_interrupted) {
+        while (runner.can_start() && next < slots) {
+            const std::size_t pair = pair_of(next);
+            if (round_of(next) > 0) {
+                if (!first_done[pair]) break;  // a later round waits for the first one's verdict
+                if (!records[pair].converged()) {
+                    ++next, ++done;
+                    continue;
+                }
+            }
+            const Problem &p = problems[pair / solvers.size()];
+            const Solver &s = solvers[pair % solvers.size()];
             RunSpec spec;
             spec.index = next;
             spec.log_path = logs + "/run-" + std::to_string(next) + ".log";
@@ -392,8 +433,9 @@ int run_campaign(const BenchArgs &a) {
             ++next;
         }
         for (RunOutcome &o : runner.poll(0.25)) {
-            Problem &p = problems[o.index / solvers.size()];
-            const Solver &s = solvers[o.index % solvers.size()];
+            const std::size_t run = o.index, pair = pair_of(run);
+            Problem &p = problems[pair / solvers.size()];
+            const Solver &s = solvers[pair % solvers.size()];
             if (o.problem_read() && p.contacts < 0) {
                 p.contacts = o.contacts;
                 p.dofs = o.dofs;
@@ -405,7 +447,18 @@ int run_campaign(const BenchArgs &a) {
             // frix-siconos reads with frix's reader and says so in the same words.
             if (s.siconos && o.status == "error" && o.note.find("cannot read " + p.path + ": ") != std::string::npos)
                 o.status = "unreadable";
-            RunRecord &r = records[o.index];
+            const std::string log = logs + "/run-" + std::to_string(run) + ".log";
+            if (round_of(run) > 0) {
+                const bool in_time = o.status == "converged" && o.time <= a.time_limit;
+                round_times[pair].push_back(in_time ? o.time : a.time_limit);
+                ::unlink(log.c_str());
+                ++done;
+                RunRecord shown = records[pair];
+                shown.status = o.status, shown.time = o.time;
+                progress.finished(done, shown);
+                continue;
+            }
+            RunRecord &r = records[pair];
             r = {p.name, p.family, p.contacts, p.dofs, s.name, s.id, o.status, o.iterations,
                  o.error, o.time, a.tol, a.time_limit, a.max_iter, o.reported_error, o.note,
                  o.peak_memory / 1e6, p.stored_blocks, o.error_scaled};
@@ -415,30 +468,25 @@ int run_campaign(const BenchArgs &a) {
                 r.status = "time_limit";
                 r.note = "converged after the time limit";
             }
-            traces[o.index] = std::move(o.trace);
+            first_done[pair] = 1;
+            round_times[pair].push_back(r.time);
+            traces[pair] = std::move(o.trace);
             if (std::isfinite(r.error) && std::isfinite(r.time) && r.status != "timeout" &&
                 r.status.compare(0, 5, "crash") != 0) {
                 // The trace is the first solve's; the time reported is the median of the
                 // repeats of a short solve (RepeatTimer), usually shorter: the trace is
-                // rescaled to end at it, so that it stays in time order and on one clock.
-                std::vector<TracePoint> &tr = traces[o.index];
-                if (!tr.empty() && tr.back().elapsed > r.time && tr.back().elapsed > 0.0) {
-                    // Clamped: x * (time / x) may exceed time by an ulp, and the rows that
-                    // follow must not go back in time.
-                    const double scale = r.time / tr.back().elapsed;
-                    for (TracePoint &t : tr) t.elapsed = std::min(t.elapsed * scale, r.time);
-                }
-                tr.push_back({r.iterations, r.time, r.error});
+                // rescaled to end at it.
+                end_trace_at(traces[pair], r.time);
+                traces[pair].push_back({r.iterations, r.time, r.error});
             }
             ++done;
             runs_csv << csv_row(run_fields(r)) << std::flush;
-            for (const TracePoint &t : traces[o.index])
+            for (const TracePoint &t : traces[pair])
                 traces_csv << csv_row({r.problem, r.solver, std::to_string(t.iteration),
                                        number_text(t.elapsed), number_text(t.error)});
             traces_csv.flush();
             // Logs are kept for the runs that did not converge and said something.
             struct stat st;
-            const std::string log = logs + "/run-" + std::to_string(o.index) + ".log";
             if (r.converged() || ::stat(log.c_str(), &st) != 0 || st.st_size == 0)
                 ::unlink(log.c_str());
             else
@@ -452,14 +500,21 @@ int run_campaign(const BenchArgs &a) {
     std::signal(SIGTERM, old_term);
     if (g_interrupted) {
         runner.kill_all();
-        std::fprintf(stderr, "frix bench: interrupted after %zu of %zu runs; %s/runs.csv has them\n",
-                     done, total, a.out.c_str());
+        std::fprintf(stderr, "frix bench: interrupted after %zu of %zu runs; %s/runs.csv has the first rounds\n",
+                     done, slots, a.out.c_str());
         return 130;
     }
     ::rmdir(logs.c_str());  // only if empty
 
     std::string runs_text = csv_row(runs_header()), traces_text = csv_row(traces_header());
     for (std::size_t k = 0; k < total; ++k) {
+        if (round_times[k].size() > 1) {
+            records[k].time = median_of_rounds(round_times[k]);
+            if (!traces[k].empty()) {
+                end_trace_at(traces[k], records[k].time);
+                traces[k].back().elapsed = records[k].time;
+            }
+        }
         // A run that ended before any other had read its problem (Siconos's, one killed
         // while reading) gets the sizes another run read.
         const Problem &p = problems[k / solvers.size()];
@@ -477,7 +532,7 @@ int run_campaign(const BenchArgs &a) {
     traces_csv.close();
     write_file(a.out + "/runs.csv", runs_text);
     write_file(a.out + "/traces.csv", traces_text);
-    std::fprintf(stderr, "frix bench: %zu runs in %s\n", total, clock_text(progress.elapsed()).c_str());
+    std::fprintf(stderr, "frix bench: %zu runs in %s\n", done, clock_text(progress.elapsed()).c_str());
     std::printf("%s\n", bench_report(a.out, a.plots, self).c_str());
     return kExitConverged;
 }
