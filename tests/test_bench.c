@@ -485,6 +485,7 @@ START_TEST(test_rounds) {
         ck_assert_msg(strcmp(shown, expected) == 0, "%s: time %s, the runs' %g %g %g", problems[k], shown, t[0], t[1],
                       t[2]);
         const int capped_row = csv_find(runs, "problem", problems[k], "solver", CAPPED);
+        ck_assert_int_gt(capped_row, 0);
         ck_assert_str_eq(csv_get(runs, capped_row, "status"), "max_iter");
     }
     csv_free(runs);

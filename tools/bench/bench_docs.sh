@@ -148,7 +148,8 @@ for campaign in $campaigns; do
         "$frix" bench "${dirs[@]}" --solvers "$solvers" --tol "$tol" --time-limit "$tl" \
             --max-iter "$max_iter" --jobs "$jobs" --rounds "$rounds" --out "$out"
         wall=$((SECONDS - start))
-        how=$(printf 'campaign wall time %dm%02ds, times the median of %s round(s)' $((wall / 60)) $((wall % 60)) "$rounds")
+        how=$(printf 'campaign wall time %dm%02ds' $((wall / 60)) $((wall % 60)))
+        [ "$rounds" -gt 1 ] && how="$how, times the median of $rounds rounds"
     fi
     [ -f "$out/plots/profile.png" ] ||
         { echo "bench_docs.sh: no plots (python3-matplotlib missing?)" >&2; exit 1; }

@@ -58,6 +58,7 @@ void print_bench_help(std::FILE *out) {
         "                      is the median of the rounds (one that did not converge in\n"
         "                      the time limit counts at it), the rest the first round's;\n"
         "                      a solver whose first round did not converge is not rerun\n"
+        "                      (with --jobs > 1, later runs wait for that first round)\n"
         "  --jobs N            runs at a time (default 1: timings undisturbed)\n"
         "  --out DIR           where the files go (created if needed)\n"
         "  --report DIR        only redo the tables and plots from DIR/runs.csv and\n"

@@ -321,10 +321,10 @@ void write_file(const std::string &path, const std::string &text) {
     if (!out) fail("bench: cannot write " + path);
 }
 
-// Rescales a run's trace to end at `time` (its points in time order, the last at the run's
-// end): the time reported is a median of solves, and the trace stays on that one clock.
+// Rescales a run's trace (its points in time order) to end at `time`, shorter or longer: the
+// time reported is a median of solves, and the trace stays on that one clock.
 void end_trace_at(std::vector<TracePoint> &trace, double time) {
-    if (trace.empty() || !(trace.back().elapsed > time) || !(trace.back().elapsed > 0.0)) return;
+    if (trace.empty() || !(trace.back().elapsed > 0.0) || !std::isfinite(time)) return;
     // Clamped: x * (time / x) may exceed time by an ulp, and the rows that follow must not go
     // back in time.
     const double scale = time / trace.back().elapsed;
@@ -373,9 +373,11 @@ int run_campaign(const BenchArgs &a) {
     runs_csv << csv_row(runs_header()) << std::flush;
     traces_csv << csv_row(traces_header()) << std::flush;
 
-    std::fprintf(stderr, "frix bench: %zu problems x %zu solvers = %zu runs (at most %zu in %zu rounds), tolerance %g, "
+    const std::string in_rounds =
+        rounds > 1 ? " (at most " + std::to_string(slots) + " in " + std::to_string(rounds) + " rounds)" : "";
+    std::fprintf(stderr, "frix bench: %zu problems x %zu solvers = %zu runs%s, tolerance %g, "
                          "time limit %g s (+%g s grace), %lld job(s)\n",
-                 problems.size(), solvers.size(), total, slots, rounds, a.tol, a.time_limit, a.grace,
+                 problems.size(), solvers.size(), total, in_rounds.c_str(), a.tol, a.time_limit, a.grace,
                  static_cast<long long>(a.jobs));
     auto old_int = std::signal(SIGINT, on_interrupt);
     auto old_term = std::signal(SIGTERM, on_interrupt);
@@ -451,6 +453,10 @@ int run_campaign(const BenchArgs &a) {
             if (round_of(run) > 0) {
                 const bool in_time = o.status == "converged" && o.time <= a.time_limit;
                 round_times[pair].push_back(in_time ? o.time : a.time_limit);
+                if (!in_time)
+                    records[pair].note += std::string(records[pair].note.empty() ? "" : "; ") + "round " +
+                                          std::to_string(round_of(run) + 1) + ": " + o.status +
+                                          " (its time counted at the limit)";
                 ::unlink(log.c_str());
                 ++done;
                 RunRecord shown = records[pair];
@@ -476,7 +482,7 @@ int run_campaign(const BenchArgs &a) {
                 // The trace is the first solve's; the time reported is the median of the
                 // repeats of a short solve (RepeatTimer), usually shorter: the trace is
                 // rescaled to end at it.
-                end_trace_at(traces[pair], r.time);
+                if (!traces[pair].empty() && traces[pair].back().elapsed > r.time) end_trace_at(traces[pair], r.time);
                 traces[pair].push_back({r.iterations, r.time, r.error});
             }
             ++done;
@@ -510,10 +516,7 @@ int run_campaign(const BenchArgs &a) {
     for (std::size_t k = 0; k < total; ++k) {
         if (round_times[k].size() > 1) {
             records[k].time = median_of_rounds(round_times[k]);
-            if (!traces[k].empty()) {
-                end_trace_at(traces[k], records[k].time);
-                traces[k].back().elapsed = records[k].time;
-            }
+            end_trace_at(traces[k], records[k].time);
         }
         // A run that ended before any other had read its problem (Siconos's, one killed
         // while reading) gets the sizes another run read.
