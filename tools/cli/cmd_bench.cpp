@@ -391,7 +391,7 @@ int run_campaign(const BenchArgs &a) {
     };
     Runner runner(static_cast<std::size_t>(a.jobs));
     Progress progress(slots, a.quiet);
-    std::size_t next = 0, done = 0;
+    std::size_t next = 0, done = 0, started = 0;  // done: runs ended or skipped
     char num[64];
     while ((next < slots || runner.running() > 0) && !g_interrupted) {
         while (runner.can_start() && next < slots) {
@@ -431,6 +431,7 @@ int run_campaign(const BenchArgs &a) {
                 spec.argv.push_back(std::to_string(a.guess));
             }
             runner.start(spec);
+            ++started;
             progress.running(done, running_text(next));
             ++next;
         }
@@ -535,7 +536,7 @@ int run_campaign(const BenchArgs &a) {
     traces_csv.close();
     write_file(a.out + "/runs.csv", runs_text);
     write_file(a.out + "/traces.csv", traces_text);
-    std::fprintf(stderr, "frix bench: %zu runs in %s\n", done, clock_text(progress.elapsed()).c_str());
+    std::fprintf(stderr, "frix bench: %zu runs in %s\n", started, clock_text(progress.elapsed()).c_str());
     std::printf("%s\n", bench_report(a.out, a.plots, self).c_str());
     return kExitConverged;
 }
