@@ -192,20 +192,26 @@ static void pulling_body_free(pulling_body *b) {
     free(b->f), free(b->w), free(b->mu);
 }
 
+/* The body most tests take: 720 contacts (W of 41 MB), 360 pressed, 72 pulled into touch. */
+enum { kContacts = 720, kPressed = 360, kNear = 72 };
+
+static pulling_body pulling_body_near(double skew) {
+    return pulling_body_make(kContacts, kPressed, kNear, 1.0, skew);
+}
+
 /* 720 contacts (W of 41 MB), 360 pressed, 72 pulled into touch: a second round forms W for 432,
  * and the 288 others stay open at r = 0. The callback's iterations rise across the rounds. */
 START_TEST(penetrating_contacts_join_the_part) {
-    const int64_t nc = 720, pressed = 360, near = 72;
-    pulling_body b = pulling_body_make(nc, pressed, near, 1.0, 0.0);
+    pulling_body b = pulling_body_near(0.0);
     outcome out = solve(b.p, 0);
     ck_assert_int_eq(out.status, FRIX_STATUS_CONVERGED);
     ck_assert_double_le(out.error, 1e-8);
     ck_assert_int_eq(out.log.lines, 2);
-    ck_assert_int_eq(out.log.formed[0], pressed);
-    ck_assert_int_eq(out.log.formed[1], pressed + near);
+    ck_assert_int_eq(out.log.formed[0], kPressed);
+    ck_assert_int_eq(out.log.formed[1], kPressed + kNear);
     ck_assert_int_eq(out.log.penetrating_lines, 1);
-    for (int64_t a = 0; a < nc; ++a) {
-        if (a < pressed + near) ck_assert_double_gt(out.r[3 * a], 0.0);
+    for (int64_t a = 0; a < kContacts; ++a) {
+        if (a < kPressed + kNear) ck_assert_double_gt(out.r[3 * a], 0.0);
         else ck_assert(out.r[3 * a] == 0.0 && out.r[3 * a + 1] == 0.0 && out.r[3 * a + 2] == 0.0);
     }
     ck_assert_int_gt(out.seen.calls, 2);
@@ -219,13 +225,12 @@ END_TEST
 /* Where the contacts pulled into touch take the part past its share (360 + 360 of 720), the
  * whole W is formed after the first round, from its answer. */
 START_TEST(a_part_grown_past_its_share_goes_to_the_whole_w) {
-    const int64_t nc = 720, pressed = 360;
-    pulling_body b = pulling_body_make(nc, pressed, nc - pressed, 1.0, 0.0);
+    pulling_body b = pulling_body_make(kContacts, kPressed, kContacts - kPressed, 1.0, 0.0);
     outcome out = solve(b.p, 0);
     ck_assert_int_eq(out.status, FRIX_STATUS_CONVERGED);
     ck_assert_double_le(out.error, 1e-8);
     ck_assert_int_eq(out.log.lines, 1);
-    for (int64_t a = 0; a < nc; ++a) ck_assert_double_gt(out.r[3 * a], 0.0);
+    for (int64_t a = 0; a < kContacts; ++a) ck_assert_double_gt(out.r[3 * a], 0.0);
     ck_assert_int_eq(out.seen.decreasing, 0);
     ck_assert_int_le(out.seen.last, out.iterations); /* the round's iterations count too */
     ck_assert_int_gt(out.seen.last, 0);
@@ -237,13 +242,12 @@ END_TEST
 /* From the answer (the 72 contacts pulled into touch hold r != 0): W for the 432 at once, and
  * the answer comes back within the tolerance. */
 START_TEST(a_warm_starts_contacts_join_the_first_part) {
-    const int64_t nc = 720, pressed = 360, near = 72;
-    pulling_body b = pulling_body_make(nc, pressed, near, 1.0, 0.0);
+    pulling_body b = pulling_body_near(0.0);
     outcome cold = solve(b.p, 0), warm = solve_from(b.p, 0, cold.r, 0);
     ck_assert_int_eq(warm.status, FRIX_STATUS_CONVERGED);
     ck_assert_double_le(warm.error, 1e-8);
     ck_assert_int_eq(warm.log.lines, 1);
-    ck_assert_int_eq(warm.log.formed[0], pressed + near);
+    ck_assert_int_eq(warm.log.formed[0], kPressed + kNear);
     ck_assert_int_lt(warm.iterations, cold.iterations);
     outcome_free(&cold), outcome_free(&warm);
     pulling_body_free(&b);
@@ -253,8 +257,7 @@ END_TEST
 /* max_iter holds across the rounds: every cap k below the run's own count ends at k or
  * before (converged or not: the part's own scale is stricter than the whole problem's). */
 START_TEST(the_rounds_share_max_iter) {
-    const int64_t nc = 720, pressed = 360, near = 72;
-    pulling_body b = pulling_body_make(nc, pressed, near, 1.0, 0.0);
+    pulling_body b = pulling_body_near(0.0);
     outcome all = solve(b.p, 0);
     ck_assert_int_gt(all.iterations, 2);
     for (int64_t k = 1; k < all.iterations; ++k) {
@@ -272,8 +275,7 @@ END_TEST
 /* The callback's stop in the second round ends the solve there, stopped, the answer measured on
  * the whole problem as any stopped solve's is. */
 START_TEST(a_stop_in_the_second_round_ends_the_solve) {
-    const int64_t nc = 720, pressed = 360, near = 72;
-    pulling_body b = pulling_body_make(nc, pressed, near, 1.0, 0.0);
+    pulling_body b = pulling_body_near(0.0);
     outcome all = solve(b.p, 0);
     const int64_t stop_from = all.iterations - 2;
     outcome out = solve_stopped(b.p, 0, NULL, 0, stop_from);
@@ -290,9 +292,8 @@ END_TEST
 /* With callback_estimates = 0 the callback hears the whole problem's measured error before the
  * part's W is formed, and may stop the solve there: no W formed, r = 0. */
 START_TEST(the_callback_may_stop_before_the_parts_w) {
-    const int64_t nc = 720, pressed = 360, near = 72;
-    pulling_body b = pulling_body_make(nc, pressed, near, 1.0, 0.0);
-    const int64_t m = 3 * nc, n = 3 * nc;
+    pulling_body b = pulling_body_near(0.0);
+    const int64_t m = 3 * kContacts, n = 3 * kContacts;
     double *r = calloc((size_t)m, sizeof *r), *u = calloc((size_t)m, sizeof *u), *v = calloc((size_t)n, sizeof *v);
     part_log log;
     memset(&log, 0, sizeof log);
@@ -317,13 +318,12 @@ END_TEST
 
 /* M not symmetric (its LU forms W column by column): the same rounds and a converged answer. */
 START_TEST(rounds_on_an_lu_factorised_m) {
-    const int64_t nc = 720, pressed = 360, near = 72;
-    pulling_body b = pulling_body_make(nc, pressed, near, 1.0, 0.2);
+    pulling_body b = pulling_body_near(0.2);
     outcome out = solve(b.p, 0);
     ck_assert_int_eq(out.status, FRIX_STATUS_CONVERGED);
     ck_assert_double_le(out.error, 1e-8);
     ck_assert_int_eq(out.log.lines, 2);
-    ck_assert_int_eq(out.log.formed[1], pressed + near);
+    ck_assert_int_eq(out.log.formed[1], kPressed + kNear);
     outcome_free(&out);
     pulling_body_free(&b);
 }

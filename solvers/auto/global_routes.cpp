@@ -341,24 +341,25 @@ frix_error GlobalRoutes::without_w(int64_t max_iter, RouteChoice &choice) {
         return FRIX_OK;
     }
     if (choice.refused || !may_go_on(info_.status == FRIX_STATUS_STOPPED_BY_CALLBACK, left)) return FRIX_OK;
+    // The record of the route's answer (its error and equilibrium) where W is formed after it,
+    // or refused.
+    const auto record_route_end = [&](TraceKind kind, frix_status status) {
+        TraceEvent e = trace_event(kind);
+        e.status = status;
+        e.error = info_.error;
+        e.value = info_.equilibrium;
+        info_.trace.push_back(e);
+    };
     if (choice.forming_w_later) {
         if (const frix_status refused = Monitor(ctx_).affords(*choice.forming_w_later)) {
-            TraceEvent not_formed = trace_event(kGlobalReduceRefused);
-            not_formed.status = refused;
-            not_formed.error = info_.error;
-            not_formed.value = info_.equilibrium;
-            info_.trace.push_back(not_formed);
+            record_route_end(kGlobalReduceRefused, refused);
             return FRIX_OK;
         }
     }
     bool go_on = true;
     if (frix_error e = ensure_mass_factorised(&go_on)) return e;
     if (!go_on) return FRIX_OK;
-    TraceEvent after = trace_event(kGlobalReduceAfter);
-    after.status = info_.status;
-    after.error = info_.error;
-    after.value = info_.equilibrium;
-    info_.trace.push_back(after);
+    record_route_end(kGlobalReduceAfter, info_.status);
     return reduce_after(left, &start);
 }
 

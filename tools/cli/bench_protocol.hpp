@@ -136,6 +136,14 @@ inline void write_line(int fd, const std::string &line) {
     }
 }
 
+// The median of `values` (the mean of the middle two where their count is even); NaN if none.
+inline double median(std::vector<double> values) {
+    if (values.empty()) return NAN;
+    std::sort(values.begin(), values.end());
+    const std::size_t k = values.size() / 2;
+    return values.size() % 2 ? values[k] : 0.5 * (values[k - 1] + values[k]);
+}
+
 // Timing: a short solve is repeated from the same start (r = 0) in the same process and the
 // median time reported, for frix and Siconos alike. One cold call of a microsecond solve
 // measures page faults and cache misses more than the solver, and the machines are shared
@@ -154,13 +162,7 @@ class RepeatTimer {
         return !times_.empty() && (int)times_.size() < kMaxSolves && std::isfinite(total) &&
                total + total / (double)times_.size() <= kBudget;
     }
-    double median() const {
-        if (times_.empty()) return NAN;
-        std::vector<double> t = times_;
-        std::sort(t.begin(), t.end());
-        const std::size_t k = t.size() / 2;
-        return t.size() % 2 ? t[k] : 0.5 * (t[k - 1] + t[k]);
-    }
+    double median() const { return frix_bench::median(times_); }
     int solves() const { return (int)times_.size(); }
 
    private:

@@ -3,6 +3,7 @@
 // (bench_report.cpp): DIR/runs.csv, DIR/traces.csv, profiles, work-precision, summary, plots.
 #include "args.hpp"
 #include "bench.hpp"
+#include "bench_protocol.hpp"
 #include "bench_runner.hpp"
 #include "cli.hpp"
 #include "csv.hpp"
@@ -331,14 +332,6 @@ void end_trace_at(std::vector<TracePoint> &trace, double time) {
     for (TracePoint &t : trace) t.elapsed = std::min(t.elapsed * scale, time);
 }
 
-// The time of a pair run in rounds: the median of its rounds' times, a round that did not
-// converge within the time limit counted at the limit.
-double median_of_rounds(std::vector<double> times) {
-    std::sort(times.begin(), times.end());
-    const std::size_t k = times.size() / 2;
-    return times.size() % 2 ? times[k] : 0.5 * (times[k - 1] + times[k]);
-}
-
 int run_campaign(const BenchArgs &a) {
     const std::string self = self_directory();
     const std::string adapter = self + "/frix-siconos";
@@ -516,7 +509,7 @@ int run_campaign(const BenchArgs &a) {
     std::string runs_text = csv_row(runs_header()), traces_text = csv_row(traces_header());
     for (std::size_t k = 0; k < total; ++k) {
         if (round_times[k].size() > 1) {
-            records[k].time = median_of_rounds(round_times[k]);
+            records[k].time = frix_bench::median(round_times[k]);  // a missed round counts at the limit
             end_trace_at(traces[k], records[k].time);
         }
         // A run that ended before any other had read its problem (Siconos's, one killed
