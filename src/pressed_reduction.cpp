@@ -52,12 +52,14 @@ std::vector<double> entries_of(const double *x, const std::vector<int64_t> &in) 
 
 }  // namespace
 
-frix_error solve_pressed_first(const frix_problem &p, const frix_options &opts, const double *q, double w_blocks,
+frix_error solve_pressed_first(const frix_problem &p, const frix_options &opts, const double *q,
+                               const ReductionSize &bound,
                                double *r, double *u, double *v, frix_info &info, const Stopwatch &clock,
                                const ReducedRoute &reduce, PressedFirst *outcome) {
     *outcome = PressedFirst::kNotApplied;
     const int64_t nc = p.nc;
-    if (p.kind != FRIX_PROBLEM_GLOBAL || nc == 0 || kBytesPerReducedBlock * w_blocks < kMinWBytes) return FRIX_OK;
+    if (p.kind != FRIX_PROBLEM_GLOBAL || nc == 0 || kBytesPerReducedBlock * bound.w_blocks < kMinWBytes)
+        return FRIX_OK;
     std::vector<char> in_part((size_t)nc, 0);
     int64_t count = 0;
     for (int64_t a = 0; a < nc; ++a)
@@ -65,7 +67,7 @@ frix_error solve_pressed_first(const frix_problem &p, const frix_options &opts, 
     if (count == 0 || (double)count > kMaxShare * (double)nc) return FRIX_OK;
     // The bound on W may be nc^2 blocks unexamined: its structure decides (rigid bodies' W is
     // sparse, and cheap to form whole), and bounds each part's W.
-    const double structural_blocks = std::min(w_blocks, reduction_size(p).w_blocks);
+    const double structural_blocks = bound.structural ? bound.w_blocks : reduction_size(p).w_blocks;
     if (kBytesPerReducedBlock * structural_blocks < kMinWBytes) return FRIX_OK;
     Csc h;
     if (frix_error e = to_csc(*p.H, h)) return e;

@@ -7,6 +7,7 @@
 #include "info.hpp"
 #include "options.hpp"
 #include "problem.hpp"
+#include "reduction.hpp"
 #include "solver_api.hpp"
 
 namespace frix {
@@ -24,12 +25,13 @@ enum class PressedFirst {
                   // tolerance: info holds the rounds' work, and the whole reduction goes on from r
 };
 
-// A one-shot reduction whose W would be large (w_blocks blocks) and whose contacts pressed at
+// A one-shot reduction whose W would be large (bound: the driver's, reduction_bound) and whose contacts pressed at
 // the start (q_N < 0, q = H^T M^-1 f + w, or r != 0 there) are few enough: `reduce` on those
 // contacts alone, r = 0 on the others; where the whole problem's measure of that answer misses
 // the tolerance and some of the others penetrate (u_N < 0), again with them added, from the last
 // r. The rounds share max_iter and the callback's numbering.
-frix_error solve_pressed_first(const frix_problem &p, const frix_options &opts, const double *q, double w_blocks,
+frix_error solve_pressed_first(const frix_problem &p, const frix_options &opts, const double *q,
+                               const ReductionSize &bound,
                                double *r, double *u, double *v, frix_info &info, const Stopwatch &clock,
                                const ReducedRoute &reduce, PressedFirst *outcome);
 

@@ -165,6 +165,7 @@ bool is_symmetric(const linalg::CscView &M) { return relative_asymmetry(M) <= kR
 
 ReductionSize reduction_size(const frix_problem &p) {
     ReductionSize size;
+    size.structural = true;
     DisjointSets components(p.n);
     // Exact zeros (of a stored 3x3 block) couple nothing.
     for_each_entry(*p.M, [&](int64_t i, int64_t j, double v) {

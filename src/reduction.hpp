@@ -214,6 +214,7 @@ struct ReductionSize {
     // dofs (a rigid body's 6; a deformable body's all).
     double product_entries = 0.0;
     int64_t largest_component = 0;
+    bool structural = false;  // the bounds are the structure's (reduction_size), not nc^2's
 };
 ReductionSize reduction_size(const frix_problem &p);
 

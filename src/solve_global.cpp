@@ -166,9 +166,9 @@ frix_error solve_global(const frix_problem &p, const frix_options &opts, const S
 // first (pressed_reduction.hpp), then on all of them where those grew past their share; a
 // persistent solver keeps the whole W for its next steps.
 frix_error solve_reduced_pressed_first(const frix_problem &p, const frix_options &opts, const SolverEntry &entry,
-                                       MassSolver &ms, double w_blocks, const double *q, double *r, double *u,
-                                       double *v, frix_info &info, const Stopwatch &clock, const SolveCache *cache,
-                                       GlobalState *kept) {
+                                       MassSolver &ms, const ReductionSize &bound, const double *q, double *r,
+                                       double *u, double *v, frix_info &info, const Stopwatch &clock,
+                                       const SolveCache *cache, GlobalState *kept) {
     const ReducedRoute reduce_part = [&](const frix_problem &part, const frix_options &o, double blocks,
                                          const double *part_q, double *part_r, double *part_u, double *whole_v,
                                          frix_info &run) {
@@ -178,7 +178,7 @@ frix_error solve_reduced_pressed_first(const frix_problem &p, const frix_options
     frix_info rounds = info;
     PressedFirst outcome = PressedFirst::kNotApplied;
     if (!cache)
-        if (frix_error e = solve_pressed_first(p, opts, q, w_blocks, r, u, v, rounds, clock, reduce_part, &outcome))
+        if (frix_error e = solve_pressed_first(p, opts, q, bound, r, u, v, rounds, clock, reduce_part, &outcome))
             return e;
     if (outcome == PressedFirst::kAnswered) {
         rounds.absorb(info);  // the record so far
@@ -191,7 +191,8 @@ frix_error solve_reduced_pressed_first(const frix_problem &p, const frix_options
         whole.ivalue[FRIX_OPT_MAX_ITER] = opts.i(FRIX_OPT_MAX_ITER) - rounds.iterations;  // > 0: the rounds checked
         whole = forward.applied_to(whole);
     }
-    if (frix_error e = solve_reduced(p, whole, entry, ms, w_blocks, q, r, u, v, info, clock, cache, kept)) return e;
+    if (frix_error e = solve_reduced(p, whole, entry, ms, bound.w_blocks, q, r, u, v, info, clock, cache, kept))
+        return e;
     if (outcome == PressedFirst::kWholeNext) info.absorb(rounds);
     return FRIX_OK;
 }
@@ -516,7 +517,7 @@ frix_error solve_global(const frix_problem &p, const frix_options &opts, const S
         const frix_info before = info;
         info.factorizations = info.symbolic_analyses = 0;
         info.factorization_time = info.setup_time = info.reduction_time = 0.0;
-        if (frix_error e = solve_reduced_pressed_first(p, opts, entry, ms, size.w_blocks, q.data(), r, u, v, info,
+        if (frix_error e = solve_reduced_pressed_first(p, opts, entry, ms, size, q.data(), r, u, v, info,
                                                        clock, cache, cache ? &*state : nullptr))
             return e;
         // The local solver reported its own work: add the factorisation of M.
