@@ -7,6 +7,7 @@
 #include "disjoint_sets.hpp"
 #include "memory.hpp"
 #include "monitor.hpp"
+#include "random.hpp"
 
 namespace frix {
 
@@ -67,19 +68,66 @@ double relative_asymmetry(const linalg::CscView &M) {
     return amax > 0.0 ? skew / amax : 0.0;
 }
 
-bool symmetric_at_every_scale(const linalg::CscView &W) {
-    if (W.rows != W.cols) return false;
-    std::vector<double> diag((size_t)W.cols, 0.0);
-    for (int64_t j = 0; j < W.cols; ++j) {
-        const int64_t *first = W.rowind + W.colptr[j], *last = W.rowind + W.colptr[j + 1];
-        const int64_t *at = std::lower_bound(first, last, j);
-        if (at != last && *at == j) diag[(size_t)j] = std::fabs(W.values[at - W.rowind]);
-    }
+namespace {
+
+// The pairwise test: every mirrored pair within kRoundOff sqrt(|W_ii W_jj|). Where a diagonal
+// entry is zero, the one-pass test's scaling has nothing to divide by.
+bool mirrored_pairs_agree(const linalg::CscView &W, const std::vector<double> &diag) {
     bool symmetric = true;
     for_each_mirrored_pair(W, [&](int64_t i, int64_t j, double a, double b) {
         symmetric = symmetric && std::fabs(a - b) <= kRoundOff * std::sqrt(diag[(size_t)i] * diag[(size_t)j]);
     });
     return symmetric;
+}
+
+// The seed of the one-pass test's vector: a fixed one, so that the verdict is the same on
+// every run.
+constexpr uint64_t kSymmetrySeed = 0x5EED5EEDull;
+
+}  // namespace
+
+bool symmetric_at_every_scale(const linalg::CscView &W, const double *diagonal) {
+    if (W.rows != W.cols) return false;
+    const int64_t n = W.cols;
+    std::vector<double> diag((size_t)n, 0.0);
+    bool positive = true;
+    for (int64_t j = 0; j < n; ++j) {
+        if (diagonal) {
+            diag[(size_t)j] = std::fabs(diagonal[j]);
+        } else {
+            const int64_t *first = W.rowind + W.colptr[j], *last = W.rowind + W.colptr[j + 1];
+            const int64_t *at = std::lower_bound(first, last, j);
+            if (at != last && *at == j) diag[(size_t)j] = std::fabs(W.values[at - W.rowind]);
+        }
+        positive = positive && diag[(size_t)j] > 0.0 && std::isfinite(diag[(size_t)j]);
+    }
+    if (!positive) return mirrored_pairs_agree(W, diag);
+    // x_j = +-[1/2, 1) / sqrt(W_jj): y = W x and z = W^T x in one pass by columns, and each
+    // row's terms' magnitudes beside them.
+    std::vector<double> x((size_t)n), y((size_t)n, 0.0), z((size_t)n), size((size_t)n, 0.0);
+    uint64_t state = kSymmetrySeed;
+    for (int64_t j = 0; j < n; ++j) {
+        const uint64_t bits = next_random(state);
+        const double magnitude = 0.5 + 0.5 * (double)(bits >> 11) * 0x1.0p-53;
+        x[(size_t)j] = ((bits & 1) ? -magnitude : magnitude) / std::sqrt(diag[(size_t)j]);
+    }
+    for (int64_t j = 0; j < n; ++j) {
+        const double xj = x[(size_t)j];
+        double zj = 0.0, size_j = 0.0;
+        for (int64_t e = W.colptr[j]; e < W.colptr[j + 1]; ++e) {
+            const int64_t i = W.rowind[e];
+            const double w = W.values[e], xi = x[(size_t)i];
+            y[(size_t)i] += w * xj;
+            size[(size_t)i] += std::fabs(w * xj);
+            zj += w * xi;
+            size_j += std::fabs(w * xi);
+        }
+        z[(size_t)j] = zj;
+        size[(size_t)j] += size_j;
+    }
+    for (int64_t i = 0; i < n; ++i)
+        if (!(std::fabs(y[(size_t)i] - z[(size_t)i]) <= kRoundOff * size[(size_t)i])) return false;
+    return true;
 }
 
 frix_error MassSolver::analyse_counted(const frix_matrix &M) {

@@ -40,11 +40,18 @@ constexpr double kRoundOff = 1e-12;
 // only the upper triangle).
 bool is_symmetric(const linalg::CscView &M);
 inline bool is_symmetric(const Csc &M) { return is_symmetric(M.view()); }
-// Whether every pair of mirrored entries of a square W agrees to round-off at its own scale:
-// |W_ij - W_ji| <= kRoundOff sqrt(|W_ii W_jj|) (which bounds |W_ij| where W is positive
-// semidefinite, as a Delassus W is). A relative_asymmetry against max |W| would let through a
-// real asymmetry among entries many orders below the largest (a rolling row's, a light body's).
-bool symmetric_at_every_scale(const linalg::CscView &W);
+// Whether a square W equals its transpose to round-off at every scale: with x a fixed
+// pseudo-random vector scaled by W's diagonal (x_j = +-[1/2, 1) / sqrt(W_jj)), each row of
+// W x - W^T x within kRoundOff of that row's terms, sum_j |W_ij x_j| + |W_ji x_j|. One pass
+// over W: a pairwise comparison reads each entry's mirror elsewhere in W, at several times
+// the cost (a settled step's whole sweep). An entry off its mirror beyond the round-off of its
+// row, or one without a mirror, fails it unless the random signs cancel it exactly; one
+// within that round-off changes a product with W only at it. The scaling makes the test the
+// same in any units: against max |W| a real asymmetry among entries many orders below the
+// largest (a rolling row's, a light body's) would pass. A diagonal entry that is not positive:
+// every mirrored pair within kRoundOff sqrt(|W_ii W_jj|) instead. diagonal: W's diagonal where
+// the caller has it (null: found here).
+bool symmetric_at_every_scale(const linalg::CscView &W, const double *diagonal = nullptr);
 
 // A factorisation of M: CHOLMOD when M is symmetric positive definite, UMFPACK otherwise.
 class MassSolver {

@@ -401,6 +401,79 @@ START_TEST(test_local_forms) {
 }
 END_TEST
 
+/* The pile's W stored by columns in other units for contact 0 (D W D, D = `scale` on contact
+ * 0's five entries, 1 elsewhere), the first non-zero entry of its column 0 in another
+ * contact's rows then multiplied by 1 + eps: the local problem on it. */
+static frix_problem *with_contact_rescaled(const rolling_pile *pile, double scale, double eps, frix_matrix **W) {
+    int64_t nnz = 0, m = 5 * pile->nc;
+    ck_assert_int_eq(frix_matrix_to_csc(pile->W, &nnz, NULL, NULL, NULL), FRIX_OK);
+    int64_t *colptr = malloc((size_t)(m + 1) * sizeof(int64_t)), *rowind = malloc((size_t)nnz * sizeof(int64_t));
+    double *val = malloc((size_t)nnz * sizeof(double)), *q = malloc((size_t)m * sizeof(double));
+    ck_assert_int_eq(frix_matrix_to_csc(pile->W, &nnz, colptr, rowind, val), FRIX_OK);
+    int perturbed = 0;
+    for (int64_t j = 0; j < m; ++j)
+        for (int64_t e = colptr[j]; e < colptr[j + 1]; ++e) {
+            val[e] *= (rowind[e] < 5 ? scale : 1.0) * (j < 5 ? scale : 1.0);
+            if (j == 0 && rowind[e] >= 5 && val[e] != 0.0 && !perturbed) val[e] *= 1.0 + eps, perturbed = 1;
+        }
+    ck_assert(perturbed);
+    for (int64_t i = 0; i < m; ++i) q[i] = pile->q[i] * (i < 5 ? scale : 1.0);
+    ck_assert_int_eq(frix_matrix_from_csc(m, m, colptr, rowind, val, W), FRIX_OK);
+    frix_problem *p = NULL;
+    ck_assert_int_eq(frix_problem_rolling_local(*W, q, pile->mu, pile->mu_r, pile->nc, &p), FRIX_OK);
+    free(colptr), free(rowind), free(val), free(q);
+    return p;
+}
+
+/* W is read by its columns where it equals its transpose to round-off at every scale: a
+ * contact in other units (its rows and columns scaled by 1e-8, its entries against the others
+ * 1e-8 of theirs and its own 1e-16) with an entry against another contact off its mirror by
+ * 1e-6 of itself is not read so (its transpose is another problem, however small the entries
+ * are against the largest), nor off by 1e-9; in those units without it, and with every entry
+ * scaled by 1e150 or 1e-150, it is. */
+START_TEST(test_symmetry_at_every_scale) {
+    rolling_pile pile;
+    ck_assert_int_eq(rolling_pile_make(4, 2, 0.3, 0.02, 7, &pile), 0);
+    const int64_t m = 5 * pile.nc;
+    ck_assert_int_ne(m % 3, 0); /* stored by columns */
+    const struct {
+        double scale, eps;
+        int served;
+    } cases[] = {{1e-8, 1e-6, 0}, {1e-8, 1e-9, 0}, {1e-8, 0.0, 1}, {1.0, 1e-6, 0}, {1.0, 1e-15, 1}};
+    double *r = calloc((size_t)m, sizeof(double));
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+        frix_matrix *W = NULL;
+        frix_problem *p = with_contact_rescaled(&pile, cases[c].scale, cases[c].eps, &W);
+        memset(r, 0, (size_t)m * sizeof(double));
+        ck_assert_int_eq(frix_testing_rolling_local_sweeps(p, 1, 1, r),
+                         cases[c].served ? FRIX_OK : FRIX_ERR_UNSUPPORTED);
+        frix_problem_free(p);
+        frix_matrix_free(W);
+    }
+    /* All of W in other units: the same verdict. */
+    for (int k = 0; k < 2; ++k) {
+        const double scale = k ? 1e-75 : 1e75; /* W scaled by its square */
+        int64_t nnz = 0;
+        ck_assert_int_eq(frix_matrix_to_csc(pile.W, &nnz, NULL, NULL, NULL), FRIX_OK);
+        int64_t *colptr = malloc((size_t)(m + 1) * sizeof(int64_t)), *rowind = malloc((size_t)nnz * sizeof(int64_t));
+        double *val = malloc((size_t)nnz * sizeof(double));
+        ck_assert_int_eq(frix_matrix_to_csc(pile.W, &nnz, colptr, rowind, val), FRIX_OK);
+        for (int64_t e = 0; e < nnz; ++e) val[e] *= scale * scale;
+        frix_matrix *W = NULL;
+        ck_assert_int_eq(frix_matrix_from_csc(m, m, colptr, rowind, val, &W), FRIX_OK);
+        frix_problem *p = NULL;
+        ck_assert_int_eq(frix_problem_rolling_local(W, pile.q, pile.mu, pile.mu_r, pile.nc, &p), FRIX_OK);
+        memset(r, 0, (size_t)m * sizeof(double));
+        ck_assert_int_eq(frix_testing_rolling_local_sweeps(p, 1, 1, r), FRIX_OK);
+        frix_problem_free(p);
+        frix_matrix_free(W);
+        free(colptr), free(rowind), free(val);
+    }
+    free(r);
+    rolling_pile_free(&pile);
+}
+END_TEST
+
 /* A pile of 8 x 8 spheres in 6 layers (1,056 contacts) at 1e-8 in the product form: its error
  * stalls for hundreds of sweeps, after which momentum restarts only where a sweep's step grows
  * by more than a quarter of its square: 5,776 sweeps (20,704 with the restart rule of the local
@@ -611,6 +684,7 @@ int main(void) {
     tcase_add_test(tc, test_product_form_loosens_momentum_after_a_stall);
     tcase_add_test(tc, test_nsgs_on_piles);
     tcase_add_test(tc, test_local_forms);
+    tcase_add_test(tc, test_symmetry_at_every_scale);
     tcase_add_test(tc, test_global_velocity);
     tcase_add_loop_test(tc, test_global_start_that_solves, 0, 4);
     tcase_add_loop_test(tc, test_threads_bit_identical, 0, 4);

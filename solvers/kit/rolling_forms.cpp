@@ -131,18 +131,16 @@ void local_q_blocks(const frix_matrix &W, const double *q, int64_t a, const doub
 
 }  // namespace
 
-bool StoredForm::serves(const frix_problem &p) {
-    const frix_matrix &W = *p.W;
-    return W.block || symmetric_at_every_scale(
-                          linalg::CscView{W.rows, W.cols, W.col_ptr.data(), W.row_ind.data(), W.val.data()});
-}
-
 StoredForm::StoredForm(const frix_problem &p) : SweepForm(contact_size(p)), p_(p) {
     const frix_matrix &W = *p.W;
-    if (W.block) return;
+    if (W.block) {
+        serves_ = true;
+        return;
+    }
     const int64_t n = size(), m = n * p.nc;
     assign_advised(diag_first_, (size_t)m);
     assign_advised(diag_end_, (size_t)m);
+    std::vector<double> diagonal((size_t)m, 0.0);
     for (int64_t c = 0; c < m; ++c) {
         const int64_t first = n * (c / n);
         const auto begin = W.row_ind.begin() + W.col_ptr[(size_t)c], end = W.row_ind.begin() + W.col_ptr[(size_t)c + 1];
@@ -150,7 +148,11 @@ StoredForm::StoredForm(const frix_problem &p) : SweepForm(contact_size(p)), p_(p
         const auto hi = std::lower_bound(lo, end, first + n);
         diag_first_[(size_t)c] = lo - W.row_ind.begin();
         diag_end_[(size_t)c] = hi - W.row_ind.begin();
+        for (auto e = lo; e != hi; ++e)
+            if (*e == c) diagonal[(size_t)c] = W.val[(size_t)(e - W.row_ind.begin())];
     }
+    serves_ = symmetric_at_every_scale(linalg::CscView{W.rows, W.cols, W.col_ptr.data(), W.row_ind.data(), W.val.data()},
+                                       diagonal.data());
 }
 
 void StoredForm::diagonal_block(int64_t a, double *out) const {

@@ -87,9 +87,10 @@ class RowForm : public SweepForm {
 // Memory: two indices a column of W.
 class StoredForm : public SweepForm {
    public:
-    // Whether p's W can be read so (by columns: one pass over W).
-    static bool serves(const frix_problem &p);
     explicit StoredForm(const frix_problem &p);
+    // Whether p's W can be read so: stored by block rows, or symmetric (by columns: one pass
+    // over W, in the constructor).
+    bool serves() const { return serves_; }
     const char *name() const override {
         return p_.W->block ? "local form, W's stored rows" : "local form, W's columns as its rows";
     }
@@ -102,6 +103,7 @@ class StoredForm : public SweepForm {
     // By columns: per column of W, where its entries in the diagonal block start and end (the
     // rows of its contact: one run, rows sorted).
     std::vector<int64_t> diag_first_, diag_end_;
+    bool serves_ = false;
 };
 
 // The product form: per contact, the dofs of the bodies it touches, H_a and M^-1 H_a on them
@@ -191,10 +193,8 @@ frix_error solve_on_form(SolveContext &ctx, const char *name, Run &&run, int thr
         // A run on any sweep form reads W where it lies; one that needs W's block rows (the
         // Newton solver's system) is handed a copy.
         if constexpr (std::is_invocable_v<Run &, StoredForm &>) {
-            if (StoredForm::serves(p)) {
-                StoredForm stored(p);
-                return run(stored);
-            }
+            StoredForm stored(p);
+            if (stored.serves()) return run(stored);
         }
         RowForm rows(p);
         return run(rows);

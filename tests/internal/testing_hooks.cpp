@@ -55,8 +55,8 @@ FRIX_TESTING_HOOK int frix_testing_rolling_local_sweeps(const frix_problem *p, i
         frix::rolling::RowForm rows(*p);
         return run(rows);
     }
-    if (!frix::rolling::StoredForm::serves(*p)) return FRIX_ERR_UNSUPPORTED;
     frix::rolling::StoredForm form(*p);
+    if (!form.serves()) return FRIX_ERR_UNSUPPORTED;
     return run(form);
 }
 
