@@ -130,8 +130,27 @@ bool symmetric_at_every_scale(const linalg::CscView &W, const double *diagonal) 
     return true;
 }
 
+frix_error MassSolver::solve_load(const double *f, int64_t n, double *x) {
+    if ((int64_t)load_.size() == n && std::equal(f, f + n, load_.begin())) {
+        std::copy(load_x_.begin(), load_x_.end(), x);
+        return FRIX_OK;
+    }
+    load_.clear();
+    // A solve reads L twice, a combination's check M once: the span pays where L holds at
+    // least twice M's entries.
+    const bool span = use_chol_ && !empty_ && chol_.cost().factor_entries >= 2.0 * (double)csc_.view().nnz();
+    if (!(span && span_.answer(f, csc_.view(), x))) {
+        if (frix_error e = solve(f, x)) return e;
+        if (span) span_.add(f, x, n);
+    }
+    load_.assign(f, f + n);
+    load_x_.assign(x, x + n);
+    return FRIX_OK;
+}
+
 frix_error MassSolver::analyse_counted(const frix_matrix &M) {
     load_.clear();
+    span_.clear();
     factored_ = false;
     refused_ = FRIX_STATUS_NOT_RUN;
     empty_ = M.rows == 0;  // no dofs: M^-1 is the empty map, W = 0 and q = w

@@ -12,6 +12,7 @@
 
 #include "error_state.hpp"
 #include "linalg/linalg.hpp"
+#include "load_span.hpp"
 #include "matrix.hpp"
 #include "problem.hpp"
 
@@ -91,18 +92,10 @@ class MassSolver {
     }
     // x = M^-1 f (n values) for a load f: the last load's answer is kept, and a load equal to
     // it value for value is not solved again (the driver's setup and the global solves a
-    // solver runs within it, such as auto's routes, ask for the same one).
-    frix_error solve_load(const double *f, int64_t n, double *x) {
-        if ((int64_t)load_.size() == n && std::equal(f, f + n, load_.begin())) {
-            std::copy(load_x_.begin(), load_x_.end(), x);
-            return FRIX_OK;
-        }
-        load_.clear();
-        if (frix_error e = solve(f, x)) return e;
-        load_.assign(f, f + n);
-        load_x_.assign(x, x + n);
-        return FRIX_OK;
-    }
+    // solver runs within it, such as auto's routes, ask for the same one); nor, where a solve
+    // reads far more than a product with M (a deformable body's factor), a load in the span
+    // of the loads solved since M's factorisation (LoadSpan: a host's load path).
+    frix_error solve_load(const double *f, int64_t n, double *x);
     // W = H^T M^-1 H, block-CSR. From CHOLMOD's factor it is summed supernode by supernode
     // into its final storage (BlockMatrixFromTerms; see SparseCholesky::inverse_congruence);
     // from UMFPACK's, assembled from its columns (BlockMatrixFromColumns, told to expect up to
@@ -204,6 +197,7 @@ class MassSolver {
     bool symmetric_ = false;
     bool factored_ = false;
     std::vector<double> load_, load_x_;  // solve_load: the last load and M^-1 of it
+    LoadSpan span_;                       // solve_load: the loads solved, where they pay
 };
 
 // Global problems: what the reduction W = H^T M^-1 H would cost, from the structure of M and H

@@ -9,6 +9,7 @@
 #include "solvers/kit/local_rolling.hpp"
 #include "solvers/kit/rolling_forms.hpp"
 #include "src/coulomb.hpp"
+#include "src/load_span.hpp"
 #include "src/rolling.hpp"
 
 #define FRIX_TESTING_HOOK extern "C"
@@ -605,4 +606,12 @@ FRIX_TESTING_HOOK int frix_testing_matrix_from_csc_taking(int64_t nrows, int64_t
                         std::equal(x.begin(), x.end(), values);
     *taken = p.empty() && i.empty() && x.empty() ? 1 : intact ? 0 : -1;
     return e;
+}
+
+FRIX_TESTING_HOOK int frix_testing_load_span(int64_t n, const int64_t *colptr, const int64_t *rowind,
+                                             const double *values, int k, const double *F, const double *X,
+                                             const double *f, double *x) {
+    frix::LoadSpan span;
+    for (int i = 0; i < k; ++i) span.add(F + (size_t)i * (size_t)n, X + (size_t)i * (size_t)n, n);
+    return span.answer(f, frix::linalg::CscView{n, n, colptr, rowind, values}, x) ? 1 : 0;
 }

@@ -1,0 +1,48 @@
+// The loads a factorised M has been solved for, and their answers, so that a load that is a
+// combination of them is answered without a solve. A host stepping along a load path (loads
+// that combine a few: a prescribed displacement and a force, each scaled) then solves with M
+// once a step (for v) instead of twice (for q as well).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "linalg/linalg.hpp"
+
+namespace frix {
+
+// At most this many loads are kept (an orthonormal basis of their span, and each one's answer).
+constexpr int kLoadSpan = 4;
+
+class LoadSpan {
+   public:
+    // Forgets every load (M changed).
+    void clear();
+    // x = M^-1 f as the combination x = sum c_i x_i of the kept answers (x_i = M^-1 f_i, M the
+    // matrix they were solved with), where f lies in the kept loads' span to round-off and the
+    // combination is as accurate as a solve: its normwise backward error
+    // |f - M x| / (|M| |x| + |f|) (max norms) within a few times the kept solves' own. A load
+    // off the span, or a combination that amplifies round-off (sum |c_i| |f_i| far above |f|),
+    // is not tried: that test costs a few dot products of n, the backward error a product with
+    // M. False: x is untouched, and the caller solves.
+    bool answer(const double *f, const linalg::CscView &M, double *x);
+    // After a solve x = M^-1 f: f joins the span where it adds a direction (its part off the
+    // span at least kNewDirection of |f|); where kLoadSpan loads are kept, they are forgotten
+    // first (a host whose loads leave the span starts over).
+    void add(const double *f, const double *x, int64_t n);
+    int loads() const { return k_; }
+
+   private:
+    double backward_error(const double *f, const double *x, const linalg::CscView &M);
+    int64_t n_ = 0;
+    int k_ = 0;
+    // The kept loads F = Q R (Q: k_ orthonormal columns of n_; R upper triangular, column-major
+    // kLoadSpan x kLoadSpan), their answers X (columns of n_), each load's 2-norm (R's columns)
+    // and each solve's backward error (NaN until measured, at the first combination tried).
+    std::vector<double> q_, x_, backward_;
+    double r_[kLoadSpan * kLoadSpan] = {};
+    double m_norm_ = -1.0;  // |M|_inf, measured with the first backward error (-1: not yet)
+    std::vector<double> work_;
+};
+
+}  // namespace frix
