@@ -49,11 +49,50 @@ double max_abs(const double *a, int64_t n) {
 
 void LoadSpan::clear() {
     k_ = 0;
-    q_.clear();
+    f_.clear();
     x_.clear();
+    q_.clear();
     backward_.clear();
     std::fill(r_, r_ + kLoadSpan * kLoadSpan, 0.0);
     m_norm_ = -1.0;
+}
+
+void LoadSpan::forget(int i) {
+    const size_t n = (size_t)n_;
+    f_.erase(f_.begin() + (ptrdiff_t)(i * n), f_.begin() + (ptrdiff_t)((i + 1) * n));
+    x_.erase(x_.begin() + (ptrdiff_t)(i * n), x_.begin() + (ptrdiff_t)((i + 1) * n));
+    backward_.erase(backward_.begin() + i);
+    --k_;
+}
+
+void LoadSpan::orthonormalise() {
+    const int64_t n = n_;
+    std::fill(r_, r_ + kLoadSpan * kLoadSpan, 0.0);
+    q_.resize((size_t)(k_ * n));
+    for (int i = 0; i < k_;) {
+        const double *fi = &f_[(size_t)(i * n)];
+        double *qi = &q_[(size_t)(i * n)];
+        std::copy(fi, fi + n, qi);
+        double h[kLoadSpan] = {};
+        // Gram-Schmidt twice: the second pass takes what the first left to round-off.
+        for (int pass = 0; pass < 2; ++pass)
+            for (int j = 0; j < i; ++j) {
+                const double *qj = &q_[(size_t)(j * n)];
+                const double t = dot(qj, qi, n);
+                h[j] += t;
+                for (int64_t e = 0; e < n; ++e) qi[e] -= t * qj[e];
+            }
+        const double off = std::sqrt(dot(qi, qi, n)), f_norm = std::sqrt(dot(fi, fi, n));
+        if (!(off >= kNewDirection * f_norm) || !std::isfinite(off)) {
+            forget(i);  // no new direction: the loads after it move down
+            q_.resize((size_t)(k_ * n));
+            continue;
+        }
+        for (int64_t e = 0; e < n; ++e) qi[e] /= off;
+        for (int j = 0; j < i; ++j) r_[j + kLoadSpan * i] = h[j];
+        r_[i + kLoadSpan * i] = off;
+        ++i;
+    }
 }
 
 void LoadSpan::add(const double *f, const double *x, int64_t n) {
@@ -61,36 +100,23 @@ void LoadSpan::add(const double *f, const double *x, int64_t n) {
         clear();
         n_ = n;
     }
-    if (k_ == kLoadSpan) {
-        const int64_t kept_n = n_;
-        const double m_norm = m_norm_;  // M is the same
-        clear();
-        n_ = kept_n;
-        m_norm_ = m_norm;
-    }
     const double f_norm = std::sqrt(dot(f, f, n));
     if (!(f_norm > 0.0) || !std::isfinite(f_norm)) return;
+    // f's part off the span.
     work_.assign(f, f + n);
-    double h[kLoadSpan] = {};
-    // Gram-Schmidt twice: the second pass takes what the first left to round-off.
     for (int pass = 0; pass < 2; ++pass)
         for (int i = 0; i < k_; ++i) {
             const double *qi = &q_[(size_t)(i * n)];
             const double t = dot(qi, work_.data(), n);
-            h[i] += t;
             for (int64_t j = 0; j < n; ++j) work_[(size_t)j] -= t * qi[j];
         }
-    const double off = std::sqrt(dot(work_.data(), work_.data(), n));
-    if (!(off >= kNewDirection * f_norm)) return;
-    q_.resize((size_t)((k_ + 1) * n));
-    x_.resize((size_t)((k_ + 1) * n));
-    double *qk = &q_[(size_t)(k_ * n)];
-    for (int64_t j = 0; j < n; ++j) qk[j] = work_[(size_t)j] / off;
-    std::copy(x, x + n, &x_[(size_t)(k_ * n)]);
-    for (int i = 0; i < k_; ++i) r_[i + kLoadSpan * k_] = h[i];
-    r_[k_ + kLoadSpan * k_] = off;
+    const bool new_direction = std::sqrt(dot(work_.data(), work_.data(), n)) >= kNewDirection * f_norm;
+    if (k_ > 0 && (!new_direction || k_ == kLoadSpan)) forget(0);
+    f_.insert(f_.end(), f, f + n);
+    x_.insert(x_.end(), x, x + n);
     backward_.push_back(NAN);
     ++k_;
+    orthonormalise();
 }
 
 double LoadSpan::backward_error(const double *f, const double *x, const linalg::CscView &M) {
@@ -142,18 +168,11 @@ bool LoadSpan::answer(const double *f, const linalg::CscView &M, double *x) {
         growth += std::fabs(c[i]) * std::sqrt(column);
     }
     if (!(growth <= kSpanGrowth * f_norm)) return false;
-    // The kept solves' own backward errors, once: each load is F's column, Q R e_i.
+    // The kept solves' own backward errors, once.
     double kept = 0.0;
     for (int i = 0; i < k_; ++i) {
-        if (std::isnan(backward_[(size_t)i])) {
-            std::vector<double> fi((size_t)n, 0.0);
-            for (int j = 0; j <= i; ++j) {
-                const double rji = r_[j + kLoadSpan * i];
-                const double *qj = &q_[(size_t)(j * n)];
-                for (int64_t t = 0; t < n; ++t) fi[(size_t)t] += rji * qj[t];
-            }
-            backward_[(size_t)i] = backward_error(fi.data(), &x_[(size_t)(i * n)], M);
-        }
+        if (std::isnan(backward_[(size_t)i]))
+            backward_[(size_t)i] = backward_error(&f_[(size_t)(i * n)], &x_[(size_t)(i * n)], M);
         kept = std::max(kept, backward_[(size_t)i]);
     }
     work_.assign((size_t)n, 0.0);

@@ -27,19 +27,26 @@ class LoadSpan {
     // M. False: x is untouched, and the caller solves.
     bool answer(const double *f, const linalg::CscView &M, double *x);
     // After a solve x = M^-1 f: f joins the span where it adds a direction (its part off the
-    // span at least kNewDirection of |f|); where kLoadSpan loads are kept, they are forgotten
-    // first (a host whose loads leave the span starts over).
+    // span at least kNewDirection of |f|), the oldest load forgotten where kLoadSpan are kept
+    // (a host whose loads leave the span starts over); a load in the span (whose combination
+    // was not taken: far along a line the kept loads span only near its start) replaces the
+    // oldest, so that the combinations stay short.
     void add(const double *f, const double *x, int64_t n);
     int loads() const { return k_; }
 
    private:
     double backward_error(const double *f, const double *x, const linalg::CscView &M);
+    // Q and R from the kept loads, in order; a load that adds no direction to those before it
+    // is forgotten.
+    void orthonormalise();
+    // The kept loads' pair i forgotten (the later ones move down).
+    void forget(int i);
     int64_t n_ = 0;
     int k_ = 0;
-    // The kept loads F = Q R (Q: k_ orthonormal columns of n_; R upper triangular, column-major
-    // kLoadSpan x kLoadSpan), their answers X (columns of n_), each load's 2-norm (R's columns)
-    // and each solve's backward error (NaN until measured, at the first combination tried).
-    std::vector<double> q_, x_, backward_;
+    // The kept loads F (k_ columns of n_) and their answers X; F = Q R (Q: k_ orthonormal
+    // columns; R upper triangular, column-major kLoadSpan x kLoadSpan); each solve's backward
+    // error (NaN until measured, at the first combination tried).
+    std::vector<double> f_, x_, q_, backward_;
     double r_[kLoadSpan * kLoadSpan] = {};
     double m_norm_ = -1.0;  // |M|_inf, measured with the first backward error (-1: not yet)
     std::vector<double> work_;

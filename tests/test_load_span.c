@@ -1,20 +1,22 @@
-/* The loads a factorised M was solved for (src/load_span.hpp, through frix_testing_load_span):
- * a load in their span is answered by the combination of their answers, as accurately as a
- * solve; a load off the span, a combination that cancels large terms, or one whose answers
- * are not as accurate as the solves, is left to a solve. */
+/* The loads a factorised M was solved for (src/load_span.hpp, through frix_testing_load_span,
+ * which presents loads in order as a host's steps): a load in the span of those solved before
+ * is answered by the combination of their answers, as accurately as a solve; a load off the
+ * span, a combination that cancels large terms, or one less accurate than the solves behind
+ * it, is left to a solve; along a line the span follows the loads, so that its combinations
+ * stay short. */
+#include <frix/frix.h>
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include <frix/frix.h>
-
 #include "check_main.h"
 #include "frix_testing.h"
 
-enum { kN = 300 };
+enum { kN = 300, kMaxLoads = 16 };
 
 /* M: tridiagonal, 2.01 + 0.001 i on the diagonal, -1 beside it (symmetric positive definite,
- * condition number about 3e3), CSC. */
+ * condition number about 3e3), CSC; diag: its diagonal, for solve(). */
 typedef struct {
     int64_t colptr[kN + 1], rowind[3 * kN];
     double values[3 * kN], diag[kN];
@@ -50,41 +52,56 @@ static void solve(const tridiagonal *m, const double *f, double *x) {
 
 static void load(int kind, double *f) {
     for (int i = 0; i < kN; ++i)
-        f[i] = kind == 0 ? sin(0.05 * i) + 0.3 : kind == 1 ? cos(0.11 * i) : kind == 2 ? (double)((i * 7919) % 13) - 6.0 : 1.0;
+        f[i] = kind == 0   ? sin(0.05 * i) + 0.3
+               : kind == 1 ? cos(0.11 * i)
+               : kind == 2 ? (double)((i * 7919) % 13) - 6.0
+                           : 1.0;
 }
 
-/* Whether f is answered from the k loads F (with their answers), and if so x within 1e-12 of a
- * solve's (max norms). */
-static int answered(const tridiagonal *m, int k, const double *F, const double *f) {
-    double X[4 * kN], x[kN], direct[kN];
+/* The k loads F presented in order, each answer given by solve() where the span leaves it;
+ * from_span out. Every answer taken from the span is within 1e-12 of a solve's (max norms). */
+static void present(const tridiagonal *m, int k, const double *F, int *from_span) {
+    static double X[kMaxLoads * kN], answers[kMaxLoads * kN];
+    ck_assert_int_le(k, kMaxLoads);
     for (int i = 0; i < k; ++i) solve(m, F + i * kN, X + i * kN);
-    for (int i = 0; i < kN; ++i) x[i] = NAN;
-    const int got = frix_testing_load_span(kN, m->colptr, m->rowind, m->values, k, F, X, f, x);
-    if (!got) {
-        for (int i = 0; i < kN; ++i) ck_assert(isnan(x[i])); /* untouched */
-        return 0;
+    frix_testing_load_span(kN, m->colptr, m->rowind, m->values, k, F, X, answers, from_span);
+    for (int i = 0; i < k; ++i) {
+        double diff = 0.0, size = 0.0;
+        for (int j = 0; j < kN; ++j) {
+            diff = fmax(diff, fabs(answers[i * kN + j] - X[i * kN + j]));
+            size = fmax(size, fabs(X[i * kN + j]));
+        }
+        ck_assert_double_le(diff, 1e-12 * size);
+        if (!from_span[i]) ck_assert_mem_eq(answers + i * kN, X + i * kN, kN * sizeof(double));
     }
-    solve(m, f, direct);
-    double diff = 0.0, size = 0.0;
-    for (int i = 0; i < kN; ++i) diff = fmax(diff, fabs(x[i] - direct[i])), size = fmax(size, fabs(direct[i]));
-    ck_assert_double_le(diff, 1e-12 * size);
-    return 1;
 }
 
-/* A load path's loads: a multiple of one load, a combination of two, of four. */
+/* Whether the last of the k loads F is answered from the span of those before it. */
+static int last_answered(const tridiagonal *m, int k, const double *F) {
+    int from_span[kMaxLoads];
+    present(m, k, F, from_span);
+    return from_span[k - 1];
+}
+
+/* A multiple of one load, combinations of two and of four; 0 is left to the solve. */
 START_TEST(test_combinations) {
     tridiagonal m;
     make_m(&m);
-    double F[4 * kN], f[kN];
+    double F[5 * kN];
     for (int i = 0; i < 4; ++i) load(i, F + i * kN);
-    for (int i = 0; i < kN; ++i) f[i] = 1.01 * F[i];
-    ck_assert(answered(&m, 1, F, f));
-    for (int i = 0; i < kN; ++i) f[i] = 2.0 * F[i] - 0.5 * F[kN + i];
-    ck_assert(answered(&m, 2, F, f));
-    for (int i = 0; i < kN; ++i) f[i] = 0.3 * F[i] - 0.2 * F[kN + i] + 0.7 * F[2 * kN + i] + 0.1 * F[3 * kN + i];
-    ck_assert(answered(&m, 4, F, f));
-    for (int i = 0; i < kN; ++i) f[i] = 0.0;
-    ck_assert(!answered(&m, 2, F, f)); /* nothing to combine: the solve gives 0 */
+    for (int i = 0; i < kN; ++i) F[kN + i] = 1.01 * F[i];
+    ck_assert(last_answered(&m, 2, F));
+    load(1, F + kN);
+    for (int i = 0; i < kN; ++i) F[2 * kN + i] = 2.0 * F[i] - 0.5 * F[kN + i];
+    ck_assert(last_answered(&m, 3, F));
+    load(2, F + 2 * kN);
+    for (int i = 0; i < kN; ++i) F[4 * kN + i] = 0.3 * F[i] - 0.2 * F[kN + i] + 0.7 * F[2 * kN + i] + 0.1 * F[3 * kN + i];
+    int from_span[5];
+    present(&m, 5, F, from_span);
+    ck_assert_int_eq(from_span[0] + from_span[1] + from_span[2] + from_span[3], 0);
+    ck_assert_int_eq(from_span[4], 1);
+    for (int i = 0; i < kN; ++i) F[2 * kN + i] = 0.0;
+    ck_assert(!last_answered(&m, 3, F));
 }
 END_TEST
 
@@ -94,50 +111,74 @@ END_TEST
 START_TEST(test_left_to_a_solve) {
     tridiagonal m;
     make_m(&m);
-    double F[4 * kN], f[kN];
-    for (int i = 0; i < 3; ++i) load(i, F + i * kN);
-    for (int i = 0; i < kN; ++i) f[i] = F[i] + 1e-6 * F[2 * kN + i];
-    ck_assert(!answered(&m, 2, F, f));
-    for (int i = 0; i < kN; ++i) f[i] = F[i] + 1e-10 * F[2 * kN + i];
-    ck_assert(!answered(&m, 2, F, f));
-    for (int i = 0; i < kN; ++i) f[i] = F[i] + 1e-13 * F[2 * kN + i];
-    ck_assert(!answered(&m, 2, F, f));
-    for (int i = 0; i < kN; ++i) F[kN + i] = F[i] + 1e-4 * F[2 * kN + i];
-    for (int i = 0; i < kN; ++i) f[i] = F[i] + 0.01 * F[2 * kN + i]; /* 101 F0 - 100 F1 */
-    ck_assert(!answered(&m, 2, F, f));
-    for (int i = 0; i < kN; ++i) f[i] = 0.5 * (F[i] + F[kN + i]); /* between them: no cancellation */
-    ck_assert(answered(&m, 2, F, f));
+    double F[3 * kN], g[kN];
+    load(0, F);
+    load(1, F + kN);
+    load(2, g);
+    const double off[3] = {1e-6, 1e-10, 1e-13};
+    for (int c = 0; c < 3; ++c) {
+        for (int i = 0; i < kN; ++i) F[2 * kN + i] = F[i] + off[c] * g[i];
+        ck_assert(!last_answered(&m, 3, F));
+    }
+    for (int i = 0; i < kN; ++i) F[kN + i] = F[i] + 1e-4 * g[i];
+    for (int i = 0; i < kN; ++i) F[2 * kN + i] = F[i] + 0.01 * g[i]; /* 101 F0 - 100 F1 */
+    ck_assert(!last_answered(&m, 3, F));
+    for (int i = 0; i < kN; ++i) F[2 * kN + i] = 0.5 * (F[i] + F[kN + i]); /* between them */
+    ck_assert(last_answered(&m, 3, F));
 }
 END_TEST
 
-/* Answers that are not M^-1 of their loads to round-off (solves of another M): the
- * combination is held to the solves behind it, whose backward errors are measured, and is
- * their combination; the right answers give the solve's accuracy. */
+/* A host's load path (a FEM block pressed, then pushed sideways a little more each step): loads
+ * a + k b / 20, k = 0 .. 15. The first two span the line; far along it their combination
+ * cancels more and more, and the span takes a later load in place of the oldest: of the 14
+ * later loads, at most 2 are solved (1 here; 6 where the span kept its first two loads). */
+START_TEST(test_along_a_line) {
+    tridiagonal m;
+    make_m(&m);
+    double F[kMaxLoads * kN], a[kN], b[kN];
+    load(0, a);
+    load(1, b);
+    for (int k = 0; k < kMaxLoads; ++k)
+        for (int i = 0; i < kN; ++i) F[k * kN + i] = a[i] + (k / 20.0) * b[i];
+    int from_span[kMaxLoads], solved = 0;
+    present(&m, kMaxLoads, F, from_span);
+    ck_assert_int_eq(from_span[0] + from_span[1], 0);
+    for (int k = 2; k < kMaxLoads; ++k) solved += !from_span[k];
+    ck_assert_int_le(solved, 2);
+}
+END_TEST
+
+/* Answers that are not M^-1 of their loads to round-off (solves of another M): a combination is
+ * held to the solves behind it, whose backward errors are measured: it is their combination. */
 START_TEST(test_as_accurate_as_the_solves) {
     tridiagonal m, other;
     make_m(&m);
     make_m(&other);
-    for (int j = 0; j < kN; ++j) other.values[other.colptr[j] + (j > 0)] += 0.5;
-    for (int j = 0; j < kN; ++j) other.diag[j] += 0.5;
-    double F[2 * kN], X[2 * kN], f[kN], x[kN];
-    for (int i = 0; i < 2; ++i) load(i, F + i * kN);
-    for (int i = 0; i < 2; ++i) solve(&other, F + i * kN, X + i * kN);
-    for (int i = 0; i < kN; ++i) f[i] = F[i] + F[kN + i];
-    ck_assert_int_eq(frix_testing_load_span(kN, m.colptr, m.rowind, m.values, 2, F, X, f, x), 1);
-    for (int i = 0; i < kN; ++i) ck_assert_double_le(fabs(x[i] - (X[i] + X[kN + i])), 1e-12 * fabs(x[i]) + 1e-300);
-    ck_assert(answered(&m, 2, F, f));
+    for (int j = 0; j < kN; ++j) {
+        other.values[other.colptr[j] + (j > 0)] += 0.5;
+        other.diag[j] += 0.5;
+    }
+    double F[3 * kN], X[3 * kN], answers[3 * kN];
+    int from_span[3];
+    load(0, F);
+    load(1, F + kN);
+    for (int i = 0; i < kN; ++i) F[2 * kN + i] = F[i] + F[kN + i];
+    for (int i = 0; i < 3; ++i) solve(&other, F + i * kN, X + i * kN);
+    frix_testing_load_span(kN, m.colptr, m.rowind, m.values, 3, F, X, answers, from_span);
+    ck_assert_int_eq(from_span[2], 1);
+    for (int i = 0; i < kN; ++i)
+        ck_assert_double_le(fabs(answers[2 * kN + i] - (X[i] + X[kN + i])), 1e-12 * fabs(answers[2 * kN + i]) + 1e-300);
 }
 END_TEST
 
-/* The span holds at most four loads: a fifth new direction starts it over from itself. */
 /* Many dofs: the coefficients of a combination come from dot products of n terms, whose plain
  * sums are off by about sqrt(n) units of round-off; a multiple of one load of 2^16 dofs is
  * answered as accurately as its solve. */
 START_TEST(test_many_dofs) {
     enum { n = 1 << 16 };
     int64_t *colptr = malloc((n + 1) * sizeof(int64_t)), *rowind = malloc(3 * n * sizeof(int64_t));
-    double *values = malloc(3 * n * sizeof(double)), *F = malloc(n * sizeof(double)), *X = malloc(n * sizeof(double));
-    double *f = malloc(n * sizeof(double)), *x = malloc(n * sizeof(double)), *c = malloc(n * sizeof(double));
+    double *values = malloc(3 * n * sizeof(double)), *F = malloc(2 * n * sizeof(double));
+    double *X = malloc(2 * n * sizeof(double)), *answers = malloc(2 * n * sizeof(double)), *c = malloc(n * sizeof(double));
     int64_t e = 0;
     for (int j = 0; j < n; ++j) {
         colptr[j] = e;
@@ -145,7 +186,7 @@ START_TEST(test_many_dofs) {
             if (i >= 0 && i < n) rowind[e] = i, values[e++] = i == j ? 2.5 : -1.0;
     }
     colptr[n] = e;
-    for (int i = 0; i < n; ++i) F[i] = 1.0 + 0.5 * sin(0.001 * i);
+    for (int i = 0; i < n; ++i) F[i] = 1.0 + 0.5 * sin(0.001 * i), F[n + i] = 1.01 * F[i];
     /* Thomas, as solve() above, on this M. */
     c[0] = -1.0 / 2.5;
     X[0] = F[0] / 2.5;
@@ -155,25 +196,28 @@ START_TEST(test_many_dofs) {
         X[i] = (F[i] + X[i - 1]) / den;
     }
     for (int i = n - 2; i >= 0; --i) X[i] -= c[i] * X[i + 1];
-    for (int i = 0; i < n; ++i) f[i] = 1.01 * F[i];
-    ck_assert_int_eq(frix_testing_load_span(n, colptr, rowind, values, 1, F, X, f, x), 1);
-    for (int i = 0; i < n; ++i) ck_assert_double_le(fabs(x[i] - 1.01 * X[i]), 1e-14 * fabs(x[i]));
-    free(colptr), free(rowind), free(values), free(F), free(X), free(f), free(x), free(c);
+    for (int i = 0; i < n; ++i) X[n + i] = NAN; /* must not be taken */
+    int from_span[2];
+    frix_testing_load_span(n, colptr, rowind, values, 2, F, X, answers, from_span);
+    ck_assert_int_eq(from_span[1], 1);
+    for (int i = 0; i < n; ++i) ck_assert_double_le(fabs(answers[n + i] - 1.01 * X[i]), 1e-14 * fabs(answers[n + i]));
+    free(colptr), free(rowind), free(values), free(F), free(X), free(answers), free(c);
 }
 END_TEST
 
-START_TEST(test_a_full_span_starts_over) {
+/* The span holds at most four loads: a fifth new direction takes the oldest one's place. */
+START_TEST(test_a_full_span_forgets_its_oldest) {
     tridiagonal m;
     make_m(&m);
-    double F[5 * kN], X[5 * kN], f[kN], x[kN];
+    double F[7 * kN];
     for (int i = 0; i < 4; ++i) load(i, F + i * kN);
     for (int i = 0; i < kN; ++i) F[4 * kN + i] = (i % 5 == 0) ? 1.0 : 0.0;
-    for (int i = 0; i < 5; ++i) solve(&m, F + i * kN, X + i * kN);
-    for (int i = 0; i < kN; ++i) f[i] = F[i] + F[kN + i];
-    ck_assert_int_eq(frix_testing_load_span(kN, m.colptr, m.rowind, m.values, 4, F, X, f, x), 1);
-    ck_assert_int_eq(frix_testing_load_span(kN, m.colptr, m.rowind, m.values, 5, F, X, f, x), 0);
-    for (int i = 0; i < kN; ++i) f[i] = 3.0 * F[4 * kN + i];
-    ck_assert_int_eq(frix_testing_load_span(kN, m.colptr, m.rowind, m.values, 5, F, X, f, x), 1);
+    for (int i = 0; i < kN; ++i) F[5 * kN + i] = F[i] + F[kN + i]; /* F0 gone: solved, F1 goes */
+    for (int i = 0; i < kN; ++i) F[6 * kN + i] = F[2 * kN + i] - 3.0 * F[4 * kN + i]; /* kept */
+    int from_span[7];
+    present(&m, 7, F, from_span);
+    for (int i = 0; i < 6; ++i) ck_assert_int_eq(from_span[i], 0);
+    ck_assert_int_eq(from_span[6], 1);
 }
 END_TEST
 
@@ -182,9 +226,10 @@ int main(void) {
     TCase *tc = tcase_create("load_span");
     tcase_add_test(tc, test_combinations);
     tcase_add_test(tc, test_left_to_a_solve);
+    tcase_add_test(tc, test_along_a_line);
     tcase_add_test(tc, test_as_accurate_as_the_solves);
     tcase_add_test(tc, test_many_dofs);
-    tcase_add_test(tc, test_a_full_span_starts_over);
+    tcase_add_test(tc, test_a_full_span_forgets_its_oldest);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);
 }

@@ -100,11 +100,11 @@ void frix_testing_rolling_alart_curnier(int size, const double *r, const double 
 int frix_testing_rolling_local_sweeps(const frix_problem *p, int stored, int sweeps, double *r);
 
 /* ---- The loads a factorised M was solved for (src/load_span.hpp). The k loads F (n x k,
- * column-major) and their answers X = M^-1 F are kept in order (LoadSpan::add), then f is asked
- * for: 1 where it is answered from them (x written), 0 where it is left to a solve. M is n x n,
- * CSC. */
-int frix_testing_load_span(int64_t n, const int64_t *colptr, const int64_t *rowind, const double *values, int k,
-                           const double *F, const double *X, const double *f, double *x);
+ * column-major) come in order, as a host's steps: each is asked for from the span of those
+ * before it (LoadSpan::answer; from_span[i] = 1 where answered), else its answer is X's column
+ * i and it joins the span (LoadSpan::add). answers (n x k): what each got. M is n x n, CSC. */
+void frix_testing_load_span(int64_t n, const int64_t *colptr, const int64_t *rowind, const double *values, int k,
+                            const double *F, const double *X, double *answers, int *from_span);
 
 /* ---- Linear algebra back-end (src/linalg). Return a frix_error value. */
 /* Analyses once, factorises A then 2A, solves (2A) x = b; counters out. */
