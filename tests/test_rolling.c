@@ -404,7 +404,8 @@ END_TEST
 /* The pile's W stored by columns in other units for contact 0 (D W D, D = `scale` on contact
  * 0's five entries, 1 elsewhere), the first non-zero entry of its column 0 in another
  * contact's rows then multiplied by 1 + eps: the local problem on it. */
-static frix_problem *with_contact_rescaled(const rolling_pile *pile, double scale, double eps, frix_matrix **W) {
+static frix_problem *with_contact_rescaled(const rolling_pile *pile, double scale, double eps, frix_matrix **W,
+                                           double **q_out) {
     int64_t nnz = 0, m = 5 * pile->nc;
     ck_assert_int_eq(frix_matrix_to_csc(pile->W, &nnz, NULL, NULL, NULL), FRIX_OK);
     int64_t *colptr = malloc((size_t)(m + 1) * sizeof(int64_t)), *rowind = malloc((size_t)nnz * sizeof(int64_t));
@@ -421,7 +422,8 @@ static frix_problem *with_contact_rescaled(const rolling_pile *pile, double scal
     ck_assert_int_eq(frix_matrix_from_csc(m, m, colptr, rowind, val, W), FRIX_OK);
     frix_problem *p = NULL;
     ck_assert_int_eq(frix_problem_rolling_local(*W, q, pile->mu, pile->mu_r, pile->nc, &p), FRIX_OK);
-    free(colptr), free(rowind), free(val), free(q);
+    free(colptr), free(rowind), free(val);
+    *q_out = q; /* the problem borrows it */
     return p;
 }
 
@@ -443,12 +445,14 @@ START_TEST(test_symmetry_at_every_scale) {
     double *r = calloc((size_t)m, sizeof(double));
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
         frix_matrix *W = NULL;
-        frix_problem *p = with_contact_rescaled(&pile, cases[c].scale, cases[c].eps, &W);
+        double *q = NULL;
+        frix_problem *p = with_contact_rescaled(&pile, cases[c].scale, cases[c].eps, &W, &q);
         memset(r, 0, (size_t)m * sizeof(double));
         ck_assert_int_eq(frix_testing_rolling_local_sweeps(p, 1, 1, r),
                          cases[c].served ? FRIX_OK : FRIX_ERR_UNSUPPORTED);
         frix_problem_free(p);
         frix_matrix_free(W);
+        free(q);
     }
     /* All of W in other units: the same verdict. */
     for (int k = 0; k < 2; ++k) {
