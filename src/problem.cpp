@@ -437,14 +437,13 @@ void set_contact_weights(frix_problem &p) {
 double free_velocity(const frix_problem &p) {
     const int64_t m = contact_size(p) * p.nc;
     if (is_local_form(p) || !p.M) return is_local_form(p) ? norm2(p.q, m) : 0.0;
-    const std::vector<double> mass = matrix_diagonal(*p.M);
+    // w + H^T D^-1 f, D = diag(M) (0 where a mass is not positive), by one product with H^T:
+    // the division once a dof, not once an entry of H.
+    std::vector<double> load = matrix_diagonal(*p.M);
+    for (int64_t i = 0; i < p.n; ++i) load[(size_t)i] = load[(size_t)i] > 0.0 ? p.f[i] / load[(size_t)i] : 0.0;
     std::vector<double> free;
     copy_advised(free, p.w, (size_t)m);
-    if (p.H)
-        for_each_entry(*p.H, [&](int64_t row, int64_t col, double value) {
-            const double d = mass[(size_t)row];
-            if (d > 0.0) free[(size_t)col] += value * (p.f[row] / d);
-        });
+    if (p.H && m > 0) matrix_gemv_transposed(*p.H, 1.0, load.data(), 1.0, free.data());
     return free_velocity_of(norm2(p.w, m), norm2(free.data(), m), load_velocity(p));
 }
 
