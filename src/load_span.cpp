@@ -4,6 +4,9 @@
 #include <cfloat>
 #include <cmath>
 
+#include "measures.hpp"
+#include "vec.hpp"
+
 namespace frix {
 
 namespace {
@@ -20,30 +23,10 @@ constexpr double kSpanGrowth = 16.0;
 // of it: a direction found by cancellation would carry its round-off into every combination.
 constexpr double kNewDirection = 1e-6;
 // A combination is as accurate as a solve where its backward error is within this many times
-// the kept solves' largest, or within kBackwardFloor (a solve exact to the last bit leaves 0).
+// the largest of the solves it combines, or within kBackwardFloor (a solve exact to the last
+// bit leaves 0).
 constexpr double kBackwardShare = 4.0;
 constexpr double kBackwardFloor = 4.0 * DBL_EPSILON;
-
-// a . b in twice the working precision (Ogita, Rump and Oishi's Dot2: each product's and
-// each sum's round-off carried along). A plain sum over n terms is off by about sqrt(n) units
-// of round-off, and a combination's coefficients taken from it leave a load's residual that
-// much above a solve's (1e-14 of it at 6e4 dofs).
-double dot(const double *a, const double *b, int64_t n) {
-    double s = 0.0, err = 0.0;
-    for (int64_t i = 0; i < n; ++i) {
-        const double p = a[i] * b[i], pe = std::fma(a[i], b[i], -p);
-        const double t = s + p, z = t - s, se = (s - (t - z)) + (p - z);
-        s = t;
-        err += pe + se;
-    }
-    return s + err;
-}
-
-double max_abs(const double *a, int64_t n) {
-    double m = 0.0;
-    for (int64_t i = 0; i < n; ++i) m = std::max(m, std::fabs(a[i]));
-    return m;
-}
 
 }  // namespace
 
@@ -57,42 +40,43 @@ void LoadSpan::clear() {
     m_norm_ = -1.0;
 }
 
-void LoadSpan::forget(int i) {
-    const size_t n = (size_t)n_;
-    f_.erase(f_.begin() + (ptrdiff_t)(i * n), f_.begin() + (ptrdiff_t)((i + 1) * n));
-    x_.erase(x_.begin() + (ptrdiff_t)(i * n), x_.begin() + (ptrdiff_t)((i + 1) * n));
-    backward_.erase(backward_.begin() + i);
-    --k_;
+bool LoadSpan::orthonormalise(int i) {
+    const int64_t n = n_;
+    const double *fi = &f_[(size_t)(i * n)];
+    q_.resize((size_t)((i + 1) * n));
+    double *qi = &q_[(size_t)(i * n)];
+    std::copy(fi, fi + n, qi);
+    double h[kLoadSpan] = {};
+    // Gram-Schmidt twice: the second pass takes what the first left to round-off.
+    for (int pass = 0; pass < 2; ++pass)
+        for (int j = 0; j < i; ++j) {
+            const double *qj = &q_[(size_t)(j * n)];
+            const double t = vec::dot(qj, qi, n);
+            h[j] += t;
+            for (int64_t e = 0; e < n; ++e) qi[e] -= t * qj[e];
+        }
+    const double off = vec::norm(qi, n);
+    if (!(off >= kNewDirection * vec::norm(fi, n)) || !std::isfinite(off)) {
+        q_.resize((size_t)(i * n));
+        return false;
+    }
+    for (int64_t e = 0; e < n; ++e) qi[e] /= off;
+    for (int j = 0; j < kLoadSpan; ++j) r_[j + kLoadSpan * i] = j < i ? h[j] : j == i ? off : 0.0;
+    return true;
 }
 
-void LoadSpan::orthonormalise() {
-    const int64_t n = n_;
-    std::fill(r_, r_ + kLoadSpan * kLoadSpan, 0.0);
-    q_.resize((size_t)(k_ * n));
-    for (int i = 0; i < k_;) {
-        const double *fi = &f_[(size_t)(i * n)];
-        double *qi = &q_[(size_t)(i * n)];
-        std::copy(fi, fi + n, qi);
-        double h[kLoadSpan] = {};
-        // Gram-Schmidt twice: the second pass takes what the first left to round-off.
-        for (int pass = 0; pass < 2; ++pass)
-            for (int j = 0; j < i; ++j) {
-                const double *qj = &q_[(size_t)(j * n)];
-                const double t = dot(qj, qi, n);
-                h[j] += t;
-                for (int64_t e = 0; e < n; ++e) qi[e] -= t * qj[e];
-            }
-        const double off = std::sqrt(dot(qi, qi, n)), f_norm = std::sqrt(dot(fi, fi, n));
-        if (!(off >= kNewDirection * f_norm) || !std::isfinite(off)) {
-            forget(i);  // no new direction: the loads after it move down
-            q_.resize((size_t)(k_ * n));
-            continue;
+void LoadSpan::forget(int i) {
+    const auto n = (ptrdiff_t)n_;
+    f_.erase(f_.begin() + i * n, f_.begin() + (i + 1) * n);
+    x_.erase(x_.begin() + i * n, x_.begin() + (i + 1) * n);
+    backward_.erase(backward_.begin() + i);
+    --k_;
+    q_.clear();
+    for (int j = 0; j < k_; ++j)
+        if (!orthonormalise(j)) {  // no longer a direction of its own: forgotten too
+            forget(j);
+            return;
         }
-        for (int64_t e = 0; e < n; ++e) qi[e] /= off;
-        for (int j = 0; j < i; ++j) r_[j + kLoadSpan * i] = h[j];
-        r_[i + kLoadSpan * i] = off;
-        ++i;
-    }
 }
 
 void LoadSpan::add(const double *f, const double *x, int64_t n) {
@@ -100,42 +84,71 @@ void LoadSpan::add(const double *f, const double *x, int64_t n) {
         clear();
         n_ = n;
     }
-    const double f_norm = std::sqrt(dot(f, f, n));
-    if (!(f_norm > 0.0) || !std::isfinite(f_norm)) return;
-    // f's part off the span.
+    const double f_norm = vec::norm(f, n);
+    if (!(f_norm > 0.0) || !std::isfinite(f_norm) || !vec::all_finite(x, n)) return;
+    // f's part off the span (Gram-Schmidt twice), its coefficients on Q into h.
     work_.assign(f, f + n);
+    double h[kLoadSpan] = {};
     for (int pass = 0; pass < 2; ++pass)
         for (int i = 0; i < k_; ++i) {
             const double *qi = &q_[(size_t)(i * n)];
-            const double t = dot(qi, work_.data(), n);
+            const double t = vec::dot(qi, work_.data(), n);
+            h[i] += t;
             for (int64_t j = 0; j < n; ++j) work_[(size_t)j] -= t * qi[j];
         }
-    const bool new_direction = std::sqrt(dot(work_.data(), work_.data(), n)) >= kNewDirection * f_norm;
-    if (k_ > 0 && (!new_direction || k_ == kLoadSpan)) forget(0);
+    double off = vec::norm(work_.data(), n);
+    if (!(off >= kNewDirection * f_norm) || !std::isfinite(off)) {
+        // In place of the oldest load where the others and f still span as much: a trial on a
+        // copy, the rare path (a combination refused).
+        const LoadSpan before = *this;
+        forget(0);
+        const int kept = k_;
+        f_.insert(f_.end(), f, f + n);
+        x_.insert(x_.end(), x, x + n);
+        backward_.push_back(NAN);
+        ++k_;
+        if (kept != before.k_ - 1 || !orthonormalise(k_ - 1)) *this = before;
+        return;
+    }
+    if (k_ == kLoadSpan) {
+        // A fifth direction: the host's loads leave the span; it starts over from f (cheaper
+        // than forgetting one load and orthonormalising the others again).
+        const double m_norm = m_norm_;  // M is the same
+        clear();
+        m_norm_ = m_norm;
+        work_.assign(f, f + n);
+        std::fill(h, h + kLoadSpan, 0.0);
+        off = f_norm;
+    }
     f_.insert(f_.end(), f, f + n);
     x_.insert(x_.end(), x, x + n);
     backward_.push_back(NAN);
+    q_.resize((size_t)((k_ + 1) * n));
+    double *qk = &q_[(size_t)(k_ * n)];
+    for (int64_t j = 0; j < n; ++j) qk[j] = work_[(size_t)j] / off;
+    for (int i = 0; i < kLoadSpan; ++i) r_[i + kLoadSpan * k_] = i < k_ ? h[i] : i == k_ ? off : 0.0;
     ++k_;
-    orthonormalise();
 }
 
 double LoadSpan::backward_error(const double *f, const double *x, const linalg::CscView &M) {
     const int64_t n = n_;
-    std::vector<double> y((size_t)n, 0.0);
     if (m_norm_ < 0.0) {
-        std::vector<double> row_sum((size_t)n, 0.0);
+        product_.assign((size_t)n, 0.0);  // row sums of |M|
         for (int64_t j = 0; j < M.cols; ++j)
-            for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e) row_sum[(size_t)M.rowind[e]] += std::fabs(M.values[e]);
-        m_norm_ = max_abs(row_sum.data(), n);
+            for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e) product_[(size_t)M.rowind[e]] += std::fabs(M.values[e]);
+        m_norm_ = max_abs(product_.data(), n);
     }
+    product_.assign((size_t)n, 0.0);
     for (int64_t j = 0; j < M.cols; ++j) {
         const double xj = x[j];
-        for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e) y[(size_t)M.rowind[e]] += M.values[e] * xj;
+        for (int64_t e = M.colptr[j]; e < M.colptr[j + 1]; ++e) product_[(size_t)M.rowind[e]] += M.values[e] * xj;
     }
     double residual = 0.0;
-    for (int64_t i = 0; i < n; ++i) residual = std::max(residual, std::fabs(f[i] - y[(size_t)i]));
+    for (int64_t i = 0; i < n; ++i) {
+        const double d = std::fabs(f[i] - product_[(size_t)i]);
+        if (!(d <= residual)) residual = d;  // a NaN stays
+    }
     const double scale = m_norm_ * max_abs(x, n) + max_abs(f, n);
-    if (!(scale > 0.0)) return residual == 0.0 ? 0.0 : INFINITY;
     const double eta = residual / scale;
     return std::isfinite(eta) ? eta : INFINITY;
 }
@@ -143,11 +156,11 @@ double LoadSpan::backward_error(const double *f, const double *x, const linalg::
 bool LoadSpan::answer(const double *f, const linalg::CscView &M, double *x) {
     const int64_t n = n_;
     if (k_ == 0 || M.rows != n || M.cols != n) return false;
-    const double f_norm = std::sqrt(dot(f, f, n));
+    const double f_norm = vec::norm(f, n);
     if (!(f_norm > 0.0) || !std::isfinite(f_norm)) return false;
     // g = Q^T f, and the part of f off the span, f - Q g.
     double g[kLoadSpan] = {};
-    for (int i = 0; i < k_; ++i) g[i] = dot(&q_[(size_t)(i * n)], f, n);
+    for (int i = 0; i < k_; ++i) g[i] = vec::dot(&q_[(size_t)(i * n)], f, n);
     double off = 0.0;
     for (int64_t j = 0; j < n; ++j) {
         double t = f[j];
@@ -155,26 +168,41 @@ bool LoadSpan::answer(const double *f, const linalg::CscView &M, double *x) {
         off += t * t;
     }
     if (!(std::sqrt(off) <= kSpanFit * f_norm)) return false;
-    // f = F c: c = R^-1 g; the loads' norms are R's columns'.
-    double c[kLoadSpan] = {}, growth = 0.0;
-    for (int i = k_ - 1; i >= 0; --i) {
-        double t = g[i];
-        for (int j = i + 1; j < k_; ++j) t -= r_[i + kLoadSpan * j] * c[j];
-        c[i] = t / r_[i + kLoadSpan * i];
-    }
+    // f = F c: c = R^-1 Q^T f, then once more on the residual f - F c, taken against the kept
+    // loads themselves: sums of n products leave c off by about sqrt(n) units of round-off,
+    // and Q^T Q and Q R by as much; after the second pass c is exact to round-off.
+    double c[kLoadSpan] = {};
+    const auto solve_r = [this](double *rhs) {
+        for (int i = k_ - 1; i >= 0; --i) {
+            for (int j = i + 1; j < k_; ++j) rhs[i] -= r_[i + kLoadSpan * j] * rhs[j];
+            rhs[i] /= r_[i + kLoadSpan * i];
+        }
+    };
+    std::copy(g, g + k_, c);
+    solve_r(c);
+    work_.assign(f, f + n);
     for (int i = 0; i < k_; ++i) {
-        double column = 0.0;
-        for (int j = 0; j <= i; ++j) column += r_[j + kLoadSpan * i] * r_[j + kLoadSpan * i];
-        growth += std::fabs(c[i]) * std::sqrt(column);
+        const double *fi = &f_[(size_t)(i * n)];
+        for (int64_t j = 0; j < n; ++j) work_[(size_t)j] -= c[i] * fi[j];
+    }
+    double dc[kLoadSpan] = {};
+    for (int i = 0; i < k_; ++i) dc[i] = vec::dot(&q_[(size_t)(i * n)], work_.data(), n);
+    solve_r(dc);
+    double growth = 0.0;
+    for (int i = 0; i < k_; ++i) {
+        c[i] += dc[i];
+        growth += std::fabs(c[i]) * vec::norm(&f_[(size_t)(i * n)], n);
     }
     if (!(growth <= kSpanGrowth * f_norm)) return false;
-    // The kept solves' own backward errors, once.
+    // The solves combined, their own backward errors measured once each.
     double kept = 0.0;
     for (int i = 0; i < k_; ++i) {
+        if (c[i] == 0.0) continue;
         if (std::isnan(backward_[(size_t)i]))
             backward_[(size_t)i] = backward_error(&f_[(size_t)(i * n)], &x_[(size_t)(i * n)], M);
         kept = std::max(kept, backward_[(size_t)i]);
     }
+    if (!std::isfinite(kept)) return false;
     work_.assign((size_t)n, 0.0);
     for (int i = 0; i < k_; ++i) {
         const double *xi = &x_[(size_t)(i * n)];

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <new>
 
 #include "disjoint_sets.hpp"
 #include "memory.hpp"
@@ -107,13 +108,13 @@ bool symmetric_at_every_scale(const linalg::CscView &W, const double *diagonal) 
     std::vector<double> x((size_t)n), y((size_t)n, 0.0), z((size_t)n), size((size_t)n, 0.0);
     uint64_t state = kSymmetrySeed;
     for (int64_t j = 0; j < n; ++j) {
-        const uint64_t bits = next_random(state);
-        const double magnitude = 0.5 + 0.5 * (double)(bits >> 11) * 0x1.0p-53;
-        x[(size_t)j] = ((bits & 1) ? -magnitude : magnitude) / std::sqrt(diag[(size_t)j]);
+        const double u = next_uniform(state);  // its half gives the sign, its value the size
+        x[(size_t)j] = (u < 0.5 ? -(0.5 + u) : u) / std::sqrt(diag[(size_t)j]);
     }
+    bool bounded = true;  // every |W_ij| <= sqrt(W_ii W_jj), as where W is positive semidefinite
     for (int64_t j = 0; j < n; ++j) {
-        const double xj = x[(size_t)j];
-        double zj = 0.0, size_j = 0.0;
+        const double xj = x[(size_t)j], bound = (1.0 + 1e-8) * std::sqrt(diag[(size_t)j]);
+        double zj = 0.0, size_j = 0.0, largest = 0.0;
         for (int64_t e = W.colptr[j]; e < W.colptr[j + 1]; ++e) {
             const int64_t i = W.rowind[e];
             const double w = W.values[e], xi = x[(size_t)i];
@@ -121,27 +122,41 @@ bool symmetric_at_every_scale(const linalg::CscView &W, const double *diagonal) 
             size[(size_t)i] += std::fabs(w * xj);
             zj += w * xi;
             size_j += std::fabs(w * xi);
+            largest = std::max(largest, std::fabs(w * xi));  // |x_i| < 1 / sqrt(W_ii)
         }
         z[(size_t)j] = zj;
         size[(size_t)j] += size_j;
+        bounded = bounded && largest <= bound;
     }
+    // Unbounded entries would loosen their rows' tolerance without limit.
+    if (!bounded) return mirrored_pairs_agree(W, diag);
     for (int64_t i = 0; i < n; ++i)
         if (!(std::fabs(y[(size_t)i] - z[(size_t)i]) <= kRoundOff * size[(size_t)i])) return false;
     return true;
 }
 
-frix_error MassSolver::solve_load(const double *f, int64_t n, double *x) {
+frix_error MassSolver::solve_load(const double *f, int64_t n, double *x, bool keep_loads) {
     if ((int64_t)load_.size() == n && std::equal(f, f + n, load_.begin())) {
         std::copy(load_x_.begin(), load_x_.end(), x);
         return FRIX_OK;
     }
     load_.clear();
-    // A solve reads L twice, a combination's check M once: the span pays where L holds at
-    // least twice M's entries.
-    const bool span = use_chol_ && !empty_ && chol_.cost().factor_entries >= 2.0 * (double)csc_.view().nnz();
-    if (!(span && span_.answer(f, csc_.view(), x))) {
+    const bool span =
+        keep_loads && use_chol_ && !empty_ && chol_.cost().factor_entries >= 2.0 * (double)csc_.view().nnz();
+    bool answered = false;
+    // The span only saves solves: where it cannot allocate, it is forgotten and M solves.
+    try {
+        answered = span && span_.answer(f, csc_.view(), x);
+    } catch (const std::bad_alloc &) {
+        span_.clear();
+    }
+    if (!answered) {
         if (frix_error e = solve(f, x)) return e;
-        if (span) span_.add(f, x, n);
+        try {
+            if (span) span_.add(f, x, n);
+        } catch (const std::bad_alloc &) {
+            span_.clear();
+        }
     }
     load_.assign(f, f + n);
     load_x_.assign(x, x + n);

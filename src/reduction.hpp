@@ -44,14 +44,15 @@ inline bool is_symmetric(const Csc &M) { return is_symmetric(M.view()); }
 // Whether a square W equals its transpose to round-off at every scale: with x a fixed
 // pseudo-random vector scaled by W's diagonal (x_j = +-[1/2, 1) / sqrt(W_jj)), each row of
 // W x - W^T x within kRoundOff of that row's terms, sum_j |W_ij x_j| + |W_ji x_j|. One pass
-// over W: a pairwise comparison reads each entry's mirror elsewhere in W, at several times
-// the cost (a settled step's whole sweep). An entry off its mirror beyond the round-off of its
-// row, or one without a mirror, fails it unless the random signs cancel it exactly; one
-// within that round-off changes a product with W only at it. The scaling makes the test the
-// same in any units: against max |W| a real asymmetry among entries many orders below the
-// largest (a rolling row's, a light body's) would pass. A diagonal entry that is not positive:
-// every mirrored pair within kRoundOff sqrt(|W_ii W_jj|) instead. diagonal: W's diagonal where
-// the caller has it (null: found here).
+// over W: a pairwise comparison reads each entry's mirror elsewhere in W. Where every
+// |W_ij| <= sqrt(W_ii W_jj) (W positive semidefinite, as a Delassus W is), a pair off by more
+// than 4 kRoundOff sqrt(W_ii W_jj) times its row's entries fails it, unless other pairs of its
+// row cancel it; a pair within that changes a product with W only at its row's round-off. The
+// scaling makes the test the same in any units: against max |W| a real asymmetry among
+// entries many orders below the largest (a rolling row's, a light body's) would pass. A
+// diagonal entry that is not positive, or an entry past that bound: every mirrored pair within
+// kRoundOff sqrt(|W_ii W_jj|) instead. diagonal: W's diagonal where the caller has it (null:
+// found here).
 bool symmetric_at_every_scale(const linalg::CscView &W, const double *diagonal = nullptr);
 
 // A factorisation of M: CHOLMOD when M is symmetric positive definite, UMFPACK otherwise.
@@ -92,10 +93,11 @@ class MassSolver {
     }
     // x = M^-1 f (n values) for a load f: the last load's answer is kept, and a load equal to
     // it value for value is not solved again (the driver's setup and the global solves a
-    // solver runs within it, such as auto's routes, ask for the same one); nor, where a solve
-    // reads far more than a product with M (a deformable body's factor), a load in the span
-    // of the loads solved since M's factorisation (LoadSpan: a host's load path).
-    frix_error solve_load(const double *f, int64_t n, double *x);
+    // solver runs within it, such as auto's routes, ask for the same one). With keep_loads (a
+    // persistent solver's M, solved for again at later steps), where M's factor holds at least
+    // twice M's entries (a solve reads it twice, LoadSpan's test M once), nor is a load in the
+    // span of the loads solved since M's factorisation (a host's load path).
+    frix_error solve_load(const double *f, int64_t n, double *x, bool keep_loads);
     // W = H^T M^-1 H, block-CSR. From CHOLMOD's factor it is summed supernode by supernode
     // into its final storage (BlockMatrixFromTerms; see SparseCholesky::inverse_congruence);
     // from UMFPACK's, assembled from its columns (BlockMatrixFromColumns, told to expect up to

@@ -476,7 +476,7 @@ frix_error solve_global(const frix_problem &p, const frix_options &opts, const S
     std::vector<double> q(m);
     bool separating = false;
     if (ms.factored()) {
-        if (frix_error e = ms.solve_load(p.f, p.n, v)) return e;
+        if (frix_error e = ms.solve_load(p.f, p.n, v, cache != nullptr)) return e;
         if (m > 0) matrix_gemv_transposed(*p.H, 1.0, v, 0.0, q.data());
         separating = true;
         for (int64_t i = 0; i < m; ++i) {

@@ -242,6 +242,64 @@ START_TEST(test_load_path_of_a_grid) {
 }
 END_TEST
 
+/* M scaled by `scale`: a new matrix of the same pattern. */
+static frix_matrix *scaled_matrix(const frix_matrix *M, int64_t n, double scale) {
+    int64_t nnz = 0;
+    ck_assert_int_eq(frix_matrix_to_csc(M, &nnz, NULL, NULL, NULL), FRIX_OK);
+    int64_t *colptr = malloc(sizeof *colptr * (size_t)(n + 1)), *rowind = malloc(sizeof *rowind * (size_t)nnz);
+    double *val = malloc(sizeof *val * (size_t)nnz);
+    ck_assert_int_eq(frix_matrix_to_csc(M, &nnz, colptr, rowind, val), FRIX_OK);
+    for (int64_t e = 0; e < nnz; ++e) val[e] *= scale;
+    frix_matrix *out = NULL;
+    ck_assert_int_eq(frix_matrix_from_csc(n, n, colptr, rowind, val, &out), FRIX_OK);
+    free(colptr), free(rowind), free(val);
+    return out;
+}
+
+/* A persistent solver on a deformable body answers a load that combines earlier ones from
+ * their answers (M's factor keeps them). At step 1 M is replaced by 2 M and f raised 10 %: the
+ * load solved with the old M is forgotten, and the step's (r, v) are a one-shot solve's, to its
+ * tolerance. */
+START_TEST(test_loads_forgotten_with_m) {
+    frix_elastic_grid g;
+    ck_assert_int_eq(frix_elastic_grid_make(10, 10, 3, 0.5, 1e4, &g), FRIX_OK);
+    const int64_t nc = 100, m = 3 * nc, n = 3 * 10 * 10 * 3;
+    double *f0 = malloc(sizeof *f0 * (size_t)n), *r = calloc((size_t)m, sizeof *r), *u = malloc(sizeof *u * (size_t)m);
+    double *v = malloc(sizeof *v * (size_t)n), *r1 = calloc((size_t)m, sizeof *r1), *v1 = malloc(sizeof *v1 * (size_t)n);
+    memcpy(f0, g.f, sizeof *f0 * (size_t)n);
+    frix_options *o = NULL;
+    ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &o), FRIX_OK);
+    frix_persistent *ps = NULL;
+    ck_assert_int_eq(frix_persistent_create(g.problem, o, &ps), FRIX_OK);
+    frix_info *info = NULL;
+    ck_assert_int_eq(frix_info_create(&info), FRIX_OK);
+    frix_matrix *M2 = scaled_matrix(g.M, n, 2.0);
+    for (int k = 0; k < 2; ++k) {
+        for (int64_t i = 0; i < n; ++i) g.f[i] = (1.0 + 0.1 * k) * f0[i];
+        if (k == 1) ck_assert_int_eq(frix_persistent_update_global(ps, M2, NULL, NULL, NULL, NULL), FRIX_OK);
+        ck_assert_int_eq(frix_persistent_solve(ps, r, u, v, info), FRIX_OK);
+        ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    }
+    frix_problem *p2 = NULL;
+    ck_assert_int_eq(frix_problem_global(M2, g.H, g.f, g.w, g.mu, nc, &p2), FRIX_OK);
+    ck_assert_int_eq(frix_solve(p2, o, r1, u, v1, info), FRIX_OK);
+    ck_assert_int_eq(frix_info_status(info), FRIX_STATUS_CONVERGED);
+    double dv = 0.0, size = 0.0;
+    for (int64_t i = 0; i < n; ++i) dv = fmax(dv, fabs(v[i] - v1[i])), size = fmax(size, fabs(v1[i]));
+    ck_assert_double_le(dv, 1e-6 * size);
+    double e = 0.0;
+    ck_assert_int_eq(frix_problem_error(p2, r, v, &e), FRIX_OK);
+    ck_assert_double_le(e, 1e-8);
+    frix_problem_free(p2);
+    frix_matrix_free(M2);
+    frix_info_free(info);
+    frix_persistent_free(ps);
+    frix_options_free(o);
+    free(f0), free(r), free(u), free(v), free(r1), free(v1);
+    frix_elastic_grid_free(&g);
+}
+END_TEST
+
 START_TEST(test_option) {
     frix_options *o = NULL;
     ck_assert_int_eq(frix_options_create(FRIX_SOLVER_AUTO, &o), FRIX_OK);
@@ -265,6 +323,7 @@ int main(void) {
     tcase_add_loop_test(tc, test_start_left_alone, 0, (int)(sizeof kLeftAlone / sizeof *kLeftAlone));
     tcase_add_test(tc, test_refused_call_and_no_info);
     tcase_add_test(tc, test_load_path_of_a_grid);
+    tcase_add_test(tc, test_loads_forgotten_with_m);
     tcase_add_test(tc, test_option);
     suite_add_tcase(s, tc);
     return frix_run_suite(s);

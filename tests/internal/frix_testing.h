@@ -106,6 +106,11 @@ int frix_testing_rolling_local_sweeps(const frix_problem *p, int stored, int swe
 void frix_testing_load_span(int64_t n, const int64_t *colptr, const int64_t *rowind, const double *values, int k,
                             const double *F, const double *X, double *answers, int *from_span);
 
+/* M's load solves (MassSolver::solve_load, keeping loads): M factorised, x0 = M^-1 f, then M
+ * replaced by M2 (same size) and factorised, x1 = M2^-1 (s f). A frix_error value. */
+int frix_testing_mass_loads(const frix_matrix *M, const frix_matrix *M2, const double *f, double s, double *x0,
+                            double *x1);
+
 /* ---- Linear algebra back-end (src/linalg). Return a frix_error value. */
 /* Analyses once, factorises A then 2A, solves (2A) x = b; counters out. */
 int frix_testing_sparse_lu(int64_t n, const int64_t *colptr, const int64_t *rowind,

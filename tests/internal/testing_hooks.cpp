@@ -10,6 +10,7 @@
 #include "solvers/kit/rolling_forms.hpp"
 #include "src/coulomb.hpp"
 #include "src/load_span.hpp"
+#include "src/reduction.hpp"
 #include "src/rolling.hpp"
 
 #define FRIX_TESTING_HOOK extern "C"
@@ -620,4 +621,16 @@ FRIX_TESTING_HOOK void frix_testing_load_span(int64_t n, const int64_t *colptr, 
         std::copy(X + at, X + at + n, answers + at);
         span.add(F + at, X + at, n);
     }
+}
+
+FRIX_TESTING_HOOK int frix_testing_mass_loads(const frix_matrix *M, const frix_matrix *M2, const double *f,
+                                              double s, double *x0, double *x1) {
+    frix::MassSolver ms;
+    const int64_t n = M->rows;
+    if (frix_error e = ms.factor(*M)) return e;
+    if (frix_error e = ms.solve_load(f, n, x0, true)) return e;
+    if (frix_error e = ms.factor(*M2)) return e;
+    std::vector<double> g(f, f + n);
+    for (double &v : g) v *= s;
+    return ms.solve_load(g.data(), n, x1, true);
 }
