@@ -454,21 +454,37 @@ START_TEST(test_symmetry_at_every_scale) {
         frix_matrix_free(W);
         free(q);
     }
-    /* All of W in other units: the same verdict. */
-    for (int k = 0; k < 2; ++k) {
-        const double scale = k ? 1e-75 : 1e75; /* W scaled by its square */
+    /* All of W in other units: the same verdict. A pair of mirrored entries made 1e3 times the
+     * largest entry (past sqrt(W_ii W_jj): W no longer positive semidefinite, where the one-pass
+     * test's tolerance would have no bound): the pairwise test decides, read by columns where
+     * the pair agrees, not where one of them is off by 1e-6 of itself. */
+    for (int k = 0; k < 4; ++k) {
+        const double scale = k == 0 ? 1e75 : k == 1 ? 1e-75 : 1.0; /* W scaled by its square */
         int64_t nnz = 0;
         ck_assert_int_eq(frix_matrix_to_csc(pile.W, &nnz, NULL, NULL, NULL), FRIX_OK);
         int64_t *colptr = malloc((size_t)(m + 1) * sizeof(int64_t)), *rowind = malloc((size_t)nnz * sizeof(int64_t));
         double *val = malloc((size_t)nnz * sizeof(double));
         ck_assert_int_eq(frix_matrix_to_csc(pile.W, &nnz, colptr, rowind, val), FRIX_OK);
         for (int64_t e = 0; e < nnz; ++e) val[e] *= scale * scale;
+        if (k >= 2) {
+            int64_t at = -1, mirror = -1;
+            for (int64_t e = colptr[0]; e < colptr[1] && at < 0; ++e)
+                if (rowind[e] >= 5 && val[e] != 0.0) at = e;
+            ck_assert_int_ge(at, 0);
+            for (int64_t e = colptr[rowind[at]]; e < colptr[rowind[at] + 1]; ++e)
+                if (rowind[e] == 0) mirror = e;
+            ck_assert_int_ge(mirror, 0);
+            double largest = 0.0;
+            for (int64_t e = 0; e < nnz; ++e) largest = fmax(largest, fabs(val[e]));
+            val[at] = val[mirror] = 1e3 * largest; /* past sqrt(W_ii W_jj) <= max |W| */
+            if (k == 3) val[at] *= 1.0 + 1e-6;
+        }
         frix_matrix *W = NULL;
         ck_assert_int_eq(frix_matrix_from_csc(m, m, colptr, rowind, val, &W), FRIX_OK);
         frix_problem *p = NULL;
         ck_assert_int_eq(frix_problem_rolling_local(W, pile.q, pile.mu, pile.mu_r, pile.nc, &p), FRIX_OK);
         memset(r, 0, (size_t)m * sizeof(double));
-        ck_assert_int_eq(frix_testing_rolling_local_sweeps(p, 1, 1, r), FRIX_OK);
+        ck_assert_int_eq(frix_testing_rolling_local_sweeps(p, 1, 1, r), k == 3 ? FRIX_ERR_UNSUPPORTED : FRIX_OK);
         frix_problem_free(p);
         frix_matrix_free(W);
         free(colptr), free(rowind), free(val);
