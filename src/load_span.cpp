@@ -40,22 +40,28 @@ void LoadSpan::clear() {
     m_norm_ = -1.0;
 }
 
+double LoadSpan::take_off_span(int count, double *y, double *h) const {
+    const int64_t n = n_;
+    std::fill(h, h + kLoadSpan, 0.0);
+    // Gram-Schmidt twice: the second pass takes what the first left to round-off.
+    for (int pass = 0; pass < 2; ++pass)
+        for (int j = 0; j < count; ++j) {
+            const double *qj = &q_[(size_t)(j * n)];
+            const double t = vec::dot(qj, y, n);
+            h[j] += t;
+            for (int64_t e = 0; e < n; ++e) y[e] -= t * qj[e];
+        }
+    return vec::norm(y, n);
+}
+
 bool LoadSpan::orthonormalise(int i) {
     const int64_t n = n_;
     const double *fi = &f_[(size_t)(i * n)];
     q_.resize((size_t)((i + 1) * n));
     double *qi = &q_[(size_t)(i * n)];
     std::copy(fi, fi + n, qi);
-    double h[kLoadSpan] = {};
-    // Gram-Schmidt twice: the second pass takes what the first left to round-off.
-    for (int pass = 0; pass < 2; ++pass)
-        for (int j = 0; j < i; ++j) {
-            const double *qj = &q_[(size_t)(j * n)];
-            const double t = vec::dot(qj, qi, n);
-            h[j] += t;
-            for (int64_t e = 0; e < n; ++e) qi[e] -= t * qj[e];
-        }
-    const double off = vec::norm(qi, n);
+    double h[kLoadSpan];
+    const double off = take_off_span(i, qi, h);
     if (!(off >= kNewDirection * vec::norm(fi, n)) || !std::isfinite(off)) {
         q_.resize((size_t)(i * n));
         return false;
@@ -86,17 +92,10 @@ void LoadSpan::add(const double *f, const double *x, int64_t n) {
     }
     const double f_norm = vec::norm(f, n);
     if (!(f_norm > 0.0) || !std::isfinite(f_norm) || !vec::all_finite(x, n)) return;
-    // f's part off the span (Gram-Schmidt twice), its coefficients on Q into h.
+    // f's part off the span, its coefficients on Q into h.
     work_.assign(f, f + n);
-    double h[kLoadSpan] = {};
-    for (int pass = 0; pass < 2; ++pass)
-        for (int i = 0; i < k_; ++i) {
-            const double *qi = &q_[(size_t)(i * n)];
-            const double t = vec::dot(qi, work_.data(), n);
-            h[i] += t;
-            for (int64_t j = 0; j < n; ++j) work_[(size_t)j] -= t * qi[j];
-        }
-    double off = vec::norm(work_.data(), n);
+    double h[kLoadSpan];
+    double off = take_off_span(k_, work_.data(), h);
     if (!(off >= kNewDirection * f_norm) || !std::isfinite(off)) {
         // In place of the oldest load where the others and f still span as much: a trial on a
         // copy, the rare path (a combination refused).

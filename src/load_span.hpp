@@ -38,6 +38,9 @@ class LoadSpan {
 
    private:
     double backward_error(const double *f, const double *x, const linalg::CscView &M);
+    // y minus its part on Q's first `count` columns (Gram-Schmidt twice), the coefficients of
+    // that part into h (kLoadSpan values, zero past count); returns the rest's 2-norm.
+    double take_off_span(int count, double *y, double *h) const;
     // Column i of Q and R from load i and the columns before it (Gram-Schmidt twice); false
     // where the load adds no direction to them (Q and R then hold i columns).
     bool orthonormalise(int i);

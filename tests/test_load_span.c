@@ -36,18 +36,22 @@ static void make_m(tridiagonal *m) {
     m->colptr[kN] = e;
 }
 
-/* x = M^-1 f by elimination along the diagonal (Thomas). */
-static void solve(const tridiagonal *m, const double *f, double *x) {
-    double c[kN], d[kN];
-    c[0] = -1.0 / m->diag[0];
-    d[0] = f[0] / m->diag[0];
-    for (int i = 1; i < kN; ++i) {
-        const double den = m->diag[i] + c[i - 1];
-        c[i] = -1.0 / den;
-        d[i] = (f[i] + d[i - 1]) / den;
+/* x = M^-1 f for M of n dofs with diag on its diagonal and -1 beside it, by elimination along
+ * the diagonal (Thomas); work: n values. */
+static void solve_tridiagonal(int n, const double *diag, const double *f, double *x, double *work) {
+    work[0] = -1.0 / diag[0];
+    x[0] = f[0] / diag[0];
+    for (int i = 1; i < n; ++i) {
+        const double den = diag[i] + work[i - 1];
+        work[i] = -1.0 / den;
+        x[i] = (f[i] + x[i - 1]) / den;
     }
-    x[kN - 1] = d[kN - 1];
-    for (int i = kN - 2; i >= 0; --i) x[i] = d[i] - c[i] * x[i + 1];
+    for (int i = n - 2; i >= 0; --i) x[i] -= work[i] * x[i + 1];
+}
+
+static void solve(const tridiagonal *m, const double *f, double *x) {
+    double work[kN];
+    solve_tridiagonal(kN, m->diag, f, x, work);
 }
 
 static void load(int kind, double *f) {
@@ -147,6 +151,13 @@ START_TEST(test_along_a_line) {
 }
 END_TEST
 
+/* F: two loads and their sum. */
+static void sum_of_two(double *F) {
+    load(0, F);
+    load(1, F + kN);
+    for (int i = 0; i < kN; ++i) F[2 * kN + i] = F[i] + F[kN + i];
+}
+
 /* Answers that are not M^-1 of their loads to round-off (solves of another M): a combination is
  * held to the solves behind it, whose backward errors are measured: it is their combination. */
 START_TEST(test_as_accurate_as_the_solves) {
@@ -159,9 +170,7 @@ START_TEST(test_as_accurate_as_the_solves) {
     }
     double F[3 * kN], X[3 * kN], answers[3 * kN];
     int from_span[3];
-    load(0, F);
-    load(1, F + kN);
-    for (int i = 0; i < kN; ++i) F[2 * kN + i] = F[i] + F[kN + i];
+    sum_of_two(F);
     for (int i = 0; i < 3; ++i) solve(&other, F + i * kN, X + i * kN);
     frix_testing_load_span(kN, m.colptr, m.rowind, m.values, 3, F, X, answers, from_span);
     ck_assert_int_eq(from_span[2], 1);
@@ -176,9 +185,7 @@ START_TEST(test_answers_not_finite) {
     make_m(&m);
     double F[3 * kN], X[3 * kN], answers[3 * kN];
     int from_span[3];
-    load(0, F);
-    load(1, F + kN);
-    for (int i = 0; i < kN; ++i) F[2 * kN + i] = F[i] + F[kN + i];
+    sum_of_two(F);
     for (int i = 0; i < 3; ++i) solve(&m, F + i * kN, X + i * kN);
     X[kN + 7] = INFINITY;
     frix_testing_load_span(kN, m.colptr, m.rowind, m.values, 3, F, X, answers, from_span);
@@ -230,6 +237,7 @@ START_TEST(test_many_dofs) {
     int64_t *colptr = malloc((n + 1) * sizeof(int64_t)), *rowind = malloc(3 * n * sizeof(int64_t));
     double *values = malloc(3 * n * sizeof(double)), *F = malloc(2 * n * sizeof(double));
     double *X = malloc(2 * n * sizeof(double)), *answers = malloc(2 * n * sizeof(double)), *c = malloc(n * sizeof(double));
+    double *diag = malloc(n * sizeof(double));
     int64_t e = 0;
     for (int j = 0; j < n; ++j) {
         colptr[j] = e;
@@ -238,21 +246,14 @@ START_TEST(test_many_dofs) {
     }
     colptr[n] = e;
     for (int i = 0; i < n; ++i) F[i] = 1.0 + 0.5 * sin(0.001 * i), F[n + i] = 1.01 * F[i];
-    /* Thomas, as solve() above, on this M. */
-    c[0] = -1.0 / 2.5;
-    X[0] = F[0] / 2.5;
-    for (int i = 1; i < n; ++i) {
-        const double den = 2.5 + c[i - 1];
-        c[i] = -1.0 / den;
-        X[i] = (F[i] + X[i - 1]) / den;
-    }
-    for (int i = n - 2; i >= 0; --i) X[i] -= c[i] * X[i + 1];
+    for (int i = 0; i < n; ++i) diag[i] = 2.5;
+    solve_tridiagonal(n, diag, F, X, c);
     for (int i = 0; i < n; ++i) X[n + i] = NAN; /* must not be taken */
     int from_span[2];
     frix_testing_load_span(n, colptr, rowind, values, 2, F, X, answers, from_span);
     ck_assert_int_eq(from_span[1], 1);
     for (int i = 0; i < n; ++i) ck_assert_double_le(fabs(answers[n + i] - 1.01 * X[i]), 1e-14 * fabs(answers[n + i]));
-    free(colptr), free(rowind), free(values), free(F), free(X), free(answers), free(c);
+    free(colptr), free(rowind), free(values), free(F), free(X), free(answers), free(c), free(diag);
 }
 END_TEST
 
