@@ -57,11 +57,13 @@ H5I_type_t object_type(hid_t file, const std::string &name, hid_t links) {
 // before it fails (it asks for gigabytes on some corrupt files), or nullptr. Checked: the
 // reserved bytes are zero; the sizes of offsets and lengths are among 2, 4, 8, 16, 32 (the
 // format's); the groups' B-tree ranks K are within 1..kMaxGroupRank (writers keep HDF5's
-// defaults, 4 and 16); a driver information block lies, with the length it declares, inside
-// the file. Other versions and a file without the signature are left to HDF5.
+// defaults, 4 and 16); the file holds the whole superblock (on one cut short in its addresses HDF5
+// asked for 4 GB); a driver information block lies,
+// with the length it declares, inside the file. Other versions and a file without the
+// signature are left to HDF5.
 const char *corrupt_superblock(std::FILE *file, uint64_t file_size) {
     const long at = hdf5_signature_offset(file);
-    unsigned char sb[160];
+    unsigned char sb[256];  // the longest version 0 or 1 superblock: 52 + 6 x 32 bytes
     if (at < 0 || std::fseek(file, at, SEEK_SET) != 0) return nullptr;
     const size_t got = std::fread(sb, 1, sizeof sb, file);
     if (got < 20 || sb[8] > 1) return nullptr;
@@ -80,8 +82,10 @@ const char *corrupt_superblock(std::FILE *file, uint64_t file_size) {
     // undefined and keeps the low 8 bytes of a longer one; it locates the driver block from
     // where the superblock is.
     const unsigned offsets = sb[13];
-    const size_t driver_field = (sb[8] == 0 ? 24 : 28) + 3 * size_t{offsets};
-    if (got < driver_field + offsets) return nullptr;
+    const size_t fixed = sb[8] == 0 ? 24 : 28;
+    // The four addresses, then the root group's symbol table entry (two addresses and 24 bytes).
+    if (got < fixed + 6 * size_t{offsets} + 24) return "the file ends inside the superblock";
+    const size_t driver_field = fixed + 3 * size_t{offsets};
     bool undefined = true;
     uint64_t driver = 0;
     for (unsigned b = 0; b < offsets; ++b) {

@@ -57,12 +57,22 @@ START_TEST(test_unreadable_files) {
     bad_rank[15] = 0x00;
     spit(bad, (const char *)bad_rank, (long)sizeof bad_rank);
     expect_read_error(bad, FRIX_ERR_FORMAT, "corrupt HDF5 superblock");
-    bad_rank[16] = 0x04; /* HDF5's default ranks (4 and 16) pass the check: HDF5 then finds the file unreadable */
+    bad_rank[16] = 0x04; /* HDF5's default ranks (4 and 16) pass that check; the file ends inside the superblock */
     bad_rank[17] = 0x00;
     bad_rank[18] = 0x10;
     bad_rank[19] = 0x00;
     spit(bad, (const char *)bad_rank, (long)sizeof bad_rank);
-    expect_read_error(bad, FRIX_ERR_IO, "as an HDF5 file");
+    expect_read_error(bad, FRIX_ERR_FORMAT, "the file ends inside the superblock");
+
+    /* Found by fuzz_read_problem: ranks 255, the file ending in the driver block's address
+     * (49 of the superblock's 96 bytes). HDF5 1.10's H5Fopen asked for 4,278,192,152 bytes on
+     * it, reading the superblock (H5F__super_read). */
+    static const unsigned char cut_short[49] = {
+        0x89, 0x48, 0x44, 0x46, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x00, 0x00, 0x08, 0x08, 0x00, 0xff,
+        0x00, 0xff, 0x00, 0x00, 0xf5, 0xff, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xff, 0xff,
+        0x09, 0x00, 0x00, 0xff, 0xff, 0xff, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x09};
+    spit(bad, (const char *)cut_short, (long)sizeof cut_short);
+    expect_read_error(bad, FRIX_ERR_FORMAT, "the file ends inside the superblock");
 
     /* A version 0 superblock (sizes 8 and 8, HDF5's ranks, end of file 128) whose driver
      * information block at 96 declares 0xff000000 bytes: HDF5 1.10 allocates that much before
