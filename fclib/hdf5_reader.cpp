@@ -66,7 +66,10 @@ const char *corrupt_superblock(std::FILE *file, uint64_t file_size) {
     unsigned char sb[256];  // the longest version 0 or 1 superblock: 52 + 6 x 32 bytes
     if (at < 0 || std::fseek(file, at, SEEK_SET) != 0) return nullptr;
     const size_t got = std::fread(sb, 1, sizeof sb, file);
-    if (got < 20 || sb[8] > 1) return nullptr;
+    if (got < 9 || sb[8] > 1) return nullptr;
+    constexpr const char *kCutShort = "the file ends inside the superblock";
+    const size_t fixed = sb[8] == 0 ? 24 : 28;  // up to the addresses
+    if (got < fixed) return kCutShort;
     constexpr unsigned kMaxGroupRank = 1024;
     auto size_ok = [](unsigned char v) { return v == 2 || v == 4 || v == 8 || v == 16 || v == 32; };
     auto rank_ok = [](const unsigned char *le16) {
@@ -82,9 +85,8 @@ const char *corrupt_superblock(std::FILE *file, uint64_t file_size) {
     // undefined and keeps the low 8 bytes of a longer one; it locates the driver block from
     // where the superblock is.
     const unsigned offsets = sb[13];
-    const size_t fixed = sb[8] == 0 ? 24 : 28;
     // The four addresses, then the root group's symbol table entry (two addresses and 24 bytes).
-    if (got < fixed + 6 * size_t{offsets} + 24) return "the file ends inside the superblock";
+    if (got < fixed + 6 * size_t{offsets} + 24) return kCutShort;
     const size_t driver_field = fixed + 3 * size_t{offsets};
     bool undefined = true;
     uint64_t driver = 0;

@@ -73,6 +73,8 @@ START_TEST(test_unreadable_files) {
         0x09, 0x00, 0x00, 0xff, 0xff, 0xff, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x09};
     spit(bad, (const char *)cut_short, (long)sizeof cut_short);
     expect_read_error(bad, FRIX_ERR_FORMAT, "the file ends inside the superblock");
+    spit(bad, (const char *)cut_short, 16); /* before the group ranks */
+    expect_read_error(bad, FRIX_ERR_FORMAT, "the file ends inside the superblock");
 
     /* A version 0 superblock (sizes 8 and 8, HDF5's ranks, end of file 128) whose driver
      * information block at 96 declares 0xff000000 bytes: HDF5 1.10 allocates that much before
