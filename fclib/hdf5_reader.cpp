@@ -57,10 +57,10 @@ H5I_type_t object_type(hid_t file, const std::string &name, hid_t links) {
 // before it fails (it asks for gigabytes on some corrupt files), or nullptr. Checked: the
 // reserved bytes are zero; the sizes of offsets and lengths are among 2, 4, 8, 16, 32 (the
 // format's); the groups' B-tree ranks K are within 1..kMaxGroupRank (writers keep HDF5's
-// defaults, 4 and 16); the file holds the whole superblock (on one cut short in its addresses HDF5
-// asked for 4 GB); a driver information block lies,
-// with the length it declares, inside the file. Other versions and a file without the
-// signature are left to HDF5.
+// defaults, 4 and 16); the file holds the whole superblock (on one cut short in its
+// addresses HDF5 asked for 4 GB); a driver information block lies, with the length it
+// declares, inside the file. Other versions and a file without the signature are left to
+// HDF5.
 const char *corrupt_superblock(std::FILE *file, uint64_t file_size) {
     const long at = hdf5_signature_offset(file);
     unsigned char sb[256];  // the longest version 0 or 1 superblock: 52 + 6 x 32 bytes

@@ -241,12 +241,12 @@ START_TEST(test_many_dofs) {
     int64_t e = 0;
     for (int j = 0; j < n; ++j) {
         colptr[j] = e;
+        diag[j] = 2.5;
         for (int i = j - 1; i <= j + 1; ++i)
-            if (i >= 0 && i < n) rowind[e] = i, values[e++] = i == j ? 2.5 : -1.0;
+            if (i >= 0 && i < n) rowind[e] = i, values[e++] = i == j ? diag[j] : -1.0;
     }
     colptr[n] = e;
     for (int i = 0; i < n; ++i) F[i] = 1.0 + 0.5 * sin(0.001 * i), F[n + i] = 1.01 * F[i];
-    for (int i = 0; i < n; ++i) diag[i] = 2.5;
     solve_tridiagonal(n, diag, F, X, c);
     for (int i = 0; i < n; ++i) X[n + i] = NAN; /* must not be taken */
     int from_span[2];
